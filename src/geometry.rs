@@ -1,0 +1,252 @@
+//! Rays, boxes and the two primitives, in f32 exactly as the shader computes
+//! them (shaders/intersect.wgsl mirrors every function here line by line), so
+//! CPU tests exercise the same arithmetic the GPU runs.
+
+use glam::Vec3;
+
+/// Stand-in for infinity: WGSL implementations may assume no inf or NaN.
+pub const T_INFINITY: f32 = 3.0e38;
+/// Direction components smaller than this count as parallel to an axis
+/// plane, so no division can overflow.
+pub const PARALLEL_EPSILON: f32 = 1e-20;
+
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Ray {
+    pub origin: Vec3,
+    /// Unit length.
+    pub dir: Vec3,
+}
+
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Aabb {
+    pub min: Vec3,
+    pub max: Vec3,
+}
+
+impl Aabb {
+    pub const EMPTY: Aabb = Aabb {
+        min: Vec3::splat(f32::MAX),
+        max: Vec3::splat(-f32::MAX),
+    };
+
+    pub fn union(self, other: Aabb) -> Aabb {
+        Aabb {
+            min: self.min.min(other.min),
+            max: self.max.max(other.max),
+        }
+    }
+
+    pub fn is_empty(&self) -> bool {
+        self.min.cmpgt(self.max).any()
+    }
+
+    pub fn surface_area(&self) -> f32 {
+        let e = (self.max - self.min).max(Vec3::ZERO);
+        2.0 * (e.x * e.y + e.y * e.z + e.z * e.x)
+    }
+
+    /// The ray's parameter interval inside the box, or None if it misses.
+    /// Axes the ray is parallel to constrain only by the origin's position.
+    pub fn ray_interval(&self, ray: &Ray) -> Option<(f32, f32)> {
+        let mut t0 = -T_INFINITY;
+        let mut t1 = T_INFINITY;
+        for a in 0..3 {
+            let (o, d) = (ray.origin[a], ray.dir[a]);
+            if d.abs() < PARALLEL_EPSILON {
+                if o < self.min[a] || o > self.max[a] {
+                    return None;
+                }
+            } else {
+                let inv = 1.0 / d;
+                let ta = (self.min[a] - o) * inv;
+                let tb = (self.max[a] - o) * inv;
+                t0 = t0.max(ta.min(tb));
+                t1 = t1.min(ta.max(tb));
+            }
+        }
+        (t0 <= t1).then_some((t0, t1))
+    }
+}
+
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SphereF32 {
+    pub center: Vec3,
+    pub radius: f32,
+}
+
+impl SphereF32 {
+    pub fn bounds(&self) -> Aabb {
+        Aabb {
+            min: self.center - Vec3::splat(self.radius),
+            max: self.center + Vec3::splat(self.radius),
+        }
+    }
+
+    /// Smallest root t > 0, by the formulation of Haines et al. (Ray Tracing
+    /// Gems, ch. 7): the discriminant from the ray's closest approach, and the
+    /// near root from c / q, which avoid the cancellations of the textbook form.
+    pub fn intersect(&self, ray: &Ray) -> Option<f32> {
+        let f = ray.origin - self.center;
+        let b = f.dot(ray.dir);
+        let l = f - b * ray.dir;
+        let r2 = self.radius * self.radius;
+        let disc = r2 - l.dot(l);
+        if disc < 0.0 {
+            return None;
+        }
+        let sign_b = if b >= 0.0 { 1.0 } else { -1.0 };
+        let q = -b - sign_b * disc.sqrt();
+        if q == 0.0 {
+            return None; // tangent at the origin
+        }
+        let c = f.dot(f) - r2;
+        let (ta, tb) = (c / q, q);
+        let (near, far) = (ta.min(tb), ta.max(tb));
+        if near > 0.0 {
+            Some(near)
+        } else if far > 0.0 {
+            Some(far)
+        } else {
+            None
+        }
+    }
+
+    /// Largest coordinate magnitude the intersection works with (see `spawn_offset`).
+    pub fn magnitude(&self) -> f32 {
+        self.center.abs().max_element() + self.radius
+    }
+}
+
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct TriangleF32 {
+    pub v: [Vec3; 3],
+}
+
+impl TriangleF32 {
+    pub fn bounds(&self) -> Aabb {
+        Aabb {
+            min: self.v[0].min(self.v[1]).min(self.v[2]),
+            max: self.v[0].max(self.v[1]).max(self.v[2]),
+        }
+    }
+
+    /// Möller–Trumbore, two-sided; t > 0. Degenerate triangles never hit.
+    pub fn intersect(&self, ray: &Ray) -> Option<f32> {
+        let e1 = self.v[1] - self.v[0];
+        let e2 = self.v[2] - self.v[0];
+        let p = ray.dir.cross(e2);
+        let det = e1.dot(p);
+        if det == 0.0 {
+            return None;
+        }
+        let inv_det = 1.0 / det;
+        let s = ray.origin - self.v[0];
+        let u = s.dot(p) * inv_det;
+        if !(0.0..=1.0).contains(&u) {
+            return None;
+        }
+        let q = s.cross(e1);
+        let v = ray.dir.dot(q) * inv_det;
+        if v < 0.0 || u + v > 1.0 {
+            return None;
+        }
+        let t = e2.dot(q) * inv_det;
+        (t > 0.0 && t.is_finite()).then_some(t)
+    }
+
+    /// Unit geometric normal (not yet turned to face a ray).
+    pub fn normal(&self) -> Vec3 {
+        (self.v[1] - self.v[0])
+            .cross(self.v[2] - self.v[0])
+            .normalize_or_zero()
+    }
+
+    pub fn magnitude(&self) -> f32 {
+        self.v[0]
+            .abs()
+            .max(self.v[1].abs())
+            .max(self.v[2].abs())
+            .max_element()
+    }
+}
+
+/// Distance to move a secondary ray's origin off the surface along N.
+///
+/// 1e-4 of the hit point's magnitude (at least 1e-4 scene units), and never
+/// less than 2^-22 of the largest coordinate the intersection test worked
+/// with: a sphere of radius 9000 centred 9000 away computes |o - c|^2 - r^2
+/// with an absolute error of ~16 units^2, i.e. ~1e-3 units of distance, far
+/// more than 1e-4. Scaling with the object (not the scene's extent) keeps
+/// small objects' contact shadows tight while big ones show no acne.
+pub fn spawn_offset(hit_point: Vec3, object_magnitude: f32) -> f32 {
+    (1e-4 * hit_point.abs().max_element().max(1.0)).max(object_magnitude * (1.0 / 4_194_304.0))
+}
+
+/// The scene's objects in f32, exactly as uploaded to the GPU. Object ids:
+/// spheres are `0..spheres.len()`, triangles follow.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct Primitives {
+    pub spheres: Vec<SphereF32>,
+    pub triangles: Vec<TriangleF32>,
+}
+
+impl Primitives {
+    pub fn from_scene(scene: &crate::scene::Scene) -> Self {
+        Primitives {
+            spheres: scene
+                .spheres
+                .iter()
+                .map(|s| SphereF32 {
+                    center: s.center.as_vec3(),
+                    radius: s.radius as f32,
+                })
+                .collect(),
+            triangles: scene
+                .triangles
+                .iter()
+                .map(|t| TriangleF32 {
+                    v: t.vertices.map(|v| v.as_vec3()),
+                })
+                .collect(),
+        }
+    }
+
+    pub fn len(&self) -> usize {
+        self.spheres.len() + self.triangles.len()
+    }
+
+    pub fn is_empty(&self) -> bool {
+        self.len() == 0
+    }
+
+    pub fn bounds(&self, id: u32) -> Aabb {
+        let id = id as usize;
+        match self.spheres.get(id) {
+            Some(s) => s.bounds(),
+            None => self.triangles[id - self.spheres.len()].bounds(),
+        }
+    }
+
+    pub fn intersect(&self, id: u32, ray: &Ray) -> Option<f32> {
+        let id = id as usize;
+        match self.spheres.get(id) {
+            Some(s) => s.intersect(ray),
+            None => self.triangles[id - self.spheres.len()].intersect(ray),
+        }
+    }
+
+    pub fn magnitude(&self, id: u32) -> f32 {
+        let id = id as usize;
+        match self.spheres.get(id) {
+            Some(s) => s.magnitude(),
+            None => self.triangles[id - self.spheres.len()].magnitude(),
+        }
+    }
+
+    /// Union of all objects' bounds (EMPTY for an empty scene).
+    pub fn scene_bounds(&self) -> Aabb {
+        (0..self.len() as u32)
+            .map(|id| self.bounds(id))
+            .fold(Aabb::EMPTY, Aabb::union)
+    }
+}

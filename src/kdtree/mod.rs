@@ -1,0 +1,39 @@
+//! The k-d tree: built on the CPU with the surface area heuristic
+//! ([`build`]), flattened into the GPU layout ([`crate::layout::KdNode`] +
+//! a leaf-object list), and walked by a CPU mirror of the shader's stackless
+//! traversal ([`traverse`]) that the tests check against brute force.
+
+mod build;
+pub mod traverse;
+
+pub use build::{build, BuildParams, KdTree};
+
+use crate::geometry::Primitives;
+
+impl KdTree {
+    /// Builds the tree over all objects of `prims` with the default parameters.
+    pub fn for_primitives(prims: &Primitives) -> KdTree {
+        let bounds: Vec<_> = (0..prims.len() as u32).map(|id| prims.bounds(id)).collect();
+        build(&bounds, BuildParams::for_object_count(bounds.len()))
+    }
+
+    pub fn stats(&self) -> TreeStats {
+        let leaves = self.nodes.iter().filter(|n| n.is_leaf()).count();
+        TreeStats {
+            nodes: self.nodes.len(),
+            leaves,
+            max_depth: self.max_depth,
+            refs_per_leaf: self.leaf_objects.len() as f64 / leaves.max(1) as f64,
+        }
+    }
+}
+
+/// Shape of a built tree, as reported by `--stats`.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct TreeStats {
+    pub nodes: usize,
+    pub leaves: usize,
+    pub max_depth: u32,
+    /// Mean number of object references per leaf (empty leaves included).
+    pub refs_per_leaf: f64,
+}

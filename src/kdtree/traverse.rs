@@ -1,0 +1,156 @@
+//! The CPU mirror of shaders/traverse.wgsl: kd-restart with push-down
+//! (Foley & Sugerman 2005; Horn et al. 2007), a stackless walk over the
+//! flattened tree, plus the brute-force loops it is tested against.
+//!
+//! The walk keeps the ray segment [t_min, t_max] still to search. From the
+//! restart node it descends to the leaf the segment enters first, tests that
+//! leaf's objects, and if no hit is accepted moves t_min to the leaf's exit
+//! and descends again. The restart node is pushed down while the descent
+//! never had to choose between two children, so restarts skip the part of
+//! the tree the rest of the ray cannot leave. No stack, no per-ray arrays.
+
+use glam::Vec3;
+
+use crate::geometry::{Aabb, Primitives, Ray, PARALLEL_EPSILON, T_INFINITY};
+
+use super::KdTree;
+
+/// A hit: which object and where along the ray.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Hit {
+    pub object: u32,
+    pub t: f32,
+}
+
+/// Safety net for the restart loop: each iteration moves t_min past one
+/// split plane's crossing, so a valid tree never needs more than its node
+/// count; this bound only stops a corrupt tree from hanging a GPU.
+pub fn max_restarts(node_count: usize) -> u32 {
+    node_count.min(u32::MAX as usize) as u32 + 1
+}
+
+/// How far outside its leaf's box a hit point may lie and still be taken
+/// (absorbs the rounding of hit points against planes; see docs/design.md).
+fn leaf_slack(hit_point: Vec3, object_magnitude: f32) -> f32 {
+    (hit_point.abs().max_element().max(object_magnitude)) * (1.0 / 65536.0)
+}
+
+fn inside_expanded(b: &Aabb, p: Vec3, slack: f32) -> bool {
+    p.cmpge(b.min - Vec3::splat(slack)).all() && p.cmple(b.max + Vec3::splat(slack)).all()
+}
+
+/// Nearest hit with 0 < t <= t_limit over the tree.
+pub fn closest_hit(tree: &KdTree, prims: &Primitives, ray: &Ray, t_limit: f32) -> Option<Hit> {
+    walk(tree, prims, ray, t_limit, false)
+}
+
+/// Whether anything is hit with 0 < t < t_limit (shadow rays).
+pub fn any_hit(tree: &KdTree, prims: &Primitives, ray: &Ray, t_limit: f32) -> bool {
+    walk(tree, prims, ray, t_limit, true).is_some()
+}
+
+fn walk(tree: &KdTree, prims: &Primitives, ray: &Ray, t_limit: f32, any: bool) -> Option<Hit> {
+    if prims.is_empty() {
+        return None;
+    }
+    let (t_enter, t_exit) = tree.bounds.ray_interval(ray)?;
+    let mut t_min = t_enter.max(0.0);
+    let t_far = t_exit.min(t_limit);
+    if t_min > t_far {
+        return None;
+    }
+    let nodes = &tree.nodes;
+    let mut restart_node = 0usize;
+    let mut restart_box = tree.bounds;
+    for _ in 0..max_restarts(nodes.len()) {
+        let mut node = restart_node;
+        let mut cell = restart_box;
+        let mut t_max = t_far;
+        let mut push_down = true;
+        while !nodes[node].is_leaf() {
+            let n = nodes[node];
+            let a = n.kind as usize;
+            let (o, d) = (ray.origin[a], ray.dir[a]);
+            let left = node + 1;
+            let right = n.index as usize;
+            // Rays parallel to the plane stay on the origin's side; one lying
+            // in the plane goes below, where objects touching it are.
+            let mut go_below = o <= n.split;
+            if d.abs() >= PARALLEL_EPSILON {
+                let below_first = o < n.split || (o == n.split && d < 0.0);
+                let t_split = (n.split - o) / d;
+                if t_split > t_max || t_split <= 0.0 {
+                    go_below = below_first; // the segment stays on the first side
+                } else if t_split <= t_min {
+                    go_below = !below_first; // the segment already crossed
+                } else {
+                    go_below = below_first; // both: first side up to the plane
+                    t_max = t_split;
+                    push_down = false;
+                }
+            }
+            if go_below {
+                cell.max[a] = n.split;
+                node = left;
+            } else {
+                cell.min[a] = n.split;
+                node = right;
+            }
+            if push_down {
+                restart_node = node;
+                restart_box = cell;
+            }
+        }
+        // Leaf: test its objects.
+        let leaf = nodes[node];
+        let ids = &tree.leaf_objects[leaf.index as usize..(leaf.index + leaf.count) as usize];
+        let mut best: Option<Hit> = None;
+        for &id in ids {
+            if let Some(t) = prims.intersect(id, ray) {
+                if any {
+                    if t < t_limit {
+                        return Some(Hit { object: id, t });
+                    }
+                } else if t <= t_limit && best.is_none_or(|b| t < b.t) {
+                    best = Some(Hit { object: id, t });
+                }
+            }
+        }
+        if let Some(hit) = best {
+            // Taken if it lies before the leaf's exit, or in the leaf's box up
+            // to rounding; a hit beyond may lose to one in a later leaf.
+            let p = ray.origin + hit.t * ray.dir;
+            if hit.t <= t_max
+                || inside_expanded(&cell, p, leaf_slack(p, prims.magnitude(hit.object)))
+            {
+                return Some(hit);
+            }
+        }
+        if t_max >= t_far {
+            return None;
+        }
+        t_min = t_max;
+    }
+    None
+}
+
+/// Nearest hit with 0 < t <= t_limit by testing every object (the seed's loop).
+pub fn closest_hit_brute(prims: &Primitives, ray: &Ray, t_limit: f32) -> Option<Hit> {
+    let mut best: Option<Hit> = None;
+    for id in 0..prims.len() as u32 {
+        if let Some(t) = prims.intersect(id, ray) {
+            if t <= t_limit && best.is_none_or(|b| t < b.t) {
+                best = Some(Hit { object: id, t });
+            }
+        }
+    }
+    best
+}
+
+/// Whether any object is hit with 0 < t < t_limit, by testing every object.
+pub fn any_hit_brute(prims: &Primitives, ray: &Ray, t_limit: f32) -> bool {
+    (0..prims.len() as u32).any(|id| prims.intersect(id, ray).is_some_and(|t| t < t_limit))
+}
+
+/// `T_INFINITY`, re-exported for callers that want an unbounded ray.
+pub const UNBOUNDED: f32 = T_INFINITY;

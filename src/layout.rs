@@ -1,0 +1,117 @@
+//! The GPU data layout: `#[repr(C)]` Pod types that mirror the structs of
+//! shaders/types.wgsl byte for byte. A unit test checks every size and field
+//! offset against naga's layout of the WGSL declarations.
+//!
+//! WGSL's vec3<f32> is 16-byte aligned, so each `[f32; 3]` is followed by a
+//! 4-byte field (a scalar that belongs with it, or explicit padding).
+
+use bytemuck::{Pod, Zeroable};
+
+/// A k-d tree node, 16 bytes. Nodes are stored depth first: an inner node's
+/// left ("below the plane") child is the next node.
+#[repr(C)]
+#[derive(Debug, Clone, Copy, PartialEq, Pod, Zeroable)]
+pub struct KdNode {
+    /// 0, 1, 2: inner node splitting on x, y, z; [`KdNode::LEAF`]: leaf.
+    pub kind: u32,
+    /// Inner: the plane's coordinate on axis `kind`. Leaf: unused (0).
+    pub split: f32,
+    /// Inner: index of the right ("above the plane") child.
+    /// Leaf: index of its first object id in the leaf-object list.
+    pub index: u32,
+    /// Leaf: number of object ids. Inner: 0.
+    pub count: u32,
+}
+
+impl KdNode {
+    pub const LEAF: u32 = 3;
+
+    pub fn is_leaf(&self) -> bool {
+        self.kind == Self::LEAF
+    }
+}
+
+#[repr(C)]
+#[derive(Debug, Clone, Copy, PartialEq, Pod, Zeroable)]
+pub struct GpuSphere {
+    pub center: [f32; 3],
+    pub radius: f32,
+}
+
+#[repr(C)]
+#[derive(Debug, Clone, Copy, PartialEq, Pod, Zeroable)]
+pub struct GpuTriangle {
+    pub v0: [f32; 3],
+    pub _pad0: f32,
+    pub v1: [f32; 3],
+    pub _pad1: f32,
+    pub v2: [f32; 3],
+    pub _pad2: f32,
+}
+
+#[repr(C)]
+#[derive(Debug, Clone, Copy, PartialEq, Pod, Zeroable)]
+pub struct GpuMaterial {
+    pub ambient: [f32; 3],
+    pub shininess: f32,
+    pub diffuse: [f32; 3],
+    pub reflection: f32,
+    pub specular: [f32; 3],
+    pub _pad: f32,
+}
+
+#[repr(C)]
+#[derive(Debug, Clone, Copy, PartialEq, Pod, Zeroable)]
+pub struct GpuLight {
+    pub position: [f32; 3],
+    pub _pad0: f32,
+    pub ambient: [f32; 3],
+    pub _pad1: f32,
+    pub diffuse: [f32; 3],
+    pub _pad2: f32,
+    pub specular: [f32; 3],
+    pub _pad3: f32,
+}
+
+/// `FrameParams::accel` values.
+pub const ACCEL_KDTREE: u32 = 0;
+pub const ACCEL_BRUTE: u32 = 1;
+/// `FrameParams::shadow_mode` values.
+pub const SHADOW_AMBIENT: u32 = 0;
+pub const SHADOW_SEED: u32 = 1;
+
+/// Everything one dispatch needs besides the scene buffers (a uniform).
+#[repr(C)]
+#[derive(Debug, Clone, Copy, PartialEq, Pod, Zeroable)]
+pub struct FrameParams {
+    pub camera_position: [f32; 3],
+    /// tan(vfov / 2).
+    pub tan_half_vfov: f32,
+    pub camera_forward: [f32; 3],
+    /// width / height.
+    pub aspect: f32,
+    pub camera_right: [f32; 3],
+    pub min_intensity: f32,
+    pub camera_up: [f32; 3],
+    pub max_depth: u32,
+    pub background: [f32; 3],
+    pub shadow_mode: u32,
+    pub scene_min: [f32; 3],
+    pub sphere_count: u32,
+    pub scene_max: [f32; 3],
+    pub object_count: u32,
+    /// Full image size in pixels.
+    pub width: u32,
+    pub height: u32,
+    /// k for k * k samples per pixel.
+    pub samples_per_axis: u32,
+    pub light_count: u32,
+    /// Pixel of the image that this dispatch's invocation (0, 0) renders.
+    pub tile_origin: [u32; 2],
+    /// Size of this dispatch's tile; the output buffer is tile_size.x wide.
+    pub tile_size: [u32; 2],
+    pub accel: u32,
+    /// 0 for an empty scene (nothing to traverse).
+    pub node_count: u32,
+    pub _pad: [u32; 2],
+}

@@ -1,0 +1,110 @@
+//! Scenes: the validated, world-space description that everything downstream
+//! consumes. Parsing (TOML or JSON), validation and OBJ loading live in the
+//! submodules; nothing here knows about the GPU or the k-d tree.
+//!
+//! Units: positions in scene units, angles in degrees in files and radians
+//! nowhere in this module (the camera keeps `vfov_degrees`), colours linear.
+
+mod error;
+pub mod obj;
+mod parse;
+mod source_map;
+
+pub use error::SceneError;
+pub use parse::{load_scene, parse_scene, SceneFormat};
+
+use glam::DVec3;
+
+/// A fully validated scene. All values are finite; materials are referred
+/// to by index into `materials`.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Scene {
+    pub camera: Camera,
+    pub render: RenderSettings,
+    pub lights: Vec<Light>,
+    pub materials: Vec<Material>,
+    pub spheres: Vec<Sphere>,
+    pub triangles: Vec<Triangle>,
+}
+
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Camera {
+    pub position: DVec3,
+    pub look_at: DVec3,
+    pub up: DVec3,
+    /// Vertical field of view in degrees, in (0, 180).
+    pub vfov_degrees: f64,
+}
+
+/// What happens at a hit from which no light is visible.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum ShadowMode {
+    /// The hit still gets its ambient term and the path goes on.
+    Ambient,
+    /// The path ends and adds nothing (the seed's Algorithm 1).
+    Seed,
+}
+
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct RenderSettings {
+    pub width: u32,
+    pub height: u32,
+    /// The seed's ind_ref: a path stops once its weight falls below this.
+    pub min_intensity: f64,
+    /// Most hits evaluated along one path, primary hit included (1..=64).
+    pub max_depth: u32,
+    pub background: DVec3,
+    pub shadow_mode: ShadowMode,
+    /// Samples per pixel, a perfect square k * k.
+    pub samples: u32,
+}
+
+impl RenderSettings {
+    /// k for samples = k * k.
+    pub fn samples_per_axis(&self) -> u32 {
+        (self.samples as f64).sqrt().round() as u32
+    }
+}
+
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Light {
+    pub position: DVec3,
+    pub ambient: DVec3,
+    pub diffuse: DVec3,
+    pub specular: DVec3,
+}
+
+#[derive(Debug, Clone, PartialEq)]
+pub struct Material {
+    /// The name in the scene file, or `mesh-file.obj:mtl-name` for MTL materials.
+    pub name: String,
+    pub ambient: DVec3,
+    pub diffuse: DVec3,
+    pub specular: DVec3,
+    /// >= 0; the Blinn-Phong exponent is shininess / 4.
+    pub shininess: f64,
+    /// 0 = opaque .. 1 = perfect mirror.
+    pub reflection: f64,
+}
+
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Sphere {
+    pub center: DVec3,
+    pub radius: f64,
+    pub material: u32,
+}
+
+/// A two-sided triangle, from `[[triangles]]` or a mesh (already transformed).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Triangle {
+    pub vertices: [DVec3; 3],
+    pub material: u32,
+}
+
+impl Scene {
+    /// Number of objects, spheres first then triangles: the object ids used by
+    /// the k-d tree and the shader are `0..object_count()`.
+    pub fn object_count(&self) -> usize {
+        self.spheres.len() + self.triangles.len()
+    }
+}

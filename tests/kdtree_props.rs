@@ -1,0 +1,233 @@
+//! Property tests: the CPU mirror of the shader's stackless k-d traversal
+//! agrees with brute force on random scenes and rays, including the cases
+//! the seed's tree gets wrong (straddling objects, nearer hits in the far
+//! child) and the numerically awkward ones (axis-parallel rays, rays on and
+//! in split planes, coincident, tiny and huge objects).
+
+use glam::Vec3;
+use kdray::geometry::{Primitives, Ray, SphereF32, TriangleF32, T_INFINITY};
+use kdray::kdtree::traverse::{any_hit, any_hit_brute, closest_hit, closest_hit_brute};
+use kdray::kdtree::KdTree;
+use proptest::prelude::*;
+
+fn vec3(range: f32) -> impl Strategy<Value = Vec3> {
+    (-range..range, -range..range, -range..range).prop_map(|(x, y, z)| Vec3::new(x, y, z))
+}
+
+/// Object sizes spanning tiny to huge relative to the 10-unit scene.
+fn size() -> impl Strategy<Value = f32> {
+    prop_oneof![4 => 0.05f32..1.0, 1 => 1e-4f32..1e-2, 1 => 3.0f32..30.0]
+}
+
+#[derive(Debug, Clone)]
+enum Object {
+    Sphere(SphereF32),
+    Triangle(TriangleF32),
+}
+
+fn object() -> impl Strategy<Value = Object> {
+    prop_oneof![
+        (vec3(10.0), size()).prop_map(|(c, r)| Object::Sphere(SphereF32 {
+            center: c,
+            radius: r
+        })),
+        (vec3(10.0), size(), vec3(1.0), vec3(1.0)).prop_map(|(c, s, a, b)| Object::Triangle(
+            TriangleF32 {
+                v: [c, c + a * s, c + b * s],
+            }
+        )),
+        // Axis-aligned triangles: they lie in, and bound, candidate split planes.
+        (vec3(10.0), size(), 0usize..3).prop_map(|(c, s, axis)| {
+            let (u, v) = (Vec3::AXES[(axis + 1) % 3], Vec3::AXES[(axis + 2) % 3]);
+            Object::Triangle(TriangleF32 {
+                v: [c, c + u * s, c + v * s],
+            })
+        }),
+    ]
+}
+
+fn scene() -> impl Strategy<Value = Primitives> {
+    (prop::collection::vec(object(), 1..120), 0usize..4).prop_map(|(objects, copies)| {
+        let mut prims = Primitives::default();
+        // Coincident objects: repeat the first few exactly.
+        let repeated = objects.iter().take(copies).cloned().collect::<Vec<_>>();
+        for o in objects.into_iter().chain(repeated) {
+            match o {
+                Object::Sphere(s) => prims.spheres.push(s),
+                Object::Triangle(t) => prims.triangles.push(t),
+            }
+        }
+        prims
+    })
+}
+
+fn direction() -> impl Strategy<Value = Vec3> {
+    prop_oneof![
+        3 => vec3(1.0).prop_filter("non-zero", |v| v.length() > 1e-3).prop_map(|v| v.normalize()),
+        1 => (0usize..3, any::<bool>()).prop_map(|(a, neg)| if neg { -Vec3::AXES[a] } else { Vec3::AXES[a] }),
+        // Parallel to one axis plane but not to an axis.
+        1 => (0usize..3, -1.0f32..1.0, -1.0f32..1.0).prop_filter("non-zero", |(_, x, y)| x.abs() + y.abs() > 1e-3).prop_map(|(a, x, y)| {
+            let mut v = Vec3::ZERO;
+            v[(a + 1) % 3] = x;
+            v[(a + 2) % 3] = y;
+            v.normalize()
+        }),
+    ]
+}
+
+/// Origins anywhere, or exactly on one of the tree's split planes.
+fn ray_for(tree: &KdTree, origin: Vec3, dir: Vec3, on_plane: Option<usize>) -> Ray {
+    let mut origin = origin;
+    if let Some(pick) = on_plane {
+        let inner: Vec<_> = tree.nodes.iter().filter(|n| !n.is_leaf()).collect();
+        if !inner.is_empty() {
+            let n = inner[pick % inner.len()];
+            origin[n.kind as usize] = n.split;
+        }
+    }
+    Ray { origin, dir }
+}
+
+fn check_closest(tree: &KdTree, prims: &Primitives, ray: &Ray) -> Result<(), TestCaseError> {
+    let kd = closest_hit(tree, prims, ray, T_INFINITY);
+    let brute = closest_hit_brute(prims, ray, T_INFINITY);
+    match (kd, brute) {
+        (None, None) => {}
+        (Some(k), Some(b)) => {
+            let tol = 1e-4 * b.t.max(1.0);
+            prop_assert!(
+                (k.t - b.t).abs() <= tol,
+                "t differs: kd {:?} brute {:?} ray {:?}",
+                k,
+                b,
+                ray
+            );
+            // A different object is fine only for a tie (coincident objects).
+        }
+        (k, b) => prop_assert!(false, "kd {:?} brute {:?} ray {:?}", k, b, ray),
+    }
+    Ok(())
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig { cases: 512, .. ProptestConfig::default() })]
+
+    #[test]
+    fn closest_hit_matches_brute_force(
+        prims in scene(),
+        rays in prop::collection::vec((vec3(14.0), direction(), prop::option::of(any::<usize>())), 1..40),
+    ) {
+        let tree = KdTree::for_primitives(&prims);
+        for (origin, dir, on_plane) in rays {
+            let ray = ray_for(&tree, origin, dir, on_plane);
+            check_closest(&tree, &prims, &ray)?;
+        }
+    }
+
+    #[test]
+    fn any_hit_matches_brute_force_on_segments(
+        prims in scene(),
+        rays in prop::collection::vec((vec3(14.0), direction(), prop::option::of(any::<usize>()), 0.01f32..30.0), 1..40),
+    ) {
+        let tree = KdTree::for_primitives(&prims);
+        for (origin, dir, on_plane, length) in rays {
+            let ray = ray_for(&tree, origin, dir, on_plane);
+            // Segments ending exactly at a hit are ties; step back from them.
+            let brute_t = closest_hit_brute(&prims, &ray, T_INFINITY).map(|h| h.t);
+            if brute_t.is_some_and(|t| (t - length).abs() <= 1e-4 * length.max(1.0)) {
+                continue;
+            }
+            prop_assert_eq!(any_hit(&tree, &prims, &ray, length), any_hit_brute(&prims, &ray, length), "ray {:?} length {}", ray, length);
+        }
+    }
+
+    /// Rays aimed at a random object's centre from outside: most of them hit,
+    /// so the comparison is not dominated by misses.
+    #[test]
+    fn aimed_rays_match_brute_force(prims in scene(), picks in prop::collection::vec((any::<usize>(), vec3(14.0)), 1..30)) {
+        let tree = KdTree::for_primitives(&prims);
+        for (pick, origin) in picks {
+            let b = prims.bounds((pick % prims.len()) as u32);
+            let target = (b.min + b.max) * 0.5;
+            let Some(dir) = (target - origin).try_normalize() else { continue };
+            check_closest(&tree, &prims, &Ray { origin, dir })?;
+        }
+    }
+
+    /// Every object is referenced by the leaf containing any point of its box.
+    #[test]
+    fn every_point_of_an_object_is_in_its_leaf(prims in scene(), fractions in prop::collection::vec((0.0f32..=1.0, 0.0f32..=1.0, 0.0f32..=1.0, any::<usize>()), 1..50)) {
+        let tree = KdTree::for_primitives(&prims);
+        for (fx, fy, fz, pick) in fractions {
+            let id = (pick % prims.len()) as u32;
+            let b = prims.bounds(id);
+            let p = b.min + (b.max - b.min) * Vec3::new(fx, fy, fz);
+            let mut node = 0usize;
+            while !tree.nodes[node].is_leaf() {
+                let n = tree.nodes[node];
+                node = if p[n.kind as usize] <= n.split { node + 1 } else { n.index as usize };
+            }
+            let leaf = tree.nodes[node];
+            let ids = &tree.leaf_objects[leaf.index as usize..(leaf.index + leaf.count) as usize];
+            prop_assert!(ids.contains(&id), "object {} missing from the leaf holding {:?}", id, p);
+        }
+    }
+}
+
+/// A big sphere straddling every plane among small ones: each ray's answer
+/// equals brute force (the seed's tree puts such a sphere on one side only).
+#[test]
+fn straddling_sphere_scene_matches_brute_force() {
+    let mut prims = Primitives::default();
+    prims.spheres.push(SphereF32 {
+        center: Vec3::new(-5.0, 0.0, 0.0),
+        radius: 0.5,
+    });
+    prims.spheres.push(SphereF32 {
+        center: Vec3::new(-4.0, 0.0, 0.0),
+        radius: 0.2,
+    });
+    prims.spheres.push(SphereF32 {
+        center: Vec3::new(5.0, 0.0, 0.0),
+        radius: 0.5,
+    });
+    prims.spheres.push(SphereF32 {
+        center: Vec3::new(0.5, 0.0, 0.0),
+        radius: 4.0,
+    });
+    let tree = KdTree::for_primitives(&prims);
+    assert!(tree.nodes.len() > 1, "the scene must be split");
+    let ray = Ray {
+        origin: Vec3::new(-10.0, 0.0, 0.0),
+        dir: Vec3::X,
+    };
+    let hit = closest_hit(&tree, &prims, &ray, T_INFINITY).expect("hit");
+    assert_eq!(hit.object, 0);
+    let ray = Ray {
+        origin: Vec3::new(-3.0, 0.0, 0.0),
+        dir: Vec3::X,
+    };
+    let hit = closest_hit(&tree, &prims, &ray, T_INFINITY).expect("hit");
+    assert_eq!(hit, closest_hit_brute(&prims, &ray, T_INFINITY).unwrap());
+}
+
+#[test]
+fn ten_thousand_copies_of_one_sphere() {
+    let mut prims = Primitives::default();
+    prims.spheres = vec![
+        SphereF32 {
+            center: Vec3::new(1.0, 2.0, 3.0),
+            radius: 0.5
+        };
+        10_000
+    ];
+    let tree = KdTree::for_primitives(&prims);
+    let ray = Ray {
+        origin: Vec3::new(1.0, 2.0, -10.0),
+        dir: Vec3::Z,
+    };
+    let hit = closest_hit(&tree, &prims, &ray, T_INFINITY).expect("hit");
+    assert!((hit.t - 12.5).abs() < 1e-4);
+    assert!(any_hit(&tree, &prims, &ray, 13.0));
+    assert!(!any_hit(&tree, &prims, &ray, 12.0));
+}
