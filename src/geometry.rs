@@ -136,8 +136,8 @@ impl TriangleF32 {
         let e2 = self.v[2] - self.v[0];
         let p = ray.dir.cross(e2);
         let det = e1.dot(p);
-        if det == 0.0 {
-            return None;
+        if det.abs() < 1e-30 {
+            return None; // degenerate, or parallel to the ray
         }
         let inv_det = 1.0 / det;
         let s = ray.origin - self.v[0];
@@ -151,7 +151,7 @@ impl TriangleF32 {
             return None;
         }
         let t = e2.dot(q) * inv_det;
-        (t > 0.0 && t.is_finite()).then_some(t)
+        (t > 0.0).then_some(t)
     }
 
     /// Unit geometric normal (not yet turned to face a ray).

@@ -115,3 +115,93 @@ pub struct FrameParams {
     pub node_count: u32,
     pub _pad: [u32; 2],
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Checks that a WGSL struct has the Rust type's size and that each of
+    /// its members sits at the offset of the Rust field of the same name.
+    fn check_layout(
+        module: &naga::Module,
+        wgsl_name: &str,
+        rust_size: usize,
+        rust_offsets: &[(&str, usize)],
+    ) {
+        let ty = module
+            .types
+            .iter()
+            .find(|(_, t)| t.name.as_deref() == Some(wgsl_name))
+            .unwrap_or_else(|| panic!("no struct {wgsl_name} in types.wgsl"))
+            .1;
+        let naga::TypeInner::Struct { members, span } = &ty.inner else {
+            panic!("{wgsl_name} is not a struct")
+        };
+        assert_eq!(*span as usize, rust_size, "size of {wgsl_name}");
+        for m in members {
+            let name = m.name.as_deref().unwrap();
+            let rust = rust_offsets
+                .iter()
+                .find(|(n, _)| *n == name)
+                .unwrap_or_else(|| panic!("{wgsl_name}.{name} has no Rust field"));
+            assert_eq!(m.offset as usize, rust.1, "offset of {wgsl_name}.{name}");
+        }
+    }
+
+    macro_rules! layout_of {
+        ($module:expr, $wgsl:literal, $rust:ty, [$($field:ident),* $(,)?]) => {
+            check_layout($module, $wgsl, std::mem::size_of::<$rust>(), &[$((stringify!($field), std::mem::offset_of!($rust, $field))),*])
+        };
+    }
+
+    #[test]
+    fn rust_types_match_wgsl_layout() {
+        let source = include_str!("../shaders/types.wgsl");
+        let (module, _) = crate::gpu::shaders::parse_and_validate(source);
+        layout_of!(&module, "KdNode", KdNode, [kind, split, index, count]);
+        layout_of!(&module, "Sphere", GpuSphere, [center, radius]);
+        layout_of!(&module, "Triangle", GpuTriangle, [v0, v1, v2]);
+        layout_of!(
+            &module,
+            "Material",
+            GpuMaterial,
+            [ambient, shininess, diffuse, reflection, specular]
+        );
+        layout_of!(
+            &module,
+            "Light",
+            GpuLight,
+            [position, ambient, diffuse, specular]
+        );
+        layout_of!(
+            &module,
+            "FrameParams",
+            FrameParams,
+            [
+                camera_position,
+                tan_half_vfov,
+                camera_forward,
+                aspect,
+                camera_right,
+                min_intensity,
+                camera_up,
+                max_depth,
+                background,
+                shadow_mode,
+                scene_min,
+                sphere_count,
+                scene_max,
+                object_count,
+                width,
+                height,
+                samples_per_axis,
+                light_count,
+                tile_origin,
+                tile_size,
+                accel,
+                node_count,
+                _pad,
+            ]
+        );
+    }
+}

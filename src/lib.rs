@@ -3,9 +3,16 @@
 //!
 //! Data flows one way: [`scene`] (parse, validate, OBJ) -> [`kdtree`] (SAH
 //! build, flat GPU layout, CPU mirror of the traversal) -> [`gpu`] (adapter,
-//! buffers, pipeline, dispatch, readback) -> [`output`] (PNG).
+//! buffers, pipeline, tiled dispatch, readback) -> [`output`] (PNG).
+//! [`render`] strings them together for one frame.
 
+pub mod error;
 pub mod geometry;
+pub mod gpu;
 pub mod kdtree;
 pub mod layout;
+pub mod output;
+pub mod render;
 pub mod scene;
+
+pub use error::{Error, Result};

@@ -1,1 +1,132 @@
-fn main() {}
+//! The `kdray` command line: `render` and `info`.
+
+use std::path::{Path, PathBuf};
+use std::process::ExitCode;
+
+use clap::{Parser, Subcommand};
+use kdray::gpu::{Accel, GpuContext, TilePlan};
+use kdray::{Error, Result};
+
+#[derive(Parser)]
+#[command(
+    name = "kdray",
+    version,
+    about = "GPU ray tracer with a CPU-built k-d tree (wgpu compute shaders)"
+)]
+struct Cli {
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(Subcommand)]
+enum Command {
+    /// Render a scene file (.toml or .json) to a PNG.
+    Render {
+        /// The scene file.
+        scene: PathBuf,
+        /// Output PNG [default: the scene's file name with .png, in the current folder].
+        #[arg(short, long)]
+        output: Option<PathBuf>,
+        /// Image width in pixels (overrides the scene's [render] width).
+        #[arg(long)]
+        width: Option<u32>,
+        /// Image height in pixels (overrides the scene's [render] height).
+        #[arg(long)]
+        height: Option<u32>,
+        /// Samples per pixel, a perfect square (overrides the scene's [render] samples).
+        #[arg(long)]
+        samples: Option<u32>,
+        /// Nearest-hit search in the shader.
+        #[arg(long, value_enum, default_value_t = Accel::Kdtree)]
+        accel: Accel,
+        /// Print one JSON object of figures on stdout.
+        #[arg(long)]
+        stats: bool,
+    },
+    /// List the adapters wgpu sees and the one kdray picks.
+    Info,
+}
+
+fn main() -> ExitCode {
+    let cli = Cli::parse();
+    let result = match cli.command {
+        Command::Render {
+            scene,
+            output,
+            width,
+            height,
+            samples,
+            accel,
+            stats,
+        } => render(&scene, output, width, height, samples, accel, stats),
+        Command::Info => info(),
+    };
+    match result {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(e) => {
+            eprintln!("kdray: {e}");
+            ExitCode::from(e.exit_code() as u8)
+        }
+    }
+}
+
+fn render(
+    scene_path: &Path,
+    output: Option<PathBuf>,
+    width: Option<u32>,
+    height: Option<u32>,
+    samples: Option<u32>,
+    accel: Accel,
+    stats: bool,
+) -> Result<()> {
+    let mut scene = kdray::scene::load_scene(scene_path)?;
+    let max = kdray::scene::MAX_IMAGE_SIDE;
+    for (flag, value) in [("--width", width), ("--height", height)] {
+        if value.is_some_and(|v| !(1..=max).contains(&v)) {
+            return Err(Error::Usage(format!(
+                "{flag}: must be in 1..={max}, got {}",
+                value.unwrap_or(0)
+            )));
+        }
+    }
+    if let Some(s) = samples {
+        kdray::scene::check_samples(s).map_err(|m| Error::Usage(format!("--samples: {m}")))?;
+        scene.render.samples = s;
+    }
+    scene.render.width = width.unwrap_or(scene.render.width);
+    scene.render.height = height.unwrap_or(scene.render.height);
+    let output = output.unwrap_or_else(|| {
+        let stem = scene_path
+            .file_stem()
+            .map_or("out".into(), |s| s.to_string_lossy().into_owned());
+        PathBuf::from(format!("{stem}.png"))
+    });
+
+    let ctx = GpuContext::new()?;
+    let (image, figures) =
+        kdray::render::render_scene(&ctx, &scene, accel, TilePlan::DEFAULT_MAX_TILE_PIXELS)?;
+    kdray::output::write_png_atomic(&output, image.width, image.height, &image.rgb)?;
+    if stats {
+        println!(
+            "{}",
+            serde_json::to_string(&figures).map_err(|e| Error::Output(e.to_string()))?
+        );
+    }
+    Ok(())
+}
+
+fn info() -> Result<()> {
+    let (adapters, pick) = kdray::gpu::context::ranked_adapters();
+    if adapters.is_empty() {
+        return Err(Error::Gpu(kdray::gpu::context::NO_ADAPTER_HELP.to_string()));
+    }
+    for (i, a) in adapters.iter().enumerate() {
+        let marker = if Some(i) == pick { "*" } else { " " };
+        println!("{marker} {}", kdray::gpu::context::describe(&a.get_info()));
+    }
+    match pick {
+        Some(_) => println!("(* = the adapter kdray uses)"),
+        None => println!("no adapter matches WGPU_ADAPTER_NAME"),
+    }
+    Ok(())
+}

@@ -11,7 +11,7 @@ mod parse;
 mod source_map;
 
 pub use error::SceneError;
-pub use parse::{load_scene, parse_scene, SceneFormat};
+pub use parse::{check_samples, load_scene, parse_scene, SceneFormat, MAX_IMAGE_SIDE};
 
 use glam::DVec3;
 

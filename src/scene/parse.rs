@@ -6,9 +6,12 @@
 //! Every error names the file, the line (via [`SourceMap`]) and the key.
 
 use std::collections::BTreeMap;
+use std::fmt;
+use std::marker::PhantomData;
 use std::path::Path;
 
 use glam::{DMat3, DVec3};
+use serde::de::{self, Deserializer, MapAccess, SeqAccess, Visitor};
 use serde::Deserialize;
 
 use super::obj;
@@ -49,50 +52,70 @@ pub fn load_scene(path: &Path) -> Result<Scene, SceneError> {
 pub fn parse_scene(text: &str, path: &Path, format: SceneFormat) -> Result<Scene, SceneError> {
     let (raw, map) = match format {
         SceneFormat::Toml => {
-            let raw: Result<RawScene, _> = toml::from_str(text);
             let map = SourceMap::toml(text);
-            match raw {
+            match toml::from_str::<RawScene>(text) {
                 Ok(raw) => (raw, map),
-                Err(e) => {
-                    let offset = e.span().map(|s| s.start);
-                    let line = match (&map, offset) {
-                        (Some(m), Some(o)) => Some(m.line_of_offset(o)),
-                        (None, Some(o)) => {
-                            Some(text[..o.min(text.len())].matches('\n').count() + 1)
-                        }
-                        _ => None,
-                    };
-                    let key = map
-                        .as_ref()
-                        .zip(offset)
-                        .and_then(|(m, o)| m.path_at(o))
-                        .map(str::to_string);
-                    return Err(SceneError::new(path, line, key, e.message()));
-                }
+                Err(e) => return Err(toml_error(&e, text, map.as_ref(), path)),
             }
         }
         SceneFormat::Json => {
-            let raw: Result<RawScene, _> = serde_json::from_str(text);
             let map = SourceMap::json(text);
-            match raw {
+            match serde_json::from_str::<RawScene>(text) {
                 Ok(raw) => (raw, map),
-                Err(e) => {
-                    let key = map
-                        .as_ref()
-                        .and_then(|m| m.path_at(m.offset_of(e.line(), e.column())))
-                        .map(str::to_string);
-                    // serde_json appends " at line L column C"; the line is ours to print.
-                    let message = e.to_string();
-                    let message = message
-                        .rsplit_once(" at line ")
-                        .map_or(message.as_str(), |(m, _)| m);
-                    let line = (e.line() > 0).then_some(e.line());
-                    return Err(SceneError::new(path, line, key, message));
-                }
+                Err(e) => return Err(json_error(&e, map.as_ref(), path)),
             }
         }
     };
     Validator { file: path, map }.scene(raw)
+}
+
+/// A syntax or schema error from the toml crate, located by its byte span.
+fn toml_error(e: &toml::de::Error, text: &str, map: Option<&SourceMap>, path: &Path) -> SceneError {
+    let span = e.span();
+    let (line, key) = match (map, span) {
+        // The document parsed, so this is a schema error. An empty span is
+        // how the toml crate reports one about the whole document (a missing
+        // top-level table): it has no line and no key.
+        (Some(_), Some(s)) if s.is_empty() => (None, None),
+        (Some(m), Some(s)) => (
+            Some(m.line_of_offset(s.start)),
+            m.path_at_span(s).map(str::to_string),
+        ),
+        // A syntax error: count lines ourselves (no map without a parse).
+        (None, Some(s)) => {
+            let before = &text.as_bytes()[..s.start.min(text.len())];
+            (
+                Some(before.iter().filter(|&&b| b == b'\n').count() + 1),
+                None,
+            )
+        }
+        (_, None) => (None, None),
+    };
+    SceneError::new(path, line, key, e.message())
+}
+
+/// A syntax or schema error from serde_json, located by its line and column
+/// (the column of the last character it read).
+fn json_error(e: &serde_json::Error, map: Option<&SourceMap>, path: &Path) -> SceneError {
+    let key = map
+        .and_then(|m| m.path_at(m.offset_of(e.line(), e.column())))
+        .map(str::to_string);
+    // serde_json appends " at line L column C"; the line is ours to print.
+    let message = e.to_string();
+    let mut message = message
+        .rsplit_once(" at line ")
+        .map_or(message.as_str(), |(m, _)| m)
+        .to_string();
+    if message == "number out of range" {
+        // 1e999 and the like: JSON has no inf, and serde_json will not round.
+        message.push_str(": must be a finite number");
+    }
+    // A schema error outside every key is about the whole document (a
+    // missing top-level table); serde_json puts it at the closing brace,
+    // which is no help, so name no line.
+    let whole_document = e.is_data() && key.is_none();
+    let line = (e.line() > 0 && !whole_document).then_some(e.line());
+    SceneError::new(path, line, key, message)
 }
 
 // ---------------------------------------------------------------- raw file
@@ -107,7 +130,7 @@ struct RawScene {
     render: RawRender,
     #[serde(default)]
     lights: Vec<RawLight>,
-    #[serde(default)]
+    #[serde(default, deserialize_with = "unique_names")]
     materials: BTreeMap<String, RawMaterial>,
     #[serde(default)]
     spheres: Vec<RawSphere>,
@@ -122,15 +145,13 @@ struct RawScene {
 struct RawCamera {
     position: Vec3,
     look_at: Vec3,
-    #[serde(default = "default_up")]
-    up: Vec3,
+    /// None: the default [0, 1, 0] (kept apart so that an error can say so).
+    up: Option<Vec3>,
     #[serde(default = "default_vfov")]
     vfov: f64,
 }
 
-fn default_up() -> Vec3 {
-    [0.0, 1.0, 0.0]
-}
+const DEFAULT_UP: Vec3 = [0.0, 1.0, 0.0];
 fn default_vfov() -> f64 {
     60.0
 }
@@ -211,11 +232,76 @@ struct RawMesh {
     translate: Vec3,
 }
 
-#[derive(Deserialize)]
-#[serde(untagged, expecting = "a number or an array of 3 numbers")]
+/// `scale = 2` or `scale = [x, y, z]`. Written by hand rather than as an
+/// untagged enum so that serde_json reports a bad value at the value itself
+/// (an untagged enum's error only surfaces at the end of the enclosing table).
 enum RawScale {
     Uniform(f64),
     PerAxis(Vec3),
+}
+
+impl<'de> Deserialize<'de> for RawScale {
+    fn deserialize<D: Deserializer<'de>>(deserializer: D) -> Result<Self, D::Error> {
+        struct ScaleVisitor;
+        impl<'de> Visitor<'de> for ScaleVisitor {
+            type Value = RawScale;
+            fn expecting(&self, f: &mut fmt::Formatter) -> fmt::Result {
+                f.write_str("a number or an array of 3 numbers")
+            }
+            fn visit_f64<E: de::Error>(self, x: f64) -> Result<RawScale, E> {
+                Ok(RawScale::Uniform(x))
+            }
+            fn visit_i64<E: de::Error>(self, x: i64) -> Result<RawScale, E> {
+                Ok(RawScale::Uniform(x as f64))
+            }
+            fn visit_u64<E: de::Error>(self, x: u64) -> Result<RawScale, E> {
+                Ok(RawScale::Uniform(x as f64))
+            }
+            fn visit_seq<A: SeqAccess<'de>>(self, mut seq: A) -> Result<RawScale, A::Error> {
+                let mut v = [0.0; 3];
+                for (i, x) in v.iter_mut().enumerate() {
+                    *x = seq
+                        .next_element()?
+                        .ok_or_else(|| de::Error::invalid_length(i, &self))?;
+                }
+                if seq.next_element::<de::IgnoredAny>()?.is_some() {
+                    return Err(de::Error::invalid_length(4, &self));
+                }
+                Ok(RawScale::PerAxis(v))
+            }
+        }
+        deserializer.deserialize_any(ScaleVisitor)
+    }
+}
+
+/// A map whose keys must be unique: TOML rejects a repeated key itself, but
+/// serde_json would silently keep the last of two `"red"` materials.
+fn unique_names<'de, D, V>(deserializer: D) -> Result<BTreeMap<String, V>, D::Error>
+where
+    D: Deserializer<'de>,
+    V: Deserialize<'de>,
+{
+    struct MapVisitor<V>(PhantomData<V>);
+    impl<'de, V: Deserialize<'de>> Visitor<'de> for MapVisitor<V> {
+        type Value = BTreeMap<String, V>;
+        fn expecting(&self, f: &mut fmt::Formatter) -> fmt::Result {
+            f.write_str("a table of named materials")
+        }
+        fn visit_map<A: MapAccess<'de>>(self, mut map: A) -> Result<Self::Value, A::Error> {
+            let mut out = BTreeMap::new();
+            while let Some(name) = map.next_key::<String>()? {
+                if out.contains_key(&name) {
+                    return Err(de::Error::custom(format!(
+                        "material \"{name}\" is defined twice"
+                    )));
+                }
+                let value = map.next_value()?;
+                out.insert(name, value);
+            }
+            Ok(out)
+        }
+    }
+    deserializer.deserialize_map(MapVisitor(PhantomData))
 }
 
 impl Default for RawScale {
@@ -232,8 +318,18 @@ struct Validator<'a> {
 }
 
 impl Validator<'_> {
+    /// An error at `key`, on the line of the key or, when the file leaves it
+    /// out (a default is at fault), of the nearest enclosing table it has.
     fn error(&self, key: &str, message: impl Into<String>) -> SceneError {
-        let line = self.map.as_ref().and_then(|m| m.line_of_path(key));
+        let line = self.map.as_ref().and_then(|m| {
+            let mut path = key;
+            loop {
+                if let Some(line) = m.line_of_path(path) {
+                    return Some(line);
+                }
+                path = &path[..path.rfind(['.', '['])?];
+            }
+        });
         SceneError::new(self.file, line, Some(key.to_string()), message)
     }
 
@@ -245,9 +341,10 @@ impl Validator<'_> {
         }
     }
 
+    /// A finite vector; a bad component is named by its index, `key[i]`.
     fn vector(&self, key: &str, v: Vec3) -> Result<DVec3, SceneError> {
-        for x in v {
-            self.number(key, x)?;
+        for (i, x) in v.into_iter().enumerate() {
+            self.number(&format!("{key}[{i}]"), x)?;
         }
         Ok(DVec3::from_array(v))
     }
@@ -265,12 +362,8 @@ impl Validator<'_> {
         let render = self.render(&raw.render)?;
 
         if raw.lights.is_empty() {
-            return Err(SceneError::new(
-                self.file,
-                None,
-                Some("lights".into()),
-                "a scene needs at least one [[lights]] entry",
-            ));
+            // Names the line of `lights = []` when there is one.
+            return Err(self.error("lights", "a scene needs at least one [[lights]] entry"));
         }
         let lights = raw
             .lights
@@ -347,8 +440,8 @@ impl Validator<'_> {
         for (i, t) in raw.triangles.iter().enumerate() {
             let key = |k: &str| format!("triangles[{i}].{k}");
             let mut vertices = [DVec3::ZERO; 3];
-            for (v, raw_v) in vertices.iter_mut().zip(t.vertices) {
-                *v = self.vector(&key("vertices"), raw_v)?;
+            for (j, (v, raw_v)) in vertices.iter_mut().zip(t.vertices).enumerate() {
+                *v = self.vector(&format!("{}[{j}]", key("vertices")), raw_v)?;
             }
             if !has_area(&vertices) {
                 return Err(self.error(&key("vertices"), "triangle has zero area"));
@@ -380,7 +473,7 @@ impl Validator<'_> {
     fn camera(&self, c: &RawCamera) -> Result<Camera, SceneError> {
         let position = self.vector("camera.position", c.position)?;
         let look_at = self.vector("camera.look_at", c.look_at)?;
-        let up = self.vector("camera.up", c.up)?;
+        let up = self.vector("camera.up", c.up.unwrap_or(DEFAULT_UP))?;
         let vfov_degrees = self.number("camera.vfov", c.vfov)?;
         if !(vfov_degrees > 0.0 && vfov_degrees < 180.0) {
             return Err(self.error(
@@ -389,15 +482,22 @@ impl Validator<'_> {
             ));
         }
         let forward = look_at - position;
-        if forward.length_squared() == 0.0 {
-            return Err(self.error("camera.look_at", "must differ from camera.position"));
+        if !forward.is_finite() {
+            return Err(self.error(
+                "camera.look_at",
+                "look_at - position is too large to represent",
+            ));
         }
-        if up.length_squared() == 0.0 || forward.normalize().cross(up.normalize()).length() < 1e-9 {
+        let Some(forward) = unit(forward) else {
+            return Err(self.error("camera.look_at", "must differ from camera.position"));
+        };
+        if unit(up).is_none_or(|up| forward.cross(up).length() < 1e-9) {
             return Err(self.error(
                 "camera.up",
                 format!(
-                    "must not be zero or parallel to look_at - position, got {:?}",
-                    c.up
+                    "must not be zero or parallel to look_at - position, got {:?}{}",
+                    c.up.unwrap_or(DEFAULT_UP),
+                    if c.up.is_none() { " (the default)" } else { "" }
                 ),
             ));
         }
@@ -459,7 +559,7 @@ impl Validator<'_> {
     ) -> Result<(), SceneError> {
         let key = |k: &str| format!("meshes[{i}].{k}");
         let scale = match m.scale {
-            RawScale::Uniform(s) => self.vector(&key("scale"), [s; 3])?,
+            RawScale::Uniform(s) => DVec3::splat(self.number(&key("scale"), s)?),
             RawScale::PerAxis(v) => self.vector(&key("scale"), v)?,
         };
         if scale.abs().min_element() == 0.0 {
@@ -471,7 +571,18 @@ impl Validator<'_> {
 
         let base = self.file.parent().unwrap_or(Path::new(""));
         let obj_path = base.join(&m.path);
-        let mesh = obj::load_obj(&obj_path, override_material.is_none())?;
+        let mesh = obj::load_obj(&obj_path, override_material.is_none()).map_err(|e| {
+            if e.line.is_some() {
+                return e;
+            }
+            // An OBJ that cannot be read at all: also say which entry asked for it.
+            let at = match self.map.as_ref().and_then(|m| m.line_of_path(&key("path"))) {
+                Some(line) => format!("{}:{line}", self.file.display()),
+                None => self.file.display().to_string(),
+            };
+            let message = format!("{} (from {} in {at})", e.message, key("path"));
+            SceneError::new(&e.file, e.line, e.key, message)
+        })?;
 
         let first_material = materials.len() as u32;
         if override_material.is_none() {
@@ -512,8 +623,10 @@ impl Validator<'_> {
 
 /// `samples` must be a perfect square k * k with k >= 1.
 pub fn check_samples(samples: u32) -> Result<(), String> {
-    let k = (samples as f64).sqrt().round() as u32;
-    if samples == 0 || k * k != samples {
+    // In u64: for samples near u32::MAX, k rounds up to 65536 and k * k
+    // would overflow a u32.
+    let k = (samples as f64).sqrt().round() as u64;
+    if samples == 0 || k * k != u64::from(samples) {
         return Err(format!(
             "must be a perfect square (1, 4, 9, 16, ...), got {samples}"
         ));
@@ -528,6 +641,13 @@ pub fn mesh_transform(scale: DVec3, rotate_degrees: DVec3) -> DMat3 {
         * DMat3::from_rotation_y(r.y)
         * DMat3::from_rotation_x(r.x)
         * DMat3::from_diagonal(scale)
+}
+
+/// `v` scaled to length 1, or None for the zero vector. Safe for finite
+/// vectors of any size (no overflow or underflow in the length).
+fn unit(v: DVec3) -> Option<DVec3> {
+    let largest = v.abs().max_element();
+    (largest > 0.0).then(|| (v / largest).normalize())
 }
 
 fn has_area(v: &[DVec3; 3]) -> bool {

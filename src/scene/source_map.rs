@@ -52,11 +52,23 @@ impl SourceMap {
             .map(|e| self.line_of_offset(e.span.start))
     }
 
-    /// The innermost key path whose key or value contains `offset`.
+    /// The innermost key path whose key or value contains the byte at `offset`.
     pub fn path_at(&self, offset: usize) -> Option<&str> {
+        self.path_at_span(offset..offset + 1)
+    }
+
+    /// The innermost key path whose key or value contains all of `span`. An
+    /// error about a whole table (a missing field) thus names that table, and
+    /// one about the whole document (the toml crate gives those an empty span
+    /// at 0) names no key. Spans are half-open: the byte just past a value
+    /// (the closing `}` of the object around it) is not part of it.
+    pub fn path_at_span(&self, span: Range<usize>) -> Option<&str> {
+        if span.is_empty() {
+            return None;
+        }
         self.entries
             .iter()
-            .filter(|e| e.span.start <= offset && offset <= e.span.end)
+            .filter(|e| e.span.start <= span.start && span.end <= e.span.end)
             .min_by_key(|e| e.span.end - e.span.start)
             .map(|e| e.path.as_str())
     }

@@ -1,0 +1,79 @@
+// Data shared with the host. Every struct here mirrors a #[repr(C)] type in
+// src/layout.rs; a unit test checks sizes and offsets against naga's layout.
+
+struct KdNode {
+    kind: u32,       // 0, 1, 2: inner node splitting x, y, z; 3: leaf
+    split: f32,      // inner: the plane's coordinate on axis `kind`
+    index: u32,      // inner: right child; leaf: first entry in leaf_objects
+    count: u32,      // leaf: number of object ids
+}
+
+struct Sphere {
+    center: vec3<f32>,
+    radius: f32,
+}
+
+struct Triangle {
+    v0: vec3<f32>,
+    v1: vec3<f32>,
+    v2: vec3<f32>,
+}
+
+struct Material {
+    ambient: vec3<f32>,
+    shininess: f32,
+    diffuse: vec3<f32>,
+    reflection: f32,
+    specular: vec3<f32>,
+}
+
+struct Light {
+    position: vec3<f32>,
+    ambient: vec3<f32>,
+    diffuse: vec3<f32>,
+    specular: vec3<f32>,
+}
+
+struct FrameParams {
+    camera_position: vec3<f32>,
+    tan_half_vfov: f32,
+    camera_forward: vec3<f32>,
+    aspect: f32,
+    camera_right: vec3<f32>,
+    min_intensity: f32,
+    camera_up: vec3<f32>,
+    max_depth: u32,
+    background: vec3<f32>,
+    shadow_mode: u32,
+    scene_min: vec3<f32>,
+    sphere_count: u32,
+    scene_max: vec3<f32>,
+    object_count: u32,
+    width: u32,
+    height: u32,
+    samples_per_axis: u32,
+    light_count: u32,
+    tile_origin: vec2<u32>,
+    tile_size: vec2<u32>,
+    accel: u32,
+    node_count: u32,
+    _pad: vec2<u32>,
+}
+
+const KD_LEAF: u32 = 3u;
+const ACCEL_KDTREE: u32 = 0u;
+const ACCEL_BRUTE: u32 = 1u;
+const SHADOW_AMBIENT: u32 = 0u;
+const SHADOW_SEED: u32 = 1u;
+
+@group(0) @binding(0) var<uniform> params: FrameParams;
+@group(0) @binding(1) var<storage, read> spheres: array<Sphere>;
+@group(0) @binding(2) var<storage, read> triangles: array<Triangle>;
+// Material index of every object id (spheres first, then triangles).
+@group(0) @binding(3) var<storage, read> object_materials: array<u32>;
+@group(0) @binding(4) var<storage, read> materials: array<Material>;
+@group(0) @binding(5) var<storage, read> lights: array<Light>;
+@group(0) @binding(6) var<storage, read> kd_nodes: array<KdNode>;
+@group(0) @binding(7) var<storage, read> leaf_objects: array<u32>;
+// One packed RGBA8 pixel per invocation of the tile, row-major, tile_size.x wide.
+@group(0) @binding(8) var<storage, read_write> output_pixels: array<u32>;

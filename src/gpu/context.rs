@@ -1,0 +1,179 @@
+//! Adapter choice and device creation.
+//!
+//! `WGPU_BACKEND` (e.g. `vulkan`, `gl`) limits the backends and
+//! `WGPU_ADAPTER_NAME` picks adapters whose name contains it. Among the
+//! rest, Vulkan comes first, then the other native APIs, then GL; within a
+//! backend, real GPUs before software ones.
+
+use std::sync::{Arc, Mutex};
+
+use crate::error::{Error, Result};
+
+/// What to install when no adapter is found.
+pub const NO_ADAPTER_HELP: &str = "no GPU adapter found (Vulkan or GL). On Debian/Ubuntu install a driver, \
+e.g. `apt-get install mesa-vulkan-drivers libvulkan1` (lavapipe, software Vulkan) or \
+`apt-get install libegl1 libegl-mesa0` (llvmpipe over EGL); check WGPU_BACKEND and WGPU_ADAPTER_NAME";
+
+pub struct GpuContext {
+    pub adapter: wgpu::Adapter,
+    pub device: wgpu::Device,
+    pub queue: wgpu::Queue,
+    pub info: wgpu::AdapterInfo,
+    /// Whether compute passes can write timestamps (for `gpu_ms`).
+    pub has_timestamps: bool,
+    /// The first uncaptured error or device loss, reported by wgpu's callbacks.
+    fault: Arc<Mutex<Option<String>>>,
+}
+
+fn instance(backends: wgpu::Backends) -> wgpu::Instance {
+    let desc = wgpu::InstanceDescriptor::new_without_display_handle_from_env();
+    // WGPU_BACKEND, when set, has already narrowed desc.backends.
+    wgpu::Instance::new(wgpu::InstanceDescriptor {
+        backends: desc.backends & backends,
+        ..desc
+    })
+}
+
+fn backend_rank(b: wgpu::Backend) -> u32 {
+    match b {
+        wgpu::Backend::Vulkan => 0,
+        wgpu::Backend::Metal | wgpu::Backend::Dx12 => 1,
+        wgpu::Backend::Gl => 2,
+        _ => 3,
+    }
+}
+
+fn device_rank(t: wgpu::DeviceType) -> u32 {
+    match t {
+        wgpu::DeviceType::DiscreteGpu => 0,
+        wgpu::DeviceType::IntegratedGpu => 1,
+        wgpu::DeviceType::VirtualGpu => 2,
+        wgpu::DeviceType::Cpu => 3,
+        wgpu::DeviceType::Other => 4,
+    }
+}
+
+/// All adapters wgpu sees (after WGPU_BACKEND), best first, and the index of
+/// the one kdray picks (the first whose name matches WGPU_ADAPTER_NAME).
+pub fn ranked_adapters() -> (Vec<wgpu::Adapter>, Option<usize>) {
+    ranked_adapters_of(wgpu::Backends::all())
+}
+
+fn ranked_adapters_of(backends: wgpu::Backends) -> (Vec<wgpu::Adapter>, Option<usize>) {
+    let mut adapters = pollster::block_on(instance(backends).enumerate_adapters(backends));
+    adapters.sort_by_key(|a| {
+        let info = a.get_info();
+        (backend_rank(info.backend), device_rank(info.device_type))
+    });
+    let wanted = std::env::var("WGPU_ADAPTER_NAME")
+        .ok()
+        .map(|s| s.to_lowercase());
+    let pick = adapters.iter().position(|a| match &wanted {
+        Some(name) => a.get_info().name.to_lowercase().contains(name.as_str()),
+        None => true,
+    });
+    (adapters, pick)
+}
+
+/// One line describing an adapter, as `kdray info` and `--stats` show it.
+pub fn describe(info: &wgpu::AdapterInfo) -> String {
+    format!(
+        "{} ({:?}, {:?}, driver {} {})",
+        info.name, info.backend, info.device_type, info.driver, info.driver_info
+    )
+}
+
+impl GpuContext {
+    pub fn new() -> Result<Self> {
+        // Native APIs first; GL only if none of them offers an adapter (which
+        // also spares the EGL probe and its warnings when Vulkan works).
+        let (mut adapters, mut pick) = ranked_adapters_of(wgpu::Backends::PRIMARY);
+        if pick.is_none() {
+            (adapters, pick) = ranked_adapters();
+        }
+        let Some(pick) = pick else {
+            return Err(match std::env::var("WGPU_ADAPTER_NAME") {
+                Ok(name) if !adapters.is_empty() => Error::Gpu(format!("no adapter's name contains WGPU_ADAPTER_NAME={name:?}; `kdray info` lists them")),
+                _ => Error::Gpu(NO_ADAPTER_HELP.to_string()),
+            });
+        };
+        let adapter = adapters.swap_remove(pick);
+        let info = adapter.get_info();
+        let has_timestamps = adapter.features().contains(wgpu::Features::TIMESTAMP_QUERY);
+        let required_features = if has_timestamps {
+            wgpu::Features::TIMESTAMP_QUERY
+        } else {
+            wgpu::Features::empty()
+        };
+        let (device, queue) = pollster::block_on(adapter.request_device(&wgpu::DeviceDescriptor {
+            label: Some("kdray"),
+            required_features,
+            // Everything the adapter offers: large scenes need its real
+            // storage-buffer limits, not WebGPU's defaults.
+            required_limits: adapter.limits(),
+            ..Default::default()
+        }))
+        .map_err(|e| Error::Gpu(format!("cannot open a device on {}: {e}", describe(&info))))?;
+        // wgpu panics on uncaptured errors by default; record them instead
+        // and turn them into one error line at the next check.
+        let fault = Arc::new(Mutex::new(None));
+        let record = |fault: &Arc<Mutex<Option<String>>>, message: String| {
+            if let Ok(mut slot) = fault.lock() {
+                slot.get_or_insert(message);
+            }
+        };
+        let f = fault.clone();
+        device.on_uncaptured_error(Arc::new(move |e: wgpu::Error| {
+            record(&f, format!("GPU error: {e}"))
+        }));
+        let f = fault.clone();
+        device.set_device_lost_callback(move |reason, message| {
+            record(&f, format!("GPU device lost ({reason:?}): {message}"))
+        });
+        Ok(GpuContext {
+            adapter,
+            device,
+            queue,
+            info,
+            has_timestamps,
+            fault,
+        })
+    }
+
+    /// The adapter's description for reports.
+    pub fn adapter_line(&self) -> String {
+        describe(&self.info)
+    }
+
+    /// Fails if wgpu reported an uncaptured error or the device was lost.
+    pub fn check_health(&self) -> Result<()> {
+        match self.fault.lock().ok().and_then(|slot| slot.clone()) {
+            Some(message) => Err(Error::Gpu(message)),
+            None => Ok(()),
+        }
+    }
+
+    /// Runs `f` inside validation and out-of-memory error scopes; an error
+    /// becomes `Error::Gpu("<what>: <error>")`.
+    pub fn checked<T>(&self, what: &str, f: impl FnOnce(&wgpu::Device) -> T) -> Result<T> {
+        let oom = self.device.push_error_scope(wgpu::ErrorFilter::OutOfMemory);
+        let validation = self.device.push_error_scope(wgpu::ErrorFilter::Validation);
+        let value = f(&self.device);
+        let errors = [
+            pollster::block_on(validation.pop()),
+            pollster::block_on(oom.pop()),
+        ];
+        if let Some(e) = errors.into_iter().flatten().next() {
+            let message = e
+                .to_string()
+                .lines()
+                .map(str::trim)
+                .filter(|l| !l.is_empty())
+                .collect::<Vec<_>>()
+                .join(" ");
+            return Err(Error::Gpu(format!("{what}: {message}")));
+        }
+        self.check_health()?;
+        Ok(value)
+    }
+}

@@ -1,0 +1,16 @@
+//! Everything that talks to wgpu: the adapter and device ([`context`]), the
+//! scene's storage buffers ([`scene_buffers`]), the shaders ([`shaders`]) and
+//! the tiled trace dispatch with readback ([`renderer`]).
+
+pub mod context;
+pub mod renderer;
+pub mod scene_buffers;
+pub mod shaders;
+
+pub use context::GpuContext;
+pub use renderer::{frame_params, Accel, RenderedImage, Renderer, TilePlan};
+pub use scene_buffers::{SceneArrays, SceneBuffers};
+
+/// Shaders compiled on their own (not part of the trace kernel), validated
+/// by the same test.
+pub const STANDALONE_SHADERS: [(&str, &str); 0] = [];

@@ -1,0 +1,339 @@
+//! The trace pipeline and its tiled dispatch: each tile is one dispatch of
+//! one invocation per pixel, copied back and packed into an 8-bit RGB image.
+
+use std::time::Instant;
+
+use glam::DVec3;
+
+use super::context::GpuContext;
+use super::scene_buffers::SceneBuffers;
+use super::shaders;
+use crate::error::{Error, Result};
+use crate::kdtree::KdTree;
+use crate::layout::{FrameParams, ACCEL_BRUTE, ACCEL_KDTREE, SHADOW_AMBIENT, SHADOW_SEED};
+use crate::scene::{Scene, ShadowMode};
+
+/// Which nearest-hit search the shader runs.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+pub enum Accel {
+    /// The stackless k-d tree walk.
+    Kdtree,
+    /// The seed's loop over every object.
+    Brute,
+}
+
+/// How the image is cut into dispatches. Tiles are full rows tall enough to
+/// hold at most `max_tile_pixels` pixels (and never exceed the adapter's
+/// storage binding size).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct TilePlan {
+    pub tile_width: u32,
+    pub tile_height: u32,
+}
+
+impl TilePlan {
+    /// Default bound on one dispatch's pixels (about one megapixel).
+    pub const DEFAULT_MAX_TILE_PIXELS: u64 = 1 << 20;
+
+    pub fn new(width: u32, height: u32, max_tile_pixels: u64, max_binding_bytes: u64) -> Self {
+        let max_pixels = max_tile_pixels.min(max_binding_bytes / 4).max(1);
+        let tile_width = width.min(max_pixels as u32).max(1);
+        let rows = (max_pixels / tile_width as u64).clamp(1, height as u64) as u32;
+        TilePlan {
+            tile_width,
+            tile_height: rows,
+        }
+    }
+
+    /// Tiles as (x, y, width, height), row by row.
+    pub fn tiles(
+        &self,
+        width: u32,
+        height: u32,
+    ) -> impl Iterator<Item = (u32, u32, u32, u32)> + '_ {
+        let (tw, th) = (self.tile_width, self.tile_height);
+        (0..height.div_ceil(th)).flat_map(move |ty| {
+            (0..width.div_ceil(tw)).map(move |tx| {
+                let (x, y) = (tx * tw, ty * th);
+                (x, y, tw.min(width - x), th.min(height - y))
+            })
+        })
+    }
+}
+
+/// Camera and render settings in the layout the shader reads; the tile
+/// fields are filled in per dispatch.
+pub fn frame_params(
+    scene: &Scene,
+    tree: &KdTree,
+    buffers: &SceneBuffers,
+    accel: Accel,
+) -> FrameParams {
+    let cam = &scene.camera;
+    let r = &scene.render;
+    let forward = (cam.look_at - cam.position).normalize();
+    let right = forward.cross(cam.up).normalize();
+    let up = right.cross(forward);
+    let f = |v: DVec3| v.as_vec3().to_array();
+    FrameParams {
+        camera_position: f(cam.position),
+        tan_half_vfov: (cam.vfov_degrees.to_radians() * 0.5).tan() as f32,
+        camera_forward: f(forward),
+        aspect: (r.width as f64 / r.height as f64) as f32,
+        camera_right: f(right),
+        min_intensity: r.min_intensity as f32,
+        camera_up: f(up),
+        max_depth: r.max_depth,
+        background: f(r.background),
+        shadow_mode: match r.shadow_mode {
+            ShadowMode::Ambient => SHADOW_AMBIENT,
+            ShadowMode::Seed => SHADOW_SEED,
+        },
+        scene_min: tree.bounds.min.to_array(),
+        sphere_count: buffers.sphere_count,
+        scene_max: tree.bounds.max.to_array(),
+        object_count: buffers.object_count,
+        width: r.width,
+        height: r.height,
+        samples_per_axis: r.samples_per_axis(),
+        light_count: buffers.light_count,
+        tile_origin: [0, 0],
+        tile_size: [r.width, r.height],
+        accel: match accel {
+            Accel::Kdtree => ACCEL_KDTREE,
+            Accel::Brute => ACCEL_BRUTE,
+        },
+        node_count: buffers.node_count,
+        _pad: [0, 0],
+    }
+}
+
+/// A rendered image and how long the GPU took.
+pub struct RenderedImage {
+    pub width: u32,
+    pub height: u32,
+    /// 8-bit RGB, row-major, top row first.
+    pub rgb: Vec<u8>,
+    /// Sum over tiles of GPU time (timestamp queries) or of submit-to-done wall time.
+    pub gpu_ms: f64,
+    /// "timestamp" or "wall".
+    pub gpu_time_source: &'static str,
+}
+
+pub struct Renderer {
+    pipeline: wgpu::ComputePipeline,
+    params_buffer: wgpu::Buffer,
+}
+
+impl Renderer {
+    pub fn new(ctx: &GpuContext) -> Result<Self> {
+        let source = shaders::trace_source();
+        let pipeline = ctx.checked("creating the trace pipeline", |device| {
+            let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
+                label: Some("trace"),
+                source: wgpu::ShaderSource::Wgsl(source.into()),
+            });
+            device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+                label: Some("trace"),
+                layout: None,
+                module: &module,
+                entry_point: Some(shaders::TRACE_ENTRY_POINT),
+                compilation_options: Default::default(),
+                cache: None,
+            })
+        })?;
+        let params_buffer = ctx.device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("frame params"),
+            size: std::mem::size_of::<FrameParams>() as u64,
+            usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        });
+        Ok(Renderer {
+            pipeline,
+            params_buffer,
+        })
+    }
+
+    /// Renders the whole image, tile by tile, and reads it back.
+    pub fn render(
+        &self,
+        ctx: &GpuContext,
+        scene: &SceneBuffers,
+        params: FrameParams,
+        plan: TilePlan,
+    ) -> Result<RenderedImage> {
+        let (width, height) = (params.width, params.height);
+        let device = &ctx.device;
+        let tile_bytes = plan.tile_width as u64 * plan.tile_height as u64 * 4;
+        let (output, readback, bind_group) =
+            ctx.checked("allocating the output buffers", |device| {
+                let output = device.create_buffer(&wgpu::BufferDescriptor {
+                    label: Some("output pixels"),
+                    size: tile_bytes,
+                    usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
+                    mapped_at_creation: false,
+                });
+                let readback = device.create_buffer(&wgpu::BufferDescriptor {
+                    label: Some("readback"),
+                    size: tile_bytes,
+                    usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
+                    mapped_at_creation: false,
+                });
+                let mut entries = vec![wgpu::BindGroupEntry {
+                    binding: 0,
+                    resource: self.params_buffer.as_entire_binding(),
+                }];
+                entries.extend(scene.buffers.iter().enumerate().map(|(i, b)| {
+                    wgpu::BindGroupEntry {
+                        binding: i as u32 + 1,
+                        resource: b.as_entire_binding(),
+                    }
+                }));
+                entries.push(wgpu::BindGroupEntry {
+                    binding: 8,
+                    resource: output.as_entire_binding(),
+                });
+                let bind_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
+                    label: Some("trace"),
+                    layout: &self.pipeline.get_bind_group_layout(0),
+                    entries: &entries,
+                });
+                (output, readback, bind_group)
+            })?;
+        let timer = ctx.has_timestamps.then(|| GpuTimer::new(device));
+
+        let mut rgb = vec![0u8; width as usize * height as usize * 3];
+        let mut gpu_ms = 0.0;
+        for (x, y, w, h) in plan.tiles(width, height) {
+            let tile_params = FrameParams {
+                tile_origin: [x, y],
+                tile_size: [w, h],
+                ..params
+            };
+            ctx.queue
+                .write_buffer(&self.params_buffer, 0, bytemuck::bytes_of(&tile_params));
+            let mut encoder = device.create_command_encoder(&wgpu::CommandEncoderDescriptor {
+                label: Some("tile"),
+            });
+            {
+                let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
+                    label: Some("trace tile"),
+                    timestamp_writes: timer.as_ref().map(|t| t.writes()),
+                });
+                pass.set_pipeline(&self.pipeline);
+                pass.set_bind_group(0, &bind_group, &[]);
+                let (gx, gy) = shaders::TRACE_WORKGROUP;
+                pass.dispatch_workgroups(w.div_ceil(gx), h.div_ceil(gy), 1);
+            }
+            let used = w as u64 * h as u64 * 4;
+            encoder.copy_buffer_to_buffer(&output, 0, &readback, 0, used);
+            if let Some(t) = &timer {
+                t.resolve(&mut encoder);
+            }
+            let started = Instant::now();
+            ctx.queue.submit([encoder.finish()]);
+            let pixels = ctx.read_buffer(&readback, used)?;
+            let wall_ms = started.elapsed().as_secs_f64() * 1e3;
+            gpu_ms += match &timer {
+                Some(t) => t.read_ms(ctx)?,
+                None => wall_ms,
+            };
+            let pixels: &[u32] = bytemuck::cast_slice(&pixels);
+            for row in 0..h as usize {
+                let dst_start = ((y as usize + row) * width as usize + x as usize) * 3;
+                let dst = &mut rgb[dst_start..dst_start + w as usize * 3];
+                for (d, &p) in dst
+                    .chunks_exact_mut(3)
+                    .zip(&pixels[row * w as usize..(row + 1) * w as usize])
+                {
+                    d.copy_from_slice(&p.to_le_bytes()[..3]);
+                }
+            }
+        }
+        ctx.check_health()?;
+        Ok(RenderedImage {
+            width,
+            height,
+            rgb,
+            gpu_ms,
+            gpu_time_source: if timer.is_some() { "timestamp" } else { "wall" },
+        })
+    }
+}
+
+/// Two timestamps around each tile's compute pass.
+struct GpuTimer {
+    queries: wgpu::QuerySet,
+    resolved: wgpu::Buffer,
+    readback: wgpu::Buffer,
+}
+
+impl GpuTimer {
+    fn new(device: &wgpu::Device) -> Self {
+        GpuTimer {
+            queries: device.create_query_set(&wgpu::QuerySetDescriptor {
+                label: Some("tile time"),
+                ty: wgpu::QueryType::Timestamp,
+                count: 2,
+            }),
+            resolved: device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some("timestamps"),
+                size: 16,
+                usage: wgpu::BufferUsages::QUERY_RESOLVE | wgpu::BufferUsages::COPY_SRC,
+                mapped_at_creation: false,
+            }),
+            readback: device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some("timestamps readback"),
+                size: 16,
+                usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
+                mapped_at_creation: false,
+            }),
+        }
+    }
+
+    fn writes(&self) -> wgpu::ComputePassTimestampWrites<'_> {
+        wgpu::ComputePassTimestampWrites {
+            query_set: &self.queries,
+            beginning_of_pass_write_index: Some(0),
+            end_of_pass_write_index: Some(1),
+        }
+    }
+
+    fn resolve(&self, encoder: &mut wgpu::CommandEncoder) {
+        encoder.resolve_query_set(&self.queries, 0..2, &self.resolved, 0);
+        encoder.copy_buffer_to_buffer(&self.resolved, 0, &self.readback, 0, 16);
+    }
+
+    fn read_ms(&self, ctx: &GpuContext) -> Result<f64> {
+        let bytes = ctx.read_buffer(&self.readback, 16)?;
+        let ticks: &[u64] = bytemuck::cast_slice(&bytes);
+        let ns = ticks[1].saturating_sub(ticks[0]) as f64 * ctx.queue.get_timestamp_period() as f64;
+        Ok(ns * 1e-6)
+    }
+}
+
+impl GpuContext {
+    /// Maps `buffer` (after the last submission), copies out `size` bytes, unmaps.
+    pub(crate) fn read_buffer(&self, buffer: &wgpu::Buffer, size: u64) -> Result<Vec<u8>> {
+        let slice = buffer.slice(..size);
+        let (sender, receiver) = std::sync::mpsc::channel();
+        slice.map_async(wgpu::MapMode::Read, move |r| {
+            let _ = sender.send(r);
+        });
+        self.device
+            .poll(wgpu::PollType::wait_indefinitely())
+            .map_err(|e| Error::Gpu(format!("waiting for the GPU failed: {e}")))?;
+        self.check_health()?;
+        match receiver.recv() {
+            Ok(Ok(())) => {}
+            Ok(Err(e)) => return Err(Error::Gpu(format!("reading back from the GPU failed: {e}"))),
+            Err(_) => return Err(Error::Gpu("the GPU never finished the readback".into())),
+        }
+        let bytes = slice
+            .get_mapped_range()
+            .map_err(|e| Error::Gpu(format!("reading back from the GPU failed: {e}")))?
+            .to_vec();
+        buffer.unmap();
+        Ok(bytes)
+    }
+}

@@ -1,0 +1,79 @@
+//! The WGSL sources. WGSL has no includes, so the trace kernel is the
+//! concatenation of its parts, in dependency order.
+
+/// Files of the trace kernel, in the order they are concatenated.
+pub const TRACE_PARTS: [(&str, &str); 5] = [
+    ("types.wgsl", include_str!("../../shaders/types.wgsl")),
+    (
+        "intersect.wgsl",
+        include_str!("../../shaders/intersect.wgsl"),
+    ),
+    ("traverse.wgsl", include_str!("../../shaders/traverse.wgsl")),
+    ("shade.wgsl", include_str!("../../shaders/shade.wgsl")),
+    ("trace.wgsl", include_str!("../../shaders/trace.wgsl")),
+];
+
+/// Entry point of the trace kernel.
+pub const TRACE_ENTRY_POINT: &str = "render_tile";
+/// Workgroup size of the trace kernel (see `@workgroup_size` in trace.wgsl).
+pub const TRACE_WORKGROUP: (u32, u32) = (8, 8);
+
+/// The whole trace kernel as one WGSL module.
+pub fn trace_source() -> String {
+    TRACE_PARTS
+        .iter()
+        .map(|(name, text)| format!("// ---- {name}\n{text}\n"))
+        .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use naga::valid::{Capabilities, ValidationFlags, Validator};
+
+    pub(crate) fn parse_and_validate(source: &str) -> (naga::Module, naga::valid::ModuleInfo) {
+        let module = naga::front::wgsl::parse_str(source)
+            .unwrap_or_else(|e| panic!("{}", e.emit_to_string(source)));
+        let info = Validator::new(ValidationFlags::all(), Capabilities::empty())
+            .validate(&module)
+            .unwrap_or_else(|e| panic!("{}", e.emit_to_string(source)));
+        (module, info)
+    }
+
+    #[test]
+    fn trace_kernel_parses_and_validates() {
+        let (module, _) = parse_and_validate(&trace_source());
+        let entry = module
+            .entry_points
+            .iter()
+            .find(|e| e.name == TRACE_ENTRY_POINT)
+            .expect("entry point");
+        assert_eq!(
+            entry.workgroup_size,
+            [TRACE_WORKGROUP.0, TRACE_WORKGROUP.1, 1]
+        );
+    }
+
+    /// Every .wgsl file in shaders/ is part of a validated module.
+    #[test]
+    fn every_shader_file_is_validated() {
+        let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("shaders");
+        let mut validated: Vec<&str> = TRACE_PARTS.iter().map(|(name, _)| *name).collect();
+        validated.extend(crate::gpu::STANDALONE_SHADERS.iter().map(|(name, _)| *name));
+        for (_, source) in crate::gpu::STANDALONE_SHADERS {
+            parse_and_validate(source);
+        }
+        for entry in std::fs::read_dir(&dir).unwrap() {
+            let name = entry.unwrap().file_name().into_string().unwrap();
+            if name.ends_with(".wgsl") {
+                assert!(
+                    validated.contains(&name.as_str()),
+                    "{name} is not validated by any test"
+                );
+            }
+        }
+    }
+}
+
+#[cfg(test)]
+pub(crate) use tests::parse_and_validate;
