@@ -91,7 +91,22 @@ fn toml_error(e: &toml::de::Error, text: &str, map: Option<&SourceMap>, path: &P
         }
         (_, None) => (None, None),
     };
-    SceneError::new(path, line, key, e.message())
+    let mut message = e.message().to_string();
+    if message == "floating-point number overflowed" {
+        // 1e999: the same rule as nan and inf.
+        message.push_str(": must be a finite number");
+    } else if message == "duplicate key" {
+        // Say which: the span is the repeated key.
+        if let Some(name) = span_text(text, e.span()) {
+            message = format!("duplicate key `{name}`");
+        }
+    }
+    SceneError::new(path, line, key, message)
+}
+
+fn span_text(text: &str, span: Option<std::ops::Range<usize>>) -> Option<&str> {
+    let name = text.get(span?)?.trim();
+    (!name.is_empty() && !name.contains('\n')).then_some(name)
 }
 
 /// A syntax or schema error from serde_json, located by its line and column
@@ -337,7 +352,7 @@ impl Validator<'_> {
         if x.is_finite() {
             Ok(x)
         } else {
-            Err(self.error(key, format!("must be a finite number, got {x}")))
+            Err(self.error(key, format!("must be a finite number, got {x:?}")))
         }
     }
 
@@ -386,13 +401,16 @@ impl Validator<'_> {
             let key = |k: &str| format!("materials.{name}.{k}");
             let shininess = self.number(&key("shininess"), m.shininess)?;
             if shininess < 0.0 {
-                return Err(self.error(&key("shininess"), format!("must be >= 0, got {shininess}")));
+                return Err(self.error(
+                    &key("shininess"),
+                    format!("must be >= 0, got {shininess:?}"),
+                ));
             }
             let reflection = self.number(&key("reflection"), m.reflection)?;
             if !(0.0..=1.0).contains(&reflection) {
                 return Err(self.error(
                     &key("reflection"),
-                    format!("must be in [0, 1], got {reflection}"),
+                    format!("must be in [0, 1], got {reflection:?}"),
                 ));
             }
             material_index.insert(name.clone(), materials.len() as u32);
@@ -427,7 +445,7 @@ impl Validator<'_> {
             let key = |k: &str| format!("spheres[{i}].{k}");
             let radius = self.number(&key("radius"), s.radius)?;
             if radius <= 0.0 {
-                return Err(self.error(&key("radius"), format!("must be > 0, got {radius}")));
+                return Err(self.error(&key("radius"), format!("must be > 0, got {radius:?}")));
             }
             spheres.push(Sphere {
                 center: self.vector(&key("center"), s.center)?,
@@ -478,7 +496,7 @@ impl Validator<'_> {
         if !(vfov_degrees > 0.0 && vfov_degrees < 180.0) {
             return Err(self.error(
                 "camera.vfov",
-                format!("must be in (0, 180) degrees, got {vfov_degrees}"),
+                format!("must be in (0, 180) degrees, got {vfov_degrees:?}"),
             ));
         }
         let forward = look_at - position;
@@ -521,7 +539,7 @@ impl Validator<'_> {
         if !(0.0..=1.0).contains(&min_intensity) {
             return Err(self.error(
                 "render.min_intensity",
-                format!("must be in [0, 1], got {min_intensity}"),
+                format!("must be in [0, 1], got {min_intensity:?}"),
             ));
         }
         let max_depth = r.max_depth.unwrap_or(10);

@@ -1,0 +1,127 @@
+//! Shared helpers of the GPU tests: one device for the whole test binary,
+//! rendering scene text or files at a small size, and image comparison.
+#![allow(dead_code)]
+
+use std::path::{Path, PathBuf};
+use std::sync::OnceLock;
+
+use kdray::gpu::{Accel, GpuContext, RenderedImage, TilePlan};
+use kdray::scene::{parse_scene, Scene, SceneFormat};
+
+pub fn gpu() -> &'static GpuContext {
+    static CTX: OnceLock<GpuContext> = OnceLock::new();
+    CTX.get_or_init(|| {
+        GpuContext::new()
+            .unwrap_or_else(|e| panic!("GPU tests need an adapter (lavapipe in CI): {e}"))
+    })
+}
+
+pub fn repo_path(relative: &str) -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join(relative)
+}
+
+pub fn scene_from_toml(text: &str) -> Scene {
+    parse_scene(text, Path::new("inline.toml"), SceneFormat::Toml).unwrap_or_else(|e| panic!("{e}"))
+}
+
+pub fn render(scene: &Scene, accel: Accel) -> RenderedImage {
+    render_tiled(scene, accel, TilePlan::DEFAULT_MAX_TILE_PIXELS)
+}
+
+pub fn render_tiled(scene: &Scene, accel: Accel, max_tile_pixels: u64) -> RenderedImage {
+    kdray::render::render_scene(gpu(), scene, accel, max_tile_pixels)
+        .unwrap_or_else(|e| panic!("{e}"))
+        .0
+}
+
+pub fn pixel(image: &RenderedImage, row: u32, column: u32) -> [u8; 3] {
+    let i = (row as usize * image.width as usize + column as usize) * 3;
+    [image.rgb[i], image.rgb[i + 1], image.rgb[i + 2]]
+}
+
+/// The spec's 8-bit quantisation of a linear colour.
+pub fn quantize(c: [f64; 3]) -> [u8; 3] {
+    c.map(|x| (255.0 * x.clamp(0.0, 1.0) + 0.5).floor() as u8)
+}
+
+/// Every scene file shipped in scenes/.
+pub fn shipped_scenes() -> Vec<PathBuf> {
+    let mut scenes: Vec<PathBuf> = std::fs::read_dir(repo_path("scenes"))
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .filter(|p| {
+            matches!(
+                p.extension().and_then(|e| e.to_str()),
+                Some("toml" | "json")
+            )
+        })
+        .collect();
+    scenes.sort();
+    assert!(
+        scenes.len() >= 6,
+        "scenes/ should hold the seed and at least five more"
+    );
+    scenes
+}
+
+/// A shipped scene at test size: 160 pixels wide, the scene's aspect ratio.
+pub fn small_scene(path: &Path) -> Scene {
+    let mut scene = kdray::scene::load_scene(path).unwrap_or_else(|e| panic!("{e}"));
+    let aspect = scene.render.height as f64 / scene.render.width as f64;
+    scene.render.width = 160;
+    scene.render.height = ((160.0 * aspect).round() as u32).max(1);
+    scene
+}
+
+/// How two 8-bit images differ.
+#[derive(Debug)]
+pub struct Difference {
+    /// Pixels whose largest channel difference exceeds `level_tolerance`.
+    pub pixels_over: usize,
+    pub largest: u8,
+    pub mean_flip: f32,
+}
+
+pub fn compare(a: &[u8], b: &[u8], width: u32, height: u32, level_tolerance: u8) -> Difference {
+    assert_eq!(a.len(), b.len());
+    let mut pixels_over = 0;
+    let mut largest = 0;
+    for (pa, pb) in a.chunks_exact(3).zip(b.chunks_exact(3)) {
+        let d = pa
+            .iter()
+            .zip(pb)
+            .map(|(x, y)| x.abs_diff(*y))
+            .max()
+            .unwrap();
+        largest = largest.max(d);
+        if d > level_tolerance {
+            pixels_over += 1;
+        }
+    }
+    let flip = nv_flip::flip(
+        nv_flip::FlipImageRgb8::with_data(width, height, a),
+        nv_flip::FlipImageRgb8::with_data(width, height, b),
+        nv_flip::DEFAULT_PIXELS_PER_DEGREE,
+    );
+    let mean_flip = nv_flip::FlipPool::from_image(&flip).mean();
+    Difference {
+        pixels_over,
+        largest,
+        mean_flip,
+    }
+}
+
+/// A difference image: |a - b| per channel, scaled up to be visible.
+pub fn difference_image(a: &[u8], b: &[u8]) -> Vec<u8> {
+    a.iter()
+        .zip(b)
+        .map(|(x, y)| x.abs_diff(*y).saturating_mul(8))
+        .collect()
+}
+
+/// Where failing image tests leave their actual and difference images.
+pub fn failure_dir() -> PathBuf {
+    let dir = repo_path("target/test-failures");
+    std::fs::create_dir_all(&dir).unwrap();
+    dir
+}
