@@ -87,7 +87,9 @@ impl GpuContext {
     pub fn new() -> Result<Self> {
         // Native APIs first; GL only if none of them offers an adapter (which
         // also spares the EGL probe and its warnings when Vulkan works).
-        let (mut adapters, mut pick) = ranked_adapters_of(wgpu::Backends::PRIMARY);
+        let (mut adapters, mut pick) = ranked_adapters_of(
+            wgpu::Backends::VULKAN | wgpu::Backends::METAL | wgpu::Backends::DX12,
+        );
         if pick.is_none() {
             (adapters, pick) = ranked_adapters();
         }

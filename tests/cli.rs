@@ -1,0 +1,477 @@
+//! End-to-end tests of the `kdray` binary: exit codes, the `--stats` JSON,
+//! one-line errors naming file, line and key, atomic output, adapter choice.
+//!
+//! Every test runs the built binary in a fresh temporary folder at a small
+//! image size.
+
+use std::path::{Path, PathBuf};
+use std::process::Command;
+use std::sync::atomic::{AtomicUsize, Ordering};
+
+use kdray::output::read_png_rgb;
+
+/// A fresh folder under the system temp dir, removed on drop.
+struct TempDir {
+    path: PathBuf,
+}
+
+impl TempDir {
+    fn new(test: &str) -> Self {
+        static COUNTER: AtomicUsize = AtomicUsize::new(0);
+        let n = COUNTER.fetch_add(1, Ordering::Relaxed);
+        let path =
+            std::env::temp_dir().join(format!("kdray-cli-{}-{test}-{n}", std::process::id()));
+        let _ = std::fs::remove_dir_all(&path);
+        std::fs::create_dir_all(&path).unwrap();
+        TempDir { path }
+    }
+
+    fn join(&self, name: &str) -> PathBuf {
+        self.path.join(name)
+    }
+
+    fn write(&self, name: &str, text: &str) -> PathBuf {
+        let path = self.join(name);
+        std::fs::write(&path, text).unwrap();
+        path
+    }
+
+    /// Leftover temporary files of the atomic PNG write.
+    fn temp_files(&self) -> Vec<String> {
+        std::fs::read_dir(&self.path)
+            .unwrap()
+            .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+            .filter(|name| name.contains(".tmp-"))
+            .collect()
+    }
+}
+
+impl Drop for TempDir {
+    fn drop(&mut self) {
+        let _ = std::fs::remove_dir_all(&self.path);
+    }
+}
+
+/// What one run of `kdray` left behind.
+#[derive(Debug)]
+struct Run {
+    code: i32,
+    stdout: String,
+    /// Lines of stderr, without Mesa's `XDG_RUNTIME_DIR` noise.
+    stderr: Vec<String>,
+}
+
+impl Run {
+    /// The single line of stderr, asserting there is exactly one and that
+    /// nothing panicked.
+    fn one_error_line(&self) -> &str {
+        assert!(
+            !self.stderr.iter().any(|l| l.contains("panicked")),
+            "{self:#?}"
+        );
+        assert_eq!(self.stderr.len(), 1, "want one stderr line: {self:#?}");
+        assert!(!self.stderr[0].trim().is_empty(), "{self:#?}");
+        &self.stderr[0]
+    }
+}
+
+/// Runs `kdray ARGS` in `dir` with extra environment variables.
+fn kdray_env(dir: &Path, args: &[&str], env: &[(&str, &str)]) -> Run {
+    let out = Command::new(env!("CARGO_BIN_EXE_kdray"))
+        .args(args)
+        .current_dir(dir)
+        .envs(env.iter().copied())
+        .output()
+        .expect("cannot run kdray");
+    Run {
+        code: out.status.code().expect("kdray was killed by a signal"),
+        stdout: String::from_utf8(out.stdout).expect("stdout is not UTF-8"),
+        stderr: String::from_utf8_lossy(&out.stderr)
+            .lines()
+            .filter(|l| !l.contains("XDG_RUNTIME_DIR"))
+            .map(str::to_string)
+            .collect(),
+    }
+}
+
+fn kdray(dir: &Path, args: &[&str]) -> Run {
+    kdray_env(dir, args, &[])
+}
+
+fn scene_path(name: &str) -> String {
+    format!("{}/scenes/{name}", env!("CARGO_MANIFEST_DIR"))
+}
+
+const SMALL: [&str; 4] = ["--width", "64", "--height", "36"];
+
+/// `render SCENE` at the small size, followed by `extra`.
+fn render_args<'a>(scene: &'a str, extra: &[&'a str]) -> Vec<&'a str> {
+    let mut args = vec!["render", scene];
+    args.extend(SMALL);
+    args.extend(extra);
+    args
+}
+
+fn parse_stats(run: &Run) -> serde_json::Value {
+    assert_eq!(run.code, 0, "{run:#?}");
+    assert!(run.stdout.ends_with('\n'), "{run:#?}");
+    assert_eq!(run.stdout.lines().count(), 1, "stdout: {:?}", run.stdout);
+    serde_json::from_str(run.stdout.trim_end()).expect("stdout is not JSON")
+}
+
+fn u64_field(stats: &serde_json::Value, key: &str) -> u64 {
+    stats[key]
+        .as_u64()
+        .unwrap_or_else(|| panic!("{key} is not an unsigned integer: {stats}"))
+}
+
+#[test]
+fn render_with_stats_writes_png_and_one_json_line() {
+    let dir = TempDir::new("stats");
+    let seed = scene_path("seed.toml");
+    let run = kdray(
+        &dir.path,
+        &render_args(&seed, &["-o", "out.png", "--stats"]),
+    );
+    let stats = parse_stats(&run);
+    for key in [
+        "adapter",
+        "backend",
+        "width",
+        "height",
+        "samples",
+        "spheres",
+        "triangles",
+        "kd_nodes",
+        "kd_leaves",
+        "kd_max_depth",
+        "kd_refs_per_leaf",
+        "build_ms",
+        "upload_ms",
+        "gpu_ms",
+        "total_ms",
+        "primary_rays",
+        "mrays_per_s",
+    ] {
+        assert!(stats.get(key).is_some(), "no {key} in {stats}");
+    }
+    assert!(stats["adapter"].is_string() && stats["backend"].is_string());
+    assert_eq!(u64_field(&stats, "width"), 64);
+    assert_eq!(u64_field(&stats, "height"), 36);
+    assert_eq!(u64_field(&stats, "samples"), 1);
+    assert_eq!(u64_field(&stats, "spheres"), 4);
+    assert_eq!(u64_field(&stats, "triangles"), 0);
+    assert_eq!(u64_field(&stats, "primary_rays"), 64 * 36);
+    assert!(stats["gpu_ms"].as_f64().unwrap() > 0.0, "{stats}");
+
+    let (w, h, rgb) = read_png_rgb(&dir.join("out.png")).unwrap();
+    assert_eq!((w, h), (64, 36));
+    assert_eq!(rgb.len(), 64 * 36 * 3);
+    assert!(dir.temp_files().is_empty(), "{:?}", dir.temp_files());
+}
+
+#[test]
+fn default_output_is_scene_stem_in_current_folder() {
+    let dir = TempDir::new("default-output");
+    let seed = scene_path("seed.toml");
+    let run = kdray(&dir.path, &render_args(&seed, &[]));
+    assert_eq!(run.code, 0, "{run:#?}");
+    assert!(
+        run.stdout.is_empty(),
+        "no --stats, yet stdout: {:?}",
+        run.stdout
+    );
+    let (w, h, _) = read_png_rgb(&dir.join("seed.png")).unwrap();
+    assert_eq!((w, h), (64, 36));
+    assert!(dir.temp_files().is_empty(), "{:?}", dir.temp_files());
+}
+
+#[test]
+fn samples_flag_is_used_and_checked() {
+    let dir = TempDir::new("samples");
+    let seed = scene_path("seed.toml");
+    let run = kdray(
+        &dir.path,
+        &render_args(&seed, &["-o", "out.png", "--stats", "--samples", "4"]),
+    );
+    let stats = parse_stats(&run);
+    assert_eq!(u64_field(&stats, "samples"), 4);
+    assert_eq!(u64_field(&stats, "primary_rays"), 64 * 36 * 4);
+
+    let run = kdray(
+        &dir.path,
+        &render_args(&seed, &["-o", "bad.png", "--samples", "3"]),
+    );
+    assert_eq!(run.code, 2, "{run:#?}");
+    assert!(run.one_error_line().contains("--samples"), "{run:#?}");
+    assert!(!dir.join("bad.png").exists());
+}
+
+#[test]
+fn out_of_range_size_and_bad_accel_are_usage_errors() {
+    let dir = TempDir::new("usage");
+    let seed = scene_path("seed.toml");
+    for width in ["0", "16385"] {
+        let run = kdray(
+            &dir.path,
+            &[
+                "render", &seed, "-o", "out.png", "--width", width, "--height", "36",
+            ],
+        );
+        assert_eq!(run.code, 2, "--width {width}: {run:#?}");
+        let line = run.one_error_line();
+        assert!(line.contains("--width"), "{line}");
+        assert!(line.contains(width), "{line}");
+    }
+    let run = kdray(
+        &dir.path,
+        &render_args(&seed, &["-o", "out.png", "--accel", "nonsense"]),
+    );
+    assert_eq!(run.code, 2, "{run:#?}");
+    assert!(
+        !run.stderr.iter().any(|l| l.contains("panicked")),
+        "{run:#?}"
+    );
+    assert!(!dir.join("out.png").exists());
+}
+
+/// A small valid scene; the cases below each break one part of it.
+const BASE_SCENE: &str = r#"[camera]
+position = [0.0, 0.0, 3.0]
+look_at  = [0.0, 0.0, 0.0]
+
+[[lights]]
+position = [2.0, 2.0, 2.0]
+
+[materials.red]
+diffuse = [0.8, 0.1, 0.1]
+
+[[spheres]]
+center   = [0.0, 0.0, 0.0]
+radius   = 1.0
+material = "red"
+"#;
+
+const BASE_JSON: &str = r#"{
+  "camera": { "position": [0.0, 0.0, 3.0], "look_at": [0.0, 0.0, 0.0] },
+  "lights": [ { "position": [2.0, 2.0, 2.0] } ],
+  "materials": { "red": { "diffuse": [0.8, 0.1, 0.1] } },
+  "spheres": [
+    {
+      "center": [0.0, 0.0, 0.0],
+      "radius": 1.0,
+      "material": "red"
+    }
+  ]
+}
+"#;
+
+/// `BASE_SCENE` with `from` replaced by `to` (which must occur).
+fn base_with(from: &str, to: &str) -> String {
+    assert!(BASE_SCENE.contains(from), "{from:?} not in the base scene");
+    BASE_SCENE.replacen(from, to, 1)
+}
+
+/// 1-based line of the first line of `text` containing `needle`.
+fn line_of(text: &str, needle: &str) -> usize {
+    text.lines()
+        .position(|l| l.contains(needle))
+        .unwrap_or_else(|| panic!("{needle:?} not in {text}"))
+        + 1
+}
+
+struct BadScene {
+    name: &'static str,
+    /// None: the file does not exist.
+    text: Option<String>,
+    /// The line of the fault, found by this text in the scene.
+    line_of: Option<&'static str>,
+    /// Further text the error line must contain (keys, file names).
+    mentions: &'static [&'static str],
+    /// The error is about another file (an OBJ) and names the scene's line
+    /// in a trailing note, `(from KEY in SCENE:LINE)`, not as `SCENE:LINE:`.
+    line_in_note: bool,
+}
+
+#[test]
+fn bad_scenes_exit_2_with_one_line_and_leave_output_alone() {
+    let dir = TempDir::new("bad-scenes");
+    let cases = [
+        BadScene {
+            name: "missing.toml",
+            text: None,
+            line_of: None,
+            mentions: &[],
+            line_in_note: false,
+        },
+        BadScene {
+            name: "malformed.toml",
+            text: Some(base_with("radius   = 1.0", "radius   = = 1.0")),
+            line_of: Some("radius"),
+            mentions: &[],
+            line_in_note: false,
+        },
+        BadScene {
+            name: "unknown_key.toml",
+            text: Some(base_with("radius   = 1.0", "radius   = 1.0\ncolour   = 3")),
+            line_of: Some("colour"),
+            mentions: &["spheres[0].colour"],
+            line_in_note: false,
+        },
+        BadScene {
+            name: "negative_radius.toml",
+            text: Some(base_with("radius   = 1.0", "radius   = -1.0")),
+            line_of: Some("radius"),
+            mentions: &["spheres[0].radius"],
+            line_in_note: false,
+        },
+        BadScene {
+            name: "unknown_material.toml",
+            text: Some(base_with("material = \"red\"", "material = \"blue\"")),
+            line_of: Some("\"blue\""),
+            mentions: &["spheres[0].material", "blue"],
+            line_in_note: false,
+        },
+        BadScene {
+            name: "nan.toml",
+            text: Some(base_with("radius   = 1.0", "radius   = nan")),
+            line_of: Some("nan"),
+            mentions: &["spheres[0].radius"],
+            line_in_note: false,
+        },
+        BadScene {
+            name: "samples.toml",
+            text: Some(format!("{BASE_SCENE}\n[render]\nsamples = 3\n")),
+            line_of: Some("samples"),
+            mentions: &["render.samples"],
+            line_in_note: false,
+        },
+        BadScene {
+            name: "missing_obj.toml",
+            text: Some(format!(
+                "{BASE_SCENE}\n[[meshes]]\npath = \"no-such-mesh.obj\"\nmaterial = \"red\"\n"
+            )),
+            line_of: Some("no-such-mesh.obj"),
+            mentions: &["no-such-mesh.obj", "meshes[0].path"],
+            line_in_note: true,
+        },
+        BadScene {
+            name: "wrong_type.json",
+            text: Some(BASE_JSON.replacen("\"radius\": 1.0", "\"radius\": \"big\"", 1)),
+            line_of: Some("\"big\""),
+            mentions: &["spheres[0].radius"],
+            line_in_note: false,
+        },
+    ];
+
+    let out = dir.join("out.png");
+    let original = b"not a PNG, and must stay as it is".to_vec();
+    std::fs::write(&out, &original).unwrap();
+    for case in cases {
+        let scene = match &case.text {
+            Some(text) => dir.write(case.name, text),
+            None => dir.join(case.name),
+        };
+        let scene = scene.to_str().unwrap();
+        let run = kdray(&dir.path, &render_args(scene, &["-o", "out.png"]));
+        assert_eq!(run.code, 2, "{}: {run:#?}", case.name);
+        let line = run.one_error_line();
+        assert!(
+            line.contains(scene),
+            "{}: no scene path in {line}",
+            case.name
+        );
+        if let (Some(text), Some(needle)) = (&case.text, case.line_of) {
+            let n = line_of(text, needle);
+            let want = if case.line_in_note {
+                format!("{scene}:{n})")
+            } else {
+                format!("{scene}:{n}:")
+            };
+            assert!(line.contains(&want), "{}: want {want} in {line}", case.name);
+        }
+        for m in case.mentions {
+            assert!(line.contains(m), "{}: want {m} in {line}", case.name);
+        }
+        assert_eq!(std::fs::read(&out).unwrap(), original, "{}", case.name);
+        assert!(
+            dir.temp_files().is_empty(),
+            "{}: {:?}",
+            case.name,
+            dir.temp_files()
+        );
+    }
+}
+
+#[test]
+fn unwritable_output_exits_1_without_panic() {
+    let dir = TempDir::new("unwritable");
+    let seed = scene_path("seed.toml");
+    let target = "/nonexistent-kdray-dir/x.png";
+    let run = kdray(&dir.path, &render_args(&seed, &["-o", target]));
+    assert_eq!(run.code, 1, "{run:#?}");
+    let line = run.one_error_line();
+    assert!(line.contains(target), "{line}");
+    assert!(!Path::new(target).exists());
+}
+
+#[test]
+fn info_lists_adapters_and_marks_the_chosen_one() {
+    let dir = TempDir::new("info");
+    let run = kdray(&dir.path, &["info"]);
+    assert_eq!(run.code, 0, "{run:#?}");
+    let adapters: Vec<&str> = run
+        .stdout
+        .lines()
+        .filter(|l| l.starts_with("* ") || l.starts_with("  "))
+        .collect();
+    assert!(!adapters.is_empty(), "no adapter lines: {:?}", run.stdout);
+    let chosen = adapters.iter().filter(|l| l.starts_with("* ")).count();
+    assert_eq!(chosen, 1, "want one chosen adapter: {:?}", run.stdout);
+}
+
+#[test]
+fn absent_backend_exits_1_and_says_what_to_install() {
+    let dir = TempDir::new("no-backend");
+    let seed = scene_path("seed.toml");
+    let run = kdray_env(
+        &dir.path,
+        &render_args(&seed, &["-o", "out.png"]),
+        &[("WGPU_BACKEND", "metal")],
+    );
+    assert_eq!(run.code, 1, "{run:#?}");
+    let line = run.one_error_line();
+    assert!(line.contains("mesa-vulkan-drivers"), "{line}");
+    assert!(!dir.join("out.png").exists());
+    assert!(dir.temp_files().is_empty(), "{:?}", dir.temp_files());
+}
+
+#[test]
+fn brute_force_and_kdtree_images_agree() {
+    let dir = TempDir::new("accel");
+    let mixed = scene_path("mixed.toml");
+    let mut images = Vec::new();
+    for accel in ["brute", "kdtree"] {
+        let name = format!("{accel}.png");
+        let run = kdray(
+            &dir.path,
+            &[
+                "render", &mixed, "-o", &name, "--width", "64", "--height", "48", "--accel", accel,
+            ],
+        );
+        assert_eq!(run.code, 0, "{accel}: {run:#?}");
+        let (w, h, rgb) = read_png_rgb(&dir.join(&name)).unwrap();
+        assert_eq!((w, h), (64, 48));
+        images.push(rgb);
+    }
+    let differing = images[0]
+        .chunks_exact(3)
+        .zip(images[1].chunks_exact(3))
+        .filter(|(a, b)| a.iter().zip(b.iter()).any(|(x, y)| x.abs_diff(*y) > 2))
+        .count();
+    // At most 0.1% of the 3072 pixels.
+    assert!(
+        differing <= 3,
+        "{differing} pixels differ by more than 2 levels"
+    );
+}
