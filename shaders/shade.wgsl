@@ -39,6 +39,7 @@ fn shade(m: Material, p: vec3<f32>, n: vec3<f32>, v: vec3<f32>, origin: vec3<f32
         let shadow_length = length(to_light_from_origin);
         if (shadow_length > 0.0) {
             let shadow_ray = Ray(origin, to_light_from_origin / shadow_length);
+            ray_counts.y += 1u;
             if (trace_ray(shadow_ray, shadow_length, true).object != NO_OBJECT) {
                 continue;
             }

@@ -1,5 +1,10 @@
-// Entry point: camera rays, the bounded reflection loop, samples per pixel
-// and the 8-bit output. One invocation per pixel of the current tile.
+// Entry points: camera rays, the bounded reflection loop, samples per pixel.
+// render_tile traces all k x k samples of each pixel of a tile and writes
+// 8-bit colour; accumulate_tile adds one stratified sample per pass (the
+// interactive window's progressive refinement). One invocation per pixel.
+
+// Rays this invocation traced: primary, shadow, reflection.
+var<private> ray_counts: vec3<u32>;
 
 fn camera_ray(u: f32, v: f32) -> Ray {
     let h = params.tan_half_vfov;
@@ -15,7 +20,11 @@ fn trace_path(primary: Ray) -> vec3<f32> {
     var color = vec3<f32>(0.0);
     var weight = 1.0;
     var hits = 0u;
+    ray_counts.x += 1u;
     while (weight >= params.min_intensity && hits < params.max_depth) {
+        if (hits > 0u) {
+            ray_counts.z += 1u;
+        }
         let hit = trace_ray(ray, T_INFINITY, false);
         if (hit.object == NO_OBJECT) {
             color += weight * params.background;
@@ -48,6 +57,20 @@ fn pack_rgb8(c: vec3<f32>) -> u32 {
     return q.x | (q.y << 8u) | (q.z << 16u) | (255u << 24u);
 }
 
+// The clamped colour of sample (sx, sy) of the k x k grid in `pixel`.
+fn trace_sample(pixel: vec2<u32>, sx: u32, sy: u32, k: u32) -> vec3<f32> {
+    let inv_k = 1.0 / f32(k);
+    let u = (f32(pixel.x) + (f32(sx) + 0.5) * inv_k) / f32(params.width);
+    let v = (f32(pixel.y) + (f32(sy) + 0.5) * inv_k) / f32(params.height);
+    return clamp(trace_path(camera_ray(u, v)), vec3<f32>(0.0), vec3<f32>(1.0));
+}
+
+fn add_ray_counts() {
+    atomicAdd(&tile_output.rays.primary, ray_counts.x);
+    atomicAdd(&tile_output.rays.shadow, ray_counts.y);
+    atomicAdd(&tile_output.rays.reflection, ray_counts.z);
+}
+
 @compute @workgroup_size(8, 8, 1)
 fn render_tile(@builtin(global_invocation_id) gid: vec3<u32>) {
     if (gid.x >= params.tile_size.x || gid.y >= params.tile_size.y) {
@@ -55,14 +78,26 @@ fn render_tile(@builtin(global_invocation_id) gid: vec3<u32>) {
     }
     let pixel = params.tile_origin + gid.xy;
     let k = params.samples_per_axis;
-    let inv_k = 1.0 / f32(k);
     var sum = vec3<f32>(0.0);
     for (var sy = 0u; sy < k; sy++) {
         for (var sx = 0u; sx < k; sx++) {
-            let u = (f32(pixel.x) + (f32(sx) + 0.5) * inv_k) / f32(params.width);
-            let v = (f32(pixel.y) + (f32(sy) + 0.5) * inv_k) / f32(params.height);
-            sum += clamp(trace_path(camera_ray(u, v)), vec3<f32>(0.0), vec3<f32>(1.0));
+            sum += trace_sample(pixel, sx, sy, k);
         }
     }
-    output_pixels[gid.y * params.tile_size.x + gid.x] = pack_rgb8(sum * (inv_k * inv_k));
+    // Divide like the window's present pass does, so both round alike.
+    tile_output.pixels[gid.y * params.tile_size.x + gid.x] = pack_rgb8(sum / f32(k * k));
+    add_ray_counts();
+}
+
+@compute @workgroup_size(8, 8, 1)
+fn accumulate_tile(@builtin(global_invocation_id) gid: vec3<u32>) {
+    if (gid.x >= params.tile_size.x || gid.y >= params.tile_size.y) {
+        return;
+    }
+    let pixel = params.tile_origin + gid.xy;
+    let k = params.samples_per_axis;
+    let s = params.sample_index % (k * k);
+    let c = trace_sample(pixel, s % k, s / k, k);
+    let i = pixel.y * params.width + pixel.x;
+    accumulation[i] += vec4<f32>(c, 1.0);
 }

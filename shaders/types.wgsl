@@ -57,7 +57,24 @@ struct FrameParams {
     tile_size: vec2<u32>,
     accel: u32,
     node_count: u32,
-    _pad: vec2<u32>,
+    // accumulate_tile: which cell of the k x k sample grid this pass traces.
+    sample_index: u32,
+    _pad: u32,
+}
+
+// Rays traced by one dispatch, by kind; each invocation adds its own counts.
+struct RayCounters {
+    primary: atomic<u32>,
+    shadow: atomic<u32>,
+    reflection: atomic<u32>,
+    _pad: u32,
+}
+
+// render_tile's output: ray counts, then one packed RGBA8 per pixel of the
+// tile, row-major, tile_size.x wide.
+struct TileOutput {
+    rays: RayCounters,
+    pixels: array<u32>,
 }
 
 const KD_LEAF: u32 = 3u;
@@ -75,5 +92,7 @@ const SHADOW_SEED: u32 = 1u;
 @group(0) @binding(5) var<storage, read> lights: array<Light>;
 @group(0) @binding(6) var<storage, read> kd_nodes: array<KdNode>;
 @group(0) @binding(7) var<storage, read> leaf_objects: array<u32>;
-// One packed RGBA8 pixel per invocation of the tile, row-major, tile_size.x wide.
-@group(0) @binding(8) var<storage, read_write> output_pixels: array<u32>;
+@group(0) @binding(8) var<storage, read_write> tile_output: TileOutput;
+// accumulate_tile's output: per pixel of the whole image, the sum of its
+// clamped samples (rgb) and their number (w).
+@group(0) @binding(9) var<storage, read_write> accumulation: array<vec4<f32>>;

@@ -113,7 +113,20 @@ pub struct FrameParams {
     pub accel: u32,
     /// 0 for an empty scene (nothing to traverse).
     pub node_count: u32,
-    pub _pad: [u32; 2],
+    /// `accumulate_tile`: which cell of the k x k sample grid this pass traces
+    /// (row-major, taken modulo k * k).
+    pub sample_index: u32,
+    pub _pad: u32,
+}
+
+/// The head of `render_tile`'s output buffer: rays traced by the dispatch.
+#[repr(C)]
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Pod, Zeroable)]
+pub struct RayCounters {
+    pub primary: u32,
+    pub shadow: u32,
+    pub reflection: u32,
+    pub _pad: u32,
 }
 
 #[cfg(test)]
@@ -200,8 +213,10 @@ mod tests {
                 tile_size,
                 accel,
                 node_count,
+                sample_index,
                 _pad,
             ]
         );
+        layout_of!(&module, "RayCounters", RayCounters, [primary, shadow, reflection, _pad]);
     }
 }

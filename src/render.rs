@@ -37,7 +37,13 @@ pub struct RenderStats {
     pub gpu_time_source: String,
     pub total_ms: f64,
     pub primary_rays: u64,
+    /// Shadow and reflection rays, counted by the shader.
+    pub shadow_rays: u64,
+    pub reflection_rays: u64,
+    /// Primary rays per second of GPU time, in millions.
     pub mrays_per_s: f64,
+    /// All rays (primary + shadow + reflection) per second of GPU time, in millions.
+    pub total_mrays_per_s: f64,
 }
 
 fn ms_since(t: Instant) -> f64 {
@@ -107,7 +113,10 @@ pub fn render_scene(
         gpu_time_source: image.gpu_time_source.to_string(),
         total_ms: ms_since(total),
         primary_rays,
+        shadow_rays: image.rays.shadow,
+        reflection_rays: image.rays.reflection,
         mrays_per_s: primary_rays as f64 / (image.gpu_ms * 1e3).max(1e-9),
+        total_mrays_per_s: image.rays.total() as f64 / (image.gpu_ms * 1e3).max(1e-9),
     };
     Ok((image, stats))
 }

@@ -10,7 +10,7 @@ use super::scene_buffers::SceneBuffers;
 use super::shaders;
 use crate::error::{Error, Result};
 use crate::kdtree::KdTree;
-use crate::layout::{FrameParams, ACCEL_BRUTE, ACCEL_KDTREE, SHADOW_AMBIENT, SHADOW_SEED};
+use crate::layout::{FrameParams, RayCounters, ACCEL_BRUTE, ACCEL_KDTREE, SHADOW_AMBIENT, SHADOW_SEED};
 use crate::scene::{Scene, ShadowMode};
 
 /// Which nearest-hit search the shader runs.
@@ -104,9 +104,30 @@ pub fn frame_params(
             Accel::Brute => ACCEL_BRUTE,
         },
         node_count: buffers.node_count,
-        _pad: [0, 0],
+        sample_index: 0,
+        _pad: 0,
     }
 }
+
+/// Rays the shader traced, by kind, summed over tiles.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, serde::Serialize)]
+pub struct RayTotals {
+    /// One per sample: width * height * samples.
+    pub primary: u64,
+    /// One per light tested from a hit (L.N > 0), shadow mode permitting.
+    pub shadow: u64,
+    /// Mirror continuations after the primary hit.
+    pub reflection: u64,
+}
+
+impl RayTotals {
+    pub fn total(&self) -> u64 {
+        self.primary + self.shadow + self.reflection
+    }
+}
+
+/// Bytes before the pixels in the output buffer (the ray counters).
+const OUTPUT_HEADER_BYTES: u64 = std::mem::size_of::<RayCounters>() as u64;
 
 /// A rendered image and how long the GPU took.
 pub struct RenderedImage {
@@ -118,6 +139,7 @@ pub struct RenderedImage {
     pub gpu_ms: f64,
     /// "timestamp" or "wall".
     pub gpu_time_source: &'static str,
+    pub rays: RayTotals,
 }
 
 pub struct Renderer {
@@ -164,7 +186,7 @@ impl Renderer {
     ) -> Result<RenderedImage> {
         let (width, height) = (params.width, params.height);
         let device = &ctx.device;
-        let tile_bytes = plan.tile_width as u64 * plan.tile_height as u64 * 4;
+        let tile_bytes = OUTPUT_HEADER_BYTES + plan.tile_width as u64 * plan.tile_height as u64 * 4;
         let (output, readback, bind_group) =
             ctx.checked("allocating the output buffers", |device| {
                 let output = device.create_buffer(&wgpu::BufferDescriptor {
@@ -204,6 +226,7 @@ impl Renderer {
 
         let mut rgb = vec![0u8; width as usize * height as usize * 3];
         let mut gpu_ms = 0.0;
+        let mut rays = RayTotals::default();
         for (x, y, w, h) in plan.tiles(width, height) {
             let tile_params = FrameParams {
                 tile_origin: [x, y],
@@ -225,7 +248,7 @@ impl Renderer {
                 let (gx, gy) = shaders::TRACE_WORKGROUP;
                 pass.dispatch_workgroups(w.div_ceil(gx), h.div_ceil(gy), 1);
             }
-            let used = w as u64 * h as u64 * 4;
+            let used = OUTPUT_HEADER_BYTES + w as u64 * h as u64 * 4;
             encoder.copy_buffer_to_buffer(&output, 0, &readback, 0, used);
             if let Some(t) = &timer {
                 t.resolve(&mut encoder);
@@ -238,7 +261,12 @@ impl Renderer {
                 Some(t) => t.read_ms(ctx)?,
                 None => wall_ms,
             };
-            let pixels: &[u32] = bytemuck::cast_slice(&pixels);
+            let (header, pixels) = pixels.split_at(OUTPUT_HEADER_BYTES as usize);
+            let counters: RayCounters = bytemuck::pod_read_unaligned(header);
+            rays.primary += counters.primary as u64;
+            rays.shadow += counters.shadow as u64;
+            rays.reflection += counters.reflection as u64;
+            let pixels: &[u32] = bytemuck::cast_slice(pixels);
             for row in 0..h as usize {
                 let dst_start = ((y as usize + row) * width as usize + x as usize) * 3;
                 let dst = &mut rgb[dst_start..dst_start + w as usize * 3];
@@ -257,6 +285,7 @@ impl Renderer {
             rgb,
             gpu_ms,
             gpu_time_source: if timer.is_some() { "timestamp" } else { "wall" },
+            rays,
         })
     }
 }

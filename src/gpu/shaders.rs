@@ -13,9 +13,12 @@ pub const TRACE_PARTS: [(&str, &str); 5] = [
     ("trace.wgsl", include_str!("../../shaders/trace.wgsl")),
 ];
 
-/// Entry point of the trace kernel.
+/// Entry point that renders a tile to 8-bit colour (all samples of each pixel).
 pub const TRACE_ENTRY_POINT: &str = "render_tile";
-/// Workgroup size of the trace kernel (see `@workgroup_size` in trace.wgsl).
+/// Entry point that adds one stratified sample per pixel to the accumulation
+/// buffer (binding 9), for progressive refinement.
+pub const ACCUMULATE_ENTRY_POINT: &str = "accumulate_tile";
+/// Workgroup size of both entry points (see `@workgroup_size` in trace.wgsl).
 pub const TRACE_WORKGROUP: (u32, u32) = (8, 8);
 
 /// The whole trace kernel as one WGSL module.
