@@ -53,16 +53,16 @@ pub fn parse_scene(text: &str, path: &Path, format: SceneFormat) -> Result<Scene
     let (raw, map) = match format {
         SceneFormat::Toml => {
             let map = SourceMap::toml(text);
-            match toml::from_str::<RawScene>(text) {
-                Ok(raw) => (raw, map),
+            match toml::from_str::<TableOf<RawScene>>(text) {
+                Ok(raw) => (raw.0, map),
                 Err(e) => return Err(toml_error(&e, text, map.as_ref(), path)),
             }
         }
         SceneFormat::Json => {
             let map = SourceMap::json(text);
-            match serde_json::from_str::<RawScene>(text) {
-                Ok(raw) => (raw, map),
-                Err(e) => return Err(json_error(&e, map.as_ref(), path)),
+            match serde_json::from_str::<TableOf<RawScene>>(text) {
+                Ok(raw) => (raw.0, map),
+                Err(e) => return Err(json_error(&e, text, map.as_ref(), path)),
             }
         }
     };
@@ -104,6 +104,23 @@ fn toml_error(e: &toml::de::Error, text: &str, map: Option<&SourceMap>, path: &P
     SceneError::new(path, line, key, message)
 }
 
+/// The run of letters, digits, `+`, `-` and `.` around byte `offset`.
+fn word_at(text: &str, offset: usize) -> &str {
+    let bytes = text.as_bytes();
+    let is_word = |b: u8| b.is_ascii_alphanumeric() || b"+-.".contains(&b);
+    let offset = offset.min(bytes.len());
+    let start = bytes[..offset]
+        .iter()
+        .rposition(|&b| !is_word(b))
+        .map_or(0, |i| i + 1);
+    let end = bytes[offset..]
+        .iter()
+        .position(|&b| !is_word(b))
+        .map_or(bytes.len(), |i| offset + i);
+    // `offset` itself may be inside a multi-byte character.
+    text.get(start..end).unwrap_or("")
+}
+
 fn span_text(text: &str, span: Option<std::ops::Range<usize>>) -> Option<&str> {
     let name = text.get(span?)?.trim();
     (!name.is_empty() && !name.contains('\n')).then_some(name)
@@ -111,12 +128,32 @@ fn span_text(text: &str, span: Option<std::ops::Range<usize>>) -> Option<&str> {
 
 /// A syntax or schema error from serde_json, located by its line and column
 /// (the column of the last character it read).
-fn json_error(e: &serde_json::Error, map: Option<&SourceMap>, path: &Path) -> SceneError {
+fn json_error(
+    e: &serde_json::Error,
+    text: &str,
+    map: Option<&SourceMap>,
+    path: &Path,
+) -> SceneError {
+    // The byte serde_json stopped at (its column counts bytes, from 1).
+    let line_start = match e.line() {
+        0 | 1 => Some(0),
+        n => text.match_indices('\n').nth(n - 2).map(|(i, _)| i + 1),
+    };
+    let mut offset = line_start.map(|start| start + e.column().saturating_sub(1));
+    // For an array or object of the wrong type serde_json has not yet read
+    // its `[` or `{`: it reports the byte before it. Name the value itself.
+    let message = e.to_string();
+    if message.starts_with("invalid type: sequence") || message.starts_with("invalid type: map") {
+        offset = offset.map(|o| {
+            let rest = text.as_bytes().get(o + 1..).unwrap_or_default();
+            o + 1 + rest.iter().take_while(|b| b.is_ascii_whitespace()).count()
+        });
+    }
     let key = map
-        .and_then(|m| m.path_at(m.offset_of(e.line(), e.column())))
+        .zip(offset)
+        .and_then(|(m, o)| m.path_at(o))
         .map(str::to_string);
     // serde_json appends " at line L column C"; the line is ours to print.
-    let message = e.to_string();
     let mut message = message
         .rsplit_once(" at line ")
         .map_or(message.as_str(), |(m, _)| m)
@@ -124,6 +161,16 @@ fn json_error(e: &serde_json::Error, map: Option<&SourceMap>, path: &Path) -> Sc
     if message == "number out of range" {
         // 1e999 and the like: JSON has no inf, and serde_json will not round.
         message.push_str(": must be a finite number");
+    } else if e.is_syntax() {
+        // NaN and Infinity are not JSON; say so rather than just "expected value".
+        let word = offset.map_or("", |o| word_at(text, o));
+        if ["nan", "infinity", "-infinity", "inf", "-inf"]
+            .contains(&word.to_ascii_lowercase().as_str())
+        {
+            message.push_str(&format!(
+                ": `{word}` is not a JSON number (JSON has no NaN or infinity; numbers must be finite)"
+            ));
+        }
     }
     // A schema error outside every key is about the whole document (a
     // missing top-level table); serde_json puts it at the closing brace,
@@ -135,24 +182,127 @@ fn json_error(e: &serde_json::Error, map: Option<&SourceMap>, path: &Path) -> Sc
 
 // ---------------------------------------------------------------- raw file
 
-type Vec3 = [f64; 3];
+/// `[x, y, z]` (or `[r, g, b]`).
+type Vec3 = Exact<f64, 3>;
+
+/// An array of exactly `N` items. serde's own `[T; N]` leaves the length
+/// check to the format, and the toml crate does not make it: `[1, 2, 3, 4]`
+/// would be read as `[1, 2, 3]`.
+#[derive(Debug, Clone, Copy, PartialEq)]
+struct Exact<T, const N: usize>([T; N]);
+
+impl<T: Default + Copy, const N: usize> Default for Exact<T, N> {
+    fn default() -> Self {
+        Exact([T::default(); N])
+    }
+}
+
+impl<'de, T: Deserialize<'de>, const N: usize> Deserialize<'de> for Exact<T, N> {
+    fn deserialize<D: Deserializer<'de>>(deserializer: D) -> Result<Self, D::Error> {
+        struct ExactVisitor<T, const N: usize>(PhantomData<T>);
+        impl<'de, T: Deserialize<'de>, const N: usize> Visitor<'de> for ExactVisitor<T, N> {
+            type Value = Exact<T, N>;
+            fn expecting(&self, f: &mut fmt::Formatter) -> fmt::Result {
+                write!(f, "an array of length {N}")
+            }
+            fn visit_seq<A: SeqAccess<'de>>(self, mut seq: A) -> Result<Self::Value, A::Error> {
+                let mut items = Vec::with_capacity(N);
+                while let Some(item) = seq.next_element()? {
+                    items.push(item);
+                    if items.len() > N {
+                        let mut len = items.len();
+                        while seq.next_element::<de::IgnoredAny>()?.is_some() {
+                            len += 1;
+                        }
+                        return Err(de::Error::invalid_length(len, &self));
+                    }
+                }
+                let len = items.len();
+                let items: [T; N] = items
+                    .try_into()
+                    .map_err(|_| de::Error::invalid_length(len, &self))?;
+                Ok(Exact(items))
+            }
+        }
+        deserializer.deserialize_seq(ExactVisitor(PhantomData))
+    }
+}
+
+/// A struct read only from a table (a JSON object). serde's derive would
+/// also take a struct as an array of its fields in order, which is no part of
+/// the format: `camera = [[0, 0, 1], [0, 0, 0]]` must be a type error.
+#[derive(Default)]
+struct TableOf<T>(T);
+
+/// What a table is called in "invalid type: ..., expected ..." errors.
+trait Described {
+    const WHAT: &'static str;
+}
+
+impl Described for RawScene {
+    const WHAT: &'static str = "a scene (a table of [camera], [render], [[lights]], [materials], [[spheres]], [[triangles]], [[meshes]])";
+}
+impl Described for RawCamera {
+    const WHAT: &'static str = "a [camera] table";
+}
+impl Described for RawRender {
+    const WHAT: &'static str = "a [render] table";
+}
+impl Described for RawLight {
+    const WHAT: &'static str = "a [[lights]] table";
+}
+impl Described for RawMaterial {
+    const WHAT: &'static str = "a material table";
+}
+impl Described for RawSphere {
+    const WHAT: &'static str = "a [[spheres]] table";
+}
+impl Described for RawTriangle {
+    const WHAT: &'static str = "a [[triangles]] table";
+}
+impl Described for RawMesh {
+    const WHAT: &'static str = "a [[meshes]] table";
+}
+
+impl<T> std::ops::Deref for TableOf<T> {
+    type Target = T;
+    fn deref(&self) -> &T {
+        &self.0
+    }
+}
+
+impl<'de, T: Deserialize<'de> + Described> Deserialize<'de> for TableOf<T> {
+    fn deserialize<D: Deserializer<'de>>(deserializer: D) -> Result<Self, D::Error> {
+        struct TableVisitor<T>(PhantomData<T>);
+        impl<'de, T: Deserialize<'de> + Described> Visitor<'de> for TableVisitor<T> {
+            type Value = TableOf<T>;
+            fn expecting(&self, f: &mut fmt::Formatter) -> fmt::Result {
+                f.write_str(T::WHAT)
+            }
+            fn visit_map<A: MapAccess<'de>>(self, map: A) -> Result<Self::Value, A::Error> {
+                T::deserialize(de::value::MapAccessDeserializer::new(map)).map(TableOf)
+            }
+        }
+        deserializer.deserialize_map(TableVisitor(PhantomData))
+    }
+}
 
 #[derive(Deserialize)]
 #[serde(deny_unknown_fields)]
 struct RawScene {
-    camera: RawCamera,
+    camera: TableOf<RawCamera>,
     #[serde(default)]
-    render: RawRender,
+    render: TableOf<RawRender>,
     #[serde(default)]
-    lights: Vec<RawLight>,
+    lights: Vec<TableOf<RawLight>>,
     #[serde(default, deserialize_with = "unique_names")]
-    materials: BTreeMap<String, RawMaterial>,
+    materials: BTreeMap<String, TableOf<RawMaterial>>,
     #[serde(default)]
-    spheres: Vec<RawSphere>,
+    spheres: Vec<TableOf<RawSphere>>,
     #[serde(default)]
-    triangles: Vec<RawTriangle>,
+    triangles: Vec<TableOf<RawTriangle>>,
     #[serde(default)]
-    meshes: Vec<RawMesh>,
+    meshes: Vec<TableOf<RawMesh>>,
 }
 
 #[derive(Deserialize)]
@@ -166,12 +316,12 @@ struct RawCamera {
     vfov: f64,
 }
 
-const DEFAULT_UP: Vec3 = [0.0, 1.0, 0.0];
+const DEFAULT_UP: Vec3 = Exact([0.0, 1.0, 0.0]);
 fn default_vfov() -> f64 {
     60.0
 }
 fn white() -> Vec3 {
-    [1.0; 3]
+    Exact([1.0; 3])
 }
 
 #[derive(Deserialize, Default)]
@@ -186,11 +336,31 @@ struct RawRender {
     samples: Option<u32>,
 }
 
-#[derive(Deserialize)]
-#[serde(rename_all = "lowercase")]
+/// `"ambient"` or `"seed"`. Read as a plain string: the toml crate's own
+/// enum errors ("wanted string or table") would not say what is expected.
 enum RawShadowMode {
     Ambient,
     Seed,
+}
+
+impl<'de> Deserialize<'de> for RawShadowMode {
+    fn deserialize<D: Deserializer<'de>>(deserializer: D) -> Result<Self, D::Error> {
+        struct ModeVisitor;
+        impl Visitor<'_> for ModeVisitor {
+            type Value = RawShadowMode;
+            fn expecting(&self, f: &mut fmt::Formatter) -> fmt::Result {
+                f.write_str("\"ambient\" or \"seed\"")
+            }
+            fn visit_str<E: de::Error>(self, v: &str) -> Result<RawShadowMode, E> {
+                match v {
+                    "ambient" => Ok(RawShadowMode::Ambient),
+                    "seed" => Ok(RawShadowMode::Seed),
+                    _ => Err(de::Error::unknown_variant(v, &["ambient", "seed"])),
+                }
+            }
+        }
+        deserializer.deserialize_str(ModeVisitor)
+    }
 }
 
 #[derive(Deserialize)]
@@ -230,7 +400,7 @@ struct RawSphere {
 #[derive(Deserialize)]
 #[serde(deny_unknown_fields)]
 struct RawTriangle {
-    vertices: [Vec3; 3],
+    vertices: Exact<Vec3, 3>,
     material: String,
 }
 
@@ -272,17 +442,8 @@ impl<'de> Deserialize<'de> for RawScale {
             fn visit_u64<E: de::Error>(self, x: u64) -> Result<RawScale, E> {
                 Ok(RawScale::Uniform(x as f64))
             }
-            fn visit_seq<A: SeqAccess<'de>>(self, mut seq: A) -> Result<RawScale, A::Error> {
-                let mut v = [0.0; 3];
-                for (i, x) in v.iter_mut().enumerate() {
-                    *x = seq
-                        .next_element()?
-                        .ok_or_else(|| de::Error::invalid_length(i, &self))?;
-                }
-                if seq.next_element::<de::IgnoredAny>()?.is_some() {
-                    return Err(de::Error::invalid_length(4, &self));
-                }
-                Ok(RawScale::PerAxis(v))
+            fn visit_seq<A: SeqAccess<'de>>(self, seq: A) -> Result<RawScale, A::Error> {
+                Vec3::deserialize(de::value::SeqAccessDeserializer::new(seq)).map(RawScale::PerAxis)
             }
         }
         deserializer.deserialize_any(ScaleVisitor)
@@ -358,16 +519,19 @@ impl Validator<'_> {
 
     /// A finite vector; a bad component is named by its index, `key[i]`.
     fn vector(&self, key: &str, v: Vec3) -> Result<DVec3, SceneError> {
-        for (i, x) in v.into_iter().enumerate() {
+        for (i, x) in v.0.into_iter().enumerate() {
             self.number(&format!("{key}[{i}]"), x)?;
         }
-        Ok(DVec3::from_array(v))
+        Ok(DVec3::from_array(v.0))
     }
 
     fn colour(&self, key: &str, v: Vec3) -> Result<DVec3, SceneError> {
         let c = self.vector(key, v)?;
         if c.min_element() < 0.0 {
-            return Err(self.error(key, format!("colour components must be >= 0, got {v:?}")));
+            return Err(self.error(
+                key,
+                format!("colour components must be >= 0, got {:?}", v.0),
+            ));
         }
         Ok(c)
     }
@@ -458,7 +622,7 @@ impl Validator<'_> {
         for (i, t) in raw.triangles.iter().enumerate() {
             let key = |k: &str| format!("triangles[{i}].{k}");
             let mut vertices = [DVec3::ZERO; 3];
-            for (j, (v, raw_v)) in vertices.iter_mut().zip(t.vertices).enumerate() {
+            for (j, (v, raw_v)) in vertices.iter_mut().zip(t.vertices.0).enumerate() {
                 *v = self.vector(&format!("{}[{j}]", key("vertices")), raw_v)?;
             }
             if !has_area(&vertices) {
@@ -514,7 +678,7 @@ impl Validator<'_> {
                 "camera.up",
                 format!(
                     "must not be zero or parallel to look_at - position, got {:?}{}",
-                    c.up.unwrap_or(DEFAULT_UP),
+                    c.up.unwrap_or(DEFAULT_UP).0,
                     if c.up.is_none() { " (the default)" } else { "" }
                 ),
             ));
@@ -556,7 +720,7 @@ impl Validator<'_> {
             height,
             min_intensity,
             max_depth,
-            background: self.colour("render.background", r.background.unwrap_or([0.0; 3]))?,
+            background: self.colour("render.background", r.background.unwrap_or_default())?,
             shadow_mode: match r.shadow_mode {
                 None | Some(RawShadowMode::Ambient) => ShadowMode::Ambient,
                 Some(RawShadowMode::Seed) => ShadowMode::Seed,
@@ -607,6 +771,21 @@ impl Validator<'_> {
             let file_name = Path::new(&m.path)
                 .file_name()
                 .map_or(m.path.clone(), |f| f.to_string_lossy().into_owned());
+            // The OBJ reader checks that MTL colours are finite; the scene's
+            // rule that colours are >= 0 holds for them too.
+            for mm in &mesh.materials {
+                let colours = [("Ka", mm.ambient), ("Kd", mm.diffuse), ("Ks", mm.specular)];
+                if let Some((statement, c)) = colours.iter().find(|(_, c)| c.min_element() < 0.0) {
+                    return Err(self.error(
+                        &key("path"),
+                        format!(
+                            "MTL material \"{}\" has a negative {statement} colour {:?}; colour components must be >= 0",
+                            mm.name,
+                            c.to_array()
+                        ),
+                    ));
+                }
+            }
             materials.extend(mesh.materials.iter().map(|mm| Material {
                 name: format!("{file_name}:{}", mm.name),
                 ambient: mm.ambient,
