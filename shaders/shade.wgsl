@@ -23,6 +23,7 @@ fn shade(m: Material, p: vec3<f32>, n: vec3<f32>, v: vec3<f32>, origin: vec3<f32
     var direct = vec3<f32>(0.0);
     var visible_any = false;
     for (var i = 0u; i < params.light_count; i++) {
+        loop_iterations += 1u;
         let light = lights[i];
         ambient += m.ambient * light.ambient;
         let to_light = light.position - p;

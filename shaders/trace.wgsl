@@ -22,6 +22,7 @@ fn trace_path(primary: Ray) -> vec3<f32> {
     var hits = 0u;
     ray_counts.x += 1u;
     while (weight >= params.min_intensity && hits < params.max_depth) {
+        loop_iterations += 1u;
         if (hits > 0u) {
             ray_counts.z += 1u;
         }
@@ -69,6 +70,9 @@ fn add_ray_counts() {
     atomicAdd(&tile_output.rays.primary, ray_counts.x);
     atomicAdd(&tile_output.rays.shadow, ray_counts.y);
     atomicAdd(&tile_output.rays.reflection, ray_counts.z);
+    if (loop_iterations >= LOOP_LIMIT_WARNING) {
+        atomicAdd(&tile_output.rays.loop_limited, 1u);
+    }
 }
 
 @compute @workgroup_size(8, 8, 1)
@@ -81,6 +85,7 @@ fn render_tile(@builtin(global_invocation_id) gid: vec3<u32>) {
     var sum = vec3<f32>(0.0);
     for (var sy = 0u; sy < k; sy++) {
         for (var sx = 0u; sx < k; sx++) {
+            loop_iterations += 1u;
             sum += trace_sample(pixel, sx, sy, k);
         }
     }

@@ -67,7 +67,8 @@ struct RayCounters {
     primary: atomic<u32>,
     shadow: atomic<u32>,
     reflection: atomic<u32>,
-    _pad: u32,
+    // Invocations whose loops ran LOOP_LIMIT_WARNING iterations or more.
+    loop_limited: atomic<u32>,
 }
 
 // render_tile's output: ray counts, then one packed RGBA8 per pixel of the

@@ -126,7 +126,9 @@ pub struct RayCounters {
     pub primary: u32,
     pub shadow: u32,
     pub reflection: u32,
-    pub _pad: u32,
+    /// Invocations whose loops, all together, ran 65,000 iterations or more:
+    /// llvmpipe (lavapipe) silently cuts an invocation's loops off at 65,535.
+    pub loop_limited: u32,
 }
 
 #[cfg(test)]
@@ -217,6 +219,6 @@ mod tests {
                 _pad,
             ]
         );
-        layout_of!(&module, "RayCounters", RayCounters, [primary, shadow, reflection, _pad]);
+        layout_of!(&module, "RayCounters", RayCounters, [primary, shadow, reflection, loop_limited]);
     }
 }

@@ -12,6 +12,7 @@ pub mod gpu;
 pub mod kdtree;
 pub mod layout;
 pub mod output;
+pub mod reference;
 pub mod render;
 pub mod scene;
 

@@ -106,6 +106,9 @@ fn render(
     let (image, figures) =
         kdray::render::render_scene(&ctx, &scene, accel, TilePlan::DEFAULT_MAX_TILE_PIXELS)?;
     kdray::output::write_png_atomic(&output, image.width, image.height, &image.rgb)?;
+    if let Some(warning) = figures.loop_limit_warning() {
+        eprintln!("kdray: {warning}");
+    }
     if stats {
         println!(
             "{}",

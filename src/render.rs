@@ -44,6 +44,22 @@ pub struct RenderStats {
     pub mrays_per_s: f64,
     /// All rays (primary + shadow + reflection) per second of GPU time, in millions.
     pub total_mrays_per_s: f64,
+    /// Pixels (invocations) whose loops ran into llvmpipe's 65,535-iteration
+    /// limit; only counted on llvmpipe, where such pixels may be wrong.
+    pub loop_limited_pixels: u64,
+}
+
+impl RenderStats {
+    /// A one-line warning when llvmpipe's loop limit may have cut paths short.
+    pub fn loop_limit_warning(&self) -> Option<String> {
+        (self.loop_limited_pixels > 0).then(|| {
+            format!(
+                "warning: {} pixels needed more than llvmpipe's 65,535 loop iterations per pixel and may be wrong \
+                 (fewer samples, a lower max_depth or --accel kdtree help; a real GPU has no such limit)",
+                self.loop_limited_pixels
+            )
+        })
+    }
 }
 
 fn ms_since(t: Instant) -> f64 {
@@ -117,6 +133,7 @@ pub fn render_scene(
         reflection_rays: image.rays.reflection,
         mrays_per_s: primary_rays as f64 / (image.gpu_ms * 1e3).max(1e-9),
         total_mrays_per_s: image.rays.total() as f64 / (image.gpu_ms * 1e3).max(1e-9),
+        loop_limited_pixels: if ctx.has_loop_limit() { image.rays.loop_limited } else { 0 },
     };
     Ok((image, stats))
 }

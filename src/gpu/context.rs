@@ -142,6 +142,13 @@ impl GpuContext {
         })
     }
 
+    /// Whether the adapter is Mesa's llvmpipe (lavapipe, or GL on llvmpipe),
+    /// which silently ends an invocation's loops once they have run 65,535
+    /// iterations in all: pixels whose paths need more come out wrong.
+    pub fn has_loop_limit(&self) -> bool {
+        self.info.name.contains("llvmpipe") || self.info.driver.contains("llvmpipe")
+    }
+
     /// The adapter's description for reports.
     pub fn adapter_line(&self) -> String {
         describe(&self.info)

@@ -118,9 +118,13 @@ pub struct RayTotals {
     pub shadow: u64,
     /// Mirror continuations after the primary hit.
     pub reflection: u64,
+    /// Invocations whose loops came near llvmpipe's limit of 65,535
+    /// iterations per invocation (see `GpuContext::has_loop_limit`).
+    pub loop_limited: u64,
 }
 
 impl RayTotals {
+    /// Primary, shadow and reflection rays together.
     pub fn total(&self) -> u64 {
         self.primary + self.shadow + self.reflection
     }
@@ -266,6 +270,7 @@ impl Renderer {
             rays.primary += counters.primary as u64;
             rays.shadow += counters.shadow as u64;
             rays.reflection += counters.reflection as u64;
+            rays.loop_limited += counters.loop_limited as u64;
             let pixels: &[u32] = bytemuck::cast_slice(pixels);
             for row in 0..h as usize {
                 let dst_start = ((y as usize + row) * width as usize + x as usize) * 3;

@@ -1,0 +1,173 @@
+//! A CPU reference of shaders/trace.wgsl + shade.wgsl: the same path loop,
+//! shading and f32 arithmetic over the CPU mirror of the traversal, so GPU
+//! images can be checked pixel by pixel and a single path can be inspected.
+//! Slow (one thread); for tests and debugging only.
+
+use glam::Vec3;
+
+use crate::geometry::{spawn_offset, Primitives, Ray, T_INFINITY};
+use crate::kdtree::traverse::{any_hit, any_hit_brute, closest_hit, closest_hit_brute, Hit};
+use crate::kdtree::KdTree;
+use crate::scene::{Scene, ShadowMode};
+
+/// The scene prepared for CPU tracing.
+pub struct ReferenceTracer<'a> {
+    scene: &'a Scene,
+    prims: Primitives,
+    tree: Option<KdTree>,
+    forward: Vec3,
+    right: Vec3,
+    up: Vec3,
+    tan_half_vfov: f32,
+    aspect: f32,
+}
+
+impl<'a> ReferenceTracer<'a> {
+    /// `use_tree`: walk the k-d tree (else the brute-force loop).
+    pub fn new(scene: &'a Scene, use_tree: bool) -> Self {
+        let prims = Primitives::from_scene(scene);
+        let tree = use_tree.then(|| KdTree::for_primitives(&prims));
+        let cam = &scene.camera;
+        let forward = (cam.look_at - cam.position).normalize();
+        let right = forward.cross(cam.up).normalize();
+        let up = right.cross(forward);
+        ReferenceTracer {
+            scene,
+            prims,
+            tree,
+            forward: forward.as_vec3(),
+            right: right.as_vec3(),
+            up: up.as_vec3(),
+            tan_half_vfov: (cam.vfov_degrees.to_radians() * 0.5).tan() as f32,
+            aspect: (scene.render.width as f64 / scene.render.height as f64) as f32,
+        }
+    }
+
+    fn closest(&self, ray: &Ray) -> Option<Hit> {
+        match &self.tree {
+            Some(tree) => closest_hit(tree, &self.prims, ray, T_INFINITY),
+            None => closest_hit_brute(&self.prims, ray, T_INFINITY),
+        }
+    }
+
+    fn blocked(&self, ray: &Ray, t_limit: f32) -> bool {
+        match &self.tree {
+            Some(tree) => any_hit(tree, &self.prims, ray, t_limit),
+            None => any_hit_brute(&self.prims, ray, t_limit),
+        }
+    }
+
+    pub fn camera_ray(&self, u: f32, v: f32) -> Ray {
+        let h = self.tan_half_vfov;
+        let dir = self.forward + (2.0 * u - 1.0) * h * self.aspect * self.right + (1.0 - 2.0 * v) * h * self.up;
+        Ray { origin: self.scene.camera.position.as_vec3(), dir: dir.normalize() }
+    }
+
+    fn normal(&self, id: u32, p: Vec3) -> Vec3 {
+        let id = id as usize;
+        match self.prims.spheres.get(id) {
+            Some(s) => (p - s.center).normalize(),
+            None => self.prims.triangles[id - self.prims.spheres.len()].normal(),
+        }
+    }
+
+    fn material(&self, id: u32) -> &crate::scene::Material {
+        let id = id as usize;
+        let index = match self.scene.spheres.get(id) {
+            Some(s) => s.material,
+            None => self.scene.triangles[id - self.scene.spheres.len()].material,
+        };
+        &self.scene.materials[index as usize]
+    }
+
+    /// The colour of one path (unclamped), and the hits along it.
+    pub fn trace_path(&self, primary: Ray) -> (Vec3, Vec<Hit>) {
+        let r = &self.scene.render;
+        let mut ray = primary;
+        let mut color = Vec3::ZERO;
+        let mut weight = 1.0f32;
+        let mut hits = Vec::new();
+        while weight >= r.min_intensity as f32 && (hits.len() as u32) < r.max_depth {
+            let Some(hit) = self.closest(&ray) else {
+                color += weight * r.background.as_vec3();
+                break;
+            };
+            hits.push(hit);
+            let p = ray.origin + hit.t * ray.dir;
+            let mut n = self.normal(hit.object, p);
+            if n.dot(ray.dir) > 0.0 {
+                n = -n;
+            }
+            let origin = p + spawn_offset(p, self.prims.magnitude(hit.object)) * n;
+            let m = self.material(hit.object);
+            let (local, any_visible) = self.shade(m, p, n, -ray.dir, origin);
+            if self.scene.render.shadow_mode == ShadowMode::Seed && !any_visible {
+                break;
+            }
+            let reflection = m.reflection as f32;
+            color += (1.0 - reflection) * weight * local;
+            weight *= reflection;
+            if weight == 0.0 {
+                break;
+            }
+            let d = ray.dir - 2.0 * ray.dir.dot(n) * n;
+            ray = Ray { origin, dir: d.normalize() };
+        }
+        (color, hits)
+    }
+
+    fn shade(&self, m: &crate::scene::Material, p: Vec3, n: Vec3, v: Vec3, origin: Vec3) -> (Vec3, bool) {
+        let mut ambient = Vec3::ZERO;
+        let mut direct = Vec3::ZERO;
+        let mut any_visible = false;
+        for light in &self.scene.lights {
+            let lp = light.position.as_vec3();
+            ambient += m.ambient.as_vec3() * light.ambient.as_vec3();
+            let to_light = lp - p;
+            let distance = to_light.length();
+            if distance <= 0.0 {
+                continue;
+            }
+            let l = to_light / distance;
+            let l_dot_n = l.dot(n);
+            if l_dot_n <= 0.0 {
+                continue;
+            }
+            let from_origin = lp - origin;
+            let shadow_length = from_origin.length();
+            if shadow_length > 0.0 && self.blocked(&Ray { origin, dir: from_origin / shadow_length }, shadow_length) {
+                continue;
+            }
+            any_visible = true;
+            let h = (l + v).normalize();
+            let e = (m.shininess * 0.25) as f32;
+            let spec = if e == 0.0 { 1.0 } else if n.dot(h) <= 0.0 { 0.0 } else { n.dot(h).powf(e) };
+            direct += m.diffuse.as_vec3() * light.diffuse.as_vec3() * l_dot_n + m.specular.as_vec3() * light.specular.as_vec3() * spec;
+        }
+        (ambient + direct, any_visible)
+    }
+
+    /// The 8-bit colour of pixel (row, column), as render_tile computes it.
+    pub fn pixel(&self, row: u32, column: u32) -> [u8; 3] {
+        let r = &self.scene.render;
+        let k = r.samples_per_axis();
+        let inv_k = 1.0 / k as f32;
+        let mut sum = Vec3::ZERO;
+        for sy in 0..k {
+            for sx in 0..k {
+                let u = (column as f32 + (sx as f32 + 0.5) * inv_k) / r.width as f32;
+                let v = (row as f32 + (sy as f32 + 0.5) * inv_k) / r.height as f32;
+                sum += self.trace_path(self.camera_ray(u, v)).0.clamp(Vec3::ZERO, Vec3::ONE);
+            }
+        }
+        let c = sum / (k * k) as f32;
+        let q = (255.0 * c.clamp(Vec3::ZERO, Vec3::ONE) + 0.5).floor();
+        [q.x as u8, q.y as u8, q.z as u8]
+    }
+
+    /// The whole image, 8-bit RGB, top row first.
+    pub fn image(&self) -> Vec<u8> {
+        let r = &self.scene.render;
+        (0..r.height).flat_map(|row| (0..r.width).flat_map(move |column| self.pixel(row, column))).collect()
+    }
+}

@@ -1,0 +1,65 @@
+//! Pathological but valid scenes (tests/scenes/): each renders, shows
+//! something, and the k-d tree gives the brute-force image.
+
+mod common;
+
+use common::*;
+use kdray::gpu::Accel;
+
+/// Renders tests/scenes/NAME.toml with the k-d tree and brute force: no pixel
+/// may have hit llvmpipe's loop limit, the images must agree, and at least
+/// `min_covered` of the pixels must differ from the corner's (background).
+fn check(name: &str, min_covered: f64) -> kdray::gpu::RenderedImage {
+    let path = repo_path(&format!("tests/scenes/{name}.toml"));
+    let scene = kdray::scene::load_scene(&path).unwrap_or_else(|e| panic!("{e}"));
+    let kd = render(&scene, Accel::Kdtree);
+    let brute = render(&scene, Accel::Brute);
+    for (accel, image) in [("kdtree", &kd), ("brute", &brute)] {
+        assert_eq!(image.rays.loop_limited, 0, "{name} ({accel}): some pixels ran into llvmpipe's loop limit");
+    }
+    let d = compare(&kd.rgb, &brute.rgb, kd.width, kd.height, 2);
+    let budget = (kd.width * kd.height) as usize / 1000;
+    assert!(d.pixels_over <= budget, "{name}: k-d tree and brute force differ: {d:?}");
+    let background = pixel(&kd, 0, 0);
+    let covered = kd.rgb.chunks_exact(3).filter(|p| *p != background).count();
+    assert!(covered as f64 >= min_covered * (kd.width * kd.height) as f64, "{name}: only {covered} pixels show an object");
+    kd
+}
+
+#[test]
+fn all_objects_at_one_point() {
+    check("one_point", 0.1);
+}
+
+#[test]
+fn objects_far_from_the_origin() {
+    check("far_from_origin", 0.3);
+}
+
+#[test]
+fn very_thin_triangles() {
+    check("thin_triangles", 0.002);
+}
+
+#[test]
+fn ten_thousand_copies_of_one_sphere() {
+    check("ten_thousand_copies", 0.3);
+}
+
+#[test]
+fn camera_inside_a_sphere_sees_its_far_side() {
+    let image = check("camera_inside_sphere", 0.0);
+    // Every primary ray hits the enclosing sphere: no background anywhere.
+    let background = quantize([0.1, 0.1, 0.2]);
+    assert!(image.rgb.chunks_exact(3).all(|p| p != background), "a ray escaped the sphere");
+}
+
+#[test]
+fn light_inside_an_object() {
+    check("light_inside_object", 0.3);
+}
+
+#[test]
+fn rays_exactly_along_split_planes() {
+    check("rays_on_split_planes", 0.1);
+}
