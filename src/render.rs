@@ -89,6 +89,7 @@ pub fn render_scene(
 
     let upload = Instant::now();
     let arrays = SceneArrays::new(scene, &prims, &tree);
+    arrays.check_fits(&ctx.device.limits())?;
     let buffers = ctx.checked("uploading the scene", |device| {
         SceneBuffers::upload(device, &arrays)
     })?;

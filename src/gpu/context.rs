@@ -165,6 +165,7 @@ impl GpuContext {
     /// Runs `f` inside validation and out-of-memory error scopes; an error
     /// becomes `Error::Gpu("<what>: <error>")`.
     pub fn checked<T>(&self, what: &str, f: impl FnOnce(&wgpu::Device) -> T) -> Result<T> {
+        self.check_health()?;
         let oom = self.device.push_error_scope(wgpu::ErrorFilter::OutOfMemory);
         let validation = self.device.push_error_scope(wgpu::ErrorFilter::Validation);
         let value = f(&self.device);

@@ -1,8 +1,6 @@
 //! The scene flattened into GPU arrays (host side) and uploaded as storage
 //! buffers. Bindings as declared in shaders/types.wgsl.
 
-use wgpu::util::DeviceExt;
-
 use crate::geometry::Primitives;
 use crate::kdtree::KdTree;
 use crate::layout::{GpuLight, GpuMaterial, GpuSphere, GpuTriangle, KdNode};
@@ -107,6 +105,37 @@ impl SceneArrays {
             .max_by_key(|(_, s)| *s)
             .unwrap_or(("", 0))
     }
+
+    /// Refuses, before anything is uploaded, a scene one of whose buffers
+    /// exceeds what the adapter can bind (`max_storage_buffer_binding_size`,
+    /// `max_buffer_size`): the message names the buffer, its size and the limit.
+    pub fn check_fits(&self, limits: &wgpu::Limits) -> crate::Result<()> {
+        let limit = (limits.max_storage_buffer_binding_size as u64).min(limits.max_buffer_size);
+        for (name, bytes) in self.buffers() {
+            if bytes.len() as u64 > limit {
+                return Err(crate::Error::Gpu(format!(
+                    "the scene is too large for this adapter: its {name} buffer needs {} but the adapter binds at most {} \
+                     per storage buffer ({} spheres, {} triangles, {} k-d nodes, {} leaf references)",
+                    human_bytes(bytes.len() as u64),
+                    human_bytes(limit),
+                    self.spheres.len(),
+                    self.triangles.len(),
+                    self.nodes.len(),
+                    self.leaf_objects.len()
+                )));
+            }
+        }
+        Ok(())
+    }
+}
+
+/// Bytes for people: B, KiB or MiB.
+fn human_bytes(bytes: u64) -> String {
+    match bytes {
+        b if b < 1024 => format!("{b} B"),
+        b if b < 1024 * 1024 => format!("{:.1} KiB", b as f64 / 1024.0),
+        b => format!("{:.1} MiB", b as f64 / (1024.0 * 1024.0)),
+    }
 }
 
 /// The scene's storage buffers on the device (bindings 1..=7).
@@ -128,11 +157,20 @@ impl SceneBuffers {
                 // element (64 bytes covers the largest element type).
                 let padded = [0u8; 64];
                 let contents = if bytes.is_empty() { &padded[..] } else { bytes };
-                device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+                // Not create_buffer_init: it panics when the device is lost.
+                // A failed mapping leaves an invalid buffer, which the caller's
+                // error scope reports as one error line.
+                let buffer = device.create_buffer(&wgpu::BufferDescriptor {
                     label: Some(name),
-                    contents,
+                    size: contents.len() as u64,
                     usage: wgpu::BufferUsages::STORAGE,
-                })
+                    mapped_at_creation: true,
+                });
+                if let Ok(mut view) = buffer.slice(..).get_mapped_range_mut() {
+                    view.copy_from_slice(contents);
+                }
+                buffer.unmap();
+                buffer
             })
             .collect();
         SceneBuffers {
@@ -142,5 +180,53 @@ impl SceneBuffers {
             light_count: arrays.lights.len() as u32,
             node_count: arrays.nodes.len() as u32,
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::geometry::Primitives;
+    use crate::scene::{parse_scene, SceneFormat};
+
+    fn arrays(spheres: usize) -> SceneArrays {
+        let mut text = String::from(
+            "[camera]\nposition = [0, 0, 5]\nlook_at = [0, 0, 0]\n[[lights]]\nposition = [1, 1, 1]\n[materials.m]\ndiffuse = [1, 1, 1]\n",
+        );
+        for i in 0..spheres {
+            text += &format!("[[spheres]]\ncenter = [{i}, 0, 0]\nradius = 0.4\nmaterial = \"m\"\n");
+        }
+        let scene = parse_scene(&text, std::path::Path::new("t.toml"), SceneFormat::Toml).unwrap();
+        let prims = Primitives::from_scene(&scene);
+        SceneArrays::new(&scene, &prims, &KdTree::for_primitives(&prims))
+    }
+
+    #[test]
+    fn a_scene_within_the_limits_fits() {
+        assert!(arrays(100).check_fits(&wgpu::Limits::default()).is_ok());
+    }
+
+    /// Limits lowered artificially (rather than gigabytes of scene): the
+    /// refusal names the buffer, its size and the limit.
+    #[test]
+    fn a_scene_beyond_one_binding_is_refused_with_its_size_and_the_limit() {
+        let a = arrays(100); // 100 spheres * 16 B = 1600 B of spheres
+        let limits = wgpu::Limits {
+            max_storage_buffer_binding_size: 1024,
+            ..wgpu::Limits::default()
+        };
+        let message = a.check_fits(&limits).unwrap_err().to_string();
+        assert!(
+            message.contains("spheres buffer needs 1.6 KiB"),
+            "{message}"
+        );
+        assert!(message.contains("at most 1.0 KiB"), "{message}");
+        assert!(message.contains("100 spheres"), "{message}");
+        assert_eq!(message.lines().count(), 1);
+        let limits = wgpu::Limits {
+            max_buffer_size: 1024,
+            ..wgpu::Limits::default()
+        };
+        assert!(a.check_fits(&limits).is_err());
     }
 }
