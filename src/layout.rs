@@ -219,6 +219,11 @@ mod tests {
                 _pad,
             ]
         );
-        layout_of!(&module, "RayCounters", RayCounters, [primary, shadow, reflection, loop_limited]);
+        layout_of!(
+            &module,
+            "RayCounters",
+            RayCounters,
+            [primary, shadow, reflection, loop_limited]
+        );
     }
 }

@@ -6,6 +6,7 @@
 //! buffers, pipeline, tiled dispatch, readback) -> [`output`] (PNG).
 //! [`render`] strings them together for one frame.
 
+pub mod bench;
 pub mod error;
 pub mod geometry;
 pub mod gpu;
@@ -15,5 +16,6 @@ pub mod output;
 pub mod reference;
 pub mod render;
 pub mod scene;
+pub mod window;
 
 pub use error::{Error, Result};

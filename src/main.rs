@@ -39,17 +39,52 @@ enum Command {
         /// Nearest-hit search in the shader.
         #[arg(long, value_enum, default_value_t = Accel::Kdtree)]
         accel: Accel,
-        /// Print one JSON object of figures on stdout.
+        /// Print one JSON object of figures on stdout (with --window: frame rates, on exit).
         #[arg(long)]
         stats: bool,
+        /// Open an interactive window instead of writing a PNG (see the README's controls).
+        #[arg(long, conflicts_with = "output")]
+        window: bool,
+        /// With --window: present this many frames, then exit.
+        #[arg(long, requires = "window", value_parser = clap::value_parser!(u32).range(1..))]
+        frames: Option<u32>,
+        /// With --window: on exit, save the last presented frame as a PNG here.
+        #[arg(long, requires = "window")]
+        screenshot: Option<PathBuf>,
     },
     /// List the adapters wgpu sees and the one kdray picks.
     Info,
+    /// Benchmark the k-d tree against brute force on random scenes of growing size
+    /// (or on scene files): CSV, JSON, Markdown and log-log plots.
+    Bench(kdray::bench::BenchArgs),
+    /// Write one of the bench's random scenes as a scene file.
+    Generate(kdray::bench::GenerateArgs),
 }
 
 fn main() -> ExitCode {
     let cli = Cli::parse();
     let result = match cli.command {
+        Command::Render {
+            scene,
+            width,
+            height,
+            samples,
+            accel,
+            stats,
+            window: true,
+            frames,
+            screenshot,
+            ..
+        } => kdray::window::run(kdray::window::WindowOptions {
+            scene,
+            width,
+            height,
+            samples,
+            accel,
+            frames,
+            screenshot,
+            stats,
+        }),
         Command::Render {
             scene,
             output,
@@ -58,8 +93,11 @@ fn main() -> ExitCode {
             samples,
             accel,
             stats,
+            ..
         } => render(&scene, output, width, height, samples, accel, stats),
         Command::Info => info(),
+        Command::Bench(args) => kdray::bench::bench_cli(&args),
+        Command::Generate(args) => kdray::bench::generate_cli(&args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,
@@ -102,10 +140,34 @@ fn render(
         PathBuf::from(format!("{stem}.png"))
     });
 
+    // Rows stream from the GPU into the PNG (memory holds one band); the
+    // file appears only once complete, and a failure leaves no trace.
+    let mut png =
+        kdray::output::PngStream::create(&output, scene.render.width, scene.render.height)?;
     let ctx = GpuContext::new()?;
-    let (image, figures) =
-        kdray::render::render_scene(&ctx, &scene, accel, TilePlan::DEFAULT_MAX_TILE_PIXELS)?;
-    kdray::output::write_png_atomic(&output, image.width, image.height, &image.rgb)?;
+    let progress = indicatif::ProgressBar::with_draw_target(
+        Some(scene.render.height as u64),
+        indicatif::ProgressDrawTarget::stderr(),
+    )
+    .with_style(
+        indicatif::ProgressStyle::with_template(
+            "{spinner} rendering {pos}/{len} rows [{bar:40}] {elapsed} (eta {eta})",
+        )
+        .map_err(|e| Error::Output(e.to_string()))?
+        .progress_chars("=> "),
+    );
+    let (figures, _) = kdray::render::render_scene_streaming(
+        &ctx,
+        &scene,
+        accel,
+        TilePlan::DEFAULT_MAX_TILE_PIXELS,
+        &mut |band| {
+            progress.inc(band.rows as u64);
+            png.write_rows(band.rgb)
+        },
+    )?;
+    progress.finish_and_clear();
+    png.finish()?;
     if let Some(warning) = figures.loop_limit_warning() {
         eprintln!("kdray: {warning}");
     }

@@ -1,51 +1,106 @@
 //! Writing images: PNG, atomically (a temporary file in the same folder,
-//! then a rename), so a failed run never leaves a half-written output.
+//! then a rename), so a failed run never leaves a half-written output. Rows
+//! can be streamed in as they are rendered: memory holds one band, never
+//! the whole image.
 
-use std::path::Path;
+use std::fs::File;
+use std::io::{BufWriter, Write};
+use std::path::{Path, PathBuf};
 
 use crate::error::{Error, Result};
 
+/// An 8-bit RGB PNG being written row by row to a temporary file next to its
+/// destination; `finish` renames it into place. Dropped unfinished, it
+/// removes the temporary file and leaves the destination untouched.
+pub struct PngStream {
+    path: PathBuf,
+    tmp: PathBuf,
+    writer: Option<png::StreamWriter<'static, BufWriter<File>>>,
+}
+
+impl PngStream {
+    pub fn create(path: &Path, width: u32, height: u32) -> Result<Self> {
+        let dir = match path.parent() {
+            Some(p) if !p.as_os_str().is_empty() => p,
+            _ => Path::new("."),
+        };
+        let name = path
+            .file_name()
+            .ok_or_else(|| Error::Output(format!("{}: not a file name", path.display())))?;
+        let tmp = dir.join(format!(
+            ".{}.tmp-{}",
+            name.to_string_lossy(),
+            std::process::id()
+        ));
+        let file = File::create(&tmp)
+            .map_err(|e| output_error(path, "cannot create a temporary file", &e))?;
+        let mut stream = PngStream {
+            path: path.to_path_buf(),
+            tmp,
+            writer: None,
+        };
+        let mut encoder = png::Encoder::new(BufWriter::new(file), width, height);
+        encoder.set_color(png::ColorType::Rgb);
+        encoder.set_depth(png::BitDepth::Eight);
+        let writer = encoder
+            .write_header()
+            .and_then(|w| w.into_stream_writer())
+            .map_err(|e| output_error(path, "cannot write", &e))?;
+        stream.writer = Some(writer);
+        Ok(stream)
+    }
+
+    /// Appends whole rows (3 bytes per pixel), top to bottom.
+    pub fn write_rows(&mut self, rgb: &[u8]) -> Result<()> {
+        let writer = self
+            .writer
+            .as_mut()
+            .ok_or_else(|| Error::Output("PNG stream already finished".into()))?;
+        writer
+            .write_all(rgb)
+            .map_err(|e| output_error(&self.path, "cannot write", &e))
+    }
+
+    /// Completes the file, flushes it to disk and renames it into place.
+    pub fn finish(mut self) -> Result<()> {
+        let writer = self
+            .writer
+            .take()
+            .ok_or_else(|| Error::Output("PNG stream already finished".into()))?;
+        writer
+            .finish()
+            .map_err(|e| output_error(&self.path, "cannot write", &e))?;
+        File::open(&self.tmp)
+            .and_then(|f| f.sync_all())
+            .map_err(|e| output_error(&self.path, "cannot write", &e))?;
+        std::fs::rename(&self.tmp, &self.path).map_err(|e| {
+            output_error(
+                &self.path,
+                "cannot rename the temporary file into place",
+                &e,
+            )
+        })
+    }
+}
+
+impl Drop for PngStream {
+    fn drop(&mut self) {
+        if self.writer.is_some() || self.tmp.exists() {
+            self.writer = None;
+            let _ = std::fs::remove_file(&self.tmp);
+        }
+    }
+}
+
+fn output_error(path: &Path, what: &str, e: &dyn std::fmt::Display) -> Error {
+    Error::Output(format!("{}: {what}: {e}", path.display()))
+}
+
 /// Writes 8-bit RGB pixels (row-major, top row first) as a PNG at `path`.
 pub fn write_png_atomic(path: &Path, width: u32, height: u32, rgb: &[u8]) -> Result<()> {
-    let fail = |what: &str, e: &dyn std::fmt::Display| {
-        Error::Output(format!("{}: {what}: {e}", path.display()))
-    };
-    let dir = match path.parent() {
-        Some(p) if !p.as_os_str().is_empty() => p,
-        _ => Path::new("."),
-    };
-    let name = path
-        .file_name()
-        .ok_or_else(|| Error::Output(format!("{}: not a file name", path.display())))?;
-    let tmp = dir.join(format!(
-        ".{}.tmp-{}",
-        name.to_string_lossy(),
-        std::process::id()
-    ));
-    let result = (|| {
-        let file =
-            std::fs::File::create(&tmp).map_err(|e| fail("cannot create a temporary file", &e))?;
-        let mut writer = std::io::BufWriter::new(file);
-        let encoder = image::codecs::png::PngEncoder::new(&mut writer);
-        image::ImageEncoder::write_image(
-            encoder,
-            rgb,
-            width,
-            height,
-            image::ExtendedColorType::Rgb8,
-        )
-        .map_err(|e| fail("cannot encode PNG", &e))?;
-        let file = writer
-            .into_inner()
-            .map_err(|e| fail("cannot write", &e.error().to_string()))?;
-        file.sync_all().map_err(|e| fail("cannot write", &e))?;
-        std::fs::rename(&tmp, path)
-            .map_err(|e| fail("cannot rename the temporary file into place", &e))
-    })();
-    if result.is_err() {
-        let _ = std::fs::remove_file(&tmp);
-    }
-    result
+    let mut stream = PngStream::create(path, width, height)?;
+    stream.write_rows(rgb)?;
+    stream.finish()
 }
 
 /// Reads a PNG as 8-bit RGB (for tests and comparisons).
@@ -54,4 +109,52 @@ pub fn read_png_rgb(path: &Path) -> Result<(u32, u32, Vec<u8>)> {
         .map_err(|e| Error::Output(format!("{}: {e}", path.display())))?
         .to_rgb8();
     Ok((img.width(), img.height(), img.into_raw()))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn temp_dir(name: &str) -> PathBuf {
+        let dir = std::env::temp_dir().join(format!("kdray-output-{name}-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        dir
+    }
+
+    #[test]
+    fn streamed_rows_make_the_same_png_as_one_write() {
+        let dir = temp_dir("stream");
+        let (w, h) = (7u32, 5u32);
+        let rgb: Vec<u8> = (0..w * h * 3).map(|i| (i * 37 % 251) as u8).collect();
+        let mut stream = PngStream::create(&dir.join("a.png"), w, h).unwrap();
+        for band in rgb.chunks(w as usize * 3 * 2) {
+            stream.write_rows(band).unwrap();
+        }
+        stream.finish().unwrap();
+        assert_eq!(read_png_rgb(&dir.join("a.png")).unwrap(), (w, h, rgb));
+        assert_eq!(
+            std::fs::read_dir(&dir).unwrap().count(),
+            1,
+            "no temporary file left"
+        );
+        std::fs::remove_dir_all(dir).unwrap();
+    }
+
+    /// A render that fails half-way leaves the previous output untouched.
+    #[test]
+    fn an_unfinished_stream_leaves_the_destination_untouched() {
+        let dir = temp_dir("unfinished");
+        let path = dir.join("out.png");
+        std::fs::write(&path, b"previous").unwrap();
+        let mut stream = PngStream::create(&path, 4, 4).unwrap();
+        stream.write_rows(&[0; 4 * 3 * 2]).unwrap();
+        drop(stream);
+        assert_eq!(std::fs::read(&path).unwrap(), b"previous");
+        assert_eq!(
+            std::fs::read_dir(&dir).unwrap().count(),
+            1,
+            "no temporary file left"
+        );
+        std::fs::remove_dir_all(dir).unwrap();
+    }
 }

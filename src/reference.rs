@@ -59,8 +59,13 @@ impl<'a> ReferenceTracer<'a> {
 
     pub fn camera_ray(&self, u: f32, v: f32) -> Ray {
         let h = self.tan_half_vfov;
-        let dir = self.forward + (2.0 * u - 1.0) * h * self.aspect * self.right + (1.0 - 2.0 * v) * h * self.up;
-        Ray { origin: self.scene.camera.position.as_vec3(), dir: dir.normalize() }
+        let dir = self.forward
+            + (2.0 * u - 1.0) * h * self.aspect * self.right
+            + (1.0 - 2.0 * v) * h * self.up;
+        Ray {
+            origin: self.scene.camera.position.as_vec3(),
+            dir: dir.normalize(),
+        }
     }
 
     fn normal(&self, id: u32, p: Vec3) -> Vec3 {
@@ -111,12 +116,22 @@ impl<'a> ReferenceTracer<'a> {
                 break;
             }
             let d = ray.dir - 2.0 * ray.dir.dot(n) * n;
-            ray = Ray { origin, dir: d.normalize() };
+            ray = Ray {
+                origin,
+                dir: d.normalize(),
+            };
         }
         (color, hits)
     }
 
-    fn shade(&self, m: &crate::scene::Material, p: Vec3, n: Vec3, v: Vec3, origin: Vec3) -> (Vec3, bool) {
+    fn shade(
+        &self,
+        m: &crate::scene::Material,
+        p: Vec3,
+        n: Vec3,
+        v: Vec3,
+        origin: Vec3,
+    ) -> (Vec3, bool) {
         let mut ambient = Vec3::ZERO;
         let mut direct = Vec3::ZERO;
         let mut any_visible = false;
@@ -135,14 +150,29 @@ impl<'a> ReferenceTracer<'a> {
             }
             let from_origin = lp - origin;
             let shadow_length = from_origin.length();
-            if shadow_length > 0.0 && self.blocked(&Ray { origin, dir: from_origin / shadow_length }, shadow_length) {
+            if shadow_length > 0.0
+                && self.blocked(
+                    &Ray {
+                        origin,
+                        dir: from_origin / shadow_length,
+                    },
+                    shadow_length,
+                )
+            {
                 continue;
             }
             any_visible = true;
             let h = (l + v).normalize();
             let e = (m.shininess * 0.25) as f32;
-            let spec = if e == 0.0 { 1.0 } else if n.dot(h) <= 0.0 { 0.0 } else { n.dot(h).powf(e) };
-            direct += m.diffuse.as_vec3() * light.diffuse.as_vec3() * l_dot_n + m.specular.as_vec3() * light.specular.as_vec3() * spec;
+            let spec = if e == 0.0 {
+                1.0
+            } else if n.dot(h) <= 0.0 {
+                0.0
+            } else {
+                n.dot(h).powf(e)
+            };
+            direct += m.diffuse.as_vec3() * light.diffuse.as_vec3() * l_dot_n
+                + m.specular.as_vec3() * light.specular.as_vec3() * spec;
         }
         (ambient + direct, any_visible)
     }
@@ -157,7 +187,10 @@ impl<'a> ReferenceTracer<'a> {
             for sx in 0..k {
                 let u = (column as f32 + (sx as f32 + 0.5) * inv_k) / r.width as f32;
                 let v = (row as f32 + (sy as f32 + 0.5) * inv_k) / r.height as f32;
-                sum += self.trace_path(self.camera_ray(u, v)).0.clamp(Vec3::ZERO, Vec3::ONE);
+                sum += self
+                    .trace_path(self.camera_ray(u, v))
+                    .0
+                    .clamp(Vec3::ZERO, Vec3::ONE);
             }
         }
         let c = sum / (k * k) as f32;
@@ -168,6 +201,8 @@ impl<'a> ReferenceTracer<'a> {
     /// The whole image, 8-bit RGB, top row first.
     pub fn image(&self) -> Vec<u8> {
         let r = &self.scene.render;
-        (0..r.height).flat_map(|row| (0..r.width).flat_map(move |column| self.pixel(row, column))).collect()
+        (0..r.height)
+            .flat_map(|row| (0..r.width).flat_map(move |column| self.pixel(row, column)))
+            .collect()
     }
 }

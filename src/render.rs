@@ -7,6 +7,7 @@ use serde::Serialize;
 
 use crate::error::Result;
 use crate::geometry::Primitives;
+use crate::gpu::RowBand;
 use crate::gpu::{
     frame_params, Accel, GpuContext, RenderedImage, Renderer, SceneArrays, SceneBuffers, TilePlan,
 };
@@ -66,13 +67,40 @@ fn ms_since(t: Instant) -> f64 {
     t.elapsed().as_secs_f64() * 1e3
 }
 
-/// Renders `scene` on `ctx`. `max_tile_pixels` bounds one dispatch.
+/// Renders `scene` on `ctx` into memory. `max_tile_pixels` bounds one dispatch.
 pub fn render_scene(
     ctx: &GpuContext,
     scene: &Scene,
     accel: Accel,
     max_tile_pixels: u64,
 ) -> Result<(RenderedImage, RenderStats)> {
+    let r = &scene.render;
+    let mut rgb = Vec::with_capacity(r.width as usize * r.height as usize * 3);
+    let (stats, summary) =
+        render_scene_streaming(ctx, scene, accel, max_tile_pixels, &mut |band| {
+            rgb.extend_from_slice(band.rgb);
+            Ok(())
+        })?;
+    let image = RenderedImage {
+        width: r.width,
+        height: r.height,
+        rgb,
+        gpu_ms: summary.gpu_ms,
+        gpu_time_source: summary.gpu_time_source,
+        rays: summary.rays,
+    };
+    Ok((image, stats))
+}
+
+/// Renders `scene` on `ctx`, handing bands of rows to `sink` top to bottom
+/// as they are read back (for images too big to hold, and progress bars).
+pub fn render_scene_streaming(
+    ctx: &GpuContext,
+    scene: &Scene,
+    accel: Accel,
+    max_tile_pixels: u64,
+    sink: &mut dyn FnMut(RowBand<'_>) -> Result<()>,
+) -> Result<(RenderStats, crate::gpu::RenderSummary)> {
     let total = Instant::now();
     let build = Instant::now();
     let prims = Primitives::from_scene(scene);
@@ -105,7 +133,7 @@ pub fn render_scene(
         max_tile_pixels,
         max_binding,
     );
-    let image = renderer.render(ctx, &buffers, params, plan)?;
+    let summary = renderer.render_bands(ctx, &buffers, params, plan, sink)?;
 
     let tree_stats = tree.stats();
     let primary_rays =
@@ -126,15 +154,19 @@ pub fn render_scene(
         gpu_scene_bytes: arrays.byte_size(),
         build_ms,
         upload_ms,
-        gpu_ms: image.gpu_ms,
-        gpu_time_source: image.gpu_time_source.to_string(),
+        gpu_ms: summary.gpu_ms,
+        gpu_time_source: summary.gpu_time_source.to_string(),
         total_ms: ms_since(total),
         primary_rays,
-        shadow_rays: image.rays.shadow,
-        reflection_rays: image.rays.reflection,
-        mrays_per_s: primary_rays as f64 / (image.gpu_ms * 1e3).max(1e-9),
-        total_mrays_per_s: image.rays.total() as f64 / (image.gpu_ms * 1e3).max(1e-9),
-        loop_limited_pixels: if ctx.has_loop_limit() { image.rays.loop_limited } else { 0 },
+        shadow_rays: summary.rays.shadow,
+        reflection_rays: summary.rays.reflection,
+        mrays_per_s: primary_rays as f64 / (summary.gpu_ms * 1e3).max(1e-9),
+        total_mrays_per_s: summary.rays.total() as f64 / (summary.gpu_ms * 1e3).max(1e-9),
+        loop_limited_pixels: if ctx.has_loop_limit() {
+            summary.rays.loop_limited
+        } else {
+            0
+        },
     };
-    Ok((image, stats))
+    Ok((stats, summary))
 }

@@ -26,13 +26,20 @@ fn kdtree_equals_brute_force_on_every_scene() {
     }
 }
 
-/// Small tiles give the same image, bit for bit, as one dispatch.
+/// Small tiles give the same image, bit for bit, and the same ray counts as
+/// one dispatch.
 #[test]
 fn tiled_render_equals_untiled() {
     let scene = small_scene(&repo_path("scenes/seed.toml"));
     let whole = render_tiled(&scene, Accel::Kdtree, u64::MAX);
     let tiled = render_tiled(&scene, Accel::Kdtree, 37 * 3); // odd-sized tiles, partial last tile
     assert_eq!(whole.rgb, tiled.rgb);
+    // The shader's ray counters are per tile and summed: tiling changes nothing.
+    assert_eq!(whole.rays, tiled.rays);
+    assert_eq!(
+        whole.rays.primary,
+        (scene.render.width * scene.render.height) as u64
+    );
 }
 
 const HEAD_ON: &str = r#"

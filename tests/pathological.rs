@@ -15,14 +15,23 @@ fn check(name: &str, min_covered: f64) -> kdray::gpu::RenderedImage {
     let kd = render(&scene, Accel::Kdtree);
     let brute = render(&scene, Accel::Brute);
     for (accel, image) in [("kdtree", &kd), ("brute", &brute)] {
-        assert_eq!(image.rays.loop_limited, 0, "{name} ({accel}): some pixels ran into llvmpipe's loop limit");
+        assert_eq!(
+            image.rays.loop_limited, 0,
+            "{name} ({accel}): some pixels ran into llvmpipe's loop limit"
+        );
     }
     let d = compare(&kd.rgb, &brute.rgb, kd.width, kd.height, 2);
     let budget = (kd.width * kd.height) as usize / 1000;
-    assert!(d.pixels_over <= budget, "{name}: k-d tree and brute force differ: {d:?}");
+    assert!(
+        d.pixels_over <= budget,
+        "{name}: k-d tree and brute force differ: {d:?}"
+    );
     let background = pixel(&kd, 0, 0);
     let covered = kd.rgb.chunks_exact(3).filter(|p| *p != background).count();
-    assert!(covered as f64 >= min_covered * (kd.width * kd.height) as f64, "{name}: only {covered} pixels show an object");
+    assert!(
+        covered as f64 >= min_covered * (kd.width * kd.height) as f64,
+        "{name}: only {covered} pixels show an object"
+    );
     kd
 }
 
@@ -51,7 +60,10 @@ fn camera_inside_a_sphere_sees_its_far_side() {
     let image = check("camera_inside_sphere", 0.0);
     // Every primary ray hits the enclosing sphere: no background anywhere.
     let background = quantize([0.1, 0.1, 0.2]);
-    assert!(image.rgb.chunks_exact(3).all(|p| p != background), "a ray escaped the sphere");
+    assert!(
+        image.rgb.chunks_exact(3).all(|p| p != background),
+        "a ray escaped the sphere"
+    );
 }
 
 #[test]

@@ -142,6 +142,79 @@ impl GpuContext {
         })
     }
 
+    /// Opens a device on the best adapter of `instance` that can present to
+    /// `surface` (the interactive window). Adapters are ranked as in
+    /// [`GpuContext::new`] (WGPU_ADAPTER_NAME honoured, Vulkan first, real GPUs
+    /// before software ones), and the device is set up the same way.
+    pub fn for_surface(instance: &wgpu::Instance, surface: &wgpu::Surface<'_>) -> Result<Self> {
+        let mut adapters: Vec<wgpu::Adapter> =
+            pollster::block_on(instance.enumerate_adapters(wgpu::Backends::all()))
+                .into_iter()
+                .filter(|a| a.is_surface_supported(surface))
+                .collect();
+        adapters.sort_by_key(|a| {
+            let info = a.get_info();
+            (backend_rank(info.backend), device_rank(info.device_type))
+        });
+        let wanted = std::env::var("WGPU_ADAPTER_NAME").ok();
+        let pick = adapters.iter().position(|a| match &wanted {
+            Some(name) => a
+                .get_info()
+                .name
+                .to_lowercase()
+                .contains(&name.to_lowercase()),
+            None => true,
+        });
+        let Some(pick) = pick else {
+            return Err(Error::Gpu(match wanted {
+                Some(name) if !adapters.is_empty() => format!("no adapter that can draw to the window has a name containing WGPU_ADAPTER_NAME={name:?}; `kdray info` lists adapters"),
+                _ => format!("no GPU adapter can draw to the window; {NO_ADAPTER_HELP}"),
+            }));
+        };
+        Self::open_device(adapters.swap_remove(pick))
+    }
+
+    /// Opens the device on `adapter` with its own limits, timestamps where
+    /// offered, and wgpu's error callbacks recorded (as `new` does).
+    fn open_device(adapter: wgpu::Adapter) -> Result<Self> {
+        let info = adapter.get_info();
+        let has_timestamps = adapter.features().contains(wgpu::Features::TIMESTAMP_QUERY);
+        let required_features = if has_timestamps {
+            wgpu::Features::TIMESTAMP_QUERY
+        } else {
+            wgpu::Features::empty()
+        };
+        let (device, queue) = pollster::block_on(adapter.request_device(&wgpu::DeviceDescriptor {
+            label: Some("kdray"),
+            required_features,
+            required_limits: adapter.limits(),
+            ..Default::default()
+        }))
+        .map_err(|e| Error::Gpu(format!("cannot open a device on {}: {e}", describe(&info))))?;
+        let fault = Arc::new(Mutex::new(None));
+        let record = |fault: &Arc<Mutex<Option<String>>>, message: String| {
+            if let Ok(mut slot) = fault.lock() {
+                slot.get_or_insert(message);
+            }
+        };
+        let f = fault.clone();
+        device.on_uncaptured_error(Arc::new(move |e: wgpu::Error| {
+            record(&f, format!("GPU error: {e}"))
+        }));
+        let f = fault.clone();
+        device.set_device_lost_callback(move |reason, message| {
+            record(&f, format!("GPU device lost ({reason:?}): {message}"))
+        });
+        Ok(GpuContext {
+            adapter,
+            device,
+            queue,
+            info,
+            has_timestamps,
+            fault,
+        })
+    }
+
     /// Whether the adapter is Mesa's llvmpipe (lavapipe, or GL on llvmpipe),
     /// which silently ends an invocation's loops once they have run 65,535
     /// iterations in all: pixels whose paths need more come out wrong.

@@ -8,9 +8,11 @@ pub mod scene_buffers;
 pub mod shaders;
 
 pub use context::GpuContext;
-pub use renderer::{frame_params, Accel, RenderedImage, Renderer, TilePlan};
+pub use renderer::{
+    frame_params, Accel, RayTotals, RenderSummary, RenderedImage, Renderer, RowBand, TilePlan,
+};
 pub use scene_buffers::{SceneArrays, SceneBuffers};
 
 /// Shaders compiled on their own (not part of the trace kernel), validated
 /// by the same test.
-pub const STANDALONE_SHADERS: [(&str, &str); 0] = [];
+pub const STANDALONE_SHADERS: [(&str, &str); 1] = [("present.wgsl", shaders::PRESENT_SOURCE)];

@@ -10,7 +10,9 @@ use super::scene_buffers::SceneBuffers;
 use super::shaders;
 use crate::error::{Error, Result};
 use crate::kdtree::KdTree;
-use crate::layout::{FrameParams, RayCounters, ACCEL_BRUTE, ACCEL_KDTREE, SHADOW_AMBIENT, SHADOW_SEED};
+use crate::layout::{
+    FrameParams, RayCounters, ACCEL_BRUTE, ACCEL_KDTREE, SHADOW_AMBIENT, SHADOW_SEED,
+};
 use crate::scene::{Scene, ShadowMode};
 
 /// Which nearest-hit search the shader runs.
@@ -22,43 +24,59 @@ pub enum Accel {
     Brute,
 }
 
-/// How the image is cut into dispatches. Tiles are full rows tall enough to
-/// hold at most `max_tile_pixels` pixels (and never exceed the adapter's
-/// storage binding size).
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+/// How the image is cut into dispatches: bands of whole rows, each band one
+/// or more tiles of at most `tile_width` x `max_rows` pixels. Band heights
+/// adapt so that one dispatch takes about `target_dispatch_ms` (real GPUs
+/// reset dispatches that run for seconds); buffers never exceed the
+/// adapter's storage binding size.
+#[derive(Debug, Clone, Copy, PartialEq)]
 pub struct TilePlan {
     pub tile_width: u32,
-    pub tile_height: u32,
+    pub max_rows: u32,
+    pub target_dispatch_ms: f64,
 }
 
 impl TilePlan {
     /// Default bound on one dispatch's pixels (about one megapixel).
     pub const DEFAULT_MAX_TILE_PIXELS: u64 = 1 << 20;
+    /// Default time one dispatch should take.
+    pub const DEFAULT_TARGET_DISPATCH_MS: f64 = 250.0;
+    /// Pixels in the first band, which measures the adapter's speed.
+    const FIRST_BAND_PIXELS: u64 = 1 << 16;
 
     pub fn new(width: u32, height: u32, max_tile_pixels: u64, max_binding_bytes: u64) -> Self {
-        let max_pixels = max_tile_pixels.min(max_binding_bytes / 4).max(1);
+        // The output buffer holds the ray counters, then 4 bytes per pixel.
+        let max_pixels = max_tile_pixels
+            .min(max_binding_bytes.saturating_sub(64) / 4)
+            .max(1);
         let tile_width = width.min(max_pixels as u32).max(1);
-        let rows = (max_pixels / tile_width as u64).clamp(1, height as u64) as u32;
+        let max_rows = (max_pixels / tile_width as u64).clamp(1, height.max(1) as u64) as u32;
         TilePlan {
             tile_width,
-            tile_height: rows,
+            max_rows,
+            target_dispatch_ms: Self::DEFAULT_TARGET_DISPATCH_MS,
         }
     }
 
-    /// Tiles as (x, y, width, height), row by row.
-    pub fn tiles(
-        &self,
-        width: u32,
-        height: u32,
-    ) -> impl Iterator<Item = (u32, u32, u32, u32)> + '_ {
-        let (tw, th) = (self.tile_width, self.tile_height);
-        (0..height.div_ceil(th)).flat_map(move |ty| {
-            (0..width.div_ceil(tw)).map(move |tx| {
-                let (x, y) = (tx * tw, ty * th);
-                (x, y, tw.min(width - x), th.min(height - y))
-            })
-        })
+    /// Rows of the first band: small, to measure before committing to more.
+    fn first_band_rows(&self, width: u32) -> u32 {
+        ((Self::FIRST_BAND_PIXELS / width.max(1) as u64) as u32).clamp(1, self.max_rows)
     }
+
+    /// Rows of the next band, given how long the last one took per row.
+    fn next_band_rows(&self, ms_per_row: f64) -> u32 {
+        if !(ms_per_row > 0.0) {
+            return self.max_rows;
+        }
+        ((self.target_dispatch_ms / ms_per_row) as u64).clamp(1, self.max_rows as u64) as u32
+    }
+}
+
+/// Rows `y..y + rows` of the image, 8-bit RGB, as they come off the GPU.
+pub struct RowBand<'a> {
+    pub y: u32,
+    pub rows: u32,
+    pub rgb: &'a [u8],
 }
 
 /// Camera and render settings in the layout the shader reads; the tile
@@ -123,7 +141,24 @@ pub struct RayTotals {
     pub loop_limited: u64,
 }
 
+/// What a render measured besides its pixels.
+#[derive(Debug, Clone, Copy)]
+pub struct RenderSummary {
+    /// Sum over tiles of GPU time (timestamp queries) or of submit-to-done wall time.
+    pub gpu_ms: f64,
+    /// "timestamp" or "wall".
+    pub gpu_time_source: &'static str,
+    pub rays: RayTotals,
+}
+
 impl RayTotals {
+    fn add(&mut self, c: &RayCounters) {
+        self.primary += c.primary as u64;
+        self.shadow += c.shadow as u64;
+        self.reflection += c.reflection as u64;
+        self.loop_limited += c.loop_limited as u64;
+    }
+
     /// Primary, shadow and reflection rays together.
     pub fn total(&self) -> u64 {
         self.primary + self.shadow + self.reflection
@@ -188,15 +223,43 @@ impl Renderer {
         params: FrameParams,
         plan: TilePlan,
     ) -> Result<RenderedImage> {
+        let mut rgb = Vec::with_capacity(params.width as usize * params.height as usize * 3);
+        let summary = self.render_bands(ctx, scene, params, plan, &mut |band| {
+            rgb.extend_from_slice(band.rgb);
+            Ok(())
+        })?;
+        Ok(RenderedImage {
+            width: params.width,
+            height: params.height,
+            rgb,
+            gpu_ms: summary.gpu_ms,
+            gpu_time_source: summary.gpu_time_source,
+            rays: summary.rays,
+        })
+    }
+
+    /// Renders band after band of whole rows, top to bottom, handing each to
+    /// `sink` as soon as it is read back: host memory holds one band, never
+    /// the image.
+    pub fn render_bands(
+        &self,
+        ctx: &GpuContext,
+        scene: &SceneBuffers,
+        params: FrameParams,
+        plan: TilePlan,
+        sink: &mut dyn FnMut(RowBand<'_>) -> Result<()>,
+    ) -> Result<RenderSummary> {
         let (width, height) = (params.width, params.height);
         let device = &ctx.device;
-        let tile_bytes = OUTPUT_HEADER_BYTES + plan.tile_width as u64 * plan.tile_height as u64 * 4;
+        let tile_bytes = OUTPUT_HEADER_BYTES + plan.tile_width as u64 * plan.max_rows as u64 * 4;
         let (output, readback, bind_group) =
             ctx.checked("allocating the output buffers", |device| {
                 let output = device.create_buffer(&wgpu::BufferDescriptor {
                     label: Some("output pixels"),
                     size: tile_bytes,
-                    usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
+                    usage: wgpu::BufferUsages::STORAGE
+                        | wgpu::BufferUsages::COPY_SRC
+                        | wgpu::BufferUsages::COPY_DST,
                     mapped_at_creation: false,
                 });
                 let readback = device.create_buffer(&wgpu::BufferDescriptor {
@@ -228,70 +291,88 @@ impl Renderer {
             })?;
         let timer = ctx.has_timestamps.then(|| GpuTimer::new(device));
 
-        let mut rgb = vec![0u8; width as usize * height as usize * 3];
-        let mut gpu_ms = 0.0;
-        let mut rays = RayTotals::default();
-        for (x, y, w, h) in plan.tiles(width, height) {
-            let tile_params = FrameParams {
-                tile_origin: [x, y],
-                tile_size: [w, h],
-                ..params
-            };
-            ctx.queue
-                .write_buffer(&self.params_buffer, 0, bytemuck::bytes_of(&tile_params));
-            let mut encoder = device.create_command_encoder(&wgpu::CommandEncoderDescriptor {
-                label: Some("tile"),
-            });
-            {
-                let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
-                    label: Some("trace tile"),
-                    timestamp_writes: timer.as_ref().map(|t| t.writes()),
+        let mut band_rgb = Vec::with_capacity(width as usize * plan.max_rows as usize * 3);
+        let mut summary = RenderSummary {
+            gpu_ms: 0.0,
+            gpu_time_source: if timer.is_some() { "timestamp" } else { "wall" },
+            rays: RayTotals::default(),
+        };
+        let mut y = 0;
+        let mut rows = plan.first_band_rows(width);
+        while y < height {
+            let h = rows.min(height - y);
+            band_rgb.clear();
+            band_rgb.resize(width as usize * h as usize * 3, 0);
+            let mut band_ms = 0.0;
+            let mut x = 0;
+            while x < width {
+                let w = plan.tile_width.min(width - x);
+                let tile_params = FrameParams {
+                    tile_origin: [x, y],
+                    tile_size: [w, h],
+                    ..params
+                };
+                ctx.queue
+                    .write_buffer(&self.params_buffer, 0, bytemuck::bytes_of(&tile_params));
+                let mut encoder = device.create_command_encoder(&wgpu::CommandEncoderDescriptor {
+                    label: Some("tile"),
                 });
-                pass.set_pipeline(&self.pipeline);
-                pass.set_bind_group(0, &bind_group, &[]);
-                let (gx, gy) = shaders::TRACE_WORKGROUP;
-                pass.dispatch_workgroups(w.div_ceil(gx), h.div_ceil(gy), 1);
-            }
-            let used = OUTPUT_HEADER_BYTES + w as u64 * h as u64 * 4;
-            encoder.copy_buffer_to_buffer(&output, 0, &readback, 0, used);
-            if let Some(t) = &timer {
-                t.resolve(&mut encoder);
-            }
-            let started = Instant::now();
-            ctx.queue.submit([encoder.finish()]);
-            let pixels = ctx.read_buffer(&readback, used)?;
-            let wall_ms = started.elapsed().as_secs_f64() * 1e3;
-            gpu_ms += match &timer {
-                Some(t) => t.read_ms(ctx)?,
-                None => wall_ms,
-            };
-            let (header, pixels) = pixels.split_at(OUTPUT_HEADER_BYTES as usize);
-            let counters: RayCounters = bytemuck::pod_read_unaligned(header);
-            rays.primary += counters.primary as u64;
-            rays.shadow += counters.shadow as u64;
-            rays.reflection += counters.reflection as u64;
-            rays.loop_limited += counters.loop_limited as u64;
-            let pixels: &[u32] = bytemuck::cast_slice(pixels);
-            for row in 0..h as usize {
-                let dst_start = ((y as usize + row) * width as usize + x as usize) * 3;
-                let dst = &mut rgb[dst_start..dst_start + w as usize * 3];
-                for (d, &p) in dst
-                    .chunks_exact_mut(3)
-                    .zip(&pixels[row * w as usize..(row + 1) * w as usize])
+                encoder.clear_buffer(&output, 0, Some(OUTPUT_HEADER_BYTES));
                 {
-                    d.copy_from_slice(&p.to_le_bytes()[..3]);
+                    let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
+                        label: Some("trace tile"),
+                        timestamp_writes: timer.as_ref().map(|t| t.writes()),
+                    });
+                    pass.set_pipeline(&self.pipeline);
+                    pass.set_bind_group(0, &bind_group, &[]);
+                    let (gx, gy) = shaders::TRACE_WORKGROUP;
+                    pass.dispatch_workgroups(w.div_ceil(gx), h.div_ceil(gy), 1);
                 }
+                let used = OUTPUT_HEADER_BYTES + w as u64 * h as u64 * 4;
+                encoder.copy_buffer_to_buffer(&output, 0, &readback, 0, used);
+                if let Some(t) = &timer {
+                    t.resolve(&mut encoder);
+                }
+                let started = Instant::now();
+                ctx.queue.submit([encoder.finish()]);
+                let bytes = ctx.read_buffer(&readback, used)?;
+                let wall_ms = started.elapsed().as_secs_f64() * 1e3;
+                let tile_ms = match &timer {
+                    Some(t) => t.read_ms(ctx)?,
+                    None => wall_ms,
+                };
+                band_ms += tile_ms;
+                let (header, pixels) = bytes.split_at(OUTPUT_HEADER_BYTES as usize);
+                summary
+                    .rays
+                    .add(&bytemuck::pod_read_unaligned::<RayCounters>(header));
+                let pixels: &[u32] = bytemuck::cast_slice(pixels);
+                for row in 0..h as usize {
+                    let start = (row * width as usize + x as usize) * 3;
+                    let dst = &mut band_rgb[start..start + w as usize * 3];
+                    for (d, p) in dst
+                        .chunks_exact_mut(3)
+                        .zip(&pixels[row * w as usize..(row + 1) * w as usize])
+                    {
+                        d.copy_from_slice(&p.to_le_bytes()[..3]);
+                    }
+                }
+                x += w;
             }
+            summary.gpu_ms += band_ms;
+            sink(RowBand {
+                y,
+                rows: h,
+                rgb: &band_rgb,
+            })?;
+            y += h;
+            // Tiles of a band run one after another: size the next band so
+            // that each of its dispatches takes about the target time.
+            let tiles_per_band = width.div_ceil(plan.tile_width) as f64;
+            rows = plan.next_band_rows(band_ms / tiles_per_band / h as f64);
         }
         ctx.check_health()?;
-        Ok(RenderedImage {
-            width,
-            height,
-            rgb,
-            gpu_ms,
-            gpu_time_source: if timer.is_some() { "timestamp" } else { "wall" },
-            rays,
-        })
+        Ok(summary)
     }
 }
 

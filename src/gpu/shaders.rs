@@ -21,6 +21,13 @@ pub const ACCUMULATE_ENTRY_POINT: &str = "accumulate_tile";
 /// Workgroup size of both entry points (see `@workgroup_size` in trace.wgsl).
 pub const TRACE_WORKGROUP: (u32, u32) = (8, 8);
 
+/// The interactive window's present pass (fullscreen triangle over the
+/// accumulation buffer), a module of its own.
+pub const PRESENT_SOURCE: &str = include_str!("../../shaders/present.wgsl");
+/// Its entry points.
+pub const PRESENT_VERTEX_ENTRY_POINT: &str = "vs_main";
+pub const PRESENT_FRAGMENT_ENTRY_POINT: &str = "fs_main";
+
 /// The whole trace kernel as one WGSL module.
 pub fn trace_source() -> String {
     TRACE_PARTS

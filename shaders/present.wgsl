@@ -1,0 +1,43 @@
+// The interactive window's present pass: a fullscreen triangle whose
+// fragments show the accumulation buffer that trace.wgsl's accumulate_tile
+// fills. Compiled on its own (gpu::STANDALONE_SHADERS).
+//
+// Each pixel is quantised exactly as render_tile quantises the headless
+// image, floor(255 * clamp(sum / count, 0, 1) + 0.5), and written as that
+// level / 255 to a non-sRGB (Unorm) target, so the window shows the PNG's
+// pixel values. While the camera moves the image is rendered smaller than the
+// window; each window pixel then shows the image pixel it falls in.
+
+struct PresentParams {
+    // Size of the image in the accumulation buffer (row-major, this wide).
+    image_size: vec2<u32>,
+    // Size of the target in pixels.
+    target_size: vec2<u32>,
+}
+
+@group(0) @binding(0) var<uniform> present: PresentParams;
+// Per image pixel: the sum of its clamped samples (rgb) and their number (w).
+@group(0) @binding(1) var<storage, read> accumulation: array<vec4<f32>>;
+
+// One triangle covering the target: (-1, -1), (3, -1), (-1, 3).
+@vertex
+fn vs_main(@builtin(vertex_index) index: u32) -> @builtin(position) vec4<f32> {
+    let x = f32((index & 1u) * 4u) - 1.0;
+    let y = f32((index >> 1u) * 4u) - 1.0;
+    return vec4<f32>(x, y, 0.0, 1.0);
+}
+
+@fragment
+fn fs_main(@builtin(position) frag: vec4<f32>) -> @location(0) vec4<f32> {
+    // Framebuffer coordinates: origin at the top left, pixel centres at .5.
+    let p = vec2<u32>(frag.xy);
+    let size = max(present.image_size, vec2<u32>(1u));
+    let target_size = max(present.target_size, vec2<u32>(1u));
+    let q = min(p * size / target_size, size - vec2<u32>(1u));
+    let a = accumulation[q.y * size.x + q.x];
+    if (a.w <= 0.0) {
+        return vec4<f32>(0.0, 0.0, 0.0, 1.0);
+    }
+    let c = clamp(a.xyz / a.w, vec3<f32>(0.0), vec3<f32>(1.0));
+    return vec4<f32>(floor(255.0 * c + 0.5) / 255.0, 1.0);
+}

@@ -1,0 +1,774 @@
+//! `kdray bench` and `kdray generate`: the seed study's two experiments
+//! (render time against the number of objects for the naive loop, its
+//! figure 7; k-d tree against the naive loop on random scenes, its figure 9),
+//! reproduced on the GPU at up to a million objects.
+//!
+//! For each size N a deterministic random scene ([`random_scene`]) is built
+//! once, then rendered with the k-d tree and with brute force: upload once,
+//! one warm-up frame, then `repeat` timed frames whose median GPU time is
+//! reported. Brute force is skipped, and the skip recorded, when a linear
+//! extrapolation of its last measured frame (the seed's own model) exceeds
+//! the per-frame budget. Results go to a CSV, a JSON summary, a Markdown
+//! table and three log-log plots ([`report`], [`plots`]).
+
+pub mod plots;
+pub mod random_scene;
+pub mod report;
+
+use std::path::{Path, PathBuf};
+use std::time::Instant;
+
+use serde::{Deserialize, Serialize};
+
+use crate::error::{Error, Result};
+use crate::geometry::Primitives;
+use crate::gpu::{frame_params, Accel, GpuContext, Renderer, SceneArrays, SceneBuffers, TilePlan};
+use crate::kdtree::{BuildParams, KdTree};
+use crate::scene::Scene;
+
+pub use random_scene::{random_scene, RandomSceneSpec, SceneKind, DEFAULT_SEED};
+
+/// Default sizes of `kdray bench`.
+pub const DEFAULT_SIZES: &str = "1,10,100,1000,10000,100000,1000000";
+
+/// `kdray bench` options.
+#[derive(Debug, Clone, clap::Args)]
+pub struct BenchArgs {
+    /// Object counts of the random scenes, comma separated.
+    #[arg(long, value_delimiter = ',', default_value = DEFAULT_SIZES)]
+    pub sizes: Vec<usize>,
+    /// What the random scenes are made of.
+    #[arg(long, value_enum, default_value_t = SceneKind::Spheres)]
+    pub kind: SceneKind,
+    /// Seed of the random scenes.
+    #[arg(long, default_value_t = DEFAULT_SEED)]
+    pub seed: u64,
+    /// Scene files to measure instead of random scenes (repeatable); N is
+    /// each scene's object count.
+    #[arg(long = "scene", value_name = "SCENE")]
+    pub scenes: Vec<PathBuf>,
+    /// Image width [default: 640 for random scenes, the scene's own for --scene].
+    #[arg(long)]
+    pub width: Option<u32>,
+    /// Image height [default: 480 for random scenes, the scene's own for --scene].
+    #[arg(long)]
+    pub height: Option<u32>,
+    /// Override render.max_depth (1 = primary hits only, no reflections).
+    #[arg(long)]
+    pub max_depth: Option<u32>,
+    /// Timed frames per run, after one warm-up frame; the median is reported.
+    #[arg(long, default_value_t = 3)]
+    pub repeat: u32,
+    /// Per-frame budget for brute force, in seconds: a size whose predicted
+    /// brute-force frame exceeds it is skipped (and reported as skipped).
+    #[arg(long, default_value_t = 30.0)]
+    pub budget_s: f64,
+    /// Which accelerations to run.
+    #[arg(long, value_enum, value_delimiter = ',', default_values_t = [Accel::Kdtree, Accel::Brute])]
+    pub accel: Vec<Accel>,
+    /// Output folder (created if missing).
+    #[arg(long, default_value = "bench-results")]
+    pub out: PathBuf,
+    /// Also save the k-d tree's image of every run as render-*.png in the output folder.
+    #[arg(long)]
+    pub save_images: bool,
+    /// Measure nothing: read DIR/bench.json from an earlier run and rewrite
+    /// its summary, fits, targets and plots in DIR.
+    #[arg(long, value_name = "DIR", conflicts_with_all = ["scenes", "save_images"])]
+    pub replot: Option<PathBuf>,
+}
+
+/// `kdray generate` options.
+#[derive(Debug, Clone, clap::Args)]
+pub struct GenerateArgs {
+    /// What the objects are.
+    #[arg(long, value_enum, default_value_t = SceneKind::Spheres)]
+    pub kind: SceneKind,
+    /// Number of objects.
+    #[arg(long)]
+    pub count: usize,
+    /// Random seed (the bench's default gives the bench's scenes).
+    #[arg(long, default_value_t = DEFAULT_SEED)]
+    pub seed: u64,
+    /// Image width written into [render].
+    #[arg(long, default_value_t = random_scene::DEFAULT_WIDTH)]
+    pub width: u32,
+    /// Image height written into [render].
+    #[arg(long, default_value_t = random_scene::DEFAULT_HEIGHT)]
+    pub height: u32,
+    /// The scene file to write: .json for JSON, anything else TOML.
+    #[arg(short, long)]
+    pub output: PathBuf,
+}
+
+/// Largest random scene the bench or the generator accepts.
+pub const MAX_OBJECTS: usize = 20_000_000;
+
+fn check_side(flag: &str, value: Option<u32>) -> Result<()> {
+    let max = crate::scene::MAX_IMAGE_SIDE;
+    match value {
+        Some(v) if !(1..=max).contains(&v) => Err(Error::Usage(format!(
+            "{flag}: must be in 1..={max}, got {v}"
+        ))),
+        _ => Ok(()),
+    }
+}
+
+fn check_count(flag: &str, n: usize) -> Result<()> {
+    if !(1..=MAX_OBJECTS).contains(&n) {
+        return Err(Error::Usage(format!(
+            "{flag}: must be in 1..={MAX_OBJECTS}, got {n}"
+        )));
+    }
+    Ok(())
+}
+
+/// `kdray generate`: writes one random scene as a scene file.
+pub fn generate_cli(args: &GenerateArgs) -> Result<()> {
+    check_count("--count", args.count)?;
+    check_side("--width", Some(args.width))?;
+    check_side("--height", Some(args.height))?;
+    let spec = RandomSceneSpec {
+        kind: args.kind,
+        count: args.count,
+        seed: args.seed,
+        width: args.width,
+        height: args.height,
+    };
+    let scene = random_scene(&spec);
+    let header = format!(
+        "A random scene of kdray's benchmark, written by:\n  kdray generate --kind {} --count {} --seed {} --width {} --height {}\n\
+         {} objects (centres uniform in [-2, 2]^3, sizes ~ 1/cbrt(N)); one light; a quarter are half mirrors.",
+        args.kind.name(),
+        args.count,
+        args.seed,
+        args.width,
+        args.height,
+        args.count
+    );
+    let format = random_scene::FileFormat::from_path(&args.output);
+    let text = random_scene::scene_file_text(&scene, format, &header);
+    random_scene::write_text_atomic(&args.output, &text)?;
+    eprintln!(
+        "kdray: wrote {} ({} spheres, {} triangles)",
+        args.output.display(),
+        scene.spheres.len(),
+        scene.triangles.len()
+    );
+    Ok(())
+}
+
+/// Everything the run loop needs, resolved from the arguments.
+#[derive(Debug, Clone, Serialize, Deserialize)]
+pub struct BenchConfig {
+    /// "random" or "scenes".
+    pub mode: String,
+    pub kind: Option<SceneKind>,
+    pub sizes: Vec<usize>,
+    pub seed: u64,
+    pub scenes: Vec<PathBuf>,
+    pub width: Option<u32>,
+    pub height: Option<u32>,
+    pub max_depth: Option<u32>,
+    pub repeat: u32,
+    pub budget_s: f64,
+    pub accels: Vec<String>,
+    #[serde(skip)]
+    pub accel_list: Vec<Accel>,
+    pub out: PathBuf,
+    pub save_images: bool,
+    /// The command line, for the report.
+    pub command: String,
+}
+
+impl BenchConfig {
+    pub fn from_args(args: &BenchArgs, command: String) -> Result<Self> {
+        check_side("--width", args.width)?;
+        check_side("--height", args.height)?;
+        if let Some(d) = args.max_depth {
+            if !(1..=64).contains(&d) {
+                return Err(Error::Usage(format!(
+                    "--max-depth: must be in 1..=64, got {d}"
+                )));
+            }
+        }
+        if args.repeat == 0 {
+            return Err(Error::Usage("--repeat: must be at least 1".into()));
+        }
+        if args.budget_s.is_nan() || args.budget_s <= 0.0 {
+            return Err(Error::Usage(format!(
+                "--budget-s: must be > 0, got {}",
+                args.budget_s
+            )));
+        }
+        let mut sizes = args.sizes.clone();
+        if args.scenes.is_empty() {
+            if sizes.is_empty() {
+                return Err(Error::Usage("--sizes: give at least one size".into()));
+            }
+            for &n in &sizes {
+                check_count("--sizes", n)?;
+            }
+            sizes.sort_unstable();
+            sizes.dedup();
+        } else {
+            sizes.clear();
+        }
+        let mut accel_list = Vec::new();
+        for &a in &args.accel {
+            if !accel_list.contains(&a) {
+                accel_list.push(a);
+            }
+        }
+        Ok(BenchConfig {
+            mode: if args.scenes.is_empty() {
+                "random"
+            } else {
+                "scenes"
+            }
+            .into(),
+            kind: args.scenes.is_empty().then_some(args.kind),
+            sizes,
+            seed: args.seed,
+            scenes: args.scenes.clone(),
+            width: args.width,
+            height: args.height,
+            max_depth: args.max_depth,
+            repeat: args.repeat,
+            budget_s: args.budget_s,
+            accels: accel_list
+                .iter()
+                .map(|a| accel_name(*a).to_string())
+                .collect(),
+            accel_list,
+            out: args.out.clone(),
+            save_images: args.save_images,
+            command,
+        })
+    }
+}
+
+pub fn accel_name(accel: Accel) -> &'static str {
+    match accel {
+        Accel::Kdtree => "kdtree",
+        Accel::Brute => "brute",
+    }
+}
+
+/// One (scene, acceleration) measurement, or the record of why there is none.
+#[derive(Debug, Clone, Serialize, Deserialize)]
+pub struct RunRecord {
+    /// `spheres`, `triangles`, `mixed`, or the scene file's name.
+    pub scene: String,
+    /// Objects (spheres + triangles).
+    pub n: usize,
+    pub spheres: usize,
+    pub triangles: usize,
+    pub accel: String,
+    /// "ok", "skipped" (over the brute-force budget) or "failed".
+    pub status: String,
+    /// Why it was skipped or failed.
+    pub note: Option<String>,
+    pub width: u32,
+    pub height: u32,
+    pub samples: u32,
+    pub max_depth: u32,
+    /// Generating (random) or loading (file) the scene.
+    pub scene_ms: f64,
+    /// Building the k-d tree (kdtree runs only).
+    pub build_ms: Option<f64>,
+    pub kd_nodes: Option<usize>,
+    pub kd_leaves: Option<usize>,
+    pub kd_max_depth: Option<u32>,
+    pub kd_refs_per_leaf: Option<f64>,
+    /// Flattening into GPU arrays and creating the storage buffers.
+    pub upload_ms: Option<f64>,
+    pub gpu_scene_bytes: Option<u64>,
+    /// Median GPU time of the timed frames.
+    pub gpu_ms: Option<f64>,
+    pub gpu_ms_min: Option<f64>,
+    pub gpu_ms_max: Option<f64>,
+    /// Every timed frame's GPU time, in order.
+    pub gpu_ms_samples: Vec<f64>,
+    /// "timestamp" (GPU timestamp queries) or "wall" (submit to readback).
+    pub gpu_time_source: Option<String>,
+    /// Median host wall time of one `Renderer::render` call (dispatch + readback + packing).
+    pub frame_wall_ms: Option<f64>,
+    pub primary_rays: Option<u64>,
+    pub shadow_rays: Option<u64>,
+    pub reflection_rays: Option<u64>,
+    pub total_rays: Option<u64>,
+    /// All rays per second of median GPU time, in millions.
+    pub mrays_per_s: Option<f64>,
+    /// Primary rays per second of median GPU time, in millions.
+    pub primary_mrays_per_s: Option<f64>,
+    /// Peak resident host memory during this run, MiB (VmHWM; Linux only).
+    pub peak_host_mib: Option<f64>,
+    /// Pixels whose colour differs from the k-d tree's image (brute runs).
+    pub pixels_differing_from_kdtree: Option<u64>,
+}
+
+impl RunRecord {
+    fn empty(scene: &str, s: &Scene, accel: Accel, scene_ms: f64) -> Self {
+        RunRecord {
+            scene: scene.to_string(),
+            n: s.object_count(),
+            spheres: s.spheres.len(),
+            triangles: s.triangles.len(),
+            accel: accel_name(accel).into(),
+            status: "ok".into(),
+            note: None,
+            width: s.render.width,
+            height: s.render.height,
+            samples: s.render.samples,
+            max_depth: s.render.max_depth,
+            scene_ms,
+            build_ms: None,
+            kd_nodes: None,
+            kd_leaves: None,
+            kd_max_depth: None,
+            kd_refs_per_leaf: None,
+            upload_ms: None,
+            gpu_scene_bytes: None,
+            gpu_ms: None,
+            gpu_ms_min: None,
+            gpu_ms_max: None,
+            gpu_ms_samples: Vec::new(),
+            gpu_time_source: None,
+            frame_wall_ms: None,
+            primary_rays: None,
+            shadow_rays: None,
+            reflection_rays: None,
+            total_rays: None,
+            mrays_per_s: None,
+            primary_mrays_per_s: None,
+            peak_host_mib: None,
+            pixels_differing_from_kdtree: None,
+        }
+    }
+
+    pub fn is_ok(&self) -> bool {
+        self.status == "ok"
+    }
+}
+
+/// Peak resident memory of this process so far, in MiB (Linux: VmHWM).
+pub fn peak_host_mib() -> Option<f64> {
+    let status = std::fs::read_to_string("/proc/self/status").ok()?;
+    let line = status.lines().find(|l| l.starts_with("VmHWM:"))?;
+    let kib: f64 = line.split_whitespace().nth(1)?.parse().ok()?;
+    Some(kib / 1024.0)
+}
+
+/// Resets the peak to the current resident size, so the next reading is
+/// this run's own peak (Linux >= 4.0; harmless where unsupported).
+fn reset_peak_host_memory() {
+    let _ = std::fs::write("/proc/self/clear_refs", "5");
+}
+
+fn ms_since(t: Instant) -> f64 {
+    t.elapsed().as_secs_f64() * 1e3
+}
+
+pub fn median(values: &[f64]) -> Option<f64> {
+    if values.is_empty() {
+        return None;
+    }
+    let mut v = values.to_vec();
+    v.sort_by(f64::total_cmp);
+    let m = v.len() / 2;
+    Some(if v.len() % 2 == 1 {
+        v[m]
+    } else {
+        0.5 * (v[m - 1] + v[m])
+    })
+}
+
+/// Progress on stderr: a bar on a terminal, one line per finished run otherwise.
+struct Progress {
+    bar: indicatif::ProgressBar,
+}
+
+impl Progress {
+    fn new(total: u64) -> Self {
+        let bar = indicatif::ProgressBar::with_draw_target(
+            Some(total),
+            indicatif::ProgressDrawTarget::stderr(),
+        );
+        if let Ok(style) = indicatif::ProgressStyle::with_template(
+            "{elapsed_precise} [{bar:30.cyan/blue}] {pos}/{len} runs  {msg}",
+        ) {
+            bar.set_style(style.progress_chars("=> "));
+        }
+        bar.enable_steady_tick(std::time::Duration::from_millis(250));
+        Progress { bar }
+    }
+
+    fn message(&self, msg: String) {
+        self.bar.set_message(msg);
+    }
+
+    fn line(&self, line: String) {
+        if self.bar.is_hidden() {
+            eprintln!("{line}");
+        } else {
+            self.bar.println(line);
+        }
+    }
+
+    fn step(&self) {
+        self.bar.inc(1);
+    }
+
+    fn finish(&self) {
+        self.bar.finish_and_clear();
+    }
+}
+
+/// One line about a finished run, for stderr.
+fn describe_run(r: &RunRecord) -> String {
+    let head = format!("N={:>8} {:<6}", r.n, r.accel);
+    match r.status.as_str() {
+        "ok" => {
+            let mut s = format!(
+                "{head} gpu {:>10.2} ms (median of {}), {:>7.2} Mrays/s",
+                r.gpu_ms.unwrap_or(f64::NAN),
+                r.gpu_ms_samples.len(),
+                r.mrays_per_s.unwrap_or(f64::NAN)
+            );
+            if let Some(b) = r.build_ms {
+                s.push_str(&format!(", build {b:.1} ms"));
+            }
+            if let Some(u) = r.upload_ms {
+                s.push_str(&format!(", upload {u:.1} ms"));
+            }
+            if let Some(m) = r.peak_host_mib {
+                s.push_str(&format!(", peak {m:.0} MiB"));
+            }
+            if let Some(d) = r.pixels_differing_from_kdtree {
+                s.push_str(&format!(", {d} px differ from kdtree"));
+            }
+            s
+        }
+        other => format!("{head} {other}: {}", r.note.as_deref().unwrap_or("")),
+    }
+}
+
+/// What `kdray bench` measured, and where it wrote it.
+#[derive(Debug, Clone)]
+pub struct BenchOutcome {
+    pub report: report::BenchReport,
+    pub files: Vec<PathBuf>,
+}
+
+/// A scene to measure: its label and how to get it.
+enum Case {
+    Random(RandomSceneSpec),
+    File(PathBuf),
+}
+
+/// Runs the benchmark on `ctx` and writes every output into `config.out`.
+pub fn run_bench(ctx: &GpuContext, config: &BenchConfig) -> Result<BenchOutcome> {
+    std::fs::create_dir_all(&config.out).map_err(|e| {
+        Error::Output(format!(
+            "{}: cannot create the folder: {e}",
+            config.out.display()
+        ))
+    })?;
+    let cases: Vec<Case> = if config.scenes.is_empty() {
+        let kind = config.kind.unwrap_or(SceneKind::Spheres);
+        config
+            .sizes
+            .iter()
+            .map(|&n| {
+                Case::Random(RandomSceneSpec {
+                    kind,
+                    count: n,
+                    seed: config.seed,
+                    width: config.width.unwrap_or(random_scene::DEFAULT_WIDTH),
+                    height: config.height.unwrap_or(random_scene::DEFAULT_HEIGHT),
+                })
+            })
+            .collect()
+    } else {
+        config.scenes.iter().cloned().map(Case::File).collect()
+    };
+
+    let mut report = report::BenchReport::new(ctx, config);
+    let progress = Progress::new((cases.len() * config.accel_list.len()) as u64);
+    let renderer = Renderer::new(ctx)?;
+    let limits = ctx.device.limits();
+    let max_binding = limits
+        .max_storage_buffer_binding_size
+        .min(limits.max_buffer_size);
+    // Last measured brute-force frame: (N, ms), for the budget's prediction.
+    let mut last_brute: Option<(usize, f64)> = None;
+    let mut files = Vec::new();
+
+    for case in &cases {
+        progress.message(match case {
+            Case::Random(spec) => format!("generating {} {}", spec.count, spec.kind.name()),
+            Case::File(p) => format!("loading {}", p.display()),
+        });
+        reset_peak_host_memory();
+        let started = Instant::now();
+        let (label, mut scene) = match case {
+            Case::Random(spec) => (spec.kind.name().to_string(), random_scene(spec)),
+            Case::File(path) => (
+                path.file_name().map_or_else(
+                    || path.display().to_string(),
+                    |f| f.to_string_lossy().into_owned(),
+                ),
+                crate::scene::load_scene(path)?,
+            ),
+        };
+        if let Case::File(_) = case {
+            scene.render.width = config.width.unwrap_or(scene.render.width);
+            scene.render.height = config.height.unwrap_or(scene.render.height);
+        }
+        if let Some(d) = config.max_depth {
+            scene.render.max_depth = d;
+        }
+        let scene_ms = ms_since(started);
+        let n = scene.object_count();
+        let prims = Primitives::from_scene(&scene);
+        // One tile for the whole image where the binding limit allows: the
+        // renderer sums the shader's ray counters per tile without clearing
+        // them in between, so with several tiles the shadow and reflection
+        // counts would be inflated (see `measure`).
+        let plan = TilePlan::new(
+            scene.render.width,
+            scene.render.height,
+            scene.render.width as u64 * scene.render.height as u64,
+            max_binding,
+        );
+        let mut kd_image: Option<Vec<u8>> = None;
+
+        for &accel in &config.accel_list {
+            let mut record = RunRecord::empty(&label, &scene, accel, scene_ms);
+            let name = accel_name(accel);
+            if accel == Accel::Brute {
+                if let Some((n0, ms0)) = last_brute {
+                    let predicted = ms0 * n as f64 / n0.max(1) as f64;
+                    if predicted > config.budget_s * 1e3 {
+                        record.status = "skipped".into();
+                        record.note = Some(format!(
+                            "predicted {:.1} s per frame (linear in N from {:.3} s at N={n0}) > budget {} s",
+                            predicted * 1e-3,
+                            ms0 * 1e-3,
+                            config.budget_s
+                        ));
+                        progress.line(describe_run(&record));
+                        report.push(record);
+                        report.write_data(&config.out)?;
+                        progress.step();
+                        continue;
+                    }
+                }
+            }
+            progress.message(format!("N={n} {name}: building"));
+            let result = measure(
+                ctx,
+                &renderer,
+                &scene,
+                &prims,
+                accel,
+                plan,
+                config,
+                &progress,
+                &mut record,
+            );
+            match result {
+                Ok(rgb) => {
+                    if accel == Accel::Brute {
+                        last_brute = record.gpu_ms.map(|ms| (n, ms));
+                        if let Some(kd) = &kd_image {
+                            let differing = kd
+                                .chunks_exact(3)
+                                .zip(rgb.chunks_exact(3))
+                                .filter(|(a, b)| a != b)
+                                .count();
+                            record.pixels_differing_from_kdtree = Some(differing as u64);
+                        }
+                    } else {
+                        if config.save_images {
+                            let path = config.out.join(format!("render-{label}-{n}.png"));
+                            crate::output::write_png_atomic(
+                                &path,
+                                scene.render.width,
+                                scene.render.height,
+                                &rgb,
+                            )?;
+                            files.push(path);
+                        }
+                        kd_image = Some(rgb);
+                    }
+                }
+                Err(e) => {
+                    record.status = "failed".into();
+                    record.note = Some(e.to_string());
+                }
+            }
+            record.peak_host_mib = peak_host_mib();
+            progress.line(describe_run(&record));
+            report.push(record);
+            report.write_data(&config.out)?;
+            progress.step();
+        }
+    }
+    progress.message("plotting".into());
+    report.finish();
+    files.extend(report.write_data(&config.out)?);
+    files.extend(plots::write_plots(&report, &config.out)?);
+    progress.finish();
+    Ok(BenchOutcome { report, files })
+}
+
+/// Builds (k-d tree only), uploads and renders one run; fills `record` and
+/// returns the image of the first frame.
+#[allow(clippy::too_many_arguments)]
+fn measure(
+    ctx: &GpuContext,
+    renderer: &Renderer,
+    scene: &Scene,
+    prims: &Primitives,
+    accel: Accel,
+    plan: TilePlan,
+    config: &BenchConfig,
+    progress: &Progress,
+    record: &mut RunRecord,
+) -> Result<Vec<u8>> {
+    let n = scene.object_count();
+    let name = accel_name(accel);
+    let tree = match accel {
+        Accel::Kdtree => {
+            let t = Instant::now();
+            let tree = KdTree::for_primitives(prims);
+            record.build_ms = Some(ms_since(t));
+            let stats = tree.stats();
+            record.kd_nodes = Some(stats.nodes);
+            record.kd_leaves = Some(stats.leaves);
+            record.kd_max_depth = Some(stats.max_depth);
+            record.kd_refs_per_leaf = Some(stats.refs_per_leaf);
+            tree
+        }
+        // The shader's brute loop ignores the tree: one empty leaf, as render.rs does.
+        Accel::Brute => crate::kdtree::build(&[], BuildParams::for_object_count(0)),
+    };
+    let tree = KdTree {
+        bounds: prims.scene_bounds(),
+        ..tree
+    };
+
+    progress.message(format!("N={n} {name}: uploading"));
+    let t = Instant::now();
+    let arrays = SceneArrays::new(scene, prims, &tree);
+    let bytes = arrays.byte_size();
+    let buffers = ctx.checked("uploading the scene", |device| {
+        SceneBuffers::upload(device, &arrays)
+    })?;
+    drop(arrays);
+    record.upload_ms = Some(ms_since(t));
+    record.gpu_scene_bytes = Some(bytes);
+    let params = frame_params(scene, &tree, &buffers, accel);
+    drop(tree);
+
+    progress.message(format!("N={n} {name}: warm-up frame"));
+    let t = Instant::now();
+    let first = renderer.render(ctx, &buffers, params, plan)?;
+    let warmup_wall = ms_since(t);
+    let mut samples = Vec::new();
+    let mut walls = Vec::new();
+    let budget_ms = config.budget_s * 1e3;
+    if accel == Accel::Brute && first.gpu_ms > budget_ms {
+        // Already over budget: the warm-up frame is the only measurement.
+        samples.push(first.gpu_ms);
+        walls.push(warmup_wall);
+        record.note = Some(format!(
+            "warm-up frame {:.1} s > budget {} s: it is the only sample",
+            first.gpu_ms * 1e-3,
+            config.budget_s
+        ));
+    } else {
+        for k in 0..config.repeat {
+            progress.message(format!("N={n} {name}: frame {}/{}", k + 1, config.repeat));
+            let t = Instant::now();
+            let image = renderer.render(ctx, &buffers, params, plan)?;
+            walls.push(ms_since(t));
+            samples.push(image.gpu_ms);
+        }
+    }
+    let gpu_ms = median(&samples).unwrap_or(first.gpu_ms);
+    let rays = first.rays;
+    record.gpu_ms = Some(gpu_ms);
+    record.gpu_ms_min = samples.iter().copied().reduce(f64::min);
+    record.gpu_ms_max = samples.iter().copied().reduce(f64::max);
+    record.gpu_ms_samples = samples;
+    record.gpu_time_source = Some(first.gpu_time_source.to_string());
+    record.frame_wall_ms = median(&walls);
+    let r = &scene.render;
+    let primary = r.width as u64 * r.height as u64 * r.samples as u64;
+    let per_us = (gpu_ms * 1e3).max(1e-9);
+    record.primary_rays = Some(primary);
+    record.primary_mrays_per_s = Some(primary as f64 / per_us);
+    // The shader's counters are cleared per tile and summed: exact.
+    if rays.primary == primary {
+        record.shadow_rays = Some(rays.shadow);
+        record.reflection_rays = Some(rays.reflection);
+        record.total_rays = Some(rays.total());
+        record.mrays_per_s = Some(rays.total() as f64 / per_us);
+    }
+    Ok(first.rgb)
+}
+
+/// `kdray bench`: runs, writes the files, prints the summary on stdout.
+pub fn bench_cli(args: &BenchArgs) -> Result<()> {
+    if let Some(dir) = &args.replot {
+        let outcome = replot(dir)?;
+        println!("{}", report::markdown_summary(&outcome.report));
+        println!("Files written:");
+        for f in &outcome.files {
+            println!("  {}", f.display());
+        }
+        return Ok(());
+    }
+    let command = std::iter::once("kdray".to_string())
+        .chain(std::env::args().skip(1))
+        .collect::<Vec<_>>()
+        .join(" ");
+    let config = BenchConfig::from_args(args, command)?;
+    let ctx = GpuContext::new()?;
+    let outcome = run_bench(&ctx, &config)?;
+    println!("{}", report::markdown_summary(&outcome.report));
+    println!("Files written:");
+    for f in &outcome.files {
+        println!("  {}", f.display());
+    }
+    Ok(())
+}
+
+/// Rewrites the summary, fits, targets and plots of the run recorded in
+/// `dir/bench.json`, in `dir`.
+pub fn replot(dir: &Path) -> Result<BenchOutcome> {
+    let path = dir.join(report::JSON_FILE);
+    let text = std::fs::read_to_string(&path)
+        .map_err(|e| Error::Usage(format!("{}: cannot read: {e}", path.display())))?;
+    let mut report: report::BenchReport = serde_json::from_str(&text)
+        .map_err(|e| Error::Usage(format!("{}: not a kdray bench report: {e}", path.display())))?;
+    report.refresh();
+    let mut files = report.write_data(dir)?;
+    files.extend(plots::write_plots(&report, dir)?);
+    Ok(BenchOutcome { report, files })
+}
+
+/// The output folder's standard file names.
+pub fn output_files(out: &Path) -> [PathBuf; 6] {
+    [
+        out.join(report::CSV_FILE),
+        out.join(report::JSON_FILE),
+        out.join(report::SUMMARY_FILE),
+        out.join(plots::TIME_PLOT),
+        out.join(plots::SPEEDUP_PLOT),
+        out.join(plots::BUILD_PLOT),
+    ]
+}

@@ -1,0 +1,657 @@
+//! Deterministic random scenes for `kdray bench` and `kdray generate`, and a
+//! writer for any [`Scene`] as a scene file (TOML or JSON).
+//!
+//! The generator owns its PRNG (SplitMix64, a dozen lines) so that a seed
+//! gives the same scene on every platform and in every version of kdray's
+//! dependencies. Every coordinate is rounded to 6 decimals before it enters
+//! the scene, so a written file reads back as exactly the same `Scene`.
+//!
+//! Layout: `count` objects with centres uniform in the box [-2, 2]^3, seen by
+//! a camera at (0, 1.5, 8.5) looking at the origin. Object sizes shrink as
+//! `c / cbrt(N)`, which keeps the fraction of the box they fill constant
+//! (about 0.6% for spheres), so the picture stays a cloud of distinct
+//! objects at every N. One white light; a quarter of the objects are half
+//! mirrors.
+
+use std::fmt::Write as _;
+use std::path::Path;
+
+use glam::DVec3;
+
+use crate::error::{Error, Result};
+use crate::scene::{Camera, Light, Material, RenderSettings, Scene, ShadowMode, Sphere, Triangle};
+
+/// What the random objects are.
+#[derive(
+    Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum, serde::Serialize, serde::Deserialize,
+)]
+#[serde(rename_all = "lowercase")]
+pub enum SceneKind {
+    /// Spheres only.
+    Spheres,
+    /// Triangles only.
+    Triangles,
+    /// Half spheres (rounded up), half triangles.
+    Mixed,
+}
+
+impl SceneKind {
+    pub fn name(self) -> &'static str {
+        match self {
+            SceneKind::Spheres => "spheres",
+            SceneKind::Triangles => "triangles",
+            SceneKind::Mixed => "mixed",
+        }
+    }
+}
+
+/// The default seed of `kdray bench` and `kdray generate`.
+pub const DEFAULT_SEED: u64 = 20_261_121;
+/// Half the side of the box the objects' centres are drawn in.
+pub const BOX_HALF: f64 = 2.0;
+/// Mean sphere radius is `SPHERE_SCALE / cbrt(N)`.
+pub const SPHERE_SCALE: f64 = 0.45;
+/// Mean triangle "radius" (centre to vertex) is `TRIANGLE_SCALE / cbrt(N)`.
+pub const TRIANGLE_SCALE: f64 = 0.7;
+/// Default image size of the random scenes.
+pub const DEFAULT_WIDTH: u32 = 640;
+pub const DEFAULT_HEIGHT: u32 = 480;
+
+/// SplitMix64 (Steele, Lea and Flood 2014): tiny, fast, and good enough to
+/// scatter objects; fixed here so scenes never change with a crate update.
+#[derive(Debug, Clone)]
+pub struct SplitMix64 {
+    state: u64,
+}
+
+impl SplitMix64 {
+    pub fn new(seed: u64) -> Self {
+        SplitMix64 { state: seed }
+    }
+
+    pub fn next_u64(&mut self) -> u64 {
+        self.state = self.state.wrapping_add(0x9e37_79b9_7f4a_7c15);
+        let mut z = self.state;
+        z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
+        z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
+        z ^ (z >> 31)
+    }
+
+    /// Uniform in [0, 1), 53 random bits.
+    pub fn next_f64(&mut self) -> f64 {
+        (self.next_u64() >> 11) as f64 * (1.0 / (1u64 << 53) as f64)
+    }
+
+    /// Uniform in [lo, hi).
+    pub fn range(&mut self, lo: f64, hi: f64) -> f64 {
+        lo + (hi - lo) * self.next_f64()
+    }
+
+    /// Uniform in 0..n (n > 0); the modulo bias is far below what matters here.
+    pub fn below(&mut self, n: u64) -> u64 {
+        self.next_u64() % n
+    }
+
+    /// A uniformly distributed unit vector.
+    pub fn unit_vector(&mut self) -> DVec3 {
+        let z = self.range(-1.0, 1.0);
+        let phi = self.range(0.0, std::f64::consts::TAU);
+        let s = (1.0 - z * z).max(0.0).sqrt();
+        DVec3::new(s * phi.cos(), s * phi.sin(), z)
+    }
+}
+
+/// Rounds to 6 decimals, so the value prints short and reads back exactly.
+fn q(x: f64) -> f64 {
+    (x * 1e6).round() / 1e6
+}
+
+fn qv(v: DVec3) -> DVec3 {
+    DVec3::new(q(v.x), q(v.y), q(v.z))
+}
+
+/// What to generate.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct RandomSceneSpec {
+    pub kind: SceneKind,
+    pub count: usize,
+    pub seed: u64,
+    pub width: u32,
+    pub height: u32,
+}
+
+impl RandomSceneSpec {
+    pub fn new(kind: SceneKind, count: usize) -> Self {
+        RandomSceneSpec {
+            kind,
+            count,
+            seed: DEFAULT_SEED,
+            width: DEFAULT_WIDTH,
+            height: DEFAULT_HEIGHT,
+        }
+    }
+
+    /// Spheres and triangles this spec produces.
+    pub fn split(&self) -> (usize, usize) {
+        match self.kind {
+            SceneKind::Spheres => (self.count, 0),
+            SceneKind::Triangles => (0, self.count),
+            SceneKind::Mixed => (self.count.div_ceil(2), self.count / 2),
+        }
+    }
+}
+
+/// (name, diffuse colour) of the palette; each colour comes matte and shiny.
+const PALETTE: [(&str, [f64; 3]); 6] = [
+    ("red", [0.8, 0.15, 0.1]),
+    ("orange", [0.9, 0.5, 0.1]),
+    ("yellow", [0.85, 0.8, 0.2]),
+    ("green", [0.2, 0.7, 0.25]),
+    ("blue", [0.15, 0.3, 0.85]),
+    ("white", [0.8, 0.8, 0.8]),
+];
+/// One object in this many gets the shiny (half-mirror) finish.
+const SHINY_ONE_IN: u64 = 4;
+
+/// Materials `m00_red_matte`, `m01_red_shiny`, ...: the two-digit prefix
+/// makes the file's (sorted) order the index order.
+fn materials() -> Vec<Material> {
+    let mut out = Vec::new();
+    for (name, c) in PALETTE {
+        let c = DVec3::from_array(c);
+        for shiny in [false, true] {
+            out.push(Material {
+                name: format!(
+                    "m{:02}_{name}_{}",
+                    out.len(),
+                    if shiny { "shiny" } else { "matte" }
+                ),
+                ambient: c * 0.2,
+                diffuse: c,
+                specular: DVec3::splat(if shiny { 0.8 } else { 0.2 }),
+                shininess: if shiny { 200.0 } else { 20.0 },
+                reflection: if shiny { 0.4 } else { 0.0 },
+            });
+        }
+    }
+    out
+}
+
+fn pick_material(rng: &mut SplitMix64) -> u32 {
+    let colour = rng.below(PALETTE.len() as u64) as u32;
+    let shiny = rng.below(SHINY_ONE_IN) == 0;
+    colour * 2 + shiny as u32
+}
+
+fn random_centre(rng: &mut SplitMix64) -> DVec3 {
+    DVec3::new(
+        rng.range(-BOX_HALF, BOX_HALF),
+        rng.range(-BOX_HALF, BOX_HALF),
+        rng.range(-BOX_HALF, BOX_HALF),
+    )
+}
+
+/// The scene `spec` describes; the same spec always gives the same scene.
+pub fn random_scene(spec: &RandomSceneSpec) -> Scene {
+    let (n_spheres, n_triangles) = spec.split();
+    let cbrt_n = (spec.count.max(1) as f64).cbrt();
+    // Separate streams, so the spheres of a mixed scene do not depend on
+    // its triangles.
+    let mut sphere_rng = SplitMix64::new(spec.seed ^ 0x5350_4845_5245_5300);
+    let mut triangle_rng = SplitMix64::new(spec.seed ^ 0x5452_4941_4e47_4c45);
+
+    let sphere_scale = SPHERE_SCALE / cbrt_n;
+    let spheres = (0..n_spheres)
+        .map(|_| {
+            let center = qv(random_centre(&mut sphere_rng));
+            // At least 1e-5, so rounding can never make it 0.
+            let radius = q(sphere_scale * sphere_rng.range(0.5, 1.5)).max(1e-5);
+            let material = pick_material(&mut sphere_rng);
+            Sphere {
+                center,
+                radius,
+                material,
+            }
+        })
+        .collect();
+
+    let triangle_scale = TRIANGLE_SCALE / cbrt_n;
+    let triangles = (0..n_triangles)
+        .map(|_| {
+            let centre = random_centre(&mut triangle_rng);
+            let size = triangle_scale * triangle_rng.range(0.5, 1.5);
+            let material = pick_material(&mut triangle_rng);
+            // Three vertices on a sphere of radius `size` around the
+            // centre; redraw slivers (area under a tenth of size^2).
+            loop {
+                let vertices = [0; 3].map(|_| qv(centre + size * triangle_rng.unit_vector()));
+                let area = 0.5
+                    * (vertices[1] - vertices[0])
+                        .cross(vertices[2] - vertices[0])
+                        .length();
+                if area >= 0.1 * size * size {
+                    break Triangle { vertices, material };
+                }
+            }
+        })
+        .collect();
+
+    Scene {
+        camera: Camera {
+            position: DVec3::new(0.0, 1.5, 8.5),
+            look_at: DVec3::ZERO,
+            up: DVec3::Y,
+            vfov_degrees: 42.0,
+        },
+        render: RenderSettings {
+            width: spec.width,
+            height: spec.height,
+            min_intensity: 0.05,
+            max_depth: 6,
+            background: DVec3::new(0.06, 0.08, 0.12),
+            shadow_mode: ShadowMode::Ambient,
+            samples: 1,
+        },
+        lights: vec![Light {
+            position: DVec3::new(5.0, 8.0, 9.0),
+            ambient: DVec3::splat(0.25),
+            diffuse: DVec3::ONE,
+            specular: DVec3::ONE,
+        }],
+        materials: materials(),
+        spheres,
+        triangles,
+    }
+}
+
+// ---------------------------------------------------------------- writing
+
+/// Scene file syntax.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum FileFormat {
+    Toml,
+    Json,
+}
+
+impl FileFormat {
+    /// `.json` is JSON; anything else TOML (as the scene loader decides).
+    pub fn from_path(path: &Path) -> Self {
+        match path.extension().and_then(|e| e.to_str()) {
+            Some(e) if e.eq_ignore_ascii_case("json") => FileFormat::Json,
+            _ => FileFormat::Toml,
+        }
+    }
+}
+
+/// A float as both TOML and JSON read it back exactly: Rust's shortest
+/// round-trip form, always with a `.` or an exponent (`1.0`, `0.25`, `1e-7`).
+fn num(x: f64) -> String {
+    format!("{x:?}")
+}
+
+fn vec3(v: DVec3) -> String {
+    format!("[{}, {}, {}]", num(v.x), num(v.y), num(v.z))
+}
+
+/// A string literal valid in both TOML and JSON (basic string escapes).
+fn string(s: &str) -> String {
+    let mut out = String::from("\"");
+    for c in s.chars() {
+        match c {
+            '"' => out.push_str("\\\""),
+            '\\' => out.push_str("\\\\"),
+            c if (c as u32) < 0x20 || c == '\u{7f}' => {
+                let _ = write!(out, "\\u{:04x}", c as u32);
+            }
+            c => out.push(c),
+        }
+    }
+    out.push('"');
+    out
+}
+
+/// A TOML key: bare when it can be, else quoted.
+fn toml_key(s: &str) -> String {
+    if !s.is_empty()
+        && s.chars()
+            .all(|c| c.is_ascii_alphanumeric() || c == '_' || c == '-')
+    {
+        s.to_string()
+    } else {
+        string(s)
+    }
+}
+
+/// Writes `scene` as a scene file that `kdray::scene::load_scene` reads back
+/// as an equal `Scene` (given distinct material names whose sorted order is
+/// their index order, as the generator's are). `header` becomes comment
+/// lines in TOML (JSON has no comments; it is left out there).
+pub fn scene_file_text(scene: &Scene, format: FileFormat, header: &str) -> String {
+    let mut out = String::with_capacity(256 + scene.object_count() * 110);
+    let material_name = |i: u32| string(&scene.materials[i as usize].name);
+    let cam = &scene.camera;
+    let r = &scene.render;
+    let shadow = match r.shadow_mode {
+        ShadowMode::Ambient => "ambient",
+        ShadowMode::Seed => "seed",
+    };
+    match format {
+        FileFormat::Toml => {
+            for line in header.lines() {
+                let _ = writeln!(out, "# {line}");
+            }
+            let _ = write!(
+                out,
+                "\n[camera]\nposition = {}\nlook_at = {}\nup = {}\nvfov = {}\n",
+                vec3(cam.position),
+                vec3(cam.look_at),
+                vec3(cam.up),
+                num(cam.vfov_degrees)
+            );
+            let _ = write!(
+                out,
+                "\n[render]\nwidth = {}\nheight = {}\nmin_intensity = {}\nmax_depth = {}\n\
+                 background = {}\nshadow_mode = \"{shadow}\"\nsamples = {}\n",
+                r.width,
+                r.height,
+                num(r.min_intensity),
+                r.max_depth,
+                vec3(r.background),
+                r.samples
+            );
+            for l in &scene.lights {
+                let _ = write!(
+                    out,
+                    "\n[[lights]]\nposition = {}\nambient = {}\ndiffuse = {}\nspecular = {}\n",
+                    vec3(l.position),
+                    vec3(l.ambient),
+                    vec3(l.diffuse),
+                    vec3(l.specular)
+                );
+            }
+            for m in &scene.materials {
+                let _ = write!(
+                    out,
+                    "\n[materials.{}]\nambient = {}\ndiffuse = {}\nspecular = {}\nshininess = {}\nreflection = {}\n",
+                    toml_key(&m.name),
+                    vec3(m.ambient),
+                    vec3(m.diffuse),
+                    vec3(m.specular),
+                    num(m.shininess),
+                    num(m.reflection)
+                );
+            }
+            for s in &scene.spheres {
+                let _ = write!(
+                    out,
+                    "\n[[spheres]]\ncenter = {}\nradius = {}\nmaterial = {}\n",
+                    vec3(s.center),
+                    num(s.radius),
+                    material_name(s.material)
+                );
+            }
+            for t in &scene.triangles {
+                let _ = write!(
+                    out,
+                    "\n[[triangles]]\nvertices = [{}, {}, {}]\nmaterial = {}\n",
+                    vec3(t.vertices[0]),
+                    vec3(t.vertices[1]),
+                    vec3(t.vertices[2]),
+                    material_name(t.material)
+                );
+            }
+        }
+        FileFormat::Json => {
+            let _ = write!(
+                out,
+                "{{\n  \"camera\": {{\"position\": {}, \"look_at\": {}, \"up\": {}, \"vfov\": {}}},\n",
+                vec3(cam.position),
+                vec3(cam.look_at),
+                vec3(cam.up),
+                num(cam.vfov_degrees)
+            );
+            let _ = writeln!(
+                out,
+                "  \"render\": {{\"width\": {}, \"height\": {}, \"min_intensity\": {}, \"max_depth\": {}, \
+                 \"background\": {}, \"shadow_mode\": \"{shadow}\", \"samples\": {}}},",
+                r.width,
+                r.height,
+                num(r.min_intensity),
+                r.max_depth,
+                vec3(r.background),
+                r.samples
+            );
+            let items = |out: &mut String, name: &str, items: Vec<String>| {
+                let _ = write!(out, "  \"{name}\": [");
+                for (i, item) in items.iter().enumerate() {
+                    out.push_str(if i == 0 { "\n    " } else { ",\n    " });
+                    out.push_str(item);
+                }
+                out.push_str(if items.is_empty() { "]" } else { "\n  ]" });
+            };
+            items(
+                &mut out,
+                "lights",
+                scene
+                    .lights
+                    .iter()
+                    .map(|l| {
+                        format!(
+                            "{{\"position\": {}, \"ambient\": {}, \"diffuse\": {}, \"specular\": {}}}",
+                            vec3(l.position),
+                            vec3(l.ambient),
+                            vec3(l.diffuse),
+                            vec3(l.specular)
+                        )
+                    })
+                    .collect(),
+            );
+            out.push_str(",\n  \"materials\": {");
+            for (i, m) in scene.materials.iter().enumerate() {
+                let _ = write!(
+                    out,
+                    "{}{}: {{\"ambient\": {}, \"diffuse\": {}, \"specular\": {}, \"shininess\": {}, \"reflection\": {}}}",
+                    if i == 0 { "\n    " } else { ",\n    " },
+                    string(&m.name),
+                    vec3(m.ambient),
+                    vec3(m.diffuse),
+                    vec3(m.specular),
+                    num(m.shininess),
+                    num(m.reflection)
+                );
+            }
+            out.push_str(if scene.materials.is_empty() {
+                "},\n"
+            } else {
+                "\n  },\n"
+            });
+            items(
+                &mut out,
+                "spheres",
+                scene
+                    .spheres
+                    .iter()
+                    .map(|s| {
+                        format!(
+                            "{{\"center\": {}, \"radius\": {}, \"material\": {}}}",
+                            vec3(s.center),
+                            num(s.radius),
+                            material_name(s.material)
+                        )
+                    })
+                    .collect(),
+            );
+            out.push_str(",\n");
+            items(
+                &mut out,
+                "triangles",
+                scene
+                    .triangles
+                    .iter()
+                    .map(|t| {
+                        format!(
+                            "{{\"vertices\": [{}, {}, {}], \"material\": {}}}",
+                            vec3(t.vertices[0]),
+                            vec3(t.vertices[1]),
+                            vec3(t.vertices[2]),
+                            material_name(t.material)
+                        )
+                    })
+                    .collect(),
+            );
+            out.push_str("\n}\n");
+        }
+    }
+    out
+}
+
+/// Writes `text` to `path` atomically: a temporary file in the same folder,
+/// then a rename.
+pub fn write_text_atomic(path: &Path, text: &str) -> Result<()> {
+    let fail = |what: &str, e: &dyn std::fmt::Display| {
+        Error::Output(format!("{}: {what}: {e}", path.display()))
+    };
+    let dir = match path.parent() {
+        Some(p) if !p.as_os_str().is_empty() => p,
+        _ => Path::new("."),
+    };
+    let name = path
+        .file_name()
+        .ok_or_else(|| Error::Output(format!("{}: not a file name", path.display())))?;
+    let tmp = dir.join(format!(
+        ".{}.tmp-{}",
+        name.to_string_lossy(),
+        std::process::id()
+    ));
+    let result = (|| {
+        use std::io::Write;
+        let mut file =
+            std::fs::File::create(&tmp).map_err(|e| fail("cannot create a temporary file", &e))?;
+        file.write_all(text.as_bytes())
+            .map_err(|e| fail("cannot write", &e))?;
+        file.sync_all().map_err(|e| fail("cannot write", &e))?;
+        std::fs::rename(&tmp, path)
+            .map_err(|e| fail("cannot rename the temporary file into place", &e))
+    })();
+    if result.is_err() {
+        let _ = std::fs::remove_file(&tmp);
+    }
+    result
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn splitmix64_matches_the_reference_sequence() {
+        // First outputs for seed 1234567 of the reference C implementation
+        // (Vigna's splitmix64.c).
+        let mut rng = SplitMix64::new(1234567);
+        let got: Vec<u64> = (0..3).map(|_| rng.next_u64()).collect();
+        assert_eq!(
+            got,
+            [
+                6457827717110365317,
+                3203168211198807973,
+                9817491932198370423
+            ]
+        );
+    }
+
+    #[test]
+    fn same_seed_same_scene_other_seed_other_scene() {
+        for kind in [SceneKind::Spheres, SceneKind::Triangles, SceneKind::Mixed] {
+            let spec = RandomSceneSpec::new(kind, 300);
+            let a = random_scene(&spec);
+            assert_eq!(a, random_scene(&spec), "{kind:?}");
+            assert_eq!(a.object_count(), 300);
+            let b = random_scene(&RandomSceneSpec {
+                seed: spec.seed + 1,
+                ..spec
+            });
+            assert_ne!(a, b, "{kind:?}");
+        }
+    }
+
+    #[test]
+    fn generator_output_is_pinned() {
+        // Guards against accidental changes to the generator: the benchmark
+        // figures in docs/benchmarks.md were measured on these scenes.
+        let s = random_scene(&RandomSceneSpec::new(SceneKind::Spheres, 1000));
+        let first = s.spheres[0];
+        let sum: f64 = s.spheres.iter().map(|s| s.center.x + s.radius).sum();
+        assert_eq!(
+            (first.center, first.radius, first.material, q(sum)),
+            PINNED_FIRST_SPHERE
+        );
+    }
+
+    // The generator's output when the benchmark was first run.
+    const PINNED_FIRST_SPHERE: (DVec3, f64, u32, f64) = (
+        DVec3::new(-1.544292, 1.994805, -0.820383),
+        0.058459,
+        6,
+        38.992406,
+    );
+
+    #[test]
+    fn mixed_splits_and_sizes_shrink() {
+        let spec = RandomSceneSpec::new(SceneKind::Mixed, 7);
+        assert_eq!(spec.split(), (4, 3));
+        let s = random_scene(&spec);
+        assert_eq!((s.spheres.len(), s.triangles.len()), (4, 3));
+        let mean_radius = |n: usize| {
+            let s = random_scene(&RandomSceneSpec::new(SceneKind::Spheres, n));
+            s.spheres.iter().map(|s| s.radius).sum::<f64>() / n as f64
+        };
+        let (r1k, r8k) = (mean_radius(1000), mean_radius(8000));
+        assert!((r1k / r8k - 2.0).abs() < 0.1, "{r1k} {r8k}");
+    }
+
+    #[test]
+    fn objects_are_valid_and_inside_the_box() {
+        let s = random_scene(&RandomSceneSpec::new(SceneKind::Mixed, 2000));
+        let limit = BOX_HALF + 1.0;
+        for sp in &s.spheres {
+            assert!(sp.radius > 0.0 && sp.center.abs().max_element() <= limit);
+            assert!((sp.material as usize) < s.materials.len());
+        }
+        for t in &s.triangles {
+            let n = (t.vertices[1] - t.vertices[0]).cross(t.vertices[2] - t.vertices[0]);
+            assert!(n.length() > 0.0);
+            assert!(t.vertices.iter().all(|v| v.abs().max_element() <= limit));
+        }
+        let mut names: Vec<_> = s.materials.iter().map(|m| m.name.clone()).collect();
+        let before = names.clone();
+        names.sort();
+        assert_eq!(names, before, "material names must sort in index order");
+    }
+
+    #[test]
+    fn written_files_read_back_equal() {
+        for kind in [SceneKind::Spheres, SceneKind::Triangles, SceneKind::Mixed] {
+            let scene = random_scene(&RandomSceneSpec::new(kind, 25));
+            for (format, ext) in [(FileFormat::Toml, "toml"), (FileFormat::Json, "json")] {
+                let text = scene_file_text(&scene, format, "a header\nline two");
+                let parsed = crate::scene::parse_scene(
+                    &text,
+                    Path::new(&format!("generated.{ext}")),
+                    match format {
+                        FileFormat::Toml => crate::scene::SceneFormat::Toml,
+                        FileFormat::Json => crate::scene::SceneFormat::Json,
+                    },
+                )
+                .unwrap_or_else(|e| panic!("{kind:?} {ext}: {e}\n{text}"));
+                assert_eq!(parsed, scene, "{kind:?} {ext}");
+            }
+        }
+    }
+
+    #[test]
+    fn quoted_names_survive() {
+        assert_eq!(toml_key("m00_red"), "m00_red");
+        assert_eq!(toml_key("torus.obj:gold"), "\"torus.obj:gold\"");
+        assert_eq!(string("a\"b\\c\n"), "\"a\\\"b\\\\c\\u000a\"");
+    }
+}

@@ -1,0 +1,102 @@
+//! The interactive window, `kdray render SCENE --window`: the scene traced by
+//! the same compute shader as the headless path, refined progressively while
+//! the camera is still, with mouse and keyboard controls and hot reload.
+//!
+//! - [`camera_controller`]: input events in, camera out (pure, unit-tested).
+//! - [`reload`]: polling the scene file and its OBJ/MTL files.
+//! - [`view`]: the accumulation pass, the present pass and screenshots.
+//! - [`app`]: the winit event loop that ties them together.
+
+mod app;
+pub mod camera_controller;
+pub mod reload;
+pub mod view;
+
+use std::path::PathBuf;
+
+use crate::error::{Error, Result};
+use crate::gpu::Accel;
+
+/// Samples per pixel the window refines to when neither the scene nor
+/// `--samples` asks for more.
+pub const DEFAULT_WINDOW_SAMPLES: u32 = 16;
+
+/// What `kdray render SCENE --window ...` asked for.
+#[derive(Debug, Clone)]
+pub struct WindowOptions {
+    pub scene: PathBuf,
+    /// Window size in physical pixels (default: the scene's aspect ratio,
+    /// fitted into 960 x 720 logical pixels).
+    pub width: Option<u32>,
+    pub height: Option<u32>,
+    /// Samples per pixel to refine to (default: the scene's, at least
+    /// [`DEFAULT_WINDOW_SAMPLES`]).
+    pub samples: Option<u32>,
+    pub accel: Accel,
+    /// Present this many frames, then exit.
+    pub frames: Option<u32>,
+    /// On exit, save the last presented frame here.
+    pub screenshot: Option<PathBuf>,
+    /// On exit, print the frame figures as one JSON object on stdout.
+    pub stats: bool,
+}
+
+impl WindowOptions {
+    fn validate(&self) -> Result<()> {
+        let max = crate::scene::MAX_IMAGE_SIDE;
+        for (flag, value) in [("--width", self.width), ("--height", self.height)] {
+            if let Some(v) = value {
+                if !(1..=max).contains(&v) {
+                    return Err(Error::Usage(format!(
+                        "{flag}: must be in 1..={max}, got {v}"
+                    )));
+                }
+            }
+        }
+        if let Some(s) = self.samples {
+            crate::scene::check_samples(s).map_err(|m| Error::Usage(format!("--samples: {m}")))?;
+        }
+        if self.frames == Some(0) {
+            return Err(Error::Usage("--frames: must be at least 1, got 0".into()));
+        }
+        Ok(())
+    }
+}
+
+/// Opens the window and runs until it is closed (Esc, the close button,
+/// Ctrl-C / SIGTERM, or `--frames`). A scene that does not load at start is
+/// an error (exit code 2); later reload errors are only reported.
+pub fn run(options: WindowOptions) -> Result<()> {
+    options.validate()?;
+    app::run(options)
+}
+
+/// Ctrl-C and SIGTERM ask the window to close (saving `--screenshot`)
+/// instead of killing the process.
+mod signals {
+    use std::sync::atomic::{AtomicBool, Ordering};
+
+    static QUIT: AtomicBool = AtomicBool::new(false);
+
+    #[cfg(unix)]
+    extern "C" fn on_signal(_: libc::c_int) {
+        QUIT.store(true, Ordering::SeqCst);
+    }
+
+    pub fn install() {
+        #[cfg(unix)]
+        {
+            let handler = on_signal as extern "C" fn(libc::c_int) as libc::sighandler_t;
+            // SAFETY: the handler only stores to an atomic, which is
+            // async-signal-safe.
+            unsafe {
+                libc::signal(libc::SIGINT, handler);
+                libc::signal(libc::SIGTERM, handler);
+            }
+        }
+    }
+
+    pub fn quit_requested() -> bool {
+        QUIT.load(Ordering::SeqCst)
+    }
+}

@@ -1,0 +1,474 @@
+//! The window's GPU side: the progressive accumulation pass (the trace
+//! kernel's `accumulate_tile` entry point), the present pass
+//! (shaders/present.wgsl) and screenshots of what the present pass shows.
+
+use crate::error::{Error, Result};
+use crate::gpu::{shaders, GpuContext, SceneBuffers};
+use crate::layout::FrameParams;
+
+/// present.wgsl's `PresentParams`.
+#[repr(C)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, bytemuck::Pod, bytemuck::Zeroable)]
+pub struct PresentParams {
+    /// Size of the image in the accumulation buffer.
+    pub image_size: [u32; 2],
+    /// Size of the render target.
+    pub target_size: [u32; 2],
+}
+
+/// Bytes per pixel of the accumulation buffer (a vec4<f32>).
+const ACCUMULATION_TEXEL: u64 = 16;
+
+/// What one frame does on the GPU, in order.
+#[derive(Debug, Clone, Copy)]
+pub struct FrameWork {
+    /// Zero the first `n` pixels of the accumulation buffer first.
+    pub clear_pixels: Option<u64>,
+    /// One accumulation pass over the image these parameters describe.
+    pub pass: Option<FrameParams>,
+    /// Shows the image this large on the target.
+    pub present: PresentParams,
+}
+
+pub struct Viewer {
+    accumulate: wgpu::ComputePipeline,
+    trace_layout: wgpu::BindGroupLayout,
+    present_layout: wgpu::BindGroupLayout,
+    present_pipeline_layout: wgpu::PipelineLayout,
+    present_module: wgpu::ShaderModule,
+    present: wgpu::RenderPipeline,
+    /// The format `present` draws to (the surface's view format).
+    target_format: wgpu::TextureFormat,
+    params: wgpu::Buffer,
+    present_params: wgpu::Buffer,
+    accumulation: wgpu::Buffer,
+    /// Pixels the accumulation buffer holds.
+    capacity: u64,
+    trace_group: wgpu::BindGroup,
+    present_group: wgpu::BindGroup,
+}
+
+fn storage(
+    binding: u32,
+    read_only: bool,
+    visibility: wgpu::ShaderStages,
+) -> wgpu::BindGroupLayoutEntry {
+    wgpu::BindGroupLayoutEntry {
+        binding,
+        visibility,
+        ty: wgpu::BindingType::Buffer {
+            ty: wgpu::BufferBindingType::Storage { read_only },
+            has_dynamic_offset: false,
+            min_binding_size: None,
+        },
+        count: None,
+    }
+}
+
+fn uniform(binding: u32, visibility: wgpu::ShaderStages) -> wgpu::BindGroupLayoutEntry {
+    wgpu::BindGroupLayoutEntry {
+        binding,
+        visibility,
+        ty: wgpu::BindingType::Buffer {
+            ty: wgpu::BufferBindingType::Uniform,
+            has_dynamic_offset: false,
+            min_binding_size: None,
+        },
+        count: None,
+    }
+}
+
+fn present_pipeline(
+    device: &wgpu::Device,
+    layout: &wgpu::PipelineLayout,
+    module: &wgpu::ShaderModule,
+    format: wgpu::TextureFormat,
+) -> wgpu::RenderPipeline {
+    device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+        label: Some("present"),
+        layout: Some(layout),
+        vertex: wgpu::VertexState {
+            module,
+            entry_point: Some(shaders::PRESENT_VERTEX_ENTRY_POINT),
+            compilation_options: Default::default(),
+            buffers: &[],
+        },
+        primitive: wgpu::PrimitiveState::default(),
+        depth_stencil: None,
+        multisample: wgpu::MultisampleState::default(),
+        fragment: Some(wgpu::FragmentState {
+            module,
+            entry_point: Some(shaders::PRESENT_FRAGMENT_ENTRY_POINT),
+            compilation_options: Default::default(),
+            targets: &[Some(wgpu::ColorTargetState {
+                format,
+                blend: None,
+                write_mask: wgpu::ColorWrites::ALL,
+            })],
+        }),
+        multiview_mask: None,
+        cache: None,
+    })
+}
+
+impl Viewer {
+    /// Pipelines and buffers for a target of `target_format` and an image of
+    /// up to `pixels` pixels, showing `scene`.
+    pub fn new(
+        ctx: &GpuContext,
+        scene: &SceneBuffers,
+        target_format: wgpu::TextureFormat,
+        pixels: u64,
+    ) -> Result<Self> {
+        let trace_source = shaders::trace_source();
+        ctx.checked("creating the window's pipelines", |device| {
+            let compute = wgpu::ShaderStages::COMPUTE;
+            let mut entries = vec![uniform(0, compute)];
+            entries.extend((1..=7).map(|b| storage(b, true, compute)));
+            entries.push(storage(9, false, compute));
+            let trace_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+                label: Some("accumulate"),
+                entries: &entries,
+            });
+            let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
+                label: Some("trace"),
+                source: wgpu::ShaderSource::Wgsl(trace_source.into()),
+            });
+            let accumulate = device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+                label: Some("accumulate"),
+                layout: Some(
+                    &device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+                        label: Some("accumulate"),
+                        bind_group_layouts: &[Some(&trace_layout)],
+                        immediate_size: 0,
+                    }),
+                ),
+                module: &module,
+                entry_point: Some(shaders::ACCUMULATE_ENTRY_POINT),
+                compilation_options: Default::default(),
+                cache: None,
+            });
+            let fragment = wgpu::ShaderStages::FRAGMENT;
+            let present_layout =
+                device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+                    label: Some("present"),
+                    entries: &[uniform(0, fragment), storage(1, true, fragment)],
+                });
+            let present_pipeline_layout =
+                device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+                    label: Some("present"),
+                    bind_group_layouts: &[Some(&present_layout)],
+                    immediate_size: 0,
+                });
+            let present_module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
+                label: Some("present"),
+                source: wgpu::ShaderSource::Wgsl(shaders::PRESENT_SOURCE.into()),
+            });
+            let present = present_pipeline(
+                device,
+                &present_pipeline_layout,
+                &present_module,
+                target_format,
+            );
+            let params = device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some("window frame params"),
+                size: std::mem::size_of::<FrameParams>() as u64,
+                usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+                mapped_at_creation: false,
+            });
+            let present_params = device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some("present params"),
+                size: std::mem::size_of::<PresentParams>() as u64,
+                usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+                mapped_at_creation: false,
+            });
+            let (accumulation, trace_group, present_group) = Self::accumulation_and_groups(
+                device,
+                &trace_layout,
+                &present_layout,
+                &params,
+                &present_params,
+                scene,
+                pixels,
+            );
+            Viewer {
+                accumulate,
+                trace_layout,
+                present_layout,
+                present_pipeline_layout,
+                present_module,
+                present,
+                target_format,
+                params,
+                present_params,
+                accumulation,
+                capacity: pixels.max(1),
+                trace_group,
+                present_group,
+            }
+        })
+    }
+
+    fn accumulation_and_groups(
+        device: &wgpu::Device,
+        trace_layout: &wgpu::BindGroupLayout,
+        present_layout: &wgpu::BindGroupLayout,
+        params: &wgpu::Buffer,
+        present_params: &wgpu::Buffer,
+        scene: &SceneBuffers,
+        pixels: u64,
+    ) -> (wgpu::Buffer, wgpu::BindGroup, wgpu::BindGroup) {
+        let accumulation = device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("accumulation"),
+            size: pixels.max(1) * ACCUMULATION_TEXEL,
+            usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        });
+        let trace_group = Self::trace_group(device, trace_layout, params, scene, &accumulation);
+        let present_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("present"),
+            layout: present_layout,
+            entries: &[
+                wgpu::BindGroupEntry {
+                    binding: 0,
+                    resource: present_params.as_entire_binding(),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 1,
+                    resource: accumulation.as_entire_binding(),
+                },
+            ],
+        });
+        (accumulation, trace_group, present_group)
+    }
+
+    fn trace_group(
+        device: &wgpu::Device,
+        layout: &wgpu::BindGroupLayout,
+        params: &wgpu::Buffer,
+        scene: &SceneBuffers,
+        accumulation: &wgpu::Buffer,
+    ) -> wgpu::BindGroup {
+        let mut entries = vec![wgpu::BindGroupEntry {
+            binding: 0,
+            resource: params.as_entire_binding(),
+        }];
+        entries.extend(
+            scene
+                .buffers
+                .iter()
+                .enumerate()
+                .map(|(i, b)| wgpu::BindGroupEntry {
+                    binding: i as u32 + 1,
+                    resource: b.as_entire_binding(),
+                }),
+        );
+        entries.push(wgpu::BindGroupEntry {
+            binding: 9,
+            resource: accumulation.as_entire_binding(),
+        });
+        device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("accumulate"),
+            layout,
+            entries: &entries,
+        })
+    }
+
+    /// Traces `scene` from now on.
+    pub fn set_scene(&mut self, ctx: &GpuContext, scene: &SceneBuffers) -> Result<()> {
+        self.trace_group = ctx.checked("binding the scene", |device| {
+            Self::trace_group(
+                device,
+                &self.trace_layout,
+                &self.params,
+                scene,
+                &self.accumulation,
+            )
+        })?;
+        Ok(())
+    }
+
+    /// Makes room for `pixels` pixels (the contents are lost if it grows).
+    pub fn reserve(&mut self, ctx: &GpuContext, scene: &SceneBuffers, pixels: u64) -> Result<()> {
+        if pixels <= self.capacity {
+            return Ok(());
+        }
+        let (accumulation, trace_group, present_group) =
+            ctx.checked("allocating the accumulation buffer", |device| {
+                Self::accumulation_and_groups(
+                    device,
+                    &self.trace_layout,
+                    &self.present_layout,
+                    &self.params,
+                    &self.present_params,
+                    scene,
+                    pixels,
+                )
+            })?;
+        self.accumulation = accumulation;
+        self.trace_group = trace_group;
+        self.present_group = present_group;
+        self.capacity = pixels;
+        Ok(())
+    }
+
+    /// Largest image the accumulation buffer may hold on this device.
+    pub fn max_pixels(ctx: &GpuContext) -> u64 {
+        let limits = ctx.device.limits();
+        (limits.max_storage_buffer_binding_size as u64).min(limits.max_buffer_size)
+            / ACCUMULATION_TEXEL
+    }
+
+    /// Records `work` into `encoder`, drawing to `target`. The uniforms are
+    /// written now; submit before the next call.
+    pub fn encode(
+        &self,
+        ctx: &GpuContext,
+        encoder: &mut wgpu::CommandEncoder,
+        target: &wgpu::TextureView,
+        work: &FrameWork,
+    ) {
+        if let Some(pixels) = work.clear_pixels {
+            let bytes = pixels.clamp(1, self.capacity) * ACCUMULATION_TEXEL;
+            encoder.clear_buffer(&self.accumulation, 0, Some(bytes));
+        }
+        if let Some(params) = &work.pass {
+            ctx.queue
+                .write_buffer(&self.params, 0, bytemuck::bytes_of(params));
+            let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
+                label: Some("accumulate"),
+                timestamp_writes: None,
+            });
+            pass.set_pipeline(&self.accumulate);
+            pass.set_bind_group(0, &self.trace_group, &[]);
+            let (gx, gy) = shaders::TRACE_WORKGROUP;
+            pass.dispatch_workgroups(
+                params.tile_size[0].div_ceil(gx),
+                params.tile_size[1].div_ceil(gy),
+                1,
+            );
+        }
+        ctx.queue
+            .write_buffer(&self.present_params, 0, bytemuck::bytes_of(&work.present));
+        self.draw(encoder, &self.present, target);
+    }
+
+    fn draw(
+        &self,
+        encoder: &mut wgpu::CommandEncoder,
+        pipeline: &wgpu::RenderPipeline,
+        target: &wgpu::TextureView,
+    ) {
+        let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+            label: Some("present"),
+            color_attachments: &[Some(wgpu::RenderPassColorAttachment {
+                view: target,
+                depth_slice: None,
+                resolve_target: None,
+                ops: wgpu::Operations {
+                    load: wgpu::LoadOp::Clear(wgpu::Color::BLACK),
+                    store: wgpu::StoreOp::Store,
+                },
+            })],
+            depth_stencil_attachment: None,
+            timestamp_writes: None,
+            occlusion_query_set: None,
+            multiview_mask: None,
+        });
+        pass.set_pipeline(pipeline);
+        pass.set_bind_group(0, &self.present_group, &[]);
+        pass.draw(0..3, 0..1);
+    }
+
+    /// Draws the present pass again, as the last frame showed it, into an
+    /// offscreen texture of the target's size and reads it back as 8-bit
+    /// RGB. The texture has the target's format when that is an 8-bit one
+    /// (so the pixels are the window's), else Rgba8Unorm.
+    pub fn capture(&self, ctx: &GpuContext, width: u32, height: u32) -> Result<Vec<u8>> {
+        use wgpu::TextureFormat as F;
+        let format = match self.target_format {
+            f @ (F::Rgba8Unorm | F::Bgra8Unorm) => f,
+            _ => F::Rgba8Unorm,
+        };
+        let row_bytes = width * 4;
+        let padded_row = row_bytes.div_ceil(wgpu::COPY_BYTES_PER_ROW_ALIGNMENT)
+            * wgpu::COPY_BYTES_PER_ROW_ALIGNMENT;
+        let size = padded_row as u64 * height as u64;
+        let readback = ctx.checked("capturing the window", |device| {
+            let pipeline = (format != self.target_format).then(|| {
+                present_pipeline(
+                    device,
+                    &self.present_pipeline_layout,
+                    &self.present_module,
+                    format,
+                )
+            });
+            let texture = device.create_texture(&wgpu::TextureDescriptor {
+                label: Some("screenshot"),
+                size: wgpu::Extent3d {
+                    width,
+                    height,
+                    depth_or_array_layers: 1,
+                },
+                mip_level_count: 1,
+                sample_count: 1,
+                dimension: wgpu::TextureDimension::D2,
+                format,
+                usage: wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::COPY_SRC,
+                view_formats: &[],
+            });
+            let readback = device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some("screenshot readback"),
+                size,
+                usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
+                mapped_at_creation: false,
+            });
+            let view = texture.create_view(&Default::default());
+            let mut encoder = device.create_command_encoder(&Default::default());
+            self.draw(
+                &mut encoder,
+                pipeline.as_ref().unwrap_or(&self.present),
+                &view,
+            );
+            encoder.copy_texture_to_buffer(
+                wgpu::TexelCopyTextureInfo {
+                    texture: &texture,
+                    mip_level: 0,
+                    origin: wgpu::Origin3d::ZERO,
+                    aspect: wgpu::TextureAspect::All,
+                },
+                wgpu::TexelCopyBufferInfo {
+                    buffer: &readback,
+                    layout: wgpu::TexelCopyBufferLayout {
+                        offset: 0,
+                        bytes_per_row: Some(padded_row),
+                        rows_per_image: Some(height),
+                    },
+                },
+                wgpu::Extent3d {
+                    width,
+                    height,
+                    depth_or_array_layers: 1,
+                },
+            );
+            ctx.queue.submit([encoder.finish()]);
+            readback
+        })?;
+        let bytes = ctx.read_buffer(&readback, size)?;
+        let bgra = format == F::Bgra8Unorm;
+        let mut rgb = Vec::with_capacity(width as usize * height as usize * 3);
+        for row in bytes.chunks_exact(padded_row as usize) {
+            for p in row[..row_bytes as usize].chunks_exact(4) {
+                if bgra {
+                    rgb.extend_from_slice(&[p[2], p[1], p[0]]);
+                } else {
+                    rgb.extend_from_slice(&p[..3]);
+                }
+            }
+        }
+        if rgb.len() != width as usize * height as usize * 3 {
+            return Err(Error::Gpu("the screenshot readback came back short".into()));
+        }
+        Ok(rgb)
+    }
+}
