@@ -260,3 +260,21 @@ material = "ball"
         pixel(&image, 10, 10)
     );
 }
+
+/// The GPU kernel against its CPU mirror (src/reference.rs: the same path
+/// loop, shading and f32 arithmetic over the CPU traversal) on every scene:
+/// pixels may differ only where float rounding (e.g. fused multiply-adds on
+/// the GPU) flips a tie.
+#[test]
+fn gpu_matches_the_cpu_reference_on_every_scene() {
+    for path in shipped_scenes() {
+        let mut scene = small_scene(&path);
+        scene.render.width = 64;
+        scene.render.height = (scene.render.height * 64).div_ceil(160);
+        let gpu = render(&scene, Accel::Kdtree);
+        let cpu = kdray::reference::ReferenceTracer::new(&scene, true).image();
+        let d = compare(&gpu.rgb, &cpu, gpu.width, gpu.height, 2);
+        let budget = (gpu.width * gpu.height) as usize / 1000;
+        assert!(d.pixels_over <= budget, "{}: GPU and CPU reference differ on {} pixels (budget {budget}): {d:?}", path.display(), d.pixels_over);
+    }
+}
