@@ -22,6 +22,9 @@ use super::{
 
 /// Largest accepted image side, in pixels.
 pub const MAX_IMAGE_SIDE: u32 = 16384;
+/// Largest coordinate or radius accepted: the GPU computes in f32 and squares
+/// distances, which must stay below f32::MAX (3.4e38).
+pub const MAX_COORDINATE: f64 = 1e15;
 /// Range of `render.max_depth`.
 pub const MAX_DEPTH_RANGE: std::ops::RangeInclusive<u32> = 1..=64;
 
@@ -525,6 +528,21 @@ impl Validator<'_> {
         Ok(DVec3::from_array(v.0))
     }
 
+    /// A point in space: finite, and within ±MAX_COORDINATE so that the
+    /// GPU's f32 arithmetic (which squares distances) cannot overflow.
+    fn position(&self, key: &str, v: Vec3) -> Result<DVec3, SceneError> {
+        let p = self.vector(key, v)?;
+        for (i, x) in p.to_array().into_iter().enumerate() {
+            if x.abs() > MAX_COORDINATE {
+                return Err(self.error(
+                    &format!("{key}[{i}]"),
+                    format!("must be within ±{MAX_COORDINATE:e} (the GPU computes in f32), got {x:e}"),
+                ));
+            }
+        }
+        Ok(p)
+    }
+
     fn colour(&self, key: &str, v: Vec3) -> Result<DVec3, SceneError> {
         let c = self.vector(key, v)?;
         if c.min_element() < 0.0 {
@@ -551,7 +569,7 @@ impl Validator<'_> {
             .map(|(i, l)| {
                 let key = |k: &str| format!("lights[{i}].{k}");
                 Ok(Light {
-                    position: self.vector(&key("position"), l.position)?,
+                    position: self.position(&key("position"), l.position)?,
                     ambient: self.colour(&key("ambient"), l.ambient)?,
                     diffuse: self.colour(&key("diffuse"), l.diffuse)?,
                     specular: self.colour(&key("specular"), l.specular)?,
@@ -611,8 +629,14 @@ impl Validator<'_> {
             if radius <= 0.0 {
                 return Err(self.error(&key("radius"), format!("must be > 0, got {radius:?}")));
             }
+            if radius > MAX_COORDINATE {
+                return Err(self.error(
+                    &key("radius"),
+                    format!("must be at most {MAX_COORDINATE:e} (the GPU computes in f32), got {radius:e}"),
+                ));
+            }
             spheres.push(Sphere {
-                center: self.vector(&key("center"), s.center)?,
+                center: self.position(&key("center"), s.center)?,
                 radius,
                 material: lookup(&key("material"), &s.material)?,
             });
@@ -623,7 +647,7 @@ impl Validator<'_> {
             let key = |k: &str| format!("triangles[{i}].{k}");
             let mut vertices = [DVec3::ZERO; 3];
             for (j, (v, raw_v)) in vertices.iter_mut().zip(t.vertices.0).enumerate() {
-                *v = self.vector(&format!("{}[{j}]", key("vertices")), raw_v)?;
+                *v = self.position(&format!("{}[{j}]", key("vertices")), raw_v)?;
             }
             if !has_area(&vertices) {
                 return Err(self.error(&key("vertices"), "triangle has zero area"));
@@ -653,8 +677,8 @@ impl Validator<'_> {
     }
 
     fn camera(&self, c: &RawCamera) -> Result<Camera, SceneError> {
-        let position = self.vector("camera.position", c.position)?;
-        let look_at = self.vector("camera.look_at", c.look_at)?;
+        let position = self.position("camera.position", c.position)?;
+        let look_at = self.position("camera.look_at", c.look_at)?;
         let up = self.vector("camera.up", c.up.unwrap_or(DEFAULT_UP))?;
         let vfov_degrees = self.number("camera.vfov", c.vfov)?;
         if !(vfov_degrees > 0.0 && vfov_degrees < 180.0) {
@@ -748,7 +772,7 @@ impl Validator<'_> {
             return Err(self.error(&key("scale"), "must be non-zero on every axis"));
         }
         let rotate = self.vector(&key("rotate"), m.rotate)?;
-        let translate = self.vector(&key("translate"), m.translate)?;
+        let translate = self.position(&key("translate"), m.translate)?;
         let transform = mesh_transform(scale, rotate);
 
         let base = self.file.parent().unwrap_or(Path::new(""));
@@ -797,10 +821,10 @@ impl Validator<'_> {
         }
         for t in &mesh.triangles {
             let vertices = t.vertices.map(|v| transform * v + translate);
-            if !vertices.iter().all(|v| v.is_finite()) {
+            if !vertices.iter().all(|v| v.is_finite() && v.abs().max_element() <= MAX_COORDINATE) {
                 return Err(self.error(
                     &key("scale"),
-                    "the transformed mesh has a non-finite vertex",
+                    "the transformed mesh has a non-finite vertex, or one beyond ±1e15 (the GPU computes in f32)",
                 ));
             }
             if !has_area(&vertices) {
