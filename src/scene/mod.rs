@@ -108,3 +108,34 @@ impl Scene {
         self.spheres.len() + self.triangles.len()
     }
 }
+
+/// Largest scene, OBJ or MTL file read (bytes).
+pub const MAX_INPUT_BYTES: u64 = 2 << 30;
+
+/// Reads an input file: only regular files (a path like /dev/zero would be
+/// read forever), at most MAX_INPUT_BYTES.
+pub(crate) fn read_input_file(path: &std::path::Path) -> std::io::Result<Vec<u8>> {
+    use std::io::{Error, ErrorKind};
+    let meta = std::fs::metadata(path)?;
+    if !meta.is_file() {
+        return Err(Error::new(ErrorKind::InvalidInput, "not a regular file"));
+    }
+    if meta.len() > MAX_INPUT_BYTES {
+        return Err(Error::new(ErrorKind::InvalidInput, format!("larger than {} GiB", MAX_INPUT_BYTES >> 30)));
+    }
+    std::fs::read(path)
+}
+
+/// What the fuzz targets and their regression tests run on one input: parse
+/// and validate a scene (files it names are looked up under a folder that
+/// does not exist); if it validates, build its k-d tree and trace a ray
+/// through it. Anything may fail, nothing may panic.
+pub fn fuzz_check(text: &str, format: SceneFormat) {
+    let path = std::path::Path::new("/nonexistent-kdray-fuzz/scene");
+    if let Ok(scene) = parse_scene(text, path, format) {
+        let prims = crate::geometry::Primitives::from_scene(&scene);
+        let tree = crate::kdtree::KdTree::for_primitives(&prims);
+        let ray = crate::geometry::Ray { origin: scene.camera.position.as_vec3(), dir: (scene.camera.look_at - scene.camera.position).normalize().as_vec3() };
+        let _ = crate::kdtree::traverse::closest_hit(&tree, &prims, &ray, crate::geometry::T_INFINITY);
+    }
+}

@@ -173,7 +173,7 @@ pub fn parse_obj(text: &str, path: &Path, with_materials: bool) -> Result<ObjMes
                     if loaded_libraries.contains(&mtl_path) {
                         continue;
                     }
-                    let mtl_text = std::fs::read(&mtl_path).map_err(|e| {
+                    let mtl_text = super::read_input_file(&mtl_path).map_err(|e| {
                         err(format!("cannot read MTL file {}: {e}", mtl_path.display()))
                     })?;
                     parse_mtl(&String::from_utf8_lossy(&mtl_text), &mtl_path, &mut library)?;
@@ -298,7 +298,7 @@ fn parse_mtl(
 }
 
 fn read_text(path: &Path, what: &str) -> Result<String, SceneError> {
-    match std::fs::read(path) {
+    match super::read_input_file(path) {
         // Tolerate stray non-UTF-8 bytes (Latin-1 comments and names are common).
         Ok(bytes) => Ok(String::from_utf8_lossy(&bytes).into_owned()),
         Err(e) => Err(SceneError::new(
@@ -858,4 +858,14 @@ mod tests {
         }
         assert!(std::fs::metadata(&obj).unwrap().len() < 200 * 1024);
     }
+}
+
+/// What the OBJ fuzz target and its regression tests run on one input: the
+/// bytes as an OBJ file (lossily decoded, as `load_obj` does), with and
+/// without materials. Anything may fail, nothing may panic.
+pub fn fuzz_check(data: &[u8]) {
+    let text = String::from_utf8_lossy(data);
+    let path = Path::new("/nonexistent-kdray-fuzz/mesh.obj");
+    let _ = parse_obj(&text, path, false);
+    let _ = parse_obj(&text, path, true);
 }

@@ -46,8 +46,10 @@ impl SceneFormat {
 
 /// Reads and validates a scene file; OBJ paths are relative to its folder.
 pub fn load_scene(path: &Path) -> Result<Scene, SceneError> {
-    let text = std::fs::read_to_string(path)
+    let bytes = super::read_input_file(path)
         .map_err(|e| SceneError::new(path, None, None, format!("cannot read scene file: {e}")))?;
+    let text = String::from_utf8(bytes)
+        .map_err(|e| SceneError::new(path, None, None, format!("cannot read scene file: not UTF-8 text ({e})")))?;
     parse_scene(&text, path, SceneFormat::from_path(path))
 }
 

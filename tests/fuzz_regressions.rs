@@ -1,0 +1,52 @@
+//! The fuzzers' corpora and every input they ever crashed on, replayed as
+//! ordinary tests (no fuzzer needed): nothing may panic. See docs/testing.md.
+
+use std::path::Path;
+
+use kdray::scene::SceneFormat;
+
+fn inputs(target: &str) -> Vec<std::path::PathBuf> {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("fuzz");
+    let mut files = Vec::new();
+    for dir in [root.join("corpus").join(target), root.join("regressions").join(target)] {
+        if let Ok(entries) = std::fs::read_dir(&dir) {
+            files.extend(entries.map(|e| e.unwrap().path()).filter(|p| p.is_file()));
+        }
+    }
+    files.sort();
+    files
+}
+
+fn replay(target: &str, check: impl Fn(&[u8])) {
+    let files = inputs(target);
+    assert!(!files.is_empty(), "no corpus for {target} in fuzz/corpus/{target}");
+    for file in files {
+        let data = std::fs::read(&file).unwrap();
+        // A panic names the input that caused it.
+        let result = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| check(&data)));
+        assert!(result.is_ok(), "{} panics", file.display());
+    }
+}
+
+#[test]
+fn scene_toml_corpus() {
+    replay("scene_toml", |data| {
+        if let Ok(text) = std::str::from_utf8(data) {
+            kdray::scene::fuzz_check(text, SceneFormat::Toml);
+        }
+    });
+}
+
+#[test]
+fn scene_json_corpus() {
+    replay("scene_json", |data| {
+        if let Ok(text) = std::str::from_utf8(data) {
+            kdray::scene::fuzz_check(text, SceneFormat::Json);
+        }
+    });
+}
+
+#[test]
+fn obj_corpus() {
+    replay("obj", kdray::scene::obj::fuzz_check);
+}
