@@ -5,19 +5,26 @@
 // Each pixel is quantised exactly as render_tile quantises the headless
 // image, floor(255 * clamp(sum / count, 0, 1) + 0.5), and written as that
 // level / 255 to a non-sRGB (Unorm) target, so the window shows the PNG's
-// pixel values. While the camera moves the image is rendered smaller than the
-// window; each window pixel then shows the image pixel it falls in.
+// pixel values. The preview, a smaller image traced while the camera moves,
+// shows where the image has no sample yet; each window pixel shows the pixel
+// of the image (or preview) it falls in.
 
 struct PresentParams {
     // Size of the image in the accumulation buffer (row-major, this wide).
     image_size: vec2<u32>,
     // Size of the target in pixels.
     target_size: vec2<u32>,
+    // Size of the preview (0 x 0: none).
+    preview_size: vec2<u32>,
+    // 0: show the preview only (the image is out of date).
+    show_image: u32,
+    _pad: u32,
 }
 
 @group(0) @binding(0) var<uniform> present: PresentParams;
-// Per image pixel: the sum of its clamped samples (rgb) and their number (w).
+// Per pixel: the sum of its clamped samples (rgb) and their number (w).
 @group(0) @binding(1) var<storage, read> accumulation: array<vec4<f32>>;
+@group(0) @binding(2) var<storage, read> preview: array<vec4<f32>>;
 
 // One triangle covering the target: (-1, -1), (3, -1), (-1, 3).
 @vertex
@@ -27,14 +34,24 @@ fn vs_main(@builtin(vertex_index) index: u32) -> @builtin(position) vec4<f32> {
     return vec4<f32>(x, y, 0.0, 1.0);
 }
 
+// The pixel of a `size` image that target pixel `p` falls in.
+fn image_index(p: vec2<u32>, size: vec2<u32>) -> u32 {
+    let target_size = max(present.target_size, vec2<u32>(1u));
+    let q = min(p * size / target_size, size - vec2<u32>(1u));
+    return q.y * size.x + q.x;
+}
+
 @fragment
 fn fs_main(@builtin(position) frag: vec4<f32>) -> @location(0) vec4<f32> {
     // Framebuffer coordinates: origin at the top left, pixel centres at .5.
     let p = vec2<u32>(frag.xy);
-    let size = max(present.image_size, vec2<u32>(1u));
-    let target_size = max(present.target_size, vec2<u32>(1u));
-    let q = min(p * size / target_size, size - vec2<u32>(1u));
-    let a = accumulation[q.y * size.x + q.x];
+    var a = vec4<f32>(0.0);
+    if (present.show_image != 0u && all(present.image_size > vec2<u32>(0u))) {
+        a = accumulation[image_index(p, present.image_size)];
+    }
+    if (a.w <= 0.0 && all(present.preview_size > vec2<u32>(0u))) {
+        a = preview[image_index(p, present.preview_size)];
+    }
     if (a.w <= 0.0) {
         return vec4<f32>(0.0, 0.0, 0.0, 1.0);
     }

@@ -275,6 +275,11 @@ fn gpu_matches_the_cpu_reference_on_every_scene() {
         let cpu = kdray::reference::ReferenceTracer::new(&scene, true).image();
         let d = compare(&gpu.rgb, &cpu, gpu.width, gpu.height, 2);
         let budget = (gpu.width * gpu.height) as usize / 1000;
-        assert!(d.pixels_over <= budget, "{}: GPU and CPU reference differ on {} pixels (budget {budget}): {d:?}", path.display(), d.pixels_over);
+        assert!(
+            d.pixels_over <= budget,
+            "{}: GPU and CPU reference differ on {} pixels (budget {budget}): {d:?}",
+            path.display(),
+            d.pixels_over
+        );
     }
 }

@@ -1283,8 +1283,16 @@ mod camera {
     /// ±1e15 (and radii above 1e15) are refused, naming the component.
     #[test]
     fn coordinates_beyond_f32_range_are_rejected() {
-        assert_rejected(&base().set("camera.position", "[0, 0, 1e300]"), "camera.position[2]", &["1e15", "f32"]);
-        assert_rejected(&base().set("camera.look_at", "[-2e15, 0, 0]"), "camera.look_at[0]", &["1e15"]);
+        assert_rejected(
+            &base().set("camera.position", "[0, 0, 1e300]"),
+            "camera.position[2]",
+            &["1e15", "f32"],
+        );
+        assert_rejected(
+            &base().set("camera.look_at", "[-2e15, 0, 0]"),
+            "camera.look_at[0]",
+            &["1e15"],
+        );
     }
 }
 

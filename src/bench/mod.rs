@@ -306,6 +306,9 @@ pub struct RunRecord {
     pub peak_host_mib: Option<f64>,
     /// Pixels whose colour differs from the k-d tree's image (brute runs).
     pub pixels_differing_from_kdtree: Option<u64>,
+    /// Pixels whose loops reached llvmpipe's 65,535-iteration limit (and may
+    /// be wrong); counted on llvmpipe only, null elsewhere.
+    pub loop_limited_pixels: Option<u64>,
 }
 
 impl RunRecord {
@@ -344,6 +347,7 @@ impl RunRecord {
             primary_mrays_per_s: None,
             peak_host_mib: None,
             pixels_differing_from_kdtree: None,
+            loop_limited_pixels: None,
         }
     }
 
@@ -501,8 +505,8 @@ pub fn run_bench(ctx: &GpuContext, config: &BenchConfig) -> Result<BenchOutcome>
     let max_binding = limits
         .max_storage_buffer_binding_size
         .min(limits.max_buffer_size);
-    // Last measured brute-force frame: (N, ms), for the budget's prediction.
-    let mut last_brute: Option<(usize, f64)> = None;
+    // Measured brute-force frames: (N, ms), for the budget's prediction.
+    let mut brute_times: Vec<(usize, f64)> = Vec::new();
     let mut files = Vec::new();
 
     for case in &cases {
@@ -532,14 +536,11 @@ pub fn run_bench(ctx: &GpuContext, config: &BenchConfig) -> Result<BenchOutcome>
         let scene_ms = ms_since(started);
         let n = scene.object_count();
         let prims = Primitives::from_scene(&scene);
-        // One tile for the whole image where the binding limit allows: the
-        // renderer sums the shader's ray counters per tile without clearing
-        // them in between, so with several tiles the shadow and reflection
-        // counts would be inflated (see `measure`).
+        // The same dispatch plan as `kdray render`.
         let plan = TilePlan::new(
             scene.render.width,
             scene.render.height,
-            scene.render.width as u64 * scene.render.height as u64,
+            TilePlan::DEFAULT_MAX_TILE_PIXELS,
             max_binding,
         );
         let mut kd_image: Option<Vec<u8>> = None;
@@ -548,14 +549,12 @@ pub fn run_bench(ctx: &GpuContext, config: &BenchConfig) -> Result<BenchOutcome>
             let mut record = RunRecord::empty(&label, &scene, accel, scene_ms);
             let name = accel_name(accel);
             if accel == Accel::Brute {
-                if let Some((n0, ms0)) = last_brute {
-                    let predicted = ms0 * n as f64 / n0.max(1) as f64;
+                if let Some((predicted, how)) = predict_brute_ms(&brute_times, n) {
                     if predicted > config.budget_s * 1e3 {
                         record.status = "skipped".into();
                         record.note = Some(format!(
-                            "predicted {:.1} s per frame (linear in N from {:.3} s at N={n0}) > budget {} s",
+                            "predicted {:.1} s per frame ({how}) > budget {} s",
                             predicted * 1e-3,
-                            ms0 * 1e-3,
                             config.budget_s
                         ));
                         progress.line(describe_run(&record));
@@ -581,7 +580,7 @@ pub fn run_bench(ctx: &GpuContext, config: &BenchConfig) -> Result<BenchOutcome>
             match result {
                 Ok(rgb) => {
                     if accel == Accel::Brute {
-                        last_brute = record.gpu_ms.map(|ms| (n, ms));
+                        brute_times.extend(record.gpu_ms.map(|ms| (n, ms)));
                         if let Some(kd) = &kd_image {
                             let differing = kd
                                 .chunks_exact(3)
@@ -622,6 +621,41 @@ pub fn run_bench(ctx: &GpuContext, config: &BenchConfig) -> Result<BenchOutcome>
     files.extend(plots::write_plots(&report, &config.out)?);
     progress.finish();
     Ok(BenchOutcome { report, files })
+}
+
+/// Predicted brute-force frame time at `n` objects from the frames measured
+/// so far, and how it was obtained. Brute force costs a + b N per frame (the
+/// seed's linear model): with two or more sizes measured, a and b come from
+/// the two largest; with one, the frame is scaled by N / N0, which
+/// overestimates (it scales the fixed cost too) and so errs towards skipping.
+pub fn predict_brute_ms(measured: &[(usize, f64)], n: usize) -> Option<(f64, String)> {
+    let mut pts: Vec<(usize, f64)> = measured.iter().copied().filter(|p| p.1 > 0.0).collect();
+    pts.sort_by_key(|p| p.0);
+    pts.dedup_by_key(|p| p.0);
+    match pts.as_slice() {
+        [] => None,
+        [(n0, ms0)] => Some((
+            ms0 * n as f64 / (*n0).max(1) as f64,
+            format!("{:.3} s at N={n0} scaled by N", ms0 * 1e-3),
+        )),
+        [.., (n0, ms0), (n1, ms1)] => {
+            let b = ((ms1 - ms0) / (*n1 as f64 - *n0 as f64)).max(0.0);
+            let a = (ms1 - b * *n1 as f64).max(0.0);
+            let predicted = if b > 0.0 {
+                a + b * n as f64
+            } else {
+                ms1 * n as f64 / (*n1).max(1) as f64
+            };
+            Some((
+                predicted,
+                format!(
+                    "line through {:.3} s at N={n0} and {:.3} s at N={n1}",
+                    ms0 * 1e-3,
+                    ms1 * 1e-3
+                ),
+            ))
+        }
+    }
 }
 
 /// Builds (k-d tree only), uploads and renders one run; fills `record` and
@@ -706,6 +740,19 @@ fn measure(
     record.gpu_ms_samples = samples;
     record.gpu_time_source = Some(first.gpu_time_source.to_string());
     record.frame_wall_ms = median(&walls);
+    if ctx.has_loop_limit() {
+        record.loop_limited_pixels = Some(rays.loop_limited);
+        if rays.loop_limited > 0 {
+            let note = format!(
+                "{} pixels reached llvmpipe's loop limit: their colour (and this time) may be wrong",
+                rays.loop_limited
+            );
+            record.note = Some(match record.note.take() {
+                Some(n) => format!("{n}; {note}"),
+                None => note,
+            });
+        }
+    }
     let r = &scene.render;
     let primary = r.width as u64 * r.height as u64 * r.samples as u64;
     let per_us = (gpu_ms * 1e3).max(1e-9);
@@ -771,4 +818,31 @@ pub fn output_files(out: &Path) -> [PathBuf; 6] {
         out.join(plots::SPEEDUP_PLOT),
         out.join(plots::BUILD_PLOT),
     ]
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn brute_prediction_uses_a_line_once_it_has_two_sizes() {
+        assert!(predict_brute_ms(&[], 10).is_none());
+        // One point: proportional (conservative).
+        let (ms, how) = predict_brute_ms(&[(10, 50.0)], 1000).unwrap();
+        assert!((ms - 5000.0).abs() < 1e-9, "{ms} {how}");
+        // Two points on ms = 40 + 1 * N: the fixed cost is not scaled.
+        let (ms, how) = predict_brute_ms(&[(10, 50.0), (100, 140.0)], 10_000).unwrap();
+        assert!((ms - 10_040.0).abs() < 1e-6, "{ms}");
+        assert!(how.contains("N=10 ") && how.contains("N=100"), "{how}");
+        // Noise that makes the line fall is not extrapolated downwards.
+        let (ms, _) = predict_brute_ms(&[(10, 60.0), (100, 50.0)], 1000).unwrap();
+        assert!((ms - 500.0).abs() < 1e-9, "{ms}");
+    }
+
+    #[test]
+    fn median_of_odd_and_even() {
+        assert_eq!(median(&[]), None);
+        assert_eq!(median(&[3.0, 1.0, 2.0]), Some(2.0));
+        assert_eq!(median(&[4.0, 1.0, 2.0, 3.0]), Some(2.5));
+    }
 }

@@ -154,7 +154,8 @@ fn loglog_chart(
         for s in series {
             let colour = s.colour;
             let line_style = colour.stroke_width(2);
-            if s.points.len() > 1 {
+            // Predicted points are separate estimates: no line between them.
+            if s.points.len() > 1 && s.marker != Marker::Hollow {
                 if s.dashed {
                     chart
                         .draw_series(DashedLineSeries::new(

@@ -18,7 +18,7 @@ pub const JSON_FILE: &str = "bench.json";
 pub const SUMMARY_FILE: &str = "summary.md";
 
 /// The CSV's columns, in order (the fields of [`RunRecord`] but the samples).
-pub const CSV_COLUMNS: [&str; 32] = [
+pub const CSV_COLUMNS: [&str; 33] = [
     "scene",
     "n",
     "spheres",
@@ -51,6 +51,7 @@ pub const CSV_COLUMNS: [&str; 32] = [
     "mrays_per_s",
     "peak_host_mib",
     "pixels_differing_from_kdtree",
+    "loop_limited_pixels",
 ];
 
 /// Least-squares fits of the measured GPU times.
@@ -408,6 +409,7 @@ pub fn csv_text(runs: &[RunRecord]) -> String {
             opt_f(r.mrays_per_s, 3),
             opt_f(r.peak_host_mib, 1),
             opt(r.pixels_differing_from_kdtree),
+            opt(r.loop_limited_pixels),
         ];
         debug_assert_eq!(fields.len(), CSV_COLUMNS.len());
         out.push_str(&fields.join(","));
@@ -458,7 +460,7 @@ pub fn markdown_summary(report: &BenchReport) -> String {
     );
     let _ = writeln!(
         s,
-        "| scene | N | accel | image | build ms | nodes | leaves | depth | refs/leaf | upload ms | GPU ms (median) | primary / shadow / reflection rays | Mrays/s | peak MiB |"
+        "| scene | N | accel | image | build ms | nodes | leaves | depth | refs/leaf | upload ms | GPU ms median (min-max) | primary / shadow / reflection rays | Mrays/s | peak MiB |"
     );
     let _ = writeln!(
         s,
@@ -491,7 +493,16 @@ pub fn markdown_summary(report: &BenchReport) -> String {
             opt(r.kd_max_depth),
             opt_f(r.kd_refs_per_leaf, 2),
             ms(r.upload_ms),
-            ms(r.gpu_ms),
+            if r.gpu_ms_samples.len() > 1 {
+                format!(
+                    "{} ({}-{})",
+                    ms(r.gpu_ms),
+                    ms(r.gpu_ms_min),
+                    ms(r.gpu_ms_max)
+                )
+            } else {
+                ms(r.gpu_ms)
+            },
             count(r.primary_rays.unwrap_or(0)),
             count(r.shadow_rays.unwrap_or(0)),
             count(r.reflection_rays.unwrap_or(0)),

@@ -60,7 +60,14 @@ pub fn ranked_adapters() -> (Vec<wgpu::Adapter>, Option<usize>) {
 }
 
 fn ranked_adapters_of(backends: wgpu::Backends) -> (Vec<wgpu::Adapter>, Option<usize>) {
-    let mut adapters = pollster::block_on(instance(backends).enumerate_adapters(backends));
+    rank(pollster::block_on(
+        instance(backends).enumerate_adapters(backends),
+    ))
+}
+
+/// Sorts adapters best first and picks the first whose name contains
+/// WGPU_ADAPTER_NAME (any, if it is unset).
+fn rank(mut adapters: Vec<wgpu::Adapter>) -> (Vec<wgpu::Adapter>, Option<usize>) {
     adapters.sort_by_key(|a| {
         let info = a.get_info();
         (backend_rank(info.backend), device_rank(info.device_type))
@@ -99,47 +106,7 @@ impl GpuContext {
                 _ => Error::Gpu(NO_ADAPTER_HELP.to_string()),
             });
         };
-        let adapter = adapters.swap_remove(pick);
-        let info = adapter.get_info();
-        let has_timestamps = adapter.features().contains(wgpu::Features::TIMESTAMP_QUERY);
-        let required_features = if has_timestamps {
-            wgpu::Features::TIMESTAMP_QUERY
-        } else {
-            wgpu::Features::empty()
-        };
-        let (device, queue) = pollster::block_on(adapter.request_device(&wgpu::DeviceDescriptor {
-            label: Some("kdray"),
-            required_features,
-            // Everything the adapter offers: large scenes need its real
-            // storage-buffer limits, not WebGPU's defaults.
-            required_limits: adapter.limits(),
-            ..Default::default()
-        }))
-        .map_err(|e| Error::Gpu(format!("cannot open a device on {}: {e}", describe(&info))))?;
-        // wgpu panics on uncaptured errors by default; record them instead
-        // and turn them into one error line at the next check.
-        let fault = Arc::new(Mutex::new(None));
-        let record = |fault: &Arc<Mutex<Option<String>>>, message: String| {
-            if let Ok(mut slot) = fault.lock() {
-                slot.get_or_insert(message);
-            }
-        };
-        let f = fault.clone();
-        device.on_uncaptured_error(Arc::new(move |e: wgpu::Error| {
-            record(&f, format!("GPU error: {e}"))
-        }));
-        let f = fault.clone();
-        device.set_device_lost_callback(move |reason, message| {
-            record(&f, format!("GPU device lost ({reason:?}): {message}"))
-        });
-        Ok(GpuContext {
-            adapter,
-            device,
-            queue,
-            info,
-            has_timestamps,
-            fault,
-        })
+        Self::open_device(adapters.swap_remove(pick))
     }
 
     /// Opens a device on the best adapter of `instance` that can present to
@@ -147,24 +114,12 @@ impl GpuContext {
     /// [`GpuContext::new`] (WGPU_ADAPTER_NAME honoured, Vulkan first, real GPUs
     /// before software ones), and the device is set up the same way.
     pub fn for_surface(instance: &wgpu::Instance, surface: &wgpu::Surface<'_>) -> Result<Self> {
-        let mut adapters: Vec<wgpu::Adapter> =
-            pollster::block_on(instance.enumerate_adapters(wgpu::Backends::all()))
-                .into_iter()
-                .filter(|a| a.is_surface_supported(surface))
-                .collect();
-        adapters.sort_by_key(|a| {
-            let info = a.get_info();
-            (backend_rank(info.backend), device_rank(info.device_type))
-        });
+        let supported = pollster::block_on(instance.enumerate_adapters(wgpu::Backends::all()))
+            .into_iter()
+            .filter(|a| a.is_surface_supported(surface))
+            .collect();
+        let (mut adapters, pick) = rank(supported);
         let wanted = std::env::var("WGPU_ADAPTER_NAME").ok();
-        let pick = adapters.iter().position(|a| match &wanted {
-            Some(name) => a
-                .get_info()
-                .name
-                .to_lowercase()
-                .contains(&name.to_lowercase()),
-            None => true,
-        });
         let Some(pick) = pick else {
             return Err(Error::Gpu(match wanted {
                 Some(name) if !adapters.is_empty() => format!("no adapter that can draw to the window has a name containing WGPU_ADAPTER_NAME={name:?}; `kdray info` lists adapters"),
@@ -187,10 +142,14 @@ impl GpuContext {
         let (device, queue) = pollster::block_on(adapter.request_device(&wgpu::DeviceDescriptor {
             label: Some("kdray"),
             required_features,
+            // Everything the adapter offers: large scenes need its real
+            // storage-buffer limits, not WebGPU's defaults.
             required_limits: adapter.limits(),
             ..Default::default()
         }))
         .map_err(|e| Error::Gpu(format!("cannot open a device on {}: {e}", describe(&info))))?;
+        // wgpu panics on uncaptured errors by default; record them instead
+        // and turn them into one error line at the next check.
         let fault = Arc::new(Mutex::new(None));
         let record = |fault: &Arc<Mutex<Option<String>>>, message: String| {
             if let Ok(mut slot) = fault.lock() {

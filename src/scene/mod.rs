@@ -121,7 +121,10 @@ pub(crate) fn read_input_file(path: &std::path::Path) -> std::io::Result<Vec<u8>
         return Err(Error::new(ErrorKind::InvalidInput, "not a regular file"));
     }
     if meta.len() > MAX_INPUT_BYTES {
-        return Err(Error::new(ErrorKind::InvalidInput, format!("larger than {} GiB", MAX_INPUT_BYTES >> 30)));
+        return Err(Error::new(
+            ErrorKind::InvalidInput,
+            format!("larger than {} GiB", MAX_INPUT_BYTES >> 30),
+        ));
     }
     std::fs::read(path)
 }
@@ -135,7 +138,13 @@ pub fn fuzz_check(text: &str, format: SceneFormat) {
     if let Ok(scene) = parse_scene(text, path, format) {
         let prims = crate::geometry::Primitives::from_scene(&scene);
         let tree = crate::kdtree::KdTree::for_primitives(&prims);
-        let ray = crate::geometry::Ray { origin: scene.camera.position.as_vec3(), dir: (scene.camera.look_at - scene.camera.position).normalize().as_vec3() };
-        let _ = crate::kdtree::traverse::closest_hit(&tree, &prims, &ray, crate::geometry::T_INFINITY);
+        let ray = crate::geometry::Ray {
+            origin: scene.camera.position.as_vec3(),
+            dir: (scene.camera.look_at - scene.camera.position)
+                .normalize()
+                .as_vec3(),
+        };
+        let _ =
+            crate::kdtree::traverse::closest_hit(&tree, &prims, &ray, crate::geometry::T_INFINITY);
     }
 }

@@ -48,8 +48,14 @@ impl SceneFormat {
 pub fn load_scene(path: &Path) -> Result<Scene, SceneError> {
     let bytes = super::read_input_file(path)
         .map_err(|e| SceneError::new(path, None, None, format!("cannot read scene file: {e}")))?;
-    let text = String::from_utf8(bytes)
-        .map_err(|e| SceneError::new(path, None, None, format!("cannot read scene file: not UTF-8 text ({e})")))?;
+    let text = String::from_utf8(bytes).map_err(|e| {
+        SceneError::new(
+            path,
+            None,
+            None,
+            format!("cannot read scene file: not UTF-8 text ({e})"),
+        )
+    })?;
     parse_scene(&text, path, SceneFormat::from_path(path))
 }
 
@@ -538,7 +544,9 @@ impl Validator<'_> {
             if x.abs() > MAX_COORDINATE {
                 return Err(self.error(
                     &format!("{key}[{i}]"),
-                    format!("must be within ±{MAX_COORDINATE:e} (the GPU computes in f32), got {x:e}"),
+                    format!(
+                        "must be within ±{MAX_COORDINATE:e} (the GPU computes in f32), got {x:e}"
+                    ),
                 ));
             }
         }
@@ -823,7 +831,10 @@ impl Validator<'_> {
         }
         for t in &mesh.triangles {
             let vertices = t.vertices.map(|v| transform * v + translate);
-            if !vertices.iter().all(|v| v.is_finite() && v.abs().max_element() <= MAX_COORDINATE) {
+            if !vertices
+                .iter()
+                .all(|v| v.is_finite() && v.abs().max_element() <= MAX_COORDINATE)
+            {
                 return Err(self.error(
                     &key("scale"),
                     "the transformed mesh has a non-finite vertex, or one beyond ±1e15 (the GPU computes in f32)",

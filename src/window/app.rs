@@ -2,13 +2,16 @@
 //! window, its surface, the device, the scene's tree and buffers, the
 //! accumulation buffer and the present pass, and turns input into frames.
 //!
-//! Each frame is one submission: while the camera is still it adds one
-//! stratified sample per pixel (sample `n` of the k x k grid at frame `n`,
-//! the headless kernel's order) until the image holds all k * k, then the
-//! window idles; while it moves (and for [`SETTLE`] after) every frame is a
-//! fresh single-sample image at 1/s of the resolution, with `s` adapted so a
-//! frame takes about [`MOVING_BUDGET_MS`]. Any camera or setting change
-//! restarts the accumulation.
+//! Each frame is one submission and one present. While the camera moves
+//! (and for [`SETTLE`] after its last change) a frame traces the *preview*:
+//! a fresh single-sample image at 1/s of the resolution, `s` adapted so a
+//! frame takes about [`MOVING_BUDGET_MS`]. While it is still, each frame adds
+//! stratified samples to the *image* (sample `n` of the k x k grid in pass
+//! `n`, the headless kernel's order) until every pixel holds all k * k; then
+//! the window idles. A pass that would take longer than [`STILL_BUDGET_MS`]
+//! is spread over several frames, a band of rows each, and the present pass
+//! shows the preview where the image has no sample yet. Any change restarts
+//! the refinement after one preview frame.
 
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
@@ -24,7 +27,7 @@ use winit::window::{Window, WindowId};
 
 use super::camera_controller::{Bounds, Button, CameraController, ControlKey, Input};
 use super::reload::SceneWatcher;
-use super::view::{FrameWork, PresentParams, Viewer};
+use super::view::{FrameWork, PresentParams, Target, Viewer};
 use super::{signals, WindowOptions, DEFAULT_WINDOW_SAMPLES};
 use crate::error::{Error, Result};
 use crate::geometry::Primitives;
@@ -35,6 +38,8 @@ use crate::scene::Scene;
 
 /// The camera counts as moving until this long after its last change.
 const SETTLE: Duration = Duration::from_millis(150);
+/// How often the window manager is asked whether the window is minimised.
+const STATE_CHECK_INTERVAL: Duration = Duration::from_millis(100);
 /// Title bar refresh interval.
 const TITLE_INTERVAL: Duration = Duration::from_millis(250);
 /// Frame time aimed at while the camera moves.
@@ -183,41 +188,28 @@ impl App {
             return;
         };
         let pressed = event.state == ElementState::Pressed;
-        if let PhysicalKey::Code(code) = event.physical_key {
-            let fly = match code {
-                KeyCode::KeyW => Some(ControlKey::Forward),
-                KeyCode::KeyS => Some(ControlKey::Backward),
-                KeyCode::KeyA => Some(ControlKey::Left),
-                KeyCode::KeyD => Some(ControlKey::Right),
-                KeyCode::KeyQ => Some(ControlKey::Down),
-                KeyCode::KeyE => Some(ControlKey::Up),
-                _ => None,
-            };
-            if let Some(key) = fly {
-                session.controller.handle(Input::Key { key, pressed });
-                return;
-            }
+        let Some(action) = key_action(event.physical_key, &event.logical_key) else {
+            return;
+        };
+        if let Action::Fly(key) = action {
+            session.controller.handle(Input::Key { key, pressed });
+            return;
         }
         if !pressed || event.repeat {
             return;
         }
-        let ch = match &event.logical_key {
-            Key::Named(NamedKey::Escape) => return self.quit(event_loop),
-            Key::Character(c) => c.to_lowercase(),
-            _ => return,
-        };
-        match ch.as_str() {
-            "f" | "r" => {
-                let key = if ch == "f" {
-                    ControlKey::FrameAll
-                } else {
-                    ControlKey::Reset
-                };
+        match action {
+            Action::Fly(_) => {}
+            Action::Quit => self.quit(event_loop),
+            Action::Camera(key) => {
                 if session.controller.handle(Input::Key { key, pressed: true }) {
-                    session.restart = true;
+                    session.invalidate();
                 }
             }
-            "p" => {
+            Action::Screenshot if session.presented == 0 => {
+                eprintln!("kdray: nothing shown yet, no screenshot saved");
+            }
+            Action::Screenshot => {
                 let path = next_screenshot_path(&self.options.scene);
                 match session.save_screenshot(&path) {
                     Ok(()) => eprintln!(
@@ -229,27 +221,26 @@ impl App {
                     Err(e) => eprintln!("kdray: {e}"),
                 }
             }
-            "b" => {
+            Action::ToggleAccel => {
                 session.accel = match session.accel {
                     Accel::Kdtree => Accel::Brute,
                     Accel::Brute => Accel::Kdtree,
                 };
-                session.restart = true;
+                session.invalidate();
                 session.update_title(&self.name, true);
             }
-            "[" | "]" => {
-                let depth = if ch == "[" {
+            Action::DepthDown | Action::DepthUp => {
+                let depth = if action == Action::DepthDown {
                     session.max_depth.saturating_sub(1)
                 } else {
                     session.max_depth + 1
                 };
                 // The scene format's range of render.max_depth.
                 session.max_depth = depth.clamp(1, 64);
-                session.restart = true;
+                session.invalidate();
                 session.update_title(&self.name, true);
             }
-            "h" => eprintln!("{HELP}"),
-            _ => {}
+            Action::Help => eprintln!("{HELP}"),
         }
     }
 
@@ -310,41 +301,17 @@ impl ApplicationHandler for App {
         let Some(session) = &mut self.session else {
             return;
         };
-        let input = match event {
+        match event {
             WindowEvent::Resized(size) => {
-                session.resize(size);
-                Input::Resized {
-                    width: size.width,
-                    height: size.height,
+                if let Err(e) = session.resize(size) {
+                    return self.fail(event_loop, e);
                 }
             }
-            WindowEvent::Occluded(occluded) => {
-                session.occluded = occluded;
-                return;
-            }
-            WindowEvent::CursorMoved { position, .. } => Input::CursorMoved {
-                x: position.x,
-                y: position.y,
-            },
-            WindowEvent::CursorLeft { .. } => Input::CursorLeft,
-            WindowEvent::MouseInput { state, button, .. } => {
-                let button = match button {
-                    MouseButton::Left => Button::Left,
-                    MouseButton::Right => Button::Right,
-                    MouseButton::Middle => Button::Middle,
-                    _ => return,
-                };
-                Input::Button {
-                    button,
-                    pressed: state == ElementState::Pressed,
-                }
-            }
-            WindowEvent::MouseWheel { delta, .. } => match delta {
-                MouseScrollDelta::LineDelta(_, y) => Input::WheelLines(y as f64),
-                MouseScrollDelta::PixelDelta(p) => Input::WheelPixels(p.y),
-            },
-            WindowEvent::Focused(false) => Input::FocusLost,
-            _ => return,
+            WindowEvent::Occluded(occluded) => session.occluded = occluded,
+            _ => {}
+        }
+        let Some(input) = controller_input(&event) else {
+            return;
         };
         if session.controller.handle(input) {
             session.camera_moved(now);
@@ -375,6 +342,86 @@ impl ApplicationHandler for App {
         }
         event_loop.set_control_flow(ControlFlow::WaitUntil(self.watcher.next_poll()));
     }
+}
+
+/// What a key does.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Action {
+    /// W A S D Q E: move while held.
+    Fly(ControlKey),
+    /// F, R: one camera jump.
+    Camera(ControlKey),
+    Screenshot,
+    ToggleAccel,
+    DepthDown,
+    DepthUp,
+    Help,
+    Quit,
+}
+
+/// The action of a key: the fly keys by position (W A S D Q E of a US
+/// keyboard, on any layout), the others by the character they type.
+fn key_action(physical: PhysicalKey, logical: &Key) -> Option<Action> {
+    if let PhysicalKey::Code(code) = physical {
+        let fly = match code {
+            KeyCode::KeyW => Some(ControlKey::Forward),
+            KeyCode::KeyS => Some(ControlKey::Backward),
+            KeyCode::KeyA => Some(ControlKey::Left),
+            KeyCode::KeyD => Some(ControlKey::Right),
+            KeyCode::KeyQ => Some(ControlKey::Down),
+            KeyCode::KeyE => Some(ControlKey::Up),
+            _ => None,
+        };
+        if let Some(key) = fly {
+            return Some(Action::Fly(key));
+        }
+    }
+    let ch = match logical {
+        Key::Named(NamedKey::Escape) => return Some(Action::Quit),
+        Key::Character(c) => c.to_lowercase(),
+        _ => return None,
+    };
+    Some(match ch.as_str() {
+        "f" => Action::Camera(ControlKey::FrameAll),
+        "r" => Action::Camera(ControlKey::Reset),
+        "p" => Action::Screenshot,
+        "b" => Action::ToggleAccel,
+        "[" => Action::DepthDown,
+        "]" => Action::DepthUp,
+        "h" => Action::Help,
+        _ => return None,
+    })
+}
+
+/// The camera controller's input for a window event (sizes and positions
+/// in physical pixels, as the controller expects).
+fn controller_input(event: &WindowEvent) -> Option<Input> {
+    Some(match event {
+        WindowEvent::Resized(size) => Input::Resized {
+            width: size.width,
+            height: size.height,
+        },
+        WindowEvent::CursorMoved { position, .. } => Input::CursorMoved {
+            x: position.x,
+            y: position.y,
+        },
+        WindowEvent::CursorLeft { .. } => Input::CursorLeft,
+        WindowEvent::MouseInput { state, button, .. } => Input::Button {
+            button: match button {
+                MouseButton::Left => Button::Left,
+                MouseButton::Right => Button::Right,
+                MouseButton::Middle => Button::Middle,
+                _ => return None,
+            },
+            pressed: *state == ElementState::Pressed,
+        },
+        WindowEvent::MouseWheel { delta, .. } => match delta {
+            MouseScrollDelta::LineDelta(_, y) => Input::WheelLines(*y as f64),
+            MouseScrollDelta::PixelDelta(p) => Input::WheelPixels(p.y),
+        },
+        WindowEvent::Focused(false) => Input::FocusLost,
+        _ => return None,
+    })
 }
 
 /// Which work a frame did, for the figures.
@@ -428,6 +475,9 @@ struct WindowStats {
     /// Resolution divisor while moving, at exit.
     moving_scale: u32,
     idle_frames: u32,
+    /// Seconds the last full refinement took (from the restart to the
+    /// submission of its last pass), if one finished.
+    refine_seconds: Option<f64>,
 }
 
 /// Everything that exists once the window is open.
@@ -455,12 +505,22 @@ struct Session {
     max_pixels: u64,
     /// Size of the image in the accumulation buffer.
     image: (u32, u32),
+    /// Size of the preview, and whether it shows the current view.
+    preview: (u32, u32),
+    preview_fresh: bool,
     /// Samples per pixel accumulated in the still image (complete passes).
     passes: u32,
     /// First row of the current pass still to trace.
     row: u32,
+    /// When the still image was last restarted, and how long its last full
+    /// refinement took (to the submission of its last pass).
+    refine_started: Instant,
+    refine_seconds: Option<f64>,
     /// Smoothed time per traced pixel of still frames (0: not measured yet).
     ms_per_pixel: f64,
+    /// Rows a still frame can trace within [`STILL_BUDGET_MS`], as measured
+    /// (0: not measured yet).
+    band_rows: u32,
     restart: bool,
     last_change: Option<Instant>,
     last_update: Instant,
@@ -469,11 +529,17 @@ struct Session {
     occluded: bool,
     /// The surface said so: no frames before this.
     retry_at: Option<Instant>,
+    /// A zero-size window.
     minimized: bool,
+    /// The window manager says the window is minimised (checked every
+    /// [`STATE_CHECK_INTERVAL`]).
+    wm_minimized: bool,
+    next_state_check: Instant,
     presented: u32,
     opened: Instant,
-    /// When the previous frame of an uninterrupted stream was made.
-    last_frame: Option<Instant>,
+    /// When the previous frame of an uninterrupted stream was made, and
+    /// its kind.
+    last_frame: Option<(Instant, FrameKind)>,
     still: KindStats,
     moving: KindStats,
     idle: KindStats,
@@ -651,15 +717,22 @@ impl Session {
             accel: options.accel,
             max_pixels,
             image: (0, 0),
+            preview: (0, 0),
+            preview_fresh: false,
             passes: 0,
             row: 0,
+            refine_started: now,
+            refine_seconds: None,
             ms_per_pixel: 0.0,
+            band_rows: 0,
             restart: true,
             last_change: None,
             last_update: now,
             moving_scale: 2,
             occluded: false,
             retry_at: None,
+            wm_minimized: false,
+            next_state_check: now,
             minimized: size.width == 0 || size.height == 0,
             presented: 0,
             opened: now,
@@ -689,13 +762,29 @@ impl Session {
         self.scene = scene;
         self.tree = tree;
         self.buffers = buffers;
-        self.restart = true;
+        self.invalidate();
         Ok(())
     }
 
-    fn camera_moved(&mut self, now: Instant) {
-        self.last_change = Some(now);
+    /// Something that changes the image (not the camera's motion):
+    /// refinement restarts, after one preview frame.
+    fn invalidate(&mut self) {
         self.restart = true;
+        self.preview_fresh = false;
+    }
+
+    fn camera_moved(&mut self, now: Instant) {
+        if !self.is_moving(now) && self.ms_per_pixel > 0.0 {
+            // Starting to move: the resolution divisor that the still
+            // frames' speed predicts fits the moving budget.
+            let pixels = self.config.width as f64 * self.config.height as f64;
+            let s = (pixels * self.ms_per_pixel / MOVING_BUDGET_MS)
+                .sqrt()
+                .ceil();
+            self.moving_scale = (s as u32).clamp(1, MAX_MOVING_SCALE);
+        }
+        self.last_change = Some(now);
+        self.invalidate();
     }
 
     fn is_moving(&self, now: Instant) -> bool {
@@ -703,20 +792,29 @@ impl Session {
             .is_some_and(|t| now.duration_since(t) < SETTLE)
     }
 
-    fn resize(&mut self, size: PhysicalSize<u32>) {
+    fn resize(&mut self, size: PhysicalSize<u32>) -> Result<()> {
         self.minimized = size.width == 0 || size.height == 0;
         if self.minimized || (size.width, size.height) == (self.config.width, self.config.height) {
-            return;
+            return Ok(());
         }
         self.config.width = size.width;
         self.config.height = size.height;
         self.surface.configure(&self.ctx.device, &self.config);
-        self.restart = true;
+        let (iw, ih) = self.still_image(size.width, size.height);
+        self.viewer
+            .reserve(&self.ctx, &self.buffers, iw as u64 * ih as u64)?;
+        self.invalidate();
+        Ok(())
     }
 
     /// Whether the event loop should ask for another frame now.
     fn wants_frame(&mut self, now: Instant, auto_orbit: f64, frames: Option<u32>) -> bool {
-        if self.minimized || self.window.is_minimized() == Some(true) {
+        if now >= self.next_state_check {
+            // A round trip to the window system: not every frame.
+            self.next_state_check = now + STATE_CHECK_INTERVAL;
+            self.wm_minimized = self.window.is_minimized() == Some(true);
+        }
+        if self.minimized || self.wm_minimized {
             return false;
         }
         if self.occluded || self.retry_at.is_some_and(|t| now < t) {
@@ -764,12 +862,17 @@ impl Session {
     /// (a multiple of the workgroup's height) sized so that the pass's
     /// frames share it evenly within [`STILL_BUDGET_MS`].
     fn rows_per_frame(&self, (iw, ih): (u32, u32)) -> u32 {
-        let pass_ms = self.ms_per_pixel * iw as f64 * ih as f64;
-        if pass_ms <= STILL_BUDGET_MS {
+        let step = crate::gpu::shaders::TRACE_WORKGROUP.1;
+        // Not measured yet: a first band of about 64k pixels.
+        let band = if self.band_rows == 0 {
+            65536 / iw.max(1)
+        } else {
+            self.band_rows
+        };
+        if band >= ih {
             return ih;
         }
-        let frames = (pass_ms / STILL_BUDGET_MS).ceil() as u32;
-        let step = crate::gpu::shaders::TRACE_WORKGROUP.1;
+        let frames = ih.div_ceil(band.max(1));
         ih.div_ceil(frames)
             .next_multiple_of(step)
             .clamp(step.min(ih), ih)
@@ -798,7 +901,7 @@ impl Session {
             }
             wgpu::CurrentSurfaceTexture::Outdated | wgpu::CurrentSurfaceTexture::Lost => {
                 let size = self.window.inner_size();
-                self.resize(size);
+                self.resize(size)?;
                 if !self.minimized {
                     self.surface.configure(&self.ctx.device, &self.config);
                 }
@@ -815,23 +918,29 @@ impl Session {
             ..self.scene.render
         }
         .samples_per_axis();
-        let (kind, work) = if self.is_moving(now) {
+        let (kind, work) = if self.is_moving(now) || (self.restart && !self.preview_fresh) {
+            // The preview: while moving, and once after any other change
+            // (so that rows the first sample pass has not reached yet show
+            // the new view, not the old one).
             let s = self.moving_scale;
             let full = self.still_image(w, h);
-            let image = (full.0.div_ceil(s), full.1.div_ceil(s));
-            let pass = self.params(image, (w, h), 1, 0);
-            self.image = image;
-            self.passes = 0;
-            self.row = 0;
+            let preview = (full.0.div_ceil(s), full.1.div_ceil(s));
+            let pass = self.params(preview, (w, h), 1, 0);
+            self.preview = preview;
+            self.preview_fresh = true;
             self.restart = true;
             (
                 FrameKind::Moving,
                 FrameWork {
-                    clear_pixels: Some(image.0 as u64 * image.1 as u64),
+                    target: Target::Preview,
+                    clear_pixels: Some(preview.0 as u64 * preview.1 as u64),
                     pass: Some(pass),
                     present: PresentParams {
-                        image_size: [image.0, image.1],
+                        image_size: [self.image.0, self.image.1],
                         target_size: [w, h],
+                        preview_size: [preview.0, preview.1],
+                        show_image: 0,
+                        _pad: 0,
                     },
                 },
             )
@@ -843,6 +952,7 @@ impl Session {
                 self.image = image;
                 self.passes = 0;
                 self.row = 0;
+                self.refine_started = now;
                 clear_pixels = Some(image.0 as u64 * image.1 as u64);
             }
             let pass = (self.passes < k * k).then(|| {
@@ -855,6 +965,10 @@ impl Session {
                 if self.row >= image.1 {
                     self.row = 0;
                     self.passes += 1;
+                    if self.passes == k * k {
+                        self.refine_seconds =
+                            Some(now.duration_since(self.refine_started).as_secs_f64());
+                    }
                 }
                 p
             });
@@ -866,11 +980,15 @@ impl Session {
             (
                 kind,
                 FrameWork {
+                    target: Target::Image,
                     clear_pixels,
                     pass,
                     present: PresentParams {
                         image_size: [image.0, image.1],
                         target_size: [w, h],
+                        preview_size: [self.preview.0, self.preview.1],
+                        show_image: 1,
+                        _pad: 0,
                     },
                 },
             )
@@ -905,8 +1023,10 @@ impl Session {
     /// time (frames are paced by the swapchain, so in a steady stream it is
     /// the GPU's time per frame).
     fn record(&mut self, now: Instant, kind: FrameKind, rays: u64) {
-        if let Some(before) = self.last_frame {
+        if let Some((before, previous)) = self.last_frame {
             let seconds = now.duration_since(before).as_secs_f64();
+            // Estimates learn from a stream of frames of one kind only.
+            let steady = previous == kind;
             let stats = match kind {
                 FrameKind::Still => &mut self.still,
                 FrameKind::Moving => &mut self.moving,
@@ -922,12 +1042,17 @@ impl Session {
             if kind != FrameKind::Idle {
                 self.mrays += a * (mrays - self.mrays);
             }
-            if kind == FrameKind::Still && rays > 0 {
+            if steady && kind == FrameKind::Still && rays > 0 {
                 let per_pixel = ms / rays as f64;
                 let b = if self.ms_per_pixel == 0.0 { 1.0 } else { 0.3 };
                 self.ms_per_pixel += b * (per_pixel - self.ms_per_pixel);
+                // Band height: scale the rows just traced toward the budget
+                // (frame overheads included), at most doubling or halving.
+                let rows = (rays / self.image.0.max(1) as u64) as f64;
+                let target = rows * STILL_BUDGET_MS / ms.max(1e-3);
+                self.band_rows = target.clamp(rows * 0.5, rows * 2.0).max(1.0) as u32;
             }
-            if kind == FrameKind::Moving {
+            if steady && kind == FrameKind::Moving {
                 // Coarser when over budget; finer when the finer image would
                 // still fit in it (pixels grow as the square of 1/s).
                 let s = self.moving_scale as f64;
@@ -940,7 +1065,7 @@ impl Session {
                 }
             }
         }
-        self.last_frame = Some(now);
+        self.last_frame = Some((now, kind));
     }
 
     fn update_title(&mut self, name: &str, force: bool) {
@@ -997,6 +1122,9 @@ impl Session {
                 ));
             }
         }
+        if let Some(t) = self.refine_seconds {
+            line.push_str(&format!("; {} samples per pixel in {t:.1} s", self.samples));
+        }
         eprintln!("{line}");
         if options.stats {
             let stats = WindowStats {
@@ -1017,6 +1145,7 @@ impl Session {
                 moving_mrays_per_s: self.moving.mrays(),
                 moving_scale: self.moving_scale,
                 idle_frames: self.idle.frames,
+                refine_seconds: self.refine_seconds,
             };
             println!(
                 "{}",
@@ -1024,5 +1153,152 @@ impl Session {
             );
         }
         Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::scene::Camera;
+    use glam::DVec3;
+    use winit::dpi::PhysicalPosition;
+    use winit::event::DeviceId;
+
+    fn controller() -> CameraController {
+        let home = Camera {
+            position: DVec3::new(0.0, 0.0, 1.0),
+            look_at: DVec3::ZERO,
+            up: DVec3::Y,
+            vfov_degrees: 90.0,
+        };
+        let bounds = Bounds {
+            min: DVec3::splat(-1.0),
+            max: DVec3::splat(1.0),
+        };
+        CameraController::new(home, bounds, 200, 100)
+    }
+
+    /// Feeds winit events through the event loop's mapping to the controller.
+    fn feed(c: &mut CameraController, events: &[WindowEvent]) -> bool {
+        let mut changed = false;
+        for e in events {
+            if let Some(input) = controller_input(e) {
+                changed |= c.handle(input);
+            }
+        }
+        changed
+    }
+
+    fn moved(x: f64, y: f64) -> WindowEvent {
+        WindowEvent::CursorMoved {
+            device_id: DeviceId::dummy(),
+            position: PhysicalPosition::new(x, y),
+        }
+    }
+
+    fn button(button: MouseButton, pressed: bool) -> WindowEvent {
+        WindowEvent::MouseInput {
+            device_id: DeviceId::dummy(),
+            state: if pressed {
+                ElementState::Pressed
+            } else {
+                ElementState::Released
+            },
+            button,
+        }
+    }
+
+    fn close(a: DVec3, b: DVec3) -> bool {
+        (a - b).length() < 1e-9
+    }
+
+    #[test]
+    fn winit_mouse_events_orbit_pan_and_zoom() {
+        let mut c = controller();
+        let left_drag = [
+            moved(100.0, 50.0),
+            button(MouseButton::Left, true),
+            moved(150.0, 50.0),
+            button(MouseButton::Left, false),
+        ];
+        assert!(feed(&mut c, &left_drag));
+        assert!(close(c.camera().position, DVec3::new(1.0, 0.0, 0.0)));
+
+        let mut c = controller();
+        let right_drag = [
+            moved(100.0, 50.0),
+            button(MouseButton::Right, true),
+            moved(150.0, 50.0),
+            button(MouseButton::Right, false),
+            // Released: moving does nothing.
+            moved(10.0, 10.0),
+        ];
+        assert!(feed(&mut c, &right_drag));
+        assert!(close(c.camera().position, DVec3::new(-1.0, 0.0, 1.0)));
+
+        let mut c = controller();
+        let wheel = WindowEvent::MouseWheel {
+            device_id: DeviceId::dummy(),
+            delta: MouseScrollDelta::LineDelta(0.0, 1.0),
+            phase: winit::event::TouchPhase::Moved,
+        };
+        assert!(feed(&mut c, &[wheel]));
+        assert!(close(c.camera().position, DVec3::new(0.0, 0.0, 0.9)));
+
+        // A resize changes the orbit's pixels-per-turn.
+        let mut c = controller();
+        let events = [
+            WindowEvent::Resized(PhysicalSize::new(400, 200)),
+            moved(0.0, 0.0),
+            button(MouseButton::Left, true),
+            moved(100.0, 0.0),
+        ];
+        assert!(feed(&mut c, &events));
+        assert!(close(c.camera().position, DVec3::new(1.0, 0.0, 0.0)));
+        // Losing focus releases the button.
+        assert!(!feed(
+            &mut c,
+            &[WindowEvent::Focused(false), moved(300.0, 0.0)]
+        ));
+    }
+
+    #[test]
+    fn keys_map_to_actions() {
+        let ch = |s: &str| Key::Character(s.into());
+        let none = PhysicalKey::Code(KeyCode::F13);
+        let cases = [
+            (
+                PhysicalKey::Code(KeyCode::KeyW),
+                ch("z"),
+                Some(Action::Fly(ControlKey::Forward)),
+            ),
+            (
+                PhysicalKey::Code(KeyCode::KeyA),
+                ch("q"),
+                Some(Action::Fly(ControlKey::Left)),
+            ),
+            (
+                PhysicalKey::Code(KeyCode::KeyQ),
+                ch("a"),
+                Some(Action::Fly(ControlKey::Down)),
+            ),
+            (
+                PhysicalKey::Code(KeyCode::KeyE),
+                ch("e"),
+                Some(Action::Fly(ControlKey::Up)),
+            ),
+            (none, ch("F"), Some(Action::Camera(ControlKey::FrameAll))),
+            (none, ch("r"), Some(Action::Camera(ControlKey::Reset))),
+            (none, ch("p"), Some(Action::Screenshot)),
+            (none, ch("b"), Some(Action::ToggleAccel)),
+            (none, ch("["), Some(Action::DepthDown)),
+            (none, ch("]"), Some(Action::DepthUp)),
+            (none, ch("h"), Some(Action::Help)),
+            (none, Key::Named(NamedKey::Escape), Some(Action::Quit)),
+            (none, ch("x"), None),
+        ];
+        for (physical, logical, action) in cases {
+            assert_eq!(key_action(physical, &logical), action, "{logical:?}");
+        }
     }
 }

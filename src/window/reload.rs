@@ -12,13 +12,18 @@ use std::time::{Duration, Instant, SystemTime};
 /// Time between two polls of the files.
 pub const POLL_INTERVAL: Duration = Duration::from_millis(100);
 
-/// What identifies a version of a file: (modification time, size), or None
-/// if it cannot be read.
-type Stamp = Option<(SystemTime, u64)>;
+/// What identifies a version of a file: modification time, size and (on
+/// Unix) inode, which an editor's save-by-rename changes; None if it cannot
+/// be read.
+type Stamp = Option<(SystemTime, u64, u64)>;
 
 fn stamp(path: &Path) -> Stamp {
     let meta = std::fs::metadata(path).ok()?;
-    Some((meta.modified().ok()?, meta.len()))
+    #[cfg(unix)]
+    let inode = std::os::unix::fs::MetadataExt::ino(&meta);
+    #[cfg(not(unix))]
+    let inode = 0;
+    Some((meta.modified().ok()?, meta.len(), inode))
 }
 
 pub struct SceneWatcher {

@@ -14,38 +14,139 @@ pub struct PresentParams {
     pub image_size: [u32; 2],
     /// Size of the render target.
     pub target_size: [u32; 2],
+    /// Size of the preview (0 x 0: none).
+    pub preview_size: [u32; 2],
+    /// 0: show the preview only.
+    pub show_image: u32,
+    pub _pad: u32,
 }
 
-/// Bytes per pixel of the accumulation buffer (a vec4<f32>).
+/// Bytes per pixel of the accumulation buffers (a vec4<f32>).
 const ACCUMULATION_TEXEL: u64 = 16;
+
+/// The two accumulation buffers: the image refined while the camera is
+/// still, and the reduced-resolution preview traced while it moves (which
+/// the present pass shows where the image has no sample yet).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Target {
+    Image,
+    Preview,
+}
 
 /// What one frame does on the GPU, in order.
 #[derive(Debug, Clone, Copy)]
 pub struct FrameWork {
-    /// Zero the first `n` pixels of the accumulation buffer first.
+    /// The buffer that the clear and the pass write.
+    pub target: Target,
+    /// Zero its first `n` pixels first.
     pub clear_pixels: Option<u64>,
-    /// One accumulation pass over the image these parameters describe.
+    /// One accumulation pass over (a band of) the image these parameters
+    /// describe.
     pub pass: Option<FrameParams>,
-    /// Shows the image this large on the target.
     pub present: PresentParams,
+}
+
+/// The layouts and uniforms that bind groups are made from.
+struct Layouts {
+    trace: wgpu::BindGroupLayout,
+    present: wgpu::BindGroupLayout,
+    params: wgpu::Buffer,
+    present_params: wgpu::Buffer,
+}
+
+/// Buffers and bind groups that depend on the image size and the scene.
+struct Bindings {
+    image: wgpu::Buffer,
+    preview: wgpu::Buffer,
+    /// Pixels each buffer holds.
+    capacity: u64,
+    image_group: wgpu::BindGroup,
+    preview_group: wgpu::BindGroup,
+    present_group: wgpu::BindGroup,
+}
+
+impl Layouts {
+    fn trace_group(
+        &self,
+        device: &wgpu::Device,
+        scene: &SceneBuffers,
+        target: &wgpu::Buffer,
+    ) -> wgpu::BindGroup {
+        let mut entries = vec![wgpu::BindGroupEntry {
+            binding: 0,
+            resource: self.params.as_entire_binding(),
+        }];
+        entries.extend(
+            scene
+                .buffers
+                .iter()
+                .enumerate()
+                .map(|(i, b)| wgpu::BindGroupEntry {
+                    binding: i as u32 + 1,
+                    resource: b.as_entire_binding(),
+                }),
+        );
+        entries.push(wgpu::BindGroupEntry {
+            binding: 9,
+            resource: target.as_entire_binding(),
+        });
+        device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("accumulate"),
+            layout: &self.trace,
+            entries: &entries,
+        })
+    }
+
+    fn bindings(&self, device: &wgpu::Device, scene: &SceneBuffers, pixels: u64) -> Bindings {
+        let pixels = pixels.max(1);
+        let buffer = |label| {
+            device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some(label),
+                size: pixels * ACCUMULATION_TEXEL,
+                usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST,
+                mapped_at_creation: false,
+            })
+        };
+        let image = buffer("accumulation");
+        let preview = buffer("preview");
+        let present_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("present"),
+            layout: &self.present,
+            entries: &[
+                wgpu::BindGroupEntry {
+                    binding: 0,
+                    resource: self.present_params.as_entire_binding(),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 1,
+                    resource: image.as_entire_binding(),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 2,
+                    resource: preview.as_entire_binding(),
+                },
+            ],
+        });
+        Bindings {
+            image_group: self.trace_group(device, scene, &image),
+            preview_group: self.trace_group(device, scene, &preview),
+            image,
+            preview,
+            capacity: pixels,
+            present_group,
+        }
+    }
 }
 
 pub struct Viewer {
     accumulate: wgpu::ComputePipeline,
-    trace_layout: wgpu::BindGroupLayout,
-    present_layout: wgpu::BindGroupLayout,
     present_pipeline_layout: wgpu::PipelineLayout,
     present_module: wgpu::ShaderModule,
     present: wgpu::RenderPipeline,
     /// The format `present` draws to (the surface's view format).
     target_format: wgpu::TextureFormat,
-    params: wgpu::Buffer,
-    present_params: wgpu::Buffer,
-    accumulation: wgpu::Buffer,
-    /// Pixels the accumulation buffer holds.
-    capacity: u64,
-    trace_group: wgpu::BindGroup,
-    present_group: wgpu::BindGroup,
+    layouts: Layouts,
+    bindings: Bindings,
 }
 
 fn storage(
@@ -112,7 +213,7 @@ fn present_pipeline(
 }
 
 impl Viewer {
-    /// Pipelines and buffers for a target of `target_format` and an image of
+    /// Pipelines and buffers for a target of `target_format` and images of
     /// up to `pixels` pixels, showing `scene`.
     pub fn new(
         ctx: &GpuContext,
@@ -126,7 +227,7 @@ impl Viewer {
             let mut entries = vec![uniform(0, compute)];
             entries.extend((1..=7).map(|b| storage(b, true, compute)));
             entries.push(storage(9, false, compute));
-            let trace_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            let trace = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
                 label: Some("accumulate"),
                 entries: &entries,
             });
@@ -139,7 +240,7 @@ impl Viewer {
                 layout: Some(
                     &device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
                         label: Some("accumulate"),
-                        bind_group_layouts: &[Some(&trace_layout)],
+                        bind_group_layouts: &[Some(&trace)],
                         immediate_size: 0,
                     }),
                 ),
@@ -149,173 +250,93 @@ impl Viewer {
                 cache: None,
             });
             let fragment = wgpu::ShaderStages::FRAGMENT;
-            let present_layout =
-                device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-                    label: Some("present"),
-                    entries: &[uniform(0, fragment), storage(1, true, fragment)],
-                });
+            let present = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+                label: Some("present"),
+                entries: &[
+                    uniform(0, fragment),
+                    storage(1, true, fragment),
+                    storage(2, true, fragment),
+                ],
+            });
             let present_pipeline_layout =
                 device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
                     label: Some("present"),
-                    bind_group_layouts: &[Some(&present_layout)],
+                    bind_group_layouts: &[Some(&present)],
                     immediate_size: 0,
                 });
             let present_module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
                 label: Some("present"),
                 source: wgpu::ShaderSource::Wgsl(shaders::PRESENT_SOURCE.into()),
             });
-            let present = present_pipeline(
-                device,
-                &present_pipeline_layout,
-                &present_module,
-                target_format,
-            );
-            let params = device.create_buffer(&wgpu::BufferDescriptor {
-                label: Some("window frame params"),
-                size: std::mem::size_of::<FrameParams>() as u64,
-                usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
-                mapped_at_creation: false,
-            });
-            let present_params = device.create_buffer(&wgpu::BufferDescriptor {
-                label: Some("present params"),
-                size: std::mem::size_of::<PresentParams>() as u64,
-                usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
-                mapped_at_creation: false,
-            });
-            let (accumulation, trace_group, present_group) = Self::accumulation_and_groups(
-                device,
-                &trace_layout,
-                &present_layout,
-                &params,
-                &present_params,
-                scene,
-                pixels,
-            );
+            let uniform_buffer = |label, size| {
+                device.create_buffer(&wgpu::BufferDescriptor {
+                    label: Some(label),
+                    size,
+                    usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+                    mapped_at_creation: false,
+                })
+            };
+            let layouts = Layouts {
+                trace,
+                present,
+                params: uniform_buffer(
+                    "window frame params",
+                    std::mem::size_of::<FrameParams>() as u64,
+                ),
+                present_params: uniform_buffer(
+                    "present params",
+                    std::mem::size_of::<PresentParams>() as u64,
+                ),
+            };
             Viewer {
                 accumulate,
-                trace_layout,
-                present_layout,
+                present: present_pipeline(
+                    device,
+                    &present_pipeline_layout,
+                    &present_module,
+                    target_format,
+                ),
                 present_pipeline_layout,
                 present_module,
-                present,
                 target_format,
-                params,
-                present_params,
-                accumulation,
-                capacity: pixels.max(1),
-                trace_group,
-                present_group,
+                bindings: layouts.bindings(device, scene, pixels),
+                layouts,
             }
-        })
-    }
-
-    fn accumulation_and_groups(
-        device: &wgpu::Device,
-        trace_layout: &wgpu::BindGroupLayout,
-        present_layout: &wgpu::BindGroupLayout,
-        params: &wgpu::Buffer,
-        present_params: &wgpu::Buffer,
-        scene: &SceneBuffers,
-        pixels: u64,
-    ) -> (wgpu::Buffer, wgpu::BindGroup, wgpu::BindGroup) {
-        let accumulation = device.create_buffer(&wgpu::BufferDescriptor {
-            label: Some("accumulation"),
-            size: pixels.max(1) * ACCUMULATION_TEXEL,
-            usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST,
-            mapped_at_creation: false,
-        });
-        let trace_group = Self::trace_group(device, trace_layout, params, scene, &accumulation);
-        let present_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
-            label: Some("present"),
-            layout: present_layout,
-            entries: &[
-                wgpu::BindGroupEntry {
-                    binding: 0,
-                    resource: present_params.as_entire_binding(),
-                },
-                wgpu::BindGroupEntry {
-                    binding: 1,
-                    resource: accumulation.as_entire_binding(),
-                },
-            ],
-        });
-        (accumulation, trace_group, present_group)
-    }
-
-    fn trace_group(
-        device: &wgpu::Device,
-        layout: &wgpu::BindGroupLayout,
-        params: &wgpu::Buffer,
-        scene: &SceneBuffers,
-        accumulation: &wgpu::Buffer,
-    ) -> wgpu::BindGroup {
-        let mut entries = vec![wgpu::BindGroupEntry {
-            binding: 0,
-            resource: params.as_entire_binding(),
-        }];
-        entries.extend(
-            scene
-                .buffers
-                .iter()
-                .enumerate()
-                .map(|(i, b)| wgpu::BindGroupEntry {
-                    binding: i as u32 + 1,
-                    resource: b.as_entire_binding(),
-                }),
-        );
-        entries.push(wgpu::BindGroupEntry {
-            binding: 9,
-            resource: accumulation.as_entire_binding(),
-        });
-        device.create_bind_group(&wgpu::BindGroupDescriptor {
-            label: Some("accumulate"),
-            layout,
-            entries: &entries,
         })
     }
 
     /// Traces `scene` from now on.
     pub fn set_scene(&mut self, ctx: &GpuContext, scene: &SceneBuffers) -> Result<()> {
-        self.trace_group = ctx.checked("binding the scene", |device| {
-            Self::trace_group(
-                device,
-                &self.trace_layout,
-                &self.params,
-                scene,
-                &self.accumulation,
+        let b = &self.bindings;
+        let (image_group, preview_group) = ctx.checked("binding the scene", |device| {
+            (
+                self.layouts.trace_group(device, scene, &b.image),
+                self.layouts.trace_group(device, scene, &b.preview),
             )
+        })?;
+        self.bindings.image_group = image_group;
+        self.bindings.preview_group = preview_group;
+        Ok(())
+    }
+
+    /// Makes room for images of `pixels` pixels (the contents are lost if
+    /// the buffers grow).
+    pub fn reserve(&mut self, ctx: &GpuContext, scene: &SceneBuffers, pixels: u64) -> Result<()> {
+        if pixels <= self.bindings.capacity {
+            return Ok(());
+        }
+        self.bindings = ctx.checked("allocating the accumulation buffers", |device| {
+            self.layouts.bindings(device, scene, pixels)
         })?;
         Ok(())
     }
 
-    /// Makes room for `pixels` pixels (the contents are lost if it grows).
-    pub fn reserve(&mut self, ctx: &GpuContext, scene: &SceneBuffers, pixels: u64) -> Result<()> {
-        if pixels <= self.capacity {
-            return Ok(());
-        }
-        let (accumulation, trace_group, present_group) =
-            ctx.checked("allocating the accumulation buffer", |device| {
-                Self::accumulation_and_groups(
-                    device,
-                    &self.trace_layout,
-                    &self.present_layout,
-                    &self.params,
-                    &self.present_params,
-                    scene,
-                    pixels,
-                )
-            })?;
-        self.accumulation = accumulation;
-        self.trace_group = trace_group;
-        self.present_group = present_group;
-        self.capacity = pixels;
-        Ok(())
-    }
-
-    /// Largest image the accumulation buffer may hold on this device.
+    /// Largest image an accumulation buffer may hold on this device.
     pub fn max_pixels(ctx: &GpuContext) -> u64 {
         let limits = ctx.device.limits();
-        (limits.max_storage_buffer_binding_size as u64).min(limits.max_buffer_size)
+        limits
+            .max_storage_buffer_binding_size
+            .min(limits.max_buffer_size)
             / ACCUMULATION_TEXEL
     }
 
@@ -328,19 +349,24 @@ impl Viewer {
         target: &wgpu::TextureView,
         work: &FrameWork,
     ) {
+        let b = &self.bindings;
+        let (buffer, group) = match work.target {
+            Target::Image => (&b.image, &b.image_group),
+            Target::Preview => (&b.preview, &b.preview_group),
+        };
         if let Some(pixels) = work.clear_pixels {
-            let bytes = pixels.clamp(1, self.capacity) * ACCUMULATION_TEXEL;
-            encoder.clear_buffer(&self.accumulation, 0, Some(bytes));
+            let bytes = pixels.clamp(1, b.capacity) * ACCUMULATION_TEXEL;
+            encoder.clear_buffer(buffer, 0, Some(bytes));
         }
         if let Some(params) = &work.pass {
             ctx.queue
-                .write_buffer(&self.params, 0, bytemuck::bytes_of(params));
+                .write_buffer(&self.layouts.params, 0, bytemuck::bytes_of(params));
             let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
                 label: Some("accumulate"),
                 timestamp_writes: None,
             });
             pass.set_pipeline(&self.accumulate);
-            pass.set_bind_group(0, &self.trace_group, &[]);
+            pass.set_bind_group(0, group, &[]);
             let (gx, gy) = shaders::TRACE_WORKGROUP;
             pass.dispatch_workgroups(
                 params.tile_size[0].div_ceil(gx),
@@ -348,8 +374,11 @@ impl Viewer {
                 1,
             );
         }
-        ctx.queue
-            .write_buffer(&self.present_params, 0, bytemuck::bytes_of(&work.present));
+        ctx.queue.write_buffer(
+            &self.layouts.present_params,
+            0,
+            bytemuck::bytes_of(&work.present),
+        );
         self.draw(encoder, &self.present, target);
     }
 
@@ -376,7 +405,7 @@ impl Viewer {
             multiview_mask: None,
         });
         pass.set_pipeline(pipeline);
-        pass.set_bind_group(0, &self.present_group, &[]);
+        pass.set_bind_group(0, &self.bindings.present_group, &[]);
         pass.draw(0..3, 0..1);
     }
 
