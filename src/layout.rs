@@ -131,6 +131,21 @@ pub struct RayCounters {
     pub loop_limited: u32,
 }
 
+/// The window's present pass parameters (a uniform of shaders/present.wgsl).
+#[repr(C)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Pod, Zeroable)]
+pub struct PresentParams {
+    /// Size of the image in the accumulation buffer.
+    pub image_size: [u32; 2],
+    /// Size of the render target.
+    pub target_size: [u32; 2],
+    /// Size of the preview (0 x 0: none).
+    pub preview_size: [u32; 2],
+    /// 0: show the preview only.
+    pub show_image: u32,
+    pub _pad: u32,
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -224,6 +239,15 @@ mod tests {
             "RayCounters",
             RayCounters,
             [primary, shadow, reflection, loop_limited]
+        );
+
+        let (present, _) =
+            crate::gpu::shaders::parse_and_validate(crate::gpu::shaders::PRESENT_SOURCE);
+        layout_of!(
+            &present,
+            "PresentParams",
+            PresentParams,
+            [image_size, target_size, preview_size, show_image, _pad]
         );
     }
 }

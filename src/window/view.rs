@@ -6,20 +6,7 @@ use crate::error::{Error, Result};
 use crate::gpu::{shaders, GpuContext, SceneBuffers};
 use crate::layout::FrameParams;
 
-/// present.wgsl's `PresentParams`.
-#[repr(C)]
-#[derive(Debug, Clone, Copy, PartialEq, Eq, bytemuck::Pod, bytemuck::Zeroable)]
-pub struct PresentParams {
-    /// Size of the image in the accumulation buffer.
-    pub image_size: [u32; 2],
-    /// Size of the render target.
-    pub target_size: [u32; 2],
-    /// Size of the preview (0 x 0: none).
-    pub preview_size: [u32; 2],
-    /// 0: show the preview only.
-    pub show_image: u32,
-    pub _pad: u32,
-}
+pub use crate::layout::PresentParams;
 
 /// Bytes per pixel of the accumulation buffers (a vec4<f32>).
 const ACCUMULATION_TEXEL: u64 = 16;
