@@ -14,67 +14,11 @@ fn miss() -> Hit {
 
 // Loop iterations this invocation has run, all loops together. llvmpipe
 // (lavapipe, and GL on llvmpipe) silently ends every loop of an invocation
-// once their iterations add up to 65535 (LP_MAX_TGSI_LOOP_ITERATIONS); the
-// host reports invocations that came near it instead of trusting them.
+// once their iterations add up to 65535 (LP_MAX_TGSI_LOOP_ITERATIONS),
+// counted per 8-wide SIMD group: a loop runs while any lane needs it. The
+// host reports invocations whose own count reached half the limit.
 var<private> loop_iterations: u32;
-const LOOP_LIMIT_WARNING: u32 = 65000u;
-
-// Object ids first..first+count: leaf_objects[i] when `in_leaf`, else i.
-fn object_at(i: u32, in_leaf: bool) -> u32 {
-    if (in_leaf) {
-        return leaf_objects[i];
-    }
-    return i;
-}
-
-// `best`, or object `id`'s hit if it is nearer (closest-hit queries).
-fn nearer(id: u32, ray: Ray, t_limit: f32, best: Hit) -> Hit {
-    let t = intersect_object(id, ray);
-    if (t > 0.0 && t <= t_limit && t < best.t) {
-        return Hit(t, id);
-    }
-    return best;
-}
-
-// Whether object `id` blocks the segment (any-hit queries).
-fn blocks(id: u32, ray: Ray, t_limit: f32) -> bool {
-    let t = intersect_object(id, ray);
-    return t > 0.0 && t < t_limit;
-}
-
-// Tests objects first..first+count in order, four per loop iteration (a
-// quarter of the iterations counted against llvmpipe's limit). Returns the
-// nearest hit, or for any-hit queries the first blocker found.
-fn test_objects(first: u32, count: u32, in_leaf: bool, ray: Ray, t_limit: f32, any_hit: bool) -> Hit {
-    let end = first + count;
-    var best = miss();
-    var i = first;
-    if (any_hit) {
-        while (i < end) {
-            loop_iterations += 1u;
-            let id = object_at(i, in_leaf);
-            if (blocks(id, ray, t_limit)) {
-                return Hit(0.0, id);
-            }
-            i += 1u;
-        }
-        return best;
-    }
-    while (i + 4u <= end) {
-        loop_iterations += 1u;
-        best = nearer(object_at(i, in_leaf), ray, t_limit, best);
-        best = nearer(object_at(i + 1u, in_leaf), ray, t_limit, best);
-        best = nearer(object_at(i + 2u, in_leaf), ray, t_limit, best);
-        best = nearer(object_at(i + 3u, in_leaf), ray, t_limit, best);
-        i += 4u;
-    }
-    while (i < end) {
-        loop_iterations += 1u;
-        best = nearer(object_at(i, in_leaf), ray, t_limit, best);
-        i += 1u;
-    }
-    return best;
-}
+const LOOP_LIMIT_WARNING: u32 = 32768u;
 
 fn inside_expanded(box_min: vec3<f32>, box_max: vec3<f32>, p: vec3<f32>, slack: f32) -> bool {
     return all(p >= box_min - vec3<f32>(slack)) && all(p <= box_max + vec3<f32>(slack));
@@ -145,9 +89,20 @@ fn trace_kdtree(ray: Ray, t_limit: f32, any_hit: bool) -> Hit {
             }
             node = kd_nodes[node_index];
         }
-        let best = test_objects(node.index, node.count, true, ray, t_limit, any_hit);
-        if (any_hit && best.object != NO_OBJECT) {
-            return best;
+        var best = miss();
+        for (var i = node.index; i < node.index + node.count; i++) {
+            loop_iterations += 1u;
+            let id = leaf_objects[i];
+            let t = intersect_object(id, ray);
+            if (t > 0.0) {
+                if (any_hit) {
+                    if (t < t_limit) {
+                        return Hit(t, id);
+                    }
+                } else if (t <= t_limit && t < best.t) {
+                    best = Hit(t, id);
+                }
+            }
         }
         if (best.object != NO_OBJECT) {
             // Taken before the leaf's exit, or inside its box up to rounding.
@@ -165,7 +120,21 @@ fn trace_kdtree(ray: Ray, t_limit: f32, any_hit: bool) -> Hit {
 }
 
 fn trace_brute(ray: Ray, t_limit: f32, any_hit: bool) -> Hit {
-    return test_objects(0u, params.object_count, false, ray, t_limit, any_hit);
+    var best = miss();
+    for (var id = 0u; id < params.object_count; id++) {
+        loop_iterations += 1u;
+        let t = intersect_object(id, ray);
+        if (t > 0.0) {
+            if (any_hit) {
+                if (t < t_limit) {
+                    return Hit(t, id);
+                }
+            } else if (t <= t_limit && t < best.t) {
+                best = Hit(t, id);
+            }
+        }
+    }
+    return best;
 }
 
 fn trace_ray(ray: Ray, t_limit: f32, any_hit: bool) -> Hit {

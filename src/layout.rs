@@ -126,7 +126,9 @@ pub struct RayCounters {
     pub primary: u32,
     pub shadow: u32,
     pub reflection: u32,
-    /// Invocations whose loops, all together, ran 65,000 iterations or more:
+    /// Invocations whose loops, all together, ran 32,768 iterations or more
+    /// (half of llvmpipe's 65,535 per 8-wide SIMD group, which also counts
+    /// its neighbours' divergent iterations):
     /// llvmpipe (lavapipe) silently cuts an invocation's loops off at 65,535.
     pub loop_limited: u32,
 }

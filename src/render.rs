@@ -45,8 +45,9 @@ pub struct RenderStats {
     pub mrays_per_s: f64,
     /// All rays (primary + shadow + reflection) per second of GPU time, in millions.
     pub total_mrays_per_s: f64,
-    /// Pixels (invocations) whose loops ran into llvmpipe's 65,535-iteration
-    /// limit; only counted on llvmpipe, where such pixels may be wrong.
+    /// Pixels (invocations) whose loops came near llvmpipe's limit of 65,535
+    /// iterations (their own count reached half of it); only counted on
+    /// llvmpipe, where such pixels may be wrong.
     pub loop_limited_pixels: u64,
 }
 

@@ -6,14 +6,26 @@ mod common;
 use common::*;
 use kdray::gpu::Accel;
 
-/// Renders tests/scenes/NAME.toml with the k-d tree and brute force: no pixel
-/// may have hit llvmpipe's loop limit, the images must agree, and at least
-/// `min_covered` of the pixels must differ from the corner's (background).
-fn check(name: &str, min_covered: f64) -> kdray::gpu::RenderedImage {
+fn load(name: &str) -> kdray::scene::Scene {
     let path = repo_path(&format!("tests/scenes/{name}.toml"));
-    let scene = kdray::scene::load_scene(&path).unwrap_or_else(|e| panic!("{e}"));
-    let kd = render(&scene, Accel::Kdtree);
-    let brute = render(&scene, Accel::Brute);
+    kdray::scene::load_scene(&path).unwrap_or_else(|e| panic!("{e}"))
+}
+
+/// Renders tests/scenes/NAME.toml with the k-d tree and brute force.
+fn check(name: &str, min_covered: f64) -> kdray::gpu::RenderedImage {
+    check_scene(name, &load(name), min_covered)
+}
+
+/// Renders `scene` with the k-d tree and brute force: no pixel may have hit
+/// llvmpipe's loop limit, the images must agree, and at least `min_covered`
+/// of the pixels must differ from the corner's (background).
+fn check_scene(
+    name: &str,
+    scene: &kdray::scene::Scene,
+    min_covered: f64,
+) -> kdray::gpu::RenderedImage {
+    let kd = render(scene, Accel::Kdtree);
+    let brute = render(scene, Accel::Brute);
     for (accel, image) in [("kdtree", &kd), ("brute", &brute)] {
         assert_eq!(
             image.rays.loop_limited, 0,
@@ -50,9 +62,45 @@ fn very_thin_triangles() {
     check("thin_triangles", 0.002);
 }
 
+/// Opaque copies: every ray that reaches the cluster tests all 10,001
+/// objects of its leaf, four times or so per path, which stays under
+/// llvmpipe's 65,535 loop iterations per pixel (see the next test).
 #[test]
 fn ten_thousand_copies_of_one_sphere() {
-    check("ten_thousand_copies", 0.3);
+    let mut scene = load("ten_thousand_copies");
+    for m in &mut scene.materials {
+        m.reflection = 0.0;
+    }
+    check_scene("ten_thousand_copies (opaque)", &scene, 0.3);
+}
+
+/// With reflective copies a path tests the 10,001-object leaf eight times:
+/// about 80,000 loop iterations. On llvmpipe, which silently ends a pixel's
+/// loops at 65,535, the renderer must count those pixels and warn; on other
+/// adapters nothing is limited.
+#[test]
+fn llvmpipe_loop_limit_is_detected_and_reported() {
+    let scene = load("ten_thousand_copies");
+    let (_, stats) = kdray::render::render_scene(
+        gpu(),
+        &scene,
+        Accel::Kdtree,
+        kdray::gpu::TilePlan::DEFAULT_MAX_TILE_PIXELS,
+    )
+    .unwrap();
+    if gpu().has_loop_limit() {
+        assert!(
+            stats.loop_limited_pixels > 0,
+            "llvmpipe's loop limit went unnoticed"
+        );
+        let warning = stats.loop_limit_warning().expect("a warning");
+        assert!(
+            warning.contains("65,535") && warning.lines().count() == 1,
+            "{warning}"
+        );
+    } else {
+        assert_eq!(stats.loop_limited_pixels, 0);
+    }
 }
 
 #[test]

@@ -9,7 +9,7 @@
 //! Layout: `count` objects with centres uniform in the box [-2, 2]^3, seen by
 //! a camera at (0, 1.5, 8.5) looking at the origin. Object sizes shrink as
 //! `c / cbrt(N)`, which keeps the fraction of the box they fill constant
-//! (about 0.6% for spheres), so the picture stays a cloud of distinct
+//! (about 0.75% for spheres), so the picture stays a cloud of distinct
 //! objects at every N. One white light; a quarter of the objects are half
 //! mirrors.
 
