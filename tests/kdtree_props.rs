@@ -88,6 +88,21 @@ fn ray_for(tree: &KdTree, origin: Vec3, dir: Vec3, on_plane: Option<usize>) -> R
     Ray { origin, dir }
 }
 
+/// Traversal costs for the build: 1 splits small scenes deeply (many planes
+/// for rays to start on and run along), 40 is the default.
+fn traversal_cost() -> impl Strategy<Value = f32> {
+    prop_oneof![Just(1.0f32), Just(15.0), Just(40.0)]
+}
+
+fn tree_for(prims: &Primitives, traversal_cost: f32) -> KdTree {
+    let bounds: Vec<_> = (0..prims.len() as u32).map(|id| prims.bounds(id)).collect();
+    let params = kdray::kdtree::BuildParams {
+        traversal_cost,
+        ..kdray::kdtree::BuildParams::for_object_count(bounds.len())
+    };
+    kdray::kdtree::build(&bounds, params)
+}
+
 fn check_closest(tree: &KdTree, prims: &Primitives, ray: &Ray) -> Result<(), TestCaseError> {
     let kd = closest_hit(tree, prims, ray, T_INFINITY);
     let brute = closest_hit_brute(prims, ray, T_INFINITY);
@@ -115,9 +130,10 @@ proptest! {
     #[test]
     fn closest_hit_matches_brute_force(
         prims in scene(),
+        cost in traversal_cost(),
         rays in prop::collection::vec((vec3(14.0), direction(), prop::option::of(any::<usize>())), 1..40),
     ) {
-        let tree = KdTree::for_primitives(&prims);
+        let tree = tree_for(&prims, cost);
         for (origin, dir, on_plane) in rays {
             let ray = ray_for(&tree, origin, dir, on_plane);
             check_closest(&tree, &prims, &ray)?;
@@ -127,9 +143,10 @@ proptest! {
     #[test]
     fn any_hit_matches_brute_force_on_segments(
         prims in scene(),
+        cost in traversal_cost(),
         rays in prop::collection::vec((vec3(14.0), direction(), prop::option::of(any::<usize>()), 0.01f32..30.0), 1..40),
     ) {
-        let tree = KdTree::for_primitives(&prims);
+        let tree = tree_for(&prims, cost);
         for (origin, dir, on_plane, length) in rays {
             let ray = ray_for(&tree, origin, dir, on_plane);
             // Segments ending exactly at a hit are ties; step back from them.
@@ -144,8 +161,9 @@ proptest! {
     /// Rays aimed at a random object's centre from outside: most of them hit,
     /// so the comparison is not dominated by misses.
     #[test]
-    fn aimed_rays_match_brute_force(prims in scene(), picks in prop::collection::vec((any::<usize>(), vec3(14.0)), 1..30)) {
-        let tree = KdTree::for_primitives(&prims);
+    fn aimed_rays_match_brute_force(prims in scene(),
+        cost in traversal_cost(), picks in prop::collection::vec((any::<usize>(), vec3(14.0)), 1..30)) {
+        let tree = tree_for(&prims, cost);
         for (pick, origin) in picks {
             let b = prims.bounds((pick % prims.len()) as u32);
             let target = (b.min + b.max) * 0.5;
@@ -156,8 +174,9 @@ proptest! {
 
     /// Every object is referenced by the leaf containing any point of its box.
     #[test]
-    fn every_point_of_an_object_is_in_its_leaf(prims in scene(), fractions in prop::collection::vec((0.0f32..=1.0, 0.0f32..=1.0, 0.0f32..=1.0, any::<usize>()), 1..50)) {
-        let tree = KdTree::for_primitives(&prims);
+    fn every_point_of_an_object_is_in_its_leaf(prims in scene(),
+        cost in traversal_cost(), fractions in prop::collection::vec((0.0f32..=1.0, 0.0f32..=1.0, 0.0f32..=1.0, any::<usize>()), 1..50)) {
+        let tree = tree_for(&prims, cost);
         for (fx, fy, fz, pick) in fractions {
             let id = (pick % prims.len()) as u32;
             let b = prims.bounds(id);
@@ -195,7 +214,13 @@ fn straddling_sphere_scene_matches_brute_force() {
         center: Vec3::new(0.5, 0.0, 0.0),
         radius: 4.0,
     });
-    let tree = KdTree::for_primitives(&prims);
+    // Cheap traversal steps, so that even four spheres get split planes.
+    let bounds: Vec<_> = (0..prims.len() as u32).map(|id| prims.bounds(id)).collect();
+    let params = kdray::kdtree::BuildParams {
+        traversal_cost: 1.0,
+        ..kdray::kdtree::BuildParams::for_object_count(bounds.len())
+    };
+    let tree = kdray::kdtree::build(&bounds, params);
     assert!(tree.nodes.len() > 1, "the scene must be split");
     let ray = Ray {
         origin: Vec3::new(-10.0, 0.0, 0.0),
