@@ -20,18 +20,7 @@ pub struct PngStream {
 
 impl PngStream {
     pub fn create(path: &Path, width: u32, height: u32) -> Result<Self> {
-        let dir = match path.parent() {
-            Some(p) if !p.as_os_str().is_empty() => p,
-            _ => Path::new("."),
-        };
-        let name = path
-            .file_name()
-            .ok_or_else(|| Error::Output(format!("{}: not a file name", path.display())))?;
-        let tmp = dir.join(format!(
-            ".{}.tmp-{}",
-            name.to_string_lossy(),
-            std::process::id()
-        ));
+        let tmp = temp_path_for(path)?;
         let file = File::create(&tmp)
             .map_err(|e| output_error(path, "cannot create a temporary file", &e))?;
         let mut stream = PngStream {
@@ -90,6 +79,42 @@ impl Drop for PngStream {
             let _ = std::fs::remove_file(&self.tmp);
         }
     }
+}
+
+/// `.NAME.tmp-PID` in the folder of `path`: written first, then renamed over
+/// `path`, so readers see the old file or the whole new one.
+fn temp_path_for(path: &Path) -> Result<PathBuf> {
+    let dir = match path.parent() {
+        Some(p) if !p.as_os_str().is_empty() => p,
+        _ => Path::new("."),
+    };
+    let name = path
+        .file_name()
+        .ok_or_else(|| Error::Output(format!("{}: not a file name", path.display())))?;
+    Ok(dir.join(format!(
+        ".{}.tmp-{}",
+        name.to_string_lossy(),
+        std::process::id()
+    )))
+}
+
+/// Writes `bytes` to `path` atomically (temporary file, flush to disk, rename).
+pub fn write_file_atomic(path: &Path, bytes: &[u8]) -> Result<()> {
+    let tmp = temp_path_for(path)?;
+    let result = (|| {
+        let mut file = File::create(&tmp)
+            .map_err(|e| output_error(path, "cannot create a temporary file", &e))?;
+        file.write_all(bytes)
+            .map_err(|e| output_error(path, "cannot write", &e))?;
+        file.sync_all()
+            .map_err(|e| output_error(path, "cannot write", &e))?;
+        std::fs::rename(&tmp, path)
+            .map_err(|e| output_error(path, "cannot rename the temporary file into place", &e))
+    })();
+    if result.is_err() {
+        let _ = std::fs::remove_file(&tmp);
+    }
+    result
 }
 
 fn output_error(path: &Path, what: &str, e: &dyn std::fmt::Display) -> Error {

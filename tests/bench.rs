@@ -1,40 +1,16 @@
 //! `kdray bench` and `kdray generate`, end to end through the binary, at
 //! tiny sizes: the files are produced and sane (not the timings).
 
-use std::path::{Path, PathBuf};
+use std::path::Path;
 use std::process::Command;
-use std::sync::atomic::{AtomicUsize, Ordering};
 
 use kdray::bench::report::{CSV_COLUMNS, CSV_FILE, JSON_FILE, SUMMARY_FILE};
 use kdray::bench::{output_files, random_scene, RandomSceneSpec, SceneKind, DEFAULT_SEED};
 use kdray::output::read_png_rgb;
 
-/// A fresh folder under the system temp dir, removed on drop.
-struct TempDir {
-    path: PathBuf,
-}
+mod common;
 
-impl TempDir {
-    fn new(test: &str) -> Self {
-        static COUNTER: AtomicUsize = AtomicUsize::new(0);
-        let n = COUNTER.fetch_add(1, Ordering::Relaxed);
-        let path =
-            std::env::temp_dir().join(format!("kdray-bench-{}-{test}-{n}", std::process::id()));
-        let _ = std::fs::remove_dir_all(&path);
-        std::fs::create_dir_all(&path).unwrap();
-        TempDir { path }
-    }
-
-    fn join(&self, name: &str) -> PathBuf {
-        self.path.join(name)
-    }
-}
-
-impl Drop for TempDir {
-    fn drop(&mut self) {
-        let _ = std::fs::remove_dir_all(&self.path);
-    }
-}
+use common::TempDir;
 
 struct Run {
     code: i32,

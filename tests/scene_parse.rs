@@ -8,9 +8,11 @@
 //! and rendered both ways, one key per line, so that the expected line of
 //! each key is known exactly.
 
+mod common;
+
+use common::TempDir;
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
-use std::sync::atomic::{AtomicUsize, Ordering};
 
 use glam::DVec3;
 use kdray::scene::obj::load_obj;
@@ -22,47 +24,13 @@ use kdray::scene::{
 // ============================================================== temp files
 
 /// A fresh folder under the system temp dir, removed again on drop.
-struct TempDir(PathBuf);
-
-impl TempDir {
-    fn new(tag: &str) -> Self {
-        static COUNTER: AtomicUsize = AtomicUsize::new(0);
-        let n = COUNTER.fetch_add(1, Ordering::Relaxed);
-        let dir = std::env::temp_dir().join(format!(
-            "kdray-scene-parse-{}-{tag}-{n}",
-            std::process::id()
-        ));
-        let _ = std::fs::remove_dir_all(&dir);
-        std::fs::create_dir_all(&dir).unwrap();
-        TempDir(dir)
+/// Copies the shipped torus.obj and torus.mtl into `folder` of `dir`; returns the OBJ's path.
+fn copy_torus(dir: &TempDir, folder: &str) -> PathBuf {
+    for name in ["torus.obj", "torus.mtl"] {
+        let text = std::fs::read_to_string(models_dir().join(name)).unwrap();
+        dir.write(&format!("{folder}/{name}"), &text);
     }
-
-    fn path(&self, name: &str) -> PathBuf {
-        self.0.join(name)
-    }
-
-    /// Writes `text` to `name` (relative, folders made as needed); returns its path.
-    fn write(&self, name: &str, text: &str) -> PathBuf {
-        let path = self.path(name);
-        std::fs::create_dir_all(path.parent().unwrap()).unwrap();
-        std::fs::write(&path, text).unwrap();
-        path
-    }
-
-    /// Copies the shipped torus.obj and torus.mtl into `folder`; returns the OBJ's path.
-    fn copy_torus(&self, folder: &str) -> PathBuf {
-        for name in ["torus.obj", "torus.mtl"] {
-            let text = std::fs::read_to_string(models_dir().join(name)).unwrap();
-            self.write(&format!("{folder}/{name}"), &text);
-        }
-        self.path(&format!("{folder}/torus.obj"))
-    }
-}
-
-impl Drop for TempDir {
-    fn drop(&mut self) {
-        let _ = std::fs::remove_dir_all(&self.0);
-    }
+    dir.join(&format!("{folder}/torus.obj"))
 }
 
 fn models_dir() -> PathBuf {
@@ -554,7 +522,7 @@ mod files_and_syntax {
     fn missing_scene_file() {
         let dir = TempDir::new("missing");
         for name in ["nope.toml", "nope.json"] {
-            let path = dir.path(name);
+            let path = dir.join(name);
             let e = load_err(&path);
             assert_error(&e, &path, None, None, &["cannot read scene file"]);
         }
@@ -563,8 +531,8 @@ mod files_and_syntax {
     #[test]
     fn a_folder_is_not_a_scene_file() {
         let dir = TempDir::new("folder");
-        let e = load_err(&dir.0);
-        assert_error(&e, &dir.0, None, None, &["cannot read scene file"]);
+        let e = load_err(&dir.path);
+        assert_error(&e, &dir.path, None, None, &["cannot read scene file"]);
     }
 
     #[test]
@@ -1812,7 +1780,7 @@ mod meshes {
             assert_eq!(scene.triangles.len(), 3);
         }
         // An absolute path is used as it is.
-        let abs = dir.path("shared/tri.obj");
+        let abs = dir.join("shared/tri.obj");
         let doc = base()
             .set("meshes[0].path", &format!("{:?}", abs.to_str().unwrap()))
             .set("meshes[0].material", "\"red\"");
@@ -1823,7 +1791,7 @@ mod meshes {
     #[test]
     fn a_material_override_applies_to_every_face_and_skips_the_mtl() {
         let dir = TempDir::new("override");
-        dir.copy_torus("models");
+        copy_torus(&dir, "models");
         let scene_path = mesh_scene(
             &dir,
             &[("path", "\"models/torus.obj\""), ("material", "\"red\"")],
@@ -1855,7 +1823,7 @@ mod meshes {
     #[test]
     fn without_an_override_faces_use_their_mtl_materials() {
         let dir = TempDir::new("mtl");
-        let obj = dir.copy_torus("models");
+        let obj = copy_torus(&dir, "models");
         let scene = load_ok(&mesh_scene(&dir, &[("path", "\"models/torus.obj\"")]));
 
         let find = |name: &str| scene.materials.iter().position(|m| m.name == name);
@@ -1960,19 +1928,19 @@ mod meshes {
             let at = format!("{}:{line}", scene_path.display());
             assert_error(
                 &e,
-                &dir.path("models/nope.obj"),
+                &dir.join("models/nope.obj"),
                 None,
                 None,
                 &["cannot read OBJ file", "meshes[0].path", &at],
             );
         }
         // The same for a folder where the file should be.
-        std::fs::create_dir_all(dir.path("models/folder.obj")).unwrap();
+        std::fs::create_dir_all(dir.join("models/folder.obj")).unwrap();
         let scene_path = mesh_scene(&dir, &[("path", "\"models/folder.obj\"")]);
         let e = load_err(&scene_path);
         assert_error(
             &e,
-            &dir.path("models/folder.obj"),
+            &dir.join("models/folder.obj"),
             None,
             None,
             &["cannot read OBJ file"],
@@ -2081,7 +2049,7 @@ mod meshes {
     #[test]
     fn the_same_obj_twice_gives_two_copies() {
         let dir = TempDir::new("twice");
-        dir.copy_torus("models");
+        copy_torus(&dir, "models");
         let doc = base()
             .set("meshes[0].path", "\"models/torus.obj\"")
             .set("meshes[1].path", "\"models/torus.obj\"")
@@ -2181,7 +2149,7 @@ translate = [0.0, 0.0, 0.0]
     #[test]
     fn the_contract_example_has_every_value() {
         let dir = TempDir::new("example");
-        let obj = dir.copy_torus("models");
+        let obj = copy_torus(&dir, "models");
         let scene = load_ok(&dir.write("example.toml", EXAMPLE_TOML));
 
         assert_eq!(
@@ -2253,7 +2221,7 @@ translate = [0.0, 0.0, 0.0]
     #[test]
     fn the_contract_example_in_json_is_the_same_scene() {
         let dir = TempDir::new("example-json");
-        dir.copy_torus("models");
+        copy_torus(&dir, "models");
         let toml = load_ok(&dir.write("example.toml", EXAMPLE_TOML));
         let json = load_ok(&dir.write("example.json", EXAMPLE_JSON));
         assert_eq!(toml, json);
@@ -2262,7 +2230,7 @@ translate = [0.0, 0.0, 0.0]
     #[test]
     fn a_scene_with_every_kind_of_entry_is_the_same_in_toml_and_json() {
         let dir = TempDir::new("same");
-        dir.copy_torus("models");
+        copy_torus(&dir, "models");
         dir.write("models/tri.obj", ONE_TRIANGLE_OBJ);
         let doc = two_triangles()
             .set("camera.up", "[0, 1, 0.5]")
@@ -2318,7 +2286,7 @@ translate = [0.0, 0.0, 0.0]
         let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("docs/scene-format.md");
         let doc = std::fs::read_to_string(&path).unwrap();
         let dir = TempDir::new("docs");
-        dir.copy_torus("models");
+        copy_torus(&dir, "models");
         let toml = load_ok(&dir.write(
             "example.toml",
             &docs_block(&doc, "## Complete example", "toml"),

@@ -148,7 +148,7 @@ pub fn generate_cli(args: &GenerateArgs) -> Result<()> {
     );
     let format = random_scene::FileFormat::from_path(&args.output);
     let text = random_scene::scene_file_text(&scene, format, &header);
-    random_scene::write_text_atomic(&args.output, &text)?;
+    crate::output::write_file_atomic(&args.output, text.as_bytes())?;
     eprintln!(
         "kdray: wrote {} ({} spheres, {} triangles)",
         args.output.display(),

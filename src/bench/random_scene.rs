@@ -18,7 +18,6 @@ use std::path::Path;
 
 use glam::DVec3;
 
-use crate::error::{Error, Result};
 use crate::scene::{Camera, Light, Material, RenderSettings, Scene, ShadowMode, Sphere, Triangle};
 
 /// What the random objects are.
@@ -503,40 +502,6 @@ pub fn scene_file_text(scene: &Scene, format: FileFormat, header: &str) -> Strin
         }
     }
     out
-}
-
-/// Writes `text` to `path` atomically: a temporary file in the same folder,
-/// then a rename.
-pub fn write_text_atomic(path: &Path, text: &str) -> Result<()> {
-    let fail = |what: &str, e: &dyn std::fmt::Display| {
-        Error::Output(format!("{}: {what}: {e}", path.display()))
-    };
-    let dir = match path.parent() {
-        Some(p) if !p.as_os_str().is_empty() => p,
-        _ => Path::new("."),
-    };
-    let name = path
-        .file_name()
-        .ok_or_else(|| Error::Output(format!("{}: not a file name", path.display())))?;
-    let tmp = dir.join(format!(
-        ".{}.tmp-{}",
-        name.to_string_lossy(),
-        std::process::id()
-    ));
-    let result = (|| {
-        use std::io::Write;
-        let mut file =
-            std::fs::File::create(&tmp).map_err(|e| fail("cannot create a temporary file", &e))?;
-        file.write_all(text.as_bytes())
-            .map_err(|e| fail("cannot write", &e))?;
-        file.sync_all().map_err(|e| fail("cannot write", &e))?;
-        std::fs::rename(&tmp, path)
-            .map_err(|e| fail("cannot rename the temporary file into place", &e))
-    })();
-    if result.is_err() {
-        let _ = std::fs::remove_file(&tmp);
-    }
-    result
 }
 
 #[cfg(test)]

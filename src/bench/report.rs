@@ -8,10 +8,10 @@ use std::path::{Path, PathBuf};
 
 use serde::{Deserialize, Serialize};
 
-use super::random_scene::write_text_atomic;
 use super::{BenchConfig, RunRecord};
 use crate::error::{Error, Result};
 use crate::gpu::GpuContext;
+use crate::output::write_file_atomic;
 
 pub const CSV_FILE: &str = "bench.csv";
 pub const JSON_FILE: &str = "bench.json";
@@ -222,13 +222,13 @@ impl BenchReport {
     /// Writes bench.csv, bench.json and summary.md; returns their paths.
     pub fn write_data(&self, out: &Path) -> Result<Vec<PathBuf>> {
         let csv = out.join(CSV_FILE);
-        write_text_atomic(&csv, &csv_text(&self.runs))?;
+        write_file_atomic(&csv, csv_text(&self.runs).as_bytes())?;
         let json = out.join(JSON_FILE);
         let text = serde_json::to_string_pretty(self)
             .map_err(|e| Error::Output(format!("{}: {e}", json.display())))?;
-        write_text_atomic(&json, &(text + "\n"))?;
+        write_file_atomic(&json, (text + "\n").as_bytes())?;
         let md = out.join(SUMMARY_FILE);
-        write_text_atomic(&md, &markdown_summary(self))?;
+        write_file_atomic(&md, markdown_summary(self).as_bytes())?;
         Ok(vec![csv, json, md])
     }
 }
