@@ -1,4 +1,5 @@
-//! The `kdray` command line: `render` and `info`.
+//! The `kdray` command line: `render` (to a PNG, or `--window`), `info`,
+//! `bench` and `generate`.
 
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
@@ -118,19 +119,8 @@ fn render(
     stats: bool,
 ) -> Result<()> {
     let mut scene = kdray::scene::load_scene(scene_path)?;
-    let max = kdray::scene::MAX_IMAGE_SIDE;
-    for (flag, value) in [("--width", width), ("--height", height)] {
-        if value.is_some_and(|v| !(1..=max).contains(&v)) {
-            return Err(Error::Usage(format!(
-                "{flag}: must be in 1..={max}, got {}",
-                value.unwrap_or(0)
-            )));
-        }
-    }
-    if let Some(s) = samples {
-        kdray::scene::check_samples(s).map_err(|m| Error::Usage(format!("--samples: {m}")))?;
-        scene.render.samples = s;
-    }
+    kdray::render::check_render_flags(width, height, samples)?;
+    scene.render.samples = samples.unwrap_or(scene.render.samples);
     scene.render.width = width.unwrap_or(scene.render.width);
     scene.render.height = height.unwrap_or(scene.render.height);
     let output = output.unwrap_or_else(|| {

@@ -64,6 +64,28 @@ impl RenderStats {
     }
 }
 
+/// Checks command-line overrides of the image size and the samples against
+/// the rules of the scene file's `[render]` keys; errors name the flag.
+pub fn check_render_flags(
+    width: Option<u32>,
+    height: Option<u32>,
+    samples: Option<u32>,
+) -> Result<()> {
+    let max = crate::scene::MAX_IMAGE_SIDE;
+    for (flag, value) in [("--width", width), ("--height", height)] {
+        if let Some(v) = value.filter(|v| !(1..=max).contains(v)) {
+            return Err(crate::Error::Usage(format!(
+                "{flag}: must be in 1..={max}, got {v}"
+            )));
+        }
+    }
+    if let Some(s) = samples {
+        crate::scene::check_samples(s)
+            .map_err(|m| crate::Error::Usage(format!("--samples: {m}")))?;
+    }
+    Ok(())
+}
+
 fn ms_since(t: Instant) -> f64 {
     t.elapsed().as_secs_f64() * 1e3
 }

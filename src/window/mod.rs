@@ -43,19 +43,7 @@ pub struct WindowOptions {
 
 impl WindowOptions {
     fn validate(&self) -> Result<()> {
-        let max = crate::scene::MAX_IMAGE_SIDE;
-        for (flag, value) in [("--width", self.width), ("--height", self.height)] {
-            if let Some(v) = value {
-                if !(1..=max).contains(&v) {
-                    return Err(Error::Usage(format!(
-                        "{flag}: must be in 1..={max}, got {v}"
-                    )));
-                }
-            }
-        }
-        if let Some(s) = self.samples {
-            crate::scene::check_samples(s).map_err(|m| Error::Usage(format!("--samples: {m}")))?;
-        }
+        crate::render::check_render_flags(self.width, self.height, self.samples)?;
         if self.frames == Some(0) {
             return Err(Error::Usage("--frames: must be at least 1, got 0".into()));
         }
