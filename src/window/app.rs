@@ -633,10 +633,10 @@ fn next_screenshot_path(scene: &Path) -> PathBuf {
     let stem = scene
         .file_stem()
         .map_or_else(|| "kdray".into(), |s| s.to_string_lossy().into_owned());
-    (1..)
+    (1..u32::MAX)
         .map(|n| PathBuf::from(format!("{stem}-{n:03}.png")))
         .find(|p| !p.exists())
-        .expect("an unused file name")
+        .unwrap_or_else(|| PathBuf::from(format!("{stem}-latest.png")))
 }
 
 impl Session {
