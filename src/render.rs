@@ -140,16 +140,15 @@ pub fn render_scene_streaming(
 
     let upload = Instant::now();
     let arrays = SceneArrays::new(scene, &prims, &tree);
-    arrays.check_fits(&ctx.device.limits())?;
-    let buffers = ctx.checked("uploading the scene", |device| {
-        SceneBuffers::upload(device, &arrays)
-    })?;
+    let buffers = SceneBuffers::upload(ctx, &arrays)?;
     let renderer = Renderer::new(ctx)?;
     let upload_ms = ms_since(upload);
 
     let params = frame_params(scene, &tree, &buffers, accel);
     let limits = ctx.device.limits();
-    let max_binding = (limits.max_storage_buffer_binding_size as u64).min(limits.max_buffer_size);
+    let max_binding = limits
+        .max_storage_buffer_binding_size
+        .min(limits.max_buffer_size);
     let plan = TilePlan::new(
         scene.render.width,
         scene.render.height,

@@ -2,7 +2,6 @@
 //! tiny sizes: the files are produced and sane (not the timings).
 
 use std::path::Path;
-use std::process::Command;
 
 use kdray::bench::report::{CSV_COLUMNS, CSV_FILE, JSON_FILE, SUMMARY_FILE};
 use kdray::bench::{output_files, random_scene, RandomSceneSpec, SceneKind, DEFAULT_SEED};
@@ -10,32 +9,10 @@ use kdray::output::read_png_rgb;
 
 mod common;
 
-use common::TempDir;
-
-struct Run {
-    code: i32,
-    stdout: String,
-    stderr: String,
-}
+use common::{run_kdray, Run, TempDir};
 
 fn kdray(args: &[&str]) -> Run {
-    let out = Command::new(env!("CARGO_BIN_EXE_kdray"))
-        .args(args)
-        .env("XDG_RUNTIME_DIR", std::env::temp_dir())
-        .output()
-        .expect("cannot run kdray");
-    let run = Run {
-        code: out.status.code().unwrap_or(-1),
-        stdout: String::from_utf8_lossy(&out.stdout).into_owned(),
-        stderr: String::from_utf8_lossy(&out.stderr).into_owned(),
-    };
-    eprintln!(
-        "kdray {}: exit {}\n{}",
-        args.join(" "),
-        run.code,
-        run.stderr
-    );
-    run
+    run_kdray(&std::env::temp_dir(), args, &[])
 }
 
 fn csv_rows(path: &Path) -> (Vec<String>, Vec<Vec<String>>) {
@@ -96,7 +73,7 @@ fn bench_writes_csv_json_summary_and_plots() {
         "bench", "--sizes", "1,10,100", "--width", "32", "--height", "24", "--repeat", "1",
         "--out", out_s,
     ]);
-    assert_eq!(run.code, 0, "{}", run.stderr);
+    assert_eq!(run.code, 0, "{}", run.stderr_text());
     for f in output_files(&out) {
         assert!(f.is_file(), "missing {}", f.display());
     }
@@ -215,7 +192,7 @@ fn brute_force_over_budget_is_skipped_and_reported() {
         "--out",
         out.to_str().unwrap(),
     ]);
-    assert_eq!(run.code, 0, "{}", run.stderr);
+    assert_eq!(run.code, 0, "{}", run.stderr_text());
     let (header, rows) = csv_rows(&out.join(CSV_FILE));
     let (accel, status) = (column(&header, "accel"), column(&header, "status"));
     let statuses: Vec<(&str, &str)> = rows
@@ -244,9 +221,9 @@ fn brute_force_over_budget_is_skipped_and_reported() {
         1
     );
     assert!(
-        run.stderr.contains("skipped"),
+        run.stderr_text().contains("skipped"),
         "the skip is reported: {}",
-        run.stderr
+        run.stderr_text()
     );
     check_plots(&out);
 }
@@ -267,7 +244,7 @@ fn generated_scenes_load_back_and_render() {
             "-o",
             path.to_str().unwrap(),
         ]);
-        assert_eq!(run.code, 0, "{}", run.stderr);
+        assert_eq!(run.code, 0, "{}", run.stderr_text());
         let loaded = kdray::scene::load_scene(&path).unwrap_or_else(|e| panic!("{e}"));
         let kind = if kind == "mixed" {
             SceneKind::Mixed
@@ -291,7 +268,7 @@ fn generated_scenes_load_back_and_render() {
             "-o",
             png.to_str().unwrap(),
         ]);
-        assert_eq!(run.code, 0, "{}", run.stderr);
+        assert_eq!(run.code, 0, "{}", run.stderr_text());
         let (w, h, rgb) = read_png_rgb(&png).unwrap();
         assert_eq!((w, h), (40, 30));
         let background = [rgb[0], rgb[1], rgb[2]];
@@ -336,7 +313,7 @@ fn bench_measures_scene_files() {
         "--out",
         out.to_str().unwrap(),
     ]);
-    assert_eq!(run.code, 0, "{}", run.stderr);
+    assert_eq!(run.code, 0, "{}", run.stderr_text());
     let (header, rows) = csv_rows(&out.join(CSV_FILE));
     assert_eq!(rows.len(), 2);
     let (scene_col, n, depth, refl) = (
@@ -368,14 +345,18 @@ fn bad_arguments_exit_2() {
         &["generate", "--count", "0", "-o", out],
     ] {
         let run = kdray(args);
-        assert_eq!(run.code, 2, "{args:?}: {}", run.stderr);
+        assert_eq!(run.code, 2, "{args:?}: {}", run.stderr_text());
         assert!(
-            run.stderr.starts_with("kdray: "),
+            run.stderr_text().starts_with("kdray: "),
             "{args:?}: {}",
-            run.stderr
+            run.stderr_text()
         );
     }
     let run = kdray(&["bench", "--scene", "no/such/scene.toml", "--out", out]);
-    assert_eq!(run.code, 2, "{}", run.stderr);
-    assert!(run.stderr.contains("no/such/scene.toml"), "{}", run.stderr);
+    assert_eq!(run.code, 2, "{}", run.stderr_text());
+    assert!(
+        run.stderr_text().contains("no/such/scene.toml"),
+        "{}",
+        run.stderr_text()
+    );
 }

@@ -5,53 +5,15 @@
 //! image size.
 
 use std::path::Path;
-use std::process::Command;
 
 mod common;
 
-use common::TempDir;
+use common::{run_kdray, Run, TempDir};
 use kdray::output::read_png_rgb;
-
-/// What one run of `kdray` left behind.
-#[derive(Debug)]
-struct Run {
-    code: i32,
-    stdout: String,
-    /// Lines of stderr, without Mesa's `XDG_RUNTIME_DIR` noise.
-    stderr: Vec<String>,
-}
-
-impl Run {
-    /// The single line of stderr, asserting there is exactly one and that
-    /// nothing panicked.
-    fn one_error_line(&self) -> &str {
-        assert!(
-            !self.stderr.iter().any(|l| l.contains("panicked")),
-            "{self:#?}"
-        );
-        assert_eq!(self.stderr.len(), 1, "want one stderr line: {self:#?}");
-        assert!(!self.stderr[0].trim().is_empty(), "{self:#?}");
-        &self.stderr[0]
-    }
-}
 
 /// Runs `kdray ARGS` in `dir` with extra environment variables.
 fn kdray_env(dir: &Path, args: &[&str], env: &[(&str, &str)]) -> Run {
-    let out = Command::new(env!("CARGO_BIN_EXE_kdray"))
-        .args(args)
-        .current_dir(dir)
-        .envs(env.iter().copied())
-        .output()
-        .expect("cannot run kdray");
-    Run {
-        code: out.status.code().expect("kdray was killed by a signal"),
-        stdout: String::from_utf8(out.stdout).expect("stdout is not UTF-8"),
-        stderr: String::from_utf8_lossy(&out.stderr)
-            .lines()
-            .filter(|l| !l.contains("XDG_RUNTIME_DIR"))
-            .map(str::to_string)
-            .collect(),
-    }
+    run_kdray(dir, args, env)
 }
 
 fn kdray(dir: &Path, args: &[&str]) -> Run {
@@ -188,10 +150,7 @@ fn out_of_range_size_and_bad_accel_are_usage_errors() {
         &render_args(&seed, &["-o", "out.png", "--accel", "nonsense"]),
     );
     assert_eq!(run.code, 2, "{run:#?}");
-    assert!(
-        !run.stderr.iter().any(|l| l.contains("panicked")),
-        "{run:#?}"
-    );
+    assert!(!run.panicked(), "{run:#?}");
     assert!(!dir.join("out.png").exists());
 }
 

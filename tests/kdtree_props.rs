@@ -238,14 +238,16 @@ fn straddling_sphere_scene_matches_brute_force() {
 
 #[test]
 fn ten_thousand_copies_of_one_sphere() {
-    let mut prims = Primitives::default();
-    prims.spheres = vec![
-        SphereF32 {
-            center: Vec3::new(1.0, 2.0, 3.0),
-            radius: 0.5
-        };
-        10_000
-    ];
+    let prims = Primitives {
+        spheres: vec![
+            SphereF32 {
+                center: Vec3::new(1.0, 2.0, 3.0),
+                radius: 0.5
+            };
+            10_000
+        ],
+        ..Default::default()
+    };
     let tree = KdTree::for_primitives(&prims);
     let ray = Ray {
         origin: Vec3::new(1.0, 2.0, -10.0),

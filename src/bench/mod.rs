@@ -698,9 +698,7 @@ fn measure(
     let t = Instant::now();
     let arrays = SceneArrays::new(scene, prims, &tree);
     let bytes = arrays.byte_size();
-    let buffers = ctx.checked("uploading the scene", |device| {
-        SceneBuffers::upload(device, &arrays)
-    })?;
+    let buffers = SceneBuffers::upload(ctx, &arrays)?;
     drop(arrays);
     record.upload_ms = Some(ms_since(t));
     record.gpu_scene_bytes = Some(bytes);

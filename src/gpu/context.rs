@@ -145,6 +145,7 @@ impl GpuContext {
             // Everything the adapter offers: large scenes need its real
             // storage-buffer limits, not WebGPU's defaults.
             required_limits: adapter.limits(),
+            memory_hints: wgpu::MemoryHints::MemoryUsage,
             ..Default::default()
         }))
         .map_err(|e| Error::Gpu(format!("cannot open a device on {}: {e}", describe(&info))))?;
@@ -201,19 +202,33 @@ impl GpuContext {
         let oom = self.device.push_error_scope(wgpu::ErrorFilter::OutOfMemory);
         let validation = self.device.push_error_scope(wgpu::ErrorFilter::Validation);
         let value = f(&self.device);
-        let errors = [
-            pollster::block_on(validation.pop()),
-            pollster::block_on(oom.pop()),
-        ];
-        if let Some(e) = errors.into_iter().flatten().next() {
-            let message = e
-                .to_string()
+        // Scopes pop in reverse order. Out-of-memory comes first in the
+        // report: a failed allocation leaves invalid buffers, and the
+        // validation errors that follow from them are only its echo.
+        let validation_error = pollster::block_on(validation.pop());
+        let oom_error = pollster::block_on(oom.pop());
+        let one_line = |e: wgpu::Error| {
+            e.to_string()
                 .lines()
                 .map(str::trim)
                 .filter(|l| !l.is_empty())
                 .collect::<Vec<_>>()
-                .join(" ");
-            return Err(Error::Gpu(format!("{what}: {message}")));
+                .join(" ")
+        };
+        if let Some(e) = oom_error {
+            let detail = one_line(e);
+            let detail = if detail.eq_ignore_ascii_case("out of memory") {
+                String::new()
+            } else {
+                format!(" ({detail})")
+            };
+            return Err(Error::Gpu(format!(
+                "{what}: out of GPU memory on {}{detail}",
+                self.info.name
+            )));
+        }
+        if let Some(e) = validation_error {
+            return Err(Error::Gpu(format!("{what}: {}", one_line(e))));
         }
         self.check_health()?;
         Ok(value)

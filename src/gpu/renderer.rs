@@ -64,6 +64,7 @@ impl TilePlan {
     }
 
     /// Rows of the next band, given how long the last one took per row.
+    #[allow(clippy::neg_cmp_op_on_partial_ord)] // NaN counts as not positive
     fn next_band_rows(&self, ms_per_row: f64) -> u32 {
         if !(ms_per_row > 0.0) {
             return self.max_rows;
@@ -189,29 +190,29 @@ pub struct Renderer {
 impl Renderer {
     pub fn new(ctx: &GpuContext) -> Result<Self> {
         let source = shaders::trace_source();
-        let pipeline = ctx.checked("creating the trace pipeline", |device| {
+        ctx.checked("creating the trace pipeline", |device| {
             let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
                 label: Some("trace"),
                 source: wgpu::ShaderSource::Wgsl(source.into()),
             });
-            device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+            let pipeline = device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
                 label: Some("trace"),
                 layout: None,
                 module: &module,
                 entry_point: Some(shaders::TRACE_ENTRY_POINT),
                 compilation_options: Default::default(),
                 cache: None,
-            })
-        })?;
-        let params_buffer = ctx.device.create_buffer(&wgpu::BufferDescriptor {
-            label: Some("frame params"),
-            size: std::mem::size_of::<FrameParams>() as u64,
-            usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
-            mapped_at_creation: false,
-        });
-        Ok(Renderer {
-            pipeline,
-            params_buffer,
+            });
+            let params_buffer = device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some("frame params"),
+                size: std::mem::size_of::<FrameParams>() as u64,
+                usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+                mapped_at_creation: false,
+            });
+            Renderer {
+                pipeline,
+                params_buffer,
+            }
         })
     }
 
@@ -252,8 +253,12 @@ impl Renderer {
         let (width, height) = (params.width, params.height);
         let device = &ctx.device;
         let tile_bytes = OUTPUT_HEADER_BYTES + plan.tile_width as u64 * plan.max_rows as u64 * 4;
+        let output_what = format!(
+            "allocating the output buffers (2 x {})",
+            crate::gpu::scene_buffers::human_bytes(tile_bytes)
+        );
         let (output, readback, bind_group) =
-            ctx.checked("allocating the output buffers", |device| {
+            ctx.checked(&output_what, |device| {
                 let output = device.create_buffer(&wgpu::BufferDescriptor {
                     label: Some("output pixels"),
                     size: tile_bytes,
@@ -289,7 +294,10 @@ impl Renderer {
                 });
                 (output, readback, bind_group)
             })?;
-        let timer = ctx.has_timestamps.then(|| GpuTimer::new(device));
+        let timer = match ctx.has_timestamps {
+            true => Some(ctx.checked("creating the GPU timer", GpuTimer::new)?),
+            false => None,
+        };
 
         let mut band_rgb = Vec::with_capacity(width as usize * plan.max_rows as usize * 3);
         let mut summary = RenderSummary {

@@ -1,6 +1,7 @@
 //! The scene flattened into GPU arrays (host side) and uploaded as storage
 //! buffers. Bindings as declared in shaders/types.wgsl.
 
+use super::GpuContext;
 use crate::geometry::Primitives;
 use crate::kdtree::KdTree;
 use crate::layout::{GpuLight, GpuMaterial, GpuSphere, GpuTriangle, KdNode};
@@ -110,7 +111,9 @@ impl SceneArrays {
     /// exceeds what the adapter can bind (`max_storage_buffer_binding_size`,
     /// `max_buffer_size`): the message names the buffer, its size and the limit.
     pub fn check_fits(&self, limits: &wgpu::Limits) -> crate::Result<()> {
-        let limit = (limits.max_storage_buffer_binding_size as u64).min(limits.max_buffer_size);
+        let limit = limits
+            .max_storage_buffer_binding_size
+            .min(limits.max_buffer_size);
         for (name, bytes) in self.buffers() {
             if bytes.len() as u64 > limit {
                 return Err(crate::Error::Gpu(format!(
@@ -130,7 +133,7 @@ impl SceneArrays {
 }
 
 /// Bytes for people: B, KiB or MiB.
-fn human_bytes(bytes: u64) -> String {
+pub(crate) fn human_bytes(bytes: u64) -> String {
     match bytes {
         b if b < 1024 => format!("{b} B"),
         b if b < 1024 * 1024 => format!("{:.1} KiB", b as f64 / 1024.0),
@@ -148,7 +151,21 @@ pub struct SceneBuffers {
 }
 
 impl SceneBuffers {
-    pub fn upload(device: &wgpu::Device, arrays: &SceneArrays) -> Self {
+    /// Uploads `arrays` to the device. A scene with a buffer beyond the
+    /// adapter's binding limits is refused before anything is allocated; one
+    /// the device has no memory for fails with the size it needed. Either
+    /// way the error is one line.
+    pub fn upload(ctx: &GpuContext, arrays: &SceneArrays) -> crate::Result<Self> {
+        arrays.check_fits(&ctx.device.limits())?;
+        let what = format!(
+            "uploading the scene ({} of GPU memory)",
+            human_bytes(arrays.byte_size())
+        );
+        ctx.checked(&what, |device| Self::create(device, arrays))
+    }
+
+    /// Creates the buffers; errors go to the caller's error scopes.
+    fn create(device: &wgpu::Device, arrays: &SceneArrays) -> Self {
         let buffers = arrays
             .buffers()
             .iter()

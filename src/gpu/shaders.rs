@@ -37,6 +37,9 @@ pub fn trace_source() -> String {
 }
 
 #[cfg(test)]
+pub(crate) use tests::parse_and_validate;
+
+#[cfg(test)]
 mod tests {
     use super::*;
     use naga::valid::{Capabilities, ValidationFlags, Validator};
@@ -84,6 +87,3 @@ mod tests {
         }
     }
 }
-
-#[cfg(test)]
-pub(crate) use tests::parse_and_validate;

@@ -162,6 +162,7 @@ impl Builder<'_> {
 
     /// The cheapest plane over all axes, among the objects' clipped bound
     /// planes strictly inside the cell.
+    #[allow(clippy::neg_cmp_op_on_partial_ord)] // NaN counts as not positive
     fn best_split(&self, ids: &[u32], cell: &Aabb) -> Option<Split> {
         let n = ids.len();
         let area = cell.surface_area();

@@ -361,6 +361,16 @@ fn resolve_index(token: &str, defined: usize) -> Result<usize, String> {
     })
 }
 
+/// What the OBJ fuzz target and its regression tests run on one input: the
+/// bytes as an OBJ file (lossily decoded, as `load_obj` does), with and
+/// without materials. Anything may fail, nothing may panic.
+pub fn fuzz_check(data: &[u8]) {
+    let text = String::from_utf8_lossy(data);
+    let path = Path::new("/nonexistent-kdray-fuzz/mesh.obj");
+    let _ = parse_obj(&text, path, false);
+    let _ = parse_obj(&text, path, true);
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -858,14 +868,4 @@ mod tests {
         }
         assert!(std::fs::metadata(&obj).unwrap().len() < 200 * 1024);
     }
-}
-
-/// What the OBJ fuzz target and its regression tests run on one input: the
-/// bytes as an OBJ file (lossily decoded, as `load_obj` does), with and
-/// without materials. Anything may fail, nothing may panic.
-pub fn fuzz_check(data: &[u8]) {
-    let text = String::from_utf8_lossy(data);
-    let path = Path::new("/nonexistent-kdray-fuzz/mesh.obj");
-    let _ = parse_obj(&text, path, false);
-    let _ = parse_obj(&text, path, true);
 }

@@ -609,9 +609,7 @@ fn build(ctx: &GpuContext, scene: &Scene) -> Result<(KdTree, SceneBuffers)> {
         ..KdTree::for_primitives(&prims)
     };
     let arrays = SceneArrays::new(scene, &prims, &tree);
-    let buffers = ctx.checked("uploading the scene", |device| {
-        SceneBuffers::upload(device, &arrays)
-    })?;
+    let buffers = SceneBuffers::upload(ctx, &arrays)?;
     Ok((tree, buffers))
 }
 

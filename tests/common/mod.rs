@@ -3,6 +3,7 @@
 #![allow(dead_code)]
 
 use std::path::{Path, PathBuf};
+use std::process::Command;
 use std::sync::atomic::{AtomicUsize, Ordering};
 use std::sync::OnceLock;
 
@@ -170,4 +171,63 @@ impl Drop for TempDir {
     fn drop(&mut self) {
         let _ = std::fs::remove_dir_all(&self.path);
     }
+}
+
+/// What one run of the `kdray` binary left behind.
+#[derive(Debug)]
+pub struct Run {
+    pub code: i32,
+    pub stdout: String,
+    /// Lines of stderr, without Mesa's `XDG_RUNTIME_DIR` noise.
+    pub stderr: Vec<String>,
+}
+
+impl Run {
+    /// The single line of stderr, asserting there is exactly one and that
+    /// nothing panicked.
+    pub fn one_error_line(&self) -> &str {
+        assert!(!self.panicked(), "{self:#?}");
+        assert_eq!(self.stderr.len(), 1, "want one stderr line: {self:#?}");
+        assert!(!self.stderr[0].trim().is_empty(), "{self:#?}");
+        &self.stderr[0]
+    }
+
+    pub fn panicked(&self) -> bool {
+        self.stderr.iter().any(|l| l.contains("panicked"))
+    }
+
+    /// All of stderr, for assertion messages.
+    pub fn stderr_text(&self) -> String {
+        self.stderr.join("\n")
+    }
+}
+
+/// Runs the built `kdray ARGS` in `dir` with extra environment variables.
+/// A run killed by a signal (a crash) fails the test.
+pub fn run_kdray(dir: &Path, args: &[&str], env: &[(&str, &str)]) -> Run {
+    let out = Command::new(env!("CARGO_BIN_EXE_kdray"))
+        .args(args)
+        .current_dir(dir)
+        .env("XDG_RUNTIME_DIR", std::env::temp_dir())
+        .envs(env.iter().copied())
+        .output()
+        .expect("cannot run kdray");
+    let run = Run {
+        code: out.status.code().unwrap_or_else(|| {
+            panic!(
+                "kdray {} was killed by a signal ({:?}); stderr:\n{}",
+                args.join(" "),
+                out.status,
+                String::from_utf8_lossy(&out.stderr)
+            )
+        }),
+        stdout: String::from_utf8(out.stdout).expect("stdout is not UTF-8"),
+        stderr: String::from_utf8_lossy(&out.stderr)
+            .lines()
+            .filter(|l| !l.contains("XDG_RUNTIME_DIR"))
+            .map(str::to_string)
+            .collect(),
+    };
+    eprintln!("kdray {}: exit {}", args.join(" "), run.code);
+    run
 }
