@@ -189,12 +189,8 @@ pub struct Renderer {
 
 impl Renderer {
     pub fn new(ctx: &GpuContext) -> Result<Self> {
-        let source = shaders::trace_source();
         ctx.checked("creating the trace pipeline", |device| {
-            let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
-                label: Some("trace"),
-                source: wgpu::ShaderSource::Wgsl(source.into()),
-            });
+            let module = shaders::trace_module(device);
             let pipeline = device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
                 label: Some("trace"),
                 layout: None,

@@ -28,6 +28,34 @@ pub const PRESENT_SOURCE: &str = include_str!("../../shaders/present.wgsl");
 pub const PRESENT_VERTEX_ENTRY_POINT: &str = "vs_main";
 pub const PRESENT_FRAGMENT_ENTRY_POINT: &str = "fs_main";
 
+/// The trace kernel as a shader module on `device`.
+///
+/// naga's bounds checks stay on: buffer indices come from the scene's
+/// buffers, and a wrong one must not read outside them. Its forced loop
+/// bounds (a counter added to every loop, so that a loop the compiler cannot
+/// prove finite cannot hang the GPU) are off, because every loop of the
+/// kernel ends by construction: k-d restarts are capped at `node_count + 1`;
+/// each descent step moves to a higher node index (children follow their
+/// parent in the flat layout, `flat_layout_is_what_the_kernel_assumes` in
+/// tests/kdtree_props.rs), and an index past the end is clamped to the last
+/// node, a leaf; leaf, brute-force, light and sample loops run over counts;
+/// the reflection loop over `max_depth`. The counters cost 6-10% of the
+/// frame on lavapipe (docs/benchmarks.md).
+pub fn trace_module(device: &wgpu::Device) -> wgpu::ShaderModule {
+    let desc = wgpu::ShaderModuleDescriptor {
+        label: Some("trace"),
+        source: wgpu::ShaderSource::Wgsl(trace_source().into()),
+    };
+    let checks = wgpu::ShaderRuntimeChecks {
+        force_loop_bounding: false,
+        ..wgpu::ShaderRuntimeChecks::checked()
+    };
+    // SAFETY: turning a runtime check off makes what it guarded undefined
+    // behaviour. Only the loop bounds are off, and every loop of the kernel
+    // terminates on its own (above).
+    unsafe { device.create_shader_module_trusted(desc, checks) }
+}
+
 /// The whole trace kernel as one WGSL module.
 pub fn trace_source() -> String {
     TRACE_PARTS

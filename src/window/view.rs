@@ -208,7 +208,6 @@ impl Viewer {
         target_format: wgpu::TextureFormat,
         pixels: u64,
     ) -> Result<Self> {
-        let trace_source = shaders::trace_source();
         ctx.checked("creating the window's pipelines", |device| {
             let compute = wgpu::ShaderStages::COMPUTE;
             let mut entries = vec![uniform(0, compute)];
@@ -218,10 +217,7 @@ impl Viewer {
                 label: Some("accumulate"),
                 entries: &entries,
             });
-            let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
-                label: Some("trace"),
-                source: wgpu::ShaderSource::Wgsl(trace_source.into()),
-            });
+            let module = shaders::trace_module(device);
             let accumulate = device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
                 label: Some("accumulate"),
                 layout: Some(
