@@ -145,10 +145,7 @@ pub fn render_scene_streaming(
     let upload_ms = ms_since(upload);
 
     let params = frame_params(scene, &tree, &buffers, accel);
-    let limits = ctx.device.limits();
-    let max_binding = limits
-        .max_storage_buffer_binding_size
-        .min(limits.max_buffer_size);
+    let max_binding = crate::gpu::max_binding_bytes(&ctx.device.limits());
     let plan = TilePlan::new(
         scene.render.width,
         scene.render.height,

@@ -501,10 +501,7 @@ pub fn run_bench(ctx: &GpuContext, config: &BenchConfig) -> Result<BenchOutcome>
     let mut report = report::BenchReport::new(ctx, config);
     let progress = Progress::new((cases.len() * config.accel_list.len()) as u64);
     let renderer = Renderer::new(ctx)?;
-    let limits = ctx.device.limits();
-    let max_binding = limits
-        .max_storage_buffer_binding_size
-        .min(limits.max_buffer_size);
+    let max_binding = crate::gpu::max_binding_bytes(&ctx.device.limits());
     // Measured brute-force frames: (N, ms), for the budget's prediction.
     let mut brute_times: Vec<(usize, f64)> = Vec::new();
     let mut files = Vec::new();

@@ -82,6 +82,14 @@ fn rank(mut adapters: Vec<wgpu::Adapter>) -> (Vec<wgpu::Adapter>, Option<usize>)
     (adapters, pick)
 }
 
+/// The largest storage buffer the device can bind, in bytes: kdray's limit
+/// on any one buffer (scene arrays, output tiles, accumulation).
+pub fn max_binding_bytes(limits: &wgpu::Limits) -> u64 {
+    limits
+        .max_storage_buffer_binding_size
+        .min(limits.max_buffer_size)
+}
+
 /// One line describing an adapter, as `kdray info` and `--stats` show it.
 pub fn describe(info: &wgpu::AdapterInfo) -> String {
     format!(

@@ -7,7 +7,7 @@ pub mod renderer;
 pub mod scene_buffers;
 pub mod shaders;
 
-pub use context::GpuContext;
+pub use context::{max_binding_bytes, GpuContext};
 pub use renderer::{
     frame_params, Accel, RayTotals, RenderSummary, RenderedImage, Renderer, RowBand, TilePlan,
 };

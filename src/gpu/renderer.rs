@@ -251,7 +251,7 @@ impl Renderer {
         let tile_bytes = OUTPUT_HEADER_BYTES + plan.tile_width as u64 * plan.max_rows as u64 * 4;
         let output_what = format!(
             "allocating the output buffers (2 x {})",
-            crate::gpu::scene_buffers::human_bytes(tile_bytes)
+            super::scene_buffers::human_bytes(tile_bytes)
         );
         let (output, readback, bind_group) =
             ctx.checked(&output_what, |device| {

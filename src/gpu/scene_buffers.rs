@@ -111,9 +111,7 @@ impl SceneArrays {
     /// exceeds what the adapter can bind (`max_storage_buffer_binding_size`,
     /// `max_buffer_size`): the message names the buffer, its size and the limit.
     pub fn check_fits(&self, limits: &wgpu::Limits) -> crate::Result<()> {
-        let limit = limits
-            .max_storage_buffer_binding_size
-            .min(limits.max_buffer_size);
+        let limit = super::max_binding_bytes(limits);
         for (name, bytes) in self.buffers() {
             if bytes.len() as u64 > limit {
                 return Err(crate::Error::Gpu(format!(

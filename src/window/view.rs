@@ -316,11 +316,7 @@ impl Viewer {
 
     /// Largest image an accumulation buffer may hold on this device.
     pub fn max_pixels(ctx: &GpuContext) -> u64 {
-        let limits = ctx.device.limits();
-        limits
-            .max_storage_buffer_binding_size
-            .min(limits.max_buffer_size)
-            / ACCUMULATION_TEXEL
+        crate::gpu::max_binding_bytes(&ctx.device.limits()) / ACCUMULATION_TEXEL
     }
 
     /// Records `work` into `encoder`, drawing to `target`. The uniforms are
