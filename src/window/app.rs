@@ -440,6 +440,8 @@ struct KindStats {
     frames: u32,
     seconds: f64,
     primary_rays: u64,
+    /// The longest of these frames (a stall shows here), ms.
+    longest_ms: f64,
 }
 
 impl KindStats {
@@ -468,10 +470,12 @@ struct WindowStats {
     still_fps: f64,
     still_ms: f64,
     still_mrays_per_s: f64,
+    still_longest_ms: f64,
     moving_frames: u32,
     moving_fps: f64,
     moving_ms: f64,
     moving_mrays_per_s: f64,
+    moving_longest_ms: f64,
     /// Resolution divisor while moving, at exit.
     moving_scale: u32,
     idle_frames: u32,
@@ -1034,6 +1038,7 @@ impl Session {
             stats.seconds += seconds;
             stats.primary_rays += rays;
             let ms = seconds * 1e3;
+            stats.longest_ms = stats.longest_ms.max(ms);
             let mrays = rays as f64 / seconds.max(1e-9) * 1e-6;
             let a = if self.frame_ms == 0.0 { 1.0 } else { 0.2 };
             self.frame_ms += a * (ms - self.frame_ms);
@@ -1137,10 +1142,12 @@ impl Session {
                 still_fps: self.still.fps(),
                 still_ms: self.still.ms(),
                 still_mrays_per_s: self.still.mrays(),
+                still_longest_ms: self.still.longest_ms,
                 moving_frames: self.moving.frames,
                 moving_fps: self.moving.fps(),
                 moving_ms: self.moving.ms(),
                 moving_mrays_per_s: self.moving.mrays(),
+                moving_longest_ms: self.moving.longest_ms,
                 moving_scale: self.moving_scale,
                 idle_frames: self.idle.frames,
                 refine_seconds: self.refine_seconds,
