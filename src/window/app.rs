@@ -26,7 +26,7 @@ use winit::keyboard::{Key, KeyCode, NamedKey, PhysicalKey};
 use winit::window::{Window, WindowId};
 
 use super::camera_controller::{Bounds, Button, CameraController, ControlKey, Input};
-use super::reload::SceneWatcher;
+use super::reload::{LatestJob, SceneWatcher, WatchList};
 use super::view::{FrameWork, PresentParams, Target, Viewer};
 use super::{signals, WindowOptions, DEFAULT_WINDOW_SAMPLES};
 use crate::error::{Error, Result};
@@ -87,7 +87,7 @@ pub fn run(options: WindowOptions) -> Result<()> {
     };
     // Watch first, so a change made while the scene loads is not missed.
     let watcher = SceneWatcher::new(&options.scene);
-    let scene = crate::scene::load_scene(&options.scene)?;
+    let scene = PreparedScene::load(&options.scene)?;
     let event_loop = EventLoop::new().map_err(|e| {
         Error::Gpu(format!(
             "cannot open a window: {e} (is DISPLAY or WAYLAND_DISPLAY set?)"
@@ -103,6 +103,7 @@ pub fn run(options: WindowOptions) -> Result<()> {
         options,
         pending: Some(scene),
         watcher,
+        reloads: LatestJob::default(),
         session: None,
         error: None,
         auto_orbit,
@@ -123,9 +124,12 @@ struct App {
     /// The scene's file name, for the title bar.
     name: String,
     display: OwnedDisplayHandle,
-    /// The scene loaded at start, until the window exists.
-    pending: Option<Scene>,
+    /// The scene loaded at start (or reloaded since), until the window exists.
+    pending: Option<PreparedScene>,
     watcher: SceneWatcher,
+    /// Reloads in flight on a worker thread: the files to watch from then
+    /// on, and the scene.
+    reloads: LatestJob<(WatchList, Result<PreparedScene>)>,
     session: Option<Session>,
     error: Option<Error>,
     auto_orbit: f64,
@@ -155,30 +159,58 @@ impl App {
         event_loop.exit();
     }
 
-    fn reload(&mut self) {
+    /// Starts loading the scene again on a worker thread; the window keeps
+    /// drawing the current one meanwhile.
+    fn start_reload(&mut self) {
         let path = self.options.scene.clone();
-        let result = crate::scene::load_scene(&path)
-            .map_err(Error::from)
-            .and_then(|scene| match &mut self.session {
-                Some(session) => session.set_scene(scene, &self.options),
-                None => {
-                    self.pending = Some(scene);
-                    Ok(())
-                }
-            });
-        self.watcher.rescan();
+        // The mesh list may have changed: the job also lists what to watch.
+        self.reloads
+            .request(move || (WatchList::of_scene(&path), PreparedScene::load(&path)));
+        if let Some(session) = &mut self.session {
+            session.reloading = true;
+            session.update_title(&self.name, true);
+        }
+    }
+
+    /// Shows a finished reload, or reports why it failed (keeping the last
+    /// good scene).
+    fn finish_reload(
+        &mut self,
+        outcome: std::result::Result<(WatchList, Result<PreparedScene>), String>,
+    ) {
+        // The thread's failure (it could not start, or panicked) is a
+        // message, like the scene's own errors.
+        let result = match outcome {
+            Ok((files, loaded)) => {
+                self.watcher.watch(files);
+                loaded
+                    .and_then(|prepared| match &mut self.session {
+                        Some(session) => session.set_scene(prepared, &self.options),
+                        None => {
+                            self.pending = Some(prepared);
+                            Ok(())
+                        }
+                    })
+                    .map_err(|e| e.to_string())
+            }
+            Err(message) => {
+                self.watcher.rescan();
+                Err(message)
+            }
+        };
         let message = match result {
             Ok(()) => {
-                eprintln!("kdray: reloaded {}", path.display());
+                eprintln!("kdray: reloaded {}", self.options.scene.display());
                 None
             }
-            Err(e) => {
-                eprintln!("kdray: {e}");
-                Some(e.to_string())
+            Err(message) => {
+                eprintln!("kdray: {message}");
+                Some(message)
             }
         };
         if let Some(session) = &mut self.session {
             session.reload_error = message;
+            session.reloading = self.reloads.busy();
             session.update_title(&self.name, true);
         }
     }
@@ -327,7 +359,10 @@ impl ApplicationHandler for App {
         }
         let now = Instant::now();
         if self.watcher.poll(now) {
-            self.reload();
+            self.start_reload();
+        }
+        if let Some(outcome) = self.reloads.poll() {
+            self.finish_reload(outcome);
         }
         if let Some(session) = &mut self.session {
             if session.wants_frame(now, self.auto_orbit, self.options.frames) {
@@ -554,6 +589,8 @@ struct Session {
     /// A frame was made since the title was last set.
     title_stale: bool,
     reload_error: Option<String>,
+    /// A reload is being prepared on the worker thread.
+    reloading: bool,
 }
 
 /// Window size: --width/--height in physical pixels; one of them alone keeps
@@ -604,17 +641,30 @@ fn open_gpu(
     Err(last.unwrap_or_else(|| Error::Gpu(crate::gpu::context::NO_ADAPTER_HELP.to_string())))
 }
 
-/// The scene's tree (over all objects; brute force only changes a flag the
-/// shader reads) and its buffers on the device.
-fn build(ctx: &GpuContext, scene: &Scene) -> Result<(KdTree, SceneBuffers)> {
-    let prims = Primitives::from_scene(scene);
-    let tree = KdTree {
-        bounds: prims.scene_bounds(),
-        ..KdTree::for_primitives(&prims)
-    };
-    let arrays = SceneArrays::new(scene, &prims, &tree);
-    let buffers = SceneBuffers::upload(ctx, &arrays)?;
-    Ok((tree, buffers))
+/// A scene ready for the device: its tree (over all objects; brute force
+/// only changes a flag the shader reads) and its GPU arrays. All CPU work,
+/// so reloads make it on a worker thread.
+struct PreparedScene {
+    scene: Scene,
+    tree: KdTree,
+    arrays: SceneArrays,
+}
+
+impl PreparedScene {
+    fn load(path: &Path) -> Result<Self> {
+        let scene = crate::scene::load_scene(path)?;
+        let prims = Primitives::from_scene(&scene);
+        let tree = KdTree {
+            bounds: prims.scene_bounds(),
+            ..KdTree::for_primitives(&prims)
+        };
+        let arrays = SceneArrays::new(&scene, &prims, &tree);
+        Ok(PreparedScene {
+            scene,
+            tree,
+            arrays,
+        })
+    }
 }
 
 fn bounds(tree: &KdTree) -> Bounds {
@@ -645,10 +695,15 @@ impl Session {
     fn open(
         event_loop: &ActiveEventLoop,
         display: &OwnedDisplayHandle,
-        scene: Scene,
+        prepared: PreparedScene,
         options: &WindowOptions,
         name: &str,
     ) -> Result<Self> {
+        let PreparedScene {
+            scene,
+            tree,
+            arrays,
+        } = prepared;
         let attributes = Window::default_attributes()
             .with_title(format!("{name} - kdray"))
             .with_inner_size(window_size(options, &scene));
@@ -696,7 +751,8 @@ impl Session {
         ctx.checked("configuring the window's surface", |device| {
             surface.configure(device, &config)
         })?;
-        let (tree, buffers) = build(&ctx, &scene)?;
+        let buffers = SceneBuffers::upload(&ctx, &arrays)?;
+        drop(arrays);
         let max_pixels = Viewer::max_pixels(&ctx);
         let pixels = (config.width as u64 * config.height as u64).min(max_pixels);
         let viewer = Viewer::new(&ctx, &buffers, view_format, pixels)?;
@@ -747,13 +803,19 @@ impl Session {
             title_at: now,
             title_stale: false,
             reload_error: None,
+            reloading: false,
             config,
         })
     }
 
-    /// Shows `scene` from now on (a reload).
-    fn set_scene(&mut self, scene: Scene, options: &WindowOptions) -> Result<()> {
-        let (tree, buffers) = build(&self.ctx, &scene)?;
+    /// Shows `prepared` from now on (a reload).
+    fn set_scene(&mut self, prepared: PreparedScene, options: &WindowOptions) -> Result<()> {
+        let PreparedScene {
+            scene,
+            tree,
+            arrays,
+        } = prepared;
+        let buffers = SceneBuffers::upload(&self.ctx, &arrays)?;
         self.viewer.set_scene(&self.ctx, &buffers)?;
         self.controller.set_scene(scene.camera, bounds(&tree));
         if scene.render.max_depth != self.file_max_depth {
@@ -1092,6 +1154,9 @@ impl Session {
             "{name} - {progress} - {:.1} ms - {:.2} Mrays/s - {accel} - depth {}",
             self.frame_ms, self.mrays, self.max_depth
         );
+        if self.reloading {
+            title.push_str(" - reloading");
+        }
         if let Some(e) = &self.reload_error {
             title.push_str(" - RELOAD FAILED: ");
             title.push_str(e);

@@ -1,12 +1,15 @@
 //! Hot reload: the window polls the scene file and the files it loads (OBJ
 //! meshes and their MTL libraries) for changes of modification time or size.
-//! No watcher crate and no thread: a `stat` per file every [`POLL_INTERVAL`].
+//! No watcher crate: a `stat` per file every [`POLL_INTERVAL`].
 //!
 //! A change is acted on once the files have stayed the same for one more
 //! poll, so an editor's half-written file is not read (a reload that does see
-//! one fails, and the completed write is picked up by the next poll).
+//! one fails, and the completed write is picked up by the next poll). The
+//! reload itself (parsing, the tree build) runs on a worker thread through
+//! [`LatestJob`], so the window keeps drawing while a big scene loads.
 
 use std::path::{Path, PathBuf};
+use std::thread::JoinHandle;
 use std::time::{Duration, Instant, SystemTime};
 
 /// Time between two polls of the files.
@@ -26,10 +29,30 @@ fn stamp(path: &Path) -> Stamp {
     Some((meta.modified().ok()?, meta.len(), inode))
 }
 
+/// The files a scene loads, scene file first, then its meshes and MTL files,
+/// each with its stamp.
+pub struct WatchList(Vec<(PathBuf, Stamp)>);
+
+impl WatchList {
+    /// The files `scene` loads as they are now. The scene file is stamped
+    /// before it is read for its mesh list, so a change made after that is
+    /// a change of stamp (this runs on the reload thread, and reading a big
+    /// scene file takes a while).
+    pub fn of_scene(scene: &Path) -> Self {
+        let mut files = vec![(scene.to_path_buf(), stamp(scene))];
+        for path in scene_dependencies(scene) {
+            if !files.iter().any(|(p, _)| *p == path) {
+                let s = stamp(&path);
+                files.push((path, s));
+            }
+        }
+        WatchList(files)
+    }
+}
+
 pub struct SceneWatcher {
     scene: PathBuf,
-    /// Scene file first, then its meshes and MTL files, with their stamps.
-    files: Vec<(PathBuf, Stamp)>,
+    files: WatchList,
     next_poll: Instant,
     /// A change was seen and the files have not been stable since.
     unsettled: bool,
@@ -40,7 +63,7 @@ impl SceneWatcher {
     pub fn new(scene: &Path) -> Self {
         let mut watcher = SceneWatcher {
             scene: scene.to_path_buf(),
-            files: Vec::new(),
+            files: WatchList(Vec::new()),
             next_poll: Instant::now() + POLL_INTERVAL,
             unsettled: false,
         };
@@ -50,7 +73,7 @@ impl SceneWatcher {
 
     /// The files watched now.
     pub fn files(&self) -> impl Iterator<Item = &Path> {
-        self.files.iter().map(|(p, _)| p.as_path())
+        self.files.0.iter().map(|(p, _)| p.as_path())
     }
 
     /// When the next poll is due.
@@ -59,15 +82,16 @@ impl SceneWatcher {
     }
 
     /// Polls if one is due at `now`: true when a change has settled and the
-    /// scene should be reloaded (then call [`SceneWatcher::rescan`] after
-    /// reloading, so the watched files follow the scene's new mesh list).
+    /// scene should be reloaded (then watch the files of the reloaded scene:
+    /// [`SceneWatcher::watch`] or [`SceneWatcher::rescan`], so the watched
+    /// files follow the scene's new mesh list).
     pub fn poll(&mut self, now: Instant) -> bool {
         if now < self.next_poll {
             return false;
         }
         self.next_poll = now + POLL_INTERVAL;
         let mut changed = false;
-        for (path, old) in &mut self.files {
+        for (path, old) in &mut self.files.0 {
             let new = stamp(path);
             if new != *old {
                 *old = new;
@@ -83,19 +107,90 @@ impl SceneWatcher {
 
     /// Re-reads the list of files the scene loads and their stamps.
     pub fn rescan(&mut self) {
-        let mut paths = vec![self.scene.clone()];
-        for p in scene_dependencies(&self.scene) {
-            if !paths.contains(&p) {
-                paths.push(p);
-            }
+        self.files = WatchList::of_scene(&self.scene);
+    }
+
+    /// Watches `files` from now on (made by [`WatchList::of_scene`] when a
+    /// reload started: a file changed since has a different stamp, so it
+    /// triggers the next reload).
+    pub fn watch(&mut self, files: WatchList) {
+        self.files = files;
+    }
+}
+
+/// A job for [`LatestJob`].
+pub type Job<T> = Box<dyn FnOnce() -> T + Send>;
+
+/// Runs the most recently requested job on a worker thread, one at a time.
+/// A request made while a job runs supersedes it: when the running job ends
+/// its result is dropped and the newest request starts. So a burst of saves
+/// costs at most one load more than the last one, and only the newest
+/// version of the scene is ever shown.
+pub struct LatestJob<T> {
+    running: Option<JoinHandle<T>>,
+    queued: Option<Job<T>>,
+    /// A failure to start a worker, reported by the next poll.
+    failed: Option<String>,
+}
+
+impl<T> Default for LatestJob<T> {
+    fn default() -> Self {
+        LatestJob {
+            running: None,
+            queued: None,
+            failed: None,
         }
-        self.files = paths
-            .into_iter()
-            .map(|p| {
-                let s = stamp(&p);
-                (p, s)
-            })
-            .collect();
+    }
+}
+
+impl<T: Send + 'static> LatestJob<T> {
+    /// Runs `job`, now or (if one is running) once the running one ends,
+    /// replacing any job already waiting.
+    pub fn request(&mut self, job: impl FnOnce() -> T + Send + 'static) {
+        if self.running.is_some() {
+            self.queued = Some(Box::new(job));
+        } else {
+            self.start(Box::new(job));
+        }
+    }
+
+    fn start(&mut self, job: Job<T>) {
+        match std::thread::Builder::new()
+            .name("kdray-reload".into())
+            .spawn(job)
+        {
+            Ok(handle) => self.running = Some(handle),
+            Err(e) => self.failed = Some(format!("cannot start the reload thread: {e}")),
+        }
+    }
+
+    /// Whether a job is running or waiting.
+    pub fn busy(&self) -> bool {
+        self.running.is_some() || self.queued.is_some()
+    }
+
+    /// The result of the newest request, once it has finished (never
+    /// blocks). `Err` if its thread could not start or panicked.
+    pub fn poll(&mut self) -> Option<Result<T, String>> {
+        if let Some(message) = self.failed.take() {
+            return Some(Err(message));
+        }
+        let handle = self.running.take()?;
+        if !handle.is_finished() {
+            self.running = Some(handle);
+            return None;
+        }
+        let result = handle
+            .join()
+            .map_err(|_| "the reload thread panicked".to_string());
+        match self.queued.take() {
+            // Superseded: drop this result, run the newest request.
+            Some(next) => {
+                self.start(next);
+                None
+            }
+            None => Some(result),
+        }
     }
 }
 
@@ -187,6 +282,99 @@ mod tests {
         assert!(scene_dependencies(&dir.join("broken.toml")).is_empty());
         assert!(scene_dependencies(&dir.join("nothing.toml")).is_empty());
         std::fs::remove_dir_all(&dir).unwrap();
+    }
+
+    #[test]
+    fn a_change_made_while_a_reload_runs_triggers_the_next_one() {
+        let dir = temp_dir("during");
+        let scene = dir.join("s.toml");
+        let obj = dir.join("models/a.obj");
+        std::fs::write(&obj, "v 0 0 0\n").unwrap();
+        std::fs::write(&scene, "[[meshes]]\npath = \"models/a.obj\"\n").unwrap();
+        let mut w = SceneWatcher::new(&scene);
+        let mut t = Instant::now();
+        // The reload thread lists the files, then (while it loads) the OBJ
+        // is edited; then the reload finishes and its list is watched.
+        let files = WatchList::of_scene(&scene);
+        std::fs::write(&obj, "v 0 0 0\nv 1 0 0\n").unwrap();
+        w.watch(files);
+        assert_eq!(w.files().count(), 2);
+        t += POLL_INTERVAL;
+        assert!(!w.poll(t), "reported before it settled");
+        t += POLL_INTERVAL;
+        assert!(w.poll(t), "the edit made during the reload was missed");
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
+
+    /// Polls until the job in flight has finished (or 10 s have passed).
+    fn wait<T: Send + 'static>(jobs: &mut LatestJob<T>) -> Option<Result<T, String>> {
+        let deadline = Instant::now() + Duration::from_secs(10);
+        while Instant::now() < deadline {
+            if let Some(result) = jobs.poll() {
+                return Some(result);
+            }
+            if !jobs.busy() {
+                return None;
+            }
+            std::thread::sleep(Duration::from_millis(1));
+        }
+        panic!("the job did not finish in 10 s");
+    }
+
+    #[test]
+    fn a_job_runs_off_the_calling_thread_and_its_result_arrives_once() {
+        let mut jobs = LatestJob::default();
+        assert!(!jobs.busy());
+        assert!(jobs.poll().is_none());
+        let (release, gate) = std::sync::mpsc::channel::<()>();
+        let caller = std::thread::current().id();
+        jobs.request(move || {
+            gate.recv().unwrap();
+            std::thread::current().id()
+        });
+        // The job waits for the gate, and the caller is not blocked.
+        std::thread::sleep(Duration::from_millis(20));
+        assert!(jobs.busy());
+        assert!(jobs.poll().is_none());
+        release.send(()).unwrap();
+        let worker = wait(&mut jobs).unwrap().unwrap();
+        assert_ne!(worker, caller);
+        assert!(!jobs.busy());
+        assert!(jobs.poll().is_none(), "a result is delivered once");
+    }
+
+    #[test]
+    fn a_request_during_a_job_supersedes_it_and_only_the_newest_result_arrives() {
+        use std::sync::{Arc, Mutex};
+        let mut jobs = LatestJob::default();
+        let (release, gate) = std::sync::mpsc::channel::<()>();
+        let gate = Arc::new(Mutex::new(gate));
+        let ran = Arc::new(Mutex::new(Vec::new()));
+        let job = |value: u32| {
+            let (gate, ran) = (gate.clone(), ran.clone());
+            move || {
+                gate.lock().unwrap().recv().unwrap();
+                ran.lock().unwrap().push(value);
+                value
+            }
+        };
+        jobs.request(job(1));
+        // Two more versions while the first runs: only the last will run.
+        jobs.request(job(2));
+        jobs.request(job(3));
+        release.send(()).unwrap();
+        release.send(()).unwrap();
+        assert_eq!(wait(&mut jobs), Some(Ok(3)));
+        assert!(!jobs.busy());
+        assert_eq!(*ran.lock().unwrap(), vec![1, 3], "job 2 was superseded");
+    }
+
+    #[test]
+    fn a_panicking_job_is_an_error_not_a_panic() {
+        let mut jobs: LatestJob<u32> = LatestJob::default();
+        jobs.request(|| panic!("deliberate panic in a reload job (this test)"));
+        let result = wait(&mut jobs).unwrap();
+        assert_eq!(result, Err("the reload thread panicked".to_string()));
     }
 
     #[test]
