@@ -5,6 +5,7 @@
 //! of docs/scene-format.md and builds the world-space scene, loading meshes.
 //! Every error names the file, the line (via [`SourceMap`]) and the key.
 
+use std::cell::OnceCell;
 use std::collections::BTreeMap;
 use std::fmt;
 use std::marker::PhantomData;
@@ -61,23 +62,40 @@ pub fn load_scene(path: &Path) -> Result<Scene, SceneError> {
 
 /// Parses scene text; `path` names the file in errors and anchors mesh paths.
 pub fn parse_scene(text: &str, path: &Path, format: SceneFormat) -> Result<Scene, SceneError> {
-    let (raw, map) = match format {
-        SceneFormat::Toml => {
-            let map = SourceMap::toml(text);
-            match toml::from_str::<TableOf<RawScene>>(text) {
-                Ok(raw) => (raw.0, map),
-                Err(e) => return Err(toml_error(&e, text, map.as_ref(), path)),
-            }
-        }
-        SceneFormat::Json => {
-            let map = SourceMap::json(text);
-            match serde_json::from_str::<TableOf<RawScene>>(text) {
-                Ok(raw) => (raw.0, map),
-                Err(e) => return Err(json_error(&e, text, map.as_ref(), path)),
-            }
-        }
+    let map = LazySourceMap {
+        text,
+        format,
+        map: OnceCell::new(),
     };
-    Validator { file: path, map }.scene(raw)
+    let raw = match format {
+        SceneFormat::Toml => toml::from_str::<TableOf<RawScene>>(text)
+            .map_err(|e| toml_error(&e, text, map.get(), path))?,
+        SceneFormat::Json => serde_json::from_str::<TableOf<RawScene>>(text)
+            .map_err(|e| json_error(&e, text, map.get(), path))?,
+    };
+    Validator { file: path, map }.scene(raw.0)
+}
+
+/// Where each key of the text is, for error messages. Made on the first
+/// error only: a scene that loads never needs it, and for a big scene it
+/// would cost a second parse and an entry per key (100 MB of TOML with a
+/// million spheres: seconds, and gigabytes of memory).
+struct LazySourceMap<'a> {
+    text: &'a str,
+    format: SceneFormat,
+    map: OnceCell<Option<SourceMap>>,
+}
+
+impl LazySourceMap<'_> {
+    /// The map; None if the text does not parse as TOML or JSON.
+    fn get(&self) -> Option<&SourceMap> {
+        self.map
+            .get_or_init(|| match self.format {
+                SceneFormat::Toml => SourceMap::toml(self.text),
+                SceneFormat::Json => SourceMap::json(self.text),
+            })
+            .as_ref()
+    }
 }
 
 /// A syntax or schema error from the toml crate, located by its byte span.
@@ -501,14 +519,14 @@ impl Default for RawScale {
 
 struct Validator<'a> {
     file: &'a Path,
-    map: Option<SourceMap>,
+    map: LazySourceMap<'a>,
 }
 
 impl Validator<'_> {
     /// An error at `key`, on the line of the key or, when the file leaves it
     /// out (a default is at fault), of the nearest enclosing table it has.
     fn error(&self, key: &str, message: impl Into<String>) -> SceneError {
-        let line = self.map.as_ref().and_then(|m| {
+        let line = self.map.get().and_then(|m| {
             let mut path = key;
             loop {
                 if let Some(line) = m.line_of_path(path) {
@@ -792,7 +810,7 @@ impl Validator<'_> {
                 return e;
             }
             // An OBJ that cannot be read at all: also say which entry asked for it.
-            let at = match self.map.as_ref().and_then(|m| m.line_of_path(&key("path"))) {
+            let at = match self.map.get().and_then(|m| m.line_of_path(&key("path"))) {
                 Some(line) => format!("{}:{line}", self.file.display()),
                 None => self.file.display().to_string(),
             };
