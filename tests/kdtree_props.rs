@@ -270,6 +270,35 @@ fn straddling_sphere_scene_matches_brute_force() {
     assert_eq!(hit, closest_hit_brute(&prims, &ray, T_INFINITY).unwrap());
 }
 
+/// The tree does not depend on how many threads build it (subtrees built
+/// apart are appended in single-thread order), on scenes big enough for the
+/// parallel path.
+#[test]
+fn threads_do_not_change_the_tree() {
+    use kdray::bench::{random_scene, RandomSceneSpec, SceneKind};
+    for (kind, count) in [(SceneKind::Spheres, 20_000), (SceneKind::Mixed, 9_000)] {
+        let scene = random_scene(&RandomSceneSpec {
+            kind,
+            count,
+            seed: 7,
+            width: 8,
+            height: 8,
+        });
+        let prims = Primitives::from_scene(&scene);
+        let bounds: Vec<_> = (0..prims.len() as u32).map(|id| prims.bounds(id)).collect();
+        let params = kdray::kdtree::BuildParams::for_object_count(bounds.len());
+        let serial = kdray::kdtree::build_with_threads(&bounds, params, 1);
+        assert!(serial.nodes.len() > 1000, "{kind:?}: a deep tree");
+        for threads in [2, 3, 8] {
+            let parallel = kdray::kdtree::build_with_threads(&bounds, params, threads);
+            assert!(
+                parallel == serial,
+                "{kind:?}: {threads} threads built another tree"
+            );
+        }
+    }
+}
+
 #[test]
 fn ten_thousand_copies_of_one_sphere() {
     let prims = Primitives {

@@ -6,7 +6,7 @@
 mod build;
 pub mod traverse;
 
-pub use build::{build, BuildParams, KdTree};
+pub use build::{build, build_with_threads, BuildParams, KdTree};
 
 use crate::geometry::Primitives;
 
