@@ -293,6 +293,23 @@ fn generated_scenes_load_back_and_render() {
     );
 }
 
+/// From 100,000 objects a TOML scene is slow and big to load: generate
+/// says so and names JSON; not for JSON, and not below the threshold.
+#[test]
+fn generate_suggests_json_for_big_toml_scenes() {
+    let dir = TempDir::new("generate-big");
+    let note = |name: &str, count: &str| {
+        let path = dir.join(name);
+        let run = kdray(&["generate", "--count", count, "-o", path.to_str().unwrap()]);
+        assert_eq!(run.code, 0, "{}", run.stderr_text());
+        run.stderr_text()
+            .contains("a name ending in .json writes JSON")
+    };
+    assert!(note("big.toml", "100000"));
+    assert!(!note("big.json", "100000"));
+    assert!(!note("small.toml", "99999"));
+}
+
 #[test]
 fn bench_measures_scene_files() {
     let dir = TempDir::new("scenes");
