@@ -22,33 +22,67 @@ fn f32x3(v: glam::DVec3) -> [f32; 3] {
     v.as_vec3().to_array()
 }
 
+/// The order of the objects on the GPU: `order[gpu_id]` is the scene's id.
+/// Spheres come first, then triangles (the kernel tells them apart by
+/// `id < sphere_count`), each in the order the tree's leaves first name
+/// them, so that the objects of a leaf lie side by side in memory; objects
+/// no leaf names (a brute-force render's tree names none) keep their order
+/// after those.
+fn leaf_order(tree: &KdTree, sphere_count: usize, object_count: usize) -> Vec<u32> {
+    let mut placed = vec![false; object_count];
+    let mut order = Vec::with_capacity(object_count);
+    let candidates = tree
+        .leaf_objects
+        .iter()
+        .copied()
+        .chain(0..object_count as u32);
+    for spheres in [true, false] {
+        for id in candidates.clone() {
+            let i = id as usize;
+            if (i < sphere_count) == spheres && !std::mem::replace(&mut placed[i], true) {
+                order.push(id);
+            }
+        }
+    }
+    order
+}
+
 impl SceneArrays {
     pub fn new(scene: &Scene, prims: &Primitives, tree: &KdTree) -> Self {
+        let sphere_count = prims.spheres.len();
+        let order = leaf_order(tree, sphere_count, prims.len());
+        let mut gpu_id = vec![0u32; order.len()];
+        for (new, &old) in order.iter().enumerate() {
+            gpu_id[old as usize] = new as u32;
+        }
+        let material = |id: u32| match scene.spheres.get(id as usize) {
+            Some(s) => s.material,
+            None => scene.triangles[id as usize - sphere_count].material,
+        };
         SceneArrays {
-            spheres: prims
-                .spheres
+            spheres: order[..sphere_count]
                 .iter()
-                .map(|s| GpuSphere {
-                    center: s.center.to_array(),
-                    radius: s.radius,
+                .map(|&id| {
+                    let s = &prims.spheres[id as usize];
+                    GpuSphere {
+                        center: s.center.to_array(),
+                        radius: s.radius,
+                    }
                 })
                 .collect(),
-            triangles: prims
-                .triangles
+            triangles: order[sphere_count..]
                 .iter()
-                .map(|t| GpuTriangle {
-                    v0: t.v[0].to_array(),
-                    v1: t.v[1].to_array(),
-                    v2: t.v[2].to_array(),
-                    ..bytemuck::Zeroable::zeroed()
+                .map(|&id| {
+                    let t = &prims.triangles[id as usize - sphere_count];
+                    GpuTriangle {
+                        v0: t.v[0].to_array(),
+                        v1: t.v[1].to_array(),
+                        v2: t.v[2].to_array(),
+                        ..bytemuck::Zeroable::zeroed()
+                    }
                 })
                 .collect(),
-            object_materials: scene
-                .spheres
-                .iter()
-                .map(|s| s.material)
-                .chain(scene.triangles.iter().map(|t| t.material))
-                .collect(),
+            object_materials: order.iter().map(|&id| material(id)).collect(),
             materials: scene
                 .materials
                 .iter()
@@ -73,7 +107,11 @@ impl SceneArrays {
                 })
                 .collect(),
             nodes: tree.nodes.clone(),
-            leaf_objects: tree.leaf_objects.clone(),
+            leaf_objects: tree
+                .leaf_objects
+                .iter()
+                .map(|&id| gpu_id[id as usize])
+                .collect(),
         }
     }
 
@@ -243,5 +281,71 @@ mod tests {
             ..wgpu::Limits::default()
         };
         assert!(a.check_fits(&limits).is_err());
+    }
+
+    /// The GPU arrays hold the scene's objects in leaf order: every object
+    /// once, spheres before triangles, each with its own geometry and
+    /// material, and the leaves name the same objects as the tree's.
+    #[test]
+    fn objects_are_stored_in_leaf_order_and_stay_themselves() {
+        let scene = crate::bench::random_scene(&crate::bench::RandomSceneSpec {
+            kind: crate::bench::SceneKind::Mixed,
+            count: 500,
+            seed: 3,
+            width: 8,
+            height: 8,
+        });
+        let prims = Primitives::from_scene(&scene);
+        let tree = KdTree::for_primitives(&prims);
+        let a = SceneArrays::new(&scene, &prims, &tree);
+        let spheres = prims.spheres.len();
+        assert!(spheres > 0 && !prims.triangles.is_empty());
+        assert_eq!(a.spheres.len(), spheres);
+        assert_eq!(a.triangles.len(), prims.triangles.len());
+        // Which scene object each GPU id holds, found by its geometry
+        // (random objects are all different).
+        let original = |gpu: u32| -> usize {
+            let g = gpu as usize;
+            if g < spheres {
+                let s = a.spheres[g];
+                prims
+                    .spheres
+                    .iter()
+                    .position(|p| p.center.to_array() == s.center && p.radius == s.radius)
+                    .unwrap()
+            } else {
+                let t = a.triangles[g - spheres];
+                spheres
+                    + prims
+                        .triangles
+                        .iter()
+                        .position(|p| p.v[0].to_array() == t.v0 && p.v[2].to_array() == t.v2)
+                        .unwrap()
+            }
+        };
+        let material = |id: usize| match scene.spheres.get(id) {
+            Some(s) => s.material,
+            None => scene.triangles[id - spheres].material,
+        };
+        let mut seen = vec![false; prims.len()];
+        for gpu in 0..prims.len() as u32 {
+            let id = original(gpu);
+            assert!(!std::mem::replace(&mut seen[id], true), "object {id} twice");
+            assert_eq!(a.object_materials[gpu as usize], material(id));
+        }
+        for (&gpu, &id) in a.leaf_objects.iter().zip(&tree.leaf_objects) {
+            assert_eq!(original(gpu), id as usize);
+        }
+        // Leaf order: the first leaf's objects get the first ids of their kind.
+        let first_leaf = tree
+            .nodes
+            .iter()
+            .find(|n| n.is_leaf() && n.count > 0)
+            .unwrap();
+        let first = a.leaf_objects[first_leaf.index as usize];
+        assert!(
+            first == 0 || first as usize == spheres,
+            "first leaf object has GPU id {first}"
+        );
     }
 }
