@@ -20,15 +20,6 @@ fn miss() -> Hit {
 var<private> loop_iterations: u32;
 const LOOP_LIMIT_WARNING: u32 = 32768u;
 
-fn inside_expanded(box_min: vec3<f32>, box_max: vec3<f32>, p: vec3<f32>, slack: f32) -> bool {
-    return all(p >= box_min - vec3<f32>(slack)) && all(p <= box_max + vec3<f32>(slack));
-}
-
-// How far outside its leaf's box a hit point may lie and still be taken.
-fn leaf_slack(p: vec3<f32>, magnitude: f32) -> f32 {
-    return max(max_component(abs(p)), magnitude) * (1.0 / 65536.0);
-}
-
 // any_hit: return the first hit with t < t_limit; else the nearest hit with t <= t_limit.
 fn trace_kdtree(ray: Ray, t_limit: f32, any_hit: bool) -> Hit {
     if (params.object_count == 0u) {
@@ -43,15 +34,14 @@ fn trace_kdtree(ray: Ray, t_limit: f32, any_hit: bool) -> Hit {
     if (t_min > t_far) {
         return miss();
     }
+    // The nearest hit so far, over every leaf visited: one beyond its leaf's
+    // exit may still lose to one in a later leaf (see traverse.rs).
+    var best = miss();
     var restart_node = 0u;
-    var restart_min = params.scene_min;
-    var restart_max = params.scene_max;
     // Each restart moves t_min past one plane: node_count + 1 restarts suffice.
     for (var restarts = 0u; restarts <= params.node_count; restarts++) {
         loop_iterations += 1u;
         var node_index = restart_node;
-        var cell_min = restart_min;
-        var cell_max = restart_max;
         var t_max = t_far;
         var push_down = true;
         var node = kd_nodes[node_index];
@@ -75,21 +65,12 @@ fn trace_kdtree(ray: Ray, t_limit: f32, any_hit: bool) -> Hit {
                     push_down = false;
                 }
             }
-            if (go_below) {
-                cell_max[a] = node.split;
-                node_index = node_index + 1u;
-            } else {
-                cell_min[a] = node.split;
-                node_index = node.index;
-            }
+            node_index = select(node.index, node_index + 1u, go_below);
             if (push_down) {
                 restart_node = node_index;
-                restart_min = cell_min;
-                restart_max = cell_max;
             }
             node = kd_nodes[node_index];
         }
-        var best = miss();
         for (var i = node.index; i < node.index + node.count; i++) {
             loop_iterations += 1u;
             let id = leaf_objects[i];
@@ -104,19 +85,13 @@ fn trace_kdtree(ray: Ray, t_limit: f32, any_hit: bool) -> Hit {
                 }
             }
         }
-        if (best.object != NO_OBJECT) {
-            // Taken before the leaf's exit, or inside its box up to rounding.
-            let p = ray.origin + best.t * ray.dir;
-            if (best.t <= t_max || inside_expanded(cell_min, cell_max, p, leaf_slack(p, object_magnitude(best.object)))) {
-                return best;
-            }
-        }
-        if (t_max >= t_far) {
-            return miss();
+        // Every leaf still to visit lies beyond t_max.
+        if (best.t <= t_max || t_max >= t_far) {
+            return best;
         }
         t_min = t_max;
     }
-    return miss();
+    return best;
 }
 
 fn trace_brute(ray: Ray, t_limit: f32, any_hit: bool) -> Hit {

@@ -4,14 +4,14 @@
 //!
 //! The walk keeps the ray segment [t_min, t_max] still to search. From the
 //! restart node it descends to the leaf the segment enters first, tests that
-//! leaf's objects, and if no hit is accepted moves t_min to the leaf's exit
-//! and descends again. The restart node is pushed down while the descent
-//! never had to choose between two children, so restarts skip the part of
-//! the tree the rest of the ray cannot leave. No stack, no per-ray arrays.
+//! leaf's objects, keeps the nearest hit found so far, and returns it once it
+//! lies before the leaf's exit (no later leaf can hold a nearer one);
+//! otherwise it moves t_min to the leaf's exit and descends again. The
+//! restart node is pushed down while the descent never had to choose between
+//! two children, so restarts skip the part of the tree the rest of the ray
+//! cannot leave. No stack, no per-ray arrays.
 
-use glam::Vec3;
-
-use crate::geometry::{Aabb, Primitives, Ray, PARALLEL_EPSILON, T_INFINITY};
+use crate::geometry::{Primitives, Ray, PARALLEL_EPSILON, T_INFINITY};
 
 use super::KdTree;
 
@@ -27,16 +27,6 @@ pub struct Hit {
 /// count; this bound only stops a corrupt tree from hanging a GPU.
 pub fn max_restarts(node_count: usize) -> u32 {
     node_count.min(u32::MAX as usize) as u32 + 1
-}
-
-/// How far outside its leaf's box a hit point may lie and still be taken
-/// (absorbs the rounding of hit points against planes; see docs/design.md).
-fn leaf_slack(hit_point: Vec3, object_magnitude: f32) -> f32 {
-    (hit_point.abs().max_element().max(object_magnitude)) * (1.0 / 65536.0)
-}
-
-fn inside_expanded(b: &Aabb, p: Vec3, slack: f32) -> bool {
-    p.cmpge(b.min - Vec3::splat(slack)).all() && p.cmple(b.max + Vec3::splat(slack)).all()
 }
 
 /// Nearest hit with 0 < t <= t_limit over the tree.
@@ -60,11 +50,13 @@ fn walk(tree: &KdTree, prims: &Primitives, ray: &Ray, t_limit: f32, any: bool) -
         return None;
     }
     let nodes = &tree.nodes;
+    // The nearest hit so far, over every leaf visited: one found beyond its
+    // leaf's exit (an object reaching into the next cells) may still lose to
+    // one in a later leaf, so it waits until the walk has passed its t.
+    let mut best: Option<Hit> = None;
     let mut restart_node = 0usize;
-    let mut restart_box = tree.bounds;
     for _ in 0..max_restarts(nodes.len()) {
         let mut node = restart_node;
-        let mut cell = restart_box;
         let mut t_max = t_far;
         let mut push_down = true;
         while !nodes[node].is_leaf() {
@@ -89,22 +81,14 @@ fn walk(tree: &KdTree, prims: &Primitives, ray: &Ray, t_limit: f32, any: bool) -
                     push_down = false;
                 }
             }
-            if go_below {
-                cell.max[a] = n.split;
-                node = left;
-            } else {
-                cell.min[a] = n.split;
-                node = right;
-            }
+            node = if go_below { left } else { right };
             if push_down {
                 restart_node = node;
-                restart_box = cell;
             }
         }
         // Leaf: test its objects.
         let leaf = nodes[node];
         let ids = &tree.leaf_objects[leaf.index as usize..(leaf.index + leaf.count) as usize];
-        let mut best: Option<Hit> = None;
         for &id in ids {
             if let Some(t) = prims.intersect(id, ray) {
                 if any {
@@ -116,22 +100,13 @@ fn walk(tree: &KdTree, prims: &Primitives, ray: &Ray, t_limit: f32, any: bool) -
                 }
             }
         }
-        if let Some(hit) = best {
-            // Taken if it lies before the leaf's exit, or in the leaf's box up
-            // to rounding; a hit beyond may lose to one in a later leaf.
-            let p = ray.origin + hit.t * ray.dir;
-            if hit.t <= t_max
-                || inside_expanded(&cell, p, leaf_slack(p, prims.magnitude(hit.object)))
-            {
-                return Some(hit);
-            }
-        }
-        if t_max >= t_far {
-            return None;
+        // Every leaf still to visit lies beyond t_max.
+        if best.is_some_and(|hit| hit.t <= t_max) || t_max >= t_far {
+            return best;
         }
         t_min = t_max;
     }
-    None
+    best
 }
 
 /// Nearest hit with 0 < t <= t_limit by testing every object (the seed's loop).
