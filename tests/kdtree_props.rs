@@ -249,7 +249,9 @@ proptest! {
     ) {
         let tree = tree_for(&prims, cost);
         let inner: Vec<_> = tree.nodes.iter().filter(|n| !n.is_leaf()).collect();
-        prop_assume!(!inner.is_empty());
+        if inner.is_empty() {
+            return Ok(()); // one leaf: no split plane to graze
+        }
         for (mut origin, pick, offset, slope, down, x, y) in rays {
             let n = inner[pick % inner.len()];
             let a = n.kind as usize;
