@@ -4,6 +4,8 @@
 //! child) and the numerically awkward ones (axis-parallel rays, rays on and
 //! in split planes, coincident, tiny and huge objects).
 
+use std::path::Path;
+
 use glam::Vec3;
 use kdray::geometry::{Primitives, Ray, SphereF32, TriangleF32, T_INFINITY};
 use kdray::kdtree::traverse::{any_hit, any_hit_brute, closest_hit, closest_hit_brute};
@@ -337,6 +339,40 @@ fn threads_do_not_change_the_tree() {
             );
         }
     }
+}
+
+/// A shadow ray of `tests/scenes/rays_on_split_planes.toml` (pixel 39, 27)
+/// that passes exactly through the edge where two faces of a box meet, the
+/// face in the plane y = 1 and the face in x = -1, both split planes. It
+/// goes from the cell x < -1, y > 1 straight into x > -1, y < 1, spending no
+/// time in the cells beside the corner, where both faces used to be filed
+/// (an object touching a plane went below only); brute force counts the hit
+/// on the edge, so the walk must find it too. Flat objects lying in a split
+/// plane now go to both sides.
+#[test]
+fn a_ray_through_the_corner_of_two_split_planes_finds_the_faces_there() {
+    let scene = kdray::scene::load_scene(
+        &Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/scenes/rays_on_split_planes.toml"),
+    )
+    .unwrap();
+    let prims = Primitives::from_scene(&scene);
+    let tree = KdTree::for_primitives(&prims);
+    let ray = Ray {
+        origin: Vec3::new(-1.076953, 1.076953, -1.999799),
+        dir: Vec3::new(0.10646964, -0.10646964, 0.98859924),
+    };
+    let length = 10.115119;
+    assert!(
+        any_hit_brute(&prims, &ray, length),
+        "brute force sees the edge"
+    );
+    assert!(
+        any_hit(&tree, &prims, &ray, length),
+        "the walk missed the edge"
+    );
+    let kd = closest_hit(&tree, &prims, &ray, T_INFINITY).expect("hit");
+    let brute = closest_hit_brute(&prims, &ray, T_INFINITY).unwrap();
+    assert_eq!(kd.t, brute.t);
 }
 
 #[test]

@@ -32,10 +32,9 @@ fn check_scene(
             "{name} ({accel}): some pixels ran into llvmpipe's loop limit"
         );
     }
-    let d = compare(&kd.rgb, &brute.rgb, kd.width, kd.height, 2);
-    let budget = (kd.width * kd.height) as usize / 1000;
-    assert!(
-        d.pixels_over <= budget,
+    let d = compare(&kd.rgb, &brute.rgb, kd.width, kd.height, 0);
+    assert_eq!(
+        d.pixels_over, 0,
         "{name}: k-d tree and brute force differ: {d:?}"
     );
     let background = pixel(&kd, 0, 0);

@@ -2,10 +2,13 @@
 //!
 //! Classification against a plane at `p` on axis `a` (bounds clipped to the
 //! node): an object goes below (left) when `min <= p` and above (right) when
-//! `max > p`. So an object straddling the plane is referenced by both
-//! children, and one touching the plane from either side is in the left
-//! child, which is the side the traversal takes for rays lying in the plane.
-//! This is what makes the tree exact where the seed's is not.
+//! `max > p`, or when it is flat and lies in the plane (`min == max == p`).
+//! So an object straddling the plane is referenced by both children; one
+//! touching the plane from either side is in the left child, which is the
+//! side the traversal takes for rays lying in the plane; and one lying in
+//! the plane is in both, for rays that cross two planes at once at its edge
+//! and so never enter the cell below. This is what makes the tree exact
+//! where the seed's is not.
 
 use crate::geometry::Aabb;
 use crate::layout::KdNode;
@@ -174,7 +177,10 @@ impl<'a> Builder<'a> {
             if b.min[a] <= p {
                 left.push(id);
             }
-            if b.max[a] > p {
+            // A flat object lying in the plane goes both ways: a ray can meet
+            // it from either side at a point where it crosses two planes at
+            // once, and so spends no time in the cell below.
+            if b.max[a] > p || b.min[a] == p {
                 right.push(id);
             }
         }
