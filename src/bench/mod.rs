@@ -479,11 +479,10 @@ enum Case {
 
 /// Runs the benchmark on `ctx` and writes every output into `config.out`.
 pub fn run_bench(ctx: &GpuContext, config: &BenchConfig) -> Result<BenchOutcome> {
-    std::fs::create_dir_all(&config.out).map_err(|e| {
-        Error::Output(format!(
-            "{}: cannot create the folder: {e}",
-            config.out.display()
-        ))
+    std::fs::create_dir_all(&config.out).map_err(|source| Error::File {
+        path: config.out.clone(),
+        what: "cannot create the folder",
+        source,
     })?;
     let cases: Vec<Case> = if config.scenes.is_empty() {
         let kind = config.kind.unwrap_or(SceneKind::Spheres);

@@ -9,7 +9,7 @@ use std::path::{Path, PathBuf};
 use serde::{Deserialize, Serialize};
 
 use super::{accel_name, BenchConfig, RunRecord};
-use crate::error::{Error, Result};
+use crate::error::Result;
 use crate::gpu::{Accel, GpuContext};
 use crate::output::write_file_atomic;
 
@@ -224,8 +224,7 @@ impl BenchReport {
         let csv = out.join(CSV_FILE);
         write_file_atomic(&csv, csv_text(&self.runs).as_bytes())?;
         let json = out.join(JSON_FILE);
-        let text = serde_json::to_string_pretty(self)
-            .map_err(|e| Error::Output(format!("{}: {e}", json.display())))?;
+        let text = serde_json::to_string_pretty(self)?;
         write_file_atomic(&json, (text + "\n").as_bytes())?;
         let md = out.join(SUMMARY_FILE);
         write_file_atomic(&md, markdown_summary(self).as_bytes())?;

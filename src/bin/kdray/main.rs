@@ -114,7 +114,7 @@ fn render(
     if stats {
         println!(
             "{}",
-            serde_json::to_string(&figures).map_err(|e| Error::Output(e.to_string()))?
+            serde_json::to_string(&figures)?
         );
     }
     Ok(())
