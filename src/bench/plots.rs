@@ -6,11 +6,9 @@
 //! - `bench-speedup.png`: brute / k-d tree against N;
 //! - `bench-build.png`: k-d build and upload time against N.
 //!
-//! Text uses DejaVu Sans, embedded in the binary (assets/fonts), through
-//! plotters' ab_glyph backend: no system fonts, fontconfig or freetype.
+//! Text uses the embedded font of [`crate::output::font`].
 
 use std::path::{Path, PathBuf};
-use std::sync::OnceLock;
 
 use plotters::element::DashedPathElement;
 use plotters::prelude::*;
@@ -26,25 +24,13 @@ pub const BUILD_PLOT: &str = "bench-build.png";
 
 const WIDTH: u32 = 960;
 const HEIGHT: u32 = 640;
-const FONT: &[u8] = include_bytes!("../../assets/fonts/DejaVuSans.ttf");
-const FAMILY: &str = "sans-serif";
+use crate::output::font::{register as register_font, FAMILY};
 
 const KD_COLOUR: RGBColor = RGBColor(31, 96, 196);
 const BRUTE_COLOUR: RGBColor = RGBColor(204, 51, 38);
 const FIT_COLOUR: RGBColor = RGBColor(120, 120, 120);
 const BUILD_COLOUR: RGBColor = RGBColor(40, 140, 70);
 const UPLOAD_COLOUR: RGBColor = RGBColor(150, 80, 170);
-
-fn register_font() -> Result<()> {
-    static REGISTERED: OnceLock<bool> = OnceLock::new();
-    let ok = *REGISTERED
-        .get_or_init(|| plotters::style::register_font(FAMILY, FontStyle::Normal, FONT).is_ok());
-    if ok {
-        Ok(())
-    } else {
-        Err(Error::Output("the embedded plot font is invalid".into()))
-    }
-}
 
 #[derive(Clone, Copy, PartialEq)]
 enum Marker {

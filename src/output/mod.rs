@@ -5,6 +5,9 @@
 //! image); images held in memory (screenshots, plots, heatmaps) are
 //! encoded and read by the `image` crate.
 
+pub mod font;
+pub mod heatmap;
+
 use std::fs::File;
 use std::io::{BufWriter, Write};
 use std::path::{Path, PathBuf};
