@@ -225,20 +225,45 @@ fn still_window_screenshot_matches_the_headless_render() {
     for name in ["seed", "torus"] {
         let scene = repo_path(&format!("scenes/{name}.toml"));
         let expected = headless(&dir, &scene, &dir.join(format!("{name}-headless.png")));
-        // A preview frame, then one frame per sample (4); the rest present
-        // the finished image.
+        // A preview frame, then the 4 samples, then the finished image
+        // presented again. A pass is one frame, or on a slow (loaded)
+        // machine bands of at least 8 rows: at most 4 x 8 frames.
         let shot = dir.join(format!("{name}-window.png"));
         let mut command = kdray(&dir);
         command
             .env("DISPLAY", &x.display)
             .env_remove("WAYLAND_DISPLAY")
             .args(window_args(&scene, &shot))
-            .args(["--frames", "8"]);
-        let (status, _, stderr) = run(command);
+            .args(["--frames", "40", "--stats"]);
+        let (status, stdout, stderr) = run(command);
         assert!(status.success(), "{name}: the window failed: {stderr}");
         assert!(
             stderr.contains(&format!("{name}.toml: {W}x{H} window on")),
             "{name}: {stderr}"
+        );
+        // The figures count those frames: every frame but the first (which
+        // has no interval to time) is a still or an idle one.
+        let stats: serde_json::Value = serde_json::from_str(stdout.trim())
+            .unwrap_or_else(|e| panic!("{name}: --stats printed {stdout:?}: {e}"));
+        for (key, value) in [
+            ("frames", 40),
+            ("width", W),
+            ("height", H),
+            ("samples", 4),
+            ("moving_frames", 0),
+        ] {
+            assert_eq!(stats[key], value, "{name}: {key} in {stats}");
+        }
+        let count = |key: &str| stats[key].as_u64().unwrap();
+        assert_eq!(
+            count("still_frames") + count("idle_frames"),
+            39,
+            "{name}: {stats}"
+        );
+        assert!((4..=32).contains(&count("still_frames")), "{name}: {stats}");
+        assert!(
+            stats["refine_seconds"].as_f64().is_some(),
+            "{name}: {stats}"
         );
         if let Err(e) = check_match(name, &read(&shot), &expected) {
             failures.push(e);

@@ -1,75 +1,39 @@
-//! The winit application behind `kdray render SCENE --window`: owns the
-//! window, its surface, the device, the scene's tree and buffers, the
-//! accumulation buffer and the present pass, and turns input into frames.
-//!
-//! Each frame is one submission and one present. While the camera moves
-//! (and for [`SETTLE`] after its last change) a frame traces the *preview*:
-//! a fresh single-sample image at 1/s of the resolution, `s` adapted so a
-//! frame takes about [`MOVING_BUDGET_MS`]. While it is still, each frame adds
-//! stratified samples to the *image* (sample `n` of the k x k grid in pass
-//! `n`, the headless kernel's order) until every pixel holds all k * k; then
-//! the window idles. A pass that would take longer than [`STILL_BUDGET_MS`]
-//! is spread over several frames, a band of rows each, and the present pass
-//! shows the preview where the image has no sample yet. Any change restarts
-//! the refinement after one preview frame.
+//! The winit application behind `kdray render SCENE --window`: the event
+//! handler, and the wiring of the window's parts. Each frame is one
+//! submission and one present: [`Refinement`] plans it, [`GpuScene`] turns
+//! its pass into the shader's parameters, [`Viewer`] records it,
+//! [`WindowSurface`] shows it and [`FrameStats`] counts it.
 
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
-use std::time::{Duration, Instant};
+use std::time::Instant;
 
-use serde::Serialize;
 use winit::application::ApplicationHandler;
 use winit::dpi::{LogicalSize, PhysicalSize, Size};
-use winit::event::{ElementState, KeyEvent, MouseButton, MouseScrollDelta, WindowEvent};
+use winit::event::{ElementState, KeyEvent, WindowEvent};
 use winit::event_loop::{ActiveEventLoop, ControlFlow, EventLoop, OwnedDisplayHandle};
-use winit::keyboard::{Key, KeyCode, NamedKey, PhysicalKey};
 use winit::window::{Window, WindowId};
 
-use super::camera_controller::{Bounds, Button, CameraController, ControlKey, Input};
+use super::camera_controller::{CameraController, Input};
+use super::frame_stats::{FrameStats, ReportContext};
+use super::gpu_scene::{self, GpuScene};
+use crate::gpu::PreparedScene;
+use super::input::{controller_input, key_action, Action, HELP};
+use super::refinement::{FrameKind, FramePlan, Refinement};
 use super::reload::{LatestJob, SceneWatcher, WatchList};
+use super::surface::{Acquired, WindowSurface};
+use super::title::{Progress, TitleBar, TitleFacts};
 use super::view::{FrameWork, PresentParams, Target, Viewer};
 use super::{signals, WindowOptions, DEFAULT_WINDOW_SAMPLES};
 use crate::error::{Error, Result};
-use crate::geometry::Primitives;
-use crate::gpu::{Accel, GpuContext, SceneArrays, SceneBuffers};
-use crate::kdtree::KdTree;
-use crate::layout::FrameParams;
+use crate::gpu::{Accel, GpuContext};
 use crate::scene::{RenderSettings, Scene};
 
-/// The camera counts as moving until this long after its last change.
-const SETTLE: Duration = Duration::from_millis(150);
-/// How often the window manager is asked whether the window is minimised.
-const STATE_CHECK_INTERVAL: Duration = Duration::from_millis(100);
-/// Title bar refresh interval.
-const TITLE_INTERVAL: Duration = Duration::from_millis(250);
-/// Frame time aimed at while the camera moves.
-const MOVING_BUDGET_MS: f64 = 50.0;
-/// Longest frame while refining: a sample pass that would take longer is
-/// spread over several frames, a band of rows each, so the window stays
-/// responsive (the accumulation counts samples per pixel, so a partly
-/// finished pass shows correctly).
-const STILL_BUDGET_MS: f64 = 80.0;
-/// Coarsest resolution divisor while moving.
-const MAX_MOVING_SCALE: u32 = 8;
 /// Default window: the scene's aspect ratio fitted into this (logical pixels).
 const DEFAULT_WINDOW: (f64, f64) = (960.0, 720.0);
 /// Benchmark aid: a left-drag of this many pixels per frame, so frame rates
 /// while moving can be measured without a person.
 const AUTO_ORBIT_ENV: &str = "KDRAY_AUTO_ORBIT";
-
-pub const HELP: &str = "\
-kdray window controls:
-  left drag          orbit around the target point
-  right/middle drag  pan
-  wheel              zoom toward the target
-  W A S D, Q E       fly forward, left, back, right; down, up
-  F                  frame the whole scene
-  R                  reset to the scene's camera
-  P                  save a screenshot (PNG in the current folder)
-  B                  toggle k-d tree / brute force
-  [ ]                max_depth down / up
-  H                  this help
-  Esc                quit";
 
 pub fn run(options: WindowOptions) -> Result<()> {
     let auto_orbit = match std::env::var(AUTO_ORBIT_ENV) {
@@ -87,7 +51,7 @@ pub fn run(options: WindowOptions) -> Result<()> {
     };
     // Watch first, so a change made while the scene loads is not missed.
     let watcher = SceneWatcher::new(&options.scene);
-    let scene = PreparedScene::load(&options.scene)?;
+    let scene = gpu_scene::load(&options.scene)?;
     let event_loop = EventLoop::new().map_err(|e| {
         Error::Gpu(format!(
             "cannot open a window: {e} (is DISPLAY or WAYLAND_DISPLAY set?)"
@@ -149,7 +113,7 @@ impl App {
             return;
         }
         if let (Some(path), Some(session)) = (&self.options.screenshot, &self.session) {
-            if session.presented > 0 {
+            if session.stats.presented() > 0 {
                 if let Err(e) = session.save_screenshot(path) {
                     self.error.get_or_insert(e);
                 }
@@ -165,9 +129,9 @@ impl App {
         let path = self.options.scene.clone();
         // The mesh list may have changed: the job also lists what to watch.
         self.reloads
-            .request(move || (WatchList::of_scene(&path), PreparedScene::load(&path)));
+            .request(move || (WatchList::of_scene(&path), gpu_scene::load(&path)));
         if let Some(session) = &mut self.session {
-            session.reloading = true;
+            session.title.reloading = true;
             session.update_title(&self.name, true);
         }
     }
@@ -209,12 +173,13 @@ impl App {
             }
         };
         if let Some(session) = &mut self.session {
-            session.reload_error = message;
-            session.reloading = self.reloads.busy();
+            session.title.reload_error = message;
+            session.title.reloading = self.reloads.busy();
             session.update_title(&self.name, true);
         }
     }
 
+    /// Carries out a key's [`Action`] (the mapping is in `input.rs`).
     fn handle_key(&mut self, event_loop: &ActiveEventLoop, event: &KeyEvent) {
         let Some(session) = &mut self.session else {
             return;
@@ -235,10 +200,10 @@ impl App {
             Action::Quit => self.quit(event_loop),
             Action::Camera(key) => {
                 if session.controller.handle(Input::Key { key, pressed: true }) {
-                    session.invalidate();
+                    session.refinement.invalidate();
                 }
             }
-            Action::Screenshot if session.presented == 0 => {
+            Action::Screenshot if session.stats.presented() == 0 => {
                 eprintln!("kdray: nothing shown yet, no screenshot saved");
             }
             Action::Screenshot => {
@@ -247,8 +212,8 @@ impl App {
                     Ok(()) => eprintln!(
                         "kdray: saved {} ({} of {} samples per pixel)",
                         path.display(),
-                        session.passes,
-                        session.samples
+                        session.refinement.passes(),
+                        session.refinement.samples()
                     ),
                     Err(e) => eprintln!("kdray: {e}"),
                 }
@@ -258,7 +223,7 @@ impl App {
                     Accel::Kdtree => Accel::Brute,
                     Accel::Brute => Accel::Kdtree,
                 };
-                session.invalidate();
+                session.refinement.invalidate();
                 session.update_title(&self.name, true);
             }
             Action::DepthDown | Action::DepthUp => {
@@ -269,7 +234,7 @@ impl App {
                 };
                 // The scene format's range of render.max_depth.
                 session.max_depth = depth.clamp(1, 64);
-                session.invalidate();
+                session.refinement.invalidate();
                 session.update_title(&self.name, true);
             }
             Action::Help => eprintln!("{HELP}"),
@@ -286,18 +251,18 @@ impl App {
             Ok(None) => return,
             Err(e) => return self.fail(event_loop, e),
         }
-        if session.presented == 1 {
+        let presented = session.stats.presented();
+        if presented == 1 {
+            let (width, height) = session.surface.size();
             eprintln!(
-                "kdray: {}: {}x{} window on {}, refining to {} samples per pixel; press H for the controls",
+                "kdray: {}: {width}x{height} window on {}, refining to {} samples per pixel; press H for the controls",
                 self.name,
-                session.config.width,
-                session.config.height,
                 session.ctx.adapter_line(),
-                session.samples
+                session.refinement.samples()
             );
         }
         session.update_title(&self.name, false);
-        if self.options.frames.is_some_and(|n| session.presented >= n) {
+        if self.options.frames.is_some_and(|n| presented >= n) {
             self.quit(event_loop);
         }
     }
@@ -339,7 +304,7 @@ impl ApplicationHandler for App {
                     return self.fail(event_loop, e);
                 }
             }
-            WindowEvent::Occluded(occluded) => session.occluded = occluded,
+            WindowEvent::Occluded(occluded) => session.surface.set_occluded(occluded),
             _ => {}
         }
         let Some(input) = controller_input(&event) else {
@@ -369,8 +334,8 @@ impl ApplicationHandler for App {
                 session.window.request_redraw();
             } else {
                 // Idle: the next frame's interval is not a frame time.
-                session.last_frame = None;
-                if session.title_stale {
+                session.stats.pause();
+                if session.title.is_stale() {
                     session.update_title(&self.name, true);
                 }
             }
@@ -379,218 +344,25 @@ impl ApplicationHandler for App {
     }
 }
 
-/// What a key does.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-enum Action {
-    /// W A S D Q E: move while held.
-    Fly(ControlKey),
-    /// F, R: one camera jump.
-    Camera(ControlKey),
-    Screenshot,
-    ToggleAccel,
-    DepthDown,
-    DepthUp,
-    Help,
-    Quit,
-}
-
-/// The action of a key: the fly keys by position (W A S D Q E of a US
-/// keyboard, on any layout), the others by the character they type.
-fn key_action(physical: PhysicalKey, logical: &Key) -> Option<Action> {
-    if let PhysicalKey::Code(code) = physical {
-        let fly = match code {
-            KeyCode::KeyW => Some(ControlKey::Forward),
-            KeyCode::KeyS => Some(ControlKey::Backward),
-            KeyCode::KeyA => Some(ControlKey::Left),
-            KeyCode::KeyD => Some(ControlKey::Right),
-            KeyCode::KeyQ => Some(ControlKey::Down),
-            KeyCode::KeyE => Some(ControlKey::Up),
-            _ => None,
-        };
-        if let Some(key) = fly {
-            return Some(Action::Fly(key));
-        }
-    }
-    let ch = match logical {
-        Key::Named(NamedKey::Escape) => return Some(Action::Quit),
-        Key::Character(c) => c.to_lowercase(),
-        _ => return None,
-    };
-    Some(match ch.as_str() {
-        "f" => Action::Camera(ControlKey::FrameAll),
-        "r" => Action::Camera(ControlKey::Reset),
-        "p" => Action::Screenshot,
-        "b" => Action::ToggleAccel,
-        "[" => Action::DepthDown,
-        "]" => Action::DepthUp,
-        "h" => Action::Help,
-        _ => return None,
-    })
-}
-
-/// The camera controller's input for a window event (sizes and positions
-/// in physical pixels, as the controller expects).
-fn controller_input(event: &WindowEvent) -> Option<Input> {
-    Some(match event {
-        WindowEvent::Resized(size) => Input::Resized {
-            width: size.width,
-            height: size.height,
-        },
-        WindowEvent::CursorMoved { position, .. } => Input::CursorMoved {
-            x: position.x,
-            y: position.y,
-        },
-        WindowEvent::CursorLeft { .. } => Input::CursorLeft,
-        WindowEvent::MouseInput { state, button, .. } => Input::Button {
-            button: match button {
-                MouseButton::Left => Button::Left,
-                MouseButton::Right => Button::Right,
-                MouseButton::Middle => Button::Middle,
-                _ => return None,
-            },
-            pressed: *state == ElementState::Pressed,
-        },
-        WindowEvent::MouseWheel { delta, .. } => match delta {
-            MouseScrollDelta::LineDelta(_, y) => Input::WheelLines(*y as f64),
-            MouseScrollDelta::PixelDelta(p) => Input::WheelPixels(p.y),
-        },
-        WindowEvent::Focused(false) => Input::FocusLost,
-        _ => return None,
-    })
-}
-
-/// Which work a frame did, for the figures.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-enum FrameKind {
-    /// A full-resolution sample added to the still image.
-    Still,
-    /// A reduced-resolution image of a moving camera.
-    Moving,
-    /// The finished image presented again.
-    Idle,
-}
-
-#[derive(Debug, Clone, Copy, Default)]
-struct KindStats {
-    frames: u32,
-    seconds: f64,
-    primary_rays: u64,
-    /// The longest of these frames (a stall shows here), ms.
-    longest_ms: f64,
-}
-
-impl KindStats {
-    fn fps(&self) -> f64 {
-        self.frames as f64 / self.seconds.max(1e-9)
-    }
-    fn ms(&self) -> f64 {
-        self.seconds * 1e3 / (self.frames.max(1) as f64)
-    }
-    fn mrays(&self) -> f64 {
-        self.primary_rays as f64 / self.seconds.max(1e-9) * 1e-6
-    }
-}
-
-/// What `--window --stats` prints on exit.
-#[derive(Debug, Serialize)]
-struct WindowStats {
-    adapter: String,
-    backend: String,
-    width: u32,
-    height: u32,
-    samples: u32,
-    frames: u32,
-    seconds: f64,
-    still_frames: u32,
-    still_fps: f64,
-    still_ms: f64,
-    still_mrays_per_s: f64,
-    still_longest_ms: f64,
-    moving_frames: u32,
-    moving_fps: f64,
-    moving_ms: f64,
-    moving_mrays_per_s: f64,
-    moving_longest_ms: f64,
-    /// Resolution divisor while moving, at exit.
-    moving_scale: u32,
-    idle_frames: u32,
-    /// Seconds the last full refinement took (from the restart to the
-    /// submission of its last pass), if one finished.
-    refine_seconds: Option<f64>,
-}
-
 /// Everything that exists once the window is open.
 struct Session {
     window: Arc<Window>,
-    surface: wgpu::Surface<'static>,
-    config: wgpu::SurfaceConfiguration,
-    /// The format the present pass writes (never sRGB).
-    view_format: wgpu::TextureFormat,
+    surface: WindowSurface,
     ctx: GpuContext,
     viewer: Viewer,
-    /// The last good scene; its camera and render size are overwritten for
-    /// each pass.
-    scene: Scene,
+    /// The last good scene.
+    scene: GpuScene,
     /// `render.max_depth` as the file said it (a reload that changes it wins
     /// over [ and ]).
     file_max_depth: u32,
-    tree: KdTree,
-    buffers: SceneBuffers,
     controller: CameraController,
     accel: Accel,
     max_depth: u32,
-    /// Samples per pixel of the finished image, k * k.
-    samples: u32,
-    max_pixels: u64,
-    /// Size of the image in the accumulation buffer.
-    image: (u32, u32),
-    /// Size of the preview, and whether it shows the current view.
-    preview: (u32, u32),
-    preview_fresh: bool,
-    /// Samples per pixel accumulated in the still image (complete passes).
-    passes: u32,
-    /// First row of the current pass still to trace.
-    row: u32,
-    /// When the still image was last restarted, and how long its last full
-    /// refinement took (to the submission of its last pass).
-    refine_started: Instant,
-    refine_seconds: Option<f64>,
-    /// Smoothed time per traced pixel of still frames (0: not measured yet).
-    ms_per_pixel: f64,
-    /// Rows a still frame can trace within [`STILL_BUDGET_MS`], as measured
-    /// (0: not measured yet).
-    band_rows: u32,
-    restart: bool,
-    last_change: Option<Instant>,
+    refinement: Refinement,
+    /// When the camera's fly keys were last applied.
     last_update: Instant,
-    moving_scale: u32,
-    /// The window system says the window cannot be seen.
-    occluded: bool,
-    /// The surface said so: no frames before this.
-    retry_at: Option<Instant>,
-    /// A zero-size window.
-    minimized: bool,
-    /// The window manager says the window is minimised (checked every
-    /// [`STATE_CHECK_INTERVAL`]).
-    wm_minimized: bool,
-    next_state_check: Instant,
-    presented: u32,
-    opened: Instant,
-    /// When the previous frame of an uninterrupted stream was made, and
-    /// its kind.
-    last_frame: Option<(Instant, FrameKind)>,
-    still: KindStats,
-    moving: KindStats,
-    idle: KindStats,
-    /// Smoothed frame time and primary rays per second, for the title bar.
-    frame_ms: f64,
-    mrays: f64,
-    title_at: Instant,
-    /// A frame was made since the title was last set.
-    title_stale: bool,
-    reload_error: Option<String>,
-    /// A reload is being prepared on the worker thread.
-    reloading: bool,
+    stats: FrameStats,
+    title: TitleBar,
 }
 
 /// Window size: --width/--height in physical pixels; one of them alone keeps
@@ -609,75 +381,16 @@ fn window_size(options: &WindowOptions, scene: &Scene) -> Size {
     }
 }
 
-/// A device for the window: native APIs first, GL (with the window's
-/// display, which EGL needs to present) only if none of them can.
-fn open_gpu(
-    display: &OwnedDisplayHandle,
-    window: &Arc<Window>,
-) -> Result<(wgpu::Surface<'static>, GpuContext)> {
-    let env = wgpu::InstanceDescriptor::new_with_display_handle_from_env(Box::new(display.clone()));
-    let native = wgpu::Backends::VULKAN | wgpu::Backends::METAL | wgpu::Backends::DX12;
-    let mut last = None;
-    for backends in [env.backends & native, env.backends & wgpu::Backends::GL] {
-        if backends.is_empty() {
-            continue;
-        }
-        let instance = wgpu::Instance::new(wgpu::InstanceDescriptor {
-            backends,
-            ..wgpu::InstanceDescriptor::new_with_display_handle_from_env(Box::new(display.clone()))
-        });
-        let surface = match instance.create_surface(window.clone()) {
-            Ok(s) => s,
-            Err(e) => {
-                last = Some(Error::Gpu(format!("cannot draw to the window: {e}")));
-                continue;
-            }
-        };
-        match GpuContext::for_surface(&instance, &surface) {
-            Ok(ctx) => return Ok((surface, ctx)),
-            Err(e) => last = Some(e),
-        }
-    }
-    Err(last.unwrap_or_else(|| Error::Gpu(crate::gpu::context::NO_ADAPTER_HELP.to_string())))
-}
-
-/// A scene ready for the device: its tree (over all objects; brute force
-/// only changes a flag the shader reads) and its GPU arrays. All CPU work,
-/// so reloads make it on a worker thread.
-struct PreparedScene {
-    scene: Scene,
-    tree: KdTree,
-    arrays: SceneArrays,
-}
-
-impl PreparedScene {
-    fn load(path: &Path) -> Result<Self> {
-        let scene = crate::scene::load_scene(path)?;
-        let prims = Primitives::from_scene(&scene);
-        let tree = KdTree {
-            bounds: prims.scene_bounds(),
-            ..KdTree::for_primitives(&prims)
-        };
-        let arrays = SceneArrays::new(&scene, &prims, &tree);
-        Ok(PreparedScene {
-            scene,
-            tree,
-            arrays,
-        })
-    }
-}
-
-fn bounds(tree: &KdTree) -> Bounds {
-    Bounds {
-        min: tree.bounds.min.as_dvec3(),
-        max: tree.bounds.max.as_dvec3(),
-    }
-}
-
-fn window_samples(options: &WindowOptions, scene: &Scene) -> u32 {
-    options
+/// k of the k x k samples per pixel the window refines to.
+fn window_samples_per_axis(options: &WindowOptions, scene: &Scene) -> u32 {
+    let samples = options
         .samples
-        .unwrap_or_else(|| scene.render.samples.max(DEFAULT_WINDOW_SAMPLES))
+        .unwrap_or_else(|| scene.render.samples.max(DEFAULT_WINDOW_SAMPLES));
+    RenderSettings {
+        samples,
+        ..scene.render
+    }
+    .samples_per_axis()
 }
 
 /// `<scene stem>-NNN.png` in the current folder, the first that does not exist.
@@ -699,255 +412,88 @@ impl Session {
         options: &WindowOptions,
         name: &str,
     ) -> Result<Self> {
-        let PreparedScene {
-            scene,
-            tree,
-            arrays,
-        } = prepared;
         let attributes = Window::default_attributes()
             .with_title(format!("{name} - kdray"))
-            .with_inner_size(window_size(options, &scene));
+            .with_inner_size(window_size(options, &prepared.scene));
         let window = Arc::new(
             event_loop
                 .create_window(attributes)
                 .map_err(|e| Error::Gpu(format!("cannot open a window: {e}")))?,
         );
-        let (surface, ctx) = open_gpu(display, &window)?;
-        let caps = surface.get_capabilities(&ctx.adapter);
-        // A non-sRGB format, so the present pass's values reach the screen
-        // as the PNG's bytes; failing that an sRGB one viewed as Unorm.
-        let format = caps
-            .formats
-            .iter()
-            .copied()
-            .find(|f| {
-                matches!(
-                    f,
-                    wgpu::TextureFormat::Bgra8Unorm | wgpu::TextureFormat::Rgba8Unorm
-                )
-            })
-            .or_else(|| caps.formats.iter().copied().find(|f| !f.is_srgb()))
-            .or_else(|| caps.formats.first().copied())
-            .ok_or_else(|| {
-                Error::Gpu(format!("{} cannot draw to this window", ctx.adapter_line()))
-            })?;
-        let view_format = format.remove_srgb_suffix();
-        let size = window.inner_size();
-        let config = wgpu::SurfaceConfiguration {
-            usage: wgpu::TextureUsages::RENDER_ATTACHMENT,
-            format,
-            color_space: Default::default(),
-            width: size.width.max(1),
-            height: size.height.max(1),
-            present_mode: wgpu::PresentMode::AutoVsync,
-            desired_maximum_frame_latency: 2,
-            alpha_mode: wgpu::CompositeAlphaMode::Auto,
-            view_formats: if view_format == format {
-                vec![]
-            } else {
-                vec![view_format]
-            },
-        };
-        ctx.checked("configuring the window's surface", |device| {
-            surface.configure(device, &config)
-        })?;
-        let buffers = SceneBuffers::upload(&ctx, &arrays)?;
-        drop(arrays);
+        let (surface, ctx) = WindowSurface::open(display, &window)?;
+        let scene = GpuScene::upload(&ctx, prepared)?;
         let max_pixels = Viewer::max_pixels(&ctx);
-        let pixels = (config.width as u64 * config.height as u64).min(max_pixels);
-        let viewer = Viewer::new(&ctx, &buffers, view_format, pixels)?;
-        let controller =
-            CameraController::new(scene.camera, bounds(&tree), config.width, config.height);
+        let (width, height) = surface.size();
+        let pixels = (width as u64 * height as u64).min(max_pixels);
+        let viewer = Viewer::new(&ctx, &scene.buffers, surface.view_format(), pixels)?;
+        let home = scene.scene().camera;
+        let controller = CameraController::new(home, scene.bounds(), width, height);
+        let file_max_depth = scene.scene().render.max_depth;
+        let k = window_samples_per_axis(options, scene.scene());
         let now = Instant::now();
         Ok(Session {
             window,
             surface,
-            view_format,
             ctx,
             viewer,
-            file_max_depth: scene.render.max_depth,
-            max_depth: scene.render.max_depth,
-            samples: window_samples(options, &scene),
             scene,
-            tree,
-            buffers,
+            file_max_depth,
             controller,
             accel: options.accel,
-            max_pixels,
-            image: (0, 0),
-            preview: (0, 0),
-            preview_fresh: false,
-            passes: 0,
-            row: 0,
-            refine_started: now,
-            refine_seconds: None,
-            ms_per_pixel: 0.0,
-            band_rows: 0,
-            restart: true,
-            last_change: None,
+            max_depth: file_max_depth,
+            refinement: Refinement::new(k, max_pixels),
             last_update: now,
-            moving_scale: 2,
-            occluded: false,
-            retry_at: None,
-            wm_minimized: false,
-            next_state_check: now,
-            minimized: size.width == 0 || size.height == 0,
-            presented: 0,
-            opened: now,
-            last_frame: None,
-            still: KindStats::default(),
-            moving: KindStats::default(),
-            idle: KindStats::default(),
-            frame_ms: 0.0,
-            mrays: 0.0,
-            title_at: now,
-            title_stale: false,
-            reload_error: None,
-            reloading: false,
-            config,
+            stats: FrameStats::new(now),
+            title: TitleBar::new(now),
         })
     }
 
     /// Shows `prepared` from now on (a reload).
     fn set_scene(&mut self, prepared: PreparedScene, options: &WindowOptions) -> Result<()> {
-        let PreparedScene {
-            scene,
-            tree,
-            arrays,
-        } = prepared;
-        let buffers = SceneBuffers::upload(&self.ctx, &arrays)?;
-        self.viewer.set_scene(&self.ctx, &buffers)?;
-        self.controller.set_scene(scene.camera, bounds(&tree));
-        if scene.render.max_depth != self.file_max_depth {
-            self.file_max_depth = scene.render.max_depth;
-            self.max_depth = scene.render.max_depth;
+        let scene = GpuScene::upload(&self.ctx, prepared)?;
+        self.viewer.set_scene(&self.ctx, &scene.buffers)?;
+        self.controller
+            .set_scene(scene.scene().camera, scene.bounds());
+        let max_depth = scene.scene().render.max_depth;
+        if max_depth != self.file_max_depth {
+            self.file_max_depth = max_depth;
+            self.max_depth = max_depth;
         }
-        self.samples = window_samples(options, &scene);
+        self.refinement
+            .set_samples_per_axis(window_samples_per_axis(options, scene.scene()));
         self.scene = scene;
-        self.tree = tree;
-        self.buffers = buffers;
-        self.invalidate();
+        self.refinement.invalidate();
         Ok(())
     }
 
-    /// Something that changes the image (not the camera's motion):
-    /// refinement restarts, after one preview frame.
-    fn invalidate(&mut self) {
-        self.restart = true;
-        self.preview_fresh = false;
-    }
-
     fn camera_moved(&mut self, now: Instant) {
-        if !self.is_moving(now) && self.ms_per_pixel > 0.0 {
-            // Starting to move: the resolution divisor that the still
-            // frames' speed predicts fits the moving budget.
-            let pixels = self.config.width as f64 * self.config.height as f64;
-            let s = (pixels * self.ms_per_pixel / MOVING_BUDGET_MS)
-                .sqrt()
-                .ceil();
-            self.moving_scale = (s as u32).clamp(1, MAX_MOVING_SCALE);
-        }
-        self.last_change = Some(now);
-        self.invalidate();
-    }
-
-    fn is_moving(&self, now: Instant) -> bool {
-        self.last_change
-            .is_some_and(|t| now.duration_since(t) < SETTLE)
+        self.refinement.camera_moved(now, self.surface.size());
     }
 
     fn resize(&mut self, size: PhysicalSize<u32>) -> Result<()> {
-        self.minimized = size.width == 0 || size.height == 0;
-        if self.minimized || (size.width, size.height) == (self.config.width, self.config.height) {
+        if !self.surface.resize(&self.ctx, size) {
             return Ok(());
         }
-        self.config.width = size.width;
-        self.config.height = size.height;
-        self.surface.configure(&self.ctx.device, &self.config);
-        let (iw, ih) = self.still_image(size.width, size.height);
+        let (iw, ih) = self.refinement.image_size(self.surface.size());
         self.viewer
-            .reserve(&self.ctx, &self.buffers, iw as u64 * ih as u64)?;
-        self.invalidate();
+            .reserve(&self.ctx, &self.scene.buffers, iw as u64 * ih as u64)?;
+        self.refinement.invalidate();
         Ok(())
     }
 
     /// Whether the event loop should ask for another frame now.
     fn wants_frame(&mut self, now: Instant, auto_orbit: f64, frames: Option<u32>) -> bool {
-        if now >= self.next_state_check {
-            // A round trip to the window system: not every frame.
-            self.next_state_check = now + STATE_CHECK_INTERVAL;
-            self.wm_minimized = self.window.is_minimized() == Some(true);
-        }
-        if self.minimized || self.wm_minimized {
+        if !self.surface.can_draw(now, &self.window) {
             return false;
         }
-        if self.occluded || self.retry_at.is_some_and(|t| now < t) {
-            return false;
-        }
-        let refining = self.restart || self.passes < self.samples;
-        let camera = self.is_moving(now) || self.controller.is_flying() || auto_orbit != 0.0;
-        let counted = frames.is_some_and(|n| self.presented < n);
-        refining || camera || counted
-    }
-
-    /// The shader's parameters for an image of `iw` x `ih` pixels shown in
-    /// the `w` x `h` window, sample `index` of a k x k grid.
-    fn params(
-        &mut self,
-        (iw, ih): (u32, u32),
-        (w, h): (u32, u32),
-        k: u32,
-        index: u32,
-    ) -> FrameParams {
-        let render = RenderSettings {
-            width: iw,
-            height: ih,
-            max_depth: self.max_depth,
-            ..self.scene.render
-        };
-        let camera = self.controller.camera();
-        let mut p = FrameParams::new(&camera.basis(), &render, &self.buffers, self.accel);
-        p.aspect = (w as f64 / h as f64) as f32;
-        p.samples_per_axis = k;
-        p.sample_index = index;
-        p.tile_origin = [0, 0];
-        p.tile_size = [iw, ih];
-        p
-    }
-
-    /// The still image's size: the window's, or smaller if the device
-    /// cannot hold that many pixels in one buffer.
-    fn still_image(&self, w: u32, h: u32) -> (u32, u32) {
-        let mut s = 1;
-        while (w.div_ceil(s) as u64) * (h.div_ceil(s) as u64) > self.max_pixels {
-            s += 1;
-        }
-        (w.div_ceil(s), h.div_ceil(s))
-    }
-
-    /// Rows of the still image one frame traces: all of them, or a band
-    /// (a multiple of the workgroup's height) sized so that the pass's
-    /// frames share it evenly within [`STILL_BUDGET_MS`].
-    fn rows_per_frame(&self, (iw, ih): (u32, u32)) -> u32 {
-        let step = crate::gpu::shaders::TRACE_WORKGROUP.1;
-        // Not measured yet: a first band of about 64k pixels.
-        let band = if self.band_rows == 0 {
-            65536 / iw.max(1)
-        } else {
-            self.band_rows
-        };
-        if band >= ih {
-            return ih;
-        }
-        let frames = ih.div_ceil(band.max(1));
-        ih.div_ceil(frames)
-            .next_multiple_of(step)
-            .clamp(step.min(ih), ih)
+        let camera = self.controller.is_flying() || auto_orbit != 0.0;
+        let counted = frames.is_some_and(|n| self.stats.presented() < n);
+        self.refinement.has_work(now) || camera || counted
     }
 
     /// Renders and presents one frame; None if the surface had no image.
     fn frame(&mut self, now: Instant, auto_orbit: f64) -> Result<Option<FrameKind>> {
-        if self.minimized {
+        if self.surface.is_minimized() {
             return Ok(None);
         }
         let dt = now.duration_since(self.last_update).as_secs_f64();
@@ -958,420 +504,120 @@ impl Session {
         if auto_orbit != 0.0 && self.controller.orbit(auto_orbit, 0.0) {
             self.camera_moved(now);
         }
-        let (texture, suboptimal) = match self.surface.get_current_texture() {
-            wgpu::CurrentSurfaceTexture::Success(t) => (t, false),
-            wgpu::CurrentSurfaceTexture::Suboptimal(t) => (t, true),
-            wgpu::CurrentSurfaceTexture::Timeout => return Ok(None),
-            wgpu::CurrentSurfaceTexture::Occluded => {
-                self.retry_at = Some(now + Duration::from_millis(250));
-                return Ok(None);
-            }
-            wgpu::CurrentSurfaceTexture::Outdated | wgpu::CurrentSurfaceTexture::Lost => {
+        let frame = match self.surface.acquire(&self.ctx, now)? {
+            Acquired::Frame(frame) => frame,
+            Acquired::Skipped => return Ok(None),
+            Acquired::Outdated => {
                 let size = self.window.inner_size();
                 self.resize(size)?;
-                if !self.minimized {
-                    self.surface.configure(&self.ctx.device, &self.config);
-                }
+                self.surface.reconfigure(&self.ctx);
                 return Ok(None);
             }
-            wgpu::CurrentSurfaceTexture::Validation => {
-                self.ctx.check_health()?;
-                return Err(Error::Gpu("the window's surface failed validation".into()));
-            }
         };
-        let (w, h) = (self.config.width, self.config.height);
-        let k = crate::scene::RenderSettings {
-            samples: self.samples,
-            ..self.scene.render
-        }
-        .samples_per_axis();
-        let (kind, work) = if self.is_moving(now) || (self.restart && !self.preview_fresh) {
-            // The preview: while moving, and once after any other change
-            // (so that rows the first sample pass has not reached yet show
-            // the new view, not the old one).
-            let s = self.moving_scale;
-            let full = self.still_image(w, h);
-            let preview = (full.0.div_ceil(s), full.1.div_ceil(s));
-            let pass = self.params(preview, (w, h), 1, 0);
-            self.preview = preview;
-            self.preview_fresh = true;
-            self.restart = true;
-            (
-                FrameKind::Moving,
-                FrameWork {
-                    target: Target::Preview,
-                    clear_pixels: Some(preview.0 as u64 * preview.1 as u64),
-                    pass: Some(pass),
-                    present: PresentParams {
-                        image_size: [self.image.0, self.image.1],
-                        target_size: [w, h],
-                        preview_size: [preview.0, preview.1],
-                        show_image: 0,
-                        _pad: 0,
-                    },
-                },
-            )
-        } else {
-            let image = self.still_image(w, h);
-            let mut clear_pixels = None;
-            if self.restart || self.image != image {
-                self.restart = false;
-                self.image = image;
-                self.passes = 0;
-                self.row = 0;
-                self.refine_started = now;
-                clear_pixels = Some(image.0 as u64 * image.1 as u64);
-            }
-            let pass = (self.passes < k * k).then(|| {
-                let y = self.row;
-                let rows = self.rows_per_frame(image).min(image.1 - y);
-                let mut p = self.params(image, (w, h), k, self.passes);
-                p.tile_origin = [0, y];
-                p.tile_size = [image.0, rows];
-                self.row += rows;
-                if self.row >= image.1 {
-                    self.row = 0;
-                    self.passes += 1;
-                    if self.passes == k * k {
-                        self.refine_seconds =
-                            Some(now.duration_since(self.refine_started).as_secs_f64());
-                    }
-                }
-                p
-            });
-            let kind = if pass.is_some() {
-                FrameKind::Still
-            } else {
-                FrameKind::Idle
-            };
-            (
-                kind,
-                FrameWork {
-                    target: Target::Image,
-                    clear_pixels,
-                    pass,
-                    present: PresentParams {
-                        image_size: [image.0, image.1],
-                        target_size: [w, h],
-                        preview_size: [self.preview.0, self.preview.1],
-                        show_image: 1,
-                        _pad: 0,
-                    },
-                },
-            )
-        };
-        let view = texture.texture.create_view(&wgpu::TextureViewDescriptor {
-            format: Some(self.view_format),
-            ..Default::default()
-        });
+        let window = self.surface.size();
+        let plan = self.refinement.plan(now, window);
+        let work = self.frame_work(&plan, window);
         let mut encoder = self
             .ctx
             .device
             .create_command_encoder(&wgpu::CommandEncoderDescriptor {
                 label: Some("frame"),
             });
-        self.viewer.encode(&self.ctx, &mut encoder, &view, &work);
+        self.viewer
+            .encode(&self.ctx, &mut encoder, &frame.view, &work);
         self.ctx.queue.submit([encoder.finish()]);
-        self.window.pre_present_notify();
-        self.ctx.queue.present(texture);
-        if suboptimal {
-            self.surface.configure(&self.ctx.device, &self.config);
-        }
+        self.surface.present(&self.ctx, &self.window, frame);
         self.ctx.check_health()?;
-        self.presented += 1;
-        let rays = work
-            .pass
-            .map_or(0, |p| p.tile_size[0] as u64 * p.tile_size[1] as u64);
-        self.record(now, kind, rays);
-        Ok(Some(kind))
+        let rays = plan.pass.map_or(0, |p| p.pixels());
+        if let Some(ms) = self.stats.record(now, plan.kind, rays) {
+            self.refinement.learn(plan.kind, ms, rays);
+        }
+        Ok(Some(plan.kind))
     }
 
-    /// Frame figures: the interval since the previous frame is this frame's
-    /// time (frames are paced by the swapchain, so in a steady stream it is
-    /// the GPU's time per frame).
-    fn record(&mut self, now: Instant, kind: FrameKind, rays: u64) {
-        if let Some((before, previous)) = self.last_frame {
-            let seconds = now.duration_since(before).as_secs_f64();
-            // Estimates learn from a stream of frames of one kind only.
-            let steady = previous == kind;
-            let stats = match kind {
-                FrameKind::Still => &mut self.still,
-                FrameKind::Moving => &mut self.moving,
-                FrameKind::Idle => &mut self.idle,
-            };
-            stats.frames += 1;
-            stats.seconds += seconds;
-            stats.primary_rays += rays;
-            let ms = seconds * 1e3;
-            stats.longest_ms = stats.longest_ms.max(ms);
-            let mrays = rays as f64 / seconds.max(1e-9) * 1e-6;
-            let a = if self.frame_ms == 0.0 { 1.0 } else { 0.2 };
-            self.frame_ms += a * (ms - self.frame_ms);
-            if kind != FrameKind::Idle {
-                self.mrays += a * (mrays - self.mrays);
-            }
-            if steady && kind == FrameKind::Still && rays > 0 {
-                let per_pixel = ms / rays as f64;
-                let b = if self.ms_per_pixel == 0.0 { 1.0 } else { 0.3 };
-                self.ms_per_pixel += b * (per_pixel - self.ms_per_pixel);
-                // Band height: scale the rows just traced toward the budget
-                // (frame overheads included), at most doubling or halving.
-                let rows = (rays / self.image.0.max(1) as u64) as f64;
-                let target = rows * STILL_BUDGET_MS / ms.max(1e-3);
-                self.band_rows = target.clamp(rows * 0.5, rows * 2.0).max(1.0) as u32;
-            }
-            if steady && kind == FrameKind::Moving {
-                // Coarser when over budget; finer when the finer image would
-                // still fit in it (pixels grow as the square of 1/s).
-                let s = self.moving_scale as f64;
-                if ms > 1.3 * MOVING_BUDGET_MS && self.moving_scale < MAX_MOVING_SCALE {
-                    self.moving_scale += 1;
-                } else if self.moving_scale > 1
-                    && ms * (s / (s - 1.0)).powi(2) < 0.8 * MOVING_BUDGET_MS
-                {
-                    self.moving_scale -= 1;
-                }
-            }
+    /// The GPU work of `plan` in a `window`-sized window.
+    fn frame_work(&mut self, plan: &FramePlan, window: (u32, u32)) -> FrameWork {
+        let camera = self.controller.camera();
+        let pass = plan.pass.map(|p| {
+            self.scene
+                .pass_params(camera, self.max_depth, self.accel, &p, window)
+        });
+        let (target, show_image) = match plan.kind {
+            FrameKind::Moving => (Target::Preview, 0),
+            FrameKind::Still | FrameKind::Idle => (Target::Image, 1),
+        };
+        let (tw, th) = plan.target_size();
+        FrameWork {
+            target,
+            clear_pixels: plan.clear.then_some(tw as u64 * th as u64),
+            pass,
+            present: PresentParams {
+                image_size: [plan.image.0, plan.image.1],
+                target_size: [window.0, window.1],
+                preview_size: [plan.preview.0, plan.preview.1],
+                show_image,
+                _pad: 0,
+            },
         }
-        self.last_frame = Some((now, kind));
     }
 
     fn update_title(&mut self, name: &str, force: bool) {
         let now = Instant::now();
-        if !force && now < self.title_at {
-            self.title_stale = true;
+        if !self.title.due(now, force) {
             return;
         }
-        self.title_at = now + TITLE_INTERVAL;
-        self.title_stale = false;
-        let progress = if self.is_moving(now) {
-            format!("moving, 1/{} resolution", self.moving_scale)
+        let progress = if self.refinement.is_moving(now) {
+            Progress::Moving {
+                scale: self.refinement.moving_scale(),
+            }
         } else {
-            format!("{}/{} spp", self.passes, self.samples)
+            Progress::Refining {
+                passes: self.refinement.passes(),
+                samples: self.refinement.samples(),
+            }
         };
-        let accel = match self.accel {
-            Accel::Kdtree => "kdtree",
-            Accel::Brute => "brute",
-        };
-        let mut title = format!(
-            "{name} - {progress} - {:.1} ms - {:.2} Mrays/s - {accel} - depth {}",
-            self.frame_ms, self.mrays, self.max_depth
-        );
-        if self.reloading {
-            title.push_str(" - reloading");
-        }
-        if let Some(e) = &self.reload_error {
-            title.push_str(" - RELOAD FAILED: ");
-            title.push_str(e);
-        }
-        self.window.set_title(&title);
+        let (frame_ms, mrays) = self.stats.smoothed();
+        let text = self.title.text(&TitleFacts {
+            name,
+            progress,
+            frame_ms,
+            mrays,
+            accel: self.accel,
+            max_depth: self.max_depth,
+        });
+        self.window.set_title(&text);
     }
 
     fn save_screenshot(&self, path: &Path) -> Result<()> {
-        let rgb = self
-            .viewer
-            .capture(&self.ctx, self.config.width, self.config.height)?;
-        crate::output::write_png_atomic(path, self.config.width, self.config.height, &rgb)
+        let (width, height) = self.surface.size();
+        let rgb = self.viewer.capture(&self.ctx, width, height)?;
+        crate::output::write_png_atomic(path, width, height, &rgb)
     }
 
     /// The frame figures: one line on stderr, and with `--stats` one JSON
     /// object on stdout.
     fn report(&self, options: &WindowOptions, name: &str) -> Result<()> {
-        if self.presented == 0 {
+        let (width, height) = self.surface.size();
+        let about = ReportContext {
+            name: name.to_string(),
+            adapter: self.ctx.info.name.clone(),
+            backend: format!("{:?}", self.ctx.info.backend),
+            width,
+            height,
+            samples: self.refinement.samples(),
+            moving_scale: self.refinement.moving_scale(),
+            refine_seconds: self.refinement.refine_seconds(),
+        };
+        let Some((line, stats)) = self.stats.report(Instant::now(), about) else {
             return Ok(());
-        }
-        let seconds = self.opened.elapsed().as_secs_f64();
-        let mut line = format!("kdray: {name}: {} frames in {seconds:.1} s", self.presented);
-        for (label, k) in [("still", &self.still), ("moving", &self.moving)] {
-            if k.frames > 0 {
-                line.push_str(&format!(
-                    "; {label}: {} frames at {:.1} fps ({:.1} ms, {:.2} Mrays/s)",
-                    k.frames,
-                    k.fps(),
-                    k.ms(),
-                    k.mrays()
-                ));
-            }
-        }
-        if let Some(t) = self.refine_seconds {
-            line.push_str(&format!("; {} samples per pixel in {t:.1} s", self.samples));
-        }
+        };
         eprintln!("{line}");
         if options.stats {
-            let stats = WindowStats {
-                adapter: self.ctx.info.name.clone(),
-                backend: format!("{:?}", self.ctx.info.backend),
-                width: self.config.width,
-                height: self.config.height,
-                samples: self.samples,
-                frames: self.presented,
-                seconds,
-                still_frames: self.still.frames,
-                still_fps: self.still.fps(),
-                still_ms: self.still.ms(),
-                still_mrays_per_s: self.still.mrays(),
-                still_longest_ms: self.still.longest_ms,
-                moving_frames: self.moving.frames,
-                moving_fps: self.moving.fps(),
-                moving_ms: self.moving.ms(),
-                moving_mrays_per_s: self.moving.mrays(),
-                moving_longest_ms: self.moving.longest_ms,
-                moving_scale: self.moving_scale,
-                idle_frames: self.idle.frames,
-                refine_seconds: self.refine_seconds,
-            };
             println!(
                 "{}",
-                serde_json::to_string(&stats).map_err(|e| Error::Output(e.to_string()))?
+                serde_json::to_string(&stats)?
             );
         }
         Ok(())
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-    use crate::scene::Camera;
-    use glam::DVec3;
-    use winit::dpi::PhysicalPosition;
-    use winit::event::DeviceId;
-
-    fn controller() -> CameraController {
-        let home = Camera {
-            position: DVec3::new(0.0, 0.0, 1.0),
-            look_at: DVec3::ZERO,
-            up: DVec3::Y,
-            vfov_degrees: 90.0,
-        };
-        let bounds = Bounds {
-            min: DVec3::splat(-1.0),
-            max: DVec3::splat(1.0),
-        };
-        CameraController::new(home, bounds, 200, 100)
-    }
-
-    /// Feeds winit events through the event loop's mapping to the controller.
-    fn feed(c: &mut CameraController, events: &[WindowEvent]) -> bool {
-        let mut changed = false;
-        for e in events {
-            if let Some(input) = controller_input(e) {
-                changed |= c.handle(input);
-            }
-        }
-        changed
-    }
-
-    fn moved(x: f64, y: f64) -> WindowEvent {
-        WindowEvent::CursorMoved {
-            device_id: DeviceId::dummy(),
-            position: PhysicalPosition::new(x, y),
-        }
-    }
-
-    fn button(button: MouseButton, pressed: bool) -> WindowEvent {
-        WindowEvent::MouseInput {
-            device_id: DeviceId::dummy(),
-            state: if pressed {
-                ElementState::Pressed
-            } else {
-                ElementState::Released
-            },
-            button,
-        }
-    }
-
-    fn close(a: DVec3, b: DVec3) -> bool {
-        (a - b).length() < 1e-9
-    }
-
-    #[test]
-    fn winit_mouse_events_orbit_pan_and_zoom() {
-        let mut c = controller();
-        let left_drag = [
-            moved(100.0, 50.0),
-            button(MouseButton::Left, true),
-            moved(150.0, 50.0),
-            button(MouseButton::Left, false),
-        ];
-        assert!(feed(&mut c, &left_drag));
-        assert!(close(c.camera().position, DVec3::new(1.0, 0.0, 0.0)));
-
-        let mut c = controller();
-        let right_drag = [
-            moved(100.0, 50.0),
-            button(MouseButton::Right, true),
-            moved(150.0, 50.0),
-            button(MouseButton::Right, false),
-            // Released: moving does nothing.
-            moved(10.0, 10.0),
-        ];
-        assert!(feed(&mut c, &right_drag));
-        assert!(close(c.camera().position, DVec3::new(-1.0, 0.0, 1.0)));
-
-        let mut c = controller();
-        let wheel = WindowEvent::MouseWheel {
-            device_id: DeviceId::dummy(),
-            delta: MouseScrollDelta::LineDelta(0.0, 1.0),
-            phase: winit::event::TouchPhase::Moved,
-        };
-        assert!(feed(&mut c, &[wheel]));
-        assert!(close(c.camera().position, DVec3::new(0.0, 0.0, 0.9)));
-
-        // A resize changes the orbit's pixels-per-turn.
-        let mut c = controller();
-        let events = [
-            WindowEvent::Resized(PhysicalSize::new(400, 200)),
-            moved(0.0, 0.0),
-            button(MouseButton::Left, true),
-            moved(100.0, 0.0),
-        ];
-        assert!(feed(&mut c, &events));
-        assert!(close(c.camera().position, DVec3::new(1.0, 0.0, 0.0)));
-        // Losing focus releases the button.
-        assert!(!feed(
-            &mut c,
-            &[WindowEvent::Focused(false), moved(300.0, 0.0)]
-        ));
-    }
-
-    #[test]
-    fn keys_map_to_actions() {
-        let ch = |s: &str| Key::Character(s.into());
-        let none = PhysicalKey::Code(KeyCode::F13);
-        let cases = [
-            (
-                PhysicalKey::Code(KeyCode::KeyW),
-                ch("z"),
-                Some(Action::Fly(ControlKey::Forward)),
-            ),
-            (
-                PhysicalKey::Code(KeyCode::KeyA),
-                ch("q"),
-                Some(Action::Fly(ControlKey::Left)),
-            ),
-            (
-                PhysicalKey::Code(KeyCode::KeyQ),
-                ch("a"),
-                Some(Action::Fly(ControlKey::Down)),
-            ),
-            (
-                PhysicalKey::Code(KeyCode::KeyE),
-                ch("e"),
-                Some(Action::Fly(ControlKey::Up)),
-            ),
-            (none, ch("F"), Some(Action::Camera(ControlKey::FrameAll))),
-            (none, ch("r"), Some(Action::Camera(ControlKey::Reset))),
-            (none, ch("p"), Some(Action::Screenshot)),
-            (none, ch("b"), Some(Action::ToggleAccel)),
-            (none, ch("["), Some(Action::DepthDown)),
-            (none, ch("]"), Some(Action::DepthUp)),
-            (none, ch("h"), Some(Action::Help)),
-            (none, Key::Named(NamedKey::Escape), Some(Action::Quit)),
-            (none, ch("x"), None),
-        ];
-        for (physical, logical, action) in cases {
-            assert_eq!(key_action(physical, &logical), action, "{logical:?}");
-        }
     }
 }

@@ -1,0 +1,143 @@
+//! The title bar: what it says (progress, speed, the render settings the
+//! keys change, reload status) and how often it changes. Free of winit.
+
+use std::time::{Duration, Instant};
+
+use crate::gpu::Accel;
+
+/// Shortest interval between two title changes made by frames.
+pub const TITLE_INTERVAL: Duration = Duration::from_millis(250);
+
+/// How far the picture is.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Progress {
+    /// The camera moves: previews at 1/`scale` of the resolution.
+    Moving { scale: u32 },
+    /// `passes` of `samples` samples per pixel.
+    Refining { passes: u32, samples: u32 },
+}
+
+/// Everything the title says.
+#[derive(Debug, Clone, Copy)]
+pub struct TitleFacts<'a> {
+    /// The scene's file name.
+    pub name: &'a str,
+    pub progress: Progress,
+    /// Smoothed frame time and primary rays per second (millions).
+    pub frame_ms: f64,
+    pub mrays: f64,
+    pub accel: Accel,
+    pub max_depth: u32,
+}
+
+/// The title bar's state: when it may change next, and the reload status
+/// it shows.
+#[derive(Debug, Clone)]
+pub struct TitleBar {
+    next_at: Instant,
+    /// A frame was made since the title was last set.
+    stale: bool,
+    /// A reload is being prepared on the worker thread.
+    pub reloading: bool,
+    /// Why the last reload failed, if it did.
+    pub reload_error: Option<String>,
+}
+
+impl TitleBar {
+    pub fn new(now: Instant) -> Self {
+        TitleBar {
+            next_at: now,
+            stale: false,
+            reloading: false,
+            reload_error: None,
+        }
+    }
+
+    /// Whether the title should be set at `now`: always if `force`d, else
+    /// at most once per [`TITLE_INTERVAL`] (a change held back makes the
+    /// title stale).
+    pub fn due(&mut self, now: Instant, force: bool) -> bool {
+        if !force && now < self.next_at {
+            self.stale = true;
+            return false;
+        }
+        self.next_at = now + TITLE_INTERVAL;
+        self.stale = false;
+        true
+    }
+
+    /// Whether a change was held back since the title was last set.
+    pub fn is_stale(&self) -> bool {
+        self.stale
+    }
+
+    pub fn text(&self, facts: &TitleFacts) -> String {
+        let progress = match facts.progress {
+            Progress::Moving { scale } => format!("moving, 1/{scale} resolution"),
+            Progress::Refining { passes, samples } => format!("{passes}/{samples} spp"),
+        };
+        let accel = crate::choice::Choice::name(facts.accel);
+        let mut title = format!(
+            "{} - {progress} - {:.1} ms - {:.2} Mrays/s - {accel} - depth {}",
+            facts.name, facts.frame_ms, facts.mrays, facts.max_depth
+        );
+        if self.reloading {
+            title.push_str(" - reloading");
+        }
+        if let Some(e) = &self.reload_error {
+            title.push_str(" - RELOAD FAILED: ");
+            title.push_str(e);
+        }
+        title
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_title_says_progress_speed_settings_and_reloads() {
+        let mut bar = TitleBar::new(Instant::now());
+        let mut facts = TitleFacts {
+            name: "seed.toml",
+            progress: Progress::Refining {
+                passes: 3,
+                samples: 16,
+            },
+            frame_ms: 12.345,
+            mrays: 1.5,
+            accel: Accel::Kdtree,
+            max_depth: 5,
+        };
+        assert_eq!(
+            bar.text(&facts),
+            "seed.toml - 3/16 spp - 12.3 ms - 1.50 Mrays/s - kdtree - depth 5"
+        );
+        facts.progress = Progress::Moving { scale: 4 };
+        facts.accel = Accel::Brute;
+        bar.reloading = true;
+        bar.reload_error = Some("scene.toml:3: camera.position: expected 3 numbers".into());
+        assert_eq!(
+            bar.text(&facts),
+            "seed.toml - moving, 1/4 resolution - 12.3 ms - 1.50 Mrays/s - brute - depth 5 \
+             - reloading - RELOAD FAILED: scene.toml:3: camera.position: expected 3 numbers"
+        );
+    }
+
+    #[test]
+    fn the_title_changes_at_most_every_interval_unless_forced() {
+        let t = Instant::now();
+        let mut bar = TitleBar::new(t);
+        assert!(bar.due(t, false));
+        assert!(!bar.is_stale());
+        let soon = t + TITLE_INTERVAL / 2;
+        assert!(!bar.due(soon, false));
+        assert!(bar.is_stale());
+        assert!(bar.due(soon, true));
+        assert!(!bar.is_stale());
+        // The interval counts from the last change.
+        assert!(!bar.due(t + TITLE_INTERVAL, false));
+        assert!(bar.due(soon + TITLE_INTERVAL, false));
+    }
+}
