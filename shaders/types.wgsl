@@ -8,6 +8,13 @@ struct KdNode {
     count: u32,      // leaf: number of object ids
 }
 
+// A leaf's box and the node beyond each face (src/layout.rs LeafRopes).
+// Face 2 * axis is the low side, 2 * axis + 1 the high side.
+struct LeafRopes {
+    faces: array<f32, 6>,   // plane coordinate of each face
+    ropes: array<u32, 6>,   // node beyond each face; NO_ROPE on the scene's boundary
+}
+
 struct Sphere {
     center: vec3<f32>,
     radius: f32,

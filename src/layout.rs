@@ -31,6 +31,25 @@ impl KdNode {
     }
 }
 
+/// A leaf's box and its six ropes (Popov et al. 2007), 48 bytes: the rope
+/// walk's per-leaf data (`kdtree::ropes`). Face `2 * axis` is the box's
+/// low side on that axis, `2 * axis + 1` its high side; a ray leaves through
+/// face `2 * axis + (dir[axis] > 0)`.
+#[repr(C)]
+#[derive(Debug, Clone, Copy, PartialEq, Pod, Zeroable)]
+pub struct LeafRopes {
+    /// The plane coordinate of each face (min x, max x, min y, max y, min z, max z).
+    pub faces: [f32; 6],
+    /// The node beyond each face: the smallest one whose cell holds the
+    /// whole face strictly inside its planes; [`LeafRopes::NONE`] on the
+    /// scene's boundary.
+    pub ropes: [u32; 6],
+}
+
+impl LeafRopes {
+    pub const NONE: u32 = u32::MAX;
+}
+
 #[repr(C)]
 #[derive(Debug, Clone, Copy, PartialEq, Pod, Zeroable)]
 pub struct GpuSphere {
@@ -191,6 +210,7 @@ mod tests {
         let source = include_str!("../shaders/types.wgsl");
         let (module, _) = crate::gpu::shaders::parse_and_validate(source);
         layout_of!(&module, "KdNode", KdNode, [kind, split, index, count]);
+        layout_of!(&module, "LeafRopes", LeafRopes, [faces, ropes]);
         layout_of!(&module, "Sphere", GpuSphere, [center, radius]);
         layout_of!(&module, "Triangle", GpuTriangle, [v0, v1, v2]);
         layout_of!(
