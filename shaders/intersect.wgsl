@@ -1,9 +1,5 @@
 // Rays, boxes, spheres and triangles. Mirrors src/geometry.rs line by line.
 
-// Stand-in for infinity: implementations may assume there is no inf or NaN.
-const T_INFINITY: f32 = 3.0e38;
-// Direction components below this count as parallel to an axis plane.
-const PARALLEL_EPSILON: f32 = 1e-20;
 const NO_HIT: f32 = -1.0;
 
 struct Ray {

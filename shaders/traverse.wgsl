@@ -1,8 +1,6 @@
 // Nearest-hit and any-hit queries: the stackless k-d walk (kd-restart with
 // push-down) and the seed's brute-force loop. Mirrors src/kdtree/traverse.rs.
 
-const NO_OBJECT: u32 = 0xffffffffu;
-
 struct Hit {
     t: f32,
     object: u32,   // NO_OBJECT when nothing was hit
@@ -18,7 +16,6 @@ fn miss() -> Hit {
 // counted per 8-wide SIMD group: a loop runs while any lane needs it. The
 // host reports invocations whose own count reached half the limit.
 var<private> loop_iterations: u32;
-const LOOP_LIMIT_WARNING: u32 = 32768u;
 
 // any_hit: return the first hit with t < t_limit; else the nearest hit with t <= t_limit.
 fn trace_kdtree(ray: Ray, t_limit: f32, any_hit: bool) -> Hit {

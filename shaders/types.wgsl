@@ -1,5 +1,6 @@
 // Data shared with the host. Every struct here mirrors a #[repr(C)] type in
-// src/layout.rs; a unit test checks sizes and offsets against naga's layout.
+// src/layout.rs; a unit test checks sizes, offsets and field types against
+// naga's layout.
 
 struct KdNode {
     kind: u32,       // 0, 1, 2: inner node splitting x, y, z; 3: leaf
@@ -85,22 +86,18 @@ struct TileOutput {
     pixels: array<u32>,
 }
 
-const KD_LEAF: u32 = 3u;
-const ACCEL_KDTREE: u32 = 0u;
-const ACCEL_BRUTE: u32 = 1u;
-const SHADOW_AMBIENT: u32 = 0u;
-const SHADOW_SEED: u32 = 1u;
+// A ray for `trace_rays` (the debug entry point), and its answer.
+struct QueryRay {
+    origin: vec3<f32>,
+    t_limit: f32,      // nearest hit: t <= t_limit; any hit: t < t_limit
+    dir: vec3<f32>,    // unit length
+    any_hit: u32,      // 1: shadow-ray query (first hit before t_limit)
+}
 
-@group(0) @binding(0) var<uniform> params: FrameParams;
-@group(0) @binding(1) var<storage, read> spheres: array<Sphere>;
-@group(0) @binding(2) var<storage, read> triangles: array<Triangle>;
-// Material index of every object id (spheres first, then triangles).
-@group(0) @binding(3) var<storage, read> object_materials: array<u32>;
-@group(0) @binding(4) var<storage, read> materials: array<Material>;
-@group(0) @binding(5) var<storage, read> lights: array<Light>;
-@group(0) @binding(6) var<storage, read> kd_nodes: array<KdNode>;
-@group(0) @binding(7) var<storage, read> leaf_objects: array<u32>;
-@group(0) @binding(8) var<storage, read_write> tile_output: TileOutput;
-// accumulate_tile's output: per pixel of the whole image, the sum of its
-// clamped samples (rgb) and their number (w).
-@group(0) @binding(9) var<storage, read_write> accumulation: array<vec4<f32>>;
+struct QueryHit {
+    t: f32,
+    object: u32,       // GPU object id, or NO_OBJECT
+}
+
+// Bindings and the constants shared with the host are generated from
+// src/gpu/bindings.rs and prepended to the kernel.

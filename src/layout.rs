@@ -152,6 +152,28 @@ pub struct RayCounters {
     pub loop_limited: u32,
 }
 
+/// A ray for the kernel's `trace_rays` entry point (tests, debugging).
+#[repr(C)]
+#[derive(Debug, Clone, Copy, PartialEq, Pod, Zeroable)]
+pub struct GpuQueryRay {
+    pub origin: [f32; 3],
+    /// Nearest hit: t <= t_limit; any hit: t < t_limit.
+    pub t_limit: f32,
+    /// Unit length.
+    pub dir: [f32; 3],
+    /// 1: any-hit (shadow-ray) query; 0: nearest hit.
+    pub any_hit: u32,
+}
+
+/// `trace_rays`' answer for one ray.
+#[repr(C)]
+#[derive(Debug, Clone, Copy, PartialEq, Pod, Zeroable)]
+pub struct GpuQueryHit {
+    pub t: f32,
+    /// GPU object id, or `gpu::bindings::NO_OBJECT`.
+    pub object: u32,
+}
+
 /// The window's present pass parameters (a uniform of shaders/present.wgsl).
 #[repr(C)]
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Pod, Zeroable)]
@@ -171,13 +193,78 @@ pub struct PresentParams {
 mod tests {
     use super::*;
 
+    /// The WGSL type a Rust field stands for.
+    trait WgslField {
+        fn matches(inner: &naga::TypeInner) -> bool;
+    }
+
+    fn is_scalar(inner: &naga::TypeInner, scalar: naga::Scalar) -> bool {
+        *inner == naga::TypeInner::Scalar(scalar)
+    }
+
+    fn is_vector(inner: &naga::TypeInner, size: naga::VectorSize, scalar: naga::Scalar) -> bool {
+        *inner == naga::TypeInner::Vector { size, scalar }
+    }
+
+    impl WgslField for f32 {
+        fn matches(inner: &naga::TypeInner) -> bool {
+            is_scalar(inner, naga::Scalar::F32)
+        }
+    }
+    impl WgslField for u32 {
+        fn matches(inner: &naga::TypeInner) -> bool {
+            is_scalar(inner, naga::Scalar::U32)
+        }
+    }
+    impl WgslField for [f32; 3] {
+        fn matches(inner: &naga::TypeInner) -> bool {
+            is_vector(inner, naga::VectorSize::Tri, naga::Scalar::F32)
+        }
+    }
+    impl WgslField for [u32; 2] {
+        fn matches(inner: &naga::TypeInner) -> bool {
+            is_vector(inner, naga::VectorSize::Bi, naga::Scalar::U32)
+        }
+    }
+    /// `array<f32 or u32, 6>`: six 4-byte elements (the element's scalar
+    /// type is behind a handle this check cannot follow; both are 4 bytes).
+    fn is_array_of_six_words(inner: &naga::TypeInner) -> bool {
+        matches!(
+            inner,
+            naga::TypeInner::Array { size: naga::ArraySize::Constant(n), stride: 4, .. } if n.get() == 6
+        )
+    }
+    impl WgslField for [f32; 6] {
+        fn matches(inner: &naga::TypeInner) -> bool {
+            is_array_of_six_words(inner)
+        }
+    }
+    impl WgslField for [u32; 6] {
+        fn matches(inner: &naga::TypeInner) -> bool {
+            is_array_of_six_words(inner)
+        }
+    }
+    /// The ray counters: u32 on the host, `atomic<u32>` in WGSL.
+    fn atomic_u32(inner: &naga::TypeInner) -> bool {
+        *inner == naga::TypeInner::Atomic(naga::Scalar::U32)
+    }
+
+    /// A member check: name, offset, and whether a naga type is the field's.
+    type FieldCheck = (&'static str, usize, fn(&naga::TypeInner) -> bool);
+
+    /// `T::matches` for the type of `field`, inferred from an accessor.
+    fn matcher_of<S, T: WgslField>(_: fn(&S) -> &T) -> fn(&naga::TypeInner) -> bool {
+        T::matches
+    }
+
     /// Checks that a WGSL struct has the Rust type's size and that each of
-    /// its members sits at the offset of the Rust field of the same name.
+    /// its members sits at the offset of the Rust field of the same name,
+    /// with the WGSL type that field stands for.
     fn check_layout(
         module: &naga::Module,
         wgsl_name: &str,
         rust_size: usize,
-        rust_offsets: &[(&str, usize)],
+        rust_fields: &[FieldCheck],
     ) {
         let ty = module
             .types
@@ -191,17 +278,31 @@ mod tests {
         assert_eq!(*span as usize, rust_size, "size of {wgsl_name}");
         for m in members {
             let name = m.name.as_deref().unwrap();
-            let rust = rust_offsets
+            let rust = rust_fields
                 .iter()
-                .find(|(n, _)| *n == name)
+                .find(|(n, _, _)| *n == name)
                 .unwrap_or_else(|| panic!("{wgsl_name}.{name} has no Rust field"));
             assert_eq!(m.offset as usize, rust.1, "offset of {wgsl_name}.{name}");
+            let inner = &module.types[m.ty].inner;
+            assert!(
+                (rust.2)(inner),
+                "type of {wgsl_name}.{name}: WGSL has {inner:?}, which the Rust field is not"
+            );
         }
     }
 
     macro_rules! layout_of {
         ($module:expr, $wgsl:literal, $rust:ty, [$($field:ident),* $(,)?]) => {
-            check_layout($module, $wgsl, std::mem::size_of::<$rust>(), &[$((stringify!($field), std::mem::offset_of!($rust, $field))),*])
+            check_layout(
+                $module,
+                $wgsl,
+                std::mem::size_of::<$rust>(),
+                &[$((
+                    stringify!($field),
+                    std::mem::offset_of!($rust, $field),
+                    matcher_of(|s: &$rust| &s.$field),
+                )),*],
+            )
         };
     }
 
@@ -256,12 +357,21 @@ mod tests {
                 _pad,
             ]
         );
-        layout_of!(
+        // The host reads the counters as u32s; WGSL adds to them atomically.
+        let atomic: fn(&naga::TypeInner) -> bool = atomic_u32;
+        check_layout(
             &module,
             "RayCounters",
-            RayCounters,
-            [primary, shadow, reflection, loop_limited]
+            std::mem::size_of::<RayCounters>(),
+            &[
+                ("primary", std::mem::offset_of!(RayCounters, primary), atomic),
+                ("shadow", std::mem::offset_of!(RayCounters, shadow), atomic),
+                ("reflection", std::mem::offset_of!(RayCounters, reflection), atomic),
+                ("loop_limited", std::mem::offset_of!(RayCounters, loop_limited), atomic),
+            ],
         );
+        layout_of!(&module, "QueryRay", GpuQueryRay, [origin, t_limit, dir, any_hit]);
+        layout_of!(&module, "QueryHit", GpuQueryHit, [t, object]);
 
         let (present, _) =
             crate::gpu::shaders::parse_and_validate(crate::gpu::shaders::PRESENT_SOURCE);

@@ -7,6 +7,7 @@
 //! [`render`] strings them together for one frame.
 
 pub mod bench;
+pub mod choice;
 pub mod error;
 pub mod geometry;
 pub mod gpu;

@@ -27,18 +27,15 @@ impl<'a> ReferenceTracer<'a> {
     pub fn new(scene: &'a Scene, use_tree: bool) -> Self {
         let prims = Primitives::from_scene(scene);
         let tree = use_tree.then(|| KdTree::for_primitives(&prims));
-        let cam = &scene.camera;
-        let forward = (cam.look_at - cam.position).normalize();
-        let right = forward.cross(cam.up).normalize();
-        let up = right.cross(forward);
+        let basis = scene.camera.basis();
         ReferenceTracer {
             scene,
             prims,
             tree,
-            forward: forward.as_vec3(),
-            right: right.as_vec3(),
-            up: up.as_vec3(),
-            tan_half_vfov: (cam.vfov_degrees.to_radians() * 0.5).tan() as f32,
+            forward: basis.forward.as_vec3(),
+            right: basis.right.as_vec3(),
+            up: basis.up.as_vec3(),
+            tan_half_vfov: basis.tan_half_vfov as f32,
             aspect: (scene.render.width as f64 / scene.render.height as f64) as f32,
         }
     }

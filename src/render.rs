@@ -6,12 +6,9 @@ use std::time::Instant;
 use serde::Serialize;
 
 use crate::error::Result;
-use crate::geometry::Primitives;
-use crate::gpu::RowBand;
 use crate::gpu::{
-    frame_params, Accel, GpuContext, RenderedImage, Renderer, SceneArrays, SceneBuffers, TilePlan,
+    Accel, GpuContext, GpuTimeSource, PreparedScene, RenderedImage, Renderer, RowBand, TilePlan,
 };
-use crate::kdtree::KdTree;
 use crate::scene::Scene;
 
 /// What `kdray render --stats` prints, as one JSON object.
@@ -19,7 +16,7 @@ use crate::scene::Scene;
 pub struct RenderStats {
     pub adapter: String,
     pub backend: String,
-    pub accel: String,
+    pub accel: Accel,
     pub width: u32,
     pub height: u32,
     pub samples: u32,
@@ -34,8 +31,7 @@ pub struct RenderStats {
     pub build_ms: f64,
     pub upload_ms: f64,
     pub gpu_ms: f64,
-    /// "timestamp" (GPU timestamp queries) or "wall" (submit to readback).
-    pub gpu_time_source: String,
+    pub gpu_time_source: GpuTimeSource,
     pub total_ms: f64,
     pub primary_rays: u64,
     /// Shadow and reflection rays, counted by the shader.
@@ -90,7 +86,8 @@ fn ms_since(t: Instant) -> f64 {
     t.elapsed().as_secs_f64() * 1e3
 }
 
-/// Renders `scene` on `ctx` into memory. `max_tile_pixels` bounds one dispatch.
+/// Renders `scene` on `ctx` into memory (preparing a copy of it).
+/// `max_tile_pixels` bounds one dispatch.
 pub fn render_scene(
     ctx: &GpuContext,
     scene: &Scene,
@@ -99,8 +96,9 @@ pub fn render_scene(
 ) -> Result<(RenderedImage, RenderStats)> {
     let r = &scene.render;
     let mut rgb = Vec::with_capacity(r.width as usize * r.height as usize * 3);
+    let prepared = PreparedScene::new(scene.clone(), accel);
     let (stats, summary) =
-        render_scene_streaming(ctx, scene, accel, max_tile_pixels, &mut |band| {
+        render_scene_streaming(ctx, &prepared, accel, max_tile_pixels, &mut |band| {
             rgb.extend_from_slice(band.rgb);
             Ok(())
         })?;
@@ -115,36 +113,25 @@ pub fn render_scene(
     Ok((image, stats))
 }
 
-/// Renders `scene` on `ctx`, handing bands of rows to `sink` top to bottom
+/// Renders a prepared scene on `ctx` with `accel` (which the scene must
+/// have been prepared for), handing bands of rows to `sink` top to bottom
 /// as they are read back (for images too big to hold, and progress bars).
 pub fn render_scene_streaming(
     ctx: &GpuContext,
-    scene: &Scene,
+    prepared: &PreparedScene,
     accel: Accel,
     max_tile_pixels: u64,
     sink: &mut dyn FnMut(RowBand<'_>) -> Result<()>,
 ) -> Result<(RenderStats, crate::gpu::RenderSummary)> {
     let total = Instant::now();
-    let build = Instant::now();
-    let prims = Primitives::from_scene(scene);
-    // Brute force needs no tree: give the shader a single leaf.
-    let tree = match accel {
-        Accel::Kdtree => KdTree::for_primitives(&prims),
-        Accel::Brute => crate::kdtree::build(&[], crate::kdtree::BuildParams::for_object_count(0)),
-    };
-    let tree = KdTree {
-        bounds: prims.scene_bounds(),
-        ..tree
-    };
-    let build_ms = ms_since(build);
+    let scene = &prepared.scene;
 
     let upload = Instant::now();
-    let arrays = SceneArrays::new(scene, &prims, &tree);
-    let buffers = SceneBuffers::upload(ctx, &arrays)?;
+    let buffers = prepared.upload(ctx)?;
     let renderer = Renderer::new(ctx)?;
-    let upload_ms = ms_since(upload);
+    let upload_ms = prepared.flatten_ms + ms_since(upload);
 
-    let params = frame_params(scene, &tree, &buffers, accel);
+    let params = prepared.frame_params(&buffers, accel);
     let max_binding = crate::gpu::max_binding_bytes(&ctx.device.limits());
     let plan = TilePlan::new(
         scene.render.width,
@@ -154,13 +141,13 @@ pub fn render_scene_streaming(
     );
     let summary = renderer.render_bands(ctx, &buffers, params, plan, sink)?;
 
-    let tree_stats = tree.stats();
+    let tree_stats = prepared.tree.stats();
     let primary_rays =
         scene.render.width as u64 * scene.render.height as u64 * scene.render.samples as u64;
     let stats = RenderStats {
         adapter: ctx.info.name.clone(),
         backend: format!("{:?}", ctx.info.backend),
-        accel: format!("{accel:?}").to_lowercase(),
+        accel,
         width: scene.render.width,
         height: scene.render.height,
         samples: scene.render.samples,
@@ -170,12 +157,13 @@ pub fn render_scene_streaming(
         kd_leaves: tree_stats.leaves,
         kd_max_depth: tree_stats.max_depth,
         kd_refs_per_leaf: tree_stats.refs_per_leaf,
-        gpu_scene_bytes: arrays.byte_size(),
-        build_ms,
+        gpu_scene_bytes: prepared.arrays.byte_size(),
+        build_ms: prepared.build_ms,
         upload_ms,
         gpu_ms: summary.gpu_ms,
-        gpu_time_source: summary.gpu_time_source.to_string(),
-        total_ms: ms_since(total),
+        gpu_time_source: summary.gpu_time_source,
+        // From the start of the build, as before the scene was prepared apart.
+        total_ms: prepared.build_ms + prepared.flatten_ms + ms_since(total),
         primary_rays,
         shadow_rays: summary.rays.shadow,
         reflection_rays: summary.rays.reflection,

@@ -21,9 +21,7 @@ use std::time::Instant;
 use serde::{Deserialize, Serialize};
 
 use crate::error::{Error, Result};
-use crate::geometry::Primitives;
-use crate::gpu::{frame_params, Accel, GpuContext, Renderer, SceneArrays, SceneBuffers, TilePlan};
-use crate::kdtree::{BuildParams, KdTree};
+use crate::gpu::{Accel, GpuContext, PreparedScene, Renderer, TilePlan};
 use crate::scene::Scene;
 
 pub use random_scene::{random_scene, RandomSceneSpec, SceneKind, DEFAULT_SEED};
@@ -31,73 +29,49 @@ pub use random_scene::{random_scene, RandomSceneSpec, SceneKind, DEFAULT_SEED};
 /// Default sizes of `kdray bench`.
 pub const DEFAULT_SIZES: &str = "1,10,100,1000,10000,100000,1000000";
 
-/// `kdray bench` options.
-#[derive(Debug, Clone, clap::Args)]
-pub struct BenchArgs {
-    /// Object counts of the random scenes, comma separated.
-    #[arg(long, value_delimiter = ',', default_value = DEFAULT_SIZES)]
+/// What `kdray bench` is asked to do (the command line's `BenchArgs`,
+/// mapped onto library types).
+#[derive(Debug, Clone)]
+pub struct BenchOptions {
+    /// Object counts of the random scenes.
     pub sizes: Vec<usize>,
     /// What the random scenes are made of.
-    #[arg(long, value_enum, default_value_t = SceneKind::Spheres)]
     pub kind: SceneKind,
     /// Seed of the random scenes.
-    #[arg(long, default_value_t = DEFAULT_SEED)]
     pub seed: u64,
-    /// Scene files to measure instead of random scenes (repeatable); N is
-    /// each scene's object count.
-    #[arg(long = "scene", value_name = "SCENE")]
+    /// Scene files to measure instead of random scenes; N is each scene's
+    /// object count.
     pub scenes: Vec<PathBuf>,
-    /// Image width [default: 640 for random scenes, the scene's own for --scene].
-    #[arg(long)]
+    /// Image size [default: 640 x 480 for random scenes, the scene's own for files].
     pub width: Option<u32>,
-    /// Image height [default: 480 for random scenes, the scene's own for --scene].
-    #[arg(long)]
     pub height: Option<u32>,
-    /// Override render.max_depth (1 = primary hits only, no reflections).
-    #[arg(long)]
+    /// Override of render.max_depth (1 = primary hits only).
     pub max_depth: Option<u32>,
     /// Timed frames per run, after one warm-up frame; the median is reported.
-    #[arg(long, default_value_t = 3)]
     pub repeat: u32,
-    /// Per-frame budget for brute force, in seconds: a size whose predicted
-    /// brute-force frame exceeds it is skipped (and reported as skipped).
-    #[arg(long, default_value_t = 30.0)]
+    /// Per-frame budget for brute force, in seconds.
     pub budget_s: f64,
-    /// Which accelerations to run.
-    #[arg(long, value_enum, value_delimiter = ',', default_values_t = [Accel::Kdtree, Accel::Brute])]
+    /// Which accelerations to run, in order.
     pub accel: Vec<Accel>,
     /// Output folder (created if missing).
-    #[arg(long, default_value = "bench-results")]
     pub out: PathBuf,
-    /// Also save the k-d tree's image of every run as render-*.png in the output folder.
-    #[arg(long)]
+    /// Also save the k-d tree's image of every run.
     pub save_images: bool,
-    /// Measure nothing: read DIR/bench.json from an earlier run and rewrite
-    /// its summary, fits, targets and plots in DIR.
-    #[arg(long, value_name = "DIR", conflicts_with_all = ["scenes", "save_images"])]
+    /// Measure nothing: rewrite the outputs of the run recorded in this folder.
     pub replot: Option<PathBuf>,
 }
 
-/// `kdray generate` options.
-#[derive(Debug, Clone, clap::Args)]
-pub struct GenerateArgs {
-    /// What the objects are.
-    #[arg(long, value_enum, default_value_t = SceneKind::Spheres)]
+/// What `kdray generate` is asked to write.
+#[derive(Debug, Clone)]
+pub struct GenerateOptions {
     pub kind: SceneKind,
     /// Number of objects.
-    #[arg(long)]
     pub count: usize,
-    /// Random seed (the bench's default gives the bench's scenes).
-    #[arg(long, default_value_t = DEFAULT_SEED)]
     pub seed: u64,
-    /// Image width written into [render].
-    #[arg(long, default_value_t = random_scene::DEFAULT_WIDTH)]
+    /// Image size written into [render].
     pub width: u32,
-    /// Image height written into [render].
-    #[arg(long, default_value_t = random_scene::DEFAULT_HEIGHT)]
     pub height: u32,
     /// The scene file to write: .json for JSON, anything else TOML.
-    #[arg(short, long)]
     pub output: PathBuf,
 }
 
@@ -124,7 +98,7 @@ fn check_count(flag: &str, n: usize) -> Result<()> {
 }
 
 /// `kdray generate`: writes one random scene as a scene file.
-pub fn generate_cli(args: &GenerateArgs) -> Result<()> {
+pub fn generate_cli(args: &GenerateOptions) -> Result<()> {
     check_count("--count", args.count)?;
     check_side("--width", Some(args.width))?;
     check_side("--height", Some(args.height))?;
@@ -169,11 +143,40 @@ pub fn generate_cli(args: &GenerateArgs) -> Result<()> {
 /// TOML, 267 MB and 5.5 s as JSON).
 const BIG_TOML_OBJECTS: usize = 100_000;
 
-/// Everything the run loop needs, resolved from the arguments.
+/// What the bench measures.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum BenchMode {
+    /// Random scenes of the given sizes.
+    Random,
+    /// Scene files.
+    Scenes,
+}
+
+/// How a run ended.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum RunStatus {
+    Ok,
+    /// Over the brute-force budget: not run.
+    Skipped,
+    Failed,
+}
+
+impl RunStatus {
+    pub fn name(self) -> &'static str {
+        match self {
+            RunStatus::Ok => "ok",
+            RunStatus::Skipped => "skipped",
+            RunStatus::Failed => "failed",
+        }
+    }
+}
+
+/// Everything the run loop needs, resolved from the options.
 #[derive(Debug, Clone, Serialize, Deserialize)]
 pub struct BenchConfig {
-    /// "random" or "scenes".
-    pub mode: String,
+    pub mode: BenchMode,
     pub kind: Option<SceneKind>,
     pub sizes: Vec<usize>,
     pub seed: u64,
@@ -183,9 +186,7 @@ pub struct BenchConfig {
     pub max_depth: Option<u32>,
     pub repeat: u32,
     pub budget_s: f64,
-    pub accels: Vec<String>,
-    #[serde(skip)]
-    pub accel_list: Vec<Accel>,
+    pub accels: Vec<Accel>,
     pub out: PathBuf,
     pub save_images: bool,
     /// The command line, for the report.
@@ -193,7 +194,7 @@ pub struct BenchConfig {
 }
 
 impl BenchConfig {
-    pub fn from_args(args: &BenchArgs, command: String) -> Result<Self> {
+    pub fn from_options(args: &BenchOptions, command: String) -> Result<Self> {
         check_side("--width", args.width)?;
         check_side("--height", args.height)?;
         if let Some(d) = args.max_depth {
@@ -225,19 +226,18 @@ impl BenchConfig {
         } else {
             sizes.clear();
         }
-        let mut accel_list = Vec::new();
+        let mut accels = Vec::new();
         for &a in &args.accel {
-            if !accel_list.contains(&a) {
-                accel_list.push(a);
+            if !accels.contains(&a) {
+                accels.push(a);
             }
         }
         Ok(BenchConfig {
             mode: if args.scenes.is_empty() {
-                "random"
+                BenchMode::Random
             } else {
-                "scenes"
-            }
-            .into(),
+                BenchMode::Scenes
+            },
             kind: args.scenes.is_empty().then_some(args.kind),
             sizes,
             seed: args.seed,
@@ -247,11 +247,7 @@ impl BenchConfig {
             max_depth: args.max_depth,
             repeat: args.repeat,
             budget_s: args.budget_s,
-            accels: accel_list
-                .iter()
-                .map(|a| accel_name(*a).to_string())
-                .collect(),
-            accel_list,
+            accels,
             out: args.out.clone(),
             save_images: args.save_images,
             command,
@@ -260,10 +256,7 @@ impl BenchConfig {
 }
 
 pub fn accel_name(accel: Accel) -> &'static str {
-    match accel {
-        Accel::Kdtree => "kdtree",
-        Accel::Brute => "brute",
-    }
+    crate::choice::Choice::name(accel)
 }
 
 /// One (scene, acceleration) measurement, or the record of why there is none.
@@ -275,9 +268,8 @@ pub struct RunRecord {
     pub n: usize,
     pub spheres: usize,
     pub triangles: usize,
-    pub accel: String,
-    /// "ok", "skipped" (over the brute-force budget) or "failed".
-    pub status: String,
+    pub accel: Accel,
+    pub status: RunStatus,
     /// Why it was skipped or failed.
     pub note: Option<String>,
     pub width: u32,
@@ -301,8 +293,7 @@ pub struct RunRecord {
     pub gpu_ms_max: Option<f64>,
     /// Every timed frame's GPU time, in order.
     pub gpu_ms_samples: Vec<f64>,
-    /// "timestamp" (GPU timestamp queries) or "wall" (submit to readback).
-    pub gpu_time_source: Option<String>,
+    pub gpu_time_source: Option<crate::gpu::GpuTimeSource>,
     /// Median host wall time of one `Renderer::render` call (dispatch + readback + packing).
     pub frame_wall_ms: Option<f64>,
     pub primary_rays: Option<u64>,
@@ -329,8 +320,8 @@ impl RunRecord {
             n: s.object_count(),
             spheres: s.spheres.len(),
             triangles: s.triangles.len(),
-            accel: accel_name(accel).into(),
-            status: "ok".into(),
+            accel,
+            status: RunStatus::Ok,
             note: None,
             width: s.render.width,
             height: s.render.height,
@@ -363,7 +354,7 @@ impl RunRecord {
     }
 
     pub fn is_ok(&self) -> bool {
-        self.status == "ok"
+        self.status == RunStatus::Ok
     }
 }
 
@@ -442,9 +433,9 @@ impl Progress {
 
 /// One line about a finished run, for stderr.
 fn describe_run(r: &RunRecord) -> String {
-    let head = format!("N={:>8} {:<6}", r.n, r.accel);
-    match r.status.as_str() {
-        "ok" => {
+    let head = format!("N={:>8} {:<6}", r.n, accel_name(r.accel));
+    match r.status {
+        RunStatus::Ok => {
             let mut s = format!(
                 "{head} gpu {:>10.2} ms (median of {}), {:>7.2} Mrays/s",
                 r.gpu_ms.unwrap_or(f64::NAN),
@@ -465,7 +456,11 @@ fn describe_run(r: &RunRecord) -> String {
             }
             s
         }
-        other => format!("{head} {other}: {}", r.note.as_deref().unwrap_or("")),
+        other => format!(
+            "{head} {}: {}",
+            other.name(),
+            r.note.as_deref().unwrap_or("")
+        ),
     }
 }
 
@@ -484,11 +479,10 @@ enum Case {
 
 /// Runs the benchmark on `ctx` and writes every output into `config.out`.
 pub fn run_bench(ctx: &GpuContext, config: &BenchConfig) -> Result<BenchOutcome> {
-    std::fs::create_dir_all(&config.out).map_err(|e| {
-        Error::Output(format!(
-            "{}: cannot create the folder: {e}",
-            config.out.display()
-        ))
+    std::fs::create_dir_all(&config.out).map_err(|source| Error::File {
+        path: config.out.clone(),
+        what: "cannot create the folder",
+        source,
     })?;
     let cases: Vec<Case> = if config.scenes.is_empty() {
         let kind = config.kind.unwrap_or(SceneKind::Spheres);
@@ -510,7 +504,7 @@ pub fn run_bench(ctx: &GpuContext, config: &BenchConfig) -> Result<BenchOutcome>
     };
 
     let mut report = report::BenchReport::new(ctx, config);
-    let progress = Progress::new((cases.len() * config.accel_list.len()) as u64);
+    let progress = Progress::new((cases.len() * config.accels.len()) as u64);
     let renderer = Renderer::new(ctx)?;
     let max_binding = crate::gpu::max_binding_bytes(&ctx.device.limits());
     // Measured brute-force frames: (N, ms), for the budget's prediction.
@@ -543,7 +537,6 @@ pub fn run_bench(ctx: &GpuContext, config: &BenchConfig) -> Result<BenchOutcome>
         }
         let scene_ms = ms_since(started);
         let n = scene.object_count();
-        let prims = Primitives::from_scene(&scene);
         // The same dispatch plan as `kdray render`.
         let plan = TilePlan::new(
             scene.render.width,
@@ -553,13 +546,13 @@ pub fn run_bench(ctx: &GpuContext, config: &BenchConfig) -> Result<BenchOutcome>
         );
         let mut kd_image: Option<Vec<u8>> = None;
 
-        for &accel in &config.accel_list {
+        for &accel in &config.accels {
             let mut record = RunRecord::empty(&label, &scene, accel, scene_ms);
             let name = accel_name(accel);
             if accel == Accel::Brute {
                 if let Some((predicted, how)) = predict_brute_ms(&brute_times, n) {
                     if predicted > config.budget_s * 1e3 {
-                        record.status = "skipped".into();
+                        record.status = RunStatus::Skipped;
                         record.note = Some(format!(
                             "predicted {:.1} s per frame ({how}) > budget {} s",
                             predicted * 1e-3,
@@ -574,17 +567,18 @@ pub fn run_bench(ctx: &GpuContext, config: &BenchConfig) -> Result<BenchOutcome>
                 }
             }
             progress.message(format!("N={n} {name}: building"));
+            let prepared = PreparedScene::new(scene, accel);
             let result = measure(
                 ctx,
                 &renderer,
-                &scene,
-                &prims,
+                &prepared,
                 accel,
                 plan,
                 config,
                 &progress,
                 &mut record,
             );
+            scene = prepared.into_scene();
             match result {
                 Ok(rgb) => {
                     if accel == Accel::Brute {
@@ -612,7 +606,7 @@ pub fn run_bench(ctx: &GpuContext, config: &BenchConfig) -> Result<BenchOutcome>
                     }
                 }
                 Err(e) => {
-                    record.status = "failed".into();
+                    record.status = RunStatus::Failed;
                     record.note = Some(e.to_string());
                 }
             }
@@ -666,52 +660,37 @@ pub fn predict_brute_ms(measured: &[(usize, f64)], n: usize) -> Option<(f64, Str
     }
 }
 
-/// Builds (k-d tree only), uploads and renders one run; fills `record` and
-/// returns the image of the first frame.
+/// Uploads and renders one prepared run; fills `record` and returns the
+/// image of the first frame.
 #[allow(clippy::too_many_arguments)]
 fn measure(
     ctx: &GpuContext,
     renderer: &Renderer,
-    scene: &Scene,
-    prims: &Primitives,
+    prepared: &PreparedScene,
     accel: Accel,
     plan: TilePlan,
     config: &BenchConfig,
     progress: &Progress,
     record: &mut RunRecord,
 ) -> Result<Vec<u8>> {
+    let scene = &prepared.scene;
     let n = scene.object_count();
     let name = accel_name(accel);
-    let tree = match accel {
-        Accel::Kdtree => {
-            let t = Instant::now();
-            let tree = KdTree::for_primitives(prims);
-            record.build_ms = Some(ms_since(t));
-            let stats = tree.stats();
-            record.kd_nodes = Some(stats.nodes);
-            record.kd_leaves = Some(stats.leaves);
-            record.kd_max_depth = Some(stats.max_depth);
-            record.kd_refs_per_leaf = Some(stats.refs_per_leaf);
-            tree
-        }
-        // The shader's brute loop ignores the tree: one empty leaf, as render.rs does.
-        Accel::Brute => crate::kdtree::build(&[], BuildParams::for_object_count(0)),
-    };
-    let tree = KdTree {
-        bounds: prims.scene_bounds(),
-        ..tree
-    };
+    if accel == Accel::Kdtree {
+        record.build_ms = Some(prepared.build_ms);
+        let stats = prepared.tree.stats();
+        record.kd_nodes = Some(stats.nodes);
+        record.kd_leaves = Some(stats.leaves);
+        record.kd_max_depth = Some(stats.max_depth);
+        record.kd_refs_per_leaf = Some(stats.refs_per_leaf);
+    }
 
     progress.message(format!("N={n} {name}: uploading"));
     let t = Instant::now();
-    let arrays = SceneArrays::new(scene, prims, &tree);
-    let bytes = arrays.byte_size();
-    let buffers = SceneBuffers::upload(ctx, &arrays)?;
-    drop(arrays);
-    record.upload_ms = Some(ms_since(t));
-    record.gpu_scene_bytes = Some(bytes);
-    let params = frame_params(scene, &tree, &buffers, accel);
-    drop(tree);
+    let buffers = prepared.upload(ctx)?;
+    record.upload_ms = Some(prepared.flatten_ms + ms_since(t));
+    record.gpu_scene_bytes = Some(prepared.arrays.byte_size());
+    let params = prepared.frame_params(&buffers, accel);
 
     progress.message(format!("N={n} {name}: warm-up frame"));
     let t = Instant::now();
@@ -744,7 +723,7 @@ fn measure(
     record.gpu_ms_min = samples.iter().copied().reduce(f64::min);
     record.gpu_ms_max = samples.iter().copied().reduce(f64::max);
     record.gpu_ms_samples = samples;
-    record.gpu_time_source = Some(first.gpu_time_source.to_string());
+    record.gpu_time_source = Some(first.gpu_time_source);
     record.frame_wall_ms = median(&walls);
     if ctx.has_loop_limit() {
         record.loop_limited_pixels = Some(rays.loop_limited);
@@ -775,7 +754,7 @@ fn measure(
 }
 
 /// `kdray bench`: runs, writes the files, prints the summary on stdout.
-pub fn bench_cli(args: &BenchArgs) -> Result<()> {
+pub fn bench_cli(args: &BenchOptions) -> Result<()> {
     if let Some(dir) = &args.replot {
         let outcome = replot(dir)?;
         println!("{}", report::markdown_summary(&outcome.report));
@@ -789,7 +768,7 @@ pub fn bench_cli(args: &BenchArgs) -> Result<()> {
         .chain(std::env::args().skip(1))
         .collect::<Vec<_>>()
         .join(" ");
-    let config = BenchConfig::from_args(args, command)?;
+    let config = BenchConfig::from_options(args, command)?;
     let ctx = GpuContext::new()?;
     let outcome = run_bench(&ctx, &config)?;
     println!("{}", report::markdown_summary(&outcome.report));

@@ -6,17 +6,17 @@
 //! - `bench-speedup.png`: brute / k-d tree against N;
 //! - `bench-build.png`: k-d build and upload time against N.
 //!
-//! Text uses DejaVu Sans, embedded in the binary (assets/fonts), through
-//! plotters' ab_glyph backend: no system fonts, fontconfig or freetype.
+//! Text uses the embedded font of [`crate::output::font`].
 
 use std::path::{Path, PathBuf};
-use std::sync::OnceLock;
 
 use plotters::element::DashedPathElement;
 use plotters::prelude::*;
 
 use super::report::BenchReport;
+use super::RunStatus;
 use crate::error::{Error, Result};
+use crate::gpu::Accel;
 
 pub const TIME_PLOT: &str = "bench-time.png";
 pub const SPEEDUP_PLOT: &str = "bench-speedup.png";
@@ -24,25 +24,13 @@ pub const BUILD_PLOT: &str = "bench-build.png";
 
 const WIDTH: u32 = 960;
 const HEIGHT: u32 = 640;
-const FONT: &[u8] = include_bytes!("../../assets/fonts/DejaVuSans.ttf");
-const FAMILY: &str = "sans-serif";
+use crate::output::font::{register as register_font, FAMILY};
 
 const KD_COLOUR: RGBColor = RGBColor(31, 96, 196);
 const BRUTE_COLOUR: RGBColor = RGBColor(204, 51, 38);
 const FIT_COLOUR: RGBColor = RGBColor(120, 120, 120);
 const BUILD_COLOUR: RGBColor = RGBColor(40, 140, 70);
 const UPLOAD_COLOUR: RGBColor = RGBColor(150, 80, 170);
-
-fn register_font() -> Result<()> {
-    static REGISTERED: OnceLock<bool> = OnceLock::new();
-    let ok = *REGISTERED
-        .get_or_init(|| plotters::style::register_font(FAMILY, FontStyle::Normal, FONT).is_ok());
-    if ok {
-        Ok(())
-    } else {
-        Err(Error::Output("the embedded plot font is invalid".into()))
-    }
-}
 
 #[derive(Clone, Copy, PartialEq)]
 enum Marker {
@@ -235,7 +223,7 @@ fn loglog_chart(
     crate::output::write_png_atomic(path, WIDTH, HEIGHT, &buf)
 }
 
-fn points(report: &BenchReport, accel: &str) -> Vec<(f64, f64)> {
+fn points(report: &BenchReport, accel: Accel) -> Vec<(f64, f64)> {
     report
         .series(accel)
         .into_iter()
@@ -265,8 +253,8 @@ pub fn write_plots(report: &BenchReport, out: &Path) -> Result<Vec<PathBuf>> {
         "{}  |  {} UTC",
         report.machine.adapter_line, report.date_utc
     );
-    let kd = points(report, "kdtree");
-    let brute = points(report, "brute");
+    let kd = points(report, Accel::Kdtree);
+    let brute = points(report, Accel::Brute);
 
     // 1. Time against N (seed figures 7 and 9).
     let mut series = vec![Series {
@@ -285,11 +273,11 @@ pub fn write_plots(report: &BenchReport, out: &Path) -> Result<Vec<PathBuf>> {
             marker: Marker::Triangle,
         });
     }
-    let fit = report.fits.iter().find(|f| f.accel == "brute");
+    let fit = report.fits.iter().find(|f| f.accel == Accel::Brute);
     let skipped: Vec<_> = report
         .runs
         .iter()
-        .filter(|r| r.accel == "brute" && r.status == "skipped")
+        .filter(|r| r.accel == Accel::Brute && r.status == RunStatus::Skipped)
         .map(|r| r.n as f64)
         .collect();
     if let Some((a, b)) = fit.and_then(|f| Some((f.linear_intercept_ms?, f.linear_per_object_ms?)))
@@ -392,14 +380,14 @@ pub fn write_plots(report: &BenchReport, out: &Path) -> Result<Vec<PathBuf>> {
     let build: Vec<(f64, f64)> = report
         .runs
         .iter()
-        .filter(|r| r.accel == "kdtree" && r.is_ok())
+        .filter(|r| r.accel == Accel::Kdtree && r.is_ok())
         .filter_map(|r| Some((r.n as f64, r.build_ms?)))
         .filter(|p| p.1 > 0.0)
         .collect();
     let upload: Vec<(f64, f64)> = report
         .runs
         .iter()
-        .filter(|r| r.accel == "kdtree" && r.is_ok())
+        .filter(|r| r.accel == Accel::Kdtree && r.is_ok())
         .filter_map(|r| Some((r.n as f64, r.upload_ms?)))
         .filter(|p| p.1 > 0.0)
         .collect();

@@ -21,9 +21,7 @@ use glam::DVec3;
 use crate::scene::{Camera, Light, Material, RenderSettings, Scene, ShadowMode, Sphere, Triangle};
 
 /// What the random objects are.
-#[derive(
-    Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum, serde::Serialize, serde::Deserialize,
-)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
 #[serde(rename_all = "lowercase")]
 pub enum SceneKind {
     /// Spheres only.

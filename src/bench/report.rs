@@ -8,9 +8,9 @@ use std::path::{Path, PathBuf};
 
 use serde::{Deserialize, Serialize};
 
-use super::{BenchConfig, RunRecord};
-use crate::error::{Error, Result};
-use crate::gpu::GpuContext;
+use super::{accel_name, BenchConfig, RunRecord};
+use crate::error::Result;
+use crate::gpu::{Accel, GpuContext};
 use crate::output::write_file_atomic;
 
 pub const CSV_FILE: &str = "bench.csv";
@@ -57,7 +57,7 @@ pub const CSV_COLUMNS: [&str; 33] = [
 /// Least-squares fits of the measured GPU times.
 #[derive(Debug, Clone, Serialize, Deserialize)]
 pub struct Fit {
-    pub accel: String,
+    pub accel: Accel,
     /// Sizes used (N >= 100, where fixed costs no longer dominate).
     pub points: usize,
     /// Slope of log(ms) against log(N): 1 is linear, 0 constant.
@@ -201,8 +201,8 @@ impl BenchReport {
     /// Recomputes fits and targets of a report read back from JSON (the
     /// machine and timing fields stay as recorded).
     pub fn refresh(&mut self) {
-        self.fits = ["kdtree", "brute"]
-            .iter()
+        self.fits = [Accel::Kdtree, Accel::Brute]
+            .into_iter()
             .filter_map(|a| fit(&self.runs, a))
             .collect();
         self.targets = targets(&self.runs);
@@ -215,7 +215,7 @@ impl BenchReport {
     }
 
     /// Measured (N, gpu ms) of one acceleration, in run order.
-    pub fn series(&self, accel: &str) -> Vec<(usize, f64)> {
+    pub fn series(&self, accel: Accel) -> Vec<(usize, f64)> {
         series(&self.runs, accel)
     }
 
@@ -224,8 +224,7 @@ impl BenchReport {
         let csv = out.join(CSV_FILE);
         write_file_atomic(&csv, csv_text(&self.runs).as_bytes())?;
         let json = out.join(JSON_FILE);
-        let text = serde_json::to_string_pretty(self)
-            .map_err(|e| Error::Output(format!("{}: {e}", json.display())))?;
+        let text = serde_json::to_string_pretty(self)?;
         write_file_atomic(&json, (text + "\n").as_bytes())?;
         let md = out.join(SUMMARY_FILE);
         write_file_atomic(&md, markdown_summary(self).as_bytes())?;
@@ -233,14 +232,14 @@ impl BenchReport {
     }
 }
 
-fn series(runs: &[RunRecord], accel: &str) -> Vec<(usize, f64)> {
+fn series(runs: &[RunRecord], accel: Accel) -> Vec<(usize, f64)> {
     runs.iter()
         .filter(|r| r.accel == accel && r.is_ok())
         .filter_map(|r| Some((r.n, r.gpu_ms?)))
         .collect()
 }
 
-fn fit(runs: &[RunRecord], accel: &str) -> Option<Fit> {
+fn fit(runs: &[RunRecord], accel: Accel) -> Option<Fit> {
     let points = series(runs, accel);
     if points.is_empty() {
         return None;
@@ -258,7 +257,7 @@ fn fit(runs: &[RunRecord], accel: &str) -> Option<Fit> {
         .collect();
     let lin = weighted_least_squares(&linear);
     Some(Fit {
-        accel: accel.to_string(),
+        accel,
         points: large.len(),
         loglog_slope,
         linear_intercept_ms: lin.map(|l| l.0),
@@ -293,7 +292,7 @@ pub fn weighted_least_squares(points: &[(f64, f64, f64)]) -> Option<(f64, f64, O
     Some((a, b, r2))
 }
 
-fn gpu_ms_at<'a>(runs: &'a [RunRecord], accel: &str, n: usize) -> Option<&'a RunRecord> {
+fn gpu_ms_at(runs: &[RunRecord], accel: Accel, n: usize) -> Option<&RunRecord> {
     runs.iter().find(|r| r.accel == accel && r.n == n)
 }
 
@@ -302,8 +301,8 @@ fn targets(runs: &[RunRecord]) -> Vec<Target> {
     let mut out = Vec::new();
     let kind = runs.first().map_or("", |r| r.scene.as_str());
     if let (Some(kd), Some(brute)) = (
-        gpu_ms_at(runs, "kdtree", 10_000),
-        gpu_ms_at(runs, "brute", 10_000),
+        gpu_ms_at(runs, Accel::Kdtree, 10_000),
+        gpu_ms_at(runs, Accel::Brute, 10_000),
     ) {
         let value = match (brute.is_ok(), kd.gpu_ms, brute.gpu_ms) {
             (true, Some(k), Some(b)) if k > 0.0 => Some(b / k),
@@ -323,15 +322,15 @@ fn targets(runs: &[RunRecord]) -> Vec<Target> {
                 ),
                 None => format!(
                     "brute force {}: {}",
-                    brute.status,
+                    brute.status.name(),
                     brute.note.as_deref().unwrap_or("no time")
                 ),
             },
         });
     }
     if let (Some(small), Some(large)) = (
-        gpu_ms_at(runs, "kdtree", 1_000),
-        gpu_ms_at(runs, "kdtree", 1_000_000),
+        gpu_ms_at(runs, Accel::Kdtree, 1_000),
+        gpu_ms_at(runs, Accel::Kdtree, 1_000_000),
     ) {
         let value = match (small.gpu_ms, large.gpu_ms) {
             (Some(a), Some(b)) if a > 0.0 => Some(b / a),
@@ -381,8 +380,8 @@ pub fn csv_text(runs: &[RunRecord]) -> String {
             r.n.to_string(),
             r.spheres.to_string(),
             r.triangles.to_string(),
-            r.accel.clone(),
-            r.status.clone(),
+            accel_name(r.accel).to_string(),
+            r.status.name().to_string(),
             csv_field(r.note.as_deref().unwrap_or("")),
             r.width.to_string(),
             r.height.to_string(),
@@ -400,7 +399,7 @@ pub fn csv_text(runs: &[RunRecord]) -> String {
             opt_f(r.gpu_ms_min, 3),
             opt_f(r.gpu_ms_max, 3),
             r.gpu_ms_samples.len().to_string(),
-            r.gpu_time_source.clone().unwrap_or_default(),
+            r.gpu_time_source.map_or("", |s| s.name()).to_string(),
             opt_f(r.frame_wall_ms, 3),
             opt(r.primary_rays),
             opt(r.shadow_rays),
@@ -474,9 +473,9 @@ pub fn markdown_summary(report: &BenchReport) -> String {
                 "| {} | {} | {} | {image} | {} | | | | | | **{}**: {} | | | |",
                 r.scene,
                 count(r.n as u64),
-                r.accel,
+                accel_name(r.accel),
                 ms(r.build_ms),
-                r.status,
+                r.status.name(),
                 r.note.as_deref().unwrap_or("")
             );
             continue;
@@ -486,7 +485,7 @@ pub fn markdown_summary(report: &BenchReport) -> String {
             "| {} | {} | {} | {image} | {} | {} | {} | {} | {} | {} | {} | {} / {} / {} | {} | {} |",
             r.scene,
             count(r.n as u64),
-            r.accel,
+            accel_name(r.accel),
             ms(r.build_ms),
             r.kd_nodes.map_or("-".into(), |v| count(v as u64)),
             r.kd_leaves.map_or("-".into(), |v| count(v as u64)),
@@ -511,8 +510,8 @@ pub fn markdown_summary(report: &BenchReport) -> String {
         );
     }
     // Speed-ups where both ran.
-    let kd = report.series("kdtree");
-    let brute = report.series("brute");
+    let kd = report.series(Accel::Kdtree);
+    let brute = report.series(Accel::Brute);
     let pairs: Vec<_> = kd
         .iter()
         .filter_map(|&(n, k)| brute.iter().find(|b| b.0 == n).map(|&(_, b)| (n, k, b)))
@@ -541,7 +540,7 @@ pub fn markdown_summary(report: &BenchReport) -> String {
             let _ = writeln!(
                 s,
                 "| {} | {} | {} | {} |",
-                f.accel,
+                accel_name(f.accel),
                 opt_f(f.loglog_slope, 2),
                 match (f.linear_intercept_ms, f.linear_per_object_ms) {
                     (Some(a), Some(b)) => format!("{a:.3} + {b:.3e} N"),

@@ -2,14 +2,21 @@
 //! scene's storage buffers ([`scene_buffers`]), the shaders ([`shaders`]) and
 //! the tiled trace dispatch with readback ([`renderer`]).
 
+pub mod bindings;
 pub mod context;
+mod frame_params;
+mod prepared_scene;
+mod ray_query;
 pub mod renderer;
 pub mod scene_buffers;
 pub mod shaders;
 
 pub use context::{max_binding_bytes, GpuContext};
+pub use frame_params::Accel;
+pub use prepared_scene::PreparedScene;
+pub use ray_query::{RayQueries, RayQuery};
 pub use renderer::{
-    frame_params, Accel, RayTotals, RenderSummary, RenderedImage, Renderer, RowBand, TilePlan,
+    GpuTimeSource, RayTotals, RenderSummary, RenderedImage, Renderer, RowBand, TilePlan,
 };
 pub use scene_buffers::{SceneArrays, SceneBuffers};
 

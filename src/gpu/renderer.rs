@@ -3,26 +3,12 @@
 
 use std::time::Instant;
 
-use glam::DVec3;
-
+use super::bindings;
 use super::context::GpuContext;
 use super::scene_buffers::SceneBuffers;
 use super::shaders;
 use crate::error::{Error, Result};
-use crate::kdtree::KdTree;
-use crate::layout::{
-    FrameParams, RayCounters, ACCEL_BRUTE, ACCEL_KDTREE, SHADOW_AMBIENT, SHADOW_SEED,
-};
-use crate::scene::{Scene, ShadowMode};
-
-/// Which nearest-hit search the shader runs.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
-pub enum Accel {
-    /// The stackless k-d tree walk.
-    Kdtree,
-    /// The seed's loop over every object.
-    Brute,
-}
+use crate::layout::{FrameParams, RayCounters};
 
 /// How the image is cut into dispatches: bands of whole rows, each band one
 /// or more tiles of at most `tile_width` x `max_rows` pixels. Band heights
@@ -80,54 +66,6 @@ pub struct RowBand<'a> {
     pub rgb: &'a [u8],
 }
 
-/// Camera and render settings in the layout the shader reads; the tile
-/// fields are filled in per dispatch.
-pub fn frame_params(
-    scene: &Scene,
-    tree: &KdTree,
-    buffers: &SceneBuffers,
-    accel: Accel,
-) -> FrameParams {
-    let cam = &scene.camera;
-    let r = &scene.render;
-    let forward = (cam.look_at - cam.position).normalize();
-    let right = forward.cross(cam.up).normalize();
-    let up = right.cross(forward);
-    let f = |v: DVec3| v.as_vec3().to_array();
-    FrameParams {
-        camera_position: f(cam.position),
-        tan_half_vfov: (cam.vfov_degrees.to_radians() * 0.5).tan() as f32,
-        camera_forward: f(forward),
-        aspect: (r.width as f64 / r.height as f64) as f32,
-        camera_right: f(right),
-        min_intensity: r.min_intensity as f32,
-        camera_up: f(up),
-        max_depth: r.max_depth,
-        background: f(r.background),
-        shadow_mode: match r.shadow_mode {
-            ShadowMode::Ambient => SHADOW_AMBIENT,
-            ShadowMode::Seed => SHADOW_SEED,
-        },
-        scene_min: tree.bounds.min.to_array(),
-        sphere_count: buffers.sphere_count,
-        scene_max: tree.bounds.max.to_array(),
-        object_count: buffers.object_count,
-        width: r.width,
-        height: r.height,
-        samples_per_axis: r.samples_per_axis(),
-        light_count: buffers.light_count,
-        tile_origin: [0, 0],
-        tile_size: [r.width, r.height],
-        accel: match accel {
-            Accel::Kdtree => ACCEL_KDTREE,
-            Accel::Brute => ACCEL_BRUTE,
-        },
-        node_count: buffers.node_count,
-        sample_index: 0,
-        _pad: 0,
-    }
-}
-
 /// Rays the shader traced, by kind, summed over tiles.
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq, serde::Serialize)]
 pub struct RayTotals {
@@ -142,13 +80,31 @@ pub struct RayTotals {
     pub loop_limited: u64,
 }
 
+/// Where `gpu_ms` comes from.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum GpuTimeSource {
+    /// GPU timestamp queries around each tile's compute pass.
+    Timestamp,
+    /// Wall time from submit to readback (adapters without timestamps).
+    Wall,
+}
+
+impl GpuTimeSource {
+    pub fn name(self) -> &'static str {
+        match self {
+            GpuTimeSource::Timestamp => "timestamp",
+            GpuTimeSource::Wall => "wall",
+        }
+    }
+}
+
 /// What a render measured besides its pixels.
 #[derive(Debug, Clone, Copy)]
 pub struct RenderSummary {
     /// Sum over tiles of GPU time (timestamp queries) or of submit-to-done wall time.
     pub gpu_ms: f64,
-    /// "timestamp" or "wall".
-    pub gpu_time_source: &'static str,
+    pub gpu_time_source: GpuTimeSource,
     pub rays: RayTotals,
 }
 
@@ -177,28 +133,31 @@ pub struct RenderedImage {
     pub rgb: Vec<u8>,
     /// Sum over tiles of GPU time (timestamp queries) or of submit-to-done wall time.
     pub gpu_ms: f64,
-    /// "timestamp" or "wall".
-    pub gpu_time_source: &'static str,
+    pub gpu_time_source: GpuTimeSource,
     pub rays: RayTotals,
 }
 
 pub struct Renderer {
     pipeline: wgpu::ComputePipeline,
+    layout: wgpu::BindGroupLayout,
     params_buffer: wgpu::Buffer,
+}
+
+/// The bindings `render_tile` is given.
+fn render_bindings() -> Vec<bindings::Binding> {
+    bindings::entry_point_bindings(&[bindings::TILE_OUTPUT])
 }
 
 impl Renderer {
     pub fn new(ctx: &GpuContext) -> Result<Self> {
         ctx.checked("creating the trace pipeline", |device| {
             let module = shaders::trace_module(device);
-            let pipeline = device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
-                label: Some("trace"),
-                layout: None,
-                module: &module,
-                entry_point: Some(shaders::TRACE_ENTRY_POINT),
-                compilation_options: Default::default(),
-                cache: None,
-            });
+            let (pipeline, layout) = bindings::trace_pipeline(
+                device,
+                &module,
+                shaders::TRACE_ENTRY_POINT,
+                &render_bindings(),
+            );
             let params_buffer = device.create_buffer(&wgpu::BufferDescriptor {
                 label: Some("frame params"),
                 size: std::mem::size_of::<FrameParams>() as u64,
@@ -207,6 +166,7 @@ impl Renderer {
             });
             Renderer {
                 pipeline,
+                layout,
                 params_buffer,
             }
         })
@@ -270,22 +230,17 @@ impl Renderer {
                     mapped_at_creation: false,
                 });
                 let mut entries = vec![wgpu::BindGroupEntry {
-                    binding: 0,
+                    binding: bindings::PARAMS.index,
                     resource: self.params_buffer.as_entire_binding(),
                 }];
-                entries.extend(scene.buffers.iter().enumerate().map(|(i, b)| {
-                    wgpu::BindGroupEntry {
-                        binding: i as u32 + 1,
-                        resource: b.as_entire_binding(),
-                    }
-                }));
+                entries.extend(scene.bind_entries());
                 entries.push(wgpu::BindGroupEntry {
-                    binding: 8,
+                    binding: bindings::TILE_OUTPUT.index,
                     resource: output.as_entire_binding(),
                 });
                 let bind_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
                     label: Some("trace"),
-                    layout: &self.pipeline.get_bind_group_layout(0),
+                    layout: &self.layout,
                     entries: &entries,
                 });
                 (output, readback, bind_group)
@@ -298,7 +253,10 @@ impl Renderer {
         let mut band_rgb = Vec::with_capacity(width as usize * plan.max_rows as usize * 3);
         let mut summary = RenderSummary {
             gpu_ms: 0.0,
-            gpu_time_source: if timer.is_some() { "timestamp" } else { "wall" },
+            gpu_time_source: match timer {
+                Some(_) => GpuTimeSource::Timestamp,
+                None => GpuTimeSource::Wall,
+            },
             rays: RayTotals::default(),
         };
         let mut y = 0;

@@ -1,8 +1,9 @@
 //! The scene flattened into GPU arrays (host side) and uploaded as storage
-//! buffers. Bindings as declared in shaders/types.wgsl.
+//! buffers, at the bindings of [`super::bindings::SCENE`].
 
+use super::bindings;
 use super::GpuContext;
-use crate::geometry::Primitives;
+use crate::geometry::{Aabb, Primitives};
 use crate::kdtree::KdTree;
 use crate::layout::{GpuLight, GpuMaterial, GpuSphere, GpuTriangle, KdNode};
 use crate::scene::Scene;
@@ -16,6 +17,11 @@ pub struct SceneArrays {
     pub lights: Vec<GpuLight>,
     pub nodes: Vec<KdNode>,
     pub leaf_objects: Vec<u32>,
+    /// The box the walk clips rays to: the tree's root cell.
+    pub bounds: Aabb,
+    /// `scene_ids[gpu_id]` is the scene's object id (spheres first, then
+    /// triangles) of the object the GPU stores at `gpu_id`.
+    pub scene_ids: Vec<u32>,
 }
 
 fn f32x3(v: glam::DVec3) -> [f32; 3] {
@@ -112,23 +118,24 @@ impl SceneArrays {
                 .iter()
                 .map(|&id| gpu_id[id as usize])
                 .collect(),
+            bounds: tree.bounds,
+            scene_ids: order,
         }
     }
 
-    /// (binding name, bytes) of every storage buffer, in binding order 1..=7.
+    /// (binding name, bytes) of every storage buffer, in the order of
+    /// [`bindings::SCENE`].
     fn buffers(&self) -> [(&'static str, &[u8]); 7] {
-        [
-            ("spheres", bytemuck::cast_slice(&self.spheres)),
-            ("triangles", bytemuck::cast_slice(&self.triangles)),
-            (
-                "object_materials",
-                bytemuck::cast_slice(&self.object_materials),
-            ),
-            ("materials", bytemuck::cast_slice(&self.materials)),
-            ("lights", bytemuck::cast_slice(&self.lights)),
-            ("kd_nodes", bytemuck::cast_slice(&self.nodes)),
-            ("leaf_objects", bytemuck::cast_slice(&self.leaf_objects)),
-        ]
+        let bytes: [&[u8]; 7] = [
+            bytemuck::cast_slice(&self.spheres),
+            bytemuck::cast_slice(&self.triangles),
+            bytemuck::cast_slice(&self.object_materials),
+            bytemuck::cast_slice(&self.materials),
+            bytemuck::cast_slice(&self.lights),
+            bytemuck::cast_slice(&self.nodes),
+            bytemuck::cast_slice(&self.leaf_objects),
+        ];
+        std::array::from_fn(|i| (bindings::SCENE[i].name, bytes[i]))
     }
 
     /// Total bytes the scene needs on the GPU (storage buffers only).
@@ -177,9 +184,12 @@ pub(crate) fn human_bytes(bytes: u64) -> String {
     }
 }
 
-/// The scene's storage buffers on the device (bindings 1..=7).
+/// The scene's storage buffers on the device (the bindings of
+/// [`bindings::SCENE`]) and what the kernel's parameters say of them.
 pub struct SceneBuffers {
-    pub(crate) buffers: Vec<wgpu::Buffer>,
+    buffers: Vec<wgpu::Buffer>,
+    /// The box the walk clips rays to.
+    pub bounds: Aabb,
     pub sphere_count: u32,
     pub object_count: u32,
     pub light_count: u32,
@@ -198,6 +208,17 @@ impl SceneBuffers {
             human_bytes(arrays.byte_size())
         );
         ctx.checked(&what, |device| Self::create(device, arrays))
+    }
+
+    /// Bind group entries for the scene's bindings.
+    pub fn bind_entries(&self) -> impl Iterator<Item = wgpu::BindGroupEntry<'_>> {
+        bindings::SCENE
+            .iter()
+            .zip(&self.buffers)
+            .map(|(b, buffer)| wgpu::BindGroupEntry {
+                binding: b.index,
+                resource: buffer.as_entire_binding(),
+            })
     }
 
     /// Creates the buffers; errors go to the caller's error scopes.
@@ -228,6 +249,7 @@ impl SceneBuffers {
             .collect();
         SceneBuffers {
             buffers,
+            bounds: arrays.bounds,
             sphere_count: arrays.spheres.len() as u32,
             object_count: arrays.object_materials.len() as u32,
             light_count: arrays.lights.len() as u32,

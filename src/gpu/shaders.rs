@@ -1,8 +1,9 @@
 //! The WGSL sources. WGSL has no includes, so the trace kernel is the
 //! concatenation of its parts, in dependency order.
 
-/// Files of the trace kernel, in the order they are concatenated.
-pub const TRACE_PARTS: [(&str, &str); 5] = [
+/// Files of the trace kernel, in the order they are concatenated (after the
+/// declarations generated from [`super::bindings`]).
+pub const TRACE_PARTS: [(&str, &str); 6] = [
     ("types.wgsl", include_str!("../../shaders/types.wgsl")),
     (
         "intersect.wgsl",
@@ -11,6 +12,7 @@ pub const TRACE_PARTS: [(&str, &str); 5] = [
     ("traverse.wgsl", include_str!("../../shaders/traverse.wgsl")),
     ("shade.wgsl", include_str!("../../shaders/shade.wgsl")),
     ("trace.wgsl", include_str!("../../shaders/trace.wgsl")),
+    ("query.wgsl", include_str!("../../shaders/query.wgsl")),
 ];
 
 /// Entry point that renders a tile to 8-bit colour (all samples of each pixel).
@@ -20,6 +22,10 @@ pub const TRACE_ENTRY_POINT: &str = "render_tile";
 pub const ACCUMULATE_ENTRY_POINT: &str = "accumulate_tile";
 /// Workgroup size of both entry points (see `@workgroup_size` in trace.wgsl).
 pub const TRACE_WORKGROUP: (u32, u32) = (8, 8);
+/// Entry point that traces given rays and writes their hits (tests, debugging).
+pub const QUERY_ENTRY_POINT: &str = "trace_rays";
+/// Its workgroup size (rays per workgroup, see query.wgsl).
+pub const QUERY_WORKGROUP: u32 = 64;
 
 /// The interactive window's present pass (fullscreen triangle over the
 /// accumulation buffer), a module of its own.
@@ -56,12 +62,14 @@ pub fn trace_module(device: &wgpu::Device) -> wgpu::ShaderModule {
     unsafe { device.create_shader_module_trusted(desc, checks) }
 }
 
-/// The whole trace kernel as one WGSL module.
+/// The whole trace kernel as one WGSL module: the generated contract, then
+/// the files.
 pub fn trace_source() -> String {
-    TRACE_PARTS
-        .iter()
-        .map(|(name, text)| format!("// ---- {name}\n{text}\n"))
-        .collect()
+    let mut source = format!("// ---- bindings.rs\n{}\n", super::bindings::wgsl_contract());
+    for (name, text) in TRACE_PARTS {
+        source += &format!("// ---- {name}\n{text}\n");
+    }
+    source
 }
 
 #[cfg(test)]
@@ -93,6 +101,12 @@ mod tests {
             entry.workgroup_size,
             [TRACE_WORKGROUP.0, TRACE_WORKGROUP.1, 1]
         );
+        let query = module
+            .entry_points
+            .iter()
+            .find(|e| e.name == QUERY_ENTRY_POINT)
+            .expect("query entry point");
+        assert_eq!(query.workgroup_size, [QUERY_WORKGROUP, 1, 1]);
     }
 
     /// Every .wgsl file in shaders/ is part of a validated module.

@@ -15,13 +15,31 @@ pub use build::{build, build_with_threads, BuildParams, KdTree};
 pub use ropes::Ropes;
 pub use traversal::Traversal;
 
-use crate::geometry::Primitives;
+use crate::geometry::{Aabb, Primitives};
+use crate::layout::KdNode;
 
 impl KdTree {
     /// Builds the tree over all objects of `prims` with the default parameters.
     pub fn for_primitives(prims: &Primitives) -> KdTree {
         let bounds: Vec<_> = (0..prims.len() as u32).map(|id| prims.bounds(id)).collect();
         build(&bounds, BuildParams::for_object_count(bounds.len()))
+    }
+
+    /// One leaf holding objects `0..object_count`, in `bounds`: a valid tree
+    /// that any walk searches like brute force (what a brute-force render
+    /// uploads, since the kernel needs some tree bound).
+    pub fn single_leaf(object_count: u32, bounds: Aabb) -> KdTree {
+        KdTree {
+            nodes: vec![KdNode {
+                kind: KdNode::LEAF,
+                split: 0.0,
+                index: 0,
+                count: object_count,
+            }],
+            leaf_objects: (0..object_count).collect(),
+            bounds,
+            max_depth: 0,
+        }
     }
 
     pub fn stats(&self) -> TreeStats {

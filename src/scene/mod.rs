@@ -5,11 +5,13 @@
 //! Units: positions in scene units, angles in degrees in files and radians
 //! nowhere in this module (the camera keeps `vfov_degrees`), colours linear.
 
+mod camera_basis;
 mod error;
 pub mod obj;
 mod parse;
 mod source_map;
 
+pub use camera_basis::CameraBasis;
 pub use error::SceneError;
 pub use parse::{check_samples, load_scene, parse_scene, SceneFormat, MAX_IMAGE_SIDE};
 

@@ -31,10 +31,10 @@ use super::view::{FrameWork, PresentParams, Target, Viewer};
 use super::{signals, WindowOptions, DEFAULT_WINDOW_SAMPLES};
 use crate::error::{Error, Result};
 use crate::geometry::Primitives;
-use crate::gpu::{frame_params, Accel, GpuContext, SceneArrays, SceneBuffers};
+use crate::gpu::{Accel, GpuContext, SceneArrays, SceneBuffers};
 use crate::kdtree::KdTree;
 use crate::layout::FrameParams;
-use crate::scene::Scene;
+use crate::scene::{RenderSettings, Scene};
 
 /// The camera counts as moving until this long after its last change.
 const SETTLE: Duration = Duration::from_millis(150);
@@ -899,11 +899,14 @@ impl Session {
         k: u32,
         index: u32,
     ) -> FrameParams {
-        self.scene.camera = self.controller.camera();
-        self.scene.render.width = iw;
-        self.scene.render.height = ih;
-        self.scene.render.max_depth = self.max_depth;
-        let mut p = frame_params(&self.scene, &self.tree, &self.buffers, self.accel);
+        let render = RenderSettings {
+            width: iw,
+            height: ih,
+            max_depth: self.max_depth,
+            ..self.scene.render
+        };
+        let camera = self.controller.camera();
+        let mut p = FrameParams::new(&camera.basis(), &render, &self.buffers, self.accel);
         p.aspect = (w as f64 / h as f64) as f32;
         p.samples_per_axis = k;
         p.sample_index = index;

@@ -339,11 +339,15 @@ impl CameraController {
         (self.position - self.target).length()
     }
 
-    /// Forward, right and the camera's up, as the shader builds them.
+    /// Forward, right and the camera's up, as the shader builds them
+    /// (from the controller's own up vector, which orbits keep level).
     fn basis(&self) -> (DVec3, DVec3, DVec3) {
-        let forward = (self.target - self.position).normalize_or(-DVec3::Z);
-        let right = forward.cross(self.up).normalize_or(DVec3::X);
-        (forward, right, right.cross(forward))
+        let b = Camera {
+            up: self.up,
+            ..self.camera()
+        }
+        .basis();
+        (b.forward, b.right, b.up)
     }
 
     /// World units per pixel at the target's depth.

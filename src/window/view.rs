@@ -3,7 +3,7 @@
 //! (shaders/present.wgsl) and screenshots of what the present pass shows.
 
 use crate::error::{Error, Result};
-use crate::gpu::{shaders, GpuContext, SceneBuffers};
+use crate::gpu::{bindings, shaders, GpuContext, SceneBuffers};
 use crate::layout::FrameParams;
 
 pub use crate::layout::PresentParams;
@@ -60,21 +60,12 @@ impl Layouts {
         target: &wgpu::Buffer,
     ) -> wgpu::BindGroup {
         let mut entries = vec![wgpu::BindGroupEntry {
-            binding: 0,
+            binding: bindings::PARAMS.index,
             resource: self.params.as_entire_binding(),
         }];
-        entries.extend(
-            scene
-                .buffers
-                .iter()
-                .enumerate()
-                .map(|(i, b)| wgpu::BindGroupEntry {
-                    binding: i as u32 + 1,
-                    resource: b.as_entire_binding(),
-                }),
-        );
+        entries.extend(scene.bind_entries());
         entries.push(wgpu::BindGroupEntry {
-            binding: 9,
+            binding: bindings::ACCUMULATION.index,
             resource: target.as_entire_binding(),
         });
         device.create_bind_group(&wgpu::BindGroupDescriptor {
@@ -209,29 +200,13 @@ impl Viewer {
         pixels: u64,
     ) -> Result<Self> {
         ctx.checked("creating the window's pipelines", |device| {
-            let compute = wgpu::ShaderStages::COMPUTE;
-            let mut entries = vec![uniform(0, compute)];
-            entries.extend((1..=7).map(|b| storage(b, true, compute)));
-            entries.push(storage(9, false, compute));
-            let trace = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-                label: Some("accumulate"),
-                entries: &entries,
-            });
             let module = shaders::trace_module(device);
-            let accumulate = device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
-                label: Some("accumulate"),
-                layout: Some(
-                    &device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
-                        label: Some("accumulate"),
-                        bind_group_layouts: &[Some(&trace)],
-                        immediate_size: 0,
-                    }),
-                ),
-                module: &module,
-                entry_point: Some(shaders::ACCUMULATE_ENTRY_POINT),
-                compilation_options: Default::default(),
-                cache: None,
-            });
+            let (accumulate, trace) = bindings::trace_pipeline(
+                device,
+                &module,
+                shaders::ACCUMULATE_ENTRY_POINT,
+                &bindings::entry_point_bindings(&[bindings::ACCUMULATION]),
+            );
             let fragment = wgpu::ShaderStages::FRAGMENT;
             let present = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
                 label: Some("present"),

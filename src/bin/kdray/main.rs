@@ -1,71 +1,20 @@
 //! The `kdray` command line: `render` (to a PNG, or `--window`), `info`,
 //! `bench` and `generate`.
 
+mod args;
+
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
-use clap::{Parser, Subcommand};
+use args::{Cli, Command, RenderArgs};
+use clap::Parser;
 use kdray::gpu::{Accel, GpuContext, TilePlan};
 use kdray::{Error, Result};
-
-#[derive(Parser)]
-#[command(
-    name = "kdray",
-    version,
-    about = "GPU ray tracer with a CPU-built k-d tree (wgpu compute shaders)"
-)]
-struct Cli {
-    #[command(subcommand)]
-    command: Command,
-}
-
-#[derive(Subcommand)]
-enum Command {
-    /// Render a scene file (.toml or .json) to a PNG.
-    Render {
-        /// The scene file.
-        scene: PathBuf,
-        /// Output PNG [default: the scene's file name with .png, in the current folder].
-        #[arg(short, long)]
-        output: Option<PathBuf>,
-        /// Image width in pixels (overrides the scene's [render] width).
-        #[arg(long)]
-        width: Option<u32>,
-        /// Image height in pixels (overrides the scene's [render] height).
-        #[arg(long)]
-        height: Option<u32>,
-        /// Samples per pixel, a perfect square (overrides the scene's [render] samples).
-        #[arg(long)]
-        samples: Option<u32>,
-        /// Nearest-hit search in the shader.
-        #[arg(long, value_enum, default_value_t = Accel::Kdtree)]
-        accel: Accel,
-        /// Print one JSON object of figures on stdout (with --window: frame rates, on exit).
-        #[arg(long)]
-        stats: bool,
-        /// Open an interactive window instead of writing a PNG (see the README's controls).
-        #[arg(long, conflicts_with = "output")]
-        window: bool,
-        /// With --window: present this many frames, then exit.
-        #[arg(long, requires = "window", value_parser = clap::value_parser!(u32).range(1..))]
-        frames: Option<u32>,
-        /// With --window: on exit, save the last presented frame as a PNG here.
-        #[arg(long, requires = "window")]
-        screenshot: Option<PathBuf>,
-    },
-    /// List the adapters wgpu sees and the one kdray picks.
-    Info,
-    /// Benchmark the k-d tree against brute force on random scenes of growing size
-    /// (or on scene files): CSV, JSON, Markdown and log-log plots.
-    Bench(kdray::bench::BenchArgs),
-    /// Write one of the bench's random scenes as a scene file.
-    Generate(kdray::bench::GenerateArgs),
-}
 
 fn main() -> ExitCode {
     let cli = Cli::parse();
     let result = match cli.command {
-        Command::Render {
+        Command::Render(RenderArgs {
             scene,
             width,
             height,
@@ -76,7 +25,7 @@ fn main() -> ExitCode {
             frames,
             screenshot,
             ..
-        } => kdray::window::run(kdray::window::WindowOptions {
+        }) => kdray::window::run(kdray::window::WindowOptions {
             scene,
             width,
             height,
@@ -86,7 +35,7 @@ fn main() -> ExitCode {
             screenshot,
             stats,
         }),
-        Command::Render {
+        Command::Render(RenderArgs {
             scene,
             output,
             width,
@@ -95,10 +44,10 @@ fn main() -> ExitCode {
             accel,
             stats,
             ..
-        } => render(&scene, output, width, height, samples, accel, stats),
+        }) => render(&scene, output, width, height, samples, accel, stats),
         Command::Info => info(),
-        Command::Bench(args) => kdray::bench::bench_cli(&args),
-        Command::Generate(args) => kdray::bench::generate_cli(&args),
+        Command::Bench(args) => kdray::bench::bench_cli(&args.into()),
+        Command::Generate(args) => kdray::bench::generate_cli(&args.into()),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,
@@ -146,9 +95,10 @@ fn render(
         .map_err(|e| Error::Output(e.to_string()))?
         .progress_chars("=> "),
     );
+    let prepared = kdray::gpu::PreparedScene::new(scene, accel);
     let (figures, _) = kdray::render::render_scene_streaming(
         &ctx,
-        &scene,
+        &prepared,
         accel,
         TilePlan::DEFAULT_MAX_TILE_PIXELS,
         &mut |band| {
@@ -164,7 +114,7 @@ fn render(
     if stats {
         println!(
             "{}",
-            serde_json::to_string(&figures).map_err(|e| Error::Output(e.to_string()))?
+            serde_json::to_string(&figures)?
         );
     }
     Ok(())

@@ -1,7 +1,12 @@
 //! Writing images: PNG, atomically (a temporary file in the same folder,
-//! then a rename), so a failed run never leaves a half-written output. Rows
-//! can be streamed in as they are rendered: memory holds one band, never
-//! the whole image.
+//! then a rename), so a failed run never leaves a half-written output.
+//! Renders stream their rows into the `png` crate's encoder as they come
+//! off the GPU ([`PngStream`]: memory holds one band, never the whole
+//! image); images held in memory (screenshots, plots, heatmaps) are
+//! encoded and read by the `image` crate.
+
+pub mod font;
+pub mod heatmap;
 
 use std::fs::File;
 use std::io::{BufWriter, Write};
@@ -22,7 +27,7 @@ impl PngStream {
     pub fn create(path: &Path, width: u32, height: u32) -> Result<Self> {
         let tmp = temp_path_for(path)?;
         let file = File::create(&tmp)
-            .map_err(|e| output_error(path, "cannot create a temporary file", &e))?;
+            .map_err(|e| file_error(path, "cannot create a temporary file", e))?;
         let mut stream = PngStream {
             path: path.to_path_buf(),
             tmp,
@@ -34,7 +39,7 @@ impl PngStream {
         let writer = encoder
             .write_header()
             .and_then(|w| w.into_stream_writer())
-            .map_err(|e| output_error(path, "cannot write", &e))?;
+            .map_err(|e| png_error(path, e))?;
         stream.writer = Some(writer);
         Ok(stream)
     }
@@ -47,7 +52,7 @@ impl PngStream {
             .ok_or_else(|| Error::Output("PNG stream already finished".into()))?;
         writer
             .write_all(rgb)
-            .map_err(|e| output_error(&self.path, "cannot write", &e))
+            .map_err(|e| file_error(&self.path, "cannot write", e))
     }
 
     /// Completes the file, flushes it to disk and renames it into place.
@@ -56,19 +61,12 @@ impl PngStream {
             .writer
             .take()
             .ok_or_else(|| Error::Output("PNG stream already finished".into()))?;
-        writer
-            .finish()
-            .map_err(|e| output_error(&self.path, "cannot write", &e))?;
+        writer.finish().map_err(|e| png_error(&self.path, e))?;
         File::open(&self.tmp)
             .and_then(|f| f.sync_all())
-            .map_err(|e| output_error(&self.path, "cannot write", &e))?;
-        std::fs::rename(&self.tmp, &self.path).map_err(|e| {
-            output_error(
-                &self.path,
-                "cannot rename the temporary file into place",
-                &e,
-            )
-        })
+            .map_err(|e| file_error(&self.path, "cannot write", e))?;
+        std::fs::rename(&self.tmp, &self.path)
+            .map_err(|e| file_error(&self.path, "cannot rename the temporary file into place", e))
     }
 }
 
@@ -103,13 +101,13 @@ pub fn write_file_atomic(path: &Path, bytes: &[u8]) -> Result<()> {
     let tmp = temp_path_for(path)?;
     let result = (|| {
         let mut file = File::create(&tmp)
-            .map_err(|e| output_error(path, "cannot create a temporary file", &e))?;
+            .map_err(|e| file_error(path, "cannot create a temporary file", e))?;
         file.write_all(bytes)
-            .map_err(|e| output_error(path, "cannot write", &e))?;
+            .map_err(|e| file_error(path, "cannot write", e))?;
         file.sync_all()
-            .map_err(|e| output_error(path, "cannot write", &e))?;
+            .map_err(|e| file_error(path, "cannot write", e))?;
         std::fs::rename(&tmp, path)
-            .map_err(|e| output_error(path, "cannot rename the temporary file into place", &e))
+            .map_err(|e| file_error(path, "cannot rename the temporary file into place", e))
     })();
     if result.is_err() {
         let _ = std::fs::remove_file(&tmp);
@@ -117,21 +115,48 @@ pub fn write_file_atomic(path: &Path, bytes: &[u8]) -> Result<()> {
     result
 }
 
-fn output_error(path: &Path, what: &str, e: &dyn std::fmt::Display) -> Error {
-    Error::Output(format!("{}: {what}: {e}", path.display()))
+fn file_error(path: &Path, what: &'static str, source: std::io::Error) -> Error {
+    Error::File {
+        path: path.to_path_buf(),
+        what,
+        source,
+    }
 }
 
-/// Writes 8-bit RGB pixels (row-major, top row first) as a PNG at `path`.
+fn png_error(path: &Path, source: png::EncodingError) -> Error {
+    Error::Png {
+        path: path.to_path_buf(),
+        what: "cannot write",
+        source,
+    }
+}
+
+/// Writes an 8-bit RGB image held in memory (row-major, top row first) as a
+/// PNG at `path`, atomically: screenshots, plots and heatmaps, encoded by
+/// the `image` crate (big renders stream through [`PngStream`] instead).
 pub fn write_png_atomic(path: &Path, width: u32, height: u32, rgb: &[u8]) -> Result<()> {
-    let mut stream = PngStream::create(path, width, height)?;
-    stream.write_rows(rgb)?;
-    stream.finish()
+    let mut bytes = Vec::new();
+    image::ImageEncoder::write_image(
+        image::codecs::png::PngEncoder::new(&mut bytes),
+        rgb,
+        width,
+        height,
+        image::ExtendedColorType::Rgb8,
+    )
+    .map_err(|source| Error::Image {
+        path: path.to_path_buf(),
+        source,
+    })?;
+    write_file_atomic(path, &bytes)
 }
 
 /// Reads a PNG as 8-bit RGB (for tests and comparisons).
 pub fn read_png_rgb(path: &Path) -> Result<(u32, u32, Vec<u8>)> {
     let img = image::open(path)
-        .map_err(|e| Error::Output(format!("{}: {e}", path.display())))?
+        .map_err(|source| Error::Image {
+            path: path.to_path_buf(),
+            source,
+        })?
         .to_rgb8();
     Ok((img.width(), img.height(), img.into_raw()))
 }

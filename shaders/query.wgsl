@@ -1,0 +1,16 @@
+// trace_rays: the debug entry point. Traces the given rays with the frame's
+// accel (no shading, no camera) and writes each one's hit, so tests can hold
+// the kernel's walks against the CPU mirror and brute force ray by ray.
+// One invocation per ray, 64 rays per workgroup, rays in x then y.
+
+@compute @workgroup_size(QUERY_WORKGROUP, 1, 1)
+fn trace_rays(@builtin(global_invocation_id) gid: vec3<u32>,
+              @builtin(num_workgroups) groups: vec3<u32>) {
+    let i = gid.y * groups.x * QUERY_WORKGROUP + gid.x;
+    if (i >= arrayLength(&query_rays)) {
+        return;
+    }
+    let q = query_rays[i];
+    let hit = trace_ray(Ray(q.origin, q.dir), q.t_limit, q.any_hit != 0u);
+    query_hits[i] = QueryHit(hit.t, hit.object);
+}

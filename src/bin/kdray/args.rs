@@ -1,0 +1,176 @@
+//! The command line's own types: clap's view of the flags, mapped onto the
+//! library's options. The library knows nothing of clap; its named choices
+//! ([`kdray::choice::Choice`]) give the flags their values and help.
+
+use std::path::PathBuf;
+
+use clap::builder::{PossibleValue, PossibleValuesParser, TypedValueParser};
+use clap::{Parser, Subcommand};
+use kdray::bench::{BenchOptions, GenerateOptions, SceneKind, DEFAULT_SEED};
+use kdray::choice::Choice;
+use kdray::gpu::Accel;
+
+#[derive(Parser)]
+#[command(
+    name = "kdray",
+    version,
+    about = "GPU ray tracer with a CPU-built k-d tree (wgpu compute shaders)"
+)]
+pub struct Cli {
+    #[command(subcommand)]
+    pub command: Command,
+}
+
+#[derive(Subcommand)]
+pub enum Command {
+    /// Render a scene file (.toml or .json) to a PNG.
+    Render(RenderArgs),
+    /// List the adapters wgpu sees and the one kdray picks.
+    Info,
+    /// Benchmark the k-d tree against brute force on random scenes of growing size
+    /// (or on scene files): CSV, JSON, Markdown and log-log plots.
+    Bench(BenchArgs),
+    /// Write one of the bench's random scenes as a scene file.
+    Generate(GenerateArgs),
+}
+
+/// A flag whose values are a library [`Choice`]: clap lists the names and
+/// their help, and an unknown name is a usage error (exit 2) naming them.
+fn choice<T: Choice + Clone>() -> impl TypedValueParser<Value = T> {
+    PossibleValuesParser::new(T::ALL.iter().map(|c| PossibleValue::new(c.name()).help(c.help())))
+        .try_map(|name| T::from_name(&name).ok_or("not one of the possible values"))
+}
+
+#[derive(clap::Args)]
+pub struct RenderArgs {
+    /// The scene file.
+    pub scene: PathBuf,
+    /// Output PNG [default: the scene's file name with .png, in the current folder].
+    #[arg(short, long)]
+    pub output: Option<PathBuf>,
+    /// Image width in pixels (overrides the scene's [render] width).
+    #[arg(long)]
+    pub width: Option<u32>,
+    /// Image height in pixels (overrides the scene's [render] height).
+    #[arg(long)]
+    pub height: Option<u32>,
+    /// Samples per pixel, a perfect square (overrides the scene's [render] samples).
+    #[arg(long)]
+    pub samples: Option<u32>,
+    /// Nearest-hit search in the shader.
+    #[arg(long, value_parser = choice::<Accel>(), default_value = "kdtree")]
+    pub accel: Accel,
+    /// Print one JSON object of figures on stdout (with --window: frame rates, on exit).
+    #[arg(long)]
+    pub stats: bool,
+    /// Open an interactive window instead of writing a PNG (see the README's controls).
+    #[arg(long, conflicts_with = "output")]
+    pub window: bool,
+    /// With --window: present this many frames, then exit.
+    #[arg(long, requires = "window", value_parser = clap::value_parser!(u32).range(1..))]
+    pub frames: Option<u32>,
+    /// With --window: on exit, save the last presented frame as a PNG here.
+    #[arg(long, requires = "window")]
+    pub screenshot: Option<PathBuf>,
+}
+
+#[derive(clap::Args)]
+pub struct BenchArgs {
+    /// Object counts of the random scenes, comma separated.
+    #[arg(long, value_delimiter = ',', default_value = kdray::bench::DEFAULT_SIZES)]
+    pub sizes: Vec<usize>,
+    /// What the random scenes are made of.
+    #[arg(long, value_parser = choice::<SceneKind>(), default_value = "spheres")]
+    pub kind: SceneKind,
+    /// Seed of the random scenes.
+    #[arg(long, default_value_t = DEFAULT_SEED)]
+    pub seed: u64,
+    /// Scene files to measure instead of random scenes (repeatable); N is
+    /// each scene's object count.
+    #[arg(long = "scene", value_name = "SCENE")]
+    pub scenes: Vec<PathBuf>,
+    /// Image width [default: 640 for random scenes, the scene's own for --scene].
+    #[arg(long)]
+    pub width: Option<u32>,
+    /// Image height [default: 480 for random scenes, the scene's own for --scene].
+    #[arg(long)]
+    pub height: Option<u32>,
+    /// Override render.max_depth (1 = primary hits only, no reflections).
+    #[arg(long)]
+    pub max_depth: Option<u32>,
+    /// Timed frames per run, after one warm-up frame; the median is reported.
+    #[arg(long, default_value_t = 3)]
+    pub repeat: u32,
+    /// Per-frame budget for brute force, in seconds: a size whose predicted
+    /// brute-force frame exceeds it is skipped (and reported as skipped).
+    #[arg(long, default_value_t = 30.0)]
+    pub budget_s: f64,
+    /// Which accelerations to run.
+    #[arg(long, value_parser = choice::<Accel>(), value_delimiter = ',', default_values = ["kdtree", "brute"])]
+    pub accel: Vec<Accel>,
+    /// Output folder (created if missing).
+    #[arg(long, default_value = "bench-results")]
+    pub out: PathBuf,
+    /// Also save the k-d tree's image of every run as render-*.png in the output folder.
+    #[arg(long)]
+    pub save_images: bool,
+    /// Measure nothing: read DIR/bench.json from an earlier run and rewrite
+    /// its summary, fits, targets and plots in DIR.
+    #[arg(long, value_name = "DIR", conflicts_with_all = ["scenes", "save_images"])]
+    pub replot: Option<PathBuf>,
+}
+
+impl From<BenchArgs> for BenchOptions {
+    fn from(a: BenchArgs) -> Self {
+        BenchOptions {
+            sizes: a.sizes,
+            kind: a.kind,
+            seed: a.seed,
+            scenes: a.scenes,
+            width: a.width,
+            height: a.height,
+            max_depth: a.max_depth,
+            repeat: a.repeat,
+            budget_s: a.budget_s,
+            accel: a.accel,
+            out: a.out,
+            save_images: a.save_images,
+            replot: a.replot,
+        }
+    }
+}
+
+#[derive(clap::Args)]
+pub struct GenerateArgs {
+    /// What the objects are.
+    #[arg(long, value_parser = choice::<SceneKind>(), default_value = "spheres")]
+    pub kind: SceneKind,
+    /// Number of objects.
+    #[arg(long)]
+    pub count: usize,
+    /// Random seed (the bench's default gives the bench's scenes).
+    #[arg(long, default_value_t = DEFAULT_SEED)]
+    pub seed: u64,
+    /// Image width written into [render].
+    #[arg(long, default_value_t = kdray::bench::random_scene::DEFAULT_WIDTH)]
+    pub width: u32,
+    /// Image height written into [render].
+    #[arg(long, default_value_t = kdray::bench::random_scene::DEFAULT_HEIGHT)]
+    pub height: u32,
+    /// The scene file to write: .json for JSON, anything else TOML.
+    #[arg(short, long)]
+    pub output: PathBuf,
+}
+
+impl From<GenerateArgs> for GenerateOptions {
+    fn from(a: GenerateArgs) -> Self {
+        GenerateOptions {
+            kind: a.kind,
+            count: a.count,
+            seed: a.seed,
+            width: a.width,
+            height: a.height,
+            output: a.output,
+        }
+    }
+}

@@ -1,0 +1,305 @@
+//! The host-shader contract in one place: every binding of the trace kernel
+//! (number, WGSL name, type, access) and every constant both sides use.
+//!
+//! The WGSL side is generated from here ([`wgsl_contract`]) and prepended to
+//! the kernel (`gpu::shaders::trace_source`), so a binding number or a
+//! constant is written once. The bind group layouts of the headless renderer
+//! and of the window are built from the same table ([`layout_entries`]).
+//! Tests check the generated declarations against naga's reading of the
+//! kernel: binding numbers and access by name, constants by value.
+
+use crate::geometry::{PARALLEL_EPSILON, T_INFINITY};
+use crate::layout::{KdNode, ACCEL_BRUTE, ACCEL_KDTREE, SHADOW_AMBIENT, SHADOW_SEED};
+
+/// How a kernel reads or writes a binding.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Access {
+    Uniform,
+    StorageRead,
+    StorageReadWrite,
+}
+
+/// One `@group(0) @binding(index) var<...> name: wgsl_type;` of the kernel.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Binding {
+    pub index: u32,
+    pub name: &'static str,
+    pub wgsl_type: &'static str,
+    pub access: Access,
+}
+
+const fn binding(index: u32, name: &'static str, wgsl_type: &'static str, access: Access) -> Binding {
+    Binding {
+        index,
+        name,
+        wgsl_type,
+        access,
+    }
+}
+
+use Access::{StorageRead, StorageReadWrite, Uniform};
+
+/// Camera, render settings, counts and the tile ([`crate::layout::FrameParams`]).
+pub const PARAMS: Binding = binding(0, "params", "FrameParams", Uniform);
+pub const SPHERES: Binding = binding(1, "spheres", "array<Sphere>", StorageRead);
+pub const TRIANGLES: Binding = binding(2, "triangles", "array<Triangle>", StorageRead);
+/// Material index of every object id (spheres first, then triangles).
+pub const OBJECT_MATERIALS: Binding = binding(3, "object_materials", "array<u32>", StorageRead);
+pub const MATERIALS: Binding = binding(4, "materials", "array<Material>", StorageRead);
+pub const LIGHTS: Binding = binding(5, "lights", "array<Light>", StorageRead);
+pub const KD_NODES: Binding = binding(6, "kd_nodes", "array<KdNode>", StorageRead);
+pub const LEAF_OBJECTS: Binding = binding(7, "leaf_objects", "array<u32>", StorageRead);
+/// `render_tile`'s output: ray counters, then one packed RGBA8 per pixel.
+pub const TILE_OUTPUT: Binding = binding(8, "tile_output", "TileOutput", StorageReadWrite);
+/// `accumulate_tile`'s output: per pixel, the sum of clamped samples and their count.
+pub const ACCUMULATION: Binding =
+    binding(9, "accumulation", "array<vec4<f32>>", StorageReadWrite);
+/// `trace_rays` (the debug entry point): the rays to trace.
+pub const QUERY_RAYS: Binding = binding(10, "query_rays", "array<QueryRay>", StorageRead);
+/// `trace_rays`: one hit per ray.
+pub const QUERY_HITS: Binding = binding(11, "query_hits", "array<QueryHit>", StorageReadWrite);
+
+/// The scene's storage buffers, in the order [`crate::gpu::SceneArrays`] lists them.
+pub const SCENE: [Binding; 7] = [
+    SPHERES,
+    TRIANGLES,
+    OBJECT_MATERIALS,
+    MATERIALS,
+    LIGHTS,
+    KD_NODES,
+    LEAF_OBJECTS,
+];
+
+/// Every binding the kernel declares: the parameters, the scene, and each
+/// entry point's own buffers.
+pub fn all() -> Vec<Binding> {
+    entry_point_bindings(&[TILE_OUTPUT, ACCUMULATION, QUERY_RAYS, QUERY_HITS])
+}
+
+/// The bindings an entry point uses: the frame parameters, the scene, and
+/// its own outputs (and inputs).
+pub fn entry_point_bindings(outputs: &[Binding]) -> Vec<Binding> {
+    let mut all = vec![PARAMS];
+    all.extend(SCENE);
+    all.extend_from_slice(outputs);
+    all
+}
+
+/// A constant shared by the host and the kernel.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum SharedValue {
+    U32(u32),
+    F32(f32),
+}
+
+/// Every constant the kernel and the host must agree on, by WGSL name.
+pub const SHARED_CONSTANTS: [(&str, SharedValue); 10] = [
+    ("KD_LEAF", SharedValue::U32(KdNode::LEAF)),
+    ("ACCEL_KDTREE", SharedValue::U32(ACCEL_KDTREE)),
+    ("ACCEL_BRUTE", SharedValue::U32(ACCEL_BRUTE)),
+    ("SHADOW_AMBIENT", SharedValue::U32(SHADOW_AMBIENT)),
+    ("SHADOW_SEED", SharedValue::U32(SHADOW_SEED)),
+    // Stand-in for infinity: implementations may assume there is no inf or NaN.
+    ("T_INFINITY", SharedValue::F32(T_INFINITY)),
+    // Direction components below this count as parallel to an axis plane.
+    ("PARALLEL_EPSILON", SharedValue::F32(PARALLEL_EPSILON)),
+    // `QueryHit::object` and the kernel's `Hit::object` when nothing was hit.
+    ("NO_OBJECT", SharedValue::U32(NO_OBJECT)),
+    // Invocations whose loops ran this many iterations are counted as
+    // loop-limited (half llvmpipe's 65,535; see RayCounters::loop_limited).
+    ("LOOP_LIMIT_WARNING", SharedValue::U32(LOOP_LIMIT_WARNING)),
+    // Rays per workgroup of `trace_rays`.
+    ("QUERY_WORKGROUP", SharedValue::U32(crate::gpu::shaders::QUERY_WORKGROUP)),
+];
+
+/// The object id of a miss.
+pub const NO_OBJECT: u32 = u32::MAX;
+/// See `RayCounters::loop_limited`.
+pub const LOOP_LIMIT_WARNING: u32 = 32_768;
+
+impl SharedValue {
+    /// The value as a WGSL literal that reads back as exactly this value
+    /// (Rust prints the shortest decimal that round-trips through f32).
+    fn wgsl_literal(self) -> String {
+        match self {
+            SharedValue::U32(v) => format!("{v}u"),
+            SharedValue::F32(v) => format!("{v:e}f"),
+        }
+    }
+
+    fn wgsl_type(self) -> &'static str {
+        match self {
+            SharedValue::U32(_) => "u32",
+            SharedValue::F32(_) => "f32",
+        }
+    }
+}
+
+fn address_space(access: Access) -> &'static str {
+    match access {
+        Access::Uniform => "uniform",
+        Access::StorageRead => "storage, read",
+        Access::StorageReadWrite => "storage, read_write",
+    }
+}
+
+/// The WGSL text generated from this module: the shared constants and the
+/// binding declarations (the struct types they name are in shaders/types.wgsl).
+pub fn wgsl_contract() -> String {
+    let mut text = String::from("// Generated from src/gpu/bindings.rs: edit it there.\n");
+    for (name, value) in SHARED_CONSTANTS {
+        text += &format!(
+            "const {name}: {} = {};\n",
+            value.wgsl_type(),
+            value.wgsl_literal()
+        );
+    }
+    for b in all() {
+        text += &format!(
+            "@group(0) @binding({}) var<{}> {}: {};\n",
+            b.index,
+            address_space(b.access),
+            b.name,
+            b.wgsl_type
+        );
+    }
+    text
+}
+
+/// Layout entries for `bindings`, all visible to the compute stage.
+pub fn layout_entries(bindings: &[Binding]) -> Vec<wgpu::BindGroupLayoutEntry> {
+    bindings
+        .iter()
+        .map(|b| wgpu::BindGroupLayoutEntry {
+            binding: b.index,
+            visibility: wgpu::ShaderStages::COMPUTE,
+            ty: wgpu::BindingType::Buffer {
+                ty: match b.access {
+                    Access::Uniform => wgpu::BufferBindingType::Uniform,
+                    Access::StorageRead => wgpu::BufferBindingType::Storage { read_only: true },
+                    Access::StorageReadWrite => {
+                        wgpu::BufferBindingType::Storage { read_only: false }
+                    }
+                },
+                has_dynamic_offset: false,
+                min_binding_size: None,
+            },
+            count: None,
+        })
+        .collect()
+}
+
+/// A compute pipeline for `entry_point` of the trace kernel, with an
+/// explicit layout of `bindings` (so bind groups built from the same table
+/// fit it, whatever the entry point happens to use).
+pub fn trace_pipeline(
+    device: &wgpu::Device,
+    module: &wgpu::ShaderModule,
+    entry_point: &str,
+    bindings: &[Binding],
+) -> (wgpu::ComputePipeline, wgpu::BindGroupLayout) {
+    let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+        label: Some(entry_point),
+        entries: &layout_entries(bindings),
+    });
+    let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+        label: Some(entry_point),
+        bind_group_layouts: &[Some(&layout)],
+        immediate_size: 0,
+    });
+    let pipeline = device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+        label: Some(entry_point),
+        layout: Some(&pipeline_layout),
+        module,
+        entry_point: Some(entry_point),
+        compilation_options: Default::default(),
+        cache: None,
+    });
+    (pipeline, layout)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn kernel() -> naga::Module {
+        crate::gpu::shaders::parse_and_validate(&crate::gpu::shaders::trace_source()).0
+    }
+
+    /// Each global of the kernel is a binding of this table, at its number
+    /// and with its access, and each binding of the table is declared.
+    #[test]
+    fn kernel_bindings_are_the_contract() {
+        let module = kernel();
+        let mut seen = Vec::new();
+        for (_, global) in module.global_variables.iter() {
+            let Some(res) = &global.binding else { continue };
+            let name = global.name.as_deref().unwrap_or("");
+            let all = all();
+            let b = all
+                .iter()
+                .find(|b| b.name == name)
+                .unwrap_or_else(|| panic!("the kernel binds `{name}`, which bindings.rs lacks"));
+            assert_eq!((res.group, res.binding), (0, b.index), "binding of {name}");
+            let access = match global.space {
+                naga::AddressSpace::Uniform => Access::Uniform,
+                naga::AddressSpace::Storage { access } if access.contains(naga::StorageAccess::STORE) => {
+                    Access::StorageReadWrite
+                }
+                naga::AddressSpace::Storage { .. } => Access::StorageRead,
+                other => panic!("{name} is in {other:?}"),
+            };
+            assert_eq!(access, b.access, "access of {name}");
+            seen.push(name.to_string());
+        }
+        for b in all() {
+            assert!(seen.iter().any(|s| s == b.name), "{} is not declared", b.name);
+        }
+        let mut indices: Vec<u32> = all().iter().map(|b| b.index).collect();
+        indices.sort_unstable();
+        indices.dedup();
+        assert_eq!(indices.len(), all().len(), "two bindings share a number");
+    }
+
+    /// Each shared constant, as naga evaluates the kernel's declaration, has
+    /// exactly the host's value (bit for bit for floats).
+    #[test]
+    fn kernel_constants_equal_the_hosts() {
+        let module = kernel();
+        for (name, value) in SHARED_CONSTANTS {
+            let (_, constant) = module
+                .constants
+                .iter()
+                .find(|(_, c)| c.name.as_deref() == Some(name))
+                .unwrap_or_else(|| panic!("the kernel lacks const {name}"));
+            let naga::Expression::Literal(literal) = module.global_expressions[constant.init]
+            else {
+                panic!("{name} is not a literal");
+            };
+            match (value, literal) {
+                (SharedValue::U32(host), naga::Literal::U32(kernel)) => assert_eq!(host, kernel, "{name}"),
+                (SharedValue::F32(host), naga::Literal::F32(kernel)) => {
+                    assert_eq!(host.to_bits(), kernel.to_bits(), "{name}")
+                }
+                (host, kernel) => panic!("{name}: host {host:?}, kernel {kernel:?}"),
+            }
+        }
+    }
+
+    /// No shader file declares a binding or a shared constant by hand.
+    #[test]
+    fn shader_files_leave_the_contract_to_the_generator() {
+        for (file, text) in crate::gpu::shaders::TRACE_PARTS {
+            for line in text.lines() {
+                let code = line.split("//").next().unwrap_or("");
+                assert!(!code.contains("@binding("), "{file} declares a binding: {line}");
+                for (name, _) in SHARED_CONSTANTS {
+                    assert!(
+                        !code.trim_start().starts_with(&format!("const {name}:")),
+                        "{file} declares {name}: {line}"
+                    );
+                }
+            }
+        }
+    }
+}

@@ -1,0 +1,81 @@
+//! The kernel's per-frame uniform ([`FrameParams`]) built from a camera
+//! frame, the render settings and the uploaded scene. The tile fields are
+//! filled in per dispatch by the renderer, `sample_index` per pass by the
+//! window.
+
+use super::SceneBuffers;
+use crate::layout::{FrameParams, ACCEL_BRUTE, ACCEL_KDTREE, SHADOW_AMBIENT, SHADOW_SEED};
+use crate::scene::{CameraBasis, RenderSettings, ShadowMode};
+
+/// Which nearest-hit search the kernel runs.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Accel {
+    /// The stackless k-d tree walk.
+    Kdtree,
+    /// The seed's loop over every object.
+    Brute,
+}
+
+impl FrameParams {
+    /// What `trace_rays` reads: the scene's counts and box, and the accel
+    /// (no camera, image or tile).
+    pub fn for_queries(scene: &SceneBuffers, accel: Accel) -> FrameParams {
+        FrameParams {
+            scene_min: scene.bounds.min.to_array(),
+            sphere_count: scene.sphere_count,
+            scene_max: scene.bounds.max.to_array(),
+            object_count: scene.object_count,
+            light_count: scene.light_count,
+            accel: accel_value(accel),
+            node_count: scene.node_count,
+            ..bytemuck::Zeroable::zeroed()
+        }
+    }
+
+    /// The whole image as one tile, sample 0.
+    pub fn new(
+        camera: &CameraBasis,
+        render: &RenderSettings,
+        scene: &SceneBuffers,
+        accel: Accel,
+    ) -> FrameParams {
+        let f = |v: glam::DVec3| v.as_vec3().to_array();
+        FrameParams {
+            camera_position: f(camera.position),
+            tan_half_vfov: camera.tan_half_vfov as f32,
+            camera_forward: f(camera.forward),
+            aspect: (render.width as f64 / render.height as f64) as f32,
+            camera_right: f(camera.right),
+            min_intensity: render.min_intensity as f32,
+            camera_up: f(camera.up),
+            max_depth: render.max_depth,
+            background: f(render.background),
+            shadow_mode: match render.shadow_mode {
+                ShadowMode::Ambient => SHADOW_AMBIENT,
+                ShadowMode::Seed => SHADOW_SEED,
+            },
+            scene_min: scene.bounds.min.to_array(),
+            sphere_count: scene.sphere_count,
+            scene_max: scene.bounds.max.to_array(),
+            object_count: scene.object_count,
+            width: render.width,
+            height: render.height,
+            samples_per_axis: render.samples_per_axis(),
+            light_count: scene.light_count,
+            tile_origin: [0, 0],
+            tile_size: [render.width, render.height],
+            accel: accel_value(accel),
+            node_count: scene.node_count,
+            sample_index: 0,
+            _pad: 0,
+        }
+    }
+}
+
+fn accel_value(accel: Accel) -> u32 {
+    match accel {
+        Accel::Kdtree => ACCEL_KDTREE,
+        Accel::Brute => ACCEL_BRUTE,
+    }
+}

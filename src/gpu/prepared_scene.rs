@@ -1,0 +1,85 @@
+//! "This scene, prepared": everything the CPU does before a frame (the f32
+//! primitives, the k-d tree, the arrays in the GPU layout), in one value
+//! that can be made on any thread (the window's hot reload makes it on a
+//! worker) and uploads itself. `render`, `bench` and the window all start
+//! from it.
+
+use std::time::Instant;
+
+use super::{Accel, GpuContext, SceneArrays, SceneBuffers};
+use crate::geometry::Primitives;
+use crate::kdtree::KdTree;
+use crate::layout::FrameParams;
+use crate::scene::Scene;
+
+/// A scene with its tree and GPU arrays, ready to upload.
+pub struct PreparedScene {
+    pub scene: Scene,
+    /// The tree the kernel is given. For [`Accel::Brute`] a single leaf of
+    /// every object: the kernel's brute-force loop ignores it, and any walk
+    /// of it would search like brute force.
+    pub tree: KdTree,
+    pub arrays: SceneArrays,
+    /// Wall time of the tree build, in milliseconds (0 for a single leaf).
+    pub build_ms: f64,
+    /// Wall time of flattening into the GPU arrays, in milliseconds.
+    pub flatten_ms: f64,
+}
+
+impl PreparedScene {
+    /// Builds what `accel` needs: the k-d tree for [`Accel::Kdtree`], a single
+    /// leaf for [`Accel::Brute`].
+    pub fn new(scene: Scene, accel: Accel) -> PreparedScene {
+        let prims = Primitives::from_scene(&scene);
+        let started = Instant::now();
+        let tree = match accel {
+            Accel::Kdtree => KdTree::for_primitives(&prims),
+            Accel::Brute => KdTree::single_leaf(prims.len() as u32, prims.scene_bounds()),
+        };
+        let build_ms = match accel {
+            Accel::Kdtree => started.elapsed().as_secs_f64() * 1e3,
+            Accel::Brute => 0.0,
+        };
+        Self::assemble(scene, &prims, tree, build_ms)
+    }
+
+    /// `scene` with a tree built elsewhere over its objects (property
+    /// tests choose the build's parameters).
+    pub fn with_tree(scene: Scene, tree: KdTree) -> PreparedScene {
+        let prims = Primitives::from_scene(&scene);
+        Self::assemble(scene, &prims, tree, 0.0)
+    }
+
+    fn assemble(scene: Scene, prims: &Primitives, tree: KdTree, build_ms: f64) -> PreparedScene {
+        // The root cell is the objects' box (an empty scene's is empty).
+        let tree = KdTree {
+            bounds: prims.scene_bounds(),
+            ..tree
+        };
+        let started = Instant::now();
+        let arrays = SceneArrays::new(&scene, prims, &tree);
+        PreparedScene {
+            scene,
+            tree,
+            arrays,
+            build_ms,
+            flatten_ms: started.elapsed().as_secs_f64() * 1e3,
+        }
+    }
+
+    /// The scene back, without its tree and arrays.
+    pub fn into_scene(self) -> Scene {
+        self.scene
+    }
+
+    /// Uploads the arrays (refused with one line if a buffer exceeds the
+    /// adapter's binding limit or the device runs out of memory).
+    pub fn upload(&self, ctx: &GpuContext) -> crate::Result<SceneBuffers> {
+        SceneBuffers::upload(ctx, &self.arrays)
+    }
+
+    /// The kernel's parameters for the scene's own camera and settings.
+    pub fn frame_params(&self, buffers: &SceneBuffers, accel: Accel) -> FrameParams {
+        FrameParams::new(&self.scene.camera.basis(), &self.scene.render, buffers, accel)
+    }
+}

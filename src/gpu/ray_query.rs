@@ -1,0 +1,161 @@
+//! The kernel's debug entry point, `trace_rays` (shaders/query.wgsl): rays in,
+//! the kernel's own hits out, with no camera and no shading. Tests hold the
+//! GPU walks against the CPU mirror and brute force ray by ray with it, on
+//! the same random scenes and rays as the CPU property tests.
+
+use super::bindings;
+use super::{Accel, GpuContext, SceneBuffers};
+use crate::error::Result;
+use crate::geometry::Ray;
+use crate::kdtree::traverse::Hit;
+use crate::layout::{FrameParams, GpuQueryHit, GpuQueryRay};
+
+/// One query: a ray, how far to look, and which question.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct RayQuery {
+    pub ray: Ray,
+    /// Nearest hit: `t <= t_limit`; any hit: `t < t_limit`.
+    pub t_limit: f32,
+    /// Any-hit (shadow-ray) query rather than nearest hit.
+    pub any_hit: bool,
+}
+
+/// The `trace_rays` pipeline.
+pub struct RayQueries {
+    pipeline: wgpu::ComputePipeline,
+    layout: wgpu::BindGroupLayout,
+}
+
+/// Most workgroups in one dimension of a dispatch (WebGPU's default limit).
+const MAX_GROUPS_PER_DIMENSION: u32 = 65_535;
+
+impl RayQueries {
+    pub fn new(ctx: &GpuContext) -> Result<Self> {
+        ctx.checked("creating the ray query pipeline", |device| {
+            let module = super::shaders::trace_module(device);
+            let (pipeline, layout) = bindings::trace_pipeline(
+                device,
+                &module,
+                super::shaders::QUERY_ENTRY_POINT,
+                &bindings::entry_point_bindings(&[bindings::QUERY_RAYS, bindings::QUERY_HITS]),
+            );
+            RayQueries { pipeline, layout }
+        })
+    }
+
+    /// Traces `queries` through `scene` with `accel`. Hits name objects by
+    /// the scene's ids (`scene_ids` maps GPU ids back: `SceneArrays::scene_ids`).
+    pub fn trace(
+        &self,
+        ctx: &GpuContext,
+        scene: &SceneBuffers,
+        scene_ids: &[u32],
+        accel: Accel,
+        queries: &[RayQuery],
+    ) -> Result<Vec<Option<Hit>>> {
+        if queries.is_empty() {
+            return Ok(Vec::new());
+        }
+        let rays: Vec<GpuQueryRay> = queries
+            .iter()
+            .map(|q| GpuQueryRay {
+                origin: q.ray.origin.to_array(),
+                t_limit: q.t_limit,
+                dir: q.ray.dir.to_array(),
+                any_hit: q.any_hit as u32,
+            })
+            .collect();
+        let params = FrameParams::for_queries(scene, accel);
+        let hits_bytes = (queries.len() * std::mem::size_of::<GpuQueryHit>()) as u64;
+        let (bind_group, hits, readback) = ctx.checked("allocating the ray query buffers", |device| {
+            let storage = |label, contents: &[u8], usage| {
+                let buffer = device.create_buffer(&wgpu::BufferDescriptor {
+                    label: Some(label),
+                    size: contents.len() as u64,
+                    usage,
+                    mapped_at_creation: true,
+                });
+                if let Ok(mut view) = buffer.slice(..).get_mapped_range_mut() {
+                    view.copy_from_slice(contents);
+                }
+                buffer.unmap();
+                buffer
+            };
+            let params = storage(
+                "query params",
+                bytemuck::bytes_of(&params),
+                wgpu::BufferUsages::UNIFORM,
+            );
+            let rays = storage(
+                "query rays",
+                bytemuck::cast_slice(&rays),
+                wgpu::BufferUsages::STORAGE,
+            );
+            let hits = device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some("query hits"),
+                size: hits_bytes,
+                usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
+                mapped_at_creation: false,
+            });
+            let readback = device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some("query hits readback"),
+                size: hits_bytes,
+                usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
+                mapped_at_creation: false,
+            });
+            let mut entries = vec![wgpu::BindGroupEntry {
+                binding: bindings::PARAMS.index,
+                resource: params.as_entire_binding(),
+            }];
+            entries.extend(scene.bind_entries());
+            entries.push(wgpu::BindGroupEntry {
+                binding: bindings::QUERY_RAYS.index,
+                resource: rays.as_entire_binding(),
+            });
+            entries.push(wgpu::BindGroupEntry {
+                binding: bindings::QUERY_HITS.index,
+                resource: hits.as_entire_binding(),
+            });
+            let bind_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
+                label: Some("trace_rays"),
+                layout: &self.layout,
+                entries: &entries,
+            });
+            (bind_group, hits, readback)
+        })?;
+
+        let groups = (queries.len() as u32).div_ceil(super::shaders::QUERY_WORKGROUP);
+        let (gx, gy) = if groups <= MAX_GROUPS_PER_DIMENSION {
+            (groups, 1)
+        } else {
+            (MAX_GROUPS_PER_DIMENSION, groups.div_ceil(MAX_GROUPS_PER_DIMENSION))
+        };
+        let mut encoder = ctx
+            .device
+            .create_command_encoder(&wgpu::CommandEncoderDescriptor {
+                label: Some("trace_rays"),
+            });
+        {
+            let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
+                label: Some("trace_rays"),
+                timestamp_writes: None,
+            });
+            pass.set_pipeline(&self.pipeline);
+            pass.set_bind_group(0, &bind_group, &[]);
+            pass.dispatch_workgroups(gx, gy, 1);
+        }
+        encoder.copy_buffer_to_buffer(&hits, 0, &readback, 0, hits_bytes);
+        ctx.queue.submit([encoder.finish()]);
+        let bytes = ctx.read_buffer(&readback, hits_bytes)?;
+        let hits: &[GpuQueryHit] = bytemuck::cast_slice(&bytes);
+        Ok(hits
+            .iter()
+            .map(|h| {
+                (h.object != bindings::NO_OBJECT).then(|| Hit {
+                    object: scene_ids.get(h.object as usize).copied().unwrap_or(u32::MAX),
+                    t: h.t,
+                })
+            })
+            .collect())
+    }
+}

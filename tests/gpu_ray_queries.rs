@@ -1,0 +1,164 @@
+//! Property tests of the GPU kernel's walks, ray by ray, through its debug
+//! entry point `trace_rays` (src/gpu/ray_query.rs): on the same random
+//! scenes, trees and rays as the CPU mirror's tests (tests/support/
+//! strategies.rs), the kernel's k-d walk finds what the kernel's brute-force
+//! loop finds. Both run the same intersection code on the same device, so
+//! this isolates the walk; the image tests compare the kernel with the CPU.
+
+mod common;
+#[path = "support/strategies.rs"]
+mod strategies;
+
+use std::sync::OnceLock;
+
+use kdray::geometry::{Primitives, Ray, T_INFINITY};
+use kdray::gpu::{Accel, PreparedScene, RayQueries, RayQuery};
+use kdray::kdtree::traverse::Hit;
+use kdray::kdtree::KdTree;
+use kdray::scene::{Scene, Sphere, Triangle};
+use proptest::prelude::*;
+use strategies::{direction, ray_for, scene, traversal_cost, tree_for, vec3};
+
+fn queries() -> &'static RayQueries {
+    static QUERIES: OnceLock<RayQueries> = OnceLock::new();
+    QUERIES.get_or_init(|| RayQueries::new(common::gpu()).unwrap_or_else(|e| panic!("{e}")))
+}
+
+/// A scene holding exactly `prims` (f32 -> f64 -> f32 is exact).
+fn scene_of(prims: &Primitives) -> Scene {
+    let mut scene = common::scene_from_toml(
+        "[camera]\nposition = [0, 0, 30]\nlook_at = [0, 0, 0]\n\
+         [[lights]]\nposition = [0, 20, 0]\n[materials.m]\ndiffuse = [1, 1, 1]\n",
+    );
+    scene.spheres = prims
+        .spheres
+        .iter()
+        .map(|s| Sphere {
+            center: s.center.as_dvec3(),
+            radius: s.radius as f64,
+            material: 0,
+        })
+        .collect();
+    scene.triangles = prims
+        .triangles
+        .iter()
+        .map(|t| Triangle {
+            vertices: t.v.map(|v| v.as_dvec3()),
+            material: 0,
+        })
+        .collect();
+    scene
+}
+
+/// The kernel's answers to `rays` over `tree`, with the k-d walk and with
+/// brute force.
+fn trace_both(prims: &Primitives, tree: &KdTree, rays: &[RayQuery]) -> [Vec<Option<Hit>>; 2] {
+    let prepared = PreparedScene::with_tree(scene_of(prims), tree.clone());
+    assert_eq!(prepared.tree.nodes, tree.nodes, "the GPU walks the tree built here");
+    let ctx = common::gpu();
+    let buffers = prepared.upload(ctx).unwrap_or_else(|e| panic!("{e}"));
+    [Accel::Kdtree, Accel::Brute].map(|accel| {
+        queries()
+            .trace(ctx, &buffers, &prepared.arrays.scene_ids, accel, rays)
+            .unwrap_or_else(|e| panic!("{e}"))
+    })
+}
+
+/// Nearest hits agree: both miss, or both hit at the same t (a different
+/// object only at a tie, i.e. coincident objects).
+fn check_nearest(kd: &[Option<Hit>], brute: &[Option<Hit>], rays: &[RayQuery]) -> Result<(), TestCaseError> {
+    for ((k, b), q) in kd.iter().zip(brute).zip(rays) {
+        match (k, b) {
+            (None, None) => {}
+            (Some(k), Some(b)) => prop_assert!(
+                (k.t - b.t).abs() <= 1e-4 * b.t.max(1.0),
+                "t differs: kd {:?} brute {:?} ray {:?}",
+                k,
+                b,
+                q.ray
+            ),
+            (k, b) => prop_assert!(false, "kd {:?} brute {:?} ray {:?}", k, b, q.ray),
+        }
+    }
+    Ok(())
+}
+
+fn nearest(ray: Ray) -> RayQuery {
+    RayQuery {
+        ray,
+        t_limit: T_INFINITY,
+        any_hit: false,
+    }
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig { cases: 96, .. ProptestConfig::default() })]
+
+    #[test]
+    fn gpu_nearest_hits_match_brute_force(
+        prims in scene(),
+        cost in traversal_cost(),
+        rays in prop::collection::vec((vec3(14.0), direction(), prop::option::of(any::<usize>())), 1..64),
+    ) {
+        let tree = tree_for(&prims, cost);
+        let rays: Vec<RayQuery> = rays
+            .into_iter()
+            .map(|(origin, dir, on_plane)| nearest(ray_for(&tree, origin, dir, on_plane)))
+            .collect();
+        let [kd, brute] = trace_both(&prims, &tree, &rays);
+        check_nearest(&kd, &brute, &rays)?;
+    }
+
+    /// Rays aimed at objects from outside: mostly hits.
+    #[test]
+    fn gpu_aimed_rays_match_brute_force(
+        prims in scene(),
+        cost in traversal_cost(),
+        picks in prop::collection::vec((any::<usize>(), vec3(14.0)), 1..64),
+    ) {
+        let tree = tree_for(&prims, cost);
+        let rays: Vec<RayQuery> = picks
+            .into_iter()
+            .filter_map(|(pick, origin)| {
+                let b = prims.bounds((pick % prims.len()) as u32);
+                let dir = ((b.min + b.max) * 0.5 - origin).try_normalize()?;
+                Some(nearest(Ray { origin, dir }))
+            })
+            .collect();
+        let [kd, brute] = trace_both(&prims, &tree, &rays);
+        check_nearest(&kd, &brute, &rays)?;
+    }
+
+    /// Shadow-ray queries on segments: blocked or not, as brute force says
+    /// (segments ending within rounding of a hit are ties and skipped).
+    #[test]
+    fn gpu_any_hits_match_brute_force_on_segments(
+        prims in scene(),
+        cost in traversal_cost(),
+        rays in prop::collection::vec((vec3(14.0), direction(), prop::option::of(any::<usize>()), 0.01f32..30.0), 1..64),
+    ) {
+        let tree = tree_for(&prims, cost);
+        let segments: Vec<(Ray, f32)> = rays
+            .into_iter()
+            .map(|(origin, dir, on_plane, length)| (ray_for(&tree, origin, dir, on_plane), length))
+            .collect();
+        // Where brute force first hits each ray, to skip segments ending there.
+        let whole: Vec<RayQuery> = segments.iter().map(|&(ray, _)| nearest(ray)).collect();
+        let [_, first] = trace_both(&prims, &tree, &whole);
+        let shadow: Vec<RayQuery> = segments
+            .iter()
+            .zip(&first)
+            .filter(|((_, length), hit)| {
+                !hit.is_some_and(|h| (h.t - length).abs() <= 1e-4 * length.max(1.0))
+            })
+            .map(|(&(ray, t_limit), _)| RayQuery { ray, t_limit, any_hit: true })
+            .collect();
+        let [kd, brute] = trace_both(&prims, &tree, &shadow);
+        for ((k, b), q) in kd.iter().zip(&brute).zip(&shadow) {
+            prop_assert_eq!(k.is_some(), b.is_some(), "kd {:?} brute {:?} query {:?}", k, b, q);
+            if let Some(hit) = k {
+                prop_assert!(hit.t < q.t_limit, "any hit {:?} beyond {}", hit, q.t_limit);
+            }
+        }
+    }
+}

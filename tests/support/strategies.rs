@@ -1,0 +1,104 @@
+//! Random scenes, rays and trees for the property tests of the k-d walks:
+//! shared by the CPU mirror's tests (tests/kdtree_props.rs) and the GPU
+//! kernel's (tests/gpu_ray_queries.rs), so both meet the same cases: tiny,
+//! huge, coincident and axis-aligned objects; random, axis-parallel and
+//! plane-parallel rays; origins on split planes.
+#![allow(dead_code)]
+
+use glam::Vec3;
+use kdray::geometry::{Primitives, Ray, SphereF32, TriangleF32};
+use kdray::kdtree::KdTree;
+use proptest::prelude::*;
+
+pub fn vec3(range: f32) -> impl Strategy<Value = Vec3> {
+    (-range..range, -range..range, -range..range).prop_map(|(x, y, z)| Vec3::new(x, y, z))
+}
+
+/// Object sizes spanning tiny to huge relative to the 10-unit scene.
+pub fn size() -> impl Strategy<Value = f32> {
+    prop_oneof![4 => 0.05f32..1.0, 1 => 1e-4f32..1e-2, 1 => 3.0f32..30.0]
+}
+
+#[derive(Debug, Clone)]
+pub enum Object {
+    Sphere(SphereF32),
+    Triangle(TriangleF32),
+}
+
+pub fn object() -> impl Strategy<Value = Object> {
+    prop_oneof![
+        (vec3(10.0), size()).prop_map(|(c, r)| Object::Sphere(SphereF32 {
+            center: c,
+            radius: r
+        })),
+        (vec3(10.0), size(), vec3(1.0), vec3(1.0)).prop_map(|(c, s, a, b)| Object::Triangle(
+            TriangleF32 {
+                v: [c, c + a * s, c + b * s],
+            }
+        )),
+        // Axis-aligned triangles: they lie in, and bound, candidate split planes.
+        (vec3(10.0), size(), 0usize..3).prop_map(|(c, s, axis)| {
+            let (u, v) = (Vec3::AXES[(axis + 1) % 3], Vec3::AXES[(axis + 2) % 3]);
+            Object::Triangle(TriangleF32 {
+                v: [c, c + u * s, c + v * s],
+            })
+        }),
+    ]
+}
+
+pub fn scene() -> impl Strategy<Value = Primitives> {
+    (prop::collection::vec(object(), 1..120), 0usize..4).prop_map(|(objects, copies)| {
+        let mut prims = Primitives::default();
+        // Coincident objects: repeat the first few exactly.
+        let repeated = objects.iter().take(copies).cloned().collect::<Vec<_>>();
+        for o in objects.into_iter().chain(repeated) {
+            match o {
+                Object::Sphere(s) => prims.spheres.push(s),
+                Object::Triangle(t) => prims.triangles.push(t),
+            }
+        }
+        prims
+    })
+}
+
+pub fn direction() -> impl Strategy<Value = Vec3> {
+    prop_oneof![
+        3 => vec3(1.0).prop_filter("non-zero", |v| v.length() > 1e-3).prop_map(|v| v.normalize()),
+        1 => (0usize..3, any::<bool>()).prop_map(|(a, neg)| if neg { -Vec3::AXES[a] } else { Vec3::AXES[a] }),
+        // Parallel to one axis plane but not to an axis.
+        1 => (0usize..3, -1.0f32..1.0, -1.0f32..1.0).prop_filter("non-zero", |(_, x, y)| x.abs() + y.abs() > 1e-3).prop_map(|(a, x, y)| {
+            let mut v = Vec3::ZERO;
+            v[(a + 1) % 3] = x;
+            v[(a + 2) % 3] = y;
+            v.normalize()
+        }),
+    ]
+}
+
+/// Origins anywhere, or exactly on one of the tree's split planes.
+pub fn ray_for(tree: &KdTree, origin: Vec3, dir: Vec3, on_plane: Option<usize>) -> Ray {
+    let mut origin = origin;
+    if let Some(pick) = on_plane {
+        let inner: Vec<_> = tree.nodes.iter().filter(|n| !n.is_leaf()).collect();
+        if !inner.is_empty() {
+            let n = inner[pick % inner.len()];
+            origin[n.kind as usize] = n.split;
+        }
+    }
+    Ray { origin, dir }
+}
+
+/// Traversal costs for the build: 1 splits small scenes deeply (many planes
+/// for rays to start on and run along), 40 is the default.
+pub fn traversal_cost() -> impl Strategy<Value = f32> {
+    prop_oneof![Just(1.0f32), Just(15.0), Just(40.0)]
+}
+
+pub fn tree_for(prims: &Primitives, traversal_cost: f32) -> KdTree {
+    let bounds: Vec<_> = (0..prims.len() as u32).map(|id| prims.bounds(id)).collect();
+    let params = kdray::kdtree::BuildParams {
+        traversal_cost,
+        ..kdray::kdtree::BuildParams::for_object_count(bounds.len())
+    };
+    kdray::kdtree::build(&bounds, params)
+}
