@@ -67,7 +67,7 @@ struct FrameParams {
     node_count: u32,
     // accumulate_tile: which cell of the k x k sample grid this pass traces.
     sample_index: u32,
-    _pad: u32,
+    traversal: u32,   // TRAVERSAL_RESTART, TRAVERSAL_ROPES or TRAVERSAL_SHORT_STACK
 }
 
 // Rays traced by one dispatch, by kind; each invocation adds its own counts.

@@ -95,6 +95,10 @@ pub struct GpuLight {
 /// `FrameParams::accel` values.
 pub const ACCEL_KDTREE: u32 = 0;
 pub const ACCEL_BRUTE: u32 = 1;
+/// `FrameParams::traversal` values (`kdtree::Traversal`).
+pub const TRAVERSAL_RESTART: u32 = 0;
+pub const TRAVERSAL_ROPES: u32 = 1;
+pub const TRAVERSAL_SHORT_STACK: u32 = 2;
 /// `FrameParams::shadow_mode` values.
 pub const SHADOW_AMBIENT: u32 = 0;
 pub const SHADOW_SEED: u32 = 1;
@@ -135,7 +139,8 @@ pub struct FrameParams {
     /// `accumulate_tile`: which cell of the k x k sample grid this pass traces
     /// (row-major, taken modulo k * k).
     pub sample_index: u32,
-    pub _pad: u32,
+    /// Which k-d walk: `TRAVERSAL_RESTART`, `TRAVERSAL_ROPES` or `TRAVERSAL_SHORT_STACK`.
+    pub traversal: u32,
 }
 
 /// The head of `render_tile`'s output buffer: rays traced by the dispatch.
@@ -354,7 +359,7 @@ mod tests {
                 accel,
                 node_count,
                 sample_index,
-                _pad,
+                traversal,
             ]
         );
         // The host reads the counters as u32s; WGSL adds to them atomically.
