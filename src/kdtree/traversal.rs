@@ -74,3 +74,19 @@ impl std::fmt::Display for Traversal {
         f.write_str(self.name())
     }
 }
+
+impl crate::choice::Choice for Traversal {
+    const ALL: &'static [Self] = &Traversal::ALL;
+
+    fn name(self) -> &'static str {
+        Traversal::name(self)
+    }
+
+    fn help(self) -> &'static str {
+        match self {
+            Traversal::Restart => "kd-restart with push-down",
+            Traversal::Ropes => "ropes between neighbouring leaves (Popov et al. 2007)",
+            Traversal::ShortStack => "kd-restart with a three-entry short stack (Horn et al. 2007)",
+        }
+    }
+}
