@@ -113,5 +113,11 @@ fn trace_ray(ray: Ray, t_limit: f32, any_hit: bool) -> Hit {
     if (params.accel == ACCEL_BRUTE) {
         return trace_brute(ray, t_limit, any_hit);
     }
+    if (params.traversal == TRAVERSAL_ROPES) {
+        return trace_kdtree_ropes(ray, t_limit, any_hit);
+    }
+    if (params.traversal == TRAVERSAL_SHORT_STACK) {
+        return trace_kdtree_short_stack(ray, t_limit, any_hit);
+    }
     return trace_kdtree(ray, t_limit, any_hit);
 }

@@ -9,6 +9,13 @@ struct KdNode {
     count: u32,      // leaf: number of object ids
 }
 
+// A leaf's box and the node beyond each face (src/layout.rs LeafRopes).
+// Face 2 * axis is the low side, 2 * axis + 1 the high side.
+struct LeafRopes {
+    faces: array<f32, 6>,   // plane coordinate of each face
+    ropes: array<u32, 6>,   // node beyond each face; NO_ROPE on the scene's boundary
+}
+
 struct Sphere {
     center: vec3<f32>,
     radius: f32,
@@ -60,7 +67,7 @@ struct FrameParams {
     node_count: u32,
     // accumulate_tile: which cell of the k x k sample grid this pass traces.
     sample_index: u32,
-    _pad: u32,
+    traversal: u32,   // TRAVERSAL_RESTART, TRAVERSAL_ROPES or TRAVERSAL_SHORT_STACK
 }
 
 // Rays traced by one dispatch, by kind; each invocation adds its own counts.

@@ -31,6 +31,25 @@ impl KdNode {
     }
 }
 
+/// A leaf's box and its six ropes (Popov et al. 2007), 48 bytes: the rope
+/// walk's per-leaf data (`kdtree::ropes`). Face `2 * axis` is the box's
+/// low side on that axis, `2 * axis + 1` its high side; a ray leaves through
+/// face `2 * axis + (dir[axis] > 0)`.
+#[repr(C)]
+#[derive(Debug, Clone, Copy, PartialEq, Pod, Zeroable)]
+pub struct LeafRopes {
+    /// The plane coordinate of each face (min x, max x, min y, max y, min z, max z).
+    pub faces: [f32; 6],
+    /// The node beyond each face: the smallest one whose cell holds the
+    /// whole face strictly inside its planes; [`LeafRopes::NONE`] on the
+    /// scene's boundary.
+    pub ropes: [u32; 6],
+}
+
+impl LeafRopes {
+    pub const NONE: u32 = u32::MAX;
+}
+
 #[repr(C)]
 #[derive(Debug, Clone, Copy, PartialEq, Pod, Zeroable)]
 pub struct GpuSphere {
@@ -76,6 +95,10 @@ pub struct GpuLight {
 /// `FrameParams::accel` values.
 pub const ACCEL_KDTREE: u32 = 0;
 pub const ACCEL_BRUTE: u32 = 1;
+/// `FrameParams::traversal` values (`kdtree::Traversal`).
+pub const TRAVERSAL_RESTART: u32 = 0;
+pub const TRAVERSAL_ROPES: u32 = 1;
+pub const TRAVERSAL_SHORT_STACK: u32 = 2;
 /// `FrameParams::shadow_mode` values.
 pub const SHADOW_AMBIENT: u32 = 0;
 pub const SHADOW_SEED: u32 = 1;
@@ -116,7 +139,8 @@ pub struct FrameParams {
     /// `accumulate_tile`: which cell of the k x k sample grid this pass traces
     /// (row-major, taken modulo k * k).
     pub sample_index: u32,
-    pub _pad: u32,
+    /// Which k-d walk: `TRAVERSAL_RESTART`, `TRAVERSAL_ROPES` or `TRAVERSAL_SHORT_STACK`.
+    pub traversal: u32,
 }
 
 /// The head of `render_tile`'s output buffer: rays traced by the dispatch.
@@ -207,6 +231,24 @@ mod tests {
             is_vector(inner, naga::VectorSize::Bi, naga::Scalar::U32)
         }
     }
+    /// `array<f32 or u32, 6>`: six 4-byte elements (the element's scalar
+    /// type is behind a handle this check cannot follow; both are 4 bytes).
+    fn is_array_of_six_words(inner: &naga::TypeInner) -> bool {
+        matches!(
+            inner,
+            naga::TypeInner::Array { size: naga::ArraySize::Constant(n), stride: 4, .. } if n.get() == 6
+        )
+    }
+    impl WgslField for [f32; 6] {
+        fn matches(inner: &naga::TypeInner) -> bool {
+            is_array_of_six_words(inner)
+        }
+    }
+    impl WgslField for [u32; 6] {
+        fn matches(inner: &naga::TypeInner) -> bool {
+            is_array_of_six_words(inner)
+        }
+    }
     /// The ray counters: u32 on the host, `atomic<u32>` in WGSL.
     fn atomic_u32(inner: &naga::TypeInner) -> bool {
         *inner == naga::TypeInner::Atomic(naga::Scalar::U32)
@@ -274,6 +316,7 @@ mod tests {
         let source = include_str!("../shaders/types.wgsl");
         let (module, _) = crate::gpu::shaders::parse_and_validate(source);
         layout_of!(&module, "KdNode", KdNode, [kind, split, index, count]);
+        layout_of!(&module, "LeafRopes", LeafRopes, [faces, ropes]);
         layout_of!(&module, "Sphere", GpuSphere, [center, radius]);
         layout_of!(&module, "Triangle", GpuTriangle, [v0, v1, v2]);
         layout_of!(
@@ -316,7 +359,7 @@ mod tests {
                 accel,
                 node_count,
                 sample_index,
-                _pad,
+                traversal,
             ]
         );
         // The host reads the counters as u32s; WGSL adds to them atomically.

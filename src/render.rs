@@ -9,6 +9,7 @@ use crate::error::Result;
 use crate::gpu::{
     Accel, GpuContext, GpuTimeSource, PreparedScene, RenderedImage, Renderer, RowBand, TilePlan,
 };
+use crate::kdtree::Traversal;
 use crate::scene::Scene;
 
 /// What `kdray render --stats` prints, as one JSON object.
@@ -98,7 +99,7 @@ pub fn render_scene(
     let mut rgb = Vec::with_capacity(r.width as usize * r.height as usize * 3);
     let prepared = PreparedScene::new(scene.clone(), accel);
     let (stats, summary) =
-        render_scene_streaming(ctx, &prepared, accel, max_tile_pixels, &mut |band| {
+        render_scene_streaming(ctx, &prepared, accel, Traversal::Restart, max_tile_pixels, &mut |band| {
             rgb.extend_from_slice(band.rgb);
             Ok(())
         })?;
@@ -114,12 +115,13 @@ pub fn render_scene(
 }
 
 /// Renders a prepared scene on `ctx` with `accel` (which the scene must
-/// have been prepared for), handing bands of rows to `sink` top to bottom
+/// have been prepared for) and, for the k-d tree, the walk `traversal`, handing bands of rows to `sink` top to bottom
 /// as they are read back (for images too big to hold, and progress bars).
 pub fn render_scene_streaming(
     ctx: &GpuContext,
     prepared: &PreparedScene,
     accel: Accel,
+    traversal: Traversal,
     max_tile_pixels: u64,
     sink: &mut dyn FnMut(RowBand<'_>) -> Result<()>,
 ) -> Result<(RenderStats, crate::gpu::RenderSummary)> {
@@ -131,7 +133,7 @@ pub fn render_scene_streaming(
     let renderer = Renderer::new(ctx)?;
     let upload_ms = prepared.flatten_ms + ms_since(upload);
 
-    let params = prepared.frame_params(&buffers, accel);
+    let params = prepared.frame_params(&buffers, accel).with_traversal(traversal);
     let max_binding = crate::gpu::max_binding_bytes(&ctx.device.limits());
     let plan = TilePlan::new(
         scene.render.width,

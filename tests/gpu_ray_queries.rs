@@ -14,7 +14,7 @@ use std::sync::OnceLock;
 use kdray::geometry::{Primitives, Ray, T_INFINITY};
 use kdray::gpu::{Accel, PreparedScene, RayQueries, RayQuery};
 use kdray::kdtree::traverse::Hit;
-use kdray::kdtree::KdTree;
+use kdray::kdtree::{KdTree, Traversal};
 use kdray::scene::{Scene, Sphere, Triangle};
 use proptest::prelude::*;
 use strategies::{direction, ray_for, scene, traversal_cost, tree_for, vec3};
@@ -50,18 +50,21 @@ fn scene_of(prims: &Primitives) -> Scene {
     scene
 }
 
-/// The kernel's answers to `rays` over `tree`, with the k-d walk and with
-/// brute force.
-fn trace_both(prims: &Primitives, tree: &KdTree, rays: &[RayQuery]) -> [Vec<Option<Hit>>; 2] {
+/// The kernel's answers to `rays` over `tree`: brute force's, and each k-d
+/// walk's (`Traversal::ALL` order).
+fn trace_both(prims: &Primitives, tree: &KdTree, rays: &[RayQuery]) -> (Vec<Option<Hit>>, Vec<Vec<Option<Hit>>>) {
     let prepared = PreparedScene::with_tree(scene_of(prims), tree.clone());
     assert_eq!(prepared.tree.nodes, tree.nodes, "the GPU walks the tree built here");
     let ctx = common::gpu();
     let buffers = prepared.upload(ctx).unwrap_or_else(|e| panic!("{e}"));
-    [Accel::Kdtree, Accel::Brute].map(|accel| {
+    let trace = |accel, walk| {
         queries()
-            .trace(ctx, &buffers, &prepared.arrays.scene_ids, accel, rays)
+            .trace_walk(ctx, &buffers, &prepared.arrays.scene_ids, accel, walk, rays)
             .unwrap_or_else(|e| panic!("{e}"))
-    })
+    };
+    let brute = trace(Accel::Brute, Traversal::Restart);
+    let walks = Traversal::ALL.iter().map(|&walk| trace(Accel::Kdtree, walk)).collect();
+    (brute, walks)
 }
 
 /// Nearest hits agree: both miss, or both hit at the same t (a different
@@ -105,8 +108,10 @@ proptest! {
             .into_iter()
             .map(|(origin, dir, on_plane)| nearest(ray_for(&tree, origin, dir, on_plane)))
             .collect();
-        let [kd, brute] = trace_both(&prims, &tree, &rays);
-        check_nearest(&kd, &brute, &rays)?;
+        let (brute, walks) = trace_both(&prims, &tree, &rays);
+        for kd in &walks {
+            check_nearest(kd, &brute, &rays)?;
+        }
     }
 
     /// Rays aimed at objects from outside: mostly hits.
@@ -125,8 +130,10 @@ proptest! {
                 Some(nearest(Ray { origin, dir }))
             })
             .collect();
-        let [kd, brute] = trace_both(&prims, &tree, &rays);
-        check_nearest(&kd, &brute, &rays)?;
+        let (brute, walks) = trace_both(&prims, &tree, &rays);
+        for kd in &walks {
+            check_nearest(kd, &brute, &rays)?;
+        }
     }
 
     /// Shadow-ray queries on segments: blocked or not, as brute force says
@@ -144,7 +151,7 @@ proptest! {
             .collect();
         // Where brute force first hits each ray, to skip segments ending there.
         let whole: Vec<RayQuery> = segments.iter().map(|&(ray, _)| nearest(ray)).collect();
-        let [_, first] = trace_both(&prims, &tree, &whole);
+        let (first, _) = trace_both(&prims, &tree, &whole);
         let shadow: Vec<RayQuery> = segments
             .iter()
             .zip(&first)
@@ -153,11 +160,13 @@ proptest! {
             })
             .map(|(&(ray, t_limit), _)| RayQuery { ray, t_limit, any_hit: true })
             .collect();
-        let [kd, brute] = trace_both(&prims, &tree, &shadow);
-        for ((k, b), q) in kd.iter().zip(&brute).zip(&shadow) {
-            prop_assert_eq!(k.is_some(), b.is_some(), "kd {:?} brute {:?} query {:?}", k, b, q);
-            if let Some(hit) = k {
-                prop_assert!(hit.t < q.t_limit, "any hit {:?} beyond {}", hit, q.t_limit);
+        let (brute, walks) = trace_both(&prims, &tree, &shadow);
+        for (kd, walk) in walks.iter().zip(Traversal::ALL) {
+            for ((k, b), q) in kd.iter().zip(&brute).zip(&shadow) {
+                prop_assert_eq!(k.is_some(), b.is_some(), "{}: kd {:?} brute {:?} query {:?}", walk, k, b, q);
+                if let Some(hit) = k {
+                    prop_assert!(hit.t < q.t_limit, "{}: any hit {:?} beyond {}", walk, hit, q.t_limit);
+                }
             }
         }
     }

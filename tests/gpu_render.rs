@@ -5,37 +5,56 @@
 mod common;
 
 use common::*;
-use kdray::gpu::Accel;
+use kdray::gpu::{Accel, PreparedScene, RenderedImage, Renderer, TilePlan};
+use kdray::kdtree::Traversal;
+use kdray::scene::Scene;
 
-/// `--accel kdtree` and `--accel brute` give the same image on every scene,
-/// bit for bit: the walk finds brute force's nearest hit and its shadow
+/// `scene` through the k-d tree with the walk `traversal`, in dispatches of
+/// at most `max_tile_pixels`.
+fn render_walk(scene: &Scene, traversal: Traversal, max_tile_pixels: u64) -> RenderedImage {
+    let ctx = gpu();
+    let prepared = PreparedScene::new(scene.clone(), Accel::Kdtree);
+    let buffers = prepared.upload(ctx).unwrap_or_else(|e| panic!("{e}"));
+    let renderer = Renderer::new(ctx).unwrap_or_else(|e| panic!("{e}"));
+    let params = prepared.frame_params(&buffers, Accel::Kdtree).with_traversal(traversal);
+    let (w, h) = (scene.render.width, scene.render.height);
+    let plan = TilePlan::new(w, h, max_tile_pixels, kdray::gpu::max_binding_bytes(&ctx.device.limits()));
+    renderer.render(ctx, &buffers, params, plan).unwrap_or_else(|e| panic!("{e}"))
+}
+
+/// Every k-d walk and `--accel brute` give the same image on every scene,
+/// bit for bit: each walk finds brute force's nearest hit and its shadow
 /// rays' occluders. (A tolerance of 0.1% of pixels once hid a pixel off by
 /// 201 levels: a shadow ray through the corner of two split planes.)
 #[test]
 fn kdtree_equals_brute_force_on_every_scene() {
     for path in shipped_scenes() {
         let scene = small_scene(&path);
-        let kd = render(&scene, Accel::Kdtree);
         let brute = render(&scene, Accel::Brute);
-        let d = compare(&kd.rgb, &brute.rgb, kd.width, kd.height, 0);
-        assert_eq!(d.pixels_over, 0, "{}: {d:?}", path.display());
+        for walk in Traversal::ALL {
+            let kd = render_walk(&scene, walk, TilePlan::DEFAULT_MAX_TILE_PIXELS);
+            let d = compare(&kd.rgb, &brute.rgb, kd.width, kd.height, 0);
+            assert_eq!(d.pixels_over, 0, "{} ({walk}): {d:?}", path.display());
+        }
     }
 }
 
 /// Small tiles give the same image, bit for bit, and the same ray counts as
-/// one dispatch.
+/// one dispatch, with every walk.
 #[test]
 fn tiled_render_equals_untiled() {
     let scene = small_scene(&repo_path("scenes/seed.toml"));
-    let whole = render_tiled(&scene, Accel::Kdtree, u64::MAX);
-    let tiled = render_tiled(&scene, Accel::Kdtree, 37 * 3); // odd-sized tiles, partial last tile
-    assert_eq!(whole.rgb, tiled.rgb);
-    // The shader's ray counters are per tile and summed: tiling changes nothing.
-    assert_eq!(whole.rays, tiled.rays);
-    assert_eq!(
-        whole.rays.primary,
-        (scene.render.width * scene.render.height) as u64
-    );
+    for walk in Traversal::ALL {
+        let whole = render_walk(&scene, walk, u64::MAX);
+        let tiled = render_walk(&scene, walk, 37 * 3); // odd-sized tiles, partial last tile
+        assert_eq!(whole.rgb, tiled.rgb, "{walk}");
+        // The shader's ray counters are per tile and summed: tiling changes nothing.
+        assert_eq!(whole.rays, tiled.rays, "{walk}");
+        assert_eq!(
+            whole.rays.primary,
+            (scene.render.width * scene.render.height) as u64
+        );
+    }
 }
 
 const HEAD_ON: &str = r#"

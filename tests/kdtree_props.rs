@@ -1,8 +1,11 @@
-//! Property tests: the CPU mirror of the shader's stackless k-d traversal
-//! agrees with brute force on random scenes and rays, including the cases
-//! the seed's tree gets wrong (straddling objects, nearer hits in the far
-//! child) and the numerically awkward ones (axis-parallel rays, rays on and
-//! in split planes, coincident, tiny and huge objects).
+//! Property tests: the CPU mirrors of the shader's stackless k-d walks
+//! (every `Traversal`: restart, ropes, short stack) agree with brute force
+//! on random scenes and rays, including the cases the seed's tree gets wrong
+//! (straddling objects, nearer hits in the far child) and the numerically
+//! awkward ones (axis-parallel rays, rays on and in split planes, through
+//! leaf edges and corners, coincident, tiny and huge objects). Every
+//! property runs every walk on the same generated cases, so the replayed
+//! seeds of kdtree_props.proptest-regressions cover them all.
 
 use std::path::Path;
 
@@ -10,29 +13,93 @@ use std::path::Path;
 mod strategies;
 
 use glam::Vec3;
-use kdray::geometry::{Primitives, Ray, SphereF32, T_INFINITY};
-use kdray::kdtree::traverse::{any_hit, any_hit_brute, closest_hit, closest_hit_brute};
-use kdray::kdtree::KdTree;
+use kdray::geometry::{Primitives, Ray, SphereF32, TriangleF32, T_INFINITY};
+use kdray::kdtree::traverse::{any_hit_brute, closest_hit_brute, Hit};
+use kdray::kdtree::{KdTree, Ropes, Traversal};
 use proptest::prelude::*;
-use strategies::{direction, ray_for, scene, traversal_cost, tree_for, vec3};
+use strategies::{direction, ray_for, scene, traversal_cost, vec3, Object};
 
-fn check_closest(tree: &KdTree, prims: &Primitives, ray: &Ray) -> Result<(), TestCaseError> {
-    let kd = closest_hit(tree, prims, ray, T_INFINITY);
+/// A tree and its ropes: what every walk needs.
+struct Walks {
+    tree: KdTree,
+    ropes: Ropes,
+}
+
+impl Walks {
+    fn new(tree: KdTree) -> Self {
+        let ropes = Ropes::build(&tree);
+        Walks { tree, ropes }
+    }
+
+    fn closest_hit(&self, walk: Traversal, prims: &Primitives, ray: &Ray, t_limit: f32) -> Option<Hit> {
+        walk.closest_hit(&self.tree, &self.ropes, prims, ray, t_limit)
+    }
+
+    fn any_hit(&self, walk: Traversal, prims: &Primitives, ray: &Ray, t_limit: f32) -> bool {
+        walk.any_hit(&self.tree, &self.ropes, prims, ray, t_limit)
+    }
+}
+
+fn tree_for(prims: &Primitives, traversal_cost: f32) -> Walks {
+    Walks::new(strategies::tree_for(prims, traversal_cost))
+}
+
+/// Every walk's nearest hit against brute force. The walks also agree with
+/// each other exactly (same object, same t): they visit the same leaves with
+/// the same intervals (see `kdray::kdtree::traversal`).
+fn check_closest(walks: &Walks, prims: &Primitives, ray: &Ray) -> Result<(), TestCaseError> {
     let brute = closest_hit_brute(prims, ray, T_INFINITY);
-    match (kd, brute) {
-        (None, None) => {}
-        (Some(k), Some(b)) => {
-            let tol = 1e-4 * b.t.max(1.0);
-            prop_assert!(
-                (k.t - b.t).abs() <= tol,
-                "t differs: kd {:?} brute {:?} ray {:?}",
-                k,
-                b,
-                ray
-            );
-            // A different object is fine only for a tie (coincident objects).
+    let restart = walks.closest_hit(Traversal::Restart, prims, ray, T_INFINITY);
+    for walk in Traversal::ALL {
+        let kd = walks.closest_hit(walk, prims, ray, T_INFINITY);
+        match (kd, brute) {
+            (None, None) => {}
+            (Some(k), Some(b)) => {
+                let tol = 1e-4 * b.t.max(1.0);
+                prop_assert!(
+                    (k.t - b.t).abs() <= tol,
+                    "{}: t differs: kd {:?} brute {:?} ray {:?}",
+                    walk,
+                    k,
+                    b,
+                    ray
+                );
+                // A different object is fine only for a tie (coincident objects).
+            }
+            (k, b) => prop_assert!(false, "{}: kd {:?} brute {:?} ray {:?}", walk, k, b, ray),
         }
-        (k, b) => prop_assert!(false, "kd {:?} brute {:?} ray {:?}", k, b, ray),
+        prop_assert_eq!(kd, restart, "{} differs from the restart walk, ray {:?}", walk, ray);
+    }
+    Ok(())
+}
+
+/// Every walk returns exactly the restart walk's nearest hit.
+fn check_walks_agree(walks: &Walks, prims: &Primitives, ray: &Ray) -> Result<(), TestCaseError> {
+    let restart = walks.closest_hit(Traversal::Restart, prims, ray, T_INFINITY);
+    for walk in Traversal::ALL {
+        prop_assert_eq!(walks.closest_hit(walk, prims, ray, T_INFINITY), restart, "{} differs from the restart walk, ray {:?}", walk, ray);
+    }
+    Ok(())
+}
+
+/// Whether `hit`'s point lies on its object's bounding box boundary on two
+/// or more axes the ray is not parallel to: the ray meets the object where
+/// two or three of the box's planes meet (an edge or a corner of the box).
+fn touches_at_a_box_edge(prims: &Primitives, ray: &Ray, hit: Hit) -> bool {
+    let b = prims.bounds(hit.object);
+    let p = ray.origin + ray.dir * hit.t;
+    let on = (0..3)
+        .filter(|&a| ray.dir[a] != 0.0)
+        .filter(|&a| (p[a] - b.min[a]).abs() <= 1e-5 * p[a].abs().max(1.0) || (p[a] - b.max[a]).abs() <= 1e-5 * p[a].abs().max(1.0))
+        .count();
+    on >= 2
+}
+
+/// Every walk's any-hit answer on the segment [0, length] against brute force.
+fn check_any(walks: &Walks, prims: &Primitives, ray: &Ray, length: f32) -> Result<(), TestCaseError> {
+    let brute = any_hit_brute(prims, ray, length);
+    for walk in Traversal::ALL {
+        prop_assert_eq!(walks.any_hit(walk, prims, ray, length), brute, "{}: ray {:?} length {}", walk, ray, length);
     }
     Ok(())
 }
@@ -46,10 +113,10 @@ proptest! {
         cost in traversal_cost(),
         rays in prop::collection::vec((vec3(14.0), direction(), prop::option::of(any::<usize>())), 1..40),
     ) {
-        let tree = tree_for(&prims, cost);
+        let walks = tree_for(&prims, cost);
         for (origin, dir, on_plane) in rays {
-            let ray = ray_for(&tree, origin, dir, on_plane);
-            check_closest(&tree, &prims, &ray)?;
+            let ray = ray_for(&walks.tree, origin, dir, on_plane);
+            check_closest(&walks, &prims, &ray)?;
         }
     }
 
@@ -59,15 +126,15 @@ proptest! {
         cost in traversal_cost(),
         rays in prop::collection::vec((vec3(14.0), direction(), prop::option::of(any::<usize>()), 0.01f32..30.0), 1..40),
     ) {
-        let tree = tree_for(&prims, cost);
+        let walks = tree_for(&prims, cost);
         for (origin, dir, on_plane, length) in rays {
-            let ray = ray_for(&tree, origin, dir, on_plane);
+            let ray = ray_for(&walks.tree, origin, dir, on_plane);
             // Segments ending exactly at a hit are ties; step back from them.
             let brute_t = closest_hit_brute(&prims, &ray, T_INFINITY).map(|h| h.t);
             if brute_t.is_some_and(|t| (t - length).abs() <= 1e-4 * length.max(1.0)) {
                 continue;
             }
-            prop_assert_eq!(any_hit(&tree, &prims, &ray, length), any_hit_brute(&prims, &ray, length), "ray {:?} length {}", ray, length);
+            check_any(&walks, &prims, &ray, length)?;
         }
     }
 
@@ -76,12 +143,12 @@ proptest! {
     #[test]
     fn aimed_rays_match_brute_force(prims in scene(),
         cost in traversal_cost(), picks in prop::collection::vec((any::<usize>(), vec3(14.0)), 1..30)) {
-        let tree = tree_for(&prims, cost);
+        let walks = tree_for(&prims, cost);
         for (pick, origin) in picks {
             let b = prims.bounds((pick % prims.len()) as u32);
             let target = (b.min + b.max) * 0.5;
             let Some(dir) = (target - origin).try_normalize() else { continue };
-            check_closest(&tree, &prims, &Ray { origin, dir })?;
+            check_closest(&walks, &prims, &Ray { origin, dir })?;
         }
     }
 
@@ -93,7 +160,7 @@ proptest! {
     /// leaf ranges inside `leaf_objects`, naming real objects.
     #[test]
     fn flat_layout_is_what_the_kernel_assumes(prims in scene(), cost in traversal_cost()) {
-        let tree = tree_for(&prims, cost);
+        let tree = tree_for(&prims, cost).tree;
         let n = tree.nodes.len();
         prop_assert!(n >= 1);
         let mut reached = vec![0u32; n];
@@ -123,7 +190,7 @@ proptest! {
     #[test]
     fn every_point_of_an_object_is_in_its_leaf(prims in scene(),
         cost in traversal_cost(), fractions in prop::collection::vec((0.0f32..=1.0, 0.0f32..=1.0, 0.0f32..=1.0, any::<usize>()), 1..50)) {
-        let tree = tree_for(&prims, cost);
+        let tree = tree_for(&prims, cost).tree;
         for (fx, fy, fz, pick) in fractions {
             let id = (pick % prims.len()) as u32;
             let b = prims.bounds(id);
@@ -160,8 +227,8 @@ proptest! {
             1..40,
         ),
     ) {
-        let tree = tree_for(&prims, cost);
-        let inner: Vec<_> = tree.nodes.iter().filter(|n| !n.is_leaf()).collect();
+        let walks = tree_for(&prims, cost);
+        let inner: Vec<_> = walks.tree.nodes.iter().filter(|n| !n.is_leaf()).collect();
         if inner.is_empty() {
             return Ok(()); // one leaf: no split plane to graze
         }
@@ -175,8 +242,258 @@ proptest! {
             let Some(flat) = dir.try_normalize() else { continue };
             let mut dir = flat;
             dir[a] = if down { -slope } else { slope };
-            check_closest(&tree, &prims, &Ray { origin, dir: dir.normalize() })?;
+            check_closest(&walks, &prims, &Ray { origin, dir: dir.normalize() })?;
         }
+    }
+}
+
+/// Scenes on a grid of quarter units: every box face, hence every split
+/// plane and every leaf corner, is a multiple of 1/4, and sums and
+/// differences of such numbers are exact in f32. Spheres, flat axis-aligned
+/// triangles (lying in planes) and triangles with grid vertices.
+fn grid_scene() -> impl Strategy<Value = Primitives> {
+    fn grid_point() -> impl Strategy<Value = Vec3> {
+        (-32i32..32, -32i32..32, -32i32..32).prop_map(|(x, y, z)| Vec3::new(x as f32, y as f32, z as f32) * 0.25)
+    }
+    let object = prop_oneof![
+        (grid_point(), 1i32..8).prop_map(|(center, r)| Object::Sphere(SphereF32 { center, radius: r as f32 * 0.25 })),
+        (grid_point(), 1i32..12, 1i32..12, 0usize..3).prop_map(|(c, i, j, axis)| {
+            let (u, v) = (Vec3::AXES[(axis + 1) % 3], Vec3::AXES[(axis + 2) % 3]);
+            Object::Triangle(TriangleF32 { v: [c, c + u * (i as f32 * 0.25), c + v * (j as f32 * 0.25)] })
+        }),
+        (grid_point(), grid_point(), grid_point()).prop_map(|(a, b, c)| Object::Triangle(TriangleF32 { v: [a, b, c] })),
+    ];
+    (prop::collection::vec(object, 1..80), 0usize..3).prop_map(|(objects, copies)| {
+        let mut prims = Primitives::default();
+        let repeated = objects.iter().take(copies).cloned().collect::<Vec<_>>();
+        for o in objects.into_iter().chain(repeated) {
+            match o {
+                Object::Sphere(s) => prims.spheres.push(s),
+                Object::Triangle(t) => prims.triangles.push(t),
+            }
+        }
+        prims
+    })
+}
+
+/// The box of leaf record `pick`, as (min, max).
+fn leaf_box(walks: &Walks, pick: usize) -> (Vec3, Vec3) {
+    let f = walks.ropes.leaves[pick % walks.ropes.leaves.len()].faces;
+    (Vec3::new(f[0], f[2], f[4]), Vec3::new(f[1], f[3], f[5]))
+}
+
+/// The sign vector of a ray direction: each axis -1, 0 or 1, not all 0.
+fn signs() -> impl Strategy<Value = Vec3> {
+    (-1i32..=1, -1i32..=1, -1i32..=1)
+        .prop_filter("non-zero", |&(x, y, z)| (x, y, z) != (0, 0, 0))
+        .prop_map(|(x, y, z)| Vec3::new(x as f32, y as f32, z as f32))
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig { cases: 512, .. ProptestConfig::default() })]
+
+    /// Rays through the corners, edges and faces of actual leaves, on the
+    /// grid: a point of a leaf's box (each coordinate its min, max or
+    /// middle), and a direction whose non-zero components are equal in
+    /// size, from an origin `k` steps back along it. Every plane of the
+    /// point is then met at exactly the same `t`, so the ray crosses two or
+    /// three planes at once at an edge or a corner; zero components make it
+    /// lie in the point's planes (axis-parallel rays lie in two). The walks
+    /// must find what brute force finds, nearest and any-hit.
+    #[test]
+    fn rays_through_leaf_corners_and_edges_match_brute_force(
+        prims in grid_scene(),
+        cost in traversal_cost(),
+        rays in prop::collection::vec((any::<usize>(), [0usize..3, 0usize..3, 0usize..3], signs(), 0i32..64, 0.01f32..30.0), 1..40),
+    ) {
+        let walks = tree_for(&prims, cost);
+        for (pick, corner, sign, back, length) in rays {
+            let (min, max) = leaf_box(&walks, pick);
+            let mut point = Vec3::ZERO;
+            for a in 0..3 {
+                point[a] = [min[a], max[a], (min[a] + max[a]) * 0.5][corner[a]];
+            }
+            let ray = Ray { origin: point - sign * (back as f32 * 0.25), dir: sign.normalize() };
+            let brute = closest_hit_brute(&prims, &ray, T_INFINITY);
+            if brute.is_some_and(|hit| touches_at_a_box_edge(&prims, &ray, hit)) {
+                // The known gap of `a_ray_touching_an_object_only_at_its_box_corner_is_missed`:
+                // the walks still agree with each other exactly.
+                check_walks_agree(&walks, &prims, &ray)?;
+                continue;
+            }
+            check_closest(&walks, &prims, &ray)?;
+            let brute_t = brute.map(|h| h.t);
+            if brute_t.is_none_or(|t| (t - length).abs() > 1e-4 * length.max(1.0)) {
+                check_any(&walks, &prims, &ray, length)?;
+            }
+        }
+    }
+
+    /// Rays lying in a split plane (the direction has no component across
+    /// it), or in two (along the axis of both), from anywhere in the plane.
+    #[test]
+    fn rays_lying_in_split_planes_match_brute_force(
+        prims in scene(),
+        cost in traversal_cost(),
+        rays in prop::collection::vec((vec3(14.0), any::<usize>(), any::<usize>(), any::<bool>(), -1.0f32..1.0, -1.0f32..1.0), 1..40),
+    ) {
+        let walks = tree_for(&prims, cost);
+        let inner: Vec<_> = walks.tree.nodes.iter().filter(|n| !n.is_leaf()).collect();
+        if inner.is_empty() {
+            return Ok(()); // one leaf: no plane to lie in
+        }
+        for (mut origin, first, second, two, x, y) in rays {
+            let n = inner[first % inner.len()];
+            let a = n.kind as usize;
+            origin[a] = n.split;
+            let mut dir = Vec3::ZERO;
+            dir[(a + 1) % 3] = x;
+            dir[(a + 2) % 3] = y;
+            if two {
+                // A second plane on another axis, if there is one: the ray
+                // runs along the line where both meet.
+                let m = inner[second % inner.len()];
+                let b = m.kind as usize;
+                if b != a {
+                    origin[b] = m.split;
+                    dir = Vec3::ZERO;
+                    dir[3 - a - b] = if x < 0.0 { -1.0 } else { 1.0 };
+                }
+            }
+            let Some(dir) = dir.try_normalize() else { continue };
+            check_closest(&walks, &prims, &Ray { origin, dir })?;
+        }
+    }
+
+    /// Rays starting on a leaf's face, inside the scene, in any direction
+    /// (into the leaf, out of it into its neighbours, or along the face).
+    #[test]
+    fn rays_starting_on_a_leaf_face_match_brute_force(
+        prims in scene(),
+        cost in traversal_cost(),
+        rays in prop::collection::vec((any::<usize>(), 0usize..6, 0.0f32..=1.0, 0.0f32..=1.0, direction(), 0.01f32..30.0), 1..40),
+    ) {
+        let walks = tree_for(&prims, cost);
+        for (pick, face, u, v, dir, length) in rays {
+            let (min, max) = leaf_box(&walks, pick);
+            let a = face / 2;
+            let (b, c) = ((a + 1) % 3, (a + 2) % 3);
+            let mut origin = Vec3::ZERO;
+            origin[a] = if face % 2 == 1 { max[a] } else { min[a] };
+            origin[b] = min[b] + (max[b] - min[b]) * u;
+            origin[c] = min[c] + (max[c] - min[c]) * v;
+            let ray = Ray { origin, dir };
+            check_closest(&walks, &prims, &ray)?;
+            let brute_t = closest_hit_brute(&prims, &ray, T_INFINITY).map(|h| h.t);
+            if brute_t.is_none_or(|t| (t - length).abs() > 1e-4 * length.max(1.0)) {
+                check_any(&walks, &prims, &ray, length)?;
+            }
+        }
+    }
+
+    /// One big empty leaf facing a wall of many small ones: rays leave the
+    /// big leaf through a face shared by all of them (its rope points at a
+    /// node above them, and the descent from there picks the right one),
+    /// and rays come back the other way.
+    #[test]
+    fn rays_through_a_face_shared_by_many_leaves_match_brute_force(
+        rays in prop::collection::vec((vec3(1.0), vec3(1.0), any::<bool>()), 1..60),
+    ) {
+        let (prims, walks) = big_leaf_facing_many();
+        for (from, to, back) in rays {
+            // From the big leaf's side (x < 0) to the wall's (x in [0, 1]) and on.
+            let a = Vec3::new(-8.0 + 2.0 * from.x, 6.0 * from.y, 6.0 * from.z);
+            let b = Vec3::new(0.5 + 0.6 * to.x, 5.5 * to.y, 5.5 * to.z);
+            let (origin, target) = if back { (b + (b - a), a) } else { (a, b) };
+            let Some(dir) = (target - origin).try_normalize() else { continue };
+            check_closest(&walks, &prims, &Ray { origin, dir })?;
+        }
+    }
+}
+
+/// A small sphere far out at x = -10 and a wall of 11 x 11 small spheres in
+/// x in [0, 1]: the empty space between is one big leaf whose +x face is
+/// shared by many small leaves.
+fn big_leaf_facing_many() -> (Primitives, Walks) {
+    let mut prims = Primitives::default();
+    prims.spheres.push(SphereF32 { center: Vec3::new(-10.0, 0.0, 0.0), radius: 0.5 });
+    for i in -5i32..=5 {
+        for j in -5i32..=5 {
+            let r = 0.2 + 0.02 * ((i + j).rem_euclid(5) as f32);
+            prims.spheres.push(SphereF32 { center: Vec3::new(0.5, i as f32, j as f32), radius: r });
+        }
+    }
+    let walks = tree_for(&prims, 15.0);
+    (prims, walks)
+}
+
+/// The scene above really has a leaf whose face's rope leads to a node with
+/// many leaves below it (else the property test above tests nothing special).
+#[test]
+fn the_big_leaf_faces_many_small_ones() {
+    let (_, walks) = big_leaf_facing_many();
+    let leaves_below = |root: usize| {
+        let mut pending = vec![root];
+        let mut count = 0;
+        while let Some(i) = pending.pop() {
+            let n = walks.tree.nodes[i];
+            if n.is_leaf() {
+                count += 1;
+            } else {
+                pending.extend([i + 1, n.index as usize]);
+            }
+        }
+        count
+    };
+    let most = walks
+        .ropes
+        .leaves
+        .iter()
+        .flat_map(|r| r.ropes)
+        .filter(|&rope| rope != kdray::layout::LeafRopes::NONE)
+        .map(|rope| leaves_below(rope as usize))
+        .max()
+        .unwrap_or(0);
+    assert!(most >= 20, "no rope leads to more than {most} leaves");
+}
+
+/// A known gap, found by `rays_through_leaf_corners_and_edges_match_brute_force`
+/// and shared by all three walks (they agree exactly), so it lies in the
+/// tree's classification and the restart walk's rules, not in the new walks:
+/// a ray crosses the planes x = 5, y = -1.25 and z = 4 at one point, which is
+/// a vertex of triangle 4 and the corner (max x, max y, max z) of its box.
+/// The triangle touches those planes from below only, so it is filed only
+/// below each; the ray is above x and z before the corner and above y after
+/// it, so no cell it spends time in holds the triangle, and brute force's
+/// hit at the vertex is missed. Ignored until the build files objects that
+/// touch a plane on both sides (or the walks visit the cells at a corner);
+/// `cargo test -- --ignored` shows it.
+#[test]
+#[ignore = "known gap: an object met only at its box corner where three split planes cross"]
+fn a_ray_touching_an_object_only_at_its_box_corner_is_missed() {
+    let v = Vec3::new;
+    let triangles = [
+        [v(0.0, 0.0, 0.0), v(1.25, 0.0, 0.0), v(-4.0, 1.25, 1.25)],
+        [v(6.5, 0.0, 0.0), v(6.5, 0.0, 0.25), v(8.25, 0.0, 0.0)],
+        [v(0.0, 1.25, 0.0), v(0.0, 1.25, 0.25), v(0.25, 1.25, 0.0)],
+        [v(0.0, -7.25, 2.0), v(4.75, 0.0, 0.0), v(0.0, 6.5, -2.25)],
+        [v(-4.75, -1.5, 0.5), v(5.0, -1.25, 4.0), v(0.0, -1.25, 2.0)],
+        [v(0.0, 0.0, 0.0), v(1.25, 0.0, 0.0), v(-4.0, 1.25, 1.25)],
+        [v(6.5, 0.0, 0.0), v(6.5, 0.0, 0.25), v(8.25, 0.0, 0.0)],
+    ];
+    let prims = Primitives {
+        triangles: triangles.iter().map(|&v| TriangleF32 { v }).collect(),
+        ..Default::default()
+    };
+    let walks = tree_for(&prims, 15.0);
+    let ray = Ray {
+        origin: v(5.25, -1.5, 4.25),
+        dir: v(-1.0, 1.0, -1.0).normalize(),
+    };
+    let brute = closest_hit_brute(&prims, &ray, T_INFINITY).expect("brute force hits the vertex");
+    assert_eq!(brute.object, 4);
+    for walk in Traversal::ALL {
+        assert_eq!(walks.closest_hit(walk, &prims, &ray, T_INFINITY), Some(brute), "{walk}");
     }
 }
 
@@ -207,20 +524,22 @@ fn straddling_sphere_scene_matches_brute_force() {
         traversal_cost: 1.0,
         ..kdray::kdtree::BuildParams::for_object_count(bounds.len())
     };
-    let tree = kdray::kdtree::build(&bounds, params);
-    assert!(tree.nodes.len() > 1, "the scene must be split");
-    let ray = Ray {
-        origin: Vec3::new(-10.0, 0.0, 0.0),
-        dir: Vec3::X,
-    };
-    let hit = closest_hit(&tree, &prims, &ray, T_INFINITY).expect("hit");
-    assert_eq!(hit.object, 0);
-    let ray = Ray {
-        origin: Vec3::new(-3.0, 0.0, 0.0),
-        dir: Vec3::X,
-    };
-    let hit = closest_hit(&tree, &prims, &ray, T_INFINITY).expect("hit");
-    assert_eq!(hit, closest_hit_brute(&prims, &ray, T_INFINITY).unwrap());
+    let walks = Walks::new(kdray::kdtree::build(&bounds, params));
+    assert!(walks.tree.nodes.len() > 1, "the scene must be split");
+    for walk in Traversal::ALL {
+        let ray = Ray {
+            origin: Vec3::new(-10.0, 0.0, 0.0),
+            dir: Vec3::X,
+        };
+        let hit = walks.closest_hit(walk, &prims, &ray, T_INFINITY).expect("hit");
+        assert_eq!(hit.object, 0, "{walk}");
+        let ray = Ray {
+            origin: Vec3::new(-3.0, 0.0, 0.0),
+            dir: Vec3::X,
+        };
+        let hit = walks.closest_hit(walk, &prims, &ray, T_INFINITY).expect("hit");
+        assert_eq!(hit, closest_hit_brute(&prims, &ray, T_INFINITY).unwrap(), "{walk}");
+    }
 }
 
 /// The tree does not depend on how many threads build it (subtrees built
@@ -267,7 +586,7 @@ fn a_ray_through_the_corner_of_two_split_planes_finds_the_faces_there() {
     )
     .unwrap();
     let prims = Primitives::from_scene(&scene);
-    let tree = KdTree::for_primitives(&prims);
+    let walks = Walks::new(KdTree::for_primitives(&prims));
     let ray = Ray {
         origin: Vec3::new(-1.076953, 1.076953, -1.999799),
         dir: Vec3::new(0.10646964, -0.10646964, 0.98859924),
@@ -277,13 +596,15 @@ fn a_ray_through_the_corner_of_two_split_planes_finds_the_faces_there() {
         any_hit_brute(&prims, &ray, length),
         "brute force sees the edge"
     );
-    assert!(
-        any_hit(&tree, &prims, &ray, length),
-        "the walk missed the edge"
-    );
-    let kd = closest_hit(&tree, &prims, &ray, T_INFINITY).expect("hit");
-    let brute = closest_hit_brute(&prims, &ray, T_INFINITY).unwrap();
-    assert_eq!(kd.t, brute.t);
+    for walk in Traversal::ALL {
+        assert!(
+            walks.any_hit(walk, &prims, &ray, length),
+            "{walk}: the walk missed the edge"
+        );
+        let kd = walks.closest_hit(walk, &prims, &ray, T_INFINITY).expect("hit");
+        let brute = closest_hit_brute(&prims, &ray, T_INFINITY).unwrap();
+        assert_eq!(kd.t, brute.t, "{walk}");
+    }
 }
 
 #[test]
@@ -298,13 +619,15 @@ fn ten_thousand_copies_of_one_sphere() {
         ],
         ..Default::default()
     };
-    let tree = KdTree::for_primitives(&prims);
+    let walks = Walks::new(KdTree::for_primitives(&prims));
     let ray = Ray {
         origin: Vec3::new(1.0, 2.0, -10.0),
         dir: Vec3::Z,
     };
-    let hit = closest_hit(&tree, &prims, &ray, T_INFINITY).expect("hit");
-    assert!((hit.t - 12.5).abs() < 1e-4);
-    assert!(any_hit(&tree, &prims, &ray, 13.0));
-    assert!(!any_hit(&tree, &prims, &ray, 12.0));
+    for walk in Traversal::ALL {
+        let hit = walks.closest_hit(walk, &prims, &ray, T_INFINITY).expect("hit");
+        assert!((hit.t - 12.5).abs() < 1e-4, "{walk}");
+        assert!(walks.any_hit(walk, &prims, &ray, 13.0), "{walk}");
+        assert!(!walks.any_hit(walk, &prims, &ray, 12.0), "{walk}");
+    }
 }

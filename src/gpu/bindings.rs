@@ -9,7 +9,10 @@
 //! kernel: binding numbers and access by name, constants by value.
 
 use crate::geometry::{PARALLEL_EPSILON, T_INFINITY};
-use crate::layout::{KdNode, ACCEL_BRUTE, ACCEL_KDTREE, SHADOW_AMBIENT, SHADOW_SEED};
+use crate::layout::{
+    KdNode, LeafRopes, ACCEL_BRUTE, ACCEL_KDTREE, SHADOW_AMBIENT, SHADOW_SEED, TRAVERSAL_RESTART,
+    TRAVERSAL_ROPES, TRAVERSAL_SHORT_STACK,
+};
 
 /// How a kernel reads or writes a binding.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -54,13 +57,17 @@ pub const TILE_OUTPUT: Binding = binding(8, "tile_output", "TileOutput", Storage
 /// `accumulate_tile`'s output: per pixel, the sum of clamped samples and their count.
 pub const ACCUMULATION: Binding =
     binding(9, "accumulation", "array<vec4<f32>>", StorageReadWrite);
+/// The rope walk's per-leaf boxes and ropes ([`crate::layout::LeafRopes`]).
+pub const LEAF_ROPES: Binding = binding(12, "leaf_ropes", "array<LeafRopes>", StorageRead);
+/// For each k-d node, its record in `leaf_ropes` (leaves only).
+pub const LEAF_ROPE_INDEX: Binding = binding(13, "leaf_rope_index", "array<u32>", StorageRead);
 /// `trace_rays` (the debug entry point): the rays to trace.
 pub const QUERY_RAYS: Binding = binding(10, "query_rays", "array<QueryRay>", StorageRead);
 /// `trace_rays`: one hit per ray.
 pub const QUERY_HITS: Binding = binding(11, "query_hits", "array<QueryHit>", StorageReadWrite);
 
 /// The scene's storage buffers, in the order [`crate::gpu::SceneArrays`] lists them.
-pub const SCENE: [Binding; 7] = [
+pub const SCENE: [Binding; 9] = [
     SPHERES,
     TRIANGLES,
     OBJECT_MATERIALS,
@@ -68,6 +75,8 @@ pub const SCENE: [Binding; 7] = [
     LIGHTS,
     KD_NODES,
     LEAF_OBJECTS,
+    LEAF_ROPES,
+    LEAF_ROPE_INDEX,
 ];
 
 /// Every binding the kernel declares: the parameters, the scene, and each
@@ -93,7 +102,7 @@ pub enum SharedValue {
 }
 
 /// Every constant the kernel and the host must agree on, by WGSL name.
-pub const SHARED_CONSTANTS: [(&str, SharedValue); 10] = [
+pub const SHARED_CONSTANTS: [(&str, SharedValue); 14] = [
     ("KD_LEAF", SharedValue::U32(KdNode::LEAF)),
     ("ACCEL_KDTREE", SharedValue::U32(ACCEL_KDTREE)),
     ("ACCEL_BRUTE", SharedValue::U32(ACCEL_BRUTE)),
@@ -110,6 +119,12 @@ pub const SHARED_CONSTANTS: [(&str, SharedValue); 10] = [
     ("LOOP_LIMIT_WARNING", SharedValue::U32(LOOP_LIMIT_WARNING)),
     // Rays per workgroup of `trace_rays`.
     ("QUERY_WORKGROUP", SharedValue::U32(crate::gpu::shaders::QUERY_WORKGROUP)),
+    // `FrameParams::traversal`: which k-d walk the kernel runs.
+    ("TRAVERSAL_RESTART", SharedValue::U32(TRAVERSAL_RESTART)),
+    ("TRAVERSAL_ROPES", SharedValue::U32(TRAVERSAL_ROPES)),
+    ("TRAVERSAL_SHORT_STACK", SharedValue::U32(TRAVERSAL_SHORT_STACK)),
+    // A face on the scene's boundary has no rope.
+    ("NO_ROPE", SharedValue::U32(LeafRopes::NONE)),
 ];
 
 /// The object id of a miss.

@@ -4,7 +4,11 @@
 //! window.
 
 use super::SceneBuffers;
-use crate::layout::{FrameParams, ACCEL_BRUTE, ACCEL_KDTREE, SHADOW_AMBIENT, SHADOW_SEED};
+use crate::kdtree::Traversal;
+use crate::layout::{
+    FrameParams, ACCEL_BRUTE, ACCEL_KDTREE, SHADOW_AMBIENT, SHADOW_SEED, TRAVERSAL_RESTART,
+    TRAVERSAL_ROPES, TRAVERSAL_SHORT_STACK,
+};
 use crate::scene::{CameraBasis, RenderSettings, ShadowMode};
 
 /// Which nearest-hit search the kernel runs.
@@ -68,7 +72,19 @@ impl FrameParams {
             accel: accel_value(accel),
             node_count: scene.node_count,
             sample_index: 0,
-            _pad: 0,
+            traversal: TRAVERSAL_RESTART,
+        }
+    }
+
+    /// The same parameters with the k-d walk `traversal` (restart unless set).
+    pub fn with_traversal(self, traversal: Traversal) -> FrameParams {
+        FrameParams {
+            traversal: match traversal {
+                Traversal::Restart => TRAVERSAL_RESTART,
+                Traversal::Ropes => TRAVERSAL_ROPES,
+                Traversal::ShortStack => TRAVERSAL_SHORT_STACK,
+            },
+            ..self
         }
     }
 }

@@ -8,6 +8,7 @@ use super::{Accel, GpuContext, SceneBuffers};
 use crate::error::Result;
 use crate::geometry::Ray;
 use crate::kdtree::traverse::Hit;
+use crate::kdtree::Traversal;
 use crate::layout::{FrameParams, GpuQueryHit, GpuQueryRay};
 
 /// One query: a ray, how far to look, and which question.
@@ -43,14 +44,28 @@ impl RayQueries {
         })
     }
 
-    /// Traces `queries` through `scene` with `accel`. Hits name objects by
-    /// the scene's ids (`scene_ids` maps GPU ids back: `SceneArrays::scene_ids`).
+    /// Traces `queries` through `scene` with `accel` (the k-d tree with the
+    /// restart walk). Hits name objects by the scene's ids (`scene_ids` maps
+    /// GPU ids back: `SceneArrays::scene_ids`).
     pub fn trace(
         &self,
         ctx: &GpuContext,
         scene: &SceneBuffers,
         scene_ids: &[u32],
         accel: Accel,
+        queries: &[RayQuery],
+    ) -> Result<Vec<Option<Hit>>> {
+        self.trace_walk(ctx, scene, scene_ids, accel, Traversal::Restart, queries)
+    }
+
+    /// [`RayQueries::trace`] with the k-d walk `traversal`.
+    pub fn trace_walk(
+        &self,
+        ctx: &GpuContext,
+        scene: &SceneBuffers,
+        scene_ids: &[u32],
+        accel: Accel,
+        traversal: Traversal,
         queries: &[RayQuery],
     ) -> Result<Vec<Option<Hit>>> {
         if queries.is_empty() {
@@ -65,7 +80,7 @@ impl RayQueries {
                 any_hit: q.any_hit as u32,
             })
             .collect();
-        let params = FrameParams::for_queries(scene, accel);
+        let params = FrameParams::for_queries(scene, accel).with_traversal(traversal);
         let hits_bytes = (queries.len() * std::mem::size_of::<GpuQueryHit>()) as u64;
         let (bind_group, hits, readback) = ctx.checked("allocating the ray query buffers", |device| {
             let storage = |label, contents: &[u8], usage| {

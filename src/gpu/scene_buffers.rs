@@ -4,8 +4,8 @@
 use super::bindings;
 use super::GpuContext;
 use crate::geometry::{Aabb, Primitives};
-use crate::kdtree::KdTree;
-use crate::layout::{GpuLight, GpuMaterial, GpuSphere, GpuTriangle, KdNode};
+use crate::kdtree::{KdTree, Ropes};
+use crate::layout::{GpuLight, GpuMaterial, GpuSphere, GpuTriangle, KdNode, LeafRopes};
 use crate::scene::Scene;
 
 /// Host copies of every storage buffer, in the GPU layout.
@@ -17,6 +17,10 @@ pub struct SceneArrays {
     pub lights: Vec<GpuLight>,
     pub nodes: Vec<KdNode>,
     pub leaf_objects: Vec<u32>,
+    /// The rope walk's data: per leaf its box and ropes, per node its leaf
+    /// record (`kdtree::Ropes`; node indices are the tree's).
+    pub leaf_ropes: Vec<LeafRopes>,
+    pub leaf_rope_index: Vec<u32>,
     /// The box the walk clips rays to: the tree's root cell.
     pub bounds: Aabb,
     /// `scene_ids[gpu_id]` is the scene's object id (spheres first, then
@@ -57,6 +61,7 @@ impl SceneArrays {
     pub fn new(scene: &Scene, prims: &Primitives, tree: &KdTree) -> Self {
         let sphere_count = prims.spheres.len();
         let order = leaf_order(tree, sphere_count, prims.len());
+        let ropes = Ropes::build(tree);
         let mut gpu_id = vec![0u32; order.len()];
         for (new, &old) in order.iter().enumerate() {
             gpu_id[old as usize] = new as u32;
@@ -118,6 +123,8 @@ impl SceneArrays {
                 .iter()
                 .map(|&id| gpu_id[id as usize])
                 .collect(),
+            leaf_ropes: ropes.leaves,
+            leaf_rope_index: ropes.leaf_of_node,
             bounds: tree.bounds,
             scene_ids: order,
         }
@@ -125,8 +132,8 @@ impl SceneArrays {
 
     /// (binding name, bytes) of every storage buffer, in the order of
     /// [`bindings::SCENE`].
-    fn buffers(&self) -> [(&'static str, &[u8]); 7] {
-        let bytes: [&[u8]; 7] = [
+    fn buffers(&self) -> [(&'static str, &[u8]); 9] {
+        let bytes: [&[u8]; 9] = [
             bytemuck::cast_slice(&self.spheres),
             bytemuck::cast_slice(&self.triangles),
             bytemuck::cast_slice(&self.object_materials),
@@ -134,6 +141,8 @@ impl SceneArrays {
             bytemuck::cast_slice(&self.lights),
             bytemuck::cast_slice(&self.nodes),
             bytemuck::cast_slice(&self.leaf_objects),
+            bytemuck::cast_slice(&self.leaf_ropes),
+            bytemuck::cast_slice(&self.leaf_rope_index),
         ];
         std::array::from_fn(|i| (bindings::SCENE[i].name, bytes[i]))
     }

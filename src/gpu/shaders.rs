@@ -3,13 +3,21 @@
 
 /// Files of the trace kernel, in the order they are concatenated (after the
 /// declarations generated from [`super::bindings`]).
-pub const TRACE_PARTS: [(&str, &str); 6] = [
+pub const TRACE_PARTS: [(&str, &str); 8] = [
     ("types.wgsl", include_str!("../../shaders/types.wgsl")),
     (
         "intersect.wgsl",
         include_str!("../../shaders/intersect.wgsl"),
     ),
     ("traverse.wgsl", include_str!("../../shaders/traverse.wgsl")),
+    (
+        "traverse_ropes.wgsl",
+        include_str!("../../shaders/traverse_ropes.wgsl"),
+    ),
+    (
+        "traverse_short_stack.wgsl",
+        include_str!("../../shaders/traverse_short_stack.wgsl"),
+    ),
     ("shade.wgsl", include_str!("../../shaders/shade.wgsl")),
     ("trace.wgsl", include_str!("../../shaders/trace.wgsl")),
     ("query.wgsl", include_str!("../../shaders/query.wgsl")),

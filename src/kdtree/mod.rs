@@ -1,12 +1,19 @@
 //! The k-d tree: built on the CPU with the surface area heuristic
 //! ([`build`]), flattened into the GPU layout ([`crate::layout::KdNode`] +
-//! a leaf-object list), and walked by a CPU mirror of the shader's stackless
-//! traversal ([`traverse`]) that the tests check against brute force.
+//! a leaf-object list), and walked by CPU mirrors of the shader's stackless
+//! walks ([`Traversal`]: [`traverse`], [`traverse_ropes`] over [`Ropes`],
+//! [`traverse_short_stack`]) that the tests check against brute force.
 
 mod build;
+pub mod ropes;
+pub mod traversal;
 pub mod traverse;
+pub mod traverse_ropes;
+pub mod traverse_short_stack;
 
 pub use build::{build, build_with_threads, BuildParams, KdTree};
+pub use ropes::Ropes;
+pub use traversal::Traversal;
 
 use crate::geometry::{Aabb, Primitives};
 use crate::layout::KdNode;

@@ -9,6 +9,7 @@ use clap::{Parser, Subcommand};
 use kdray::bench::{BenchOptions, GenerateOptions, SceneKind, DEFAULT_SEED};
 use kdray::choice::Choice;
 use kdray::gpu::Accel;
+use kdray::kdtree::Traversal;
 
 #[derive(Parser)]
 #[command(
@@ -60,6 +61,9 @@ pub struct RenderArgs {
     /// Nearest-hit search in the shader.
     #[arg(long, value_parser = choice::<Accel>(), default_value = "kdtree")]
     pub accel: Accel,
+    /// The k-d walk (with --accel kdtree; not yet with --window).
+    #[arg(long, value_parser = choice::<Traversal>(), default_value = "restart")]
+    pub traversal: Traversal,
     /// Print one JSON object of figures on stdout (with --window: frame rates, on exit).
     #[arg(long)]
     pub stats: bool,

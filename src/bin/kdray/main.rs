@@ -42,9 +42,10 @@ fn main() -> ExitCode {
             height,
             samples,
             accel,
+            traversal,
             stats,
             ..
-        }) => render(&scene, output, width, height, samples, accel, stats),
+        }) => render(&scene, output, width, height, samples, (accel, traversal), stats),
         Command::Info => info(),
         Command::Bench(args) => kdray::bench::bench_cli(&args.into()),
         Command::Generate(args) => kdray::bench::generate_cli(&args.into()),
@@ -64,7 +65,7 @@ fn render(
     width: Option<u32>,
     height: Option<u32>,
     samples: Option<u32>,
-    accel: Accel,
+    (accel, traversal): (Accel, kdray::kdtree::Traversal),
     stats: bool,
 ) -> Result<()> {
     let mut scene = kdray::scene::load_scene(scene_path)?;
@@ -100,6 +101,7 @@ fn render(
         &ctx,
         &prepared,
         accel,
+        traversal,
         TilePlan::DEFAULT_MAX_TILE_PIXELS,
         &mut |band| {
             progress.inc(band.rows as u64);

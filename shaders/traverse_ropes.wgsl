@@ -1,0 +1,109 @@
+// The rope walk (Popov, Günther, Seidel, Slusallek 2007). Mirrors
+// src/kdtree/traverse_ropes.rs, which explains the cases: the descent
+// classifies planes by t (crossed at or before t_min: past it), a leaf's
+// exit is its first face ahead with a rope (faces on the scene's boundary
+// count as t_far), and a leaf reached through a rope that the ray spends no
+// time in (an edge or a corner) is skipped for a descent from the root.
+
+// The first face ahead so far: where the ray meets it, and its rope.
+struct RopeExit {
+    t: f32,
+    rope: u32,
+}
+
+// `exit`, or the face of leaf record `r` ahead on axis `a` if the ray meets
+// it sooner and it has a rope.
+fn rope_exit_on_axis(r: u32, a: u32, ray: Ray, exit: RopeExit) -> RopeExit {
+    let d = ray.dir[a];
+    if (abs(d) >= PARALLEL_EPSILON) {
+        let face = 2u * a + select(0u, 1u, d > 0.0);
+        let rope = leaf_ropes[r].ropes[face];
+        if (rope != NO_ROPE) {
+            let t_face = (leaf_ropes[r].faces[face] - ray.origin[a]) / d;
+            if (t_face < exit.t) {
+                return RopeExit(t_face, rope);
+            }
+        }
+    }
+    return exit;
+}
+
+// any_hit: return the first hit with t < t_limit; else the nearest hit with t <= t_limit.
+fn trace_kdtree_ropes(ray: Ray, t_limit: f32, any_hit: bool) -> Hit {
+    if (params.object_count == 0u) {
+        return miss();
+    }
+    let span = box_interval(params.scene_min, params.scene_max, ray);
+    if (span.x > span.y) {
+        return miss();
+    }
+    var t_min = max(span.x, 0.0);
+    let t_far = min(span.y, t_limit);
+    if (t_min > t_far) {
+        return miss();
+    }
+    var best = miss();
+    // Where the next descent starts: the root, or the rope of the face the
+    // ray left the last leaf through.
+    var start = 0u;
+    var from_root = true;
+    // Each leaf tested moves t_min past one more plane, and each skipped
+    // leaf is followed by a tested one: node_count + 1 steps suffice.
+    for (var steps = 0u; steps <= params.node_count; steps++) {
+        loop_iterations += 1u;
+        var node_index = start;
+        var node = kd_nodes[node_index];
+        while (node.kind != KD_LEAF) {
+            loop_iterations += 1u;
+            let a = node.kind;
+            let o = ray.origin[a];
+            let d = ray.dir[a];
+            // Parallel rays stay on the origin's side; in the plane, below.
+            var go_below = o <= node.split;
+            if (abs(d) >= PARALLEL_EPSILON) {
+                let below_first = o < node.split || (o == node.split && d < 0.0);
+                let t_split = (node.split - o) / d;
+                // Crossed at or before t_min: the ray is past the plane.
+                let crossed = t_split > 0.0 && t_split <= t_min;
+                go_below = below_first != crossed;
+            }
+            node_index = select(node.index, node_index + 1u, go_below);
+            node = kd_nodes[node_index];
+        }
+        // The exit: the first face ahead with a rope, else t_far.
+        let r = leaf_rope_index[node_index];
+        var exit = RopeExit(t_far, NO_ROPE);
+        exit = rope_exit_on_axis(r, 0u, ray, exit);
+        exit = rope_exit_on_axis(r, 1u, ray, exit);
+        exit = rope_exit_on_axis(r, 2u, ray, exit);
+        let t_max = exit.t;
+        // A leaf the ray spends no time in: start over from the root.
+        if (t_max <= t_min && !from_root) {
+            start = 0u;
+            from_root = true;
+            continue;
+        }
+        for (var i = node.index; i < node.index + node.count; i++) {
+            loop_iterations += 1u;
+            let id = leaf_objects[i];
+            let t = intersect_object(id, ray);
+            if (t > 0.0) {
+                if (any_hit) {
+                    if (t < t_limit) {
+                        return Hit(t, id);
+                    }
+                } else if (t <= t_limit && t < best.t) {
+                    best = Hit(t, id);
+                }
+            }
+        }
+        // Every leaf still to visit lies beyond t_max.
+        if (best.t <= t_max || t_max >= t_far) {
+            return best;
+        }
+        t_min = t_max;
+        start = exit.rope;
+        from_root = false;
+    }
+    return best;
+}

@@ -1,0 +1,113 @@
+// kd-restart with a short stack (Horn, Sugerman, Houston, Hanrahan 2007).
+// Mirrors src/kdtree/traverse_short_stack.rs: the restart walk's descent,
+// which also remembers the far child (and the segment's end there) where it
+// crosses both; after a leaf it resumes from the last one remembered, and
+// restarts (with push-down) when none is left. The entries are named
+// variables, not an array: lavapipe keeps private arrays in memory.
+
+const SHORT_STACK_DEPTH: u32 = 3u;
+
+// any_hit: return the first hit with t < t_limit; else the nearest hit with t <= t_limit.
+fn trace_kdtree_short_stack(ray: Ray, t_limit: f32, any_hit: bool) -> Hit {
+    if (params.object_count == 0u) {
+        return miss();
+    }
+    let span = box_interval(params.scene_min, params.scene_max, ray);
+    if (span.x > span.y) {
+        return miss();
+    }
+    var t_min = max(span.x, 0.0);
+    let t_far = min(span.y, t_limit);
+    if (t_min > t_far) {
+        return miss();
+    }
+    var best = miss();
+    var restart_node = 0u;
+    // The stack, top first; `depth` entries are live. An entry is a far
+    // child and the segment's end in it (its start is where the last leaf ends).
+    var stack0_node = 0u;
+    var stack0_t_max = 0.0;
+    var stack1_node = 0u;
+    var stack1_t_max = 0.0;
+    var stack2_node = 0u;
+    var stack2_t_max = 0.0;
+    var depth = 0u;
+    // Every leaf's interval is non-empty: node_count + 1 steps suffice.
+    for (var steps = 0u; steps <= params.node_count; steps++) {
+        loop_iterations += 1u;
+        var node_index: u32;
+        var t_max: f32;
+        var push_down: bool;
+        if (depth > 0u) {
+            node_index = stack0_node;
+            t_max = stack0_t_max;
+            stack0_node = stack1_node;
+            stack0_t_max = stack1_t_max;
+            stack1_node = stack2_node;
+            stack1_t_max = stack2_t_max;
+            depth -= 1u;
+            push_down = false; // the rest of the ray may leave this node
+        } else {
+            node_index = restart_node;
+            t_max = t_far;
+            push_down = true;
+        }
+        var node = kd_nodes[node_index];
+        while (node.kind != KD_LEAF) {
+            loop_iterations += 1u;
+            let a = node.kind;
+            let o = ray.origin[a];
+            let d = ray.dir[a];
+            // Parallel rays stay on the origin's side; in the plane, below.
+            var go_below = o <= node.split;
+            if (abs(d) >= PARALLEL_EPSILON) {
+                let below_first = o < node.split || (o == node.split && d < 0.0);
+                let t_split = (node.split - o) / d;
+                if (t_split > t_max || t_split <= 0.0) {
+                    go_below = below_first;
+                } else if (t_split <= t_min) {
+                    go_below = !below_first;
+                } else {
+                    go_below = below_first;
+                    if (t_split < t_max) {
+                        // Remember the far side; a full stack forgets its oldest.
+                        stack2_node = stack1_node;
+                        stack2_t_max = stack1_t_max;
+                        stack1_node = stack0_node;
+                        stack1_t_max = stack0_t_max;
+                        stack0_node = select(node_index + 1u, node.index, below_first);
+                        stack0_t_max = t_max;
+                        depth = min(depth + 1u, SHORT_STACK_DEPTH);
+                    }
+                    t_max = t_split;
+                    push_down = false;
+                }
+            }
+            node_index = select(node.index, node_index + 1u, go_below);
+            if (push_down) {
+                restart_node = node_index;
+            }
+            node = kd_nodes[node_index];
+        }
+        for (var i = node.index; i < node.index + node.count; i++) {
+            loop_iterations += 1u;
+            let id = leaf_objects[i];
+            let t = intersect_object(id, ray);
+            if (t > 0.0) {
+                if (any_hit) {
+                    if (t < t_limit) {
+                        return Hit(t, id);
+                    }
+                } else if (t <= t_limit && t < best.t) {
+                    best = Hit(t, id);
+                }
+            }
+        }
+        // Every leaf still to visit lies beyond t_max.
+        if (best.t <= t_max || t_max >= t_far) {
+            return best;
+        }
+        t_min = t_max;
+    }
+    return best;
+}

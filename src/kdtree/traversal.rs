@@ -1,0 +1,92 @@
+//! The choice of k-d walk, and the CPU queries for each: every walk visits
+//! the same leaves with the same intervals (see each module), so they return
+//! the same hits; they differ in how they reach the next leaf.
+
+use crate::geometry::{Primitives, Ray};
+
+use super::ropes::Ropes;
+use super::traverse::Hit;
+use super::{traverse, traverse_ropes, traverse_short_stack, KdTree};
+
+/// Which stackless walk the shader (and its CPU mirror) runs.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
+pub enum Traversal {
+    /// kd-restart with push-down (Foley & Sugerman 2005; Horn et al. 2007):
+    /// after each leaf, descend again from the restart node.
+    #[default]
+    Restart,
+    /// Ropes (Popov et al. 2007): after each leaf, descend from the node
+    /// beyond the face the ray leaves through.
+    Ropes,
+    /// kd-restart with a short stack (Horn et al. 2007): after each leaf,
+    /// resume at the last far child remembered, restarting when none is left.
+    ShortStack,
+}
+
+impl Traversal {
+    pub const ALL: [Traversal; 3] = [Traversal::Restart, Traversal::Ropes, Traversal::ShortStack];
+
+    /// The name used on the command line and in `--stats`.
+    pub fn name(self) -> &'static str {
+        match self {
+            Traversal::Restart => "restart",
+            Traversal::Ropes => "ropes",
+            Traversal::ShortStack => "short-stack",
+        }
+    }
+
+    /// Nearest hit with 0 < t <= t_limit. `ropes` (built from `tree`) is
+    /// read by the rope walk only.
+    pub fn closest_hit(
+        self,
+        tree: &KdTree,
+        ropes: &Ropes,
+        prims: &Primitives,
+        ray: &Ray,
+        t_limit: f32,
+    ) -> Option<Hit> {
+        match self {
+            Traversal::Restart => traverse::closest_hit(tree, prims, ray, t_limit),
+            Traversal::Ropes => traverse_ropes::closest_hit(tree, ropes, prims, ray, t_limit),
+            Traversal::ShortStack => traverse_short_stack::closest_hit(tree, prims, ray, t_limit),
+        }
+    }
+
+    /// Whether anything is hit with 0 < t < t_limit (shadow rays).
+    pub fn any_hit(
+        self,
+        tree: &KdTree,
+        ropes: &Ropes,
+        prims: &Primitives,
+        ray: &Ray,
+        t_limit: f32,
+    ) -> bool {
+        match self {
+            Traversal::Restart => traverse::any_hit(tree, prims, ray, t_limit),
+            Traversal::Ropes => traverse_ropes::any_hit(tree, ropes, prims, ray, t_limit),
+            Traversal::ShortStack => traverse_short_stack::any_hit(tree, prims, ray, t_limit),
+        }
+    }
+}
+
+impl std::fmt::Display for Traversal {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(self.name())
+    }
+}
+
+impl crate::choice::Choice for Traversal {
+    const ALL: &'static [Self] = &Traversal::ALL;
+
+    fn name(self) -> &'static str {
+        Traversal::name(self)
+    }
+
+    fn help(self) -> &'static str {
+        match self {
+            Traversal::Restart => "kd-restart with push-down",
+            Traversal::Ropes => "ropes between neighbouring leaves (Popov et al. 2007)",
+            Traversal::ShortStack => "kd-restart with a three-entry short stack (Horn et al. 2007)",
+        }
+    }
+}

@@ -1,0 +1,164 @@
+//! The CPU mirror of shaders/traverse_ropes.wgsl: the rope walk (Popov,
+//! Günther, Seidel, Slusallek 2007). It descends from the root to the leaf
+//! the segment enters first; after each leaf it leaves through the face the
+//! ray reaches first and descends from that face's rope to the next leaf.
+//!
+//! Everything is a comparison of `t` values or of the origin with a plane,
+//! as in the restart walk (`traverse`), so that both walks see the same
+//! leaves with the same intervals and return the same hit:
+//! - the descent classifies planes by the ray's `t`: one crossed at or
+//!   before `t_min` (`0 < t_split <= t_min`) is behind, the ray is on its
+//!   far side; any other plane is ahead or never crossed, the ray is on its
+//!   first side. No entry point is computed.
+//! - a leaf's exit is the smallest `t` at which the ray meets one of its
+//!   faces ahead that has a rope, computed as the restart walk computes
+//!   `t_split` (`(plane - o) / d`); faces on the scene's boundary count as
+//!   `t_far`, as in the restart walk.
+//! - at an edge or a corner, two or three faces are met at the same `t`.
+//!   The walk takes the first, and the rope's node may then lie on the near
+//!   side of a plane the ray crossed at that same `t` (the face's other
+//!   edge). The descent cannot see that plane (it is above the rope's node),
+//!   so it reaches a leaf the ray never spends time in: one of its faces
+//!   ahead is met at or before `t_min`. Such a leaf is skipped, and the walk
+//!   descends again from the root, which finds the right one. Rounding can
+//!   make faces meet at the same `t` too, and is caught the same way.
+//!
+//! Hits count as in the restart walk: the nearest over all visited leaves,
+//! returned once it lies before the current leaf's exit.
+
+use crate::geometry::{Primitives, Ray, PARALLEL_EPSILON};
+use crate::layout::{KdNode, LeafRopes};
+
+use super::ropes::Ropes;
+use super::traverse::{max_restarts, Hit};
+use super::KdTree;
+
+/// Nearest hit with 0 < t <= t_limit, by the rope walk.
+pub fn closest_hit(
+    tree: &KdTree,
+    ropes: &Ropes,
+    prims: &Primitives,
+    ray: &Ray,
+    t_limit: f32,
+) -> Option<Hit> {
+    walk(tree, ropes, prims, ray, t_limit, false)
+}
+
+/// Whether anything is hit with 0 < t < t_limit, by the rope walk.
+pub fn any_hit(tree: &KdTree, ropes: &Ropes, prims: &Primitives, ray: &Ray, t_limit: f32) -> bool {
+    walk(tree, ropes, prims, ray, t_limit, true).is_some()
+}
+
+/// From `node` down to the leaf the ray is in just after `t_min`.
+fn descend(nodes: &[KdNode], mut node: usize, ray: &Ray, t_min: f32) -> usize {
+    while !nodes[node].is_leaf() {
+        let n = nodes[node];
+        let a = n.kind as usize;
+        let (o, d) = (ray.origin[a], ray.dir[a]);
+        // Parallel rays stay on the origin's side; in the plane, below.
+        let mut go_below = o <= n.split;
+        if d.abs() >= PARALLEL_EPSILON {
+            let below_first = o < n.split || (o == n.split && d < 0.0);
+            let t_split = (n.split - o) / d;
+            // Crossed at or before t_min: the ray is past the plane.
+            let crossed = t_split > 0.0 && t_split <= t_min;
+            go_below = below_first != crossed;
+        }
+        node = if go_below { node + 1 } else { n.index as usize };
+    }
+    node
+}
+
+/// The first face ahead so far: where the ray meets it, and its rope.
+#[derive(Clone, Copy)]
+struct RopeExit {
+    t: f32,
+    rope: u32,
+}
+
+/// `exit`, or `leaf`'s face ahead on axis `a` if the ray meets it sooner
+/// and it has a rope.
+fn rope_exit_on_axis(leaf: &LeafRopes, a: usize, ray: &Ray, exit: RopeExit) -> RopeExit {
+    let d = ray.dir[a];
+    if d.abs() >= PARALLEL_EPSILON {
+        let face = 2 * a + usize::from(d > 0.0);
+        let rope = leaf.ropes[face];
+        if rope != LeafRopes::NONE {
+            let t_face = (leaf.faces[face] - ray.origin[a]) / d;
+            if t_face < exit.t {
+                return RopeExit { t: t_face, rope };
+            }
+        }
+    }
+    exit
+}
+
+fn walk(
+    tree: &KdTree,
+    ropes: &Ropes,
+    prims: &Primitives,
+    ray: &Ray,
+    t_limit: f32,
+    any: bool,
+) -> Option<Hit> {
+    if prims.is_empty() {
+        return None;
+    }
+    let (t_enter, t_exit) = tree.bounds.ray_interval(ray)?;
+    let mut t_min = t_enter.max(0.0);
+    let t_far = t_exit.min(t_limit);
+    if t_min > t_far {
+        return None;
+    }
+    let nodes = &tree.nodes;
+    let mut best: Option<Hit> = None;
+    // Where the next descent starts: the root, or the rope of the face the
+    // ray left the last leaf through.
+    let mut start = 0usize;
+    let mut from_root = true;
+    // Each leaf tested moves t_min past one more plane and each rope leaf
+    // skipped is followed by a tested one, so node_count + 1 steps suffice
+    // (see docs/design.md).
+    for _ in 0..max_restarts(nodes.len()) {
+        let node = descend(nodes, start, ray, t_min);
+        let leaf = ropes.leaf(node);
+        // The exit: the first face ahead with a rope, else t_far.
+        let mut exit = RopeExit {
+            t: t_far,
+            rope: LeafRopes::NONE,
+        };
+        for a in 0..3 {
+            exit = rope_exit_on_axis(leaf, a, ray, exit);
+        }
+        let t_max = exit.t;
+        // A leaf the ray spends no time in: the rope led to the near side of
+        // a plane crossed at t_min (an edge or a corner). Start over from the root.
+        if t_max <= t_min && !from_root {
+            start = 0;
+            from_root = true;
+            continue;
+        }
+        let n = nodes[node];
+        let ids = &tree.leaf_objects[n.index as usize..(n.index + n.count) as usize];
+        for &id in ids {
+            if let Some(t) = prims.intersect(id, ray) {
+                if any {
+                    if t < t_limit {
+                        return Some(Hit { object: id, t });
+                    }
+                } else if t <= t_limit && best.is_none_or(|b| t < b.t) {
+                    best = Some(Hit { object: id, t });
+                }
+            }
+        }
+        // Every leaf still to visit lies beyond t_max.
+        if best.is_some_and(|hit| hit.t <= t_max) || t_max >= t_far {
+            return best;
+        }
+        t_min = t_max;
+        start = exit.rope as usize;
+        from_root = false;
+    }
+    debug_assert!(false, "the rope walk ran out of steps: {ray:?}");
+    best
+}
