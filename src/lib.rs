@@ -8,6 +8,7 @@
 
 pub mod bench;
 pub mod error;
+pub mod fuzz_support;
 pub mod geometry;
 pub mod gpu;
 pub mod kdtree;

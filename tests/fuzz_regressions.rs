@@ -41,7 +41,7 @@ fn replay(target: &str, check: impl Fn(&[u8])) {
 fn scene_toml_corpus() {
     replay("scene_toml", |data| {
         if let Ok(text) = std::str::from_utf8(data) {
-            kdray::scene::fuzz_check(text, SceneFormat::Toml);
+            kdray::fuzz_support::scene(text, SceneFormat::Toml);
         }
     });
 }
@@ -50,12 +50,17 @@ fn scene_toml_corpus() {
 fn scene_json_corpus() {
     replay("scene_json", |data| {
         if let Ok(text) = std::str::from_utf8(data) {
-            kdray::scene::fuzz_check(text, SceneFormat::Json);
+            kdray::fuzz_support::scene(text, SceneFormat::Json);
         }
     });
 }
 
 #[test]
 fn obj_corpus() {
-    replay("obj", kdray::scene::obj::fuzz_check);
+    replay("obj", kdray::fuzz_support::obj);
+}
+
+#[test]
+fn gltf_corpus() {
+    replay("gltf", kdray::fuzz_support::gltf);
 }

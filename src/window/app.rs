@@ -86,8 +86,9 @@ pub fn run(options: WindowOptions) -> Result<()> {
         Err(_) => 0.0,
     };
     // Watch first, so a change made while the scene loads is not missed.
-    let watcher = SceneWatcher::new(&options.scene);
-    let scene = PreparedScene::load(&options.scene)?;
+    let (files, scene) = WatchList::record(|seen| PreparedScene::load(&options.scene, seen));
+    let watcher = SceneWatcher::new(files);
+    let scene = scene?;
     let event_loop = EventLoop::new().map_err(|e| {
         Error::Gpu(format!(
             "cannot open a window: {e} (is DISPLAY or WAYLAND_DISPLAY set?)"
@@ -165,7 +166,7 @@ impl App {
         let path = self.options.scene.clone();
         // The mesh list may have changed: the job also lists what to watch.
         self.reloads
-            .request(move || (WatchList::of_scene(&path), PreparedScene::load(&path)));
+            .request(move || WatchList::record(|seen| PreparedScene::load(&path, seen)));
         if let Some(session) = &mut self.session {
             session.reloading = true;
             session.update_title(&self.name, true);
@@ -651,8 +652,8 @@ struct PreparedScene {
 }
 
 impl PreparedScene {
-    fn load(path: &Path) -> Result<Self> {
-        let scene = crate::scene::load_scene(path)?;
+    fn load(path: &Path, seen: &mut dyn FnMut(&Path)) -> Result<Self> {
+        let scene = crate::scene::load_scene_observed(path, seen)?;
         let prims = Primitives::from_scene(&scene);
         let tree = KdTree {
             bounds: prims.scene_bounds(),
