@@ -399,13 +399,27 @@ fn bad_mesh_files_exit_2_with_one_line_and_write_nothing() {
         ("binary.glb", binary.clone(), "not a valid glTF 2.0 file"),
         ("binary.obj", binary, "not a text OBJ file"),
         ("empty.obj", Vec::new(), "no faces"),
-        ("points.obj", b"v 0 0 0\nv 1 0 0\nv 0 1 0\n".to_vec(), "no faces"),
+        (
+            "points.obj",
+            b"v 0 0 0\nv 1 0 0\nv 0 1 0\n".to_vec(),
+            "no faces",
+        ),
         ("cut.glb", glb[..600].to_vec(), "truncated GLB"),
-        ("corrupt.gltf", b"{\"asset\": ".to_vec(), "not a valid glTF 2.0 file"),
-        ("model.ply", b"ply\n".to_vec(), "unknown mesh file extension"),
+        (
+            "corrupt.gltf",
+            b"{\"asset\": ".to_vec(),
+            "not a valid glTF 2.0 file",
+        ),
+        (
+            "model.ply",
+            b"ply\n".to_vec(),
+            "unknown mesh file extension",
+        ),
         (
             "outside.gltf",
-            external.replace("tetra.bin", "../../no/such/tetra.bin").into_bytes(),
+            external
+                .replace("tetra.bin", "../../no/such/tetra.bin")
+                .into_bytes(),
             "buffer 0: cannot read",
         ),
     ];
@@ -427,7 +441,14 @@ fn bad_mesh_files_exit_2_with_one_line_and_write_nothing() {
             "{name}: want {} and {words:?} in {line}",
             file.display()
         );
-        assert!(!dir.join("out.png").exists(), "{name}: an image was written");
-        assert!(dir.temp_files().is_empty(), "{name}: {:?}", dir.temp_files());
+        assert!(
+            !dir.join("out.png").exists(),
+            "{name}: an image was written"
+        );
+        assert!(
+            dir.temp_files().is_empty(),
+            "{name}: {:?}",
+            dir.temp_files()
+        );
     }
 }

@@ -2407,7 +2407,8 @@ mod bad_mesh_files {
         );
         // Extensions are case-insensitive.
         dir.write("UPPER.OBJ", ONE_TRIANGLE_OBJ);
-        let (scene, _) = scene_with_mesh(&dir, &[("path", "\"UPPER.OBJ\""), ("material", "\"red\"")]);
+        let (scene, _) =
+            scene_with_mesh(&dir, &[("path", "\"UPPER.OBJ\""), ("material", "\"red\"")]);
         assert_eq!(load_ok(&scene).triangles.len(), 2);
     }
 
@@ -2441,16 +2442,25 @@ mod bad_mesh_files {
         // Not JSON, and JSON that is not glTF: the crate's reason follows.
         dir.write("text.gltf", "{ not json");
         dir.write("empty.glb", "");
-        dir.write("other.gltf", "{\"asset\": {\"version\": \"2.0\"}, \"nodes\": [{\"mesh\": 3}]}");
+        dir.write(
+            "other.gltf",
+            "{\"asset\": {\"version\": \"2.0\"}, \"nodes\": [{\"mesh\": 3}]}",
+        );
         for name in ["text.gltf", "empty.glb", "other.gltf"] {
             let (e, note) = error_of(&dir, name);
             assert_eq!(e.file, dir.join(name));
             assert!(e.message.starts_with("not a valid glTF 2.0 file: "), "{e}");
             assert!(e.message.ends_with(&note), "{e}");
-            assert!(std::error::Error::source(&e).is_some(), "{e} keeps the crate's error");
+            assert!(
+                std::error::Error::source(&e).is_some(),
+                "{e} keeps the crate's error"
+            );
         }
         let (e, _) = error_of(&dir, "other.gltf");
-        assert!(e.message.contains("nodes[0].mesh"), "names the JSON path: {e}");
+        assert!(
+            e.message.contains("nodes[0].mesh"),
+            "names the JSON path: {e}"
+        );
         // Valid glTF with no scene, or a scene with no mesh: nothing to draw.
         dir.write("noscene.gltf", "{\"asset\": {\"version\": \"2.0\"}}");
         assert_file_error(
@@ -2486,7 +2496,10 @@ mod bad_mesh_files {
             "buffer 0: cannot read {} (URI \"nowhere.bin\"): ",
             dir.join("nowhere.bin").display()
         );
-        assert!(e.message.starts_with(&prefix) && e.message.ends_with(&note), "{e}");
+        assert!(
+            e.message.starts_with(&prefix) && e.message.ends_with(&note),
+            "{e}"
+        );
         with_buffer_uri(&dir, "device.gltf", "/dev/zero");
         assert_file_error(
             &dir,
@@ -2512,9 +2525,16 @@ mod bad_mesh_files {
             "buffer 0 is truncated: byteLength 120 but 100 bytes present",
         );
         // A bad data URI.
-        with_buffer_uri(&dir, "data.gltf", "data:application/octet-stream;base64,AA#A");
+        with_buffer_uri(
+            &dir,
+            "data.gltf",
+            "data:application/octet-stream;base64,AA#A",
+        );
         let (e, _) = error_of(&dir, "data.gltf");
-        assert!(e.message.contains("invalid base64 character at offset 2"), "{e}");
+        assert!(
+            e.message.contains("invalid base64 character at offset 2"),
+            "{e}"
+        );
     }
 
     #[test]
@@ -2543,7 +2563,7 @@ mod gltf_meshes {
     ];
     const TETRA_TRIANGLES: [[usize; 3]; 4] = [[0, 2, 1], [0, 1, 3], [0, 3, 2], [1, 2, 3]];
     const TETRA_TRANSLATION: [f32; 3] = [1.0, 2.0, 3.0];
-    const TETRA_ROTATION: [f32; 4] = [0.0, 0.38268343, 0.0, 0.92387953];
+    const TETRA_ROTATION: [f32; 4] = [0.0, 0.38268343, 0.0, 0.923_879_5];
     const TETRA_SCALE: [f32; 3] = [2.0, 1.0, 0.5];
 
     /// The tetrahedron's node transform (root T * R, child S), in f64.
@@ -2625,7 +2645,12 @@ mod gltf_meshes {
     #[test]
     fn embedded_external_and_binary_buffers_give_one_mesh() {
         let dir = TempDir::new("buffers");
-        for name in ["tetra.glb", "tetra_embedded.gltf", "tetra_external.gltf", "tetra.bin"] {
+        for name in [
+            "tetra.glb",
+            "tetra_embedded.gltf",
+            "tetra_external.gltf",
+            "tetra.bin",
+        ] {
             copy_model(&dir, name);
         }
         let glb = mesh_triangles(&dir, "tetra.glb", &ENTRY);
@@ -2637,7 +2662,11 @@ mod gltf_meshes {
         kdray::scene::load_scene_observed(&scene, &mut |p| read.push(p.to_path_buf())).unwrap();
         assert_eq!(
             read,
-            [scene.clone(), dir.join("tetra_external.gltf"), dir.join("tetra.bin")]
+            [
+                scene.clone(),
+                dir.join("tetra_external.gltf"),
+                dir.join("tetra.bin")
+            ]
         );
     }
 
@@ -2661,7 +2690,9 @@ mod gltf_meshes {
         assert_eq!(m.reflection, 0.5, "metallic x (1 - roughness)");
         let alpha = 0.5f64 * 0.5;
         assert!((m.shininess - 4.0 * (2.0 / (alpha * alpha) - 2.0)).abs() < 1e-9);
-        assert!(scene.triangles[1..].iter().all(|t| t.material == gold as u32));
+        assert!(scene.triangles[1..]
+            .iter()
+            .all(|t| t.material == gold as u32));
         // No material: glTF's default (white, metallic 1, roughness 1) is a
         // rough white surface, not a mirror.
         let scene = mesh_triangles(&dir, "plain.gltf", &[]);
@@ -2673,7 +2704,9 @@ mod gltf_meshes {
         // A `material` key replaces them all, and no glTF material is added.
         let scene = mesh_triangles(&dir, "tetra.glb", &[("material", "\"blue\"")]);
         assert_eq!(scene.materials.len(), 2);
-        assert!(scene.triangles[1..].iter().all(|t| scene.materials[t.material as usize].name == "blue"));
+        assert!(scene.triangles[1..]
+            .iter()
+            .all(|t| scene.materials[t.material as usize].name == "blue"));
     }
 
     #[test]
@@ -2683,15 +2716,18 @@ mod gltf_meshes {
         let scene = mesh_triangles(&dir, "plain.gltf", &[("material", "\"red\"")]);
         assert_eq!(scene.triangles.len(), 2);
         let node = node_matrix();
-        let want = [0, 1, 2].map(|i| {
-            node.transform_point3(DVec3::from_array(TETRA_POSITIONS[i].map(f64::from)))
-        });
+        let want = [0, 1, 2]
+            .map(|i| node.transform_point3(DVec3::from_array(TETRA_POSITIONS[i].map(f64::from))));
         for (g, w) in scene.triangles[1].vertices.iter().zip(want) {
             assert!((*g - w).abs().max_element() < 1e-5, "{g} vs {w}");
         }
         assert_eq!(scene.triangles[1].normals, None);
         // smooth = true: no vertex is shared, so every corner gets the face's normal.
-        let scene = mesh_triangles(&dir, "plain.gltf", &[("material", "\"red\""), ("smooth", "true")]);
+        let scene = mesh_triangles(
+            &dir,
+            "plain.gltf",
+            &[("material", "\"red\""), ("smooth", "true")],
+        );
         let [a, b, c] = scene.triangles[1].vertices;
         let face = (b - a).cross(c - a).normalize();
         for n in scene.triangles[1].normals.unwrap() {
@@ -2734,12 +2770,17 @@ mod mesh_normals {
         assert!(load(&dir, WITH_NORMALS, &[("smooth", "false")])
             .iter()
             .all(|t| t.normals.is_none()));
-        assert!(load(&dir, ONE_TRIANGLE_OBJ, &[]).iter().all(|t| t.normals.is_none()));
+        assert!(load(&dir, ONE_TRIANGLE_OBJ, &[])
+            .iter()
+            .all(|t| t.normals.is_none()));
         // A face with normals on only some corners is flat by default.
         let partial = "v 0 0 0\nv 1 0 0\nv 0 1 0\nvn 0 0 1\nf 1//1 2 3\n";
         assert_eq!(load(&dir, partial, &[])[0].normals, None);
         // With smooth = true the missing corners are computed (one face: its normal).
-        assert_eq!(load(&dir, partial, &[("smooth", "true")])[0].normals, Some([DVec3::Z; 3]));
+        assert_eq!(
+            load(&dir, partial, &[("smooth", "true")])[0].normals,
+            Some([DVec3::Z; 3])
+        );
     }
 
     /// The unit cube [0, 1]^3 as an OBJ of 12 outward-wound triangles sharing 8 vertices.
@@ -2766,7 +2807,11 @@ mod mesh_normals {
         // A plane x = z (normal (1, 0, -1)) stretched by 2 along x is the plane
         // x = 2z, whose normal is (1, 0, -2); then rotated 90 degrees about z.
         let obj = "v 0 0 0\nv 1 0 1\nv 0 1 0\nvn 1 0 -1\nf 1//1 2//1 3//1\n";
-        let t = load(&dir, obj, &[("scale", "[2, 1, 1]"), ("rotate", "[0, 0, 90]")]);
+        let t = load(
+            &dir,
+            obj,
+            &[("scale", "[2, 1, 1]"), ("rotate", "[0, 0, 90]")],
+        );
         let want = DVec3::new(0.0, 1.0, -2.0) / 5f64.sqrt();
         for n in t[0].normals.unwrap() {
             assert_close(n, want);
@@ -2793,11 +2838,20 @@ mod mesh_normals {
             ("vn 0 0\n", 1, "vn"),
             ("v 0 0 0\nvn 0 nan 1\n", 2, "vn"),
             ("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1//1 2//1 3//1\n", 4, "f"),
-            ("v 0 0 0\nv 1 0 0\nv 0 1 0\nvn 0 0 1\nf 1//0 2//1 3//1\n", 5, "f"),
-            ("v 0 0 0\nv 1 0 0\nv 0 1 0\nvn 0 0 1\nf 1//x 2//1 3//1\n", 5, "f"),
+            (
+                "v 0 0 0\nv 1 0 0\nv 0 1 0\nvn 0 0 1\nf 1//0 2//1 3//1\n",
+                5,
+                "f",
+            ),
+            (
+                "v 0 0 0\nv 1 0 0\nv 0 1 0\nvn 0 0 1\nf 1//x 2//1 3//1\n",
+                5,
+                "f",
+            ),
         ] {
             let obj_path = dir.write("m.obj", obj);
-            let (scene, _) = scene_with_mesh(&dir, &[("path", "\"m.obj\""), ("material", "\"red\"")]);
+            let (scene, _) =
+                scene_with_mesh(&dir, &[("path", "\"m.obj\""), ("material", "\"red\"")]);
             assert_error(&load_err(&scene), &obj_path, Some(line), Some(key), &[]);
         }
         let e = parse_err(

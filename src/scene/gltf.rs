@@ -55,13 +55,29 @@ pub fn parse_gltf(
 ) -> Result<Mesh, SceneError> {
     let err = |message: String| SceneError::new(path, None, None, message);
     check_glb_header(bytes).map_err(err)?;
-    let gltf = gltf::Gltf::from_slice(bytes).map_err(|e| {
-        err(format!("not a valid glTF 2.0 file: {}", gltf_error_text(&e))).with_source(e)
-    })?;
+    let invalid = |e: gltf::Error| {
+        err(format!(
+            "not a valid glTF 2.0 file: {}",
+            gltf_error_text(&e)
+        ))
+        .with_source(e)
+    };
+    // Parse, check what the crate's validation would index unchecked, then
+    // validate (gltf-json 1.4 panics on a POSITION accessor index out of
+    // range, found by tests/fuzz_regressions.rs's bit flips).
+    let gltf = gltf::Gltf::from_slice_without_validation(bytes).map_err(invalid)?;
+    check_attribute_indices(gltf.document.as_json()).map_err(err)?;
+    let gltf = gltf::Gltf {
+        document: gltf::Document::from_json(gltf.document.into_json()).map_err(invalid)?,
+        blob: gltf.blob,
+    };
     let document = &gltf.document;
     let buffers = load_buffers(document, gltf.blob.as_deref(), path, read_buffer)?;
 
-    let Some(scene) = document.default_scene().or_else(|| document.scenes().next()) else {
+    let Some(scene) = document
+        .default_scene()
+        .or_else(|| document.scenes().next())
+    else {
         return Err(err(
             "no scene: the file defines no scene to place its meshes, so it would draw nothing"
                 .to_string(),
@@ -79,8 +95,7 @@ pub fn parse_gltf(
     // node reached twice (a cycle, or a node with two parents, both invalid
     // glTF) is an error: it could make the walk endless or exponential.
     let mut visited = vec![false; document.nodes().count()];
-    let mut stack: Vec<(gltf::Node, DMat4)> =
-        scene.nodes().map(|n| (n, DMat4::IDENTITY)).collect();
+    let mut stack: Vec<(gltf::Node, DMat4)> = scene.nodes().map(|n| (n, DMat4::IDENTITY)).collect();
     stack.reverse();
     while let Some((node, parent)) = stack.pop() {
         let index = node.index();
@@ -147,6 +162,24 @@ fn check_glb_header(bytes: &[u8]) -> Result<(), String> {
     Ok(())
 }
 
+/// Every primitive attribute names an accessor that exists.
+fn check_attribute_indices(root: &gltf::json::Root) -> Result<(), String> {
+    for (m, mesh) in root.meshes.iter().enumerate() {
+        for (p, primitive) in mesh.primitives.iter().enumerate() {
+            for index in primitive.attributes.values() {
+                if index.value() >= root.accessors.len() {
+                    return Err(format!(
+                        "not a valid glTF 2.0 file: meshes[{m}].primitives[{p}].attributes: accessor {} does not exist ({} accessors)",
+                        index.value(),
+                        root.accessors.len()
+                    ));
+                }
+            }
+        }
+    }
+    Ok(())
+}
+
 /// The crate's error in one line; validation errors name the JSON path.
 fn gltf_error_text(e: &gltf::Error) -> String {
     match e {
@@ -190,13 +223,11 @@ fn load_buffers(
             gltf::buffer::Source::Uri(uri) => {
                 let shown: String = uri.chars().take(60).collect();
                 if let Some(data) = uri.strip_prefix("data:") {
-                    decode_data_uri(data).map_err(|m| {
-                        err(format!("buffer {i}: data URI \"{shown}...\": {m}"))
-                    })?
+                    decode_data_uri(data)
+                        .map_err(|m| err(format!("buffer {i}: data URI \"{shown}...\": {m}")))?
                 } else {
-                    let file = buffer_path(base, uri).map_err(|m| {
-                        err(format!("buffer {i}: URI \"{shown}\": {m}"))
-                    })?;
+                    let file = buffer_path(base, uri)
+                        .map_err(|m| err(format!("buffer {i}: URI \"{shown}\": {m}")))?;
                     read_buffer(&file).map_err(|e| {
                         err(format!(
                             "buffer {i}: cannot read {} (URI \"{shown}\"): {e}",
@@ -227,7 +258,8 @@ fn buffer_path(base: &Path, uri: &str) -> Result<PathBuf, String> {
     if let Some(s) = scheme {
         let is_scheme = s.len() > 1
             && s.starts_with(|c: char| c.is_ascii_alphabetic())
-            && s.chars().all(|c| c.is_ascii_alphanumeric() || "+-.".contains(c));
+            && s.chars()
+                .all(|c| c.is_ascii_alphanumeric() || "+-.".contains(c));
         if is_scheme {
             return Err(format!(
                 "a \"{s}:\" URI; kdray reads buffers only from files named by a relative path, or from data: URIs"
@@ -409,15 +441,14 @@ impl Reader<'_> {
         Ok(())
     }
 
-    /// The bytes of an accessor's elements: (data, offset of the first,
-    /// stride), with every element checked to lie inside its buffer view
-    /// and the view inside its buffer. None for an accessor without a view
-    /// (all zeros).
+    /// Where an accessor's elements are, every element checked to lie
+    /// inside its buffer view and the view inside its buffer. None for an
+    /// accessor without a view (all zeros).
     fn elements(
         &self,
         accessor: &gltf::Accessor,
         size: usize,
-    ) -> Result<Option<(&[u8], usize, usize)>, String> {
+    ) -> Result<Option<Elements<'_>>, String> {
         if accessor.sparse().is_some() {
             return Err("is a sparse accessor, which kdray does not read".to_string());
         }
@@ -461,7 +492,11 @@ impl Reader<'_> {
                 view_bytes.len()
             ));
         }
-        Ok(Some((view_bytes, accessor.offset(), stride)))
+        Ok(Some(Elements {
+            bytes: view_bytes,
+            offset: accessor.offset(),
+            stride,
+        }))
     }
 
     /// A VEC3 of 32-bit floats per element, every value finite.
@@ -473,7 +508,12 @@ impl Reader<'_> {
                 accessor.data_type()
             ));
         }
-        let Some((bytes, offset, stride)) = self.elements(accessor, 12)? else {
+        let Some(Elements {
+            bytes,
+            offset,
+            stride,
+        }) = self.elements(accessor, 12)?
+        else {
             return Ok(vec![DVec3::ZERO; accessor.count()]);
         };
         let float = |at: usize| {
@@ -507,7 +547,12 @@ impl Reader<'_> {
         if accessor.dimensions() != Dimensions::Scalar {
             return Err(format!("must be SCALAR, are {:?}", accessor.dimensions()));
         }
-        let Some((bytes, offset, stride)) = self.elements(accessor, size)? else {
+        let Some(Elements {
+            bytes,
+            offset,
+            stride,
+        }) = self.elements(accessor, size)?
+        else {
             return Ok(vec![0; accessor.count()]);
         };
         Ok((0..accessor.count())
@@ -523,16 +568,27 @@ impl Reader<'_> {
     }
 }
 
+/// An accessor's elements: element i starts at `bytes[offset + i * stride]`.
+struct Elements<'a> {
+    /// The buffer view's bytes.
+    bytes: &'a [u8],
+    offset: usize,
+    stride: usize,
+}
+
 /// The vertex indices of each triangle of a primitive. Strips alternate
 /// their winding so all triangles face one way, as the glTF spec orders them.
 fn triangle_corners(mode: Mode, indices: &[usize]) -> Result<Vec<[usize; 3]>, String> {
     let n = indices.len();
     Ok(match mode {
         Mode::Triangles => {
-            if n % 3 != 0 {
+            if !n.is_multiple_of(3) {
                 return Err(format!("TRIANGLES with {n} vertices, not a multiple of 3"));
             }
-            indices.chunks_exact(3).map(|t| [t[0], t[1], t[2]]).collect()
+            indices
+                .chunks_exact(3)
+                .map(|t| [t[0], t[1], t[2]])
+                .collect()
         }
         Mode::TriangleStrip => (0..n.saturating_sub(2))
             .map(|i| {
@@ -637,7 +693,9 @@ mod tests {
         let fan = triangle_corners(Mode::TriangleFan, &[0, 1, 2, 3]).unwrap();
         assert_eq!(fan, [[1, 2, 0], [2, 3, 0]]);
         assert!(triangle_corners(Mode::Triangles, &[0, 1, 2, 3]).is_err());
-        assert!(triangle_corners(Mode::TriangleStrip, &[0, 1]).unwrap().is_empty());
+        assert!(triangle_corners(Mode::TriangleStrip, &[0, 1])
+            .unwrap()
+            .is_empty());
     }
 
     #[test]

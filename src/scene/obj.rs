@@ -409,10 +409,16 @@ fn resolve(text: &str, token: &str, what: &str, defined: usize) -> Result<usize,
             .ok()
             .and_then(|back| defined.checked_sub(back))
     } else {
-        return Err(format!("{what} index 0 in '{token}': OBJ indices start at 1"));
+        return Err(format!(
+            "{what} index 0 in '{token}': OBJ indices start at 1"
+        ));
     };
     resolved.ok_or_else(|| {
-        let plural = if what == "vertex" { "vertices" } else { "normals" };
+        let plural = if what == "vertex" {
+            "vertices"
+        } else {
+            "normals"
+        };
         format!(
             "{what} index {index} in '{token}' is out of range: {defined} {plural} defined so far"
         )

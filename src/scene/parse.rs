@@ -1084,7 +1084,9 @@ impl Validator<'_> {
 enum MeshNormals {
     Flat,
     /// The file's normals where all three corners of a triangle have one.
-    FromFile { normal_matrix: DMat3 },
+    FromFile {
+        normal_matrix: DMat3,
+    },
     /// The file's normals where a corner has one, else the angle-weighted
     /// normal of its shared vertex (computed in world space).
     Smooth {

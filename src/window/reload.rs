@@ -224,7 +224,10 @@ mod tests {
     fn recorded(scene: &Path) -> (Vec<PathBuf>, bool) {
         let (files, result) =
             WatchList::record(|seen| crate::scene::load_scene_observed(scene, seen));
-        (files.0.into_iter().map(|(p, _)| p).collect(), result.is_ok())
+        (
+            files.0.into_iter().map(|(p, _)| p).collect(),
+            result.is_ok(),
+        )
     }
 
     #[test]
@@ -264,7 +267,11 @@ mod tests {
             (vec![dir.join("s.toml"), dir.join("missing.obj")], false)
         );
         // A broken MTL file is watched; the mesh after it was never reached.
-        std::fs::write(dir.join("a.obj"), format!("mtllib a.mtl\nusemtl m\n{TRIANGLE}")).unwrap();
+        std::fs::write(
+            dir.join("a.obj"),
+            format!("mtllib a.mtl\nusemtl m\n{TRIANGLE}"),
+        )
+        .unwrap();
         std::fs::write(dir.join("a.mtl"), "Kd 1 1 1\n").unwrap();
         let mut text = scene_text("a.obj", None);
         text.push_str("[[meshes]]\npath = \"later.obj\"\n");
