@@ -385,3 +385,70 @@ fn brute_force_and_kdtree_images_agree() {
     }
     assert!(images[0] == images[1], "the two PNGs' pixels differ");
 }
+
+/// Mesh files that cannot be drawn (issue 10, section 5): before, a binary
+/// file read as OBJ gave an empty mesh and a picture without the model.
+#[test]
+fn bad_mesh_files_exit_2_with_one_line_and_write_nothing() {
+    let dir = TempDir::new("bad-meshes");
+    let models = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/models");
+    let glb = std::fs::read(models.join("tetra.glb")).unwrap();
+    let external = std::fs::read_to_string(models.join("tetra_external.gltf")).unwrap();
+    let binary: Vec<u8> = (0..=255).collect();
+    let files: [(&str, Vec<u8>, &str); 8] = [
+        ("binary.glb", binary.clone(), "not a valid glTF 2.0 file"),
+        ("binary.obj", binary, "not a text OBJ file"),
+        ("empty.obj", Vec::new(), "no faces"),
+        (
+            "points.obj",
+            b"v 0 0 0\nv 1 0 0\nv 0 1 0\n".to_vec(),
+            "no faces",
+        ),
+        ("cut.glb", glb[..600].to_vec(), "truncated GLB"),
+        (
+            "corrupt.gltf",
+            b"{\"asset\": ".to_vec(),
+            "not a valid glTF 2.0 file",
+        ),
+        (
+            "model.ply",
+            b"ply\n".to_vec(),
+            "unknown mesh file extension",
+        ),
+        (
+            "outside.gltf",
+            external
+                .replace("tetra.bin", "../../no/such/tetra.bin")
+                .into_bytes(),
+            "buffer 0: cannot read",
+        ),
+    ];
+    for (name, bytes, words) in files {
+        std::fs::write(dir.join(name), &bytes).unwrap();
+        let scene = dir.write(
+            "scene.toml",
+            &format!("{BASE_SCENE}\n[[meshes]]\npath = \"{name}\"\nmaterial = \"red\"\n"),
+        );
+        let run = kdray(
+            &dir.path,
+            &render_args(scene.to_str().unwrap(), &["-o", "out.png"]),
+        );
+        assert_eq!(run.code, 2, "{name}: {run:#?}");
+        let line = run.one_error_line();
+        let file = dir.join(name);
+        assert!(
+            line.contains(&file.display().to_string()) && line.contains(words),
+            "{name}: want {} and {words:?} in {line}",
+            file.display()
+        );
+        assert!(
+            !dir.join("out.png").exists(),
+            "{name}: an image was written"
+        );
+        assert!(
+            dir.temp_files().is_empty(),
+            "{name}: {:?}",
+            dir.temp_files()
+        );
+    }
+}

@@ -41,7 +41,7 @@ fn replay(target: &str, check: impl Fn(&[u8])) {
 fn scene_toml_corpus() {
     replay("scene_toml", |data| {
         if let Ok(text) = std::str::from_utf8(data) {
-            kdray::scene::fuzz_check(text, SceneFormat::Toml);
+            kdray::fuzz_support::scene(text, SceneFormat::Toml);
         }
     });
 }
@@ -50,12 +50,44 @@ fn scene_toml_corpus() {
 fn scene_json_corpus() {
     replay("scene_json", |data| {
         if let Ok(text) = std::str::from_utf8(data) {
-            kdray::scene::fuzz_check(text, SceneFormat::Json);
+            kdray::fuzz_support::scene(text, SceneFormat::Json);
         }
     });
 }
 
 #[test]
 fn obj_corpus() {
-    replay("obj", kdray::scene::obj::fuzz_check);
+    replay("obj", kdray::fuzz_support::obj);
+}
+
+#[test]
+fn gltf_corpus() {
+    replay("gltf", kdray::fuzz_support::gltf);
+}
+
+/// Without a fuzzer at hand: every prefix of the GLB and glTF seeds, and
+/// every single-bit flip of the GLB, must not panic either.
+#[test]
+fn gltf_truncations_and_bit_flips() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("fuzz/corpus/gltf");
+    for name in ["tetra.glb", "tetra_embedded.gltf"] {
+        let data = std::fs::read(root.join(name)).unwrap();
+        for end in 0..data.len() {
+            let input = &data[..end];
+            let result = std::panic::catch_unwind(|| kdray::fuzz_support::gltf(input));
+            assert!(result.is_ok(), "{name} cut at {end} panics");
+        }
+    }
+    let data = std::fs::read(root.join("tetra.glb")).unwrap();
+    for at in 0..data.len() {
+        for bit in 0..8 {
+            let mut input = data.clone();
+            input[at] ^= 1 << bit;
+            let result = std::panic::catch_unwind(|| kdray::fuzz_support::gltf(&input));
+            assert!(
+                result.is_ok(),
+                "tetra.glb with bit {bit} of byte {at} flipped panics"
+            );
+        }
+    }
 }

@@ -42,10 +42,7 @@ fn scene_of(prims: &Primitives) -> Scene {
     scene.triangles = prims
         .triangles
         .iter()
-        .map(|t| Triangle {
-            vertices: t.v.map(|v| v.as_dvec3()),
-            material: 0,
-        })
+        .map(|t| Triangle::flat(t.v.map(|v| v.as_dvec3()), 0))
         .collect();
     scene
 }

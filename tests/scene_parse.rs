@@ -1481,14 +1481,14 @@ mod objects {
         assert_eq!(name(scene.spheres[1].material), "blue");
         assert_eq!(
             scene.triangles,
-            vec![Triangle {
-                vertices: [
+            vec![Triangle::flat(
+                [
                     DVec3::new(0.0, 0.0, -2.0),
                     DVec3::new(1.0, 0.0, -2.0),
                     DVec3::new(0.0, 1.0, -2.0)
                 ],
-                material: scene.triangles[0].material,
-            }]
+                scene.triangles[0].material,
+            )]
         );
         assert_eq!(name(scene.triangles[0].material), "blue");
         assert_eq!(scene.object_count(), 3);
@@ -2203,10 +2203,7 @@ translate = [0.0, 0.0, 0.0]
         );
         assert_eq!(
             scene.triangles[0],
-            Triangle {
-                vertices: [DVec3::ZERO, DVec3::X, DVec3::Y],
-                material: 0,
-            }
+            Triangle::flat([DVec3::ZERO, DVec3::X, DVec3::Y], 0)
         );
         // The mesh, untransformed, all red.
         let raw = load_obj(&obj, false).unwrap();
@@ -2304,5 +2301,563 @@ translate = [0.0, 0.0, 0.0]
             doc.contains(&shown.replace(TOML_FILE, "scene.toml")),
             "the docs should quote: {shown}"
         );
+    }
+}
+
+// ============================================================== mesh files: bad input, glTF, normals
+
+/// The folder of the small glTF models (written by tests/models/make_models.py).
+fn test_models_dir() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/models")
+}
+
+/// Copies `name` from tests/models into `dir`; returns its path there.
+fn copy_model(dir: &TempDir, name: &str) -> PathBuf {
+    let to = dir.join(name);
+    std::fs::copy(test_models_dir().join(name), &to).unwrap();
+    to
+}
+
+/// Writes `scene.toml` in `dir`: the base scene plus one `[[meshes]]` entry
+/// with the given keys (values as TOML text). Returns the path and the line
+/// of `meshes[0].path`.
+fn scene_with_mesh(dir: &TempDir, keys: &[(&str, &str)]) -> (PathBuf, usize) {
+    let mut doc = base();
+    for (key, value) in keys {
+        doc = doc.set(&format!("meshes[0].{key}"), value);
+    }
+    let text = doc.toml();
+    let line = text.line("meshes[0].path");
+    (dir.write("scene.toml", &text.text), line)
+}
+
+mod bad_mesh_files {
+    use super::*;
+
+    /// Loads a scene whose mesh is `name` (already in `dir`), material
+    /// overridden, and returns its error and the `(from ...)` note a file
+    /// error without a line ends with.
+    fn error_of(dir: &TempDir, name: &str) -> (SceneError, String) {
+        let (scene, line) = scene_with_mesh(
+            dir,
+            &[("path", &format!("\"{name}\"")), ("material", "\"red\"")],
+        );
+        let note = format!(" (from meshes[0].path in {}:{line})", scene.display());
+        (load_err(&scene), note)
+    }
+
+    #[track_caller]
+    fn assert_file_error(dir: &TempDir, name: &str, message: &str) {
+        let (e, note) = error_of(dir, name);
+        let want = format!("{}: {message}{note}", dir.join(name).display());
+        assert_eq!(e.to_string(), want);
+        assert_eq!((e.line, e.key.as_deref()), (None, None));
+    }
+
+    #[test]
+    fn an_obj_without_faces_is_an_error() {
+        let dir = TempDir::new("nofaces");
+        dir.write("empty.obj", "");
+        dir.write("points.obj", "# only vertices\nv 0 0 0\nv 1 0 0\nv 0 1 0\n");
+        let no_faces = "no faces: the file has no `f` statement, so the mesh would draw nothing";
+        assert_file_error(&dir, "empty.obj", no_faces);
+        assert_file_error(&dir, "points.obj", no_faces);
+        dir.write("flat.obj", "v 0 0 0\nv 1 0 0\nv 2 0 0\nf 1 2 3\nf 1 1 2\n");
+        assert_file_error(
+            &dir,
+            "flat.obj",
+            "all 2 faces have zero area, so the mesh would draw nothing",
+        );
+    }
+
+    #[test]
+    fn a_binary_file_read_as_obj_names_the_line_of_the_first_bad_byte() {
+        let dir = TempDir::new("binobj");
+        // Bytes 0..=255: a newline at 10, the first invalid UTF-8 byte at 128.
+        let bytes: Vec<u8> = (0..=255).collect();
+        std::fs::write(dir.join("binary.obj"), &bytes).unwrap();
+        let (e, _) = error_of(&dir, "binary.obj");
+        assert_eq!(
+            e.to_string(),
+            format!(
+                "{}:2: not a text OBJ file: invalid UTF-8 at byte 128 (a binary file? kdray reads binary glTF as .glb)",
+                dir.join("binary.obj").display()
+            )
+        );
+        // The glTF binary itself, misnamed .obj: the same error, not an empty mesh.
+        std::fs::copy(test_models_dir().join("tetra.glb"), dir.join("tetra.obj")).unwrap();
+        let (e, _) = error_of(&dir, "tetra.obj");
+        assert!(e.message.starts_with("not a text OBJ file"), "{e}");
+    }
+
+    #[test]
+    fn unknown_extensions_are_errors() {
+        let dir = TempDir::new("ext");
+        dir.write("model.stl", "solid x\nendsolid x\n");
+        dir.write("model", ONE_TRIANGLE_OBJ);
+        assert_file_error(
+            &dir,
+            "model.stl",
+            "unknown mesh file extension \".stl\"; kdray reads .obj, .gltf and .glb",
+        );
+        assert_file_error(
+            &dir,
+            "model",
+            "no mesh file extension; kdray reads .obj, .gltf and .glb",
+        );
+        // Extensions are case-insensitive.
+        dir.write("UPPER.OBJ", ONE_TRIANGLE_OBJ);
+        let (scene, _) =
+            scene_with_mesh(&dir, &[("path", "\"UPPER.OBJ\""), ("material", "\"red\"")]);
+        assert_eq!(load_ok(&scene).triangles.len(), 2);
+    }
+
+    #[test]
+    fn truncated_and_corrupt_gltf_files_are_errors() {
+        let dir = TempDir::new("badgltf");
+        let glb = std::fs::read(test_models_dir().join("tetra.glb")).unwrap();
+        std::fs::write(dir.join("cut.glb"), &glb[..500]).unwrap();
+        assert_file_error(
+            &dir,
+            "cut.glb",
+            &format!(
+                "truncated GLB: its header declares {} bytes, the file has 500",
+                glb.len()
+            ),
+        );
+        std::fs::write(dir.join("header.glb"), &glb[..10]).unwrap();
+        assert_file_error(
+            &dir,
+            "header.glb",
+            "truncated GLB: 10 bytes, less than its 12-byte header",
+        );
+        let mut lying = glb.clone();
+        lying[8..12].copy_from_slice(&4u32.to_le_bytes());
+        std::fs::write(dir.join("lying.glb"), &lying).unwrap();
+        assert_file_error(
+            &dir,
+            "lying.glb",
+            "corrupt GLB: its header declares 4 bytes, less than the 12-byte header",
+        );
+        // Not JSON, and JSON that is not glTF: the crate's reason follows.
+        dir.write("text.gltf", "{ not json");
+        dir.write("empty.glb", "");
+        dir.write(
+            "other.gltf",
+            "{\"asset\": {\"version\": \"2.0\"}, \"nodes\": [{\"mesh\": 3}]}",
+        );
+        for name in ["text.gltf", "empty.glb", "other.gltf"] {
+            let (e, note) = error_of(&dir, name);
+            assert_eq!(e.file, dir.join(name));
+            assert!(e.message.starts_with("not a valid glTF 2.0 file: "), "{e}");
+            assert!(e.message.ends_with(&note), "{e}");
+            assert!(
+                std::error::Error::source(&e).is_some(),
+                "{e} keeps the crate's error"
+            );
+        }
+        let (e, _) = error_of(&dir, "other.gltf");
+        assert!(
+            e.message.contains("nodes[0].mesh"),
+            "names the JSON path: {e}"
+        );
+        // Valid glTF with no scene, or a scene with no mesh: nothing to draw.
+        dir.write("noscene.gltf", "{\"asset\": {\"version\": \"2.0\"}}");
+        assert_file_error(
+            &dir,
+            "noscene.gltf",
+            "no scene: the file defines no scene to place its meshes, so it would draw nothing",
+        );
+        dir.write(
+            "nomesh.gltf",
+            "{\"asset\": {\"version\": \"2.0\"}, \"scenes\": [{\"nodes\": [0]}], \"nodes\": [{}]}",
+        );
+        assert_file_error(
+            &dir,
+            "nomesh.gltf",
+            "no triangles: the scene's nodes place no mesh with triangles, so it would draw nothing",
+        );
+    }
+
+    /// tetra_external.gltf in `dir` with its buffer URI replaced by `uri`.
+    fn with_buffer_uri(dir: &TempDir, name: &str, uri: &str) {
+        let text = std::fs::read_to_string(test_models_dir().join("tetra_external.gltf")).unwrap();
+        let mut json: serde_json::Value = serde_json::from_str(&text).unwrap();
+        json["buffers"][0]["uri"] = serde_json::Value::String(uri.to_string());
+        dir.write(name, &json.to_string());
+    }
+
+    #[test]
+    fn buffer_uris_outside_readable_files_are_errors() {
+        let dir = TempDir::new("uris");
+        with_buffer_uri(&dir, "missing.gltf", "nowhere.bin");
+        let (e, note) = error_of(&dir, "missing.gltf");
+        let prefix = format!(
+            "buffer 0: cannot read {} (URI \"nowhere.bin\"): ",
+            dir.join("nowhere.bin").display()
+        );
+        assert!(
+            e.message.starts_with(&prefix) && e.message.ends_with(&note),
+            "{e}"
+        );
+        with_buffer_uri(&dir, "device.gltf", "/dev/zero");
+        assert_file_error(
+            &dir,
+            "device.gltf",
+            "buffer 0: cannot read /dev/zero (URI \"/dev/zero\"): not a regular file",
+        );
+        with_buffer_uri(&dir, "url.gltf", "https://example.com/tetra.bin");
+        assert_file_error(
+            &dir,
+            "url.gltf",
+            "buffer 0: URI \"https://example.com/tetra.bin\": a \"https:\" URI; kdray reads buffers only from files named by a relative path, or from data: URIs",
+        );
+        with_buffer_uri(&dir, "folder.gltf", ".");
+        let (e, _) = error_of(&dir, "folder.gltf");
+        assert!(e.message.contains("not a regular file"), "{e}");
+        // A buffer file shorter than its byteLength.
+        with_buffer_uri(&dir, "short.gltf", "short.bin");
+        let bin = std::fs::read(test_models_dir().join("tetra.bin")).unwrap();
+        std::fs::write(dir.join("short.bin"), &bin[..100]).unwrap();
+        assert_file_error(
+            &dir,
+            "short.gltf",
+            "buffer 0 is truncated: byteLength 120 but 100 bytes present",
+        );
+        // A bad data URI.
+        with_buffer_uri(
+            &dir,
+            "data.gltf",
+            "data:application/octet-stream;base64,AA#A",
+        );
+        let (e, _) = error_of(&dir, "data.gltf");
+        assert!(
+            e.message.contains("invalid base64 character at offset 2"),
+            "{e}"
+        );
+    }
+
+    #[test]
+    fn points_and_lines_are_errors() {
+        let dir = TempDir::new("lines");
+        copy_model(&dir, "lines.gltf");
+        assert_file_error(
+            &dir,
+            "lines.gltf",
+            "mesh 0 primitive 0: mode Lines is not a surface; kdray draws TRIANGLES, TRIANGLE_STRIP and TRIANGLE_FAN only",
+        );
+    }
+}
+
+mod gltf_meshes {
+    use super::*;
+    use glam::{DMat3, DMat4, DQuat};
+
+    // The tetrahedron of tests/models/make_models.py, as written there.
+    const TETRA_POSITIONS: [[f32; 3]; 4] = [[0., 0., 0.], [1., 0., 0.], [0., 1., 0.], [0., 0., 1.]];
+    const TETRA_NORMALS: [[f32; 3]; 4] = [
+        [-0.57735026, -0.57735026, -0.57735026],
+        [1., 0., 0.],
+        [0., 1., 0.],
+        [0., 0., 1.],
+    ];
+    const TETRA_TRIANGLES: [[usize; 3]; 4] = [[0, 2, 1], [0, 1, 3], [0, 3, 2], [1, 2, 3]];
+    const TETRA_TRANSLATION: [f32; 3] = [1.0, 2.0, 3.0];
+    const TETRA_ROTATION: [f32; 4] = [0.0, 0.38268343, 0.0, 0.923_879_5];
+    const TETRA_SCALE: [f32; 3] = [2.0, 1.0, 0.5];
+
+    /// The tetrahedron's node transform (root T * R, child S), in f64.
+    fn node_matrix() -> DMat4 {
+        let v = |a: [f32; 3]| DVec3::from_array(a.map(f64::from));
+        let [x, y, z, w] = TETRA_ROTATION.map(f64::from);
+        DMat4::from_translation(v(TETRA_TRANSLATION))
+            * DMat4::from_quat(DQuat::from_xyzw(x, y, z, w))
+            * DMat4::from_scale(v(TETRA_SCALE))
+    }
+
+    /// The tetrahedron placed by its nodes, as an OBJ with `v//vn` faces.
+    fn tetra_obj() -> String {
+        let m = node_matrix();
+        let n = DMat3::from_mat4(m).inverse().transpose();
+        let mut text = String::new();
+        for p in TETRA_POSITIONS {
+            let p = m.transform_point3(DVec3::from_array(p.map(f64::from)));
+            text.push_str(&format!("v {:?} {:?} {:?}\n", p.x, p.y, p.z));
+        }
+        for normal in TETRA_NORMALS {
+            let v = n * DVec3::from_array(normal.map(f64::from));
+            text.push_str(&format!("vn {:?} {:?} {:?}\n", v.x, v.y, v.z));
+        }
+        for t in TETRA_TRIANGLES {
+            let [a, b, c] = t.map(|i| i + 1);
+            text.push_str(&format!("f {a}//{a} {b}//{b} {c}//{c}\n"));
+        }
+        text
+    }
+
+    /// The mesh triangles of a scene whose one mesh entry is `name` in `dir`,
+    /// with `keys` added.
+    fn mesh_triangles(dir: &TempDir, name: &str, keys: &[(&str, &str)]) -> Scene {
+        let path = format!("\"{name}\"");
+        let mut all = vec![("path", path.as_str())];
+        all.extend_from_slice(keys);
+        let (scene, _) = scene_with_mesh(dir, &all);
+        load_ok(&scene)
+    }
+
+    const ENTRY: [(&str, &str); 4] = [
+        ("material", "\"red\""),
+        ("scale", "1.5"),
+        ("rotate", "[10, 20, 30]"),
+        ("translate", "[0.5, 0, -1]"),
+    ];
+
+    #[test]
+    fn obj_and_glb_under_a_node_hierarchy_give_the_same_triangles_and_normals() {
+        let dir = TempDir::new("glb-vs-obj");
+        copy_model(&dir, "tetra.glb");
+        dir.write("tetra.obj", &tetra_obj());
+        let from_glb = mesh_triangles(&dir, "tetra.glb", &ENTRY);
+        let from_obj = mesh_triangles(&dir, "tetra.obj", &ENTRY);
+        // triangles[0] is the base scene's own triangle.
+        assert_eq!(from_glb.triangles.len(), 1 + 4);
+        assert_eq!(from_obj.triangles.len(), 1 + 4);
+        for (g, o) in from_glb.triangles[1..].iter().zip(&from_obj.triangles[1..]) {
+            for k in 0..3 {
+                // glTF positions and node transforms are f32.
+                let d = (g.vertices[k] - o.vertices[k]).abs().max_element();
+                assert!(d < 1e-5, "{:?} vs {:?}", g.vertices, o.vertices);
+                let (gn, on) = (g.normals.unwrap()[k], o.normals.unwrap()[k]);
+                assert!((gn - on).abs().max_element() < 1e-5, "{gn} vs {on}");
+                assert!((gn.length() - 1.0).abs() < 1e-12);
+            }
+            assert_eq!(g.material, o.material);
+        }
+        // The transforms really moved it: the node translation alone is 1..3 away.
+        let centre = from_glb.triangles[1..]
+            .iter()
+            .flat_map(|t| t.vertices)
+            .sum::<DVec3>()
+            / 12.0;
+        assert!(centre.length() > 2.0, "{centre}");
+    }
+
+    #[test]
+    fn embedded_external_and_binary_buffers_give_one_mesh() {
+        let dir = TempDir::new("buffers");
+        for name in [
+            "tetra.glb",
+            "tetra_embedded.gltf",
+            "tetra_external.gltf",
+            "tetra.bin",
+        ] {
+            copy_model(&dir, name);
+        }
+        let glb = mesh_triangles(&dir, "tetra.glb", &ENTRY);
+        assert_eq!(mesh_triangles(&dir, "tetra_embedded.gltf", &ENTRY), glb);
+        assert_eq!(mesh_triangles(&dir, "tetra_external.gltf", &ENTRY), glb);
+        // The loader reports the buffer file among the files it read.
+        let (scene, _) = scene_with_mesh(&dir, &[("path", "\"tetra_external.gltf\"")]);
+        let mut read = Vec::new();
+        kdray::scene::load_scene_observed(&scene, &mut |p| read.push(p.to_path_buf())).unwrap();
+        assert_eq!(
+            read,
+            [
+                scene.clone(),
+                dir.join("tetra_external.gltf"),
+                dir.join("tetra.bin")
+            ]
+        );
+    }
+
+    #[test]
+    fn pbr_materials_follow_the_documented_rule() {
+        let dir = TempDir::new("pbr");
+        copy_model(&dir, "tetra.glb");
+        copy_model(&dir, "plain.gltf");
+        let scene = mesh_triangles(&dir, "tetra.glb", &[]);
+        let gold = scene
+            .materials
+            .iter()
+            .position(|m| m.name == "tetra.glb:gold")
+            .unwrap();
+        let m = &scene.materials[gold];
+        // baseColorFactor (1, 0.75, 0.25), metallic 1, roughness 0.5.
+        let base = DVec3::new(1.0, 0.75, 0.25);
+        assert_eq!(m.diffuse, base);
+        assert_close(m.ambient, 0.1 * base);
+        assert_eq!(m.specular, DVec3::splat(0.5));
+        assert_eq!(m.reflection, 0.5, "metallic x (1 - roughness)");
+        let alpha = 0.5f64 * 0.5;
+        assert!((m.shininess - 4.0 * (2.0 / (alpha * alpha) - 2.0)).abs() < 1e-9);
+        assert!(scene.triangles[1..]
+            .iter()
+            .all(|t| t.material == gold as u32));
+        // No material: glTF's default (white, metallic 1, roughness 1) is a
+        // rough white surface, not a mirror.
+        let scene = mesh_triangles(&dir, "plain.gltf", &[]);
+        let m = scene.materials.last().unwrap();
+        assert_eq!(m.name, "plain.gltf:default");
+        assert_eq!((m.diffuse, m.specular), (DVec3::ONE, DVec3::ZERO));
+        assert_close(m.ambient, DVec3::splat(0.1));
+        assert_eq!((m.shininess, m.reflection), (0.0, 0.0));
+        // A `material` key replaces them all, and no glTF material is added.
+        let scene = mesh_triangles(&dir, "tetra.glb", &[("material", "\"blue\"")]);
+        assert_eq!(scene.materials.len(), 2);
+        assert!(scene.triangles[1..]
+            .iter()
+            .all(|t| scene.materials[t.material as usize].name == "blue"));
+    }
+
+    #[test]
+    fn a_non_indexed_primitive_without_normals_is_flat() {
+        let dir = TempDir::new("plain");
+        copy_model(&dir, "plain.gltf");
+        let scene = mesh_triangles(&dir, "plain.gltf", &[("material", "\"red\"")]);
+        assert_eq!(scene.triangles.len(), 2);
+        let node = node_matrix();
+        let want = [0, 1, 2]
+            .map(|i| node.transform_point3(DVec3::from_array(TETRA_POSITIONS[i].map(f64::from))));
+        for (g, w) in scene.triangles[1].vertices.iter().zip(want) {
+            assert!((*g - w).abs().max_element() < 1e-5, "{g} vs {w}");
+        }
+        assert_eq!(scene.triangles[1].normals, None);
+        // smooth = true: no vertex is shared, so every corner gets the face's normal.
+        let scene = mesh_triangles(
+            &dir,
+            "plain.gltf",
+            &[("material", "\"red\""), ("smooth", "true")],
+        );
+        let [a, b, c] = scene.triangles[1].vertices;
+        let face = (b - a).cross(c - a).normalize();
+        for n in scene.triangles[1].normals.unwrap() {
+            assert!((n - face).abs().max_element() < 1e-12, "{n} vs {face}");
+        }
+    }
+}
+
+mod mesh_normals {
+    use super::*;
+
+    fn load(dir: &TempDir, obj: &str, keys: &[(&str, &str)]) -> Vec<Triangle> {
+        dir.write("m.obj", obj);
+        let mut all = vec![("path", "\"m.obj\""), ("material", "\"red\"")];
+        all.extend_from_slice(keys);
+        let (scene, _) = scene_with_mesh(dir, &all);
+        load_ok(&scene).triangles[1..].to_vec()
+    }
+
+    const WITH_NORMALS: &str = "v 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nvn 0 0 2\nvn 0 1 1\nvn 1 0 0\n\
+                                f 1//1 2//2 3//3\nf 1/1/1 3/1/2 2/1/3\n";
+
+    #[test]
+    fn obj_normals_are_kept_per_corner_and_normalised() {
+        let dir = TempDir::new("vn");
+        let t = load(&dir, WITH_NORMALS, &[]);
+        let s = 0.5f64.sqrt();
+        // Corners in face order; both faces give normals 1, 2, 3 in that order.
+        for t in &t[..2] {
+            let want = [DVec3::Z, DVec3::new(0.0, s, s), DVec3::X];
+            for (got, want) in t.normals.unwrap().into_iter().zip(want) {
+                assert_close(got, want);
+            }
+        }
+    }
+
+    #[test]
+    fn smooth_false_is_flat_and_a_file_without_normals_is_flat_by_default() {
+        let dir = TempDir::new("flat");
+        assert!(load(&dir, WITH_NORMALS, &[("smooth", "false")])
+            .iter()
+            .all(|t| t.normals.is_none()));
+        assert!(load(&dir, ONE_TRIANGLE_OBJ, &[])
+            .iter()
+            .all(|t| t.normals.is_none()));
+        // A face with normals on only some corners is flat by default.
+        let partial = "v 0 0 0\nv 1 0 0\nv 0 1 0\nvn 0 0 1\nf 1//1 2 3\n";
+        assert_eq!(load(&dir, partial, &[])[0].normals, None);
+        // With smooth = true the missing corners are computed (one face: its normal).
+        assert_eq!(
+            load(&dir, partial, &[("smooth", "true")])[0].normals,
+            Some([DVec3::Z; 3])
+        );
+    }
+
+    /// The unit cube [0, 1]^3 as an OBJ of 12 outward-wound triangles sharing 8 vertices.
+    const CUBE: &str = "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 1 1 0\nv 0 0 1\nv 1 0 1\nv 0 1 1\nv 1 1 1\n\
+                        f 1 3 4 2\nf 5 6 8 7\nf 1 2 6 5\nf 3 7 8 4\nf 1 5 7 3\nf 2 4 8 6\n";
+
+    #[test]
+    fn smooth_true_computes_angle_weighted_normals_of_shared_vertices() {
+        let dir = TempDir::new("cube");
+        let triangles = load(&dir, CUBE, &[("smooth", "true")]);
+        assert_eq!(triangles.len(), 12);
+        for t in &triangles {
+            for (v, n) in t.vertices.iter().zip(t.normals.unwrap()) {
+                // Each corner's three faces meet at right angles: the diagonal.
+                let want = (*v - DVec3::splat(0.5)).normalize();
+                assert_close(n, want);
+            }
+        }
+    }
+
+    #[test]
+    fn normals_follow_the_entry_transform_by_the_inverse_transpose() {
+        let dir = TempDir::new("xform-n");
+        // A plane x = z (normal (1, 0, -1)) stretched by 2 along x is the plane
+        // x = 2z, whose normal is (1, 0, -2); then rotated 90 degrees about z.
+        let obj = "v 0 0 0\nv 1 0 1\nv 0 1 0\nvn 1 0 -1\nf 1//1 2//1 3//1\n";
+        let t = load(
+            &dir,
+            obj,
+            &[("scale", "[2, 1, 1]"), ("rotate", "[0, 0, 90]")],
+        );
+        let want = DVec3::new(0.0, 1.0, -2.0) / 5f64.sqrt();
+        for n in t[0].normals.unwrap() {
+            assert_close(n, want);
+        }
+        // The normal is perpendicular to the transformed triangle.
+        let [a, b, c] = t[0].vertices;
+        assert!((b - a).dot(want).abs() < 1e-12 && (c - a).dot(want).abs() < 1e-12);
+        // Computed normals are computed on the transformed mesh.
+        let smooth = load(&dir, CUBE, &[("smooth", "true"), ("scale", "[1, 1, 4]")]);
+        for t in &smooth {
+            for (v, n) in t.vertices.iter().zip(t.normals.unwrap()) {
+                // Still a box, so still the diagonal (1, 1, 1) / sqrt(3), not
+                // the unscaled cube's normal carried through the scale.
+                let want = (*v - DVec3::new(0.5, 0.5, 2.0)).signum().normalize();
+                assert_close(n, want);
+            }
+        }
+    }
+
+    #[test]
+    fn bad_normal_statements_name_their_line() {
+        let dir = TempDir::new("badvn");
+        for (obj, line, key) in [
+            ("vn 0 0\n", 1, "vn"),
+            ("v 0 0 0\nvn 0 nan 1\n", 2, "vn"),
+            ("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1//1 2//1 3//1\n", 4, "f"),
+            (
+                "v 0 0 0\nv 1 0 0\nv 0 1 0\nvn 0 0 1\nf 1//0 2//1 3//1\n",
+                5,
+                "f",
+            ),
+            (
+                "v 0 0 0\nv 1 0 0\nv 0 1 0\nvn 0 0 1\nf 1//x 2//1 3//1\n",
+                5,
+                "f",
+            ),
+        ] {
+            let obj_path = dir.write("m.obj", obj);
+            let (scene, _) =
+                scene_with_mesh(&dir, &[("path", "\"m.obj\""), ("material", "\"red\"")]);
+            assert_error(&load_err(&scene), &obj_path, Some(line), Some(key), &[]);
+        }
+        let e = parse_err(
+            &with_mesh().set("meshes[0].smooth", "\"yes\"").toml().text,
+            SceneFormat::Toml,
+        );
+        assert_eq!(e.key.as_deref(), Some("meshes[0].smooth"), "{e}");
     }
 }

@@ -4,5 +4,5 @@
 use libfuzzer_sys::fuzz_target;
 
 fuzz_target!(|data: &[u8]| {
-    kdray::scene::obj::fuzz_check(data);
+    kdray::fuzz_support::obj(data);
 });

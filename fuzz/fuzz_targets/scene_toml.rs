@@ -6,6 +6,6 @@ use libfuzzer_sys::fuzz_target;
 
 fuzz_target!(|data: &[u8]| {
     if let Ok(text) = std::str::from_utf8(data) {
-        kdray::scene::fuzz_check(text, kdray::scene::SceneFormat::Toml);
+        kdray::fuzz_support::scene(text, kdray::scene::SceneFormat::Toml);
     }
 });

@@ -121,7 +121,7 @@ pub fn generate_cli(args: &GenerateOptions) -> Result<()> {
         args.count
     );
     let format = random_scene::FileFormat::from_path(&args.output);
-    let text = random_scene::scene_file_text(&scene, format, &header);
+    let text = random_scene::scene_file_text(&scene, format, &header).map_err(Error::Output)?;
     crate::output::write_file_atomic(&args.output, text.as_bytes())?;
     eprintln!(
         "kdray: wrote {} ({} spheres, {} triangles)",

@@ -1,19 +1,26 @@
 //! Scenes: the validated, world-space description that everything downstream
-//! consumes. Parsing (TOML or JSON), validation and OBJ loading live in the
-//! submodules; nothing here knows about the GPU or the k-d tree.
+//! consumes. Parsing (TOML or JSON), validation and mesh loading (OBJ/MTL,
+//! glTF 2.0) live in the submodules; nothing here knows about the GPU or the
+//! k-d tree.
 //!
 //! Units: positions in scene units, angles in degrees in files and radians
 //! nowhere in this module (the camera keeps `vfov_degrees`), colours linear.
 
 mod camera_basis;
 mod error;
+pub mod gltf;
+pub mod mesh;
+mod normals;
 pub mod obj;
 mod parse;
 mod source_map;
 
 pub use camera_basis::CameraBasis;
 pub use error::SceneError;
-pub use parse::{check_samples, load_scene, parse_scene, SceneFormat, MAX_IMAGE_SIDE};
+pub use parse::{
+    check_samples, load_scene, load_scene_observed, parse_scene, scene_text, SceneFormat,
+    MAX_IMAGE_SIDE,
+};
 
 use glam::DVec3;
 
@@ -100,7 +107,21 @@ pub struct Sphere {
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Triangle {
     pub vertices: [DVec3; 3],
+    /// Unit shading normals at the three vertices, in world space, for
+    /// smooth shading; None: flat, the geometric normal everywhere.
+    pub normals: Option<[DVec3; 3]>,
     pub material: u32,
+}
+
+impl Triangle {
+    /// A flat-shaded triangle (no vertex normals).
+    pub fn flat(vertices: [DVec3; 3], material: u32) -> Self {
+        Triangle {
+            vertices,
+            normals: None,
+            material,
+        }
+    }
 }
 
 impl Scene {
@@ -111,7 +132,7 @@ impl Scene {
     }
 }
 
-/// Largest scene, OBJ or MTL file read (bytes).
+/// Largest scene, mesh, MTL or glTF buffer file read (bytes).
 pub const MAX_INPUT_BYTES: u64 = 2 << 30;
 
 /// Reads an input file: only regular files (a path like /dev/zero would be
@@ -129,24 +150,4 @@ pub(crate) fn read_input_file(path: &std::path::Path) -> std::io::Result<Vec<u8>
         ));
     }
     std::fs::read(path)
-}
-
-/// What the fuzz targets and their regression tests run on one input: parse
-/// and validate a scene (files it names are looked up under a folder that
-/// does not exist); if it validates, build its k-d tree and trace a ray
-/// through it. Anything may fail, nothing may panic.
-pub fn fuzz_check(text: &str, format: SceneFormat) {
-    let path = std::path::Path::new("/nonexistent-kdray-fuzz/scene");
-    if let Ok(scene) = parse_scene(text, path, format) {
-        let prims = crate::geometry::Primitives::from_scene(&scene);
-        let tree = crate::kdtree::KdTree::for_primitives(&prims);
-        let ray = crate::geometry::Ray {
-            origin: scene.camera.position.as_vec3(),
-            dir: (scene.camera.look_at - scene.camera.position)
-                .normalize()
-                .as_vec3(),
-        };
-        let _ =
-            crate::kdtree::traverse::closest_hit(&tree, &prims, &ray, crate::geometry::T_INFINITY);
-    }
 }

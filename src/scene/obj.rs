@@ -1,9 +1,10 @@
 //! A small hand-written Wavefront OBJ + MTL reader.
 //!
 //! Only what a ray tracer of triangles needs is kept: vertex positions,
-//! faces (fan-triangulated) and, on request, the Phong colours of the MTL
-//! materials the faces use. Everything else in the formats (texture
-//! coordinates, normals, groups, smoothing, maps, ...) is ignored.
+//! vertex normals (`vn`, for smooth shading), faces (fan-triangulated) and,
+//! on request, the Phong colours of the MTL materials the faces use.
+//! Everything else in the formats (texture coordinates, groups, smoothing
+//! groups, maps, ...) is ignored.
 //!
 //! Every fault is a [`SceneError`] naming the file (the OBJ or the MTL), the
 //! 1-based line and the statement at fault. No input makes this module panic.
@@ -13,49 +14,61 @@ use std::path::{Path, PathBuf};
 
 use glam::DVec3;
 
+use super::mesh::{Mesh, MeshMaterial, MeshTriangle};
 use super::SceneError;
 
-/// A material from an MTL file: Ka -> ambient, Kd -> diffuse, Ks -> specular, Ns -> shininess; a missing colour is black, a missing Ns is 0.
-#[derive(Debug, Clone, PartialEq)]
-pub struct ObjMaterial {
-    pub name: String,
-    pub ambient: DVec3,
-    pub diffuse: DVec3,
-    pub specular: DVec3,
-    pub shininess: f64,
-}
-
-/// One triangle in the OBJ file's own coordinates; `material` indexes ObjMesh::materials (None when materials were not asked for).
-#[derive(Debug, Clone, PartialEq)]
-pub struct ObjTriangle {
-    pub vertices: [DVec3; 3],
-    pub material: Option<usize>,
-}
-
-/// The triangles of an OBJ file and the materials they use.
-#[derive(Debug, Clone, PartialEq, Default)]
-pub struct ObjMesh {
-    pub triangles: Vec<ObjTriangle>,
-    /// Deduplicated by name, in order of first use by a face; only materials
-    /// some face uses are here.
-    pub materials: Vec<ObjMaterial>,
-}
-
 /// Reads an OBJ file. With `with_materials` false (the scene overrides the material) mtllib/usemtl are ignored entirely (an MTL file need not exist).
-pub fn load_obj(path: &Path, with_materials: bool) -> Result<ObjMesh, SceneError> {
-    let text = read_text(path, "OBJ")?;
-    parse_obj(&text, path, with_materials)
+/// A file that is not UTF-8 text, or that has no face with an area, is an
+/// error: it would draw nothing (a binary file read as OBJ is all unknown
+/// statements).
+pub fn load_obj(path: &Path, with_materials: bool) -> Result<Mesh, SceneError> {
+    load_obj_observed(path, with_materials, &mut |_| {})
 }
 
-/// Same, from text already read (for tests and fuzzing); `path` is only used for error messages and to resolve mtllib paths relative to its folder.
-pub fn parse_obj(text: &str, path: &Path, with_materials: bool) -> Result<ObjMesh, SceneError> {
+/// [`load_obj`], calling `on_read` with the OBJ and each MTL file just before
+/// reading it.
+pub fn load_obj_observed(
+    path: &Path,
+    with_materials: bool,
+    on_read: &mut dyn FnMut(&Path),
+) -> Result<Mesh, SceneError> {
+    on_read(path);
+    let text = read_text(path, "OBJ")?;
+    let mut faces = 0usize;
+    let mesh = parse_obj_counting(&text, path, with_materials, on_read, &mut faces)?;
+    if mesh.triangles.is_empty() {
+        let message = if faces == 0 {
+            "no faces: the file has no `f` statement, so the mesh would draw nothing".to_string()
+        } else {
+            format!("all {faces} faces have zero area, so the mesh would draw nothing")
+        };
+        return Err(SceneError::new(path, None, None, message));
+    }
+    Ok(mesh)
+}
+
+/// Parses OBJ text already read (for tests and fuzzing); `path` is only used for error messages and to resolve mtllib paths relative to its folder.
+/// Unlike [`load_obj`], a text without faces is an empty mesh.
+pub fn parse_obj(text: &str, path: &Path, with_materials: bool) -> Result<Mesh, SceneError> {
+    parse_obj_counting(text, path, with_materials, &mut |_| {}, &mut 0)
+}
+
+/// The parser; `faces` counts the `f` statements.
+fn parse_obj_counting(
+    text: &str,
+    path: &Path,
+    with_materials: bool,
+    on_read: &mut dyn FnMut(&Path),
+    faces: &mut usize,
+) -> Result<Mesh, SceneError> {
     let mut vertices: Vec<DVec3> = Vec::new();
-    let mut mesh = ObjMesh::default();
-    // Reused for every face so that faces allocate nothing.
-    let mut face: Vec<usize> = Vec::with_capacity(8);
+    let mut normals: Vec<DVec3> = Vec::new();
+    let mut mesh = Mesh::default();
+    // Reused for every face so that faces allocate nothing: (v, vn) indices.
+    let mut face: Vec<(usize, Option<usize>)> = Vec::with_capacity(8);
 
     // Materials state (only touched when `with_materials`).
-    let mut library: HashMap<String, ObjMaterial> = HashMap::new();
+    let mut library: HashMap<String, MeshMaterial> = HashMap::new();
     let mut loaded_libraries: Vec<PathBuf> = Vec::new();
     let mut used: HashMap<String, usize> = HashMap::new();
     // The name and line of the last usemtl, and its index into
@@ -95,11 +108,28 @@ pub fn parse_obj(text: &str, path: &Path, with_materials: bool) -> Result<ObjMes
                 }
                 vertices.push(DVec3::from_array(xyz));
             }
+            "vn" => {
+                let mut xyz = [0.0f64; 3];
+                let mut count = 0usize;
+                for token in tokens {
+                    let value = parse_number(token).map_err(err)?;
+                    if count < 3 {
+                        xyz[count] = value;
+                    }
+                    count += 1;
+                }
+                if count != 3 {
+                    return Err(err(format!("expected 3 numbers (x y z), found {count}")));
+                }
+                normals.push(DVec3::from_array(xyz));
+            }
             "f" => {
+                *faces += 1;
                 face.clear();
                 for token in tokens {
                     let index = resolve_index(token, vertices.len()).map_err(err)?;
-                    face.push(index);
+                    let normal = resolve_normal(token, normals.len()).map_err(err)?;
+                    face.push((index, normal));
                 }
                 if face.len() < 3 {
                     return Err(err(format!(
@@ -149,9 +179,10 @@ pub fn parse_obj(text: &str, path: &Path, with_materials: bool) -> Result<ObjMes
                     None
                 };
 
-                let a = vertices[face[0]];
+                let first = face[0];
                 for pair in face[1..].windows(2) {
-                    let (b, c) = (vertices[pair[0]], vertices[pair[1]]);
+                    let corners = [first, pair[0], pair[1]];
+                    let [a, b, c] = corners.map(|(v, _)| vertices[v]);
                     // Skip zero-area triangles: they cannot be hit and have no
                     // normal. "Zero" is the cross product's f64 length, so a
                     // cross product so small that its squared length underflows
@@ -159,8 +190,10 @@ pub fn parse_obj(text: &str, path: &Path, with_materials: bool) -> Result<ObjMes
                     if (b - a).cross(c - a).length() == 0.0 {
                         continue;
                     }
-                    mesh.triangles.push(ObjTriangle {
+                    mesh.triangles.push(MeshTriangle {
                         vertices: [a, b, c],
+                        corners: corners.map(|(v, _)| v),
+                        normals: corners.map(|(_, n)| n.map(|n| normals[n])),
                         material,
                     });
                 }
@@ -173,8 +206,10 @@ pub fn parse_obj(text: &str, path: &Path, with_materials: bool) -> Result<ObjMes
                     if loaded_libraries.contains(&mtl_path) {
                         continue;
                     }
+                    on_read(&mtl_path);
                     let mtl_text = super::read_input_file(&mtl_path).map_err(|e| {
                         err(format!("cannot read MTL file {}: {e}", mtl_path.display()))
+                            .with_source(e)
                     })?;
                     parse_mtl(&String::from_utf8_lossy(&mtl_text), &mtl_path, &mut library)?;
                     loaded_libraries.push(mtl_path);
@@ -193,12 +228,13 @@ pub fn parse_obj(text: &str, path: &Path, with_materials: bool) -> Result<ObjMes
                 current = Some((name, line_no));
                 current_index = None;
             }
-            // vt, vn, vp, o, g, s, l, p, mtllib/usemtl without materials, and
+            // vt, vp, o, g, s, l, p, mtllib/usemtl without materials, and
             // anything unknown.
             _ => {}
         }
     }
 
+    mesh.vertex_count = vertices.len();
     Ok(mesh)
 }
 
@@ -208,12 +244,12 @@ pub fn parse_obj(text: &str, path: &Path, with_materials: bool) -> Result<ObjMes
 fn parse_mtl(
     text: &str,
     path: &Path,
-    library: &mut HashMap<String, ObjMaterial>,
+    library: &mut HashMap<String, MeshMaterial>,
 ) -> Result<(), SceneError> {
     // The material being defined; added to the library when the next one
     // starts or the file ends.
-    let mut current: Option<ObjMaterial> = None;
-    fn finish(material: Option<ObjMaterial>, library: &mut HashMap<String, ObjMaterial>) {
+    let mut current: Option<MeshMaterial> = None;
+    fn finish(material: Option<MeshMaterial>, library: &mut HashMap<String, MeshMaterial>) {
         if let Some(material) = material {
             library.entry(material.name.clone()).or_insert(material);
         }
@@ -237,12 +273,13 @@ fn parse_mtl(
                 return Err(err("expected a material name".to_string()));
             }
             finish(current.take(), library);
-            current = Some(ObjMaterial {
+            current = Some(MeshMaterial {
                 name: name.to_string(),
                 ambient: DVec3::ZERO,
                 diffuse: DVec3::ZERO,
                 specular: DVec3::ZERO,
                 shininess: 0.0,
+                reflection: 0.0,
             });
             continue;
         }
@@ -297,17 +334,25 @@ fn parse_mtl(
     Ok(())
 }
 
+/// The file as UTF-8 text. Not UTF-8 is an error naming the line of the
+/// first bad byte: it is how a binary file (a `.glb` misnamed `.obj`, an
+/// image) shows, and reading it as text would silently give an empty mesh.
 fn read_text(path: &Path, what: &str) -> Result<String, SceneError> {
-    match super::read_input_file(path) {
-        // Tolerate stray non-UTF-8 bytes (Latin-1 comments and names are common).
-        Ok(bytes) => Ok(String::from_utf8_lossy(&bytes).into_owned()),
-        Err(e) => Err(SceneError::new(
+    let bytes = super::read_input_file(path).map_err(|e| {
+        SceneError::new(path, None, None, format!("cannot read {what} file: {e}")).with_source(e)
+    })?;
+    String::from_utf8(bytes).map_err(|e| {
+        let valid = &e.as_bytes()[..e.utf8_error().valid_up_to()];
+        let line = valid.iter().filter(|&&b| b == b'\n').count() + 1;
+        let offset = valid.len();
+        SceneError::new(
             path,
+            Some(line),
             None,
-            None,
-            format!("cannot read {what} file: {e}"),
-        )),
-    }
+            format!("not a text {what} file: invalid UTF-8 at byte {offset} (a binary file? kdray reads binary glTF as .glb)"),
+        )
+        .with_source(e.utf8_error())
+    })
 }
 
 /// The line without its `\r` and anything from `#` on.
@@ -339,8 +384,22 @@ fn parse_number(token: &str) -> Result<f64, String> {
 /// `v/vt/vn`, given the number of vertices defined so far.
 fn resolve_index(token: &str, defined: usize) -> Result<usize, String> {
     let v = token.split('/').next().unwrap_or("");
-    let Ok(index) = v.parse::<i64>() else {
-        return Err(format!("'{token}' is not a vertex index"));
+    resolve(v, token, "vertex", defined)
+}
+
+/// The 0-based normal index of a face token (`v//vn` or `v/vt/vn`), None
+/// for `v` and `v/vt`, given the number of normals defined so far.
+fn resolve_normal(token: &str, defined: usize) -> Result<Option<usize>, String> {
+    match token.split('/').nth(2) {
+        None | Some("") => Ok(None),
+        Some(vn) => resolve(vn, token, "normal", defined).map(Some),
+    }
+}
+
+/// An OBJ index (1-based, or negative: -1 is the last defined so far).
+fn resolve(text: &str, token: &str, what: &str, defined: usize) -> Result<usize, String> {
+    let Ok(index) = text.parse::<i64>() else {
+        return Err(format!("'{token}' is not a {what} index"));
     };
     let resolved = if index > 0 {
         usize::try_from(index - 1).ok().filter(|&i| i < defined)
@@ -351,24 +410,19 @@ fn resolve_index(token: &str, defined: usize) -> Result<usize, String> {
             .and_then(|back| defined.checked_sub(back))
     } else {
         return Err(format!(
-            "vertex index 0 in '{token}': OBJ indices start at 1"
+            "{what} index 0 in '{token}': OBJ indices start at 1"
         ));
     };
     resolved.ok_or_else(|| {
+        let plural = if what == "vertex" {
+            "vertices"
+        } else {
+            "normals"
+        };
         format!(
-            "vertex index {index} in '{token}' is out of range: {defined} vertices defined so far"
+            "{what} index {index} in '{token}' is out of range: {defined} {plural} defined so far"
         )
     })
-}
-
-/// What the OBJ fuzz target and its regression tests run on one input: the
-/// bytes as an OBJ file (lossily decoded, as `load_obj` does), with and
-/// without materials. Anything may fail, nothing may panic.
-pub fn fuzz_check(data: &[u8]) {
-    let text = String::from_utf8_lossy(data);
-    let path = Path::new("/nonexistent-kdray-fuzz/mesh.obj");
-    let _ = parse_obj(&text, path, false);
-    let _ = parse_obj(&text, path, true);
 }
 
 #[cfg(test)]
@@ -380,7 +434,7 @@ mod tests {
         Path::new("mesh.obj")
     }
 
-    fn parse(text: &str) -> ObjMesh {
+    fn parse(text: &str) -> Mesh {
         parse_obj(text, p(), false).unwrap_or_else(|e| panic!("parse failed: {e}"))
     }
 
@@ -421,8 +475,10 @@ mod tests {
         let mesh = parse("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n");
         assert_eq!(
             mesh.triangles,
-            vec![ObjTriangle {
+            vec![MeshTriangle {
                 vertices: [d(0., 0., 0.), d(1., 0., 0.), d(0., 1., 0.)],
+                corners: [0, 1, 2],
+                normals: [None; 3],
                 material: None
             }]
         );
@@ -479,7 +535,7 @@ mod tests {
     #[test]
     fn negative_indices_are_relative_to_vertices_so_far() {
         // -1 is the last vertex defined before the face, not in the file.
-        let text = "v 0 0 0\nv 1 0 0\nv 0 1 0\nf -3 -2 -1\nv 5 5 5\nv 6 5 5\nf -5//1 -1//1 -2//1\n";
+        let text = "v 0 0 0\nv 1 0 0\nv 0 1 0\nf -3 -2 -1\nv 5 5 5\nv 6 5 5\nvn 0 0 1\nf -5//1 -1//1 -2//1\n";
         let mesh = parse(text);
         assert_eq!(
             mesh.triangles[0].vertices,
@@ -555,8 +611,8 @@ mod tests {
 
     #[test]
     fn empty_input_is_an_empty_mesh() {
-        assert_eq!(parse(""), ObjMesh::default());
-        assert_eq!(parse("# nothing\n\n"), ObjMesh::default());
+        assert_eq!(parse(""), Mesh::default());
+        assert_eq!(parse("# nothing\n\n"), Mesh::default());
     }
 
     #[test]
@@ -605,22 +661,24 @@ mod tests {
         assert_eq!(names, ["teal", "gold"]);
         assert_eq!(
             mesh.materials[0],
-            ObjMaterial {
+            MeshMaterial {
                 name: "teal".into(),
                 ambient: DVec3::ZERO,
                 diffuse: DVec3::splat(0.5),
                 specular: DVec3::ZERO,
                 shininess: 0.0,
+                reflection: 0.0,
             }
         );
         assert_eq!(
             mesh.materials[1],
-            ObjMaterial {
+            MeshMaterial {
                 name: "gold".into(),
                 ambient: d(0.1, 0.08, 0.02),
                 diffuse: d(0.75, 0.6, 0.15),
                 specular: d(0.6, 0.55, 0.4),
                 shininess: 128.0,
+                reflection: 0.0,
             }
         );
         let used: Vec<_> = mesh.triangles.iter().map(|t| t.material).collect();

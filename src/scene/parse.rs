@@ -5,7 +5,7 @@
 //! of docs/scene-format.md and builds the world-space scene, loading meshes.
 //! Every error names the file, the line (via [`SourceMap`]) and the key.
 
-use std::cell::OnceCell;
+use std::cell::{OnceCell, RefCell};
 use std::collections::BTreeMap;
 use std::fmt;
 use std::marker::PhantomData;
@@ -13,9 +13,10 @@ use std::path::Path;
 
 use glam::{DMat3, DVec3};
 use serde::de::{self, Deserializer, MapAccess, SeqAccess, Visitor};
-use serde::Deserialize;
+use serde::{Deserialize, Serialize, Serializer};
 
-use super::obj;
+use super::mesh::{self, Mesh};
+use super::normals::{self, unit};
 use super::source_map::SourceMap;
 use super::{
     Camera, Light, Material, RenderSettings, Scene, SceneError, ShadowMode, Sphere, Triangle,
@@ -45,10 +46,23 @@ impl SceneFormat {
     }
 }
 
-/// Reads and validates a scene file; OBJ paths are relative to its folder.
+/// Reads and validates a scene file; mesh paths are relative to its folder.
 pub fn load_scene(path: &Path) -> Result<Scene, SceneError> {
-    let bytes = super::read_input_file(path)
-        .map_err(|e| SceneError::new(path, None, None, format!("cannot read scene file: {e}")))?;
+    load_scene_observed(path, &mut |_| {})
+}
+
+/// [`load_scene`], calling `on_read` with every file it reads (the scene
+/// file first, then each mesh and its MTL or buffer files), just before
+/// reading it, and also for a file that then fails: the list of files a
+/// reload must watch, the file that broke included.
+pub fn load_scene_observed(
+    path: &Path,
+    on_read: &mut dyn FnMut(&Path),
+) -> Result<Scene, SceneError> {
+    on_read(path);
+    let bytes = super::read_input_file(path).map_err(|e| {
+        SceneError::new(path, None, None, format!("cannot read scene file: {e}")).with_source(e)
+    })?;
     let text = String::from_utf8(bytes).map_err(|e| {
         SceneError::new(
             path,
@@ -56,12 +70,22 @@ pub fn load_scene(path: &Path) -> Result<Scene, SceneError> {
             None,
             format!("cannot read scene file: not UTF-8 text ({e})"),
         )
+        .with_source(e)
     })?;
-    parse_scene(&text, path, SceneFormat::from_path(path))
+    parse_observed(&text, path, SceneFormat::from_path(path), on_read)
 }
 
 /// Parses scene text; `path` names the file in errors and anchors mesh paths.
 pub fn parse_scene(text: &str, path: &Path, format: SceneFormat) -> Result<Scene, SceneError> {
+    parse_observed(text, path, format, &mut |_| {})
+}
+
+fn parse_observed(
+    text: &str,
+    path: &Path,
+    format: SceneFormat,
+    on_read: &mut dyn FnMut(&Path),
+) -> Result<Scene, SceneError> {
     let map = LazySourceMap {
         text,
         format,
@@ -69,11 +93,16 @@ pub fn parse_scene(text: &str, path: &Path, format: SceneFormat) -> Result<Scene
     };
     let raw = match format {
         SceneFormat::Toml => toml::from_str::<TableOf<RawScene>>(text)
-            .map_err(|e| toml_error(&e, text, map.get(), path))?,
+            .map_err(|e| toml_error(e, text, map.get(), path))?,
         SceneFormat::Json => serde_json::from_str::<TableOf<RawScene>>(text)
-            .map_err(|e| json_error(&e, text, map.get(), path))?,
+            .map_err(|e| json_error(e, text, map.get(), path))?,
     };
-    Validator { file: path, map }.scene(raw.0)
+    Validator {
+        file: path,
+        map,
+        on_read: RefCell::new(on_read),
+    }
+    .scene(raw.0)
 }
 
 /// Where each key of the text is, for error messages. Made on the first
@@ -99,7 +128,7 @@ impl LazySourceMap<'_> {
 }
 
 /// A syntax or schema error from the toml crate, located by its byte span.
-fn toml_error(e: &toml::de::Error, text: &str, map: Option<&SourceMap>, path: &Path) -> SceneError {
+fn toml_error(e: toml::de::Error, text: &str, map: Option<&SourceMap>, path: &Path) -> SceneError {
     let span = e.span();
     let (line, key) = match (map, span) {
         // The document parsed, so this is a schema error. An empty span is
@@ -130,7 +159,7 @@ fn toml_error(e: &toml::de::Error, text: &str, map: Option<&SourceMap>, path: &P
             message = format!("duplicate key `{name}`");
         }
     }
-    SceneError::new(path, line, key, message)
+    SceneError::new(path, line, key, message).with_source(e)
 }
 
 /// The run of letters, digits, `+`, `-` and `.` around byte `offset`.
@@ -158,7 +187,7 @@ fn span_text(text: &str, span: Option<std::ops::Range<usize>>) -> Option<&str> {
 /// A syntax or schema error from serde_json, located by its line and column
 /// (the column of the last character it read).
 fn json_error(
-    e: &serde_json::Error,
+    e: serde_json::Error,
     text: &str,
     map: Option<&SourceMap>,
     path: &Path,
@@ -206,7 +235,7 @@ fn json_error(
     // which is no help, so name no line.
     let whole_document = e.is_data() && key.is_none();
     let line = (e.line() > 0 && !whole_document).then_some(e.line());
-    SceneError::new(path, line, key, message)
+    SceneError::new(path, line, key, message).with_source(e)
 }
 
 // ---------------------------------------------------------------- raw file
@@ -257,6 +286,12 @@ impl<'de, T: Deserialize<'de>, const N: usize> Deserialize<'de> for Exact<T, N> 
     }
 }
 
+impl<T: Serialize, const N: usize> Serialize for Exact<T, N> {
+    fn serialize<S: Serializer>(&self, serializer: S) -> Result<S::Ok, S::Error> {
+        self.0.as_slice().serialize(serializer)
+    }
+}
+
 /// A struct read only from a table (a JSON object). serde's derive would
 /// also take a struct as an array of its fields in order, which is no part of
 /// the format: `camera = [[0, 0, 1], [0, 0, 0]]` must be a type error.
@@ -293,6 +328,12 @@ impl Described for RawMesh {
     const WHAT: &'static str = "a [[meshes]] table";
 }
 
+impl<T: Serialize> Serialize for TableOf<T> {
+    fn serialize<S: Serializer>(&self, serializer: S) -> Result<S::Ok, S::Error> {
+        self.0.serialize(serializer)
+    }
+}
+
 impl<T> std::ops::Deref for TableOf<T> {
     type Target = T;
     fn deref(&self) -> &T {
@@ -316,30 +357,35 @@ impl<'de, T: Deserialize<'de> + Described> Deserialize<'de> for TableOf<T> {
     }
 }
 
-#[derive(Deserialize)]
+#[derive(Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 struct RawScene {
     camera: TableOf<RawCamera>,
     #[serde(default)]
     render: TableOf<RawRender>,
-    #[serde(default)]
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
     lights: Vec<TableOf<RawLight>>,
-    #[serde(default, deserialize_with = "unique_names")]
+    #[serde(
+        default,
+        deserialize_with = "unique_names",
+        skip_serializing_if = "BTreeMap::is_empty"
+    )]
     materials: BTreeMap<String, TableOf<RawMaterial>>,
-    #[serde(default)]
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
     spheres: Vec<TableOf<RawSphere>>,
-    #[serde(default)]
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
     triangles: Vec<TableOf<RawTriangle>>,
-    #[serde(default)]
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
     meshes: Vec<TableOf<RawMesh>>,
 }
 
-#[derive(Deserialize)]
+#[derive(Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 struct RawCamera {
     position: Vec3,
     look_at: Vec3,
     /// None: the default [0, 1, 0] (kept apart so that an error can say so).
+    #[serde(skip_serializing_if = "Option::is_none")]
     up: Option<Vec3>,
     #[serde(default = "default_vfov")]
     vfov: f64,
@@ -353,15 +399,22 @@ fn white() -> Vec3 {
     Exact([1.0; 3])
 }
 
-#[derive(Deserialize, Default)]
+#[derive(Deserialize, Serialize, Default)]
 #[serde(deny_unknown_fields)]
 struct RawRender {
+    #[serde(skip_serializing_if = "Option::is_none")]
     width: Option<u32>,
+    #[serde(skip_serializing_if = "Option::is_none")]
     height: Option<u32>,
+    #[serde(skip_serializing_if = "Option::is_none")]
     min_intensity: Option<f64>,
+    #[serde(skip_serializing_if = "Option::is_none")]
     max_depth: Option<u32>,
+    #[serde(skip_serializing_if = "Option::is_none")]
     background: Option<Vec3>,
+    #[serde(skip_serializing_if = "Option::is_none")]
     shadow_mode: Option<RawShadowMode>,
+    #[serde(skip_serializing_if = "Option::is_none")]
     samples: Option<u32>,
 }
 
@@ -370,6 +423,15 @@ struct RawRender {
 enum RawShadowMode {
     Ambient,
     Seed,
+}
+
+impl Serialize for RawShadowMode {
+    fn serialize<S: Serializer>(&self, serializer: S) -> Result<S::Ok, S::Error> {
+        serializer.serialize_str(match self {
+            RawShadowMode::Ambient => "ambient",
+            RawShadowMode::Seed => "seed",
+        })
+    }
 }
 
 impl<'de> Deserialize<'de> for RawShadowMode {
@@ -392,7 +454,7 @@ impl<'de> Deserialize<'de> for RawShadowMode {
     }
 }
 
-#[derive(Deserialize)]
+#[derive(Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 struct RawLight {
     position: Vec3,
@@ -404,7 +466,7 @@ struct RawLight {
     specular: Vec3,
 }
 
-#[derive(Deserialize)]
+#[derive(Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 struct RawMaterial {
     #[serde(default)]
@@ -418,7 +480,7 @@ struct RawMaterial {
     reflection: f64,
 }
 
-#[derive(Deserialize)]
+#[derive(Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 struct RawSphere {
     center: Vec3,
@@ -426,18 +488,23 @@ struct RawSphere {
     material: String,
 }
 
-#[derive(Deserialize)]
+#[derive(Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 struct RawTriangle {
     vertices: Exact<Vec3, 3>,
     material: String,
 }
 
-#[derive(Deserialize)]
+#[derive(Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 struct RawMesh {
     path: String,
+    #[serde(skip_serializing_if = "Option::is_none")]
     material: Option<String>,
+    /// true: smooth normals (the file's, else computed); false: flat; None:
+    /// the file's normals where it has them, else flat.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    smooth: Option<bool>,
     #[serde(default)]
     scale: RawScale,
     #[serde(default)]
@@ -452,6 +519,15 @@ struct RawMesh {
 enum RawScale {
     Uniform(f64),
     PerAxis(Vec3),
+}
+
+impl Serialize for RawScale {
+    fn serialize<S: Serializer>(&self, serializer: S) -> Result<S::Ok, S::Error> {
+        match self {
+            RawScale::Uniform(x) => serializer.serialize_f64(*x),
+            RawScale::PerAxis(v) => v.serialize(serializer),
+        }
+    }
 }
 
 impl<'de> Deserialize<'de> for RawScale {
@@ -515,11 +591,110 @@ impl Default for RawScale {
     }
 }
 
+// ---------------------------------------------------------------- writing
+
+/// `scene` as the text of a scene file that [`parse_scene`] reads back as an
+/// equal `Scene`, provided its material names are distinct and sort in index
+/// order (materials are a table keyed by name, read back in name order), and
+/// its triangles are flat: `[[triangles]]` entries carry no normals, and the
+/// mesh files a scene was loaded from are not named (their triangles are
+/// written out). Written through the same serde types the reader uses.
+pub fn scene_text(scene: &Scene, format: SceneFormat) -> Result<String, String> {
+    let v = |d: DVec3| Exact(d.to_array());
+    let mut materials = BTreeMap::new();
+    for m in &scene.materials {
+        let raw = RawMaterial {
+            ambient: v(m.ambient),
+            diffuse: v(m.diffuse),
+            specular: v(m.specular),
+            shininess: m.shininess,
+            reflection: m.reflection,
+        };
+        if materials.insert(m.name.clone(), TableOf(raw)).is_some() {
+            return Err(format!("two materials are named \"{}\"", m.name));
+        }
+    }
+    let name = |i: u32| {
+        scene
+            .materials
+            .get(i as usize)
+            .map(|m| m.name.clone())
+            .ok_or_else(|| format!("material index {i} is out of range"))
+    };
+    let r = &scene.render;
+    let raw = RawScene {
+        camera: TableOf(RawCamera {
+            position: v(scene.camera.position),
+            look_at: v(scene.camera.look_at),
+            up: Some(v(scene.camera.up)),
+            vfov: scene.camera.vfov_degrees,
+        }),
+        render: TableOf(RawRender {
+            width: Some(r.width),
+            height: Some(r.height),
+            min_intensity: Some(r.min_intensity),
+            max_depth: Some(r.max_depth),
+            background: Some(v(r.background)),
+            shadow_mode: Some(match r.shadow_mode {
+                ShadowMode::Ambient => RawShadowMode::Ambient,
+                ShadowMode::Seed => RawShadowMode::Seed,
+            }),
+            samples: Some(r.samples),
+        }),
+        lights: scene
+            .lights
+            .iter()
+            .map(|l| {
+                TableOf(RawLight {
+                    position: v(l.position),
+                    ambient: v(l.ambient),
+                    diffuse: v(l.diffuse),
+                    specular: v(l.specular),
+                })
+            })
+            .collect(),
+        materials,
+        spheres: scene
+            .spheres
+            .iter()
+            .map(|s| {
+                Ok(TableOf(RawSphere {
+                    center: v(s.center),
+                    radius: s.radius,
+                    material: name(s.material)?,
+                }))
+            })
+            .collect::<Result<_, String>>()?,
+        triangles: scene
+            .triangles
+            .iter()
+            .map(|t| {
+                Ok(TableOf(RawTriangle {
+                    vertices: Exact(t.vertices.map(v)),
+                    material: name(t.material)?,
+                }))
+            })
+            .collect::<Result<_, String>>()?,
+        meshes: Vec::new(),
+    };
+    match format {
+        SceneFormat::Toml => toml::to_string(&raw).map_err(|e| e.to_string()),
+        SceneFormat::Json => serde_json::to_string(&raw)
+            .map(|mut text| {
+                text.push('\n');
+                text
+            })
+            .map_err(|e| e.to_string()),
+    }
+}
+
 // ---------------------------------------------------------------- validation
 
 struct Validator<'a> {
     file: &'a Path,
     map: LazySourceMap<'a>,
+    /// Told of each file just before it is read.
+    on_read: RefCell<&'a mut dyn FnMut(&Path)>,
 }
 
 impl Validator<'_> {
@@ -680,10 +855,10 @@ impl Validator<'_> {
             if !has_area(&vertices) {
                 return Err(self.error(&key("vertices"), "triangle has zero area"));
             }
-            triangles.push(Triangle {
+            triangles.push(Triangle::flat(
                 vertices,
-                material: lookup(&key("material"), &t.material)?,
-            });
+                lookup(&key("material"), &t.material)?,
+            ));
         }
 
         for (i, m) in raw.meshes.iter().enumerate() {
@@ -804,18 +979,22 @@ impl Validator<'_> {
         let transform = mesh_transform(scale, rotate);
 
         let base = self.file.parent().unwrap_or(Path::new(""));
-        let obj_path = base.join(&m.path);
-        let mesh = obj::load_obj(&obj_path, override_material.is_none()).map_err(|e| {
+        let mesh_path = base.join(&m.path);
+        let mesh = {
+            let mut on_read = self.on_read.borrow_mut();
+            mesh::load_mesh(&mesh_path, override_material.is_none(), &mut **on_read)
+        }
+        .map_err(|e| {
             if e.line.is_some() {
                 return e;
             }
-            // An OBJ that cannot be read at all: also say which entry asked for it.
+            // A mesh file at fault as a whole: also say which entry asked for it.
             let at = match self.map.get().and_then(|m| m.line_of_path(&key("path"))) {
                 Some(line) => format!("{}:{line}", self.file.display()),
                 None => self.file.display().to_string(),
             };
             let message = format!("{} (from {} in {at})", e.message, key("path"));
-            SceneError::new(&e.file, e.line, e.key, message)
+            e.reworded(message)
         })?;
 
         let first_material = materials.len() as u32;
@@ -823,15 +1002,19 @@ impl Validator<'_> {
             let file_name = Path::new(&m.path)
                 .file_name()
                 .map_or(m.path.clone(), |f| f.to_string_lossy().into_owned());
-            // The OBJ reader checks that MTL colours are finite; the scene's
+            // The mesh readers check that colours are finite; the scene's
             // rule that colours are >= 0 holds for them too.
             for mm in &mesh.materials {
                 let colours = [("Ka", mm.ambient), ("Kd", mm.diffuse), ("Ks", mm.specular)];
                 if let Some((statement, c)) = colours.iter().find(|(_, c)| c.min_element() < 0.0) {
+                    let (kind, what) = match mesh::MeshFormat::of_path(&mesh_path) {
+                        Some(mesh::MeshFormat::Gltf) => ("glTF", "colour"),
+                        _ => ("MTL", *statement),
+                    };
                     return Err(self.error(
                         &key("path"),
                         format!(
-                            "MTL material \"{}\" has a negative {statement} colour {:?}; colour components must be >= 0",
+                            "{kind} material \"{}\" has a negative {what} colour {:?}; colour components must be >= 0",
                             mm.name,
                             c.to_array()
                         ),
@@ -844,32 +1027,125 @@ impl Validator<'_> {
                 diffuse: mm.diffuse,
                 specular: mm.specular,
                 shininess: mm.shininess,
-                reflection: 0.0,
+                reflection: mm.reflection,
             }));
         }
-        for t in &mesh.triangles {
-            let vertices = t.vertices.map(|v| transform * v + translate);
-            if !vertices
-                .iter()
-                .all(|v| v.is_finite() && v.abs().max_element() <= MAX_COORDINATE)
-            {
-                return Err(self.error(
-                    &key("scale"),
-                    "the transformed mesh has a non-finite vertex, or one beyond ±1e15 (the GPU computes in f32)",
-                ));
-            }
-            if !has_area(&vertices) {
+        let world_triangles = self.place(i, &mesh, transform, translate)?;
+        let shading = MeshNormals::new(m.smooth, &mesh, &world_triangles, transform);
+        for (t, (vertices, has_area)) in mesh.triangles.iter().zip(world_triangles) {
+            if !has_area {
                 continue; // collapsed by an extreme scale: it can never be hit
             }
             let material = match (override_material, t.material) {
                 (Some(m), _) => m,
                 (None, Some(local)) => first_material + local as u32,
-                // load_obj guarantees a material when asked for them.
+                // The readers guarantee a material when asked for them.
                 (None, None) => return Err(self.error(&key("path"), "a face has no material")),
             };
-            triangles.push(Triangle { vertices, material });
+            triangles.push(Triangle {
+                vertices,
+                normals: shading.of(t, &vertices),
+                material,
+            });
         }
         Ok(())
+    }
+
+    /// The mesh's triangles in world space, each with whether it still has
+    /// an area there (an extreme scale can collapse one).
+    fn place(
+        &self,
+        i: usize,
+        mesh: &Mesh,
+        transform: DMat3,
+        translate: DVec3,
+    ) -> Result<Vec<([DVec3; 3], bool)>, SceneError> {
+        mesh.triangles
+            .iter()
+            .map(|t| {
+                let vertices = t.vertices.map(|v| transform * v + translate);
+                if !vertices
+                    .iter()
+                    .all(|v| v.is_finite() && v.abs().max_element() <= MAX_COORDINATE)
+                {
+                    return Err(self.error(
+                        &format!("meshes[{i}].scale"),
+                        "the transformed mesh has a non-finite vertex, or one beyond ±1e15 (the GPU computes in f32)",
+                    ));
+                }
+                Ok((vertices, has_area(&vertices)))
+            })
+            .collect()
+    }
+}
+
+/// How a mesh entry's triangles are shaded: flat, or with normals from the
+/// file (carried to world space) and/or computed from the faces.
+enum MeshNormals {
+    Flat,
+    /// The file's normals where all three corners of a triangle have one.
+    FromFile {
+        normal_matrix: DMat3,
+    },
+    /// The file's normals where a corner has one, else the angle-weighted
+    /// normal of its shared vertex (computed in world space).
+    Smooth {
+        normal_matrix: DMat3,
+        computed: Vec<DVec3>,
+    },
+}
+
+impl MeshNormals {
+    fn new(
+        smooth: Option<bool>,
+        mesh: &Mesh,
+        world: &[([DVec3; 3], bool)],
+        transform: DMat3,
+    ) -> Self {
+        let normal_matrix = normals::normal_matrix(transform);
+        match smooth {
+            Some(false) => MeshNormals::Flat,
+            None => MeshNormals::FromFile { normal_matrix },
+            Some(true) => MeshNormals::Smooth {
+                normal_matrix,
+                computed: normals::angle_weighted(
+                    mesh.vertex_count,
+                    mesh.triangles
+                        .iter()
+                        .zip(world)
+                        .map(|(t, (vertices, _))| (*vertices, t.corners)),
+                ),
+            },
+        }
+    }
+
+    /// The world-space unit normals of `t` (placed at `vertices`), or None
+    /// for flat shading. A normal that cannot be normalised (zero in the
+    /// file, or a vertex whose faces cancel) is the face's own normal.
+    fn of(&self, t: &mesh::MeshTriangle, vertices: &[DVec3; 3]) -> Option<[DVec3; 3]> {
+        let face = || unit((vertices[1] - vertices[0]).cross(vertices[2] - vertices[0]));
+        let from_file = |m: &DMat3, k: usize| t.normals[k].and_then(|n| unit(*m * n));
+        match self {
+            MeshNormals::Flat => None,
+            MeshNormals::FromFile { normal_matrix } => {
+                if t.normals.iter().any(Option::is_none) {
+                    return None;
+                }
+                let face = face()?;
+                Some([0, 1, 2].map(|k| from_file(normal_matrix, k).unwrap_or(face)))
+            }
+            MeshNormals::Smooth {
+                normal_matrix,
+                computed,
+            } => {
+                let face = face()?;
+                Some([0, 1, 2].map(|k| {
+                    from_file(normal_matrix, k)
+                        .or_else(|| computed.get(t.corners[k]).copied().and_then(unit))
+                        .unwrap_or(face)
+                }))
+            }
+        }
     }
 }
 
@@ -893,13 +1169,6 @@ pub fn mesh_transform(scale: DVec3, rotate_degrees: DVec3) -> DMat3 {
         * DMat3::from_rotation_y(r.y)
         * DMat3::from_rotation_x(r.x)
         * DMat3::from_diagonal(scale)
-}
-
-/// `v` scaled to length 1, or None for the zero vector. Safe for finite
-/// vectors of any size (no overflow or underflow in the length).
-fn unit(v: DVec3) -> Option<DVec3> {
-    let largest = v.abs().max_element();
-    (largest > 0.0).then(|| (v / largest).normalize())
 }
 
 fn has_area(v: &[DVec3; 3]) -> bool {

@@ -50,8 +50,9 @@ pub fn run(options: WindowOptions) -> Result<()> {
         Err(_) => 0.0,
     };
     // Watch first, so a change made while the scene loads is not missed.
-    let watcher = SceneWatcher::new(&options.scene);
-    let scene = gpu_scene::load(&options.scene)?;
+    let (files, scene) = WatchList::record(|seen| gpu_scene::load(&options.scene, seen));
+    let watcher = SceneWatcher::new(files);
+    let scene = scene?;
     let event_loop = EventLoop::new().map_err(|e| {
         Error::Gpu(format!(
             "cannot open a window: {e} (is DISPLAY or WAYLAND_DISPLAY set?)"
@@ -129,7 +130,7 @@ impl App {
         let path = self.options.scene.clone();
         // The mesh list may have changed: the job also lists what to watch.
         self.reloads
-            .request(move || (WatchList::of_scene(&path), gpu_scene::load(&path)));
+            .request(move || WatchList::record(|seen| gpu_scene::load(&path, seen)));
         if let Some(session) = &mut self.session {
             session.title.reloading = true;
             session.update_title(&self.name, true);

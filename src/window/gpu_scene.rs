@@ -14,8 +14,10 @@ use crate::scene::{Camera, RenderSettings, Scene};
 /// Loads `path` and prepares it with the k-d tree: the window switches
 /// between the tree and brute force per frame (brute force only changes a
 /// flag the kernel reads), so the tree is always built.
-pub fn load(path: &Path) -> Result<PreparedScene> {
-    Ok(PreparedScene::new(crate::scene::load_scene(path)?, Accel::Kdtree))
+/// `seen` is told of every file read (the files to watch for hot reload).
+pub fn load(path: &Path, seen: &mut dyn FnMut(&Path)) -> Result<PreparedScene> {
+    let scene = crate::scene::load_scene_observed(path, seen)?;
+    Ok(PreparedScene::new(scene, Accel::Kdtree))
 }
 
 /// A prepared scene on the device.

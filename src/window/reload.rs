@@ -1,5 +1,6 @@
-//! Hot reload: the window polls the scene file and the files it loads (OBJ
-//! meshes and their MTL libraries) for changes of modification time or size.
+//! Hot reload: the window polls the scene file and the files it loads (meshes,
+//! MTL libraries, glTF buffers: whatever the scene loader reported reading)
+//! for changes of modification time or size.
 //! No watcher crate: a `stat` per file every [`POLL_INTERVAL`].
 //!
 //! A change is acted on once the files have stayed the same for one more
@@ -29,29 +30,29 @@ fn stamp(path: &Path) -> Stamp {
     Some((meta.modified().ok()?, meta.len(), inode))
 }
 
-/// The files a scene loads, scene file first, then its meshes and MTL files,
-/// each with its stamp.
+/// The files a scene loads, scene file first, then its meshes and their MTL
+/// or buffer files, each with its stamp.
 pub struct WatchList(Vec<(PathBuf, Stamp)>);
 
 impl WatchList {
-    /// The files `scene` loads as they are now. The scene file is stamped
-    /// before it is read for its mesh list, so a change made after that is
-    /// a change of stamp (this runs on the reload thread, and reading a big
-    /// scene file takes a while).
-    pub fn of_scene(scene: &Path) -> Self {
-        let mut files = vec![(scene.to_path_buf(), stamp(scene))];
-        for path in scene_dependencies(scene) {
-            if !files.iter().any(|(p, _)| *p == path) {
-                let s = stamp(&path);
-                files.push((path, s));
+    /// Runs `load` (a scene load, given the observer to pass as
+    /// [`crate::scene::load_scene_observed`]'s `on_read`) and lists the files
+    /// it read, each stamped just before it was read: a change made after
+    /// that is a change of stamp, even while the load goes on (it runs on
+    /// the reload thread, and a big scene takes a while). A load that fails
+    /// lists the files it got to, the one that broke included.
+    pub fn record<T>(load: impl FnOnce(&mut dyn FnMut(&Path)) -> T) -> (WatchList, T) {
+        let mut files: Vec<(PathBuf, Stamp)> = Vec::new();
+        let result = load(&mut |path: &Path| {
+            if !files.iter().any(|(p, _)| p == path) {
+                files.push((path.to_path_buf(), stamp(path)));
             }
-        }
-        WatchList(files)
+        });
+        (WatchList(files), result)
     }
 }
 
 pub struct SceneWatcher {
-    scene: PathBuf,
     files: WatchList,
     next_poll: Instant,
     /// A change was seen and the files have not been stable since.
@@ -59,16 +60,13 @@ pub struct SceneWatcher {
 }
 
 impl SceneWatcher {
-    /// Starts watching `scene` and the files it names, as they are now.
-    pub fn new(scene: &Path) -> Self {
-        let mut watcher = SceneWatcher {
-            scene: scene.to_path_buf(),
-            files: WatchList(Vec::new()),
+    /// Starts watching `files` (from [`WatchList::record`] around the first load).
+    pub fn new(files: WatchList) -> Self {
+        SceneWatcher {
+            files,
             next_poll: Instant::now() + POLL_INTERVAL,
             unsettled: false,
-        };
-        watcher.rescan();
-        watcher
+        }
     }
 
     /// The files watched now.
@@ -82,9 +80,9 @@ impl SceneWatcher {
     }
 
     /// Polls if one is due at `now`: true when a change has settled and the
-    /// scene should be reloaded (then watch the files of the reloaded scene:
-    /// [`SceneWatcher::watch`] or [`SceneWatcher::rescan`], so the watched
-    /// files follow the scene's new mesh list).
+    /// scene should be reloaded (then watch the files of the reload:
+    /// [`SceneWatcher::watch`], so the watched files follow the scene's new
+    /// mesh list).
     pub fn poll(&mut self, now: Instant) -> bool {
         if now < self.next_poll {
             return false;
@@ -105,14 +103,18 @@ impl SceneWatcher {
         std::mem::take(&mut self.unsettled)
     }
 
-    /// Re-reads the list of files the scene loads and their stamps.
+    /// Takes the files watched now as they are (for a reload that produced
+    /// no list: its thread failed), so only a later change triggers a reload.
     pub fn rescan(&mut self) {
-        self.files = WatchList::of_scene(&self.scene);
+        for (path, old) in &mut self.files.0 {
+            *old = stamp(path);
+        }
+        self.unsettled = false;
     }
 
-    /// Watches `files` from now on (made by [`WatchList::of_scene`] when a
-    /// reload started: a file changed since has a different stamp, so it
-    /// triggers the next reload).
+    /// Watches `files` from now on (recorded by [`WatchList::record`] while
+    /// a reload ran: a file changed since it was read has a different
+    /// stamp, so it triggers the next reload).
     pub fn watch(&mut self, files: WatchList) {
         self.files = files;
     }
@@ -194,55 +196,6 @@ impl<T: Send + 'static> LatestJob<T> {
     }
 }
 
-/// The OBJ files a scene file's `[[meshes]]` name (relative to its folder,
-/// as the scene loader resolves them) and the MTL files those OBJs name.
-/// Best effort: a file that does not parse names nothing.
-pub fn scene_dependencies(scene: &Path) -> Vec<PathBuf> {
-    let Ok(text) = std::fs::read_to_string(scene) else {
-        return Vec::new();
-    };
-    let mesh_paths: Vec<String> = match crate::scene::SceneFormat::from_path(scene) {
-        crate::scene::SceneFormat::Json => serde_json::from_str::<serde_json::Value>(&text)
-            .ok()
-            .and_then(|v| {
-                v.get("meshes")?.as_array().map(|meshes| {
-                    meshes
-                        .iter()
-                        .filter_map(|m| Some(m.get("path")?.as_str()?.to_string()))
-                        .collect()
-                })
-            })
-            .unwrap_or_default(),
-        crate::scene::SceneFormat::Toml => toml::from_str::<toml::Table>(&text)
-            .ok()
-            .and_then(|t| {
-                t.get("meshes")?.as_array().map(|meshes| {
-                    meshes
-                        .iter()
-                        .filter_map(|m| Some(m.get("path")?.as_str()?.to_string()))
-                        .collect()
-                })
-            })
-            .unwrap_or_default(),
-    };
-    let base = scene.parent().unwrap_or(Path::new(""));
-    let mut files = Vec::new();
-    for mesh in mesh_paths {
-        let obj = base.join(mesh);
-        if let Ok(obj_text) = std::fs::read(&obj) {
-            let obj_dir = obj.parent().unwrap_or(Path::new("")).to_path_buf();
-            for line in String::from_utf8_lossy(&obj_text).lines() {
-                let mut tokens = line.split('#').next().unwrap_or("").split_whitespace();
-                if tokens.next() == Some("mtllib") {
-                    files.extend(tokens.map(|name| obj_dir.join(name)));
-                }
-            }
-        }
-        files.push(obj);
-    }
-    files
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -254,33 +207,92 @@ mod tests {
         dir
     }
 
+    /// A valid scene whose one mesh is `mesh` (relative to the scene), in
+    /// the material given by the mesh's MTL when `material` is None.
+    fn scene_text(mesh: &str, material: Option<&str>) -> String {
+        let material = material.map_or(String::new(), |m| format!("material = \"{m}\"\n"));
+        format!(
+            "[camera]\nposition = [0, 0, 5]\nlook_at = [0, 0, 0]\n\
+             [[lights]]\nposition = [0, 5, 5]\n\
+             [materials.red]\ndiffuse = [1, 0, 0]\n\
+             [[meshes]]\npath = \"{mesh}\"\n{material}"
+        )
+    }
+
+    const TRIANGLE: &str = "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n";
+
+    fn recorded(scene: &Path) -> (Vec<PathBuf>, bool) {
+        let (files, result) =
+            WatchList::record(|seen| crate::scene::load_scene_observed(scene, seen));
+        (
+            files.0.into_iter().map(|(p, _)| p).collect(),
+            result.is_ok(),
+        )
+    }
+
     #[test]
-    fn finds_meshes_and_their_mtl_files() {
+    fn the_loader_lists_the_scene_its_meshes_and_their_mtl_files() {
         let dir = temp_dir("deps");
         std::fs::write(
             dir.join("models/a.obj"),
-            "mtllib a.mtl b.mtl # two\nv 0 0 0\n",
+            format!("mtllib a.mtl b.mtl # two\nusemtl m\n{TRIANGLE}"),
         )
         .unwrap();
-        std::fs::write(dir.join("s.toml"), "[[meshes]]\npath = \"models/a.obj\"\n").unwrap();
-        std::fs::write(
-            dir.join("s.json"),
-            r#"{"meshes": [{"path": "models/a.obj"}, {"path": "missing.obj"}]}"#,
-        )
-        .unwrap();
+        std::fs::write(dir.join("models/a.mtl"), "newmtl m\nKd 1 1 1\n").unwrap();
+        std::fs::write(dir.join("models/b.mtl"), "").unwrap();
+        std::fs::write(dir.join("s.toml"), scene_text("models/a.obj", None)).unwrap();
         let expected = vec![
+            dir.join("s.toml"),
+            dir.join("models/a.obj"),
             dir.join("models/a.mtl"),
             dir.join("models/b.mtl"),
-            dir.join("models/a.obj"),
         ];
-        assert_eq!(scene_dependencies(&dir.join("s.toml")), expected);
-        let mut json = expected.clone();
-        json.push(dir.join("missing.obj"));
-        assert_eq!(scene_dependencies(&dir.join("s.json")), json);
-        // Broken or missing scene files name nothing.
-        std::fs::write(dir.join("broken.toml"), "[[meshes]\n").unwrap();
-        assert!(scene_dependencies(&dir.join("broken.toml")).is_empty());
-        assert!(scene_dependencies(&dir.join("nothing.toml")).is_empty());
+        assert_eq!(recorded(&dir.join("s.toml")), (expected, true));
+        // With a material override the MTL files are not read, so not watched.
+        std::fs::write(dir.join("o.toml"), scene_text("models/a.obj", Some("red"))).unwrap();
+        assert_eq!(
+            recorded(&dir.join("o.toml")),
+            (vec![dir.join("o.toml"), dir.join("models/a.obj")], true)
+        );
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
+
+    #[test]
+    fn a_failed_load_lists_the_files_up_to_the_one_that_broke() {
+        let dir = temp_dir("broken");
+        // A missing mesh: watched, so creating it triggers a reload.
+        std::fs::write(dir.join("s.toml"), scene_text("missing.obj", Some("red"))).unwrap();
+        assert_eq!(
+            recorded(&dir.join("s.toml")),
+            (vec![dir.join("s.toml"), dir.join("missing.obj")], false)
+        );
+        // A broken MTL file is watched; the mesh after it was never reached.
+        std::fs::write(
+            dir.join("a.obj"),
+            format!("mtllib a.mtl\nusemtl m\n{TRIANGLE}"),
+        )
+        .unwrap();
+        std::fs::write(dir.join("a.mtl"), "Kd 1 1 1\n").unwrap();
+        let mut text = scene_text("a.obj", None);
+        text.push_str("[[meshes]]\npath = \"later.obj\"\n");
+        std::fs::write(dir.join("t.toml"), text).unwrap();
+        assert_eq!(
+            recorded(&dir.join("t.toml")),
+            (
+                vec![dir.join("t.toml"), dir.join("a.obj"), dir.join("a.mtl")],
+                false
+            )
+        );
+        // A scene file that does not parse, or does not exist: itself only.
+        std::fs::write(dir.join("bad.toml"), "[[meshes]\n").unwrap();
+        assert_eq!(
+            recorded(&dir.join("bad.toml")),
+            (vec![dir.join("bad.toml")], false)
+        );
+        assert_eq!(
+            recorded(&dir.join("nothing.toml")),
+            (vec![dir.join("nothing.toml")], false)
+        );
         std::fs::remove_dir_all(&dir).unwrap();
     }
 
@@ -289,14 +301,16 @@ mod tests {
         let dir = temp_dir("during");
         let scene = dir.join("s.toml");
         let obj = dir.join("models/a.obj");
-        std::fs::write(&obj, "v 0 0 0\n").unwrap();
-        std::fs::write(&scene, "[[meshes]]\npath = \"models/a.obj\"\n").unwrap();
-        let mut w = SceneWatcher::new(&scene);
+        std::fs::write(&obj, TRIANGLE).unwrap();
+        std::fs::write(&scene, scene_text("models/a.obj", Some("red"))).unwrap();
+        let load = |seen: &mut dyn FnMut(&Path)| crate::scene::load_scene_observed(&scene, seen);
+        let mut w = SceneWatcher::new(WatchList::record(load).0);
         let mut t = Instant::now();
-        // The reload thread lists the files, then (while it loads) the OBJ
-        // is edited; then the reload finishes and its list is watched.
-        let files = WatchList::of_scene(&scene);
-        std::fs::write(&obj, "v 0 0 0\nv 1 0 0\n").unwrap();
+        // The reload thread reads the files, then (while it still works) the
+        // OBJ is edited; then the reload finishes and its list is watched.
+        let (files, loaded) = WatchList::record(load);
+        assert!(loaded.is_ok());
+        std::fs::write(&obj, format!("{TRIANGLE}v 1 1 1\n")).unwrap();
         w.watch(files);
         assert_eq!(w.files().count(), 2);
         t += POLL_INTERVAL;
@@ -382,9 +396,12 @@ mod tests {
         let dir = temp_dir("poll");
         let scene = dir.join("s.toml");
         let obj = dir.join("models/a.obj");
-        std::fs::write(&obj, "v 0 0 0\n").unwrap();
-        std::fs::write(&scene, "[[meshes]]\npath = \"models/a.obj\"\n").unwrap();
-        let mut w = SceneWatcher::new(&scene);
+        std::fs::write(&obj, TRIANGLE).unwrap();
+        std::fs::write(&scene, scene_text("models/a.obj", Some("red"))).unwrap();
+        let (files, loaded) =
+            WatchList::record(|seen| crate::scene::load_scene_observed(&scene, seen));
+        assert!(loaded.is_ok());
+        let mut w = SceneWatcher::new(files);
         assert_eq!(w.files().count(), 2);
         let mut t = Instant::now();
         let tick = |w: &mut SceneWatcher, t: &mut Instant| {
@@ -393,12 +410,16 @@ mod tests {
         };
         assert!(!tick(&mut w, &mut t));
         // A different size is a change even within one timestamp tick.
-        std::fs::write(&obj, "v 0 0 0\nv 1 0 0\n").unwrap();
+        std::fs::write(&obj, format!("{TRIANGLE}v 1 1 1\n")).unwrap();
         assert!(!tick(&mut w, &mut t), "reported before it settled");
         assert!(tick(&mut w, &mut t), "not reported after it settled");
         assert!(!tick(&mut w, &mut t), "reported twice");
         // Polls are not due before the interval.
-        std::fs::write(&scene, "# changed\n[[meshes]]\npath = \"models/a.obj\"\n").unwrap();
+        std::fs::write(
+            &scene,
+            format!("# changed\n{}", scene_text("models/a.obj", Some("red"))),
+        )
+        .unwrap();
         assert!(!w.poll(t));
         assert!(!tick(&mut w, &mut t));
         assert!(tick(&mut w, &mut t));

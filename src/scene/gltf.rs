@@ -1,0 +1,708 @@
+//! glTF 2.0 meshes (`.gltf` with external or embedded base64 buffers, and
+//! binary `.glb`), read with the `gltf` crate.
+//!
+//! What is kept: every mesh the default scene (or, without one, the first
+//! scene) places through its node hierarchy, with the nodes' transforms
+//! applied; TRIANGLES, TRIANGLE_STRIP and TRIANGLE_FAN primitives, indexed or
+//! not; NORMAL attributes, carried by the inverse transpose of the node
+//! transforms; and each material's PBR factors mapped to kdray's model
+//! ([`pbr_material`]). Textures, cameras, lights, skins, morph targets and
+//! animations are ignored; points and lines are an error (they are not
+//! surfaces, and a file of them would draw nothing).
+//!
+//! The crate parses and validates the document; kdray reads the buffers
+//! itself (only regular files next to the glTF file, or `data:` URIs, each
+//! reported to the caller before it is read) and the accessors too, with
+//! every offset, stride and count checked against the bytes present, so a
+//! truncated or hostile file is an error and never a panic.
+
+use std::collections::HashMap;
+use std::path::{Path, PathBuf};
+
+use glam::{DMat3, DMat4, DVec3};
+use gltf::accessor::{DataType, Dimensions};
+use gltf::mesh::Mode;
+
+use super::mesh::{Mesh, MeshMaterial, MeshTriangle};
+use super::SceneError;
+
+/// Reads a `.gltf` or `.glb` file (told apart by content: a GLB starts with
+/// `glTF`), calling `on_read` with it and each external buffer file just
+/// before reading it.
+pub fn load_gltf(
+    path: &Path,
+    with_materials: bool,
+    on_read: &mut dyn FnMut(&Path),
+) -> Result<Mesh, SceneError> {
+    on_read(path);
+    let bytes = super::read_input_file(path).map_err(|e| {
+        SceneError::new(path, None, None, format!("cannot read glTF file: {e}")).with_source(e)
+    })?;
+    parse_gltf(&bytes, path, with_materials, &mut |uri_path| {
+        on_read(uri_path);
+        super::read_input_file(uri_path)
+    })
+}
+
+/// Parses glTF bytes already read; `read_buffer` reads an external buffer
+/// file (given its path, resolved against `path`'s folder). For tests and
+/// fuzzing, which pass a reader that finds nothing.
+pub fn parse_gltf(
+    bytes: &[u8],
+    path: &Path,
+    with_materials: bool,
+    read_buffer: &mut dyn FnMut(&Path) -> std::io::Result<Vec<u8>>,
+) -> Result<Mesh, SceneError> {
+    let err = |message: String| SceneError::new(path, None, None, message);
+    check_glb_header(bytes).map_err(err)?;
+    let invalid = |e: gltf::Error| {
+        err(format!(
+            "not a valid glTF 2.0 file: {}",
+            gltf_error_text(&e)
+        ))
+        .with_source(e)
+    };
+    // Parse, check what the crate's validation would index unchecked, then
+    // validate (gltf-json 1.4 panics on a POSITION accessor index out of
+    // range, found by tests/fuzz_regressions.rs's bit flips).
+    let gltf = gltf::Gltf::from_slice_without_validation(bytes).map_err(invalid)?;
+    check_attribute_indices(gltf.document.as_json()).map_err(err)?;
+    let gltf = gltf::Gltf {
+        document: gltf::Document::from_json(gltf.document.into_json()).map_err(invalid)?,
+        blob: gltf.blob,
+    };
+    let document = &gltf.document;
+    let buffers = load_buffers(document, gltf.blob.as_deref(), path, read_buffer)?;
+
+    let Some(scene) = document
+        .default_scene()
+        .or_else(|| document.scenes().next())
+    else {
+        return Err(err(
+            "no scene: the file defines no scene to place its meshes, so it would draw nothing"
+                .to_string(),
+        ));
+    };
+
+    let mut reader = Reader {
+        buffers: &buffers,
+        with_materials,
+        mesh: Mesh::default(),
+        material_of: HashMap::new(),
+        triangles_seen: 0,
+    };
+    // Depth-first over the node tree, each node with its world transform. A
+    // node reached twice (a cycle, or a node with two parents, both invalid
+    // glTF) is an error: it could make the walk endless or exponential.
+    let mut visited = vec![false; document.nodes().count()];
+    let mut stack: Vec<(gltf::Node, DMat4)> = scene.nodes().map(|n| (n, DMat4::IDENTITY)).collect();
+    stack.reverse();
+    while let Some((node, parent)) = stack.pop() {
+        let index = node.index();
+        if std::mem::replace(&mut visited[index], true) {
+            return Err(err(format!(
+                "node {index} is reached twice from the scene (glTF nodes must form a tree)"
+            )));
+        }
+        let local = node.transform().matrix().map(|c| c.map(f64::from));
+        let world = parent * DMat4::from_cols_array_2d(&local);
+        if !world.is_finite() {
+            return Err(err(format!(
+                "node {index}: the node transforms give a non-finite matrix"
+            )));
+        }
+        if let Some(mesh) = node.mesh() {
+            reader.mesh(&mesh, world).map_err(err)?;
+        }
+        let children: Vec<_> = node.children().collect();
+        stack.extend(children.into_iter().rev().map(|c| (c, world)));
+    }
+
+    let mut mesh = reader.mesh;
+    if mesh.triangles.is_empty() {
+        return Err(err(if reader.triangles_seen == 0 {
+            "no triangles: the scene's nodes place no mesh with triangles, so it would draw nothing"
+                .to_string()
+        } else {
+            format!(
+                "all {} triangles have zero area, so the mesh would draw nothing",
+                reader.triangles_seen
+            )
+        }));
+    }
+    if !with_materials {
+        mesh.materials.clear();
+    }
+    Ok(mesh)
+}
+
+/// The crate subtracts the 12-byte header from a GLB's declared length
+/// without checking it: refuse such a header first.
+fn check_glb_header(bytes: &[u8]) -> Result<(), String> {
+    if let Some(header) = bytes.strip_prefix(b"glTF") {
+        let Some(length) = header.get(4..8) else {
+            return Err(format!(
+                "truncated GLB: {} bytes, less than its 12-byte header",
+                bytes.len()
+            ));
+        };
+        let length = u32::from_le_bytes([length[0], length[1], length[2], length[3]]);
+        if length < 12 {
+            return Err(format!(
+                "corrupt GLB: its header declares {length} bytes, less than the 12-byte header"
+            ));
+        }
+        if length as usize > bytes.len() {
+            return Err(format!(
+                "truncated GLB: its header declares {length} bytes, the file has {}",
+                bytes.len()
+            ));
+        }
+    }
+    Ok(())
+}
+
+/// Every primitive attribute names an accessor that exists.
+fn check_attribute_indices(root: &gltf::json::Root) -> Result<(), String> {
+    for (m, mesh) in root.meshes.iter().enumerate() {
+        for (p, primitive) in mesh.primitives.iter().enumerate() {
+            for index in primitive.attributes.values() {
+                if index.value() >= root.accessors.len() {
+                    return Err(format!(
+                        "not a valid glTF 2.0 file: meshes[{m}].primitives[{p}].attributes: accessor {} does not exist ({} accessors)",
+                        index.value(),
+                        root.accessors.len()
+                    ));
+                }
+            }
+        }
+    }
+    Ok(())
+}
+
+/// The crate's error in one line; validation errors name the JSON path.
+fn gltf_error_text(e: &gltf::Error) -> String {
+    match e {
+        gltf::Error::Validation(errors) => {
+            let shown: Vec<String> = errors
+                .iter()
+                .take(3)
+                .map(|(path, error)| format!("{path}: {error}"))
+                .collect();
+            let more = errors.len().saturating_sub(3);
+            if more > 0 {
+                format!("{} (and {more} more)", shown.join("; "))
+            } else {
+                shown.join("; ")
+            }
+        }
+        other => other.to_string(),
+    }
+}
+
+/// Every buffer's bytes, checked to be at least its declared `byteLength`.
+fn load_buffers(
+    document: &gltf::Document,
+    blob: Option<&[u8]>,
+    path: &Path,
+    read_buffer: &mut dyn FnMut(&Path) -> std::io::Result<Vec<u8>>,
+) -> Result<Vec<Vec<u8>>, SceneError> {
+    let base = path.parent().unwrap_or(Path::new(""));
+    let mut out = Vec::new();
+    for buffer in document.buffers() {
+        let i = buffer.index();
+        let err = |message: String| SceneError::new(path, None, None, message);
+        let data = match buffer.source() {
+            gltf::buffer::Source::Bin => blob
+                .ok_or_else(|| {
+                    err(format!(
+                        "buffer {i} refers to the GLB binary chunk, which the file does not have"
+                    ))
+                })?
+                .to_vec(),
+            gltf::buffer::Source::Uri(uri) => {
+                let shown: String = uri.chars().take(60).collect();
+                if let Some(data) = uri.strip_prefix("data:") {
+                    decode_data_uri(data)
+                        .map_err(|m| err(format!("buffer {i}: data URI \"{shown}...\": {m}")))?
+                } else {
+                    let file = buffer_path(base, uri)
+                        .map_err(|m| err(format!("buffer {i}: URI \"{shown}\": {m}")))?;
+                    read_buffer(&file).map_err(|e| {
+                        err(format!(
+                            "buffer {i}: cannot read {} (URI \"{shown}\"): {e}",
+                            file.display()
+                        ))
+                        .with_source(e)
+                    })?
+                }
+            }
+        };
+        if data.len() < buffer.length() {
+            return Err(err(format!(
+                "buffer {i} is truncated: byteLength {} but {} bytes present",
+                buffer.length(),
+                data.len()
+            )));
+        }
+        out.push(data);
+    }
+    Ok(out)
+}
+
+/// A buffer URI that is a relative (or absolute) file path, percent-decoded,
+/// against the glTF file's folder. URIs with a scheme (http:, file:, ...)
+/// are refused: kdray reads only local files named by path.
+fn buffer_path(base: &Path, uri: &str) -> Result<PathBuf, String> {
+    let scheme = uri.split_once(':').map(|(s, _)| s);
+    if let Some(s) = scheme {
+        let is_scheme = s.len() > 1
+            && s.starts_with(|c: char| c.is_ascii_alphabetic())
+            && s.chars()
+                .all(|c| c.is_ascii_alphanumeric() || "+-.".contains(c));
+        if is_scheme {
+            return Err(format!(
+                "a \"{s}:\" URI; kdray reads buffers only from files named by a relative path, or from data: URIs"
+            ));
+        }
+    }
+    let decoded = percent_decode(uri)?;
+    if decoded.is_empty() {
+        return Err("an empty URI".to_string());
+    }
+    Ok(base.join(decoded))
+}
+
+fn percent_decode(uri: &str) -> Result<String, String> {
+    let bytes = uri.as_bytes();
+    let mut out = Vec::with_capacity(bytes.len());
+    let mut i = 0;
+    while i < bytes.len() {
+        if bytes[i] == b'%' {
+            let hex = bytes
+                .get(i + 1..i + 3)
+                .and_then(|h| std::str::from_utf8(h).ok())
+                .and_then(|h| u8::from_str_radix(h, 16).ok())
+                .ok_or_else(|| "a % not followed by two hex digits".to_string())?;
+            out.push(hex);
+            i += 3;
+        } else {
+            out.push(bytes[i]);
+            i += 1;
+        }
+    }
+    String::from_utf8(out).map_err(|_| "not UTF-8 once percent-decoded".to_string())
+}
+
+/// The bytes of a `data:` URI (what follows `data:`): only base64 payloads,
+/// as glTF writers produce.
+fn decode_data_uri(data: &str) -> Result<Vec<u8>, String> {
+    let Some((header, payload)) = data.split_once(',') else {
+        return Err("no comma before the data".to_string());
+    };
+    if !header.ends_with(";base64") {
+        return Err("not base64 (only base64 data URIs are read)".to_string());
+    }
+    decode_base64(payload)
+}
+
+/// Standard base64 (RFC 4648), `=` padding optional.
+fn decode_base64(text: &str) -> Result<Vec<u8>, String> {
+    let text = text.trim_end_matches('=');
+    let mut out = Vec::with_capacity(text.len() / 4 * 3 + 3);
+    let mut bits = 0u32;
+    let mut held = 0u32;
+    for (at, c) in text.bytes().enumerate() {
+        let value = match c {
+            b'A'..=b'Z' => c - b'A',
+            b'a'..=b'z' => c - b'a' + 26,
+            b'0'..=b'9' => c - b'0' + 52,
+            b'+' => 62,
+            b'/' => 63,
+            _ => return Err(format!("invalid base64 character at offset {at}")),
+        };
+        bits = (bits << 6) | u32::from(value);
+        held += 6;
+        if held >= 8 {
+            held -= 8;
+            out.push((bits >> held) as u8);
+            bits &= (1 << held) - 1;
+        }
+    }
+    if held >= 6 {
+        return Err("truncated base64 (one character too many)".to_string());
+    }
+    Ok(out)
+}
+
+/// The walk's state: the triangles and materials gathered so far.
+struct Reader<'a> {
+    buffers: &'a [Vec<u8>],
+    with_materials: bool,
+    mesh: Mesh,
+    /// glTF material index (None: the default material) -> index in `mesh.materials`.
+    material_of: HashMap<Option<usize>, usize>,
+    /// Triangles read, zero-area ones included.
+    triangles_seen: usize,
+}
+
+impl Reader<'_> {
+    /// Appends the triangles of `mesh` placed by `world`.
+    fn mesh(&mut self, mesh: &gltf::Mesh, world: DMat4) -> Result<(), String> {
+        let normal_matrix = super::normals::normal_matrix(DMat3::from_mat4(world));
+        for primitive in mesh.primitives() {
+            let at = format!("mesh {} primitive {}", mesh.index(), primitive.index());
+            let mode = primitive.mode();
+            if !matches!(
+                mode,
+                Mode::Triangles | Mode::TriangleStrip | Mode::TriangleFan
+            ) {
+                return Err(format!(
+                    "{at}: mode {mode:?} is not a surface; kdray draws TRIANGLES, TRIANGLE_STRIP and TRIANGLE_FAN only"
+                ));
+            }
+            let Some(positions) = primitive.get(&gltf::Semantic::Positions) else {
+                return Err(format!("{at}: no POSITION attribute"));
+            };
+            let positions = self
+                .read_vec3(&positions)
+                .map_err(|m| format!("{at}: POSITION {m}"))?;
+            let normals = match primitive.get(&gltf::Semantic::Normals) {
+                Some(a) => {
+                    let normals = self
+                        .read_vec3(&a)
+                        .map_err(|m| format!("{at}: NORMAL {m}"))?;
+                    if normals.len() != positions.len() {
+                        return Err(format!(
+                            "{at}: {} normals for {} positions",
+                            normals.len(),
+                            positions.len()
+                        ));
+                    }
+                    Some(normals)
+                }
+                None => None,
+            };
+            let indices: Vec<usize> = match primitive.indices() {
+                Some(a) => {
+                    let indices = self
+                        .read_indices(&a)
+                        .map_err(|m| format!("{at}: indices {m}"))?;
+                    if let Some(bad) = indices.iter().find(|&&i| i >= positions.len()) {
+                        return Err(format!(
+                            "{at}: index {bad} is out of range: {} vertices",
+                            positions.len()
+                        ));
+                    }
+                    indices
+                }
+                None => (0..positions.len()).collect(),
+            };
+            let corners = triangle_corners(mode, &indices).map_err(|m| format!("{at}: {m}"))?;
+
+            let material = if self.with_materials {
+                let key = primitive.material().index();
+                let next = self.mesh.materials.len();
+                let local = *self.material_of.entry(key).or_insert(next);
+                if local == next {
+                    self.mesh
+                        .materials
+                        .push(pbr_material(&primitive.material()));
+                }
+                Some(local)
+            } else {
+                None
+            };
+
+            let base = self.mesh.vertex_count;
+            self.mesh.vertex_count += positions.len();
+            let world_positions: Vec<DVec3> = positions
+                .iter()
+                .map(|&p| world.transform_point3(p))
+                .collect();
+            for c in corners {
+                self.triangles_seen += 1;
+                let vertices = c.map(|i| world_positions[i]);
+                if (vertices[1] - vertices[0])
+                    .cross(vertices[2] - vertices[0])
+                    .length()
+                    == 0.0
+                {
+                    continue; // cannot be hit, has no normal
+                }
+                self.mesh.triangles.push(MeshTriangle {
+                    vertices,
+                    corners: c.map(|i| base + i),
+                    normals: c.map(|i| normals.as_ref().map(|n| normal_matrix * n[i])),
+                    material,
+                });
+            }
+        }
+        Ok(())
+    }
+
+    /// Where an accessor's elements are, every element checked to lie
+    /// inside its buffer view and the view inside its buffer. None for an
+    /// accessor without a view (all zeros).
+    fn elements(
+        &self,
+        accessor: &gltf::Accessor,
+        size: usize,
+    ) -> Result<Option<Elements<'_>>, String> {
+        if accessor.sparse().is_some() {
+            return Err("is a sparse accessor, which kdray does not read".to_string());
+        }
+        if accessor.count() == 0 {
+            return Err("has no elements".to_string());
+        }
+        let Some(view) = accessor.view() else {
+            return Ok(None);
+        };
+        let buffer = &self.buffers[view.buffer().index()];
+        let view_end = view
+            .offset()
+            .checked_add(view.length())
+            .filter(|&end| end <= buffer.len())
+            .ok_or_else(|| {
+                format!(
+                    "buffer view {} (bytes {}..+{}) lies outside its buffer of {} bytes",
+                    view.index(),
+                    view.offset(),
+                    view.length(),
+                    buffer.len()
+                )
+            })?;
+        let view_bytes = &buffer[view.offset()..view_end];
+        let stride = view.stride().unwrap_or(size);
+        if stride < size {
+            return Err(format!(
+                "byteStride {stride} is smaller than an element ({size} bytes)"
+            ));
+        }
+        let last_end = (accessor.count() - 1)
+            .checked_mul(stride)
+            .and_then(|x| x.checked_add(accessor.offset()))
+            .and_then(|x| x.checked_add(size));
+        if last_end.is_none_or(|end| end > view_bytes.len()) {
+            return Err(format!(
+                "{} elements of {size} bytes (stride {stride}, offset {}) do not fit in buffer view {} of {} bytes",
+                accessor.count(),
+                accessor.offset(),
+                view.index(),
+                view_bytes.len()
+            ));
+        }
+        Ok(Some(Elements {
+            bytes: view_bytes,
+            offset: accessor.offset(),
+            stride,
+        }))
+    }
+
+    /// A VEC3 of 32-bit floats per element, every value finite.
+    fn read_vec3(&self, accessor: &gltf::Accessor) -> Result<Vec<DVec3>, String> {
+        if accessor.data_type() != DataType::F32 || accessor.dimensions() != Dimensions::Vec3 {
+            return Err(format!(
+                "must be VEC3 of FLOAT, is {:?} of {:?}",
+                accessor.dimensions(),
+                accessor.data_type()
+            ));
+        }
+        let Some(Elements {
+            bytes,
+            offset,
+            stride,
+        }) = self.elements(accessor, 12)?
+        else {
+            return Ok(vec![DVec3::ZERO; accessor.count()]);
+        };
+        let float = |at: usize| {
+            f64::from(f32::from_le_bytes([
+                bytes[at],
+                bytes[at + 1],
+                bytes[at + 2],
+                bytes[at + 3],
+            ]))
+        };
+        let mut out = Vec::with_capacity(accessor.count());
+        for i in 0..accessor.count() {
+            let at = offset + i * stride;
+            let v = DVec3::new(float(at), float(at + 4), float(at + 8));
+            if !v.is_finite() {
+                return Err(format!("element {i} is not finite: {v}"));
+            }
+            out.push(v);
+        }
+        Ok(out)
+    }
+
+    /// Unsigned byte, short or int scalars.
+    fn read_indices(&self, accessor: &gltf::Accessor) -> Result<Vec<usize>, String> {
+        let size = match accessor.data_type() {
+            DataType::U8 => 1,
+            DataType::U16 => 2,
+            DataType::U32 => 4,
+            other => return Err(format!("must be unsigned integers, are {other:?}")),
+        };
+        if accessor.dimensions() != Dimensions::Scalar {
+            return Err(format!("must be SCALAR, are {:?}", accessor.dimensions()));
+        }
+        let Some(Elements {
+            bytes,
+            offset,
+            stride,
+        }) = self.elements(accessor, size)?
+        else {
+            return Ok(vec![0; accessor.count()]);
+        };
+        Ok((0..accessor.count())
+            .map(|i| {
+                let b = &bytes[offset + i * stride..];
+                match size {
+                    1 => b[0] as usize,
+                    2 => u16::from_le_bytes([b[0], b[1]]) as usize,
+                    _ => u32::from_le_bytes([b[0], b[1], b[2], b[3]]) as usize,
+                }
+            })
+            .collect())
+    }
+}
+
+/// An accessor's elements: element i starts at `bytes[offset + i * stride]`.
+struct Elements<'a> {
+    /// The buffer view's bytes.
+    bytes: &'a [u8],
+    offset: usize,
+    stride: usize,
+}
+
+/// The vertex indices of each triangle of a primitive. Strips alternate
+/// their winding so all triangles face one way, as the glTF spec orders them.
+fn triangle_corners(mode: Mode, indices: &[usize]) -> Result<Vec<[usize; 3]>, String> {
+    let n = indices.len();
+    Ok(match mode {
+        Mode::Triangles => {
+            if !n.is_multiple_of(3) {
+                return Err(format!("TRIANGLES with {n} vertices, not a multiple of 3"));
+            }
+            indices
+                .chunks_exact(3)
+                .map(|t| [t[0], t[1], t[2]])
+                .collect()
+        }
+        Mode::TriangleStrip => (0..n.saturating_sub(2))
+            .map(|i| {
+                if i % 2 == 0 {
+                    [indices[i], indices[i + 1], indices[i + 2]]
+                } else {
+                    [indices[i], indices[i + 2], indices[i + 1]]
+                }
+            })
+            .collect(),
+        Mode::TriangleFan => (1..n.saturating_sub(1))
+            .map(|i| [indices[i], indices[i + 1], indices[0]])
+            .collect(),
+        _ => Vec::new(),
+    })
+}
+
+/// Fraction of the base colour used as the ambient colour.
+pub const PBR_AMBIENT_FRACTION: f64 = 0.1;
+/// Largest shininess from a roughness near 0 (a Blinn-Phong exponent of 4096).
+pub const PBR_MAX_SHININESS: f64 = 4.0 * 4096.0;
+
+/// glTF's metallic-roughness material in kdray's model (docs/scene-format.md):
+/// - diffuse = baseColorFactor (rgb; alpha ignored), ambient = 0.1 x that;
+/// - reflection = metallic x (1 - roughness): a polished metal is a mirror,
+///   a rough one (glTF's default material is metallic 1, roughness 1) is not;
+/// - specular = white x (1 - roughness);
+/// - shininess = 4 x (2 / alpha^2 - 2), alpha = roughness^2, the Blinn-Phong
+///   exponent whose lobe matches the GGX width (kdray's exponent is
+///   shininess / 4), at most [`PBR_MAX_SHININESS`].
+///
+/// Textures, emission and transparency are ignored.
+pub fn pbr_material(material: &gltf::Material) -> MeshMaterial {
+    let pbr = material.pbr_metallic_roughness();
+    let [r, g, b, _alpha] = pbr.base_color_factor().map(f64::from);
+    let base = DVec3::new(r, g, b);
+    let metallic = f64::from(pbr.metallic_factor()).clamp(0.0, 1.0);
+    let roughness = f64::from(pbr.roughness_factor()).clamp(0.0, 1.0);
+    let alpha_squared = roughness.powi(4);
+    let shininess = if alpha_squared > 0.0 {
+        (4.0 * (2.0 / alpha_squared - 2.0)).min(PBR_MAX_SHININESS)
+    } else {
+        PBR_MAX_SHININESS
+    };
+    let name = match (material.index(), material.name()) {
+        (_, Some(name)) if !name.is_empty() => name.to_string(),
+        (Some(i), _) => format!("material{i}"),
+        (None, _) => "default".to_string(),
+    };
+    MeshMaterial {
+        name,
+        ambient: PBR_AMBIENT_FRACTION * base,
+        diffuse: base,
+        specular: DVec3::splat(1.0 - roughness),
+        shininess: shininess.max(0.0),
+        reflection: metallic * (1.0 - roughness),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn base64_decodes_with_and_without_padding() {
+        assert_eq!(decode_base64("").unwrap(), b"");
+        assert_eq!(decode_base64("TQ==").unwrap(), b"M");
+        assert_eq!(decode_base64("TWE=").unwrap(), b"Ma");
+        assert_eq!(decode_base64("TWFu").unwrap(), b"Man");
+        assert_eq!(decode_base64("TWE").unwrap(), b"Ma");
+        assert_eq!(decode_base64("/+9A").unwrap(), [0xff, 0xef, 0x40]);
+        assert!(decode_base64("T").is_err());
+        assert!(decode_base64("TW#u").is_err());
+    }
+
+    #[test]
+    fn data_uris_and_paths() {
+        assert_eq!(
+            decode_data_uri("application/octet-stream;base64,TWFu").unwrap(),
+            b"Man"
+        );
+        assert!(decode_data_uri("text/plain,Man").is_err());
+        assert!(decode_data_uri("application/octet-stream;base64").is_err());
+        let base = Path::new("models");
+        assert_eq!(
+            buffer_path(base, "my%20mesh.bin").unwrap(),
+            Path::new("models/my mesh.bin")
+        );
+        assert_eq!(
+            buffer_path(base, "sub/a.bin").unwrap(),
+            Path::new("models/sub/a.bin")
+        );
+        for bad in ["http://example.com/a.bin", "file:///a.bin", "", "a%2.bin"] {
+            assert!(buffer_path(base, bad).is_err(), "{bad}");
+        }
+    }
+
+    #[test]
+    fn strips_and_fans_make_consistently_wound_triangles() {
+        let strip = triangle_corners(Mode::TriangleStrip, &[0, 1, 2, 3, 4]).unwrap();
+        assert_eq!(strip, [[0, 1, 2], [1, 3, 2], [2, 3, 4]]);
+        let fan = triangle_corners(Mode::TriangleFan, &[0, 1, 2, 3]).unwrap();
+        assert_eq!(fan, [[1, 2, 0], [2, 3, 0]]);
+        assert!(triangle_corners(Mode::Triangles, &[0, 1, 2, 3]).is_err());
+        assert!(triangle_corners(Mode::TriangleStrip, &[0, 1])
+            .unwrap()
+            .is_empty());
+    }
+
+    #[test]
+    fn glb_headers_that_lie_about_their_length_are_refused() {
+        assert!(check_glb_header(b"glTF\x02\0\0\0").is_err());
+        assert!(check_glb_header(b"glTF\x02\0\0\0\x04\0\0\0").is_err());
+        assert!(check_glb_header(b"glTF\x02\0\0\0\xff\0\0\0").is_err());
+        assert!(check_glb_header(b"{\"asset\": {}}").is_ok());
+    }
+}
