@@ -33,7 +33,7 @@ python3 "$here/direct_variant.py" "$scene" "$direct"
     echo "date: $(date -u '+%Y-%m-%d %H:%M UTC')"
     echo "uptime before: $(uptime)"
     echo "cpu: $(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2 | sed 's/^ //'), $(nproc) cores"
-    echo "kdray: $(git rev-parse --short HEAD) $kdray"
+    echo "kdray: $kdray, built $(date -u -r "$kdray" '+%Y-%m-%d %H:%M UTC'); checkout at $(git rev-parse --short HEAD)"
 } > "$out/machine.txt"
 
 echo "kdray (lavapipe, all cores)..." >&2
