@@ -451,4 +451,41 @@ fn bad_mesh_files_exit_2_with_one_line_and_write_nothing() {
             dir.temp_files()
         );
     }
+
+/// On a headless machine without `XDG_RUNTIME_DIR` (or with a relative one,
+/// which libwayland calls invalid), Mesa's Vulkan device-selection layer made
+/// libwayland print `error: XDG_RUNTIME_DIR is invalid or not set in the
+/// environment.` twice on every run; kdray now gives Mesa a private runtime
+/// folder first. Runs the binary directly: `run_kdray` sets the variable and
+/// hides that line.
+#[test]
+fn render_and_info_print_no_xdg_runtime_dir_error_without_the_variable() {
+    let dir = TempDir::new("xdg");
+    let seed = scene_path("seed.toml");
+    let render = render_args(&seed, &["-o", "out.png"]);
+    for value in [None, Some("relative/runtime")] {
+        for args in [&render[..], &["info"][..]] {
+            let mut command = std::process::Command::new(env!("CARGO_BIN_EXE_kdray"));
+            command
+                .args(args)
+                .current_dir(&dir.path)
+                // The private folder goes here, not in the shared /tmp.
+                .env("TMPDIR", &dir.path)
+                .env_remove("XDG_RUNTIME_DIR");
+            if let Some(value) = value {
+                command.env("XDG_RUNTIME_DIR", value);
+            }
+            let out = command.output().expect("cannot run kdray");
+            let stderr = String::from_utf8_lossy(&out.stderr);
+            assert!(
+                out.status.success(),
+                "kdray {args:?} (XDG_RUNTIME_DIR={value:?}): {stderr}"
+            );
+            assert!(
+                !stderr.contains("XDG_RUNTIME_DIR"),
+                "kdray {args:?} (XDG_RUNTIME_DIR={value:?}) printed:\n{stderr}"
+            );
+        }
+    }
+    assert!(dir.join("out.png").exists());
 }

@@ -26,12 +26,58 @@ pub struct GpuContext {
 }
 
 fn instance(backends: wgpu::Backends) -> wgpu::Instance {
+    give_mesa_a_runtime_dir();
     let desc = wgpu::InstanceDescriptor::new_without_display_handle_from_env();
     // WGPU_BACKEND, when set, has already narrowed desc.backends.
     wgpu::Instance::new(wgpu::InstanceDescriptor {
         backends: desc.backends & backends,
         ..desc
     })
+}
+
+/// Keeps Mesa from printing `error: XDG_RUNTIME_DIR is invalid or not set in
+/// the environment.` on headless machines. wgpu enables `VK_KHR_wayland_surface`
+/// on every Vulkan instance, so Mesa's device-selection layer
+/// (`VK_LAYER_MESA_device_select`) tries to connect to a Wayland compositor
+/// when it lists devices, and libwayland prints that line (twice per run) when
+/// the variable is unset or not an absolute path. With it pointing at an empty
+/// private folder the connection fails quietly (no socket there), and devices
+/// are listed as before. A valid value is never touched.
+///
+/// Runs once, before the first instance: in the CLI that is before any other
+/// thread exists (setting a variable races with C code reading the
+/// environment on other threads). The folder is `kdray-runtime-UID` in the
+/// temporary folder, mode 0700, and is used only if it is a real folder owned
+/// by this user that nobody else can open; otherwise nothing is set.
+fn give_mesa_a_runtime_dir() {
+    #[cfg(all(unix, not(target_os = "macos")))]
+    {
+        static ONCE: std::sync::Once = std::sync::Once::new();
+        ONCE.call_once(|| {
+            let valid = std::env::var_os("XDG_RUNTIME_DIR")
+                .is_some_and(|dir| std::path::Path::new(&dir).is_absolute());
+            if !valid {
+                if let Some(dir) = private_runtime_dir() {
+                    std::env::set_var("XDG_RUNTIME_DIR", dir);
+                }
+            }
+        });
+    }
+}
+
+/// `$TMPDIR/kdray-runtime-UID`, created with mode 0700 if absent; `None` if
+/// it cannot be made or is not a folder of this user's that only they can open.
+#[cfg(all(unix, not(target_os = "macos")))]
+fn private_runtime_dir() -> Option<std::path::PathBuf> {
+    use std::os::unix::fs::{DirBuilderExt, MetadataExt};
+    // SAFETY: getuid has no preconditions and cannot fail.
+    let uid = unsafe { libc::getuid() };
+    let dir = std::env::temp_dir().join(format!("kdray-runtime-{uid}"));
+    // An existing folder is checked below; any other failure shows there too.
+    let _ = std::fs::DirBuilder::new().mode(0o700).create(&dir);
+    let meta = std::fs::symlink_metadata(&dir).ok()?;
+    let private = meta.is_dir() && meta.uid() == uid && meta.mode() & 0o077 == 0;
+    (private && dir.is_absolute()).then_some(dir)
 }
 
 fn backend_rank(b: wgpu::Backend) -> u32 {

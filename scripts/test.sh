@@ -1,0 +1,48 @@
+#!/usr/bin/env bash
+# The README's test command: installs what the test suite needs on a Debian
+# or Ubuntu machine without a GPU, then runs `cargo test --locked`.
+# `.ci/run` runs exactly this script. Extra arguments go to `cargo test`.
+#
+# apt-get runs only when a package below is missing, with sudo when not
+# root; on a machine without dpkg/apt-get it is skipped (install the
+# equivalents yourself).
+set -euo pipefail
+cd "$(dirname "$0")/.."
+
+packages=(
+    # lavapipe (Vulkan on the CPU), and EGL + llvmpipe for the GL fallback
+    # (tests/gpu_faults.rs compares the two).
+    mesa-vulkan-drivers libvulkan1 libegl1 libegl-mesa0 libgl1-mesa-dri
+    # g++ builds nv-flip's C++ core (the golden-image tests); gcc (cc) builds
+    # tests/support/device_memory_budget.c for tests/gpu_memory.rs.
+    g++ gcc
+    # tests/window.rs runs the window under Xvfb; winit loads these at run time.
+    xvfb xauth libxkbcommon-x11-0 libx11-xcb1 libxcursor1 libxi6 libxrandr2
+)
+
+missing=()
+if command -v dpkg-query >/dev/null && command -v apt-get >/dev/null; then
+    for p in "${packages[@]}"; do
+        status=$(dpkg-query -W -f='${Status}' "$p" 2>/dev/null || true)
+        [ "$status" = "install ok installed" ] || missing+=("$p")
+    done
+else
+    echo "scripts/test.sh: no dpkg/apt-get here; not installing: ${packages[*]}" >&2
+fi
+
+if [ ${#missing[@]} -gt 0 ]; then
+    if [ "$(id -u)" = 0 ]; then
+        sudo=()
+    elif command -v sudo >/dev/null; then
+        sudo=(sudo)
+    else
+        echo "scripts/test.sh: not root and no sudo: as root, run apt-get install ${missing[*]}" >&2
+        exit 1
+    fi
+    echo "scripts/test.sh: installing ${missing[*]}" >&2
+    export DEBIAN_FRONTEND=noninteractive
+    "${sudo[@]}" apt-get update -qq
+    "${sudo[@]}" apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null
+fi
+
+exec cargo test --locked "$@"
