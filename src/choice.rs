@@ -39,7 +39,7 @@ impl Choice for crate::gpu::Accel {
 }
 
 impl Choice for crate::bench::SceneKind {
-    const ALL: &'static [Self] = &[Self::Spheres, Self::Triangles, Self::Mixed];
+    const ALL: &'static [Self] = &[Self::Spheres, Self::Triangles, Self::Mixed, Self::Gears];
 
     fn name(self) -> &'static str {
         self.name()
@@ -50,6 +50,7 @@ impl Choice for crate::bench::SceneKind {
             Self::Spheres => "spheres only",
             Self::Triangles => "triangles only",
             Self::Mixed => "half spheres (rounded up), half triangles",
+            Self::Gears => "gear wheels of long thin triangles (144-vertex faces, fanned)",
         }
     }
 }

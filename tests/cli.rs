@@ -451,6 +451,7 @@ fn bad_mesh_files_exit_2_with_one_line_and_write_nothing() {
             dir.temp_files()
         );
     }
+}
 
 /// On a headless machine without `XDG_RUNTIME_DIR` (or with a relative one,
 /// which libwayland calls invalid), Mesa's Vulkan device-selection layer made

@@ -30,6 +30,9 @@ pub enum SceneKind {
     Triangles,
     /// Half spheres (rounded up), half triangles.
     Mixed,
+    /// Gear wheels whose flat faces are 144-vertex polygons fan-triangulated
+    /// into long thin triangles, with quad rims, on a floor (see [`gears`]).
+    Gears,
 }
 
 impl SceneKind {
@@ -38,6 +41,7 @@ impl SceneKind {
             SceneKind::Spheres => "spheres",
             SceneKind::Triangles => "triangles",
             SceneKind::Mixed => "mixed",
+            SceneKind::Gears => "gears",
         }
     }
 }
@@ -132,7 +136,7 @@ impl RandomSceneSpec {
     pub fn split(&self) -> (usize, usize) {
         match self.kind {
             SceneKind::Spheres => (self.count, 0),
-            SceneKind::Triangles => (0, self.count),
+            SceneKind::Triangles | SceneKind::Gears => (0, self.count),
             SceneKind::Mixed => (self.count.div_ceil(2), self.count / 2),
         }
     }
@@ -213,25 +217,11 @@ pub fn random_scene(spec: &RandomSceneSpec) -> Scene {
         .collect();
 
     let triangle_scale = TRIANGLE_SCALE / cbrt_n;
-    let triangles = (0..n_triangles)
-        .map(|_| {
-            let centre = random_centre(&mut triangle_rng);
-            let size = triangle_scale * triangle_rng.range(0.5, 1.5);
-            let material = pick_material(&mut triangle_rng);
-            // Three vertices on a sphere of radius `size` around the
-            // centre; redraw slivers (area under a tenth of size^2).
-            loop {
-                let vertices = [0; 3].map(|_| qv(centre + size * triangle_rng.unit_vector()));
-                let area = 0.5
-                    * (vertices[1] - vertices[0])
-                        .cross(vertices[2] - vertices[0])
-                        .length();
-                if area >= 0.1 * size * size {
-                    break Triangle::flat(vertices, material);
-                }
-            }
-        })
-        .collect();
+    let triangles = if spec.kind == SceneKind::Gears {
+        gears(spec.count, spec.seed)
+    } else {
+        random_triangles(n_triangles, triangle_scale, &mut triangle_rng)
+    };
 
     Scene {
         camera: Camera {
@@ -258,6 +248,133 @@ pub fn random_scene(spec: &RandomSceneSpec) -> Scene {
         materials: materials(),
         spheres,
         triangles,
+    }
+}
+
+/// `n` triangles of random shapes around random centres (see the module comment).
+fn random_triangles(n: usize, scale: f64, rng: &mut SplitMix64) -> Vec<Triangle> {
+    (0..n)
+        .map(|_| {
+            let centre = random_centre(rng);
+            let size = scale * rng.range(0.5, 1.5);
+            let material = pick_material(rng);
+            // Three vertices on a sphere of radius `size` around the
+            // centre; redraw slivers (area under a tenth of size^2).
+            loop {
+                let vertices = [0; 3].map(|_| qv(centre + size * rng.unit_vector()));
+                let area = 0.5
+                    * (vertices[1] - vertices[0])
+                        .cross(vertices[2] - vertices[0])
+                        .length();
+                if area >= 0.1 * size * size {
+                    break Triangle::flat(vertices, material);
+                }
+            }
+        })
+        .collect()
+}
+
+/// Outline vertices of a full-size gear: 36 teeth of 4 vertices each.
+pub const GEAR_OUTLINE_VERTICES: usize = 144;
+/// Tip radius of the gears is `GEAR_SCALE / cbrt(number of gears)`.
+pub const GEAR_SCALE: f64 = 1.6;
+/// Triangles of a gear with `v` outline vertices: two faces fanned into
+/// `v - 2` triangles each, and a rim of `v` quads.
+const fn gear_triangle_count(v: usize) -> usize {
+    4 * v - 4
+}
+
+/// The gear-like scene of issue 9: gear wheels whose flat faces are
+/// 144-vertex polygons, fan-triangulated from their first vertex as an OBJ
+/// reader does an n-gon (142 triangles per face, most of them long and
+/// thin, all sharing one vertex), and whose rims are quads, placed at random
+/// centres and orientations; plus a floor, a regular polygon fanned the same
+/// way. Exactly `count` triangles: 4,578 gives the issue's scene, 8 gears of
+/// 572 triangles on a floor quad.
+///
+/// The outline's teeth make it non-convex, so a fan from one of its
+/// vertices also covers part of the gaps between the teeth on the far side
+/// (it is a triangulation only of a convex polygon); the issue's OBJ gears
+/// were fanned the same way, and the bench needs the triangles' shapes, not
+/// a faithful gear.
+///
+/// Sizes: the floor takes 2 triangles (up to 17, absorbing what the gears
+/// cannot); the rest goes to `ceil(rest / 572)` gears, whose outlines have
+/// the same multiple of 4 vertices, up to 144, or 4 more for some of them.
+/// Below 14 triangles there are no gears, only the floor.
+pub fn gears(count: usize, seed: u64) -> Vec<Triangle> {
+    let mut rng = SplitMix64::new(seed ^ 0x4745_4152_5300_0000);
+    let full = gear_triangle_count(GEAR_OUTLINE_VERTICES);
+    let rest = count.saturating_sub(2);
+    let (n_gears, base_v, bigger) = if rest < gear_triangle_count(4) {
+        (0, 0, 0)
+    } else {
+        let n = rest.div_ceil(full);
+        let v = 4 * ((rest / n + 4) / 16);
+        let extra = (rest - n * gear_triangle_count(v)) / 16;
+        (n, v, extra)
+    };
+    let mut triangles = Vec::with_capacity(count);
+    let radius = GEAR_SCALE / (n_gears.max(1) as f64).cbrt();
+    for g in 0..n_gears {
+        let v = if g < bigger { base_v + 4 } else { base_v };
+        let centre = random_centre(&mut rng);
+        let axis = rng.unit_vector();
+        let phase = rng.range(0.0, std::f64::consts::TAU);
+        let material = pick_material(&mut rng);
+        gear(&mut triangles, v, centre, axis, phase, radius, material);
+    }
+    let floor = count - triangles.len();
+    fan_polygon(&mut triangles, floor + 2);
+    triangles
+}
+
+/// One gear with `v` outline vertices (a multiple of 4) into `out`.
+fn gear(
+    out: &mut Vec<Triangle>,
+    v: usize,
+    centre: DVec3,
+    axis: DVec3,
+    phase: f64,
+    radius: f64,
+    material: u32,
+) {
+    let (u, w) = axis.any_orthonormal_pair();
+    let half_width = 0.1 * radius;
+    let pitch = std::f64::consts::TAU / (v / 4) as f64;
+    // Each tooth: root, tip, tip, root, then the gap to the next tooth.
+    let profile = [(0.0, 0.85), (0.2, 1.0), (0.45, 1.0), (0.65, 0.85)];
+    let outline: Vec<DVec3> = (0..v)
+        .map(|i| {
+            let (at, r) = profile[i % 4];
+            let angle = phase + pitch * ((i / 4) as f64 + at);
+            centre + radius * r * (angle.cos() * u + angle.sin() * w)
+        })
+        .collect();
+    let front: Vec<DVec3> = outline.iter().map(|&p| qv(p + half_width * axis)).collect();
+    let back: Vec<DVec3> = outline.iter().map(|&p| qv(p - half_width * axis)).collect();
+    for face in [&front, &back] {
+        for i in 1..v - 1 {
+            out.push(Triangle::flat([face[0], face[i], face[i + 1]], material));
+        }
+    }
+    for i in 0..v {
+        let j = (i + 1) % v;
+        out.push(Triangle::flat([front[i], front[j], back[j]], material));
+        out.push(Triangle::flat([front[i], back[j], back[i]], material));
+    }
+}
+
+/// The floor under the objects: a regular polygon of `corners` (at least 3)
+/// fanned from its first corner, white and matte.
+fn fan_polygon(out: &mut Vec<Triangle>, corners: usize) {
+    let white_matte = 2 * (PALETTE.len() as u32 - 1);
+    let corner = |i: usize| {
+        let angle = std::f64::consts::FRAC_PI_4 + std::f64::consts::TAU * i as f64 / corners as f64;
+        qv(DVec3::new(8.0 * angle.cos(), -BOX_HALF - 0.5, 8.0 * angle.sin()))
+    };
+    for i in 1..corners - 1 {
+        out.push(Triangle::flat([corner(0), corner(i), corner(i + 1)], white_matte));
     }
 }
 
@@ -375,6 +492,57 @@ mod tests {
         };
         let (r1k, r8k) = (mean_radius(1000), mean_radius(8000));
         assert!((r1k / r8k - 2.0).abs() < 0.1, "{r1k} {r8k}");
+    }
+
+    #[test]
+    fn gears_give_exactly_count_triangles_of_non_zero_area() {
+        for count in [1, 2, 3, 13, 14, 26, 100, 573, 1000, 4578, 12_345] {
+            let spec = RandomSceneSpec::new(SceneKind::Gears, count);
+            let s = random_scene(&spec);
+            assert_eq!(s.triangles.len(), count, "count {count}");
+            assert!(s.spheres.is_empty());
+            assert_eq!(s, random_scene(&spec), "deterministic");
+            for t in &s.triangles {
+                let n = (t.vertices[1] - t.vertices[0]).cross(t.vertices[2] - t.vertices[0]);
+                assert!(n.length() > 1e-9, "count {count}: {t:?}");
+                assert!((t.material as usize) < s.materials.len());
+            }
+        }
+    }
+
+    /// 4,578 triangles are the issue's scene: 8 gears of 572 triangles (two
+    /// faces fanned from their first vertex into 142 triangles each, and a
+    /// rim of 144 quads), then a floor quad. Most face triangles are long and
+    /// thin.
+    #[test]
+    fn the_issues_gear_scene() {
+        let s = random_scene(&RandomSceneSpec::new(SceneKind::Gears, 4578));
+        let gear = gear_triangle_count(GEAR_OUTLINE_VERTICES);
+        assert_eq!(gear, 572);
+        for g in 0..8 {
+            let ts = &s.triangles[g * gear..(g + 1) * gear];
+            for face in [&ts[..142], &ts[142..284]] {
+                let apex = face[0].vertices[0];
+                assert!(face.iter().all(|t| t.vertices[0] == apex), "gear {g}: a fan");
+                assert!(face.iter().all(|t| t.material == face[0].material));
+                // Longest edge over the height on it.
+                let thin = face
+                    .iter()
+                    .filter(|t| {
+                        let [a, b, c] = t.vertices;
+                        let longest = (b - a).length().max((c - b).length()).max((a - c).length());
+                        let area2 = (b - a).cross(c - a).length();
+                        longest * longest / area2 > 10.0
+                    })
+                    .count();
+                assert!(thin > 71, "gear {g}: {thin} of 142 face triangles are thin");
+            }
+        }
+        let floor = &s.triangles[8 * gear..];
+        assert_eq!(floor.len(), 2);
+        assert!(floor
+            .iter()
+            .all(|t| t.vertices.iter().all(|v| v.y == -BOX_HALF - 0.5)));
     }
 
     #[test]
