@@ -18,6 +18,8 @@ pub struct RenderStats {
     pub adapter: String,
     pub backend: String,
     pub accel: Accel,
+    /// The k-d walk (meaningful with `accel` kdtree).
+    pub traversal: Traversal,
     pub width: u32,
     pub height: u32,
     pub samples: u32,
@@ -99,7 +101,7 @@ pub fn render_scene(
     let mut rgb = Vec::with_capacity(r.width as usize * r.height as usize * 3);
     let prepared = PreparedScene::new(scene.clone(), accel);
     let (stats, summary) =
-        render_scene_streaming(ctx, &prepared, accel, Traversal::Restart, max_tile_pixels, &mut |band| {
+        render_scene_streaming(ctx, &prepared, accel, Traversal::default(), max_tile_pixels, &mut |band| {
             rgb.extend_from_slice(band.rgb);
             Ok(())
         })?;
@@ -150,6 +152,7 @@ pub fn render_scene_streaming(
         adapter: ctx.info.name.clone(),
         backend: format!("{:?}", ctx.info.backend),
         accel,
+        traversal,
         width: scene.render.width,
         height: scene.render.height,
         samples: scene.render.samples,

@@ -72,20 +72,25 @@ impl FrameParams {
             accel: accel_value(accel),
             node_count: scene.node_count,
             sample_index: 0,
-            traversal: TRAVERSAL_RESTART,
+            traversal: traversal_value(Traversal::default()),
         }
     }
 
-    /// The same parameters with the k-d walk `traversal` (restart unless set).
+    /// The same parameters with the k-d walk `traversal` (the default walk
+    /// unless set).
     pub fn with_traversal(self, traversal: Traversal) -> FrameParams {
         FrameParams {
-            traversal: match traversal {
-                Traversal::Restart => TRAVERSAL_RESTART,
-                Traversal::Ropes => TRAVERSAL_ROPES,
-                Traversal::ShortStack => TRAVERSAL_SHORT_STACK,
-            },
+            traversal: traversal_value(traversal),
             ..self
         }
+    }
+}
+
+fn traversal_value(traversal: Traversal) -> u32 {
+    match traversal {
+        Traversal::Restart => TRAVERSAL_RESTART,
+        Traversal::Ropes => TRAVERSAL_ROPES,
+        Traversal::ShortStack => TRAVERSAL_SHORT_STACK,
     }
 }
 

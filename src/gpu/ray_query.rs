@@ -55,7 +55,7 @@ impl RayQueries {
         accel: Accel,
         queries: &[RayQuery],
     ) -> Result<Vec<Option<Hit>>> {
-        self.trace_walk(ctx, scene, scene_ids, accel, Traversal::Restart, queries)
+        self.trace_walk(ctx, scene, scene_ids, accel, Traversal::default(), queries)
     }
 
     /// [`RayQueries::trace`] with the k-d walk `traversal`.

@@ -9,14 +9,16 @@ use super::traverse::Hit;
 use super::{traverse, traverse_ropes, traverse_short_stack, KdTree};
 
 /// Which stackless walk the shader (and its CPU mirror) runs.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default, serde::Serialize, serde::Deserialize)]
+#[serde(rename_all = "kebab-case")]
 pub enum Traversal {
     /// kd-restart with push-down (Foley & Sugerman 2005; Horn et al. 2007):
     /// after each leaf, descend again from the restart node.
-    #[default]
     Restart,
     /// Ropes (Popov et al. 2007): after each leaf, descend from the node
-    /// beyond the face the ray leaves through.
+    /// beyond the face the ray leaves through. The default: fastest over
+    /// the benchmark scenes on lavapipe (docs/design.md, "Traversal").
+    #[default]
     Ropes,
     /// kd-restart with a short stack (Horn et al. 2007): after each leaf,
     /// resume at the last far child remembered, restarting when none is left.

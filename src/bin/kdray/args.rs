@@ -61,8 +61,8 @@ pub struct RenderArgs {
     /// Nearest-hit search in the shader.
     #[arg(long, value_parser = choice::<Accel>(), default_value = "kdtree")]
     pub accel: Accel,
-    /// The k-d walk (with --accel kdtree; not yet with --window).
-    #[arg(long, value_parser = choice::<Traversal>(), default_value = "restart")]
+    /// The kernel's k-d walk (with --accel kdtree; the window always runs the default).
+    #[arg(long, value_parser = choice::<Traversal>(), default_value = "ropes")]
     pub traversal: Traversal,
     /// Print one JSON object of figures on stdout (with --window: frame rates, on exit).
     #[arg(long)]
