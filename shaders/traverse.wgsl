@@ -10,6 +10,30 @@ fn miss() -> Hit {
     return Hit(T_INFINITY, NO_OBJECT);
 }
 
+// Tests the objects of `leaf`, the step every walk shares. Nearest hit:
+// `best_so_far` improved by any hit with t <= t_limit. Any hit: the first
+// hit with t < t_limit (the caller returns it at once), else a miss. Takes
+// and returns the hit by value: a ptr<function, Hit> parameter measured
+// twice as slow on lavapipe (design.md).
+fn test_leaf(leaf: KdNode, ray: Ray, t_limit: f32, any_hit: bool, best_so_far: Hit) -> Hit {
+    var best = best_so_far;
+    for (var i = leaf.index; i < leaf.index + leaf.count; i++) {
+        loop_iterations += 1u;
+        let id = leaf_objects[i];
+        let t = intersect_object(id, ray);
+        if (t > 0.0) {
+            if (any_hit) {
+                if (t < t_limit) {
+                    return Hit(t, id);
+                }
+            } else if (t <= t_limit && t < best.t) {
+                best = Hit(t, id);
+            }
+        }
+    }
+    return best;
+}
+
 // Loop iterations this invocation has run, all loops together. llvmpipe
 // (lavapipe, and GL on llvmpipe) silently ends every loop of an invocation
 // once their iterations add up to 65535 (LP_MAX_TGSI_LOOP_ITERATIONS),
@@ -68,19 +92,9 @@ fn trace_kdtree(ray: Ray, t_limit: f32, any_hit: bool) -> Hit {
             }
             node = kd_nodes[node_index];
         }
-        for (var i = node.index; i < node.index + node.count; i++) {
-            loop_iterations += 1u;
-            let id = leaf_objects[i];
-            let t = intersect_object(id, ray);
-            if (t > 0.0) {
-                if (any_hit) {
-                    if (t < t_limit) {
-                        return Hit(t, id);
-                    }
-                } else if (t <= t_limit && t < best.t) {
-                    best = Hit(t, id);
-                }
-            }
+        best = test_leaf(node, ray, t_limit, any_hit, best);
+        if (any_hit && best.object != NO_OBJECT) {
+            return best;
         }
         // Every leaf still to visit lies beyond t_max.
         if (best.t <= t_max || t_max >= t_far) {

@@ -89,19 +89,9 @@ fn trace_kdtree_short_stack(ray: Ray, t_limit: f32, any_hit: bool) -> Hit {
             }
             node = kd_nodes[node_index];
         }
-        for (var i = node.index; i < node.index + node.count; i++) {
-            loop_iterations += 1u;
-            let id = leaf_objects[i];
-            let t = intersect_object(id, ray);
-            if (t > 0.0) {
-                if (any_hit) {
-                    if (t < t_limit) {
-                        return Hit(t, id);
-                    }
-                } else if (t <= t_limit && t < best.t) {
-                    best = Hit(t, id);
-                }
-            }
+        best = test_leaf(node, ray, t_limit, any_hit, best);
+        if (any_hit && best.object != NO_OBJECT) {
+            return best;
         }
         // Every leaf still to visit lies beyond t_max.
         if (best.t <= t_max || t_max >= t_far) {

@@ -86,25 +86,44 @@ fn walk(tree: &KdTree, prims: &Primitives, ray: &Ray, t_limit: f32, any: bool) -
                 restart_node = node;
             }
         }
-        // Leaf: test its objects.
-        let leaf = nodes[node];
-        let ids = &tree.leaf_objects[leaf.index as usize..(leaf.index + leaf.count) as usize];
-        for &id in ids {
-            if let Some(t) = prims.intersect(id, ray) {
-                if any {
-                    if t < t_limit {
-                        return Some(Hit { object: id, t });
-                    }
-                } else if t <= t_limit && best.is_none_or(|b| t < b.t) {
-                    best = Some(Hit { object: id, t });
-                }
-            }
+        best = test_leaf(tree, prims, node, ray, t_limit, any, best);
+        if any && best.is_some() {
+            return best;
         }
         // Every leaf still to visit lies beyond t_max.
         if best.is_some_and(|hit| hit.t <= t_max) || t_max >= t_far {
             return best;
         }
         t_min = t_max;
+    }
+    best
+}
+
+/// Tests the objects of leaf `node`, the step every walk shares. Nearest
+/// hit (`any` false): `best` improved by any hit with t <= t_limit. Any hit:
+/// the first hit with t < t_limit (the caller returns it at once), else
+/// `best` (None). Mirrors `test_leaf` in shaders/traverse.wgsl.
+pub(super) fn test_leaf(
+    tree: &KdTree,
+    prims: &Primitives,
+    node: usize,
+    ray: &Ray,
+    t_limit: f32,
+    any: bool,
+    mut best: Option<Hit>,
+) -> Option<Hit> {
+    let leaf = tree.nodes[node];
+    let ids = &tree.leaf_objects[leaf.index as usize..(leaf.index + leaf.count) as usize];
+    for &id in ids {
+        if let Some(t) = prims.intersect(id, ray) {
+            if any {
+                if t < t_limit {
+                    return Some(Hit { object: id, t });
+                }
+            } else if t <= t_limit && best.is_none_or(|b| t < b.t) {
+                best = Some(Hit { object: id, t });
+            }
+        }
     }
     best
 }

@@ -30,7 +30,7 @@ use crate::geometry::{Primitives, Ray, PARALLEL_EPSILON};
 use crate::layout::{KdNode, LeafRopes};
 
 use super::ropes::Ropes;
-use super::traverse::{max_restarts, Hit};
+use super::traverse::{max_restarts, test_leaf, Hit};
 use super::KdTree;
 
 /// Nearest hit with 0 < t <= t_limit, by the rope walk.
@@ -138,18 +138,9 @@ fn walk(
             from_root = true;
             continue;
         }
-        let n = nodes[node];
-        let ids = &tree.leaf_objects[n.index as usize..(n.index + n.count) as usize];
-        for &id in ids {
-            if let Some(t) = prims.intersect(id, ray) {
-                if any {
-                    if t < t_limit {
-                        return Some(Hit { object: id, t });
-                    }
-                } else if t <= t_limit && best.is_none_or(|b| t < b.t) {
-                    best = Some(Hit { object: id, t });
-                }
-            }
+        best = test_leaf(tree, prims, node, ray, t_limit, any, best);
+        if any && best.is_some() {
+            return best;
         }
         // Every leaf still to visit lies beyond t_max.
         if best.is_some_and(|hit| hit.t <= t_max) || t_max >= t_far {

@@ -15,7 +15,7 @@
 
 use crate::geometry::{Primitives, Ray, PARALLEL_EPSILON};
 
-use super::traverse::{max_restarts, Hit};
+use super::traverse::{max_restarts, test_leaf, Hit};
 use super::KdTree;
 
 /// Entries of the short stack. The shader keeps them in named variables
@@ -112,18 +112,9 @@ fn walk(tree: &KdTree, prims: &Primitives, ray: &Ray, t_limit: f32, any: bool) -
                 restart_node = node;
             }
         }
-        let leaf = nodes[node];
-        let ids = &tree.leaf_objects[leaf.index as usize..(leaf.index + leaf.count) as usize];
-        for &id in ids {
-            if let Some(t) = prims.intersect(id, ray) {
-                if any {
-                    if t < t_limit {
-                        return Some(Hit { object: id, t });
-                    }
-                } else if t <= t_limit && best.is_none_or(|b| t < b.t) {
-                    best = Some(Hit { object: id, t });
-                }
-            }
+        best = test_leaf(tree, prims, node, ray, t_limit, any, best);
+        if any && best.is_some() {
+            return best;
         }
         // Every leaf still to visit lies beyond t_max.
         if best.is_some_and(|hit| hit.t <= t_max) || t_max >= t_far {
