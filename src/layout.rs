@@ -369,13 +369,30 @@ mod tests {
             "RayCounters",
             std::mem::size_of::<RayCounters>(),
             &[
-                ("primary", std::mem::offset_of!(RayCounters, primary), atomic),
+                (
+                    "primary",
+                    std::mem::offset_of!(RayCounters, primary),
+                    atomic,
+                ),
                 ("shadow", std::mem::offset_of!(RayCounters, shadow), atomic),
-                ("reflection", std::mem::offset_of!(RayCounters, reflection), atomic),
-                ("loop_limited", std::mem::offset_of!(RayCounters, loop_limited), atomic),
+                (
+                    "reflection",
+                    std::mem::offset_of!(RayCounters, reflection),
+                    atomic,
+                ),
+                (
+                    "loop_limited",
+                    std::mem::offset_of!(RayCounters, loop_limited),
+                    atomic,
+                ),
             ],
         );
-        layout_of!(&module, "QueryRay", GpuQueryRay, [origin, t_limit, dir, any_hit]);
+        layout_of!(
+            &module,
+            "QueryRay",
+            GpuQueryRay,
+            [origin, t_limit, dir, any_hit]
+        );
         layout_of!(&module, "QueryHit", GpuQueryHit, [t, object]);
 
         let (present, _) =

@@ -100,11 +100,17 @@ pub fn render_scene(
     let r = &scene.render;
     let mut rgb = Vec::with_capacity(r.width as usize * r.height as usize * 3);
     let prepared = PreparedScene::new(scene.clone(), accel);
-    let (stats, summary) =
-        render_scene_streaming(ctx, &prepared, accel, Traversal::default(), max_tile_pixels, &mut |band| {
+    let (stats, summary) = render_scene_streaming(
+        ctx,
+        &prepared,
+        accel,
+        Traversal::default(),
+        max_tile_pixels,
+        &mut |band| {
             rgb.extend_from_slice(band.rgb);
             Ok(())
-        })?;
+        },
+    )?;
     let image = RenderedImage {
         width: r.width,
         height: r.height,
@@ -135,7 +141,9 @@ pub fn render_scene_streaming(
     let renderer = Renderer::new(ctx)?;
     let upload_ms = prepared.flatten_ms + ms_since(upload);
 
-    let params = prepared.frame_params(&buffers, accel).with_traversal(traversal);
+    let params = prepared
+        .frame_params(&buffers, accel)
+        .with_traversal(traversal);
     let max_binding = crate::gpu::max_binding_bytes(&ctx.device.limits());
     let plan = TilePlan::new(
         scene.render.width,

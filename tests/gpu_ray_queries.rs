@@ -49,9 +49,16 @@ fn scene_of(prims: &Primitives) -> Scene {
 
 /// The kernel's answers to `rays` over `tree`: brute force's, and each k-d
 /// walk's (`Traversal::ALL` order).
-fn trace_both(prims: &Primitives, tree: &KdTree, rays: &[RayQuery]) -> (Vec<Option<Hit>>, Vec<Vec<Option<Hit>>>) {
+fn trace_both(
+    prims: &Primitives,
+    tree: &KdTree,
+    rays: &[RayQuery],
+) -> (Vec<Option<Hit>>, Vec<Vec<Option<Hit>>>) {
     let prepared = PreparedScene::with_tree(scene_of(prims), tree.clone());
-    assert_eq!(prepared.tree.nodes, tree.nodes, "the GPU walks the tree built here");
+    assert_eq!(
+        prepared.tree.nodes, tree.nodes,
+        "the GPU walks the tree built here"
+    );
     let ctx = common::gpu();
     let buffers = prepared.upload(ctx).unwrap_or_else(|e| panic!("{e}"));
     let trace = |accel, walk| {
@@ -60,13 +67,20 @@ fn trace_both(prims: &Primitives, tree: &KdTree, rays: &[RayQuery]) -> (Vec<Opti
             .unwrap_or_else(|e| panic!("{e}"))
     };
     let brute = trace(Accel::Brute, Traversal::Restart);
-    let walks = Traversal::ALL.iter().map(|&walk| trace(Accel::Kdtree, walk)).collect();
+    let walks = Traversal::ALL
+        .iter()
+        .map(|&walk| trace(Accel::Kdtree, walk))
+        .collect();
     (brute, walks)
 }
 
 /// Nearest hits agree: both miss, or both hit at the same t (a different
 /// object only at a tie, i.e. coincident objects).
-fn check_nearest(kd: &[Option<Hit>], brute: &[Option<Hit>], rays: &[RayQuery]) -> Result<(), TestCaseError> {
+fn check_nearest(
+    kd: &[Option<Hit>],
+    brute: &[Option<Hit>],
+    rays: &[RayQuery],
+) -> Result<(), TestCaseError> {
     for ((k, b), q) in kd.iter().zip(brute).zip(rays) {
         match (k, b) {
             (None, None) => {}

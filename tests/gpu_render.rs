@@ -16,10 +16,19 @@ fn render_walk(scene: &Scene, traversal: Traversal, max_tile_pixels: u64) -> Ren
     let prepared = PreparedScene::new(scene.clone(), Accel::Kdtree);
     let buffers = prepared.upload(ctx).unwrap_or_else(|e| panic!("{e}"));
     let renderer = Renderer::new(ctx).unwrap_or_else(|e| panic!("{e}"));
-    let params = prepared.frame_params(&buffers, Accel::Kdtree).with_traversal(traversal);
+    let params = prepared
+        .frame_params(&buffers, Accel::Kdtree)
+        .with_traversal(traversal);
     let (w, h) = (scene.render.width, scene.render.height);
-    let plan = TilePlan::new(w, h, max_tile_pixels, kdray::gpu::max_binding_bytes(&ctx.device.limits()));
-    renderer.render(ctx, &buffers, params, plan).unwrap_or_else(|e| panic!("{e}"))
+    let plan = TilePlan::new(
+        w,
+        h,
+        max_tile_pixels,
+        kdray::gpu::max_binding_bytes(&ctx.device.limits()),
+    );
+    renderer
+        .render(ctx, &buffers, params, plan)
+        .unwrap_or_else(|e| panic!("{e}"))
 }
 
 /// Every k-d walk and `--accel brute` give the same image on every scene,

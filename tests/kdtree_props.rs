@@ -31,7 +31,13 @@ impl Walks {
         Walks { tree, ropes }
     }
 
-    fn closest_hit(&self, walk: Traversal, prims: &Primitives, ray: &Ray, t_limit: f32) -> Option<Hit> {
+    fn closest_hit(
+        &self,
+        walk: Traversal,
+        prims: &Primitives,
+        ray: &Ray,
+        t_limit: f32,
+    ) -> Option<Hit> {
         walk.closest_hit(&self.tree, &self.ropes, prims, ray, t_limit)
     }
 
@@ -68,7 +74,13 @@ fn check_closest(walks: &Walks, prims: &Primitives, ray: &Ray) -> Result<(), Tes
             }
             (k, b) => prop_assert!(false, "{}: kd {:?} brute {:?} ray {:?}", walk, k, b, ray),
         }
-        prop_assert_eq!(kd, restart, "{} differs from the restart walk, ray {:?}", walk, ray);
+        prop_assert_eq!(
+            kd,
+            restart,
+            "{} differs from the restart walk, ray {:?}",
+            walk,
+            ray
+        );
     }
     Ok(())
 }
@@ -77,7 +89,13 @@ fn check_closest(walks: &Walks, prims: &Primitives, ray: &Ray) -> Result<(), Tes
 fn check_walks_agree(walks: &Walks, prims: &Primitives, ray: &Ray) -> Result<(), TestCaseError> {
     let restart = walks.closest_hit(Traversal::Restart, prims, ray, T_INFINITY);
     for walk in Traversal::ALL {
-        prop_assert_eq!(walks.closest_hit(walk, prims, ray, T_INFINITY), restart, "{} differs from the restart walk, ray {:?}", walk, ray);
+        prop_assert_eq!(
+            walks.closest_hit(walk, prims, ray, T_INFINITY),
+            restart,
+            "{} differs from the restart walk, ray {:?}",
+            walk,
+            ray
+        );
     }
     Ok(())
 }
@@ -90,16 +108,31 @@ fn touches_at_a_box_edge(prims: &Primitives, ray: &Ray, hit: Hit) -> bool {
     let p = ray.origin + ray.dir * hit.t;
     let on = (0..3)
         .filter(|&a| ray.dir[a] != 0.0)
-        .filter(|&a| (p[a] - b.min[a]).abs() <= 1e-5 * p[a].abs().max(1.0) || (p[a] - b.max[a]).abs() <= 1e-5 * p[a].abs().max(1.0))
+        .filter(|&a| {
+            (p[a] - b.min[a]).abs() <= 1e-5 * p[a].abs().max(1.0)
+                || (p[a] - b.max[a]).abs() <= 1e-5 * p[a].abs().max(1.0)
+        })
         .count();
     on >= 2
 }
 
 /// Every walk's any-hit answer on the segment [0, length] against brute force.
-fn check_any(walks: &Walks, prims: &Primitives, ray: &Ray, length: f32) -> Result<(), TestCaseError> {
+fn check_any(
+    walks: &Walks,
+    prims: &Primitives,
+    ray: &Ray,
+    length: f32,
+) -> Result<(), TestCaseError> {
     let brute = any_hit_brute(prims, ray, length);
     for walk in Traversal::ALL {
-        prop_assert_eq!(walks.any_hit(walk, prims, ray, length), brute, "{}: ray {:?} length {}", walk, ray, length);
+        prop_assert_eq!(
+            walks.any_hit(walk, prims, ray, length),
+            brute,
+            "{}: ray {:?} length {}",
+            walk,
+            ray,
+            length
+        );
     }
     Ok(())
 }
@@ -253,15 +286,22 @@ proptest! {
 /// triangles (lying in planes) and triangles with grid vertices.
 fn grid_scene() -> impl Strategy<Value = Primitives> {
     fn grid_point() -> impl Strategy<Value = Vec3> {
-        (-32i32..32, -32i32..32, -32i32..32).prop_map(|(x, y, z)| Vec3::new(x as f32, y as f32, z as f32) * 0.25)
+        (-32i32..32, -32i32..32, -32i32..32)
+            .prop_map(|(x, y, z)| Vec3::new(x as f32, y as f32, z as f32) * 0.25)
     }
     let object = prop_oneof![
-        (grid_point(), 1i32..8).prop_map(|(center, r)| Object::Sphere(SphereF32 { center, radius: r as f32 * 0.25 })),
+        (grid_point(), 1i32..8).prop_map(|(center, r)| Object::Sphere(SphereF32 {
+            center,
+            radius: r as f32 * 0.25
+        })),
         (grid_point(), 1i32..12, 1i32..12, 0usize..3).prop_map(|(c, i, j, axis)| {
             let (u, v) = (Vec3::AXES[(axis + 1) % 3], Vec3::AXES[(axis + 2) % 3]);
-            Object::Triangle(TriangleF32 { v: [c, c + u * (i as f32 * 0.25), c + v * (j as f32 * 0.25)] })
+            Object::Triangle(TriangleF32 {
+                v: [c, c + u * (i as f32 * 0.25), c + v * (j as f32 * 0.25)],
+            })
         }),
-        (grid_point(), grid_point(), grid_point()).prop_map(|(a, b, c)| Object::Triangle(TriangleF32 { v: [a, b, c] })),
+        (grid_point(), grid_point(), grid_point())
+            .prop_map(|(a, b, c)| Object::Triangle(TriangleF32 { v: [a, b, c] })),
     ];
     (prop::collection::vec(object, 1..80), 0usize..3).prop_map(|(objects, copies)| {
         let mut prims = Primitives::default();
@@ -416,11 +456,17 @@ proptest! {
 /// shared by many small leaves.
 fn big_leaf_facing_many() -> (Primitives, Walks) {
     let mut prims = Primitives::default();
-    prims.spheres.push(SphereF32 { center: Vec3::new(-10.0, 0.0, 0.0), radius: 0.5 });
+    prims.spheres.push(SphereF32 {
+        center: Vec3::new(-10.0, 0.0, 0.0),
+        radius: 0.5,
+    });
     for i in -5i32..=5 {
         for j in -5i32..=5 {
             let r = 0.2 + 0.02 * ((i + j).rem_euclid(5) as f32);
-            prims.spheres.push(SphereF32 { center: Vec3::new(0.5, i as f32, j as f32), radius: r });
+            prims.spheres.push(SphereF32 {
+                center: Vec3::new(0.5, i as f32, j as f32),
+                radius: r,
+            });
         }
     }
     let walks = tree_for(&prims, 15.0);
@@ -493,7 +539,11 @@ fn a_ray_touching_an_object_only_at_its_box_corner_is_missed() {
     let brute = closest_hit_brute(&prims, &ray, T_INFINITY).expect("brute force hits the vertex");
     assert_eq!(brute.object, 4);
     for walk in Traversal::ALL {
-        assert_eq!(walks.closest_hit(walk, &prims, &ray, T_INFINITY), Some(brute), "{walk}");
+        assert_eq!(
+            walks.closest_hit(walk, &prims, &ray, T_INFINITY),
+            Some(brute),
+            "{walk}"
+        );
     }
 }
 
@@ -531,14 +581,22 @@ fn straddling_sphere_scene_matches_brute_force() {
             origin: Vec3::new(-10.0, 0.0, 0.0),
             dir: Vec3::X,
         };
-        let hit = walks.closest_hit(walk, &prims, &ray, T_INFINITY).expect("hit");
+        let hit = walks
+            .closest_hit(walk, &prims, &ray, T_INFINITY)
+            .expect("hit");
         assert_eq!(hit.object, 0, "{walk}");
         let ray = Ray {
             origin: Vec3::new(-3.0, 0.0, 0.0),
             dir: Vec3::X,
         };
-        let hit = walks.closest_hit(walk, &prims, &ray, T_INFINITY).expect("hit");
-        assert_eq!(hit, closest_hit_brute(&prims, &ray, T_INFINITY).unwrap(), "{walk}");
+        let hit = walks
+            .closest_hit(walk, &prims, &ray, T_INFINITY)
+            .expect("hit");
+        assert_eq!(
+            hit,
+            closest_hit_brute(&prims, &ray, T_INFINITY).unwrap(),
+            "{walk}"
+        );
     }
 }
 
@@ -601,7 +659,9 @@ fn a_ray_through_the_corner_of_two_split_planes_finds_the_faces_there() {
             walks.any_hit(walk, &prims, &ray, length),
             "{walk}: the walk missed the edge"
         );
-        let kd = walks.closest_hit(walk, &prims, &ray, T_INFINITY).expect("hit");
+        let kd = walks
+            .closest_hit(walk, &prims, &ray, T_INFINITY)
+            .expect("hit");
         let brute = closest_hit_brute(&prims, &ray, T_INFINITY).unwrap();
         assert_eq!(kd.t, brute.t, "{walk}");
     }
@@ -625,7 +685,9 @@ fn ten_thousand_copies_of_one_sphere() {
         dir: Vec3::Z,
     };
     for walk in Traversal::ALL {
-        let hit = walks.closest_hit(walk, &prims, &ray, T_INFINITY).expect("hit");
+        let hit = walks
+            .closest_hit(walk, &prims, &ray, T_INFINITY)
+            .expect("hit");
         assert!((hit.t - 12.5).abs() < 1e-4, "{walk}");
         assert!(walks.any_hit(walk, &prims, &ray, 13.0), "{walk}");
         assert!(!walks.any_hit(walk, &prims, &ray, 12.0), "{walk}");

@@ -371,10 +371,17 @@ fn fan_polygon(out: &mut Vec<Triangle>, corners: usize) {
     let white_matte = 2 * (PALETTE.len() as u32 - 1);
     let corner = |i: usize| {
         let angle = std::f64::consts::FRAC_PI_4 + std::f64::consts::TAU * i as f64 / corners as f64;
-        qv(DVec3::new(8.0 * angle.cos(), -BOX_HALF - 0.5, 8.0 * angle.sin()))
+        qv(DVec3::new(
+            8.0 * angle.cos(),
+            -BOX_HALF - 0.5,
+            8.0 * angle.sin(),
+        ))
     };
     for i in 1..corners - 1 {
-        out.push(Triangle::flat([corner(0), corner(i), corner(i + 1)], white_matte));
+        out.push(Triangle::flat(
+            [corner(0), corner(i), corner(i + 1)],
+            white_matte,
+        ));
     }
 }
 
@@ -523,7 +530,10 @@ mod tests {
             let ts = &s.triangles[g * gear..(g + 1) * gear];
             for face in [&ts[..142], &ts[142..284]] {
                 let apex = face[0].vertices[0];
-                assert!(face.iter().all(|t| t.vertices[0] == apex), "gear {g}: a fan");
+                assert!(
+                    face.iter().all(|t| t.vertices[0] == apex),
+                    "gear {g}: a fan"
+                );
                 assert!(face.iter().all(|t| t.material == face[0].material));
                 // Longest edge over the height on it.
                 let thin = face

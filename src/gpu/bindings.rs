@@ -31,7 +31,12 @@ pub struct Binding {
     pub access: Access,
 }
 
-const fn binding(index: u32, name: &'static str, wgsl_type: &'static str, access: Access) -> Binding {
+const fn binding(
+    index: u32,
+    name: &'static str,
+    wgsl_type: &'static str,
+    access: Access,
+) -> Binding {
     Binding {
         index,
         name,
@@ -55,8 +60,7 @@ pub const LEAF_OBJECTS: Binding = binding(7, "leaf_objects", "array<u32>", Stora
 /// `render_tile`'s output: ray counters, then one packed RGBA8 per pixel.
 pub const TILE_OUTPUT: Binding = binding(8, "tile_output", "TileOutput", StorageReadWrite);
 /// `accumulate_tile`'s output: per pixel, the sum of clamped samples and their count.
-pub const ACCUMULATION: Binding =
-    binding(9, "accumulation", "array<vec4<f32>>", StorageReadWrite);
+pub const ACCUMULATION: Binding = binding(9, "accumulation", "array<vec4<f32>>", StorageReadWrite);
 /// The rope walk's per-leaf boxes and ropes ([`crate::layout::LeafRopes`]).
 pub const LEAF_ROPES: Binding = binding(12, "leaf_ropes", "array<LeafRopes>", StorageRead);
 /// For each k-d node, its record in `leaf_ropes` (leaves only).
@@ -118,11 +122,17 @@ pub const SHARED_CONSTANTS: [(&str, SharedValue); 14] = [
     // loop-limited (half llvmpipe's 65,535; see RayCounters::loop_limited).
     ("LOOP_LIMIT_WARNING", SharedValue::U32(LOOP_LIMIT_WARNING)),
     // Rays per workgroup of `trace_rays`.
-    ("QUERY_WORKGROUP", SharedValue::U32(crate::gpu::shaders::QUERY_WORKGROUP)),
+    (
+        "QUERY_WORKGROUP",
+        SharedValue::U32(crate::gpu::shaders::QUERY_WORKGROUP),
+    ),
     // `FrameParams::traversal`: which k-d walk the kernel runs.
     ("TRAVERSAL_RESTART", SharedValue::U32(TRAVERSAL_RESTART)),
     ("TRAVERSAL_ROPES", SharedValue::U32(TRAVERSAL_ROPES)),
-    ("TRAVERSAL_SHORT_STACK", SharedValue::U32(TRAVERSAL_SHORT_STACK)),
+    (
+        "TRAVERSAL_SHORT_STACK",
+        SharedValue::U32(TRAVERSAL_SHORT_STACK),
+    ),
     // A face on the scene's boundary has no rope.
     ("NO_ROPE", SharedValue::U32(LeafRopes::NONE)),
 ];
@@ -258,7 +268,9 @@ mod tests {
             assert_eq!((res.group, res.binding), (0, b.index), "binding of {name}");
             let access = match global.space {
                 naga::AddressSpace::Uniform => Access::Uniform,
-                naga::AddressSpace::Storage { access } if access.contains(naga::StorageAccess::STORE) => {
+                naga::AddressSpace::Storage { access }
+                    if access.contains(naga::StorageAccess::STORE) =>
+                {
                     Access::StorageReadWrite
                 }
                 naga::AddressSpace::Storage { .. } => Access::StorageRead,
@@ -268,7 +280,11 @@ mod tests {
             seen.push(name.to_string());
         }
         for b in all() {
-            assert!(seen.iter().any(|s| s == b.name), "{} is not declared", b.name);
+            assert!(
+                seen.iter().any(|s| s == b.name),
+                "{} is not declared",
+                b.name
+            );
         }
         let mut indices: Vec<u32> = all().iter().map(|b| b.index).collect();
         indices.sort_unstable();
@@ -292,7 +308,9 @@ mod tests {
                 panic!("{name} is not a literal");
             };
             match (value, literal) {
-                (SharedValue::U32(host), naga::Literal::U32(kernel)) => assert_eq!(host, kernel, "{name}"),
+                (SharedValue::U32(host), naga::Literal::U32(kernel)) => {
+                    assert_eq!(host, kernel, "{name}")
+                }
                 (SharedValue::F32(host), naga::Literal::F32(kernel)) => {
                     assert_eq!(host.to_bits(), kernel.to_bits(), "{name}")
                 }
@@ -307,7 +325,10 @@ mod tests {
         for (file, text) in crate::gpu::shaders::TRACE_PARTS {
             for line in text.lines() {
                 let code = line.split("//").next().unwrap_or("");
-                assert!(!code.contains("@binding("), "{file} declares a binding: {line}");
+                assert!(
+                    !code.contains("@binding("),
+                    "{file} declares a binding: {line}"
+                );
                 for (name, _) in SHARED_CONSTANTS {
                     assert!(
                         !code.trim_start().starts_with(&format!("const {name}:")),

@@ -80,6 +80,11 @@ impl PreparedScene {
 
     /// The kernel's parameters for the scene's own camera and settings.
     pub fn frame_params(&self, buffers: &SceneBuffers, accel: Accel) -> FrameParams {
-        FrameParams::new(&self.scene.camera.basis(), &self.scene.render, buffers, accel)
+        FrameParams::new(
+            &self.scene.camera.basis(),
+            &self.scene.render,
+            buffers,
+            accel,
+        )
     }
 }

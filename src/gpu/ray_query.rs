@@ -82,68 +82,72 @@ impl RayQueries {
             .collect();
         let params = FrameParams::for_queries(scene, accel).with_traversal(traversal);
         let hits_bytes = (queries.len() * std::mem::size_of::<GpuQueryHit>()) as u64;
-        let (bind_group, hits, readback) = ctx.checked("allocating the ray query buffers", |device| {
-            let storage = |label, contents: &[u8], usage| {
-                let buffer = device.create_buffer(&wgpu::BufferDescriptor {
-                    label: Some(label),
-                    size: contents.len() as u64,
-                    usage,
-                    mapped_at_creation: true,
+        let (bind_group, hits, readback) =
+            ctx.checked("allocating the ray query buffers", |device| {
+                let storage = |label, contents: &[u8], usage| {
+                    let buffer = device.create_buffer(&wgpu::BufferDescriptor {
+                        label: Some(label),
+                        size: contents.len() as u64,
+                        usage,
+                        mapped_at_creation: true,
+                    });
+                    if let Ok(mut view) = buffer.slice(..).get_mapped_range_mut() {
+                        view.copy_from_slice(contents);
+                    }
+                    buffer.unmap();
+                    buffer
+                };
+                let params = storage(
+                    "query params",
+                    bytemuck::bytes_of(&params),
+                    wgpu::BufferUsages::UNIFORM,
+                );
+                let rays = storage(
+                    "query rays",
+                    bytemuck::cast_slice(&rays),
+                    wgpu::BufferUsages::STORAGE,
+                );
+                let hits = device.create_buffer(&wgpu::BufferDescriptor {
+                    label: Some("query hits"),
+                    size: hits_bytes,
+                    usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
+                    mapped_at_creation: false,
                 });
-                if let Ok(mut view) = buffer.slice(..).get_mapped_range_mut() {
-                    view.copy_from_slice(contents);
-                }
-                buffer.unmap();
-                buffer
-            };
-            let params = storage(
-                "query params",
-                bytemuck::bytes_of(&params),
-                wgpu::BufferUsages::UNIFORM,
-            );
-            let rays = storage(
-                "query rays",
-                bytemuck::cast_slice(&rays),
-                wgpu::BufferUsages::STORAGE,
-            );
-            let hits = device.create_buffer(&wgpu::BufferDescriptor {
-                label: Some("query hits"),
-                size: hits_bytes,
-                usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
-                mapped_at_creation: false,
-            });
-            let readback = device.create_buffer(&wgpu::BufferDescriptor {
-                label: Some("query hits readback"),
-                size: hits_bytes,
-                usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
-                mapped_at_creation: false,
-            });
-            let mut entries = vec![wgpu::BindGroupEntry {
-                binding: bindings::PARAMS.index,
-                resource: params.as_entire_binding(),
-            }];
-            entries.extend(scene.bind_entries());
-            entries.push(wgpu::BindGroupEntry {
-                binding: bindings::QUERY_RAYS.index,
-                resource: rays.as_entire_binding(),
-            });
-            entries.push(wgpu::BindGroupEntry {
-                binding: bindings::QUERY_HITS.index,
-                resource: hits.as_entire_binding(),
-            });
-            let bind_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
-                label: Some("trace_rays"),
-                layout: &self.layout,
-                entries: &entries,
-            });
-            (bind_group, hits, readback)
-        })?;
+                let readback = device.create_buffer(&wgpu::BufferDescriptor {
+                    label: Some("query hits readback"),
+                    size: hits_bytes,
+                    usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
+                    mapped_at_creation: false,
+                });
+                let mut entries = vec![wgpu::BindGroupEntry {
+                    binding: bindings::PARAMS.index,
+                    resource: params.as_entire_binding(),
+                }];
+                entries.extend(scene.bind_entries());
+                entries.push(wgpu::BindGroupEntry {
+                    binding: bindings::QUERY_RAYS.index,
+                    resource: rays.as_entire_binding(),
+                });
+                entries.push(wgpu::BindGroupEntry {
+                    binding: bindings::QUERY_HITS.index,
+                    resource: hits.as_entire_binding(),
+                });
+                let bind_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
+                    label: Some("trace_rays"),
+                    layout: &self.layout,
+                    entries: &entries,
+                });
+                (bind_group, hits, readback)
+            })?;
 
         let groups = (queries.len() as u32).div_ceil(super::shaders::QUERY_WORKGROUP);
         let (gx, gy) = if groups <= MAX_GROUPS_PER_DIMENSION {
             (groups, 1)
         } else {
-            (MAX_GROUPS_PER_DIMENSION, groups.div_ceil(MAX_GROUPS_PER_DIMENSION))
+            (
+                MAX_GROUPS_PER_DIMENSION,
+                groups.div_ceil(MAX_GROUPS_PER_DIMENSION),
+            )
         };
         let mut encoder = ctx
             .device
@@ -167,7 +171,10 @@ impl RayQueries {
             .iter()
             .map(|h| {
                 (h.object != bindings::NO_OBJECT).then(|| Hit {
-                    object: scene_ids.get(h.object as usize).copied().unwrap_or(u32::MAX),
+                    object: scene_ids
+                        .get(h.object as usize)
+                        .copied()
+                        .unwrap_or(u32::MAX),
                     t: h.t,
                 })
             })

@@ -213,38 +213,37 @@ impl Renderer {
             "allocating the output buffers (2 x {})",
             super::scene_buffers::human_bytes(tile_bytes)
         );
-        let (output, readback, bind_group) =
-            ctx.checked(&output_what, |device| {
-                let output = device.create_buffer(&wgpu::BufferDescriptor {
-                    label: Some("output pixels"),
-                    size: tile_bytes,
-                    usage: wgpu::BufferUsages::STORAGE
-                        | wgpu::BufferUsages::COPY_SRC
-                        | wgpu::BufferUsages::COPY_DST,
-                    mapped_at_creation: false,
-                });
-                let readback = device.create_buffer(&wgpu::BufferDescriptor {
-                    label: Some("readback"),
-                    size: tile_bytes,
-                    usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
-                    mapped_at_creation: false,
-                });
-                let mut entries = vec![wgpu::BindGroupEntry {
-                    binding: bindings::PARAMS.index,
-                    resource: self.params_buffer.as_entire_binding(),
-                }];
-                entries.extend(scene.bind_entries());
-                entries.push(wgpu::BindGroupEntry {
-                    binding: bindings::TILE_OUTPUT.index,
-                    resource: output.as_entire_binding(),
-                });
-                let bind_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
-                    label: Some("trace"),
-                    layout: &self.layout,
-                    entries: &entries,
-                });
-                (output, readback, bind_group)
-            })?;
+        let (output, readback, bind_group) = ctx.checked(&output_what, |device| {
+            let output = device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some("output pixels"),
+                size: tile_bytes,
+                usage: wgpu::BufferUsages::STORAGE
+                    | wgpu::BufferUsages::COPY_SRC
+                    | wgpu::BufferUsages::COPY_DST,
+                mapped_at_creation: false,
+            });
+            let readback = device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some("readback"),
+                size: tile_bytes,
+                usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
+                mapped_at_creation: false,
+            });
+            let mut entries = vec![wgpu::BindGroupEntry {
+                binding: bindings::PARAMS.index,
+                resource: self.params_buffer.as_entire_binding(),
+            }];
+            entries.extend(scene.bind_entries());
+            entries.push(wgpu::BindGroupEntry {
+                binding: bindings::TILE_OUTPUT.index,
+                resource: output.as_entire_binding(),
+            });
+            let bind_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
+                label: Some("trace"),
+                layout: &self.layout,
+                entries: &entries,
+            });
+            (output, readback, bind_group)
+        })?;
         let timer = match ctx.has_timestamps {
             true => Some(ctx.checked("creating the GPU timer", GpuTimer::new)?),
             false => None,

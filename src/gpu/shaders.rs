@@ -73,7 +73,10 @@ pub fn trace_module(device: &wgpu::Device) -> wgpu::ShaderModule {
 /// The whole trace kernel as one WGSL module: the generated contract, then
 /// the files.
 pub fn trace_source() -> String {
-    let mut source = format!("// ---- bindings.rs\n{}\n", super::bindings::wgsl_contract());
+    let mut source = format!(
+        "// ---- bindings.rs\n{}\n",
+        super::bindings::wgsl_contract()
+    );
     for (name, text) in TRACE_PARTS {
         source += &format!("// ---- {name}\n{text}\n");
     }

@@ -166,13 +166,19 @@ mod tests {
         let mut centres = Vec::new();
         for i in 0..6 {
             for j in 0..5 {
-                centres.push(Vec3::new(i as f32 * 1.1, j as f32 * 0.7 + (i % 2) as f32 * 0.3, (i * j % 3) as f32));
+                centres.push(Vec3::new(
+                    i as f32 * 1.1,
+                    j as f32 * 0.7 + (i % 2) as f32 * 0.3,
+                    (i * j % 3) as f32,
+                ));
             }
         }
         let tree = tree_of_spheres(&centres);
         let ropes = Ropes::build(&tree);
         let cells = cells(&tree);
-        let leaves: Vec<_> = (0..tree.nodes.len()).filter(|&i| tree.nodes[i].is_leaf()).collect();
+        let leaves: Vec<_> = (0..tree.nodes.len())
+            .filter(|&i| tree.nodes[i].is_leaf())
+            .collect();
         assert!(leaves.len() > 10, "{} leaves", leaves.len());
         assert_eq!(ropes.leaves.len(), leaves.len());
         let mut ropes_to_leaves = 0;
@@ -199,7 +205,10 @@ mod tests {
                 }
                 // The whole face lies in the target's cell.
                 for b in (0..3).filter(|&b| b != a) {
-                    assert!(t.min[b] <= cell.min[b] && cell.max[b] <= t.max[b], "leaf {i} face {face}: {t:?} {cell:?}");
+                    assert!(
+                        t.min[b] <= cell.min[b] && cell.max[b] <= t.max[b],
+                        "leaf {i} face {face}: {t:?} {cell:?}"
+                    );
                 }
                 // Pushed down: a node on the face's axis always has a child
                 // holding the face; one across it only if the face is
@@ -217,6 +226,9 @@ mod tests {
                 }
             }
         }
-        assert!(ropes_to_leaves > leaves.len(), "{ropes_to_leaves} ropes end at a leaf");
+        assert!(
+            ropes_to_leaves > leaves.len(),
+            "{ropes_to_leaves} ropes end at a leaf"
+        );
     }
 }

@@ -9,7 +9,9 @@ use super::traverse::Hit;
 use super::{traverse, traverse_ropes, traverse_short_stack, KdTree};
 
 /// Which stackless walk the shader (and its CPU mirror) runs.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default, serde::Serialize, serde::Deserialize)]
+#[derive(
+    Debug, Clone, Copy, PartialEq, Eq, Hash, Default, serde::Serialize, serde::Deserialize,
+)]
 #[serde(rename_all = "kebab-case")]
 pub enum Traversal {
     /// kd-restart with push-down (Foley & Sugerman 2005; Horn et al. 2007):

@@ -32,7 +32,11 @@ const STOPS: [(f64, [f64; 3]); 5] = [
 /// the control points.
 pub fn colour(x: f64) -> [u8; 3] {
     let x = if x.is_nan() { 0.0 } else { x.clamp(0.0, 1.0) };
-    let i = STOPS.iter().rposition(|(at, _)| *at <= x).unwrap_or(0).min(STOPS.len() - 2);
+    let i = STOPS
+        .iter()
+        .rposition(|(at, _)| *at <= x)
+        .unwrap_or(0)
+        .min(STOPS.len() - 2);
     let (x0, c0) = STOPS[i];
     let (x1, c1) = STOPS[i + 1];
     let f = (x - x0) / (x1 - x0);
@@ -41,13 +45,19 @@ pub fn colour(x: f64) -> [u8; 3] {
 
 /// The scale a heatmap uses: `requested`, or the largest cost (at least 1).
 pub fn scale_max(costs: &[u32], requested: Option<u32>) -> u32 {
-    requested.unwrap_or_else(|| costs.iter().copied().max().unwrap_or(0)).max(1)
+    requested
+        .unwrap_or_else(|| costs.iter().copied().max().unwrap_or(0))
+        .max(1)
 }
 
 /// The heatmap of `costs` (row-major, `width` x `height`) as 8-bit RGB of
 /// `width` x (`height` + [`BAR_ROWS`]): the image, then the bar and labels.
 pub fn heatmap_rgb(costs: &[u32], width: u32, height: u32, max: u32) -> Result<Vec<u8>> {
-    assert_eq!(costs.len(), width as usize * height as usize, "one cost per pixel");
+    assert_eq!(
+        costs.len(),
+        width as usize * height as usize,
+        "one cost per pixel"
+    );
     let total_height = height + BAR_ROWS;
     let mut rgb = vec![255u8; width as usize * total_height as usize * 3];
     for (pixel, &c) in rgb.chunks_exact_mut(3).zip(costs) {
@@ -65,7 +75,8 @@ fn draw_bar(rgb: &mut [u8], width: u32, height: u32, max: u32) -> Result<()> {
     let margin = 6i32.min(width as i32 / 8);
     let (x0, x1) = (margin, width as i32 - margin);
     let (y0, y1) = (height as i32 + 4, height as i32 + 14);
-    let drawing_error = |e: &dyn std::fmt::Debug| Error::Output(format!("drawing the heatmap's scale: {e:?}"));
+    let drawing_error =
+        |e: &dyn std::fmt::Debug| Error::Output(format!("drawing the heatmap's scale: {e:?}"));
     for x in x0..x1.max(x0 + 1) {
         let [r, g, b] = colour((x - x0) as f64 / (x1 - x0 - 1).max(1) as f64);
         root.draw(&PathElement::new(vec![(x, y0), (x, y1)], RGBColor(r, g, b)))
@@ -92,7 +103,13 @@ fn draw_bar(rgb: &mut [u8], width: u32, height: u32, max: u32) -> Result<()> {
 
 /// Writes the heatmap of `costs` to `path` (atomically); returns the scale's
 /// maximum.
-pub fn write_heatmap(path: &Path, costs: &[u32], width: u32, height: u32, max: Option<u32>) -> Result<u32> {
+pub fn write_heatmap(
+    path: &Path,
+    costs: &[u32],
+    width: u32,
+    height: u32,
+    max: Option<u32>,
+) -> Result<u32> {
     let max = scale_max(costs, max);
     let rgb = heatmap_rgb(costs, width, height, max)?;
     super::write_png_atomic(path, width, height + BAR_ROWS, &rgb)?;
@@ -151,6 +168,11 @@ mod tests {
         assert!(at(w - 7, bar_row).iter().map(|&c| c as u32).sum::<u32>() > 600);
         // Labels: some dark text pixels in the rows under the bar.
         let text_rows = (h + 16..h + BAR_ROWS).flat_map(|y| (0..w).map(move |x| (x, y)));
-        assert!(text_rows.filter(|&(x, y)| at(x, y).iter().all(|&c| c < 128)).count() > 10);
+        assert!(
+            text_rows
+                .filter(|&(x, y)| at(x, y).iter().all(|&c| c < 128))
+                .count()
+                > 10
+        );
     }
 }

@@ -17,7 +17,6 @@ use winit::window::{Window, WindowId};
 use super::camera_controller::{CameraController, Input};
 use super::frame_stats::{FrameStats, ReportContext};
 use super::gpu_scene::{self, GpuScene};
-use crate::gpu::PreparedScene;
 use super::input::{controller_input, key_action, Action, HELP};
 use super::refinement::{FrameKind, FramePlan, Refinement};
 use super::reload::{LatestJob, SceneWatcher, WatchList};
@@ -26,6 +25,7 @@ use super::title::{Progress, TitleBar, TitleFacts};
 use super::view::{FrameWork, PresentParams, Target, Viewer};
 use super::{signals, WindowOptions, DEFAULT_WINDOW_SAMPLES};
 use crate::error::{Error, Result};
+use crate::gpu::PreparedScene;
 use crate::gpu::{Accel, GpuContext};
 use crate::scene::{RenderSettings, Scene};
 
@@ -614,10 +614,7 @@ impl Session {
         };
         eprintln!("{line}");
         if options.stats {
-            println!(
-                "{}",
-                serde_json::to_string(&stats)?
-            );
+            println!("{}", serde_json::to_string(&stats)?);
         }
         Ok(())
     }

@@ -38,8 +38,12 @@ pub enum Command {
 /// A flag whose values are a library [`Choice`]: clap lists the names and
 /// their help, and an unknown name is a usage error (exit 2) naming them.
 fn choice<T: Choice + Clone>() -> impl TypedValueParser<Value = T> {
-    PossibleValuesParser::new(T::ALL.iter().map(|c| PossibleValue::new(c.name()).help(c.help())))
-        .try_map(|name| T::from_name(&name).ok_or("not one of the possible values"))
+    PossibleValuesParser::new(
+        T::ALL
+            .iter()
+            .map(|c| PossibleValue::new(c.name()).help(c.help())),
+    )
+    .try_map(|name| T::from_name(&name).ok_or("not one of the possible values"))
 }
 
 #[derive(clap::Args)]

@@ -45,7 +45,15 @@ fn main() -> ExitCode {
             traversal,
             stats,
             ..
-        }) => render(&scene, output, width, height, samples, (accel, traversal), stats),
+        }) => render(
+            &scene,
+            output,
+            width,
+            height,
+            samples,
+            (accel, traversal),
+            stats,
+        ),
         Command::Info => info(),
         Command::Bench(args) => kdray::bench::bench_cli(&args.into()),
         Command::Generate(args) => kdray::bench::generate_cli(&args.into()),
@@ -114,10 +122,7 @@ fn render(
         eprintln!("kdray: {warning}");
     }
     if stats {
-        println!(
-            "{}",
-            serde_json::to_string(&figures)?
-        );
+        println!("{}", serde_json::to_string(&figures)?);
     }
     Ok(())
 }
