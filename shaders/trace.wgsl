@@ -33,13 +33,11 @@ fn trace_path(primary: Ray) -> vec3<f32> {
         }
         hits += 1u;
         let p = ray.origin + hit.t * ray.dir;
-        var n = object_normal(hit.object, p);
-        if (dot(n, ray.dir) > 0.0) {
-            n = -n;
-        }
-        let origin = p + spawn_offset(p, object_magnitude(hit.object)) * n;
+        let surface = surface_at(hit.object, p, ray.dir);
+        let offset = spawn_offset(p, object_magnitude(hit.object));
+        let origin = surface.spawn_point + offset * surface.geometric;
         let m = materials[object_materials[hit.object]];
-        let s = shade(m, p, n, -ray.dir, origin);
+        let s = shade(m, p, surface.shading, -ray.dir, origin);
         if (params.shadow_mode == SHADOW_SEED && !s.any_light_visible) {
             break;
         }
@@ -48,7 +46,7 @@ fn trace_path(primary: Ray) -> vec3<f32> {
         if (weight == 0.0) {
             break; // nothing further can add to the colour
         }
-        ray = Ray(origin, normalize(reflect(ray.dir, n)));
+        ray = Ray(origin, reflection_dir(ray.dir, surface));
     }
     return color;
 }

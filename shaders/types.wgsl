@@ -23,8 +23,17 @@ struct Sphere {
 
 struct Triangle {
     v0: vec3<f32>,
+    normals: u32,    // index into triangle_normals, or FLAT_TRIANGLE
     v1: vec3<f32>,
     v2: vec3<f32>,
+}
+
+// A smooth triangle's unit vertex normals, octahedral-encoded: two 16-bit
+// snorm coordinates each, x in the low half (src/layout.rs GpuTriangleNormals).
+struct TriangleNormals {
+    n0: u32,
+    n1: u32,
+    n2: u32,
 }
 
 struct Material {

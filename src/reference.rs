@@ -8,12 +8,88 @@ use glam::Vec3;
 use crate::geometry::{spawn_offset, Primitives, Ray, T_INFINITY};
 use crate::kdtree::traverse::{any_hit, any_hit_brute, closest_hit, closest_hit_brute, Hit};
 use crate::kdtree::KdTree;
+use crate::layout::GpuTriangleNormals;
 use crate::scene::{Scene, ShadowMode};
+
+/// Where a path meets a surface, seen from the incoming ray: mirror of
+/// `Surface` in shaders/shade.wgsl.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Surface {
+    /// Unit geometric normal facing the incoming ray.
+    pub geometric: Vec3,
+    /// Unit shading normal on the geometric normal's side.
+    pub shading: Vec3,
+    /// Where secondary rays start before the offset along `geometric`.
+    pub spawn_point: Vec3,
+}
+
+/// Barycentric weights of `v[0]`, `v[1]`, `v[2]` at `p`, clamped into the
+/// triangle: mirror of `barycentrics` in shaders/shade.wgsl.
+pub fn barycentrics(v: &[Vec3; 3], p: Vec3) -> Vec3 {
+    let e1 = v[1] - v[0];
+    let e2 = v[2] - v[0];
+    let w = p - v[0];
+    let n = e1.cross(e2);
+    let nn = n.dot(n);
+    if nn < 1e-30 {
+        return Vec3::splat(1.0 / 3.0);
+    }
+    let inv = 1.0 / nn;
+    let b1 = (w.cross(e2).dot(n) * inv).clamp(0.0, 1.0);
+    let b2 = (e1.cross(w).dot(n) * inv).clamp(0.0, 1.0 - b1);
+    Vec3::new(1.0 - b1 - b2, b1, b2)
+}
+
+/// The surface of a smooth triangle (vertices `v`, unit vertex normals `n`)
+/// at `p`, given its geometric normal `g` facing the ray: mirror of the
+/// triangle branch of `surface_at` in shaders/shade.wgsl (interpolated
+/// normal; the hit lifted onto the smooth surface, Hanika 2021).
+pub fn smooth_surface(v: &[Vec3; 3], n: [Vec3; 3], p: Vec3, g: Vec3) -> Surface {
+    let flat = Surface {
+        geometric: g,
+        shading: g,
+        spawn_point: p,
+    };
+    let b = barycentrics(v, p);
+    let [mut n0, mut n1, mut n2] = n;
+    let mut n = b.x * n0 + b.y * n1 + b.z * n2;
+    if n.dot(g) < 0.0 {
+        n = -n;
+        n0 = -n0;
+        n1 = -n1;
+        n2 = -n2;
+    }
+    if n.dot(n) < 1e-12 {
+        return flat;
+    }
+    let d0 = (p - v[0]).dot(n0).min(0.0);
+    let d1 = (p - v[1]).dot(n1).min(0.0);
+    let d2 = (p - v[2]).dot(n2).min(0.0);
+    let lifted = p - (b.x * d0 * n0 + b.y * d1 * n1 + b.z * d2 * n2);
+    Surface {
+        geometric: g,
+        shading: n.normalize(),
+        spawn_point: lifted,
+    }
+}
+
+/// Mirror of `reflection_dir` in shaders/shade.wgsl.
+pub fn reflection_dir(dir: Vec3, s: &Surface) -> Vec3 {
+    let reflect = |n: Vec3| (dir - 2.0 * dir.dot(n) * n).normalize();
+    let r = reflect(s.shading);
+    if r.dot(s.geometric) > 0.0 {
+        r
+    } else {
+        reflect(s.geometric)
+    }
+}
 
 /// The scene prepared for CPU tracing.
 pub struct ReferenceTracer<'a> {
     scene: &'a Scene,
     prims: Primitives,
+    /// Per triangle, its vertex normals as the kernel decodes them (None: flat).
+    normals: Vec<Option<[Vec3; 3]>>,
     tree: Option<KdTree>,
     forward: Vec3,
     right: Vec3,
@@ -28,9 +104,15 @@ impl<'a> ReferenceTracer<'a> {
         let prims = Primitives::from_scene(scene);
         let tree = use_tree.then(|| KdTree::for_primitives(&prims));
         let basis = scene.camera.basis();
+        let normals = scene
+            .triangles
+            .iter()
+            .map(|t| t.normals.map(|n| GpuTriangleNormals::pack(n).unpack()))
+            .collect();
         ReferenceTracer {
             scene,
             prims,
+            normals,
             tree,
             forward: basis.forward.as_vec3(),
             right: basis.right.as_vec3(),
@@ -65,11 +147,24 @@ impl<'a> ReferenceTracer<'a> {
         }
     }
 
-    fn normal(&self, id: u32, p: Vec3) -> Vec3 {
+    /// Mirror of `surface_at` in shaders/shade.wgsl.
+    pub fn surface(&self, id: u32, p: Vec3, ray_dir: Vec3) -> Surface {
         let id = id as usize;
-        match self.prims.spheres.get(id) {
-            Some(s) => (p - s.center).normalize(),
-            None => self.prims.triangles[id - self.prims.spheres.len()].normal(),
+        let triangle = id.checked_sub(self.prims.spheres.len());
+        let mut g = match triangle {
+            None => (p - self.prims.spheres[id].center).normalize(),
+            Some(t) => self.prims.triangles[t].normal(),
+        };
+        if g.dot(ray_dir) > 0.0 {
+            g = -g;
+        }
+        match triangle.and_then(|t| Some((t, self.normals[t]?))) {
+            Some((t, n)) => smooth_surface(&self.prims.triangles[t].v, n, p, g),
+            None => Surface {
+                geometric: g,
+                shading: g,
+                spawn_point: p,
+            },
         }
     }
 
@@ -96,13 +191,11 @@ impl<'a> ReferenceTracer<'a> {
             };
             hits.push(hit);
             let p = ray.origin + hit.t * ray.dir;
-            let mut n = self.normal(hit.object, p);
-            if n.dot(ray.dir) > 0.0 {
-                n = -n;
-            }
-            let origin = p + spawn_offset(p, self.prims.magnitude(hit.object)) * n;
+            let surface = self.surface(hit.object, p, ray.dir);
+            let offset = spawn_offset(p, self.prims.magnitude(hit.object));
+            let origin = surface.spawn_point + offset * surface.geometric;
             let m = self.material(hit.object);
-            let (local, any_visible) = self.shade(m, p, n, -ray.dir, origin);
+            let (local, any_visible) = self.shade(m, p, surface.shading, -ray.dir, origin);
             if self.scene.render.shadow_mode == ShadowMode::Seed && !any_visible {
                 break;
             }
@@ -112,10 +205,9 @@ impl<'a> ReferenceTracer<'a> {
             if weight == 0.0 {
                 break;
             }
-            let d = ray.dir - 2.0 * ray.dir.dot(n) * n;
             ray = Ray {
                 origin,
-                dir: d.normalize(),
+                dir: reflection_dir(ray.dir, &surface),
             };
         }
         (color, hits)

@@ -10,8 +10,8 @@
 
 use crate::geometry::{PARALLEL_EPSILON, T_INFINITY};
 use crate::layout::{
-    KdNode, LeafRopes, ACCEL_BRUTE, ACCEL_KDTREE, SHADOW_AMBIENT, SHADOW_SEED, TRAVERSAL_RESTART,
-    TRAVERSAL_ROPES, TRAVERSAL_SHORT_STACK,
+    GpuTriangle, KdNode, LeafRopes, ACCEL_BRUTE, ACCEL_KDTREE, SHADOW_AMBIENT, SHADOW_SEED,
+    TRAVERSAL_RESTART, TRAVERSAL_ROPES, TRAVERSAL_SHORT_STACK,
 };
 
 /// How a kernel reads or writes a binding.
@@ -65,13 +65,21 @@ pub const ACCUMULATION: Binding = binding(9, "accumulation", "array<vec4<f32>>",
 pub const LEAF_ROPES: Binding = binding(12, "leaf_ropes", "array<LeafRopes>", StorageRead);
 /// For each k-d node, its record in `leaf_ropes` (leaves only).
 pub const LEAF_ROPE_INDEX: Binding = binding(13, "leaf_rope_index", "array<u32>", StorageRead);
+/// Vertex normals of the smooth-shaded triangles, indexed by
+/// `Triangle::normals` ([`crate::layout::GpuTriangleNormals`]).
+pub const TRIANGLE_NORMALS: Binding = binding(
+    15,
+    "triangle_normals",
+    "array<TriangleNormals>",
+    StorageRead,
+);
 /// `trace_rays` (the debug entry point): the rays to trace.
 pub const QUERY_RAYS: Binding = binding(10, "query_rays", "array<QueryRay>", StorageRead);
 /// `trace_rays`: one hit per ray.
 pub const QUERY_HITS: Binding = binding(11, "query_hits", "array<QueryHit>", StorageReadWrite);
 
 /// The scene's storage buffers, in the order [`crate::gpu::SceneArrays`] lists them.
-pub const SCENE: [Binding; 9] = [
+pub const SCENE: [Binding; 10] = [
     SPHERES,
     TRIANGLES,
     OBJECT_MATERIALS,
@@ -81,6 +89,7 @@ pub const SCENE: [Binding; 9] = [
     LEAF_OBJECTS,
     LEAF_ROPES,
     LEAF_ROPE_INDEX,
+    TRIANGLE_NORMALS,
 ];
 
 /// Every binding the kernel declares: the parameters, the scene, and each
@@ -106,7 +115,7 @@ pub enum SharedValue {
 }
 
 /// Every constant the kernel and the host must agree on, by WGSL name.
-pub const SHARED_CONSTANTS: [(&str, SharedValue); 14] = [
+pub const SHARED_CONSTANTS: [(&str, SharedValue); 15] = [
     ("KD_LEAF", SharedValue::U32(KdNode::LEAF)),
     ("ACCEL_KDTREE", SharedValue::U32(ACCEL_KDTREE)),
     ("ACCEL_BRUTE", SharedValue::U32(ACCEL_BRUTE)),
@@ -135,6 +144,8 @@ pub const SHARED_CONSTANTS: [(&str, SharedValue); 14] = [
     ),
     // A face on the scene's boundary has no rope.
     ("NO_ROPE", SharedValue::U32(LeafRopes::NONE)),
+    // `Triangle::normals` of a flat-shaded triangle.
+    ("FLAT_TRIANGLE", SharedValue::U32(GpuTriangle::FLAT)),
 ];
 
 /// The object id of a miss.

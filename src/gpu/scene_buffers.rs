@@ -5,7 +5,9 @@ use super::bindings;
 use super::GpuContext;
 use crate::geometry::{Aabb, Primitives};
 use crate::kdtree::{KdTree, Ropes};
-use crate::layout::{GpuLight, GpuMaterial, GpuSphere, GpuTriangle, KdNode, LeafRopes};
+use crate::layout::{
+    GpuLight, GpuMaterial, GpuSphere, GpuTriangle, GpuTriangleNormals, KdNode, LeafRopes,
+};
 use crate::scene::Scene;
 
 /// Host copies of every storage buffer, in the GPU layout.
@@ -21,6 +23,10 @@ pub struct SceneArrays {
     /// record (`kdtree::Ropes`; node indices are the tree's).
     pub leaf_ropes: Vec<LeafRopes>,
     pub leaf_rope_index: Vec<u32>,
+    /// Vertex normals of the smooth-shaded triangles only, in the order of
+    /// `triangles` (`GpuTriangle::normals` indexes it): 12 bytes per smooth
+    /// triangle, none per flat one.
+    pub triangle_normals: Vec<GpuTriangleNormals>,
     /// The box the walk clips rays to: the tree's root cell.
     pub bounds: Aabb,
     /// `scene_ids[gpu_id]` is the scene's object id (spheres first, then
@@ -70,6 +76,27 @@ impl SceneArrays {
             Some(s) => s.material,
             None => scene.triangles[id as usize - sphere_count].material,
         };
+        let mut triangle_normals = Vec::new();
+        let mut normals_of = |id: u32| match scene.triangles[id as usize - sphere_count].normals {
+            Some(n) => {
+                triangle_normals.push(GpuTriangleNormals::pack(n));
+                triangle_normals.len() as u32 - 1
+            }
+            None => GpuTriangle::FLAT,
+        };
+        let triangles = order[sphere_count..]
+            .iter()
+            .map(|&id| {
+                let t = &prims.triangles[id as usize - sphere_count];
+                GpuTriangle {
+                    v0: t.v[0].to_array(),
+                    normals: normals_of(id),
+                    v1: t.v[1].to_array(),
+                    v2: t.v[2].to_array(),
+                    ..bytemuck::Zeroable::zeroed()
+                }
+            })
+            .collect();
         SceneArrays {
             spheres: order[..sphere_count]
                 .iter()
@@ -81,18 +108,7 @@ impl SceneArrays {
                     }
                 })
                 .collect(),
-            triangles: order[sphere_count..]
-                .iter()
-                .map(|&id| {
-                    let t = &prims.triangles[id as usize - sphere_count];
-                    GpuTriangle {
-                        v0: t.v[0].to_array(),
-                        v1: t.v[1].to_array(),
-                        v2: t.v[2].to_array(),
-                        ..bytemuck::Zeroable::zeroed()
-                    }
-                })
-                .collect(),
+            triangles,
             object_materials: order.iter().map(|&id| material(id)).collect(),
             materials: scene
                 .materials
@@ -125,6 +141,7 @@ impl SceneArrays {
                 .collect(),
             leaf_ropes: ropes.leaves,
             leaf_rope_index: ropes.leaf_of_node,
+            triangle_normals,
             bounds: tree.bounds,
             scene_ids: order,
         }
@@ -132,8 +149,8 @@ impl SceneArrays {
 
     /// (binding name, bytes) of every storage buffer, in the order of
     /// [`bindings::SCENE`].
-    fn buffers(&self) -> [(&'static str, &[u8]); 9] {
-        let bytes: [&[u8]; 9] = [
+    fn buffers(&self) -> [(&'static str, &[u8]); 10] {
+        let bytes: [&[u8]; 10] = [
             bytemuck::cast_slice(&self.spheres),
             bytemuck::cast_slice(&self.triangles),
             bytemuck::cast_slice(&self.object_materials),
@@ -143,6 +160,7 @@ impl SceneArrays {
             bytemuck::cast_slice(&self.leaf_objects),
             bytemuck::cast_slice(&self.leaf_ropes),
             bytemuck::cast_slice(&self.leaf_rope_index),
+            bytemuck::cast_slice(&self.triangle_normals),
         ];
         std::array::from_fn(|i| (bindings::SCENE[i].name, bytes[i]))
     }
@@ -312,6 +330,54 @@ mod tests {
             ..wgpu::Limits::default()
         };
         assert!(a.check_fits(&limits).is_err());
+    }
+
+    /// Smooth triangles carry their own vertex normals to the GPU, whatever
+    /// order the leaves put them in, and flat ones none: the normals array
+    /// holds one record per smooth triangle.
+    #[test]
+    fn vertex_normals_follow_their_triangle_into_leaf_order() {
+        let mut scene = crate::bench::random_scene(&crate::bench::RandomSceneSpec {
+            kind: crate::bench::SceneKind::Triangles,
+            count: 300,
+            seed: 5,
+            width: 8,
+            height: 8,
+        });
+        // Every third triangle smooth, with normals that name it: distinct
+        // unit vectors derived from its first vertex.
+        for (i, t) in scene.triangles.iter_mut().enumerate() {
+            if i % 3 == 0 {
+                let v = t.vertices[0];
+                t.normals = Some([
+                    glam::DVec3::new(v.x, 1.0, 0.5).normalize(),
+                    glam::DVec3::new(-1.0, v.y, 0.25).normalize(),
+                    glam::DVec3::new(0.5, -0.5, v.z).normalize(),
+                ]);
+            }
+        }
+        let prims = Primitives::from_scene(&scene);
+        let tree = KdTree::for_primitives(&prims);
+        let a = SceneArrays::new(&scene, &prims, &tree);
+        assert_eq!(a.triangle_normals.len(), 100);
+        let spheres = prims.spheres.len();
+        let mut records = Vec::new();
+        for (gpu, t) in a.triangles.iter().enumerate() {
+            let original = &scene.triangles[a.scene_ids[spheres + gpu] as usize - spheres];
+            assert_eq!(original.vertices[0].as_vec3().to_array(), t.v0);
+            match original.normals {
+                None => assert_eq!(t.normals, GpuTriangle::FLAT),
+                Some(expected) => {
+                    records.push(t.normals);
+                    let got = a.triangle_normals[t.normals as usize].unpack();
+                    for (e, g) in expected.iter().zip(got) {
+                        assert!(e.angle_between(g.as_dvec3()) < 1e-4, "{e} vs {g}");
+                    }
+                }
+            }
+        }
+        records.sort_unstable();
+        assert_eq!(records, (0..100).collect::<Vec<u32>>(), "one record each");
     }
 
     /// The GPU arrays hold the scene's objects in leaf order: every object
