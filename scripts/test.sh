@@ -18,6 +18,9 @@ packages=(
     g++ gcc
     # tests/window.rs runs the window under Xvfb; winit loads these at run time.
     xvfb xauth libxkbcommon-x11-0 libx11-xcb1 libxcursor1 libxi6 libxrandr2
+    # scenes/bunny.toml's mesh, /usr/share/glmark2/models/bunny.obj (the
+    # Stanford bunny), which the image tests render.
+    glmark2-data
 )
 
 missing=()
