@@ -85,7 +85,7 @@ fn intersect_object(id: u32, ray: Ray) -> f32 {
     if (id < params.sphere_count) {
         return intersect_sphere(spheres[id], ray);
     }
-    return intersect_triangle(triangles[id - params.sphere_count], ray);
+    return intersect_triangle(triangle(id - params.sphere_count), ray);
 }
 
 // Largest coordinate magnitude the object's intersection works with.
@@ -95,7 +95,7 @@ fn object_magnitude(id: u32) -> f32 {
         let c = abs(s.center);
         return max(c.x, max(c.y, c.z)) + s.radius;
     }
-    let tri = triangles[id - params.sphere_count];
+    let tri = triangle(id - params.sphere_count);
     let m = max(abs(tri.v0), max(abs(tri.v1), abs(tri.v2)));
     return max(m.x, max(m.y, m.z));
 }
@@ -105,7 +105,7 @@ fn object_normal(id: u32, p: vec3<f32>) -> vec3<f32> {
     if (id < params.sphere_count) {
         return normalize(p - spheres[id].center);
     }
-    let tri = triangles[id - params.sphere_count];
+    let tri = triangle(id - params.sphere_count);
     return normalize(cross(tri.v1 - tri.v0, tri.v2 - tri.v0));
 }
 

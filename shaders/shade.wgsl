@@ -108,7 +108,7 @@ fn surface_at(id: u32, p: vec3<f32>, ray_dir: vec3<f32>) -> Surface {
     if (id < params.sphere_count) {
         return Surface(g, g, p);
     }
-    let tri = triangles[id - params.sphere_count];
+    let tri = triangle(id - params.sphere_count);
     if (tri.normals == FLAT_TRIANGLE) {
         return Surface(g, g, p);
     }

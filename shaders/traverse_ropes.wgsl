@@ -17,9 +17,10 @@ fn rope_exit_on_axis(r: u32, a: u32, ray: Ray, exit: RopeExit) -> RopeExit {
     let d = ray.dir[a];
     if (abs(d) >= PARALLEL_EPSILON) {
         let face = 2u * a + select(0u, 1u, d > 0.0);
-        let rope = leaf_ropes[r].ropes[face];
+        let f = rope_face(r, face);
+        let rope = f.rope;
         if (rope != NO_ROPE) {
-            let t_face = (leaf_ropes[r].faces[face] - ray.origin[a]) / d;
+            let t_face = (f.plane - ray.origin[a]) / d;
             if (t_face < exit.t) {
                 return RopeExit(t_face, rope);
             }

@@ -45,7 +45,11 @@ fn kdtree_equals_brute_force_on_every_scene() {
         let brute = if scene.object_count() <= BRUTE_FORCE_MAX_OBJECTS {
             render(&scene, Accel::Brute)
         } else {
-            render_walk(&scene, Traversal::Restart, TilePlan::DEFAULT_MAX_TILE_PIXELS)
+            render_walk(
+                &scene,
+                Traversal::Restart,
+                TilePlan::DEFAULT_MAX_TILE_PIXELS,
+            )
         };
         for walk in Traversal::ALL {
             let kd = render_walk(&scene, walk, TilePlan::DEFAULT_MAX_TILE_PIXELS);

@@ -73,21 +73,33 @@ pub const TRIANGLE_NORMALS: Binding = binding(
     "array<TriangleNormals>",
     StorageRead,
 );
+/// The triangles past the first binding's chunk: `triangles` holds the
+/// first chunk, this one the rest (shaders/chunks.wgsl,
+/// [`crate::gpu::SceneArrays`]).
+pub const TRIANGLES_1: Binding = binding(16, "triangles_1", "array<Triangle>", StorageRead);
+/// The leaf ropes past the first binding's chunk, likewise.
+pub const LEAF_ROPES_1: Binding = binding(17, "leaf_ropes_1", "array<LeafRopes>", StorageRead);
+/// How many bindings the triangles and the leaf ropes may each spread over.
+/// Two: OpenGL drivers (llvmpipe among them) offer 16 storage buffers per
+/// stage, and the render pipeline declares 13 with them.
+pub const CHUNKS: usize = 2;
 /// `trace_rays` (the debug entry point): the rays to trace.
 pub const QUERY_RAYS: Binding = binding(10, "query_rays", "array<QueryRay>", StorageRead);
 /// `trace_rays`: one hit per ray.
 pub const QUERY_HITS: Binding = binding(11, "query_hits", "array<QueryHit>", StorageReadWrite);
 
 /// The scene's storage buffers, in the order [`crate::gpu::SceneArrays`] lists them.
-pub const SCENE: [Binding; 10] = [
+pub const SCENE: [Binding; 12] = [
     SPHERES,
     TRIANGLES,
+    TRIANGLES_1,
     OBJECT_MATERIALS,
     MATERIALS,
     LIGHTS,
     KD_NODES,
     LEAF_OBJECTS,
     LEAF_ROPES,
+    LEAF_ROPES_1,
     LEAF_ROPE_INDEX,
     TRIANGLE_NORMALS,
 ];
@@ -227,7 +239,8 @@ pub fn layout_entries(bindings: &[Binding]) -> Vec<wgpu::BindGroupLayoutEntry> {
 
 /// A compute pipeline for `entry_point` of the trace kernel, with an
 /// explicit layout of `bindings` (so bind groups built from the same table
-/// fit it, whatever the entry point happens to use).
+/// fit it, whatever the entry point happens to use). It reads the scene's
+/// arrays split or not ([`trace_pipeline_on`] with `split_scene`).
 pub fn trace_pipeline(
     device: &wgpu::Device,
     module: &wgpu::ShaderModule,
@@ -238,20 +251,38 @@ pub fn trace_pipeline(
         label: Some(entry_point),
         entries: &layout_entries(bindings),
     });
+    let pipeline = trace_pipeline_on(device, module, entry_point, &layout, true);
+    (pipeline, layout)
+}
+
+/// A compute pipeline for `entry_point` with bind group layout `layout`.
+/// `split_scene` false makes a pipeline only for scenes whose triangles and
+/// leaf ropes lie in one binding each (`SceneBuffers::split`), without the
+/// kernel's chunk selection (shaders/chunks.wgsl, `SPLIT_SCENE`).
+pub fn trace_pipeline_on(
+    device: &wgpu::Device,
+    module: &wgpu::ShaderModule,
+    entry_point: &str,
+    layout: &wgpu::BindGroupLayout,
+    split_scene: bool,
+) -> wgpu::ComputePipeline {
     let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
         label: Some(entry_point),
-        bind_group_layouts: &[Some(&layout)],
+        bind_group_layouts: &[Some(layout)],
         immediate_size: 0,
     });
-    let pipeline = device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+    let split = if split_scene { 1.0 } else { 0.0 };
+    device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
         label: Some(entry_point),
         layout: Some(&pipeline_layout),
         module,
         entry_point: Some(entry_point),
-        compilation_options: Default::default(),
+        compilation_options: wgpu::PipelineCompilationOptions {
+            constants: &[("SPLIT_SCENE", split)],
+            ..Default::default()
+        },
         cache: None,
-    });
-    (pipeline, layout)
+    })
 }
 
 #[cfg(test)]

@@ -138,7 +138,11 @@ pub struct RenderedImage {
 }
 
 pub struct Renderer {
+    /// For scenes in one binding per array (no chunk selection).
     pipeline: wgpu::ComputePipeline,
+    /// For scenes split over several bindings, made when first needed.
+    split_pipeline: std::sync::OnceLock<wgpu::ComputePipeline>,
+    module: wgpu::ShaderModule,
     layout: wgpu::BindGroupLayout,
     params_buffer: wgpu::Buffer,
 }
@@ -152,11 +156,16 @@ impl Renderer {
     pub fn new(ctx: &GpuContext) -> Result<Self> {
         ctx.checked("creating the trace pipeline", |device| {
             let module = shaders::trace_module(device);
-            let (pipeline, layout) = bindings::trace_pipeline(
+            let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+                label: Some(shaders::TRACE_ENTRY_POINT),
+                entries: &bindings::layout_entries(&render_bindings()),
+            });
+            let pipeline = bindings::trace_pipeline_on(
                 device,
                 &module,
                 shaders::TRACE_ENTRY_POINT,
-                &render_bindings(),
+                &layout,
+                false,
             );
             let params_buffer = device.create_buffer(&wgpu::BufferDescriptor {
                 label: Some("frame params"),
@@ -166,10 +175,36 @@ impl Renderer {
             });
             Renderer {
                 pipeline,
+                split_pipeline: std::sync::OnceLock::new(),
+                module,
                 layout,
                 params_buffer,
             }
         })
+    }
+
+    /// The pipeline for `scene`: with the chunk selection only if it is split.
+    fn pipeline_for(
+        &self,
+        ctx: &GpuContext,
+        scene: &SceneBuffers,
+    ) -> Result<&wgpu::ComputePipeline> {
+        if !scene.split {
+            return Ok(&self.pipeline);
+        }
+        if let Some(p) = self.split_pipeline.get() {
+            return Ok(p);
+        }
+        let p = ctx.checked("creating the trace pipeline for a split scene", |device| {
+            bindings::trace_pipeline_on(
+                device,
+                &self.module,
+                shaders::TRACE_ENTRY_POINT,
+                &self.layout,
+                true,
+            )
+        })?;
+        Ok(self.split_pipeline.get_or_init(|| p))
     }
 
     /// Renders the whole image, tile by tile, and reads it back.
@@ -208,6 +243,7 @@ impl Renderer {
     ) -> Result<RenderSummary> {
         let (width, height) = (params.width, params.height);
         let device = &ctx.device;
+        let pipeline = self.pipeline_for(ctx, scene)?;
         let tile_bytes = OUTPUT_HEADER_BYTES + plan.tile_width as u64 * plan.max_rows as u64 * 4;
         let output_what = format!(
             "allocating the output buffers (2 x {})",
@@ -284,7 +320,7 @@ impl Renderer {
                         label: Some("trace tile"),
                         timestamp_writes: timer.as_ref().map(|t| t.writes()),
                     });
-                    pass.set_pipeline(&self.pipeline);
+                    pass.set_pipeline(pipeline);
                     pass.set_bind_group(0, &bind_group, &[]);
                     let (gx, gy) = shaders::TRACE_WORKGROUP;
                     pass.dispatch_workgroups(w.div_ceil(gx), h.div_ceil(gy), 1);

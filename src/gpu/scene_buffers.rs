@@ -148,58 +148,114 @@ impl SceneArrays {
     }
 
     /// (binding name, bytes) of every storage buffer, in the order of
-    /// [`bindings::SCENE`].
-    fn buffers(&self) -> [(&'static str, &[u8]); 10] {
-        let bytes: [&[u8]; 10] = [
-            bytemuck::cast_slice(&self.spheres),
-            bytemuck::cast_slice(&self.triangles),
-            bytemuck::cast_slice(&self.object_materials),
-            bytemuck::cast_slice(&self.materials),
-            bytemuck::cast_slice(&self.lights),
-            bytemuck::cast_slice(&self.nodes),
-            bytemuck::cast_slice(&self.leaf_objects),
-            bytemuck::cast_slice(&self.leaf_ropes),
-            bytemuck::cast_slice(&self.leaf_rope_index),
-            bytemuck::cast_slice(&self.triangle_normals),
-        ];
-        std::array::from_fn(|i| (bindings::SCENE[i].name, bytes[i]))
+    /// [`bindings::SCENE`]: the triangles and the leaf ropes cut into
+    /// [`bindings::CHUNKS`] pieces of at most `chunk_bytes` (`split`; the
+    /// pieces past the data are empty), the other arrays whole. None when a
+    /// split array needs more pieces than that.
+    fn buffers(&self, chunk_bytes: u64) -> Option<Vec<(&'static str, &[u8])>> {
+        let triangles = split(bytemuck::cast_slice(&self.triangles), 48, chunk_bytes)?;
+        let ropes = split(bytemuck::cast_slice(&self.leaf_ropes), 48, chunk_bytes)?;
+        let bytes: Vec<&[u8]> = [bytemuck::cast_slice(&self.spheres)]
+            .into_iter()
+            .chain(triangles)
+            .chain([
+                bytemuck::cast_slice(&self.object_materials),
+                bytemuck::cast_slice(&self.materials),
+                bytemuck::cast_slice(&self.lights),
+                bytemuck::cast_slice(&self.nodes),
+                bytemuck::cast_slice(&self.leaf_objects),
+            ])
+            .chain(ropes)
+            .chain([
+                bytemuck::cast_slice(&self.leaf_rope_index),
+                bytemuck::cast_slice(&self.triangle_normals),
+            ])
+            .collect();
+        debug_assert_eq!(bytes.len(), bindings::SCENE.len());
+        Some(bindings::SCENE.iter().map(|b| b.name).zip(bytes).collect())
     }
 
     /// Total bytes the scene needs on the GPU (storage buffers only).
     pub fn byte_size(&self) -> u64 {
-        self.buffers().iter().map(|(_, b)| b.len() as u64).sum()
-    }
-
-    /// The largest single buffer: (name, bytes).
-    pub fn largest_buffer(&self) -> (&'static str, u64) {
-        self.buffers()
+        self.buffers(u64::MAX)
+            .unwrap_or_default()
             .iter()
-            .map(|(n, b)| (*n, b.len() as u64))
-            .max_by_key(|(_, s)| *s)
-            .unwrap_or(("", 0))
+            .map(|(_, b)| b.len() as u64)
+            .sum()
     }
 
     /// Refuses, before anything is uploaded, a scene one of whose buffers
     /// exceeds what the adapter can bind (`max_storage_buffer_binding_size`,
-    /// `max_buffer_size`): the message names the buffer, its size and the limit.
+    /// `max_buffer_size`), even split over the bindings the kernel has for
+    /// it: the message names the buffer, its size and the limit.
     pub fn check_fits(&self, limits: &wgpu::Limits) -> crate::Result<()> {
         let limit = super::max_binding_bytes(limits);
-        for (name, bytes) in self.buffers() {
-            if bytes.len() as u64 > limit {
-                return Err(crate::Error::Gpu(format!(
-                    "the scene is too large for this adapter: its {name} buffer needs {} but the adapter binds at most {} \
-                     per storage buffer ({} spheres, {} triangles, {} k-d nodes, {} leaf references)",
-                    human_bytes(bytes.len() as u64),
-                    human_bytes(limit),
-                    self.spheres.len(),
-                    self.triangles.len(),
-                    self.nodes.len(),
-                    self.leaf_objects.len()
-                )));
-            }
-        }
-        Ok(())
+        self.check_fits_in(limit, limit)
     }
+
+    /// Every buffer within `limit` bytes, the split ones cut into pieces of
+    /// at most `chunk_bytes` (<= `limit`).
+    fn check_fits_in(&self, limit: u64, chunk_bytes: u64) -> crate::Result<()> {
+        let whole = self.buffers(u64::MAX).unwrap_or_default();
+        let too_big = match self.buffers(chunk_bytes) {
+            Some(parts) => parts
+                .iter()
+                .find(|(_, b)| b.len() as u64 > limit)
+                .map(|(n, _)| *n),
+            // A split array beyond its CHUNKS bindings.
+            None => Some(
+                if split(bytemuck::cast_slice(&self.triangles), 48, chunk_bytes).is_none() {
+                    bindings::TRIANGLES.name
+                } else {
+                    bindings::LEAF_ROPES.name
+                },
+            ),
+        };
+        let Some(name) = too_big else {
+            return Ok(());
+        };
+        let bytes = whole
+            .iter()
+            .filter(|(n, _)| *n == name)
+            .map(|(_, b)| b.len() as u64)
+            .sum::<u64>();
+        let split_note = if name == bindings::TRIANGLES.name || name == bindings::LEAF_ROPES.name {
+            format!(" ({} bindings for it)", bindings::CHUNKS)
+        } else {
+            String::new()
+        };
+        Err(crate::Error::Gpu(format!(
+            "the scene is too large for this adapter: its {name} buffer needs {} but the adapter binds at most {} \
+             per storage buffer{split_note} ({} spheres, {} triangles, {} k-d nodes, {} leaf references)",
+            human_bytes(bytes),
+            human_bytes(limit),
+            self.spheres.len(),
+            self.triangles.len(),
+            self.nodes.len(),
+            self.leaf_objects.len()
+        )))
+    }
+}
+
+/// `bytes` (whole elements of `element` bytes) cut into [`bindings::CHUNKS`]
+/// pieces for bindings of at most `binding_bytes`: all of it in the first
+/// when it fits, else pieces of as many whole elements as a binding holds,
+/// every one but the last full (the kernel takes the first piece's length as
+/// the chunk length, shaders/chunks.wgsl), then empty ones. None when it
+/// needs more pieces.
+fn split(bytes: &[u8], element: usize, binding_bytes: u64) -> Option<[&[u8]; bindings::CHUNKS]> {
+    let chunk = if bytes.len() as u64 <= binding_bytes {
+        bytes.len().max(element)
+    } else {
+        (binding_bytes / element as u64) as usize * element
+    };
+    if chunk == 0 || bytes.len().div_ceil(chunk) > bindings::CHUNKS {
+        return None;
+    }
+    Some(std::array::from_fn(|k| {
+        let start = (k * chunk).min(bytes.len());
+        &bytes[start..(start + chunk).min(bytes.len())]
+    }))
 }
 
 /// Bytes for people: B, KiB or MiB.
@@ -221,20 +277,38 @@ pub struct SceneBuffers {
     pub object_count: u32,
     pub light_count: u32,
     pub node_count: u32,
+    /// Whether the triangles or the leaf ropes lie in more than one binding
+    /// (the kernel must then select the chunk: `bindings::trace_pipeline_on`).
+    pub split: bool,
 }
 
 impl SceneBuffers {
-    /// Uploads `arrays` to the device. A scene with a buffer beyond the
-    /// adapter's binding limits is refused before anything is allocated; one
+    /// Uploads `arrays` to the device, the triangles and leaf ropes over as
+    /// many bindings as they need (up to [`bindings::CHUNKS`] each). A scene
+    /// with a buffer beyond the adapter's binding limits is refused before
+    /// anything is allocated; one
     /// the device has no memory for fails with the size it needed. Either
     /// way the error is one line.
     pub fn upload(ctx: &GpuContext, arrays: &SceneArrays) -> crate::Result<Self> {
-        arrays.check_fits(&ctx.device.limits())?;
+        Self::upload_split(ctx, arrays, u64::MAX)
+    }
+
+    /// [`Self::upload`] with the triangles and leaf ropes split into
+    /// bindings of at most `chunk_bytes` each (capped at the device's
+    /// limit), so that tests run the split path on small scenes.
+    pub fn upload_split(
+        ctx: &GpuContext,
+        arrays: &SceneArrays,
+        chunk_bytes: u64,
+    ) -> crate::Result<Self> {
+        let limit = super::max_binding_bytes(&ctx.device.limits());
+        let chunk_bytes = chunk_bytes.min(limit);
+        arrays.check_fits_in(limit, chunk_bytes)?;
         let what = format!(
             "uploading the scene ({} of GPU memory)",
             human_bytes(arrays.byte_size())
         );
-        ctx.checked(&what, |device| Self::create(device, arrays))
+        ctx.checked(&what, |device| Self::create(device, arrays, chunk_bytes))
     }
 
     /// Bind group entries for the scene's bindings.
@@ -249,9 +323,15 @@ impl SceneBuffers {
     }
 
     /// Creates the buffers; errors go to the caller's error scopes.
-    fn create(device: &wgpu::Device, arrays: &SceneArrays) -> Self {
-        let buffers = arrays
-            .buffers()
+    fn create(device: &wgpu::Device, arrays: &SceneArrays, chunk_bytes: u64) -> Self {
+        let parts = arrays
+            .buffers(chunk_bytes)
+            .expect("checked by check_fits_in");
+        let chunked = [bindings::TRIANGLES_1.name, bindings::LEAF_ROPES_1.name];
+        let split = parts
+            .iter()
+            .any(|(name, bytes)| chunked.contains(name) && !bytes.is_empty());
+        let buffers = parts
             .iter()
             .map(|(name, bytes)| {
                 // Bindings may not be empty: an empty array gets one zeroed
@@ -281,6 +361,7 @@ impl SceneBuffers {
             object_count: arrays.object_materials.len() as u32,
             light_count: arrays.lights.len() as u32,
             node_count: arrays.nodes.len() as u32,
+            split,
         }
     }
 }

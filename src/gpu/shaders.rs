@@ -3,8 +3,9 @@
 
 /// Files of the trace kernel, in the order they are concatenated (after the
 /// declarations generated from [`super::bindings`]).
-pub const TRACE_PARTS: [(&str, &str); 8] = [
+pub const TRACE_PARTS: [(&str, &str); 9] = [
     ("types.wgsl", include_str!("../../shaders/types.wgsl")),
+    ("chunks.wgsl", include_str!("../../shaders/chunks.wgsl")),
     (
         "intersect.wgsl",
         include_str!("../../shaders/intersect.wgsl"),

@@ -118,6 +118,10 @@ impl Layouts {
 
 pub struct Viewer {
     accumulate: wgpu::ComputePipeline,
+    /// Whether `accumulate` reads scenes split over several bindings
+    /// (`SceneBuffers::split`); remade when a scene of the other kind comes.
+    accumulate_split: bool,
+    trace_module: wgpu::ShaderModule,
     present_pipeline_layout: wgpu::PipelineLayout,
     present_module: wgpu::ShaderModule,
     present: wgpu::RenderPipeline,
@@ -201,11 +205,18 @@ impl Viewer {
     ) -> Result<Self> {
         ctx.checked("creating the window's pipelines", |device| {
             let module = shaders::trace_module(device);
-            let (accumulate, trace) = bindings::trace_pipeline(
+            let trace = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+                label: Some(shaders::ACCUMULATE_ENTRY_POINT),
+                entries: &bindings::layout_entries(&bindings::entry_point_bindings(&[
+                    bindings::ACCUMULATION,
+                ])),
+            });
+            let accumulate = bindings::trace_pipeline_on(
                 device,
                 &module,
                 shaders::ACCUMULATE_ENTRY_POINT,
-                &bindings::entry_point_bindings(&[bindings::ACCUMULATION]),
+                &trace,
+                scene.split,
             );
             let fragment = wgpu::ShaderStages::FRAGMENT;
             let present = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
@@ -248,6 +259,8 @@ impl Viewer {
             };
             Viewer {
                 accumulate,
+                accumulate_split: scene.split,
+                trace_module: module,
                 present: present_pipeline(
                     device,
                     &present_pipeline_layout,
@@ -265,6 +278,18 @@ impl Viewer {
 
     /// Traces `scene` from now on.
     pub fn set_scene(&mut self, ctx: &GpuContext, scene: &SceneBuffers) -> Result<()> {
+        if scene.split != self.accumulate_split {
+            self.accumulate = ctx.checked("creating the window's trace pipeline", |device| {
+                bindings::trace_pipeline_on(
+                    device,
+                    &self.trace_module,
+                    shaders::ACCUMULATE_ENTRY_POINT,
+                    &self.layouts.trace,
+                    scene.split,
+                )
+            })?;
+            self.accumulate_split = scene.split;
+        }
         let b = &self.bindings;
         let (image_group, preview_group) = ctx.checked("binding the scene", |device| {
             (
