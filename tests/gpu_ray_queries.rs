@@ -4,6 +4,8 @@
 //! strategies.rs), the kernel's k-d walk finds what the kernel's brute-force
 //! loop finds. Both run the same intersection code on the same device, so
 //! this isolates the walk; the image tests compare the kernel with the CPU.
+//! The work each walk does (nodes and leaves visited, objects tested) is
+//! held against the CPU mirror's count, ray by ray.
 
 mod common;
 #[path = "support/strategies.rs"]
@@ -13,8 +15,8 @@ use std::sync::OnceLock;
 
 use kdray::geometry::{Primitives, Ray, T_INFINITY};
 use kdray::gpu::{Accel, PreparedScene, RayQueries, RayQuery};
-use kdray::kdtree::traverse::Hit;
-use kdray::kdtree::{KdTree, Traversal};
+use kdray::kdtree::traverse::{self, Hit, WalkCost};
+use kdray::kdtree::{KdTree, Ropes, Traversal};
 use kdray::scene::{Scene, Sphere, Triangle};
 use proptest::prelude::*;
 use strategies::{direction, ray_for, scene, traversal_cost, tree_for, vec3};
@@ -105,8 +107,123 @@ fn nearest(ray: Ray) -> RayQuery {
     }
 }
 
+/// Each walk's hits and costs on the GPU and on the CPU mirror, ray by ray:
+/// equal costs (and brute force's, whose loop runs over the GPU's object
+/// order). Hits are compared elsewhere; here they only show where the two
+/// sides rounded differently, which would explain a cost difference.
+fn check_costs(prims: &Primitives, tree: &KdTree, rays: &[RayQuery]) -> Result<(), TestCaseError> {
+    let prepared = PreparedScene::with_tree(scene_of(prims), tree.clone());
+    let ctx = common::gpu();
+    let buffers = prepared.upload(ctx).unwrap_or_else(|e| panic!("{e}"));
+    let ids = &prepared.arrays.scene_ids;
+    let tree = &prepared.tree;
+    let ropes = Ropes::build(tree);
+    let gpu = |accel, walk| {
+        queries()
+            .trace_counted(ctx, &buffers, ids, accel, walk, rays)
+            .unwrap_or_else(|e| panic!("{e}"))
+    };
+    for walk in Traversal::ALL {
+        for ((hit, cost), q) in gpu(Accel::Kdtree, walk).into_iter().zip(rays) {
+            let (cpu_hit, cpu_cost) =
+                walk.walk_counted(tree, &ropes, prims, &q.ray, q.t_limit, q.any_hit);
+            prop_assert_eq!(
+                cost,
+                cpu_cost,
+                "{}: GPU cost {:?} (hit {:?}), CPU {:?} (hit {:?}), query {:?}",
+                walk,
+                cost,
+                hit,
+                cpu_cost,
+                cpu_hit,
+                q
+            );
+            prop_assert!(cost.leaves_visited <= cost.nodes_visited, "{:?}", cost);
+        }
+    }
+    for ((hit, cost), q) in gpu(Accel::Brute, Traversal::default())
+        .into_iter()
+        .zip(rays)
+    {
+        // The kernel's loop, in its object order (GPU id g is scene id ids[g]).
+        let mut expected = WalkCost::default();
+        for &id in ids {
+            expected.objects_tested += 1;
+            if q.any_hit && prims.intersect(id, &q.ray).is_some_and(|t| t < q.t_limit) {
+                break;
+            }
+        }
+        prop_assert_eq!(cost, expected, "brute force: hit {:?}, query {:?}", hit, q);
+        if !q.any_hit {
+            prop_assert_eq!(
+                traverse::brute_counted(prims, &q.ray, q.t_limit, false).1,
+                expected
+            );
+        }
+    }
+    Ok(())
+}
+
 proptest! {
     #![proptest_config(ProptestConfig { cases: 96, .. ProptestConfig::default() })]
+
+    /// The kernel's walk costs equal the CPU mirror's, ray by ray, for every
+    /// walk and brute force, nearest and any-hit queries.
+    #[test]
+    fn gpu_walk_costs_equal_the_cpu_mirrors(
+        prims in scene(),
+        cost in traversal_cost(),
+        rays in prop::collection::vec(
+            (vec3(14.0), direction(), prop::option::of(any::<usize>()), prop::option::of(0.01f32..30.0)),
+            1..64,
+        ),
+    ) {
+        let tree = tree_for(&prims, cost);
+        let rays: Vec<RayQuery> = rays
+            .into_iter()
+            .map(|(origin, dir, on_plane, segment)| RayQuery {
+                ray: ray_for(&tree, origin, dir, on_plane),
+                t_limit: segment.unwrap_or(T_INFINITY),
+                any_hit: segment.is_some(),
+            })
+            .collect();
+        check_costs(&prims, &tree, &rays)?;
+    }
+
+    /// The CPU mirror's counts are consistent: a leaf is a node, each
+    /// descent ends in a leaf, a one-leaf tree tests every object once per
+    /// ray that enters the scene's box (as brute force does), and a walk
+    /// tests no more objects than the leaves it visited hold.
+    #[test]
+    fn walk_costs_are_consistent(
+        prims in scene(),
+        cost in traversal_cost(),
+        rays in prop::collection::vec((vec3(14.0), direction(), prop::option::of(any::<usize>())), 1..64),
+    ) {
+        let tree = tree_for(&prims, cost);
+        let ropes = Ropes::build(&tree);
+        let one_leaf = KdTree::single_leaf(prims.len() as u32, prims.scene_bounds());
+        let one_leaf_ropes = Ropes::build(&one_leaf);
+        let max_leaf = tree.nodes.iter().filter(|n| n.is_leaf()).map(|n| n.count).max().unwrap_or(0);
+        for (origin, dir, on_plane) in rays {
+            let ray = ray_for(&tree, origin, dir, on_plane);
+            let enters = one_leaf.bounds.ray_interval(&ray).is_some_and(|(_, t_exit)| t_exit >= 0.0);
+            let brute = traverse::brute_counted(&prims, &ray, T_INFINITY, false).1;
+            prop_assert_eq!(brute, WalkCost { objects_tested: prims.len() as u32, ..WalkCost::default() });
+            for walk in Traversal::ALL {
+                let (_, c) = walk.walk_counted(&tree, &ropes, &prims, &ray, T_INFINITY, false);
+                prop_assert!(c.leaves_visited <= c.nodes_visited, "{}: {:?}", walk, c);
+                prop_assert!(c.objects_tested <= c.leaves_visited * max_leaf, "{}: {:?}", walk, c);
+                prop_assert_eq!(c.nodes_visited == 0, c.leaves_visited == 0, "{}: {:?}", walk, c);
+                let (_, c) = walk.walk_counted(&one_leaf, &one_leaf_ropes, &prims, &ray, T_INFINITY, false);
+                let expected = match enters {
+                    true => WalkCost { nodes_visited: 1, leaves_visited: 1, objects_tested: prims.len() as u32 },
+                    false => WalkCost::default(),
+                };
+                prop_assert_eq!(c, expected, "{}: one leaf, ray {:?}", walk, ray);
+            }
+        }
+    }
 
     #[test]
     fn gpu_nearest_hits_match_brute_force(
@@ -181,4 +298,26 @@ proptest! {
             }
         }
     }
+}
+
+/// An empty scene costs nothing: no walk reads a node or tests an object.
+#[test]
+fn an_empty_scene_costs_nothing() {
+    let prims = Primitives::default();
+    let tree = KdTree::for_primitives(&prims);
+    let ropes = Ropes::build(&tree);
+    let ray = Ray {
+        origin: glam::Vec3::new(0.0, 0.0, 5.0),
+        dir: glam::Vec3::new(0.0, 0.0, -1.0),
+    };
+    for walk in Traversal::ALL {
+        for any in [false, true] {
+            let (hit, cost) = walk.walk_counted(&tree, &ropes, &prims, &ray, T_INFINITY, any);
+            assert_eq!((hit, cost), (None, WalkCost::default()), "{walk}");
+        }
+    }
+    assert_eq!(
+        traverse::brute_counted(&prims, &ray, T_INFINITY, false),
+        (None, WalkCost::default())
+    );
 }

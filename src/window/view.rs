@@ -39,6 +39,8 @@ struct Layouts {
     present: wgpu::BindGroupLayout,
     params: wgpu::Buffer,
     present_params: wgpu::Buffer,
+    /// One word at `bindings::PIXEL_COSTS`: the window does not count costs.
+    no_costs: wgpu::Buffer,
 }
 
 /// Buffers and bind groups that depend on the image size and the scene.
@@ -67,6 +69,10 @@ impl Layouts {
         entries.push(wgpu::BindGroupEntry {
             binding: bindings::ACCUMULATION.index,
             resource: target.as_entire_binding(),
+        });
+        entries.push(wgpu::BindGroupEntry {
+            binding: bindings::PIXEL_COSTS.index,
+            resource: self.no_costs.as_entire_binding(),
         });
         device.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some("accumulate"),
@@ -205,7 +211,7 @@ impl Viewer {
                 device,
                 &module,
                 shaders::ACCUMULATE_ENTRY_POINT,
-                &bindings::entry_point_bindings(&[bindings::ACCUMULATION]),
+                &bindings::entry_point_bindings(&[bindings::ACCUMULATION, bindings::PIXEL_COSTS]),
             );
             let fragment = wgpu::ShaderStages::FRAGMENT;
             let present = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
@@ -245,6 +251,12 @@ impl Viewer {
                     "present params",
                     std::mem::size_of::<PresentParams>() as u64,
                 ),
+                no_costs: device.create_buffer(&wgpu::BufferDescriptor {
+                    label: Some("no pixel costs"),
+                    size: 4,
+                    usage: wgpu::BufferUsages::STORAGE,
+                    mapped_at_creation: false,
+                }),
             };
             Viewer {
                 accumulate,
