@@ -208,7 +208,7 @@ impl Renderer {
         plan: TilePlan,
     ) -> Result<RenderedImage> {
         let mut rgb = Vec::with_capacity(params.width as usize * params.height as usize * 3);
-        let summary = self.render_bands(ctx, scene, params, plan, &mut |band: RowBand<'_>| {
+        let summary = self.render_bands(ctx, scene, params, plan, &mut |band| {
             rgb.extend_from_slice(band.rgb);
             Ok(())
         })?;

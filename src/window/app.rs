@@ -460,7 +460,7 @@ impl Session {
             file_max_depth,
             controller,
             accel: options.accel,
-            traversal: Traversal::default(),
+            traversal: options.traversal,
             heatmap: false,
             max_depth: file_max_depth,
             refinement: Refinement::new(k, max_pixels),

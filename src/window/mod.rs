@@ -50,6 +50,8 @@ pub struct WindowOptions {
     /// [`DEFAULT_WINDOW_SAMPLES`]).
     pub samples: Option<u32>,
     pub accel: Accel,
+    /// The k-d walk to start with (T cycles them).
+    pub traversal: crate::kdtree::Traversal,
     /// Present this many frames, then exit.
     pub frames: Option<u32>,
     /// On exit, save the last presented frame here.

@@ -65,7 +65,7 @@ pub struct RenderArgs {
     /// Nearest-hit search in the shader.
     #[arg(long, value_parser = choice::<Accel>(), default_value = "kdtree")]
     pub accel: Accel,
-    /// The kernel's k-d walk (with --accel kdtree; in the window, T cycles the walks).
+    /// The kernel's k-d walk (with --accel kdtree; the window starts with it, T cycles them).
     #[arg(long, value_parser = choice::<Traversal>(), default_value = "ropes")]
     pub traversal: Traversal,
     /// Print one JSON object of figures on stdout (with --window: frame rates, on exit).
