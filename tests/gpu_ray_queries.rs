@@ -321,3 +321,63 @@ fn an_empty_scene_costs_nothing() {
         (None, WalkCost::default())
     );
 }
+
+/// Each pixel's costs as `render_tile` writes them (`render_bands_with_cost`),
+/// in dispatches of at most `max_tile_pixels`, and the summary's totals.
+fn pixel_costs(
+    scene: &Scene,
+    traversal: Traversal,
+    max_tile_pixels: u64,
+) -> (Vec<WalkCost>, kdray::gpu::CostTotals) {
+    let ctx = common::gpu();
+    let prepared = PreparedScene::new(scene.clone(), Accel::Kdtree);
+    let buffers = prepared.upload(ctx).unwrap_or_else(|e| panic!("{e}"));
+    let renderer = kdray::gpu::Renderer::new(ctx).unwrap_or_else(|e| panic!("{e}"));
+    let params = prepared
+        .frame_params(&buffers, Accel::Kdtree)
+        .with_traversal(traversal);
+    let (w, h) = (scene.render.width, scene.render.height);
+    let plan = kdray::gpu::TilePlan::new(
+        w,
+        h,
+        max_tile_pixels,
+        kdray::gpu::max_binding_bytes(&ctx.device.limits()),
+    );
+    let mut costs = Vec::new();
+    let summary = renderer
+        .render_bands_with_cost(ctx, &buffers, params, plan, true, &mut |band| {
+            costs.extend_from_slice(band.costs.expect("asked for costs"));
+            Ok(())
+        })
+        .unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!(costs.len(), (w * h) as usize);
+    (costs, summary.cost.expect("asked for costs"))
+}
+
+/// The per-pixel costs land on their pixels whatever the tiling (odd,
+/// partial tiles give the same costs, pixel for pixel), their sums are the
+/// summary's totals, and a pixel whose ray misses the scene's box costs
+/// nothing while one on an object does work.
+#[test]
+fn per_pixel_costs_do_not_depend_on_tiling_and_sum_to_the_totals() {
+    let mut scene = common::small_scene(&common::repo_path("scenes/mixed.toml"));
+    scene.render.max_depth = 1; // primary rays and their shadow rays only
+    for walk in Traversal::ALL {
+        let (whole, totals) = pixel_costs(&scene, walk, u64::MAX);
+        let (tiled, tiled_totals) = pixel_costs(&scene, walk, 37 * 3);
+        assert_eq!(whole, tiled, "{walk}");
+        assert_eq!(totals, tiled_totals, "{walk}");
+        let mut sum = kdray::gpu::CostTotals::default();
+        whole.iter().for_each(|c| sum.add(c));
+        assert_eq!(sum, totals, "{walk}");
+        assert!(whole.iter().all(|c| c.leaves_visited <= c.nodes_visited));
+        assert!(
+            whole.iter().any(|c| *c == WalkCost::default()),
+            "{walk}: no free pixel"
+        );
+        assert!(
+            whole.iter().any(|c| c.objects_tested > 0),
+            "{walk}: no work"
+        );
+    }
+}
