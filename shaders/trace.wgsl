@@ -64,6 +64,17 @@ fn trace_sample(pixel: vec2<u32>, sx: u32, sy: u32, k: u32) -> vec3<f32> {
     return clamp(trace_path(camera_ray(u, v)), vec3<f32>(0.0), vec3<f32>(1.0));
 }
 
+// Adds this invocation's walk cost to pixel `i` of `pixel_costs` (three
+// words each), if the buffer has room: a one-word buffer means "not asked for".
+fn add_pixel_cost(i: u32) {
+    let at = 3u * i;
+    if (at + 2u < arrayLength(&pixel_costs)) {
+        pixel_costs[at] += walk_cost.x;
+        pixel_costs[at + 1u] += walk_cost.y;
+        pixel_costs[at + 2u] += walk_cost.z;
+    }
+}
+
 fn add_ray_counts() {
     atomicAdd(&tile_output.rays.primary, ray_counts.x);
     atomicAdd(&tile_output.rays.shadow, ray_counts.y);
@@ -88,8 +99,10 @@ fn render_tile(@builtin(global_invocation_id) gid: vec3<u32>) {
         }
     }
     // Divide like the window's present pass does, so both round alike.
-    tile_output.pixels[gid.y * params.tile_size.x + gid.x] = pack_rgb8(sum / f32(k * k));
+    let i = gid.y * params.tile_size.x + gid.x;
+    tile_output.pixels[i] = pack_rgb8(sum / f32(k * k));
     add_ray_counts();
+    add_pixel_cost(i); // the host clears the buffer per tile
 }
 
 @compute @workgroup_size(8, 8, 1)
@@ -103,4 +116,5 @@ fn accumulate_tile(@builtin(global_invocation_id) gid: vec3<u32>) {
     let c = trace_sample(pixel, s % k, s / k, k);
     let i = pixel.y * params.width + pixel.x;
     accumulation[i] += vec4<f32>(c, 1.0);
+    add_pixel_cost(i); // summed over passes, like the colour
 }

@@ -19,6 +19,7 @@ fn test_leaf(leaf: KdNode, ray: Ray, t_limit: f32, any_hit: bool, best_so_far: H
     var best = best_so_far;
     for (var i = leaf.index; i < leaf.index + leaf.count; i++) {
         loop_iterations += 1u;
+        walk_cost.z += 1u;
         let id = leaf_objects[i];
         let t = intersect_object(id, ray);
         if (t > 0.0) {
@@ -40,6 +41,12 @@ fn test_leaf(leaf: KdNode, ray: Ray, t_limit: f32, any_hit: bool, best_so_far: H
 // counted per 8-wide SIMD group: a loop runs while any lane needs it. The
 // host reports invocations whose own count reached half the limit.
 var<private> loop_iterations: u32;
+
+// The work this invocation's walks did, over all its rays, counted as
+// src/kdtree/traverse.rs WalkCost: x nodes visited (every k-d node record
+// read: the inner nodes of each descent and its leaf), y leaves visited,
+// z objects tested. Private, so counting costs three register adds.
+var<private> walk_cost: vec3<u32>;
 
 // any_hit: return the first hit with t < t_limit; else the nearest hit with t <= t_limit.
 fn trace_kdtree(ray: Ray, t_limit: f32, any_hit: bool) -> Hit {
@@ -66,6 +73,7 @@ fn trace_kdtree(ray: Ray, t_limit: f32, any_hit: bool) -> Hit {
         var t_max = t_far;
         var push_down = true;
         var node = kd_nodes[node_index];
+        walk_cost.x += 1u;
         while (node.kind != KD_LEAF) {
             loop_iterations += 1u;
             let a = node.kind;
@@ -91,7 +99,9 @@ fn trace_kdtree(ray: Ray, t_limit: f32, any_hit: bool) -> Hit {
                 restart_node = node_index;
             }
             node = kd_nodes[node_index];
+            walk_cost.x += 1u;
         }
+        walk_cost.y += 1u;
         best = test_leaf(node, ray, t_limit, any_hit, best);
         if (any_hit && best.object != NO_OBJECT) {
             return best;
@@ -109,6 +119,7 @@ fn trace_brute(ray: Ray, t_limit: f32, any_hit: bool) -> Hit {
     var best = miss();
     for (var id = 0u; id < params.object_count; id++) {
         loop_iterations += 1u;
+        walk_cost.z += 1u;
         let t = intersect_object(id, ray);
         if (t > 0.0) {
             if (any_hit) {

@@ -54,6 +54,7 @@ fn trace_kdtree_ropes(ray: Ray, t_limit: f32, any_hit: bool) -> Hit {
         loop_iterations += 1u;
         var node_index = start;
         var node = kd_nodes[node_index];
+        walk_cost.x += 1u;
         while (node.kind != KD_LEAF) {
             loop_iterations += 1u;
             let a = node.kind;
@@ -70,7 +71,9 @@ fn trace_kdtree_ropes(ray: Ray, t_limit: f32, any_hit: bool) -> Hit {
             }
             node_index = select(node.index, node_index + 1u, go_below);
             node = kd_nodes[node_index];
+            walk_cost.x += 1u;
         }
+        walk_cost.y += 1u;
         // The exit: the first face ahead with a rope, else t_far.
         let r = leaf_rope_index[node_index];
         var exit = RopeExit(t_far, NO_ROPE);

@@ -53,6 +53,7 @@ fn trace_kdtree_short_stack(ray: Ray, t_limit: f32, any_hit: bool) -> Hit {
             push_down = true;
         }
         var node = kd_nodes[node_index];
+        walk_cost.x += 1u;
         while (node.kind != KD_LEAF) {
             loop_iterations += 1u;
             let a = node.kind;
@@ -88,7 +89,9 @@ fn trace_kdtree_short_stack(ray: Ray, t_limit: f32, any_hit: bool) -> Hit {
                 restart_node = node_index;
             }
             node = kd_nodes[node_index];
+            walk_cost.x += 1u;
         }
+        walk_cost.y += 1u;
         best = test_leaf(node, ray, t_limit, any_hit, best);
         if (any_hit && best.object != NO_OBJECT) {
             return best;

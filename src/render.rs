@@ -7,7 +7,8 @@ use serde::Serialize;
 
 use crate::error::Result;
 use crate::gpu::{
-    Accel, GpuContext, GpuTimeSource, PreparedScene, RenderedImage, Renderer, RowBand, TilePlan,
+    Accel, CostTotals, GpuContext, GpuTimeSource, PreparedScene, RenderedImage, Renderer, RowBand,
+    TilePlan,
 };
 use crate::kdtree::Traversal;
 use crate::scene::Scene;
@@ -48,6 +49,36 @@ pub struct RenderStats {
     /// iterations (their own count reached half of it); only counted on
     /// llvmpipe, where such pixels may be wrong.
     pub loop_limited_pixels: u64,
+    /// The walk's work (when counted: `--stats` and `--heatmap` count it).
+    #[serde(flatten, skip_serializing_if = "Option::is_none")]
+    pub cost: Option<CostStats>,
+}
+
+/// The walk's work over the frame, every ray of every pixel (primary,
+/// shadow, reflection), counted as `kdtree::traverse::WalkCost`: totals,
+/// and per ray (over all three kinds).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct CostStats {
+    pub nodes_visited: u64,
+    pub leaves_visited: u64,
+    pub objects_tested: u64,
+    pub nodes_visited_per_ray: f64,
+    pub leaves_visited_per_ray: f64,
+    pub objects_tested_per_ray: f64,
+}
+
+impl CostStats {
+    pub fn new(totals: CostTotals, rays: u64) -> Self {
+        let per_ray = |n: u64| n as f64 / rays.max(1) as f64;
+        CostStats {
+            nodes_visited: totals.nodes_visited,
+            leaves_visited: totals.leaves_visited,
+            objects_tested: totals.objects_tested,
+            nodes_visited_per_ray: per_ray(totals.nodes_visited),
+            leaves_visited_per_ray: per_ray(totals.leaves_visited),
+            objects_tested_per_ray: per_ray(totals.objects_tested),
+        }
+    }
 }
 
 impl RenderStats {
@@ -106,6 +137,7 @@ pub fn render_scene(
         accel,
         Traversal::default(),
         max_tile_pixels,
+        true,
         &mut |band| {
             rgb.extend_from_slice(band.rgb);
             Ok(())
@@ -123,14 +155,17 @@ pub fn render_scene(
 }
 
 /// Renders a prepared scene on `ctx` with `accel` (which the scene must
-/// have been prepared for) and, for the k-d tree, the walk `traversal`, handing bands of rows to `sink` top to bottom
-/// as they are read back (for images too big to hold, and progress bars).
+/// have been prepared for) and, for the k-d tree, the walk `traversal`,
+/// handing bands of rows to `sink` top to bottom as they are read back (for
+/// images too big to hold, and progress bars). With `with_cost`, the bands
+/// carry each pixel's walk cost and the stats their totals.
 pub fn render_scene_streaming(
     ctx: &GpuContext,
     prepared: &PreparedScene,
     accel: Accel,
     traversal: Traversal,
     max_tile_pixels: u64,
+    with_cost: bool,
     sink: &mut dyn FnMut(RowBand<'_>) -> Result<()>,
 ) -> Result<(RenderStats, crate::gpu::RenderSummary)> {
     let total = Instant::now();
@@ -151,7 +186,7 @@ pub fn render_scene_streaming(
         max_tile_pixels,
         max_binding,
     );
-    let summary = renderer.render_bands(ctx, &buffers, params, plan, sink)?;
+    let summary = renderer.render_bands_with_cost(ctx, &buffers, params, plan, with_cost, sink)?;
 
     let tree_stats = prepared.tree.stats();
     let primary_rays =
@@ -187,6 +222,9 @@ pub fn render_scene_streaming(
         } else {
             0
         },
+        cost: summary
+            .cost
+            .map(|totals| CostStats::new(totals, summary.rays.total())),
     };
     Ok((stats, summary))
 }

@@ -4,6 +4,8 @@
 //! strategies.rs), the kernel's k-d walk finds what the kernel's brute-force
 //! loop finds. Both run the same intersection code on the same device, so
 //! this isolates the walk; the image tests compare the kernel with the CPU.
+//! The work each walk does (nodes and leaves visited, objects tested) is
+//! held against the CPU mirror's count, ray by ray.
 
 mod common;
 #[path = "support/strategies.rs"]
@@ -13,8 +15,8 @@ use std::sync::OnceLock;
 
 use kdray::geometry::{Primitives, Ray, T_INFINITY};
 use kdray::gpu::{Accel, PreparedScene, RayQueries, RayQuery};
-use kdray::kdtree::traverse::Hit;
-use kdray::kdtree::{KdTree, Traversal};
+use kdray::kdtree::traverse::{self, Hit, WalkCost};
+use kdray::kdtree::{KdTree, Ropes, Traversal};
 use kdray::scene::{Scene, Sphere, Triangle};
 use proptest::prelude::*;
 use strategies::{direction, ray_for, scene, traversal_cost, tree_for, vec3};
@@ -105,8 +107,123 @@ fn nearest(ray: Ray) -> RayQuery {
     }
 }
 
+/// Each walk's hits and costs on the GPU and on the CPU mirror, ray by ray:
+/// equal costs (and brute force's, whose loop runs over the GPU's object
+/// order). Hits are compared elsewhere; here they only show where the two
+/// sides rounded differently, which would explain a cost difference.
+fn check_costs(prims: &Primitives, tree: &KdTree, rays: &[RayQuery]) -> Result<(), TestCaseError> {
+    let prepared = PreparedScene::with_tree(scene_of(prims), tree.clone());
+    let ctx = common::gpu();
+    let buffers = prepared.upload(ctx).unwrap_or_else(|e| panic!("{e}"));
+    let ids = &prepared.arrays.scene_ids;
+    let tree = &prepared.tree;
+    let ropes = Ropes::build(tree);
+    let gpu = |accel, walk| {
+        queries()
+            .trace_counted(ctx, &buffers, ids, accel, walk, rays)
+            .unwrap_or_else(|e| panic!("{e}"))
+    };
+    for walk in Traversal::ALL {
+        for ((hit, cost), q) in gpu(Accel::Kdtree, walk).into_iter().zip(rays) {
+            let (cpu_hit, cpu_cost) =
+                walk.walk_counted(tree, &ropes, prims, &q.ray, q.t_limit, q.any_hit);
+            prop_assert_eq!(
+                cost,
+                cpu_cost,
+                "{}: GPU cost {:?} (hit {:?}), CPU {:?} (hit {:?}), query {:?}",
+                walk,
+                cost,
+                hit,
+                cpu_cost,
+                cpu_hit,
+                q
+            );
+            prop_assert!(cost.leaves_visited <= cost.nodes_visited, "{:?}", cost);
+        }
+    }
+    for ((hit, cost), q) in gpu(Accel::Brute, Traversal::default())
+        .into_iter()
+        .zip(rays)
+    {
+        // The kernel's loop, in its object order (GPU id g is scene id ids[g]).
+        let mut expected = WalkCost::default();
+        for &id in ids {
+            expected.objects_tested += 1;
+            if q.any_hit && prims.intersect(id, &q.ray).is_some_and(|t| t < q.t_limit) {
+                break;
+            }
+        }
+        prop_assert_eq!(cost, expected, "brute force: hit {:?}, query {:?}", hit, q);
+        if !q.any_hit {
+            prop_assert_eq!(
+                traverse::brute_counted(prims, &q.ray, q.t_limit, false).1,
+                expected
+            );
+        }
+    }
+    Ok(())
+}
+
 proptest! {
     #![proptest_config(ProptestConfig { cases: 96, .. ProptestConfig::default() })]
+
+    /// The kernel's walk costs equal the CPU mirror's, ray by ray, for every
+    /// walk and brute force, nearest and any-hit queries.
+    #[test]
+    fn gpu_walk_costs_equal_the_cpu_mirrors(
+        prims in scene(),
+        cost in traversal_cost(),
+        rays in prop::collection::vec(
+            (vec3(14.0), direction(), prop::option::of(any::<usize>()), prop::option::of(0.01f32..30.0)),
+            1..64,
+        ),
+    ) {
+        let tree = tree_for(&prims, cost);
+        let rays: Vec<RayQuery> = rays
+            .into_iter()
+            .map(|(origin, dir, on_plane, segment)| RayQuery {
+                ray: ray_for(&tree, origin, dir, on_plane),
+                t_limit: segment.unwrap_or(T_INFINITY),
+                any_hit: segment.is_some(),
+            })
+            .collect();
+        check_costs(&prims, &tree, &rays)?;
+    }
+
+    /// The CPU mirror's counts are consistent: a leaf is a node, each
+    /// descent ends in a leaf, a one-leaf tree tests every object once per
+    /// ray that enters the scene's box (as brute force does), and a walk
+    /// tests no more objects than the leaves it visited hold.
+    #[test]
+    fn walk_costs_are_consistent(
+        prims in scene(),
+        cost in traversal_cost(),
+        rays in prop::collection::vec((vec3(14.0), direction(), prop::option::of(any::<usize>())), 1..64),
+    ) {
+        let tree = tree_for(&prims, cost);
+        let ropes = Ropes::build(&tree);
+        let one_leaf = KdTree::single_leaf(prims.len() as u32, prims.scene_bounds());
+        let one_leaf_ropes = Ropes::build(&one_leaf);
+        let max_leaf = tree.nodes.iter().filter(|n| n.is_leaf()).map(|n| n.count).max().unwrap_or(0);
+        for (origin, dir, on_plane) in rays {
+            let ray = ray_for(&tree, origin, dir, on_plane);
+            let enters = one_leaf.bounds.ray_interval(&ray).is_some_and(|(_, t_exit)| t_exit >= 0.0);
+            let brute = traverse::brute_counted(&prims, &ray, T_INFINITY, false).1;
+            prop_assert_eq!(brute, WalkCost { objects_tested: prims.len() as u32, ..WalkCost::default() });
+            for walk in Traversal::ALL {
+                let (_, c) = walk.walk_counted(&tree, &ropes, &prims, &ray, T_INFINITY, false);
+                prop_assert!(c.leaves_visited <= c.nodes_visited, "{}: {:?}", walk, c);
+                prop_assert!(c.objects_tested <= c.leaves_visited * max_leaf, "{}: {:?}", walk, c);
+                prop_assert_eq!(c.nodes_visited == 0, c.leaves_visited == 0, "{}: {:?}", walk, c);
+                let (_, c) = walk.walk_counted(&one_leaf, &one_leaf_ropes, &prims, &ray, T_INFINITY, false);
+                let expected = match enters {
+                    true => WalkCost { nodes_visited: 1, leaves_visited: 1, objects_tested: prims.len() as u32 },
+                    false => WalkCost::default(),
+                };
+                prop_assert_eq!(c, expected, "{}: one leaf, ray {:?}", walk, ray);
+            }
+        }
+    }
 
     #[test]
     fn gpu_nearest_hits_match_brute_force(
@@ -180,5 +297,87 @@ proptest! {
                 }
             }
         }
+    }
+}
+
+/// An empty scene costs nothing: no walk reads a node or tests an object.
+#[test]
+fn an_empty_scene_costs_nothing() {
+    let prims = Primitives::default();
+    let tree = KdTree::for_primitives(&prims);
+    let ropes = Ropes::build(&tree);
+    let ray = Ray {
+        origin: glam::Vec3::new(0.0, 0.0, 5.0),
+        dir: glam::Vec3::new(0.0, 0.0, -1.0),
+    };
+    for walk in Traversal::ALL {
+        for any in [false, true] {
+            let (hit, cost) = walk.walk_counted(&tree, &ropes, &prims, &ray, T_INFINITY, any);
+            assert_eq!((hit, cost), (None, WalkCost::default()), "{walk}");
+        }
+    }
+    assert_eq!(
+        traverse::brute_counted(&prims, &ray, T_INFINITY, false),
+        (None, WalkCost::default())
+    );
+}
+
+/// Each pixel's costs as `render_tile` writes them (`render_bands_with_cost`),
+/// in dispatches of at most `max_tile_pixels`, and the summary's totals.
+fn pixel_costs(
+    scene: &Scene,
+    traversal: Traversal,
+    max_tile_pixels: u64,
+) -> (Vec<WalkCost>, kdray::gpu::CostTotals) {
+    let ctx = common::gpu();
+    let prepared = PreparedScene::new(scene.clone(), Accel::Kdtree);
+    let buffers = prepared.upload(ctx).unwrap_or_else(|e| panic!("{e}"));
+    let renderer = kdray::gpu::Renderer::new(ctx).unwrap_or_else(|e| panic!("{e}"));
+    let params = prepared
+        .frame_params(&buffers, Accel::Kdtree)
+        .with_traversal(traversal);
+    let (w, h) = (scene.render.width, scene.render.height);
+    let plan = kdray::gpu::TilePlan::new(
+        w,
+        h,
+        max_tile_pixels,
+        kdray::gpu::max_binding_bytes(&ctx.device.limits()),
+    );
+    let mut costs = Vec::new();
+    let summary = renderer
+        .render_bands_with_cost(ctx, &buffers, params, plan, true, &mut |band| {
+            costs.extend_from_slice(band.costs.expect("asked for costs"));
+            Ok(())
+        })
+        .unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!(costs.len(), (w * h) as usize);
+    (costs, summary.cost.expect("asked for costs"))
+}
+
+/// The per-pixel costs land on their pixels whatever the tiling (odd,
+/// partial tiles give the same costs, pixel for pixel), their sums are the
+/// summary's totals, and a pixel whose ray misses the scene's box costs
+/// nothing while one on an object does work.
+#[test]
+fn per_pixel_costs_do_not_depend_on_tiling_and_sum_to_the_totals() {
+    let mut scene = common::small_scene(&common::repo_path("scenes/mixed.toml"));
+    scene.render.max_depth = 1; // primary rays and their shadow rays only
+    for walk in Traversal::ALL {
+        let (whole, totals) = pixel_costs(&scene, walk, u64::MAX);
+        let (tiled, tiled_totals) = pixel_costs(&scene, walk, 37 * 3);
+        assert_eq!(whole, tiled, "{walk}");
+        assert_eq!(totals, tiled_totals, "{walk}");
+        let mut sum = kdray::gpu::CostTotals::default();
+        whole.iter().for_each(|c| sum.add(c));
+        assert_eq!(sum, totals, "{walk}");
+        assert!(whole.iter().all(|c| c.leaves_visited <= c.nodes_visited));
+        assert!(
+            whole.iter().any(|c| *c == WalkCost::default()),
+            "{walk}: no free pixel"
+        );
+        assert!(
+            whole.iter().any(|c| c.objects_tested > 0),
+            "{walk}: no work"
+        );
     }
 }

@@ -88,6 +88,18 @@ pub const QUERY_RAYS: Binding = binding(10, "query_rays", "array<QueryRay>", Sto
 /// `trace_rays`: one hit per ray.
 pub const QUERY_HITS: Binding = binding(11, "query_hits", "array<QueryHit>", StorageReadWrite);
 
+/// Per pixel, the walk cost of all its rays: three words (nodes visited,
+/// leaves visited, objects tested; `kdtree::traverse::WalkCost`).
+/// `render_tile`: per pixel of the tile, written; `accumulate_tile`: per
+/// pixel of the image, added to. A one-word buffer turns it off (the
+/// kernel writes only where three words per pixel fit).
+pub const PIXEL_COSTS: Binding = binding(20, "pixel_costs", "array<u32>", StorageReadWrite);
+/// `trace_rays`: the walk cost of each ray, three words as [`PIXEL_COSTS`].
+pub const QUERY_COSTS: Binding = binding(21, "query_costs", "array<u32>", StorageReadWrite);
+
+/// Words per pixel (or per query) in [`PIXEL_COSTS`] and [`QUERY_COSTS`].
+pub const COST_WORDS: usize = 3;
+
 /// The scene's storage buffers, in the order [`crate::gpu::SceneArrays`] lists them.
 pub const SCENE: [Binding; 12] = [
     SPHERES,
@@ -107,7 +119,14 @@ pub const SCENE: [Binding; 12] = [
 /// Every binding the kernel declares: the parameters, the scene, and each
 /// entry point's own buffers.
 pub fn all() -> Vec<Binding> {
-    entry_point_bindings(&[TILE_OUTPUT, ACCUMULATION, QUERY_RAYS, QUERY_HITS])
+    entry_point_bindings(&[
+        TILE_OUTPUT,
+        ACCUMULATION,
+        QUERY_RAYS,
+        QUERY_HITS,
+        PIXEL_COSTS,
+        QUERY_COSTS,
+    ])
 }
 
 /// The bindings an entry point uses: the frame parameters, the scene, and

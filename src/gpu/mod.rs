@@ -16,7 +16,7 @@ pub use frame_params::Accel;
 pub use prepared_scene::PreparedScene;
 pub use ray_query::{RayQueries, RayQuery};
 pub use renderer::{
-    GpuTimeSource, RayTotals, RenderSummary, RenderedImage, Renderer, RowBand, TilePlan,
+    CostTotals, GpuTimeSource, RayTotals, RenderSummary, RenderedImage, Renderer, RowBand, TilePlan,
 };
 pub use scene_buffers::{SceneArrays, SceneBuffers};
 

@@ -7,7 +7,7 @@ use super::bindings;
 use super::{Accel, GpuContext, SceneBuffers};
 use crate::error::Result;
 use crate::geometry::Ray;
-use crate::kdtree::traverse::Hit;
+use crate::kdtree::traverse::{Hit, WalkCost};
 use crate::kdtree::Traversal;
 use crate::layout::{FrameParams, GpuQueryHit, GpuQueryRay};
 
@@ -38,7 +38,11 @@ impl RayQueries {
                 device,
                 &module,
                 super::shaders::QUERY_ENTRY_POINT,
-                &bindings::entry_point_bindings(&[bindings::QUERY_RAYS, bindings::QUERY_HITS]),
+                &bindings::entry_point_bindings(&[
+                    bindings::QUERY_RAYS,
+                    bindings::QUERY_HITS,
+                    bindings::QUERY_COSTS,
+                ]),
             );
             RayQueries { pipeline, layout }
         })
@@ -68,6 +72,21 @@ impl RayQueries {
         traversal: Traversal,
         queries: &[RayQuery],
     ) -> Result<Vec<Option<Hit>>> {
+        let counted = self.trace_counted(ctx, scene, scene_ids, accel, traversal, queries)?;
+        Ok(counted.into_iter().map(|(hit, _)| hit).collect())
+    }
+
+    /// [`RayQueries::trace_walk`], with the work the kernel's walk did for
+    /// each ray (counted as the CPU mirror counts it: `WalkCost`).
+    pub fn trace_counted(
+        &self,
+        ctx: &GpuContext,
+        scene: &SceneBuffers,
+        scene_ids: &[u32],
+        accel: Accel,
+        traversal: Traversal,
+        queries: &[RayQuery],
+    ) -> Result<Vec<(Option<Hit>, WalkCost)>> {
         if queries.is_empty() {
             return Ok(Vec::new());
         }
@@ -82,7 +101,8 @@ impl RayQueries {
             .collect();
         let params = FrameParams::for_queries(scene, accel).with_traversal(traversal);
         let hits_bytes = (queries.len() * std::mem::size_of::<GpuQueryHit>()) as u64;
-        let (bind_group, hits, readback) =
+        let costs_bytes = (queries.len() * bindings::COST_WORDS * 4) as u64;
+        let (bind_group, hits, costs, readback) =
             ctx.checked("allocating the ray query buffers", |device| {
                 let storage = |label, contents: &[u8], usage| {
                     let buffer = device.create_buffer(&wgpu::BufferDescriptor {
@@ -113,9 +133,15 @@ impl RayQueries {
                     usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
                     mapped_at_creation: false,
                 });
+                let costs = device.create_buffer(&wgpu::BufferDescriptor {
+                    label: Some("query costs"),
+                    size: costs_bytes,
+                    usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
+                    mapped_at_creation: false,
+                });
                 let readback = device.create_buffer(&wgpu::BufferDescriptor {
-                    label: Some("query hits readback"),
-                    size: hits_bytes,
+                    label: Some("query hits and costs readback"),
+                    size: hits_bytes + costs_bytes,
                     usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
                     mapped_at_creation: false,
                 });
@@ -132,12 +158,16 @@ impl RayQueries {
                     binding: bindings::QUERY_HITS.index,
                     resource: hits.as_entire_binding(),
                 });
+                entries.push(wgpu::BindGroupEntry {
+                    binding: bindings::QUERY_COSTS.index,
+                    resource: costs.as_entire_binding(),
+                });
                 let bind_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
                     label: Some("trace_rays"),
                     layout: &self.layout,
                     entries: &entries,
                 });
-                (bind_group, hits, readback)
+                (bind_group, hits, costs, readback)
             })?;
 
         let groups = (queries.len() as u32).div_ceil(super::shaders::QUERY_WORKGROUP);
@@ -164,19 +194,24 @@ impl RayQueries {
             pass.dispatch_workgroups(gx, gy, 1);
         }
         encoder.copy_buffer_to_buffer(&hits, 0, &readback, 0, hits_bytes);
+        encoder.copy_buffer_to_buffer(&costs, 0, &readback, hits_bytes, costs_bytes);
         ctx.queue.submit([encoder.finish()]);
-        let bytes = ctx.read_buffer(&readback, hits_bytes)?;
-        let hits: &[GpuQueryHit] = bytemuck::cast_slice(&bytes);
+        let bytes = ctx.read_buffer(&readback, hits_bytes + costs_bytes)?;
+        let (hit_bytes, cost_bytes) = bytes.split_at(hits_bytes as usize);
+        let hits: &[GpuQueryHit] = bytemuck::cast_slice(hit_bytes);
+        let costs: &[u32] = bytemuck::cast_slice(cost_bytes);
         Ok(hits
             .iter()
-            .map(|h| {
-                (h.object != bindings::NO_OBJECT).then(|| Hit {
+            .zip(costs.chunks_exact(bindings::COST_WORDS))
+            .map(|(h, c)| {
+                let hit = (h.object != bindings::NO_OBJECT).then(|| Hit {
                     object: scene_ids
                         .get(h.object as usize)
                         .copied()
                         .unwrap_or(u32::MAX),
                     t: h.t,
-                })
+                });
+                (hit, WalkCost::from_words(c))
             })
             .collect())
     }

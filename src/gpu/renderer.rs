@@ -8,6 +8,7 @@ use super::context::GpuContext;
 use super::scene_buffers::SceneBuffers;
 use super::shaders;
 use crate::error::{Error, Result};
+use crate::kdtree::traverse::WalkCost;
 use crate::layout::{FrameParams, RayCounters};
 
 /// How the image is cut into dispatches: bands of whole rows, each band one
@@ -31,9 +32,10 @@ impl TilePlan {
     const FIRST_BAND_PIXELS: u64 = 1 << 16;
 
     pub fn new(width: u32, height: u32, max_tile_pixels: u64, max_binding_bytes: u64) -> Self {
-        // The output buffer holds the ray counters, then 4 bytes per pixel.
+        // The output buffer holds the ray counters, then 4 bytes per pixel;
+        // the cost buffer (when asked for) 12 bytes per pixel.
         let max_pixels = max_tile_pixels
-            .min(max_binding_bytes.saturating_sub(64) / 4)
+            .min(max_binding_bytes.saturating_sub(64) / COST_BYTES_PER_PIXEL)
             .max(1);
         let tile_width = width.min(max_pixels as u32).max(1);
         let max_rows = (max_pixels / tile_width as u64).clamp(1, height.max(1) as u64) as u32;
@@ -64,6 +66,29 @@ pub struct RowBand<'a> {
     pub y: u32,
     pub rows: u32,
     pub rgb: &'a [u8],
+    /// Each pixel's walk cost over all its rays, row-major, when the render
+    /// was asked for it ([`Renderer::render_bands_with_cost`]).
+    pub costs: Option<&'a [WalkCost]>,
+}
+
+/// Bytes per pixel of the cost output (`bindings::PIXEL_COSTS`).
+const COST_BYTES_PER_PIXEL: u64 = bindings::COST_WORDS as u64 * 4;
+
+/// The walk's work over the whole image (every ray of every pixel), summed
+/// from the per-pixel costs.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, serde::Serialize)]
+pub struct CostTotals {
+    pub nodes_visited: u64,
+    pub leaves_visited: u64,
+    pub objects_tested: u64,
+}
+
+impl CostTotals {
+    pub fn add(&mut self, c: &WalkCost) {
+        self.nodes_visited += c.nodes_visited as u64;
+        self.leaves_visited += c.leaves_visited as u64;
+        self.objects_tested += c.objects_tested as u64;
+    }
 }
 
 /// Rays the shader traced, by kind, summed over tiles.
@@ -106,6 +131,8 @@ pub struct RenderSummary {
     pub gpu_ms: f64,
     pub gpu_time_source: GpuTimeSource,
     pub rays: RayTotals,
+    /// The walk's work, when the render was asked for per-pixel costs.
+    pub cost: Option<CostTotals>,
 }
 
 impl RayTotals {
@@ -149,7 +176,7 @@ pub struct Renderer {
 
 /// The bindings `render_tile` is given.
 fn render_bindings() -> Vec<bindings::Binding> {
-    bindings::entry_point_bindings(&[bindings::TILE_OUTPUT])
+    bindings::entry_point_bindings(&[bindings::TILE_OUTPUT, bindings::PIXEL_COSTS])
 }
 
 impl Renderer {
@@ -241,15 +268,36 @@ impl Renderer {
         plan: TilePlan,
         sink: &mut dyn FnMut(RowBand<'_>) -> Result<()>,
     ) -> Result<RenderSummary> {
+        self.render_bands_with_cost(ctx, scene, params, plan, false, sink)
+    }
+
+    /// [`Renderer::render_bands`]; with `with_cost`, each band also carries
+    /// every pixel's walk cost (`RowBand::costs`) and the summary their
+    /// totals. Without, the kernel's cost buffer is one word, which it
+    /// leaves alone, and nothing more is read back.
+    pub fn render_bands_with_cost(
+        &self,
+        ctx: &GpuContext,
+        scene: &SceneBuffers,
+        params: FrameParams,
+        plan: TilePlan,
+        with_cost: bool,
+        sink: &mut dyn FnMut(RowBand<'_>) -> Result<()>,
+    ) -> Result<RenderSummary> {
         let (width, height) = (params.width, params.height);
         let device = &ctx.device;
         let pipeline = self.pipeline_for(ctx, scene)?;
-        let tile_bytes = OUTPUT_HEADER_BYTES + plan.tile_width as u64 * plan.max_rows as u64 * 4;
+        let tile_pixels = plan.tile_width as u64 * plan.max_rows as u64;
+        let tile_bytes = OUTPUT_HEADER_BYTES + tile_pixels * 4;
+        let cost_bytes = match with_cost {
+            true => tile_pixels * COST_BYTES_PER_PIXEL,
+            false => 4,
+        };
         let output_what = format!(
             "allocating the output buffers (2 x {})",
-            super::scene_buffers::human_bytes(tile_bytes)
+            super::scene_buffers::human_bytes(tile_bytes + cost_bytes)
         );
-        let (output, readback, bind_group) = ctx.checked(&output_what, |device| {
+        let (output, costs, readback, bind_group) = ctx.checked(&output_what, |device| {
             let output = device.create_buffer(&wgpu::BufferDescriptor {
                 label: Some("output pixels"),
                 size: tile_bytes,
@@ -258,9 +306,18 @@ impl Renderer {
                     | wgpu::BufferUsages::COPY_DST,
                 mapped_at_creation: false,
             });
+            let costs = device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some("pixel costs"),
+                size: cost_bytes,
+                usage: wgpu::BufferUsages::STORAGE
+                    | wgpu::BufferUsages::COPY_SRC
+                    | wgpu::BufferUsages::COPY_DST,
+                mapped_at_creation: false,
+            });
+            // The tile's output, then (with_cost) its costs.
             let readback = device.create_buffer(&wgpu::BufferDescriptor {
                 label: Some("readback"),
-                size: tile_bytes,
+                size: tile_bytes + if with_cost { cost_bytes } else { 0 },
                 usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
                 mapped_at_creation: false,
             });
@@ -273,12 +330,16 @@ impl Renderer {
                 binding: bindings::TILE_OUTPUT.index,
                 resource: output.as_entire_binding(),
             });
+            entries.push(wgpu::BindGroupEntry {
+                binding: bindings::PIXEL_COSTS.index,
+                resource: costs.as_entire_binding(),
+            });
             let bind_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
                 label: Some("trace"),
                 layout: &self.layout,
                 entries: &entries,
             });
-            (output, readback, bind_group)
+            (output, costs, readback, bind_group)
         })?;
         let timer = match ctx.has_timestamps {
             true => Some(ctx.checked("creating the GPU timer", GpuTimer::new)?),
@@ -286,6 +347,7 @@ impl Renderer {
         };
 
         let mut band_rgb = Vec::with_capacity(width as usize * plan.max_rows as usize * 3);
+        let mut band_costs: Vec<WalkCost> = Vec::new();
         let mut summary = RenderSummary {
             gpu_ms: 0.0,
             gpu_time_source: match timer {
@@ -293,6 +355,7 @@ impl Renderer {
                 None => GpuTimeSource::Wall,
             },
             rays: RayTotals::default(),
+            cost: with_cost.then(CostTotals::default),
         };
         let mut y = 0;
         let mut rows = plan.first_band_rows(width);
@@ -300,6 +363,10 @@ impl Renderer {
             let h = rows.min(height - y);
             band_rgb.clear();
             band_rgb.resize(width as usize * h as usize * 3, 0);
+            if with_cost {
+                band_costs.clear();
+                band_costs.resize(width as usize * h as usize, WalkCost::default());
+            }
             let mut band_ms = 0.0;
             let mut x = 0;
             while x < width {
@@ -315,6 +382,10 @@ impl Renderer {
                     label: Some("tile"),
                 });
                 encoder.clear_buffer(&output, 0, Some(OUTPUT_HEADER_BYTES));
+                let used_costs = w as u64 * h as u64 * COST_BYTES_PER_PIXEL;
+                if with_cost {
+                    encoder.clear_buffer(&costs, 0, Some(used_costs));
+                }
                 {
                     let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
                         label: Some("trace tile"),
@@ -327,12 +398,17 @@ impl Renderer {
                 }
                 let used = OUTPUT_HEADER_BYTES + w as u64 * h as u64 * 4;
                 encoder.copy_buffer_to_buffer(&output, 0, &readback, 0, used);
+                if with_cost {
+                    encoder.copy_buffer_to_buffer(&costs, 0, &readback, used, used_costs);
+                }
                 if let Some(t) = &timer {
                     t.resolve(&mut encoder);
                 }
                 let started = Instant::now();
                 ctx.queue.submit([encoder.finish()]);
-                let bytes = ctx.read_buffer(&readback, used)?;
+                let read = used + if with_cost { used_costs } else { 0 };
+                let bytes = ctx.read_buffer(&readback, read)?;
+                let (bytes, cost_bytes) = bytes.split_at(used as usize);
                 let wall_ms = started.elapsed().as_secs_f64() * 1e3;
                 let tile_ms = match &timer {
                     Some(t) => t.read_ms(ctx)?,
@@ -354,6 +430,20 @@ impl Renderer {
                         d.copy_from_slice(&p.to_le_bytes()[..3]);
                     }
                 }
+                if let Some(totals) = &mut summary.cost {
+                    let words: &[u32] = bytemuck::cast_slice(cost_bytes);
+                    let mut tile = words.chunks_exact(bindings::COST_WORDS);
+                    for row in 0..h as usize {
+                        let start = row * width as usize + x as usize;
+                        for (d, c) in band_costs[start..start + w as usize]
+                            .iter_mut()
+                            .zip(&mut tile)
+                        {
+                            *d = WalkCost::from_words(c);
+                            totals.add(d);
+                        }
+                    }
+                }
                 x += w;
             }
             summary.gpu_ms += band_ms;
@@ -361,6 +451,7 @@ impl Renderer {
                 y,
                 rows: h,
                 rgb: &band_rgb,
+                costs: with_cost.then_some(&band_costs[..]),
             })?;
             y += h;
             // Tiles of a band run one after another: size the next band so

@@ -5,7 +5,7 @@
 use crate::geometry::{Primitives, Ray};
 
 use super::ropes::Ropes;
-use super::traverse::Hit;
+use super::traverse::{Hit, WalkCost};
 use super::{traverse, traverse_ropes, traverse_short_stack, KdTree};
 
 /// Which stackless walk the shader (and its CPU mirror) runs.
@@ -70,6 +70,32 @@ impl Traversal {
             Traversal::Ropes => traverse_ropes::any_hit(tree, ropes, prims, ray, t_limit),
             Traversal::ShortStack => traverse_short_stack::any_hit(tree, prims, ray, t_limit),
         }
+    }
+
+    /// The nearest hit (`any` false) or any hit (`any` true), and the work
+    /// the walk did (as its shader counts it).
+    pub fn walk_counted(
+        self,
+        tree: &KdTree,
+        ropes: &Ropes,
+        prims: &Primitives,
+        ray: &Ray,
+        t_limit: f32,
+        any: bool,
+    ) -> (Option<Hit>, WalkCost) {
+        match self {
+            Traversal::Restart => traverse::walk_counted(tree, prims, ray, t_limit, any),
+            Traversal::Ropes => traverse_ropes::walk_counted(tree, ropes, prims, ray, t_limit, any),
+            Traversal::ShortStack => {
+                traverse_short_stack::walk_counted(tree, prims, ray, t_limit, any)
+            }
+        }
+    }
+
+    /// The next walk, for the window's key that cycles them.
+    pub fn next(self) -> Traversal {
+        let i = Traversal::ALL.iter().position(|&t| t == self).unwrap_or(0);
+        Traversal::ALL[(i + 1) % Traversal::ALL.len()]
     }
 }
 

@@ -22,6 +22,46 @@ pub struct Hit {
     pub t: f32,
 }
 
+/// The work one query did, counted the same way by every walk, its shader
+/// and the brute-force loops (`walk_cost` in shaders/traverse.wgsl):
+/// - `nodes_visited`: every k-d node whose record the walk read: the inner
+///   nodes of each descent (from the root, a restart node, a popped stack
+///   entry or a rope) and the leaf it ends in;
+/// - `leaves_visited`: the leaves reached (a rope walk's skipped leaf
+///   included), so never more than `nodes_visited`;
+/// - `objects_tested`: object intersection tests (brute force: all of them,
+///   or up to the first hit of an any-hit query).
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, serde::Serialize)]
+pub struct WalkCost {
+    pub nodes_visited: u32,
+    pub leaves_visited: u32,
+    pub objects_tested: u32,
+}
+
+impl WalkCost {
+    /// From the kernel's three words (nodes, leaves, objects).
+    pub fn from_words(words: &[u32]) -> WalkCost {
+        WalkCost {
+            nodes_visited: words[0],
+            leaves_visited: words[1],
+            objects_tested: words[2],
+        }
+    }
+
+    /// What the heatmap shows: nodes visited plus objects tested.
+    pub fn work(&self) -> u32 {
+        self.nodes_visited.saturating_add(self.objects_tested)
+    }
+}
+
+impl std::ops::AddAssign for WalkCost {
+    fn add_assign(&mut self, other: WalkCost) {
+        self.nodes_visited += other.nodes_visited;
+        self.leaves_visited += other.leaves_visited;
+        self.objects_tested += other.objects_tested;
+    }
+}
+
 /// Safety net for the restart loop: each iteration moves t_min past one
 /// split plane's crossing, so a valid tree never needs more than its node
 /// count; this bound only stops a corrupt tree from hanging a GPU.
@@ -31,15 +71,36 @@ pub fn max_restarts(node_count: usize) -> u32 {
 
 /// Nearest hit with 0 < t <= t_limit over the tree.
 pub fn closest_hit(tree: &KdTree, prims: &Primitives, ray: &Ray, t_limit: f32) -> Option<Hit> {
-    walk(tree, prims, ray, t_limit, false)
+    walk(tree, prims, ray, t_limit, false, &mut WalkCost::default())
 }
 
 /// Whether anything is hit with 0 < t < t_limit (shadow rays).
 pub fn any_hit(tree: &KdTree, prims: &Primitives, ray: &Ray, t_limit: f32) -> bool {
-    walk(tree, prims, ray, t_limit, true).is_some()
+    walk(tree, prims, ray, t_limit, true, &mut WalkCost::default()).is_some()
 }
 
-fn walk(tree: &KdTree, prims: &Primitives, ray: &Ray, t_limit: f32, any: bool) -> Option<Hit> {
+/// The nearest hit (`any` false) or any hit (`any` true), and the work the
+/// walk did for it.
+pub fn walk_counted(
+    tree: &KdTree,
+    prims: &Primitives,
+    ray: &Ray,
+    t_limit: f32,
+    any: bool,
+) -> (Option<Hit>, WalkCost) {
+    let mut cost = WalkCost::default();
+    let hit = walk(tree, prims, ray, t_limit, any, &mut cost);
+    (hit, cost)
+}
+
+fn walk(
+    tree: &KdTree,
+    prims: &Primitives,
+    ray: &Ray,
+    t_limit: f32,
+    any: bool,
+    cost: &mut WalkCost,
+) -> Option<Hit> {
     if prims.is_empty() {
         return None;
     }
@@ -59,6 +120,7 @@ fn walk(tree: &KdTree, prims: &Primitives, ray: &Ray, t_limit: f32, any: bool) -
         let mut node = restart_node;
         let mut t_max = t_far;
         let mut push_down = true;
+        cost.nodes_visited += 1;
         while !nodes[node].is_leaf() {
             let n = nodes[node];
             let a = n.kind as usize;
@@ -85,8 +147,10 @@ fn walk(tree: &KdTree, prims: &Primitives, ray: &Ray, t_limit: f32, any: bool) -
             if push_down {
                 restart_node = node;
             }
+            cost.nodes_visited += 1;
         }
-        best = test_leaf(tree, prims, node, ray, t_limit, any, best);
+        cost.leaves_visited += 1;
+        best = test_leaf(tree, prims, node, ray, t_limit, any, best, cost);
         if any && best.is_some() {
             return best;
         }
@@ -102,7 +166,9 @@ fn walk(tree: &KdTree, prims: &Primitives, ray: &Ray, t_limit: f32, any: bool) -
 /// Tests the objects of leaf `node`, the step every walk shares. Nearest
 /// hit (`any` false): `best` improved by any hit with t <= t_limit. Any hit:
 /// the first hit with t < t_limit (the caller returns it at once), else
-/// `best` (None). Mirrors `test_leaf` in shaders/traverse.wgsl.
+/// `best` (None). Counts each object it tests. Mirrors `test_leaf` in
+/// shaders/traverse.wgsl.
+#[allow(clippy::too_many_arguments)] // the shader's parameters, plus the cost
 pub(super) fn test_leaf(
     tree: &KdTree,
     prims: &Primitives,
@@ -111,10 +177,12 @@ pub(super) fn test_leaf(
     t_limit: f32,
     any: bool,
     mut best: Option<Hit>,
+    cost: &mut WalkCost,
 ) -> Option<Hit> {
     let leaf = tree.nodes[node];
     let ids = &tree.leaf_objects[leaf.index as usize..(leaf.index + leaf.count) as usize];
     for &id in ids {
+        cost.objects_tested += 1;
         if let Some(t) = prims.intersect(id, ray) {
             if any {
                 if t < t_limit {
@@ -130,20 +198,38 @@ pub(super) fn test_leaf(
 
 /// Nearest hit with 0 < t <= t_limit by testing every object (the seed's loop).
 pub fn closest_hit_brute(prims: &Primitives, ray: &Ray, t_limit: f32) -> Option<Hit> {
-    let mut best: Option<Hit> = None;
-    for id in 0..prims.len() as u32 {
-        if let Some(t) = prims.intersect(id, ray) {
-            if t <= t_limit && best.is_none_or(|b| t < b.t) {
-                best = Some(Hit { object: id, t });
-            }
-        }
-    }
-    best
+    brute_counted(prims, ray, t_limit, false).0
 }
 
 /// Whether any object is hit with 0 < t < t_limit, by testing every object.
 pub fn any_hit_brute(prims: &Primitives, ray: &Ray, t_limit: f32) -> bool {
-    (0..prims.len() as u32).any(|id| prims.intersect(id, ray).is_some_and(|t| t < t_limit))
+    brute_counted(prims, ray, t_limit, true).0.is_some()
+}
+
+/// The brute-force loop (`trace_brute` in shaders/traverse.wgsl): nearest
+/// hit with 0 < t <= t_limit, or (`any`) the first hit with t < t_limit;
+/// and its cost, objects tested only (no node is read).
+pub fn brute_counted(
+    prims: &Primitives,
+    ray: &Ray,
+    t_limit: f32,
+    any: bool,
+) -> (Option<Hit>, WalkCost) {
+    let mut cost = WalkCost::default();
+    let mut best: Option<Hit> = None;
+    for id in 0..prims.len() as u32 {
+        cost.objects_tested += 1;
+        if let Some(t) = prims.intersect(id, ray) {
+            if any {
+                if t < t_limit {
+                    return (Some(Hit { object: id, t }), cost);
+                }
+            } else if t <= t_limit && best.is_none_or(|b| t < b.t) {
+                best = Some(Hit { object: id, t });
+            }
+        }
+    }
+    (best, cost)
 }
 
 /// `T_INFINITY`, re-exported for callers that want an unbounded ray.

@@ -30,7 +30,7 @@ use crate::geometry::{Primitives, Ray, PARALLEL_EPSILON};
 use crate::layout::{KdNode, LeafRopes};
 
 use super::ropes::Ropes;
-use super::traverse::{max_restarts, test_leaf, Hit};
+use super::traverse::{max_restarts, test_leaf, Hit, WalkCost};
 use super::KdTree;
 
 /// Nearest hit with 0 < t <= t_limit, by the rope walk.
@@ -41,16 +41,50 @@ pub fn closest_hit(
     ray: &Ray,
     t_limit: f32,
 ) -> Option<Hit> {
-    walk(tree, ropes, prims, ray, t_limit, false)
+    walk(
+        tree,
+        ropes,
+        prims,
+        ray,
+        t_limit,
+        false,
+        &mut WalkCost::default(),
+    )
 }
 
 /// Whether anything is hit with 0 < t < t_limit, by the rope walk.
 pub fn any_hit(tree: &KdTree, ropes: &Ropes, prims: &Primitives, ray: &Ray, t_limit: f32) -> bool {
-    walk(tree, ropes, prims, ray, t_limit, true).is_some()
+    walk(
+        tree,
+        ropes,
+        prims,
+        ray,
+        t_limit,
+        true,
+        &mut WalkCost::default(),
+    )
+    .is_some()
 }
 
-/// From `node` down to the leaf the ray is in just after `t_min`.
-fn descend(nodes: &[KdNode], mut node: usize, ray: &Ray, t_min: f32) -> usize {
+/// The nearest hit (`any` false) or any hit (`any` true) by the rope walk,
+/// and the work it did.
+pub fn walk_counted(
+    tree: &KdTree,
+    ropes: &Ropes,
+    prims: &Primitives,
+    ray: &Ray,
+    t_limit: f32,
+    any: bool,
+) -> (Option<Hit>, WalkCost) {
+    let mut cost = WalkCost::default();
+    let hit = walk(tree, ropes, prims, ray, t_limit, any, &mut cost);
+    (hit, cost)
+}
+
+/// From `node` down to the leaf the ray is in just after `t_min`, counting
+/// the nodes read (`node` and the leaf included) and the leaf.
+fn descend(nodes: &[KdNode], mut node: usize, ray: &Ray, t_min: f32, cost: &mut WalkCost) -> usize {
+    cost.nodes_visited += 1;
     while !nodes[node].is_leaf() {
         let n = nodes[node];
         let a = n.kind as usize;
@@ -65,7 +99,9 @@ fn descend(nodes: &[KdNode], mut node: usize, ray: &Ray, t_min: f32) -> usize {
             go_below = below_first != crossed;
         }
         node = if go_below { node + 1 } else { n.index as usize };
+        cost.nodes_visited += 1;
     }
+    cost.leaves_visited += 1;
     node
 }
 
@@ -100,6 +136,7 @@ fn walk(
     ray: &Ray,
     t_limit: f32,
     any: bool,
+    cost: &mut WalkCost,
 ) -> Option<Hit> {
     if prims.is_empty() {
         return None;
@@ -120,7 +157,7 @@ fn walk(
     // skipped is followed by a tested one, so node_count + 1 steps suffice
     // (see docs/design.md).
     for _ in 0..max_restarts(nodes.len()) {
-        let node = descend(nodes, start, ray, t_min);
+        let node = descend(nodes, start, ray, t_min, cost);
         let leaf = ropes.leaf(node);
         // The exit: the first face ahead with a rope, else t_far.
         let mut exit = RopeExit {
@@ -138,7 +175,7 @@ fn walk(
             from_root = true;
             continue;
         }
-        best = test_leaf(tree, prims, node, ray, t_limit, any, best);
+        best = test_leaf(tree, prims, node, ray, t_limit, any, best, cost);
         if any && best.is_some() {
             return best;
         }

@@ -15,7 +15,7 @@
 
 use crate::geometry::{Primitives, Ray, PARALLEL_EPSILON};
 
-use super::traverse::{max_restarts, test_leaf, Hit};
+use super::traverse::{max_restarts, test_leaf, Hit, WalkCost};
 use super::KdTree;
 
 /// Entries of the short stack. The shader keeps them in named variables
@@ -26,12 +26,26 @@ pub const SHORT_STACK_DEPTH: usize = 3;
 
 /// Nearest hit with 0 < t <= t_limit, by the short-stack walk.
 pub fn closest_hit(tree: &KdTree, prims: &Primitives, ray: &Ray, t_limit: f32) -> Option<Hit> {
-    walk(tree, prims, ray, t_limit, false)
+    walk(tree, prims, ray, t_limit, false, &mut WalkCost::default())
 }
 
 /// Whether anything is hit with 0 < t < t_limit, by the short-stack walk.
 pub fn any_hit(tree: &KdTree, prims: &Primitives, ray: &Ray, t_limit: f32) -> bool {
-    walk(tree, prims, ray, t_limit, true).is_some()
+    walk(tree, prims, ray, t_limit, true, &mut WalkCost::default()).is_some()
+}
+
+/// The nearest hit (`any` false) or any hit (`any` true) by the short-stack
+/// walk, and the work it did.
+pub fn walk_counted(
+    tree: &KdTree,
+    prims: &Primitives,
+    ray: &Ray,
+    t_limit: f32,
+    any: bool,
+) -> (Option<Hit>, WalkCost) {
+    let mut cost = WalkCost::default();
+    let hit = walk(tree, prims, ray, t_limit, any, &mut cost);
+    (hit, cost)
 }
 
 /// A remembered far child and the end of the segment in it.
@@ -41,7 +55,14 @@ struct Entry {
     t_max: f32,
 }
 
-fn walk(tree: &KdTree, prims: &Primitives, ray: &Ray, t_limit: f32, any: bool) -> Option<Hit> {
+fn walk(
+    tree: &KdTree,
+    prims: &Primitives,
+    ray: &Ray,
+    t_limit: f32,
+    any: bool,
+    cost: &mut WalkCost,
+) -> Option<Hit> {
     if prims.is_empty() {
         return None;
     }
@@ -77,6 +98,7 @@ fn walk(tree: &KdTree, prims: &Primitives, ray: &Ray, t_limit: f32, any: bool) -
             t_max = t_far;
             push_down = true;
         }
+        cost.nodes_visited += 1;
         while !nodes[node].is_leaf() {
             let n = nodes[node];
             let a = n.kind as usize;
@@ -111,8 +133,10 @@ fn walk(tree: &KdTree, prims: &Primitives, ray: &Ray, t_limit: f32, any: bool) -
             if push_down {
                 restart_node = node;
             }
+            cost.nodes_visited += 1;
         }
-        best = test_leaf(tree, prims, node, ray, t_limit, any, best);
+        cost.leaves_visited += 1;
+        best = test_leaf(tree, prims, node, ray, t_limit, any, best, cost);
         if any && best.is_some() {
             return best;
         }

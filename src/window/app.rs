@@ -27,6 +27,7 @@ use super::{signals, WindowOptions, DEFAULT_WINDOW_SAMPLES};
 use crate::error::{Error, Result};
 use crate::gpu::PreparedScene;
 use crate::gpu::{Accel, GpuContext};
+use crate::kdtree::Traversal;
 use crate::scene::{RenderSettings, Scene};
 
 /// Default window: the scene's aspect ratio fitted into this (logical pixels).
@@ -227,6 +228,20 @@ impl App {
                 session.refinement.invalidate();
                 session.update_title(&self.name, true);
             }
+            Action::CycleTraversal => {
+                // Same picture, other work: start over so the frame times
+                // and the heatmap are the new walk's.
+                session.traversal = session.traversal.next();
+                session.refinement.invalidate();
+                session.update_title(&self.name, true);
+            }
+            Action::ToggleHeatmap => {
+                // The costs accumulate with the colours; refining again
+                // makes the frames that show the other view.
+                session.heatmap = !session.heatmap;
+                session.refinement.invalidate();
+                session.update_title(&self.name, true);
+            }
             Action::DepthDown | Action::DepthUp => {
                 let depth = if action == Action::DepthDown {
                     session.max_depth.saturating_sub(1)
@@ -358,6 +373,10 @@ struct Session {
     file_max_depth: u32,
     controller: CameraController,
     accel: Accel,
+    /// The k-d walk (T cycles them).
+    traversal: Traversal,
+    /// Show the cost heatmap instead of the image (C toggles it).
+    heatmap: bool,
     max_depth: u32,
     refinement: Refinement,
     /// When the camera's fly keys were last applied.
@@ -441,6 +460,8 @@ impl Session {
             file_max_depth,
             controller,
             accel: options.accel,
+            traversal: options.traversal,
+            heatmap: false,
             max_depth: file_max_depth,
             refinement: Refinement::new(k, max_pixels),
             last_update: now,
@@ -518,15 +539,8 @@ impl Session {
         let window = self.surface.size();
         let plan = self.refinement.plan(now, window);
         let work = self.frame_work(&plan, window);
-        let mut encoder = self
-            .ctx
-            .device
-            .create_command_encoder(&wgpu::CommandEncoderDescriptor {
-                label: Some("frame"),
-            });
         self.viewer
-            .encode(&self.ctx, &mut encoder, &frame.view, &work);
-        self.ctx.queue.submit([encoder.finish()]);
+            .frame(&self.ctx, &frame.view, &work, self.heatmap)?;
         self.surface.present(&self.ctx, &self.window, frame);
         self.ctx.check_health()?;
         let rays = plan.pass.map_or(0, |p| p.pixels());
@@ -542,6 +556,7 @@ impl Session {
         let pass = plan.pass.map(|p| {
             self.scene
                 .pass_params(camera, self.max_depth, self.accel, &p, window)
+                .with_traversal(self.traversal)
         });
         let (target, show_image) = match plan.kind {
             FrameKind::Moving => (Target::Preview, 0),
@@ -584,7 +599,9 @@ impl Session {
             frame_ms,
             mrays,
             accel: self.accel,
+            traversal: self.traversal,
             max_depth: self.max_depth,
+            heatmap: self.viewer.heatmap_scale(),
         });
         self.window.set_title(&text);
     }

@@ -17,6 +17,8 @@ kdray window controls:
   R                  reset to the scene's camera
   P                  save a screenshot (PNG in the current folder)
   B                  toggle k-d tree / brute force
+  T                  cycle the k-d walk: restart, ropes, short stack
+  C                  toggle the cost heatmap (work per sample, false colour)
   [ ]                max_depth down / up
   H                  this help
   Esc                quit";
@@ -30,6 +32,10 @@ pub enum Action {
     Camera(ControlKey),
     Screenshot,
     ToggleAccel,
+    /// T: the next k-d walk (`Traversal::next`).
+    CycleTraversal,
+    /// C: the cost heatmap instead of the shaded image, or back.
+    ToggleHeatmap,
     DepthDown,
     DepthUp,
     Help,
@@ -39,11 +45,13 @@ pub enum Action {
 /// The window's own keys, by the character they type (lower case), each
 /// acting once per press. A new key is one line here, one in [`HELP`] and
 /// one arm in `App::handle_key`.
-const WINDOW_KEYS: [(&str, Action); 7] = [
+const WINDOW_KEYS: [(&str, Action); 9] = [
     ("f", Action::Camera(ControlKey::FrameAll)),
     ("r", Action::Camera(ControlKey::Reset)),
     ("p", Action::Screenshot),
     ("b", Action::ToggleAccel),
+    ("t", Action::CycleTraversal),
+    ("c", Action::ToggleHeatmap),
     ("[", Action::DepthDown),
     ("]", Action::DepthUp),
     ("h", Action::Help),
@@ -234,6 +242,8 @@ mod tests {
             (none, ch("r"), Some(Action::Camera(ControlKey::Reset))),
             (none, ch("p"), Some(Action::Screenshot)),
             (none, ch("b"), Some(Action::ToggleAccel)),
+            (none, ch("T"), Some(Action::CycleTraversal)),
+            (none, ch("c"), Some(Action::ToggleHeatmap)),
             (none, ch("["), Some(Action::DepthDown)),
             (none, ch("]"), Some(Action::DepthUp)),
             (none, ch("h"), Some(Action::Help)),

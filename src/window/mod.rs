@@ -8,6 +8,7 @@
 //! - [`refinement`]: which image each frame traces: preview scale, bands,
 //!   passes (pure, unit-tested).
 //! - [`frame_stats`]: frame figures and the exit report (pure, unit-tested).
+//! - [`heatmap_view`]: the cost heatmap's texels (pure, unit-tested).
 //! - [`title`]: what the title bar says, and how often (pure, unit-tested).
 //! - [`reload`]: polling the scene file and its OBJ/MTL files.
 //! - [`gpu_scene`]: the scene prepared, uploaded and turned into the
@@ -20,6 +21,7 @@ mod app;
 pub mod camera_controller;
 mod frame_stats;
 mod gpu_scene;
+mod heatmap_view;
 mod input;
 mod refinement;
 pub mod reload;
@@ -48,6 +50,8 @@ pub struct WindowOptions {
     /// [`DEFAULT_WINDOW_SAMPLES`]).
     pub samples: Option<u32>,
     pub accel: Accel,
+    /// The k-d walk to start with (T cycles them).
+    pub traversal: crate::kdtree::Traversal,
     /// Present this many frames, then exit.
     pub frames: Option<u32>,
     /// On exit, save the last presented frame here.

@@ -4,6 +4,7 @@
 use std::time::{Duration, Instant};
 
 use crate::gpu::Accel;
+use crate::kdtree::Traversal;
 
 /// Shortest interval between two title changes made by frames.
 pub const TITLE_INTERVAL: Duration = Duration::from_millis(250);
@@ -27,7 +28,11 @@ pub struct TitleFacts<'a> {
     pub frame_ms: f64,
     pub mrays: f64,
     pub accel: Accel,
+    /// The k-d walk (named with the k-d tree only).
+    pub traversal: Traversal,
     pub max_depth: u32,
+    /// The cost heatmap is shown, with this top of scale (work per sample).
+    pub heatmap: Option<u32>,
 }
 
 /// The title bar's state: when it may change next, and the reload status
@@ -76,11 +81,19 @@ impl TitleBar {
             Progress::Moving { scale } => format!("moving, 1/{scale} resolution"),
             Progress::Refining { passes, samples } => format!("{passes}/{samples} spp"),
         };
-        let accel = crate::choice::Choice::name(facts.accel);
+        let accel = match facts.accel {
+            Accel::Kdtree => format!("kdtree {}", facts.traversal),
+            Accel::Brute => "brute".to_string(),
+        };
         let mut title = format!(
             "{} - {progress} - {:.1} ms - {:.2} Mrays/s - {accel} - depth {}",
             facts.name, facts.frame_ms, facts.mrays, facts.max_depth
         );
+        if let Some(max) = facts.heatmap {
+            title.push_str(&format!(
+                " - HEATMAP: nodes + objects per sample, 0 to {max}"
+            ));
+        }
         if self.reloading {
             title.push_str(" - reloading");
         }
@@ -108,12 +121,22 @@ mod tests {
             frame_ms: 12.345,
             mrays: 1.5,
             accel: Accel::Kdtree,
+            traversal: Traversal::Ropes,
             max_depth: 5,
+            heatmap: None,
         };
         assert_eq!(
             bar.text(&facts),
-            "seed.toml - 3/16 spp - 12.3 ms - 1.50 Mrays/s - kdtree - depth 5"
+            "seed.toml - 3/16 spp - 12.3 ms - 1.50 Mrays/s - kdtree ropes - depth 5"
         );
+        facts.traversal = Traversal::ShortStack;
+        facts.heatmap = Some(120);
+        assert_eq!(
+            bar.text(&facts),
+            "seed.toml - 3/16 spp - 12.3 ms - 1.50 Mrays/s - kdtree short-stack - depth 5 \
+             - HEATMAP: nodes + objects per sample, 0 to 120"
+        );
+        facts.heatmap = None;
         facts.progress = Progress::Moving { scale: 4 };
         facts.accel = Accel::Brute;
         bar.reloading = true;

@@ -41,10 +41,21 @@ struct Layouts {
     present_params: wgpu::Buffer,
 }
 
+/// Bytes per pixel of the cost buffers (`bindings::PIXEL_COSTS`).
+const COST_TEXEL: u64 = bindings::COST_WORDS as u64 * 4;
+
 /// Buffers and bind groups that depend on the image size and the scene.
 struct Bindings {
     image: wgpu::Buffer,
     preview: wgpu::Buffer,
+    /// Each pixel's walk cost, summed over passes like the colour.
+    image_costs: wgpu::Buffer,
+    preview_costs: wgpu::Buffer,
+    /// The heatmap's texels (`heatmap_view`), shown instead of the image
+    /// and the preview while the heatmap is on.
+    heat_image: wgpu::Buffer,
+    heat_preview: wgpu::Buffer,
+    heat_present_group: wgpu::BindGroup,
     /// Pixels each buffer holds.
     capacity: u64,
     image_group: wgpu::BindGroup,
@@ -58,6 +69,7 @@ impl Layouts {
         device: &wgpu::Device,
         scene: &SceneBuffers,
         target: &wgpu::Buffer,
+        costs: &wgpu::Buffer,
     ) -> wgpu::BindGroup {
         let mut entries = vec![wgpu::BindGroupEntry {
             binding: bindings::PARAMS.index,
@@ -68,6 +80,10 @@ impl Layouts {
             binding: bindings::ACCUMULATION.index,
             resource: target.as_entire_binding(),
         });
+        entries.push(wgpu::BindGroupEntry {
+            binding: bindings::PIXEL_COSTS.index,
+            resource: costs.as_entire_binding(),
+        });
         device.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some("accumulate"),
             layout: &self.trace,
@@ -77,41 +93,54 @@ impl Layouts {
 
     fn bindings(&self, device: &wgpu::Device, scene: &SceneBuffers, pixels: u64) -> Bindings {
         let pixels = pixels.max(1);
-        let buffer = |label| {
+        let buffer = |label, texel| {
             device.create_buffer(&wgpu::BufferDescriptor {
                 label: Some(label),
-                size: pixels * ACCUMULATION_TEXEL,
-                usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST,
+                size: pixels * texel,
+                usage: wgpu::BufferUsages::STORAGE
+                    | wgpu::BufferUsages::COPY_DST
+                    | wgpu::BufferUsages::COPY_SRC,
                 mapped_at_creation: false,
             })
         };
-        let image = buffer("accumulation");
-        let preview = buffer("preview");
-        let present_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
-            label: Some("present"),
-            layout: &self.present,
-            entries: &[
-                wgpu::BindGroupEntry {
-                    binding: 0,
-                    resource: self.present_params.as_entire_binding(),
-                },
-                wgpu::BindGroupEntry {
-                    binding: 1,
-                    resource: image.as_entire_binding(),
-                },
-                wgpu::BindGroupEntry {
-                    binding: 2,
-                    resource: preview.as_entire_binding(),
-                },
-            ],
-        });
+        let image = buffer("accumulation", ACCUMULATION_TEXEL);
+        let preview = buffer("preview", ACCUMULATION_TEXEL);
+        let image_costs = buffer("accumulation costs", COST_TEXEL);
+        let preview_costs = buffer("preview costs", COST_TEXEL);
+        let heat_image = buffer("heatmap", ACCUMULATION_TEXEL);
+        let heat_preview = buffer("preview heatmap", ACCUMULATION_TEXEL);
+        let present_group = |label, image: &wgpu::Buffer, preview: &wgpu::Buffer| {
+            device.create_bind_group(&wgpu::BindGroupDescriptor {
+                label: Some(label),
+                layout: &self.present,
+                entries: &[
+                    wgpu::BindGroupEntry {
+                        binding: 0,
+                        resource: self.present_params.as_entire_binding(),
+                    },
+                    wgpu::BindGroupEntry {
+                        binding: 1,
+                        resource: image.as_entire_binding(),
+                    },
+                    wgpu::BindGroupEntry {
+                        binding: 2,
+                        resource: preview.as_entire_binding(),
+                    },
+                ],
+            })
+        };
         Bindings {
-            image_group: self.trace_group(device, scene, &image),
-            preview_group: self.trace_group(device, scene, &preview),
+            image_group: self.trace_group(device, scene, &image, &image_costs),
+            preview_group: self.trace_group(device, scene, &preview, &preview_costs),
+            present_group: present_group("present", &image, &preview),
+            heat_present_group: present_group("present heatmap", &heat_image, &heat_preview),
             image,
             preview,
+            image_costs,
+            preview_costs,
+            heat_image,
+            heat_preview,
             capacity: pixels,
-            present_group,
         }
     }
 }
@@ -129,6 +158,8 @@ pub struct Viewer {
     target_format: wgpu::TextureFormat,
     layouts: Layouts,
     bindings: Bindings,
+    /// While the cost heatmap is shown: its scale's top (work per sample).
+    heatmap: Option<u32>,
 }
 
 fn storage(
@@ -209,6 +240,7 @@ impl Viewer {
                 label: Some(shaders::ACCUMULATE_ENTRY_POINT),
                 entries: &bindings::layout_entries(&bindings::entry_point_bindings(&[
                     bindings::ACCUMULATION,
+                    bindings::PIXEL_COSTS,
                 ])),
             });
             let accumulate = bindings::trace_pipeline_on(
@@ -272,6 +304,7 @@ impl Viewer {
                 target_format,
                 bindings: layouts.bindings(device, scene, pixels),
                 layouts,
+                heatmap: None,
             }
         })
     }
@@ -293,8 +326,10 @@ impl Viewer {
         let b = &self.bindings;
         let (image_group, preview_group) = ctx.checked("binding the scene", |device| {
             (
-                self.layouts.trace_group(device, scene, &b.image),
-                self.layouts.trace_group(device, scene, &b.preview),
+                self.layouts
+                    .trace_group(device, scene, &b.image, &b.image_costs),
+                self.layouts
+                    .trace_group(device, scene, &b.preview, &b.preview_costs),
             )
         })?;
         self.bindings.image_group = image_group;
@@ -316,26 +351,117 @@ impl Viewer {
 
     /// Largest image an accumulation buffer may hold on this device.
     pub fn max_pixels(ctx: &GpuContext) -> u64 {
+        // The accumulation texel is the largest of the buffers' texels.
         crate::gpu::max_binding_bytes(&ctx.device.limits()) / ACCUMULATION_TEXEL
     }
 
-    /// Records `work` into `encoder`, drawing to `target`. The uniforms are
-    /// written now; submit before the next call.
-    pub fn encode(
-        &self,
+    /// Runs `work` and draws to `target`: with `heatmap`, the cost heatmap
+    /// (the pass's costs read back and turned into texels before the
+    /// present pass), else the image.
+    pub fn frame(
+        &mut self,
         ctx: &GpuContext,
-        encoder: &mut wgpu::CommandEncoder,
         target: &wgpu::TextureView,
         work: &FrameWork,
-    ) {
+        heatmap: bool,
+    ) -> Result<()> {
+        let mut encoder = ctx
+            .device
+            .create_command_encoder(&wgpu::CommandEncoderDescriptor {
+                label: Some("frame"),
+            });
+        if heatmap {
+            self.encode_trace(ctx, &mut encoder, work);
+            ctx.queue.submit([encoder.finish()]);
+            self.heatmap = Some(self.update_heatmap(ctx, &work.present)?);
+            encoder = ctx
+                .device
+                .create_command_encoder(&wgpu::CommandEncoderDescriptor {
+                    label: Some("present heatmap"),
+                });
+        } else {
+            self.heatmap = None;
+            self.encode_trace(ctx, &mut encoder, work);
+        }
+        ctx.queue.write_buffer(
+            &self.layouts.present_params,
+            0,
+            bytemuck::bytes_of(&work.present),
+        );
+        self.draw(&mut encoder, &self.present, target);
+        ctx.queue.submit([encoder.finish()]);
+        Ok(())
+    }
+
+    /// The heatmap's scale while it is shown.
+    pub fn heatmap_scale(&self) -> Option<u32> {
+        self.heatmap
+    }
+
+    /// Reads back the colours and costs of the image and the preview that
+    /// `present` shows, and writes their heatmap texels; returns the
+    /// scale's top (the image's, or the preview's when only it is shown).
+    fn update_heatmap(&self, ctx: &GpuContext, present: &PresentParams) -> Result<u32> {
         let b = &self.bindings;
-        let (buffer, group) = match work.target {
-            Target::Image => (&b.image, &b.image_group),
-            Target::Preview => (&b.preview, &b.preview_group),
+        let pixels = |size: [u32; 2]| (size[0] as u64 * size[1] as u64).min(b.capacity);
+        let sources = [
+            (
+                &b.image,
+                &b.image_costs,
+                &b.heat_image,
+                pixels(present.image_size) * present.show_image.min(1) as u64,
+            ),
+            (
+                &b.preview,
+                &b.preview_costs,
+                &b.heat_preview,
+                pixels(present.preview_size),
+            ),
+        ];
+        let mut scale = None;
+        for (colours, costs, heat, n) in sources {
+            if n == 0 {
+                continue;
+            }
+            let (colour_bytes, cost_bytes) = (n * ACCUMULATION_TEXEL, n * COST_TEXEL);
+            let readback = ctx.checked("reading back the heatmap's costs", |device| {
+                let readback = device.create_buffer(&wgpu::BufferDescriptor {
+                    label: Some("heatmap readback"),
+                    size: colour_bytes + cost_bytes,
+                    usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
+                    mapped_at_creation: false,
+                });
+                let mut encoder = device.create_command_encoder(&Default::default());
+                encoder.copy_buffer_to_buffer(colours, 0, &readback, 0, colour_bytes);
+                encoder.copy_buffer_to_buffer(costs, 0, &readback, colour_bytes, cost_bytes);
+                ctx.queue.submit([encoder.finish()]);
+                readback
+            })?;
+            let bytes = ctx.read_buffer(&readback, colour_bytes + cost_bytes)?;
+            let (colour_bytes, cost_bytes) = bytes.split_at(colour_bytes as usize);
+            let (texels, max) = super::heatmap_view::heatmap_texels(
+                bytemuck::cast_slice(cost_bytes),
+                bytemuck::cast_slice(colour_bytes),
+            );
+            ctx.queue
+                .write_buffer(heat, 0, bytemuck::cast_slice(&texels));
+            scale.get_or_insert(max);
+        }
+        Ok(scale.unwrap_or(1))
+    }
+
+    /// Records `work`'s clear and pass into `encoder`. The uniforms are
+    /// written now; submit before the next call.
+    fn encode_trace(&self, ctx: &GpuContext, encoder: &mut wgpu::CommandEncoder, work: &FrameWork) {
+        let b = &self.bindings;
+        let (buffer, costs, group) = match work.target {
+            Target::Image => (&b.image, &b.image_costs, &b.image_group),
+            Target::Preview => (&b.preview, &b.preview_costs, &b.preview_group),
         };
         if let Some(pixels) = work.clear_pixels {
-            let bytes = pixels.clamp(1, b.capacity) * ACCUMULATION_TEXEL;
-            encoder.clear_buffer(buffer, 0, Some(bytes));
+            let pixels = pixels.clamp(1, b.capacity);
+            encoder.clear_buffer(buffer, 0, Some(pixels * ACCUMULATION_TEXEL));
+            encoder.clear_buffer(costs, 0, Some(pixels * COST_TEXEL));
         }
         if let Some(params) = &work.pass {
             ctx.queue
@@ -353,12 +479,6 @@ impl Viewer {
                 1,
             );
         }
-        ctx.queue.write_buffer(
-            &self.layouts.present_params,
-            0,
-            bytemuck::bytes_of(&work.present),
-        );
-        self.draw(encoder, &self.present, target);
     }
 
     fn draw(
@@ -384,7 +504,11 @@ impl Viewer {
             multiview_mask: None,
         });
         pass.set_pipeline(pipeline);
-        pass.set_bind_group(0, &self.bindings.present_group, &[]);
+        let group = match self.heatmap {
+            Some(_) => &self.bindings.heat_present_group,
+            None => &self.bindings.present_group,
+        };
+        pass.set_bind_group(0, group, &[]);
         pass.draw(0..3, 0..1);
     }
 

@@ -65,12 +65,20 @@ pub struct RenderArgs {
     /// Nearest-hit search in the shader.
     #[arg(long, value_parser = choice::<Accel>(), default_value = "kdtree")]
     pub accel: Accel,
-    /// The kernel's k-d walk (with --accel kdtree; the window always runs the default).
+    /// The kernel's k-d walk (with --accel kdtree; the window starts with it, T cycles them).
     #[arg(long, value_parser = choice::<Traversal>(), default_value = "ropes")]
     pub traversal: Traversal,
     /// Print one JSON object of figures on stdout (with --window: frame rates, on exit).
     #[arg(long)]
     pub stats: bool,
+    /// Also write a heatmap of the work per pixel (k-d nodes visited plus objects
+    /// tested, over all the pixel's rays) as a PNG, with its colour bar and scale.
+    #[arg(long, value_name = "PATH", conflicts_with = "window")]
+    pub heatmap: Option<PathBuf>,
+    /// The heatmap's top of scale, in work units [default: the image's largest];
+    /// fix it to compare runs.
+    #[arg(long, value_name = "N", requires = "heatmap", value_parser = clap::value_parser!(u32).range(1..))]
+    pub heatmap_max: Option<u32>,
     /// Open an interactive window instead of writing a PNG (see the README's controls).
     #[arg(long, conflicts_with = "output")]
     pub window: bool,

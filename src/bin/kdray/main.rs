@@ -8,7 +8,7 @@ use std::process::ExitCode;
 
 use args::{Cli, Command, RenderArgs};
 use clap::Parser;
-use kdray::gpu::{Accel, GpuContext, TilePlan};
+use kdray::gpu::{GpuContext, TilePlan};
 use kdray::{Error, Result};
 
 fn main() -> ExitCode {
@@ -20,6 +20,7 @@ fn main() -> ExitCode {
             height,
             samples,
             accel,
+            traversal,
             stats,
             window: true,
             frames,
@@ -31,29 +32,12 @@ fn main() -> ExitCode {
             height,
             samples,
             accel,
+            traversal,
             frames,
             screenshot,
             stats,
         }),
-        Command::Render(RenderArgs {
-            scene,
-            output,
-            width,
-            height,
-            samples,
-            accel,
-            traversal,
-            stats,
-            ..
-        }) => render(
-            &scene,
-            output,
-            width,
-            height,
-            samples,
-            (accel, traversal),
-            stats,
-        ),
+        Command::Render(args) => render(args),
         Command::Info => info(),
         Command::Bench(args) => kdray::bench::bench_cli(&args.into()),
         Command::Generate(args) => kdray::bench::generate_cli(&args.into()),
@@ -67,15 +51,22 @@ fn main() -> ExitCode {
     }
 }
 
-fn render(
-    scene_path: &Path,
-    output: Option<PathBuf>,
-    width: Option<u32>,
-    height: Option<u32>,
-    samples: Option<u32>,
-    (accel, traversal): (Accel, kdray::kdtree::Traversal),
-    stats: bool,
-) -> Result<()> {
+fn render(args: RenderArgs) -> Result<()> {
+    let RenderArgs {
+        scene: scene_path,
+        output,
+        width,
+        height,
+        samples,
+        accel,
+        traversal,
+        stats,
+        heatmap,
+        heatmap_max,
+        ..
+    } = args;
+    let scene_path = scene_path.as_path();
+    let heatmap = heatmap.map(|path| (path, heatmap_max));
     let mut scene = kdray::scene::load_scene(scene_path)?;
     kdray::render::check_render_flags(width, height, samples)?;
     scene.render.samples = samples.unwrap_or(scene.render.samples);
@@ -87,6 +78,14 @@ fn render(
             .map_or("out".into(), |s| s.to_string_lossy().into_owned());
         PathBuf::from(format!("{stem}.png"))
     });
+    if let Some((path, _)) = &heatmap {
+        if same_file(path, &output) {
+            return Err(Error::Usage(format!(
+                "--heatmap: {} is also the image's output",
+                path.display()
+            )));
+        }
+    }
 
     // Rows stream from the GPU into the PNG (memory holds one band); the
     // file appears only once complete, and a failure leaves no trace.
@@ -104,19 +103,30 @@ fn render(
         .map_err(|e| Error::Output(e.to_string()))?
         .progress_chars("=> "),
     );
+    let (width, height) = (scene.render.width, scene.render.height);
     let prepared = kdray::gpu::PreparedScene::new(scene, accel);
+    // The heatmap's scale needs every pixel: its costs are kept whole (4
+    // bytes per pixel), unlike the image.
+    let mut work: Vec<u32> = Vec::new();
     let (figures, _) = kdray::render::render_scene_streaming(
         &ctx,
         &prepared,
         accel,
         traversal,
         TilePlan::DEFAULT_MAX_TILE_PIXELS,
+        stats || heatmap.is_some(),
         &mut |band| {
             progress.inc(band.rows as u64);
+            if let (Some(_), Some(costs)) = (&heatmap, band.costs) {
+                work.extend(costs.iter().map(|c| c.work()));
+            }
             png.write_rows(band.rgb)
         },
     )?;
     progress.finish_and_clear();
+    if let Some((path, max)) = &heatmap {
+        kdray::output::heatmap::write_heatmap(path, &work, width, height, *max)?;
+    }
     png.finish()?;
     if let Some(warning) = figures.loop_limit_warning() {
         eprintln!("kdray: {warning}");
@@ -125,6 +135,16 @@ fn render(
         println!("{}", serde_json::to_string(&figures)?);
     }
     Ok(())
+}
+
+/// Whether two paths name the same file (the same path, or both existing
+/// and one file).
+fn same_file(a: &Path, b: &Path) -> bool {
+    a == b
+        || matches!(
+            (std::fs::canonicalize(a), std::fs::canonicalize(b)),
+            (Ok(x), Ok(y)) if x == y
+        )
 }
 
 fn info() -> Result<()> {
