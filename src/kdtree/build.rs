@@ -6,13 +6,13 @@
 //!
 //! Classification against a plane at `p` on axis `a`, by the object's box
 //! clipped to the node's cell (`super::clip`): an object goes below (left)
-//! when `min <= p` and above (right) when `max > p`, or when it is flat and
-//! lies in the plane (`min == max == p`). So an object straddling the plane
-//! is referenced by both children; one touching the plane from either side
-//! is in the left child, which is the side the traversal takes for rays
-//! lying in the plane; and one lying in the plane is in both, for rays that
-//! cross two planes at once at its edge and so never enter the cell below.
-//! This is what makes the tree exact where the seed's is not.
+//! when it comes within ε of the lower side and above (right) when within ε
+//! of the upper side ([`super::clip::sides`]). So an object straddling the
+//! plane, touching it, or lying in it is referenced by both children: a ray
+//! that meets it there (crossing two or three planes at once at a cell's
+//! edge or corner, or passing a few ulps beyond a vertex by rounding) finds
+//! it from either side. This is what makes the tree exact where the seed's
+//! is not.
 
 use crate::geometry::{Aabb, Primitives};
 use crate::layout::KdNode;

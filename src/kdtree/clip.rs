@@ -1,23 +1,22 @@
 //! Clipping an object to a k-d cell: the box of the part of the object
-//! inside the cell, so that a long triangle is referenced only by the cells
-//! its clipped part touches ("perfect splits", Wald & Havran 2006).
+//! near the cell, so that a long triangle is referenced only by the cells
+//! its clipped part reaches ("perfect splits", Wald & Havran 2006).
 //!
-//! Triangles are clipped as polygons (Sutherland-Hodgman) against the planes
-//! of the cell that cut their box; spheres and plain boxes by their box. The
-//! result must never lose a point of the object that lies in the closed
-//! cell, even by rounding, so the polygon is clipped in f64 against the cell
-//! widened by `ε = 2^-21 m` (4 to 8 f32 ulps of `m`, some 2^28 times the f64
-//! error of the clip), and its box is widened by ε again before it is
-//! rounded outwards to f32. `m` is the largest coordinate magnitude of the
-//! triangle or of the scene's box, whichever is larger: a ray's hit test
-//! rounds in proportion to the coordinates it works with, and rays start
-//! anywhere in the scene. The result is then intersected with the cell and with the triangle's
-//! own box, which are exact: sides the clip did not cut stay exactly where
-//! today's classification puts them (a vertex on a plane, a flat triangle in
-//! a plane), and only clipped sides carry the widening. A triangle passing
-//! within ε of a cell is therefore referenced by it, which also covers the
-//! few-ulp rounding of a ray/triangle test that reports a hit just outside an
-//! edge.
+//! An object belongs to a cell when it comes within the scene's tolerance
+//! `ε` of the closed cell: the build files it in every such leaf, both
+//! children when it merely touches a plane or passes within ε of it. ε is
+//! [`TOLERANCE`] times the largest coordinate magnitude of the scene, 32 f32
+//! ulps there: a ray/object test rounds in proportion to the coordinates it
+//! works with, so it can report a hit a few ulps off an object (on the far
+//! side of a plane the object only touches, at a vertex where three split
+//! planes meet). Without ε such a hit is found by brute force and missed by
+//! the tree. Ray origins farther out than about 16 times the scene's
+//! magnitude round by more than ε (see docs/design.md).
+//!
+//! Triangles are clipped as polygons (Sutherland-Hodgman, in f64) against
+//! the planes of the widened cell that cut their box; the polygon's box is
+//! rounded outwards to f32, so it never loses a point of the exact answer.
+//! Spheres and plain boxes clip by their box.
 
 use glam::DVec3;
 
@@ -30,10 +29,13 @@ pub enum Shapes<'a> {
     Boxes(&'a [Aabb]),
     Primitives {
         prims: &'a Primitives,
-        /// Largest coordinate magnitude of the scene's box.
-        magnitude: f32,
+        /// ε: how near a cell an object must come to belong to it.
+        tolerance: f32,
     },
 }
+
+/// ε relative to the scene's coordinate magnitude: 2^-18, 32 f32 ulps.
+pub const TOLERANCE: f32 = 1.0 / (1u32 << 18) as f32;
 
 impl<'a> Shapes<'a> {
     pub fn primitives(prims: &'a Primitives) -> Self {
@@ -43,7 +45,19 @@ impl<'a> Shapes<'a> {
         } else {
             b.min.abs().max(b.max.abs()).max_element()
         };
-        Shapes::Primitives { prims, magnitude }
+        Shapes::Primitives {
+            prims,
+            tolerance: magnitude * TOLERANCE,
+        }
+    }
+
+    /// ε, in scene units: plain boxes are exact (0), the scene's objects
+    /// get [`TOLERANCE`] of its magnitude.
+    pub fn tolerance(&self) -> f32 {
+        match self {
+            Shapes::Boxes(_) => 0.0,
+            Shapes::Primitives { tolerance, .. } => *tolerance,
+        }
     }
 
     pub fn len(&self) -> usize {
@@ -60,18 +74,43 @@ impl<'a> Shapes<'a> {
         }
     }
 
-    /// Box of the part of object `id` inside the closed `cell`, or `None`
-    /// when the object does not reach the cell. Never smaller than the exact
-    /// answer (see the module comment).
+    /// Box of the part of object `id` within ε of the closed `cell`, or
+    /// `None` when the object does not come that near. Never smaller than
+    /// the exact answer (see the module comment).
     pub fn clip(&self, id: u32, cell: &Aabb) -> Option<Aabb> {
+        let reach = widen(cell, self.tolerance());
         match self {
-            Shapes::Primitives { prims, magnitude } if id as usize >= prims.spheres.len() => {
+            Shapes::Primitives { prims, .. } if id as usize >= prims.spheres.len() => {
                 let t = &prims.triangles[id as usize - prims.spheres.len()];
-                clip_triangle(t, cell, *magnitude)
+                clip_triangle(t, &reach)
             }
-            _ => intersect(&self.bounds(id), cell),
+            _ => intersect(&self.bounds(id), &reach),
         }
     }
+}
+
+/// `cell` grown by `eps` on every side, rounded outwards.
+pub fn widen(cell: &Aabb, eps: f32) -> Aabb {
+    if eps == 0.0 {
+        return *cell;
+    }
+    let down = |x: f32| f32_down(x as f64 - eps as f64);
+    let up = |x: f32| f32_up(x as f64 + eps as f64);
+    Aabb {
+        min: cell.min.to_array().map(down).into(),
+        max: cell.max.to_array().map(up).into(),
+    }
+}
+
+/// Whether an object whose clipped box spans `[min, max]` on the plane's
+/// axis goes below a plane at `p` and above it: below when it comes within
+/// `eps` of the lower side (`min <= p + eps`), above when within `eps` of
+/// the upper side (`max >= p - eps`). Touching goes both ways.
+pub fn sides(min: f32, max: f32, p: f32, eps: f32) -> (bool, bool) {
+    (
+        min as f64 <= p as f64 + eps as f64,
+        max as f64 >= p as f64 - eps as f64,
+    )
 }
 
 /// The intersection of two closed boxes, or `None` when they do not meet.
@@ -165,36 +204,36 @@ fn f32_up(x: f64) -> f32 {
     }
 }
 
-/// The clip tolerance relative to the triangle's coordinate magnitude.
-const CLIP_TOLERANCE: f64 = 1.0 / (1u64 << 21) as f64;
-
-/// Box of the part of triangle `t` inside the closed `cell` (conservative, see
-/// the module comment), or `None` when it does not come within ε of the cell;
-/// `magnitude` is the scene's coordinate magnitude.
-pub fn clip_triangle(t: &TriangleF32, cell: &Aabb, magnitude: f32) -> Option<Aabb> {
+/// Box of the part of triangle `t` inside the closed box `reach`, rounded
+/// outwards, or `None` when they do not meet.
+pub fn clip_triangle(t: &TriangleF32, reach: &Aabb) -> Option<Aabb> {
     let bounds = t.bounds();
-    let exact = intersect(&bounds, cell)?;
+    let exact = intersect(&bounds, reach)?;
     if exact == bounds {
-        return Some(bounds); // inside the cell: nothing to clip
+        return Some(bounds); // inside: nothing to clip
     }
-    let eps = t.magnitude().max(magnitude) as f64 * CLIP_TOLERANCE;
     let mut polygon = Polygon::triangle(t);
     for a in 0..3 {
-        if cell.min[a] > bounds.min[a] {
-            polygon = polygon.clip(a, cell.min[a] as f64 - eps, false);
+        if reach.min[a] > bounds.min[a] {
+            polygon = polygon.clip(a, reach.min[a] as f64, false);
         }
-        if cell.max[a] < bounds.max[a] {
-            polygon = polygon.clip(a, cell.max[a] as f64 + eps, true);
+        if reach.max[a] < bounds.max[a] {
+            polygon = polygon.clip(a, reach.max[a] as f64, true);
         }
         if polygon.len == 0 {
             return None;
         }
     }
+    // f64 rounding of the clip is some 1e-16 of the coordinates; a guard of
+    // 2^-40 of them keeps the box conservative before it is rounded to f32.
     let (min, max) = polygon.bounds();
+    let guard = t.magnitude().max(reach.min.abs().max(reach.max.abs()).max_element()) as f64
+        * (1.0 / (1u64 << 40) as f64);
     let widened = Aabb {
-        min: (min - eps).to_array().map(f32_down).into(),
-        max: (max + eps).to_array().map(f32_up).into(),
+        min: (min - guard).to_array().map(f32_down).into(),
+        max: (max + guard).to_array().map(f32_up).into(),
     };
+    // Sides the clip did not cut stay exactly the triangle's own.
     intersect(&widened, &exact)
 }
 
@@ -235,7 +274,7 @@ mod tests {
         let t = TriangleF32 {
             v: [Vec3::ZERO, Vec3::X, Vec3::Y],
         };
-        assert_eq!(clip_triangle(&t, &cube(-1.0, 2.0), 0.0), Some(t.bounds()));
+        assert_eq!(clip_triangle(&t, &cube(-1.0, 2.0)), Some(t.bounds()));
     }
 
     /// The right triangle (0,0,0), (4,0,0), (0,4,0) clipped by the unit cube
@@ -251,7 +290,7 @@ mod tests {
             min: Vec3::new(1.0, 1.0, -1.0),
             max: Vec3::new(2.0, 2.0, 1.0),
         };
-        let got = clip_triangle(&t, &cell, 0.0).unwrap();
+        let got = clip_triangle(&t, &cell).unwrap();
         let exact = Aabb {
             min: Vec3::new(1.0, 1.0, 0.0),
             max: Vec3::new(2.0, 2.0, 0.0),
@@ -272,7 +311,7 @@ mod tests {
             min: Vec3::new(2.0, 0.5, -1.0),
             max: Vec3::new(3.0, 3.0, 1.0),
         };
-        let got = clip_triangle(&t, &cell, 0.0).unwrap();
+        let got = clip_triangle(&t, &cell).unwrap();
         let exact = Aabb {
             min: Vec3::new(2.0, 0.5, 0.0),
             max: Vec3::new(3.0, 2.0, 0.0),
@@ -295,12 +334,12 @@ mod tests {
             min: Vec3::new(6.0, 0.0, 0.0),
             max: Vec3::new(10.0, 4.0, 10.0),
         };
-        assert_eq!(clip_triangle(&t, &off, 0.0), None);
+        assert_eq!(clip_triangle(&t, &off), None);
         let on = Aabb {
             min: Vec3::new(4.0, 4.0, 0.0),
             max: Vec3::new(6.0, 6.0, 10.0),
         };
-        let got = clip_triangle(&t, &on, 0.0).unwrap();
+        let got = clip_triangle(&t, &on).unwrap();
         // The sliver is x = y = s, z in [0.99 s, s]; for s in [4, 6] that is
         // z from 3.96 (on the edge to (10,10,9.9)) to 6.
         let exact = Aabb {
@@ -317,12 +356,12 @@ mod tests {
         let t = TriangleF32 {
             v: [Vec3::ONE, Vec3::new(3.0, 1.0, 2.0), Vec3::new(2.0, 3.0, 3.0)],
         };
-        let got = clip_triangle(&t, &cube(0.0, 1.0), 0.0).unwrap();
+        let got = clip_triangle(&t, &cube(0.0, 1.0)).unwrap();
         assert_close_outside(got, cube(1.0, 1.0), 3.0);
         let edge = TriangleF32 {
             v: [Vec3::new(1.0, 0.2, 0.2), Vec3::new(1.0, 0.8, 0.8), Vec3::new(3.0, 0.5, 0.1)],
         };
-        let got = clip_triangle(&edge, &cube(0.0, 1.0), 0.0).unwrap();
+        let got = clip_triangle(&edge, &cube(0.0, 1.0)).unwrap();
         assert_eq!(got.max.x, 1.0);
         assert_close_outside(
             got,
@@ -345,7 +384,7 @@ mod tests {
                 Vec3::new(-5.0, 15.0, 1.0),
             ],
         };
-        let got = clip_triangle(&t, &cube(0.0, 1.0), 0.0).unwrap();
+        let got = clip_triangle(&t, &cube(0.0, 1.0)).unwrap();
         assert_eq!(
             got,
             Aabb {
@@ -360,7 +399,7 @@ mod tests {
         let t = TriangleF32 {
             v: [Vec3::splat(5.0), Vec3::splat(6.0), Vec3::new(5.0, 6.0, 5.0)],
         };
-        assert_eq!(clip_triangle(&t, &cube(0.0, 1.0), 0.0), None);
+        assert_eq!(clip_triangle(&t, &cube(0.0, 1.0)), None);
         let boxes = [cube(0.5, 3.0)];
         let shapes = Shapes::Boxes(&boxes);
         assert_eq!(shapes.clip(0, &cube(0.0, 1.0)), Some(cube(0.5, 1.0)));

@@ -15,7 +15,7 @@
 use crate::geometry::Aabb;
 
 use super::build::{BuildParams, Decision, Strategy};
-use super::clip::Shapes;
+use super::clip::{sides, Shapes};
 
 pub struct Median<'a> {
     pub shapes: Shapes<'a>,
@@ -53,9 +53,9 @@ impl Median<'_> {
         let mut above_cell = *cell;
         above_cell.min[a] = p;
         let (mut below, mut above) = (Vec::new(), Vec::new());
+        let eps = self.shapes.tolerance();
         for (id, b) in objects {
-            let goes_below = b.min[a] <= p;
-            let goes_above = b.max[a] > p || b.min[a] == p;
+            let (goes_below, goes_above) = sides(b.min[a], b.max[a], p, eps);
             if goes_below && goes_above {
                 below.extend(self.shapes.clip(id, &below_cell).map(|c| (id, c)));
                 above.extend(self.shapes.clip(id, &above_cell).map(|c| (id, c)));

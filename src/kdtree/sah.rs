@@ -5,14 +5,14 @@
 //! re-clipped boxes of the objects that straddle the plane, whose few new
 //! events are sorted and merged in. The only full sort is at the root.
 //!
-//! Classification is the module comment's of `build.rs`: against a plane at
-//! `p`, an object goes below when its clipped `min <= p`, above when
-//! `max > p` or when it lies flat in the plane (`min == max == p`).
+//! Classification is [`super::clip::sides`]: against a plane at `p`, an
+//! object goes below when its clipped `min <= p + ε`, above when
+//! `max >= p - ε`. The sweep counts objects without ε (a cost estimate).
 
 use crate::geometry::Aabb;
 
 use super::build::{BuildParams, Decision, Strategy};
-use super::clip::Shapes;
+use super::clip::{sides, Shapes};
 use super::events::{self, END, PLANAR, START};
 
 /// One node's objects: the events of their clipped boxes, sorted, per axis.
@@ -177,7 +177,7 @@ impl Sah<'_> {
         cell: &Aabb,
         side: &mut Vec<u8>,
     ) -> (EventLists, EventLists) {
-        let (a, pk) = (split.axis, events::key(split.position + 0.0));
+        let (a, p, eps) = (split.axis, split.position, self.shapes.tolerance());
         if side.len() < self.shapes.len() {
             side.resize(self.shapes.len(), 0);
         }
@@ -187,15 +187,19 @@ impl Sah<'_> {
                 side[events::id(e) as usize] = BOTH;
             }
         }
+        // An end event is the object's max, a start its min, a planar both.
         for &e in on_axis {
-            let k = events::position_key(e);
+            let x = events::value(events::position_key(e));
             let id = events::id(e) as usize;
-            match events::kind(e) {
-                END if k <= pk => side[id] = BELOW,
-                START if k > pk => side[id] = ABOVE,
-                PLANAR if k < pk => side[id] = BELOW,
-                PLANAR if k > pk => side[id] = ABOVE,
-                _ => {}
+            let (below, above) = match events::kind(e) {
+                END => sides(f32::NEG_INFINITY, x, p, eps),
+                START => sides(x, f32::INFINITY, p, eps),
+                _ => sides(x, x, p, eps),
+            };
+            if !above {
+                side[id] = BELOW;
+            } else if !below {
+                side[id] = ABOVE;
             }
         }
         let straddling: Vec<u32> = on_axis
@@ -221,8 +225,14 @@ impl Sah<'_> {
                 n_above += 1;
             }
         }
-        let only_below = split.below - straddling.len();
-        let only_above = split.above - straddling.len();
+        let only_below = on_axis
+            .iter()
+            .filter(|&&e| events::kind(e) != END && side[events::id(e) as usize] == BELOW)
+            .count();
+        let only_above = on_axis
+            .iter()
+            .filter(|&&e| events::kind(e) != END && side[events::id(e) as usize] == ABOVE)
+            .count();
         let [lx, ly, lz] = lists.axes;
         let mut below_axes: [Vec<u64>; 3] = Default::default();
         let mut above_axes: [Vec<u64>; 3] = Default::default();
@@ -292,6 +302,10 @@ impl Strategy for Sah<'_> {
         match self.best_split(&lists, cell) {
             Some(s) if s.cost < leaf_cost && !(s.below == n && s.above == n) => {
                 let (below, above) = self.partition(lists, &s, cell, side);
+                if below.count == n && above.count == n {
+                    // Everything came within ε of the plane: no progress.
+                    return Decision::Leaf(below);
+                }
                 Decision::Split {
                     axis: s.axis,
                     position: s.position,
