@@ -57,27 +57,67 @@ fn intersect_sphere(s: Sphere, ray: Ray) -> f32 {
     return NO_HIT;
 }
 
-// Möller–Trumbore, two-sided; t > 0 or NO_HIT.
+// The watertight test's per-ray constants (RayShear in src/geometry.rs):
+// kz the axis the ray runs most along, kx, ky the others; (sx, sy, sz) map
+// the direction onto (0, 0, 1).
+struct RayShear {
+    kx: u32,
+    ky: u32,
+    kz: u32,
+    sx: f32,
+    sy: f32,
+    sz: f32,
+}
+
+fn ray_shear(dir: vec3<f32>) -> RayShear {
+    let m = abs(dir);
+    var kz = 2u;
+    if (m.x >= m.y && m.x >= m.z) {
+        kz = 0u;
+    } else if (m.y >= m.z) {
+        kz = 1u;
+    }
+    let kx = (kz + 1u) % 3u;
+    let ky = (kz + 2u) % 3u;
+    let sz = 1.0 / dir[kz];
+    return RayShear(kx, ky, kz, dir[kx] * sz, dir[ky] * sz, sz);
+}
+
+// Watertight, two-sided (Woop, Benthin and Wald, JCGT 2013); t > 0 or
+// NO_HIT. Edge-function signs come from comparing two rounded products, the
+// same two in both triangles of a shared edge; equal products (an edge
+// function of 0) count as inside. See TriangleF32::intersect.
 fn intersect_triangle(tri: Triangle, ray: Ray) -> f32 {
-    let e1 = tri.v1 - tri.v0;
-    let e2 = tri.v2 - tri.v0;
-    let p = cross(ray.dir, e2);
-    let det = dot(e1, p);
+    let sh = ray_shear(ray.dir);
+    let a = tri.v0 - ray.origin;
+    let b = tri.v1 - ray.origin;
+    let c = tri.v2 - ray.origin;
+    let ax = a[sh.kx] - sh.sx * a[sh.kz];
+    let ay = a[sh.ky] - sh.sy * a[sh.kz];
+    let bx = b[sh.kx] - sh.sx * b[sh.kz];
+    let by = b[sh.ky] - sh.sy * b[sh.kz];
+    let cx = c[sh.kx] - sh.sx * c[sh.kz];
+    let cy = c[sh.ky] - sh.sy * c[sh.kz];
+    let u0 = cx * by;
+    let u1 = cy * bx;
+    let v0 = ax * cy;
+    let v1 = ay * cx;
+    let w0 = bx * ay;
+    let w1 = by * ax;
+    let any_negative = u0 < u1 || v0 < v1 || w0 < w1;
+    let any_positive = u0 > u1 || v0 > v1 || w0 > w1;
+    if (any_negative && any_positive) {
+        return NO_HIT;
+    }
+    let det = (u0 - u1) + (v0 - v1) + (w0 - w1);
     if (abs(det) < 1e-30) {
         return NO_HIT;
     }
-    let inv_det = 1.0 / det;
-    let s = ray.origin - tri.v0;
-    let u = dot(s, p) * inv_det;
-    if (u < 0.0 || u > 1.0) {
-        return NO_HIT;
-    }
-    let q = cross(s, e1);
-    let v = dot(ray.dir, q) * inv_det;
-    if (v < 0.0 || u + v > 1.0) {
-        return NO_HIT;
-    }
-    let t = dot(e2, q) * inv_det;
+    let az = sh.sz * a[sh.kz];
+    let bz = sh.sz * b[sh.kz];
+    let cz = sh.sz * c[sh.kz];
+    let t_scaled = (u0 - u1) * az + (v0 - v1) * bz + (w0 - w1) * cz;
+    let t = t_scaled * (1.0 / det);
     return select(NO_HIT, t, t > 0.0);
 }
 

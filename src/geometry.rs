@@ -117,6 +117,46 @@ impl SphereF32 {
     }
 }
 
+/// The watertight triangle test's per-ray constants: `kz` is the axis the
+/// ray runs most along, `kx`, `ky` the two others; the shear (sx, sy) and the
+/// scale sz map the ray's direction onto (0, 0, 1). |dir[kz]| >= 1/sqrt(3) for
+/// a unit direction, so the divisions are safe. Ties pick the lower axis.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct RayShear {
+    pub kx: usize,
+    pub ky: usize,
+    pub kz: usize,
+    pub sx: f32,
+    pub sy: f32,
+    pub sz: f32,
+}
+
+impl RayShear {
+    pub fn of(dir: Vec3) -> RayShear {
+        let m = dir.abs();
+        let kz = if m.x >= m.y && m.x >= m.z {
+            0
+        } else if m.y >= m.z {
+            1
+        } else {
+            2
+        };
+        // The winding-preserving swap of the paper is left out: the test is
+        // two-sided, so the orientation of the projected triangle does not matter.
+        let kx = (kz + 1) % 3;
+        let ky = (kz + 2) % 3;
+        let sz = 1.0 / dir[kz];
+        RayShear {
+            kx,
+            ky,
+            kz,
+            sx: dir[kx] * sz,
+            sy: dir[ky] * sz,
+            sz,
+        }
+    }
+}
+
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct TriangleF32 {
     pub v: [Vec3; 3],
@@ -130,27 +170,44 @@ impl TriangleF32 {
         }
     }
 
-    /// Möller–Trumbore, two-sided; t > 0. Degenerate triangles never hit.
+    /// Watertight, two-sided; t > 0. Woop, Benthin and Wald, "Watertight
+    /// Ray/Triangle Intersection" (JCGT 2013): the vertices are moved into a
+    /// frame where the ray is the +z axis through (0, 0), and the ray hits if
+    /// (0, 0) is inside or on the projected triangle, by the signs of its three
+    /// edge functions. A shared edge's function is, in both triangles, the
+    /// difference of the same two rounded products, so each sign decision is a
+    /// comparison of those products: a ray through a shared edge or vertex hits
+    /// at least one of the triangles there, never neither. A product equal to
+    /// the other (an edge function of exactly 0) counts as inside, where the
+    /// paper recomputes in f64 (WGSL has none): a ray exactly on an edge hits
+    /// both triangles. Degenerate triangles and rays in the triangle's plane
+    /// (|det| < 1e-30) never hit.
     pub fn intersect(&self, ray: &Ray) -> Option<f32> {
-        let e1 = self.v[1] - self.v[0];
-        let e2 = self.v[2] - self.v[0];
-        let p = ray.dir.cross(e2);
-        let det = e1.dot(p);
+        let sh = RayShear::of(ray.dir);
+        let a = self.v[0] - ray.origin;
+        let b = self.v[1] - ray.origin;
+        let c = self.v[2] - ray.origin;
+        let (ax, ay) = (a[sh.kx] - sh.sx * a[sh.kz], a[sh.ky] - sh.sy * a[sh.kz]);
+        let (bx, by) = (b[sh.kx] - sh.sx * b[sh.kz], b[sh.ky] - sh.sy * b[sh.kz]);
+        let (cx, cy) = (c[sh.kx] - sh.sx * c[sh.kz], c[sh.ky] - sh.sy * c[sh.kz]);
+        // Edge functions u = cx by - cy bx (edge b-c), v (c-a), w (a-b): their
+        // signs come from comparing the products, which no fused multiply-add
+        // can round differently in two triangles.
+        let (u0, u1) = (cx * by, cy * bx);
+        let (v0, v1) = (ax * cy, ay * cx);
+        let (w0, w1) = (bx * ay, by * ax);
+        let any_negative = u0 < u1 || v0 < v1 || w0 < w1;
+        let any_positive = u0 > u1 || v0 > v1 || w0 > w1;
+        if any_negative && any_positive {
+            return None;
+        }
+        let det = (u0 - u1) + (v0 - v1) + (w0 - w1);
         if det.abs() < 1e-30 {
-            return None; // degenerate, or parallel to the ray
+            return None; // degenerate, or the ray lies in the triangle's plane
         }
-        let inv_det = 1.0 / det;
-        let s = ray.origin - self.v[0];
-        let u = s.dot(p) * inv_det;
-        if !(0.0..=1.0).contains(&u) {
-            return None;
-        }
-        let q = s.cross(e1);
-        let v = ray.dir.dot(q) * inv_det;
-        if v < 0.0 || u + v > 1.0 {
-            return None;
-        }
-        let t = e2.dot(q) * inv_det;
+        let (az, bz, cz) = (sh.sz * a[sh.kz], sh.sz * b[sh.kz], sh.sz * c[sh.kz]);
+        let t_scaled = (u0 - u1) * az + (v0 - v1) * bz + (w0 - w1) * cz;
+        let t = t_scaled * (1.0 / det);
         (t > 0.0).then_some(t)
     }
 

@@ -1,17 +1,38 @@
-//! Surface-area-heuristic k-d tree construction over object bounding boxes.
+//! k-d tree construction: the frame both build strategies share (the
+//! recursion, the flat node list, subtrees on threads), the parameters, and
+//! the tree itself. The strategies decide each node: [`super::sah`] (the
+//! surface area heuristic with perfect splits, the default) and
+//! [`super::median`] (the seed study's median split, for comparison).
 //!
-//! Classification against a plane at `p` on axis `a` (bounds clipped to the
-//! node): an object goes below (left) when `min <= p` and above (right) when
-//! `max > p`, or when it is flat and lies in the plane (`min == max == p`).
-//! So an object straddling the plane is referenced by both children; one
-//! touching the plane from either side is in the left child, which is the
-//! side the traversal takes for rays lying in the plane; and one lying in
-//! the plane is in both, for rays that cross two planes at once at its edge
-//! and so never enter the cell below. This is what makes the tree exact
-//! where the seed's is not.
+//! Classification against a plane at `p` on axis `a`, by the object's box
+//! clipped to the node's cell (`super::clip`): an object goes below (left)
+//! when it comes within ε of the lower side and above (right) when within ε
+//! of the upper side ([`super::clip::sides`]). So an object straddling the
+//! plane, touching it, or lying in it is referenced by both children: a ray
+//! that meets it there (crossing two or three planes at once at a cell's
+//! edge or corner, or passing a few ulps beyond a vertex by rounding) finds
+//! it from either side. This is what makes the tree exact where the seed's
+//! is not.
 
-use crate::geometry::Aabb;
+use crate::geometry::{Aabb, Primitives};
 use crate::layout::KdNode;
+
+use super::clip::Shapes;
+use super::median::Median;
+use super::sah::{EventLists, Sah};
+
+/// How the build chooses its planes.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum BuildStrategy {
+    /// Surface area heuristic over the clipped objects' bounds (Wald &
+    /// Havran 2006): the fast tree.
+    #[default]
+    Sah,
+    /// The seed study's Algorithm 2: the median of the objects' centres on
+    /// axis `depth mod 3`, down to one object per leaf, with straddling
+    /// objects in both children (the study put them on one side only).
+    Median,
+}
 
 /// Knobs of the build. Costs are in units of one traversal step.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -21,6 +42,7 @@ pub struct BuildParams {
     pub intersection_cost: f32,
     /// Cost factor (< 1) that rewards cutting off empty space.
     pub empty_bonus: f32,
+    pub strategy: BuildStrategy,
 }
 
 impl BuildParams {
@@ -37,7 +59,13 @@ impl BuildParams {
             traversal_cost: 40.0,
             intersection_cost: 20.0,
             empty_bonus: 0.8,
+            strategy: BuildStrategy::Sah,
         }
+    }
+
+    /// The defaults for a scene's objects.
+    pub fn for_primitives(prims: &Primitives) -> Self {
+        Self::for_object_count(prims.len())
     }
 }
 
@@ -51,33 +79,37 @@ pub struct KdTree {
     pub max_depth: u32,
 }
 
-struct Builder<'a> {
-    object_bounds: &'a [Aabb],
-    params: BuildParams,
-    nodes: Vec<KdNode>,
-    leaf_objects: Vec<u32>,
-    deepest: u32,
-}
-
-/// Subtrees over fewer objects than this are built on the calling thread.
-const PARALLEL_MIN_OBJECTS: usize = 4096;
-
-/// Builds the tree over objects `0..object_bounds.len()`, using as many
-/// threads as the machine has.
+/// Builds the tree over boxes `0..object_bounds.len()` (each object is its
+/// box), using as many threads as the machine has.
 pub fn build(object_bounds: &[Aabb], params: BuildParams) -> KdTree {
-    let threads = std::thread::available_parallelism().map_or(1, |n| n.get());
-    build_with_threads(object_bounds, params, threads)
+    build_with_threads(object_bounds, params, available_threads())
 }
 
 /// [`build`] with at most `threads` threads. The tree does not depend on
 /// the number: subtrees built apart are appended in the order a single
 /// thread builds them.
 pub fn build_with_threads(object_bounds: &[Aabb], params: BuildParams, threads: usize) -> KdTree {
-    let bounds = object_bounds.iter().copied().fold(Aabb::EMPTY, Aabb::union);
-    let mut builder = Builder::new(object_bounds, params);
-    let ids: Vec<u32> = (0..object_bounds.len() as u32).collect();
-    if ids.is_empty() {
-        builder.leaf(&ids, 0);
+    build_shapes(Shapes::Boxes(object_bounds), params, threads)
+}
+
+/// Builds the tree over a scene's spheres (clipped by their boxes) and
+/// triangles (clipped as polygons) with at most `threads` threads; the tree
+/// does not depend on the number.
+pub fn build_primitives(prims: &Primitives, params: BuildParams, threads: usize) -> KdTree {
+    build_shapes(Shapes::primitives(prims), params, threads)
+}
+
+pub(super) fn available_threads() -> usize {
+    std::thread::available_parallelism().map_or(1, |n| n.get())
+}
+
+fn build_shapes(shapes: Shapes<'_>, params: BuildParams, threads: usize) -> KdTree {
+    let threads = threads.max(1);
+    let n = shapes.len();
+    if n == 0 {
+        let median = Median { shapes, params };
+        let mut builder = Builder::new(&median);
+        builder.leaf(Vec::new(), 0);
         return KdTree {
             nodes: builder.nodes,
             leaf_objects: builder.leaf_objects,
@@ -88,55 +120,86 @@ pub fn build_with_threads(object_bounds: &[Aabb], params: BuildParams, threads: 
             max_depth: 0,
         };
     }
-    builder.node(ids, bounds, 0, threads.max(1));
-    KdTree {
-        nodes: builder.nodes,
-        leaf_objects: builder.leaf_objects,
-        bounds,
-        max_depth: builder.deepest,
-    }
-}
-
-/// Sorts like `sort_unstable_by(f32::total_cmp)`, through u32 keys of the
-/// same order (integer sorts are about twice as fast as a comparator's).
-fn sort_total(values: &mut [f32]) {
-    // Negative floats: all bits flipped; the rest: the sign bit set.
-    fn key(x: f32) -> u32 {
-        let bits = x.to_bits();
-        if bits >> 31 == 1 {
-            !bits
-        } else {
-            bits | 1 << 31
+    let bounds = (0..n as u32)
+        .map(|id| shapes.bounds(id))
+        .fold(Aabb::EMPTY, Aabb::union);
+    let (nodes, leaf_objects, deepest) = match params.strategy {
+        BuildStrategy::Sah => {
+            let sah = Sah { shapes, params };
+            let mut builder = Builder::new(&sah);
+            builder.node(EventLists::root(&shapes, threads), bounds, 0, threads);
+            (builder.nodes, builder.leaf_objects, builder.deepest)
         }
-    }
-    fn value(k: u32) -> f32 {
-        f32::from_bits(if k >> 31 == 1 { k & !(1 << 31) } else { !k })
-    }
-    let mut keys: Vec<u32> = values.iter().map(|&x| key(x)).collect();
-    keys.sort_unstable();
-    for (v, k) in values.iter_mut().zip(keys) {
-        *v = value(k);
+        BuildStrategy::Median => {
+            let median = Median { shapes, params };
+            let mut builder = Builder::new(&median);
+            builder.node(median.root(), bounds, 0, threads);
+            (builder.nodes, builder.leaf_objects, builder.deepest)
+        }
+    };
+    KdTree {
+        nodes,
+        leaf_objects,
+        bounds,
+        max_depth: deepest,
     }
 }
 
-struct Split {
-    axis: usize,
-    position: f32,
-    cost: f32,
+/// What a strategy decides at one node.
+pub(super) enum Decision<O> {
+    Leaf(O),
+    /// Split at `position` on `axis`, with the objects of each child.
+    Split {
+        axis: usize,
+        position: f32,
+        below: O,
+        above: O,
+    },
 }
 
-impl<'a> Builder<'a> {
-    fn new(object_bounds: &'a [Aabb], params: BuildParams) -> Self {
+/// A way of choosing planes. `split` must depend only on its arguments, so
+/// that the tree is the same whichever thread builds a subtree.
+pub(super) trait Strategy: Sync {
+    /// A node's objects, in whatever form the strategy keeps them.
+    type Objects: Send;
+    /// Working memory a thread reuses from node to node.
+    type Scratch: Send;
+    fn scratch(&self) -> Self::Scratch;
+    fn count(objects: &Self::Objects) -> usize;
+    /// The ids of a leaf's objects, ascending.
+    fn leaf_ids(objects: Self::Objects) -> Vec<u32>;
+    fn split(
+        &self,
+        objects: Self::Objects,
+        cell: &Aabb,
+        depth: u32,
+        scratch: &mut Self::Scratch,
+    ) -> Decision<Self::Objects>;
+}
+
+struct Builder<'s, S: Strategy> {
+    strategy: &'s S,
+    scratch: S::Scratch,
+    nodes: Vec<KdNode>,
+    leaf_objects: Vec<u32>,
+    deepest: u32,
+}
+
+/// Subtrees over fewer objects than this are built on the calling thread.
+const PARALLEL_MIN_OBJECTS: usize = 4096;
+
+impl<'s, S: Strategy> Builder<'s, S> {
+    fn new(strategy: &'s S) -> Self {
         Builder {
-            object_bounds,
-            params,
+            strategy,
+            scratch: strategy.scratch(),
             nodes: Vec::new(),
             leaf_objects: Vec::new(),
             deepest: 0,
         }
     }
 
-    fn leaf(&mut self, ids: &[u32], depth: u32) {
+    fn leaf(&mut self, ids: Vec<u32>, depth: u32) {
         self.deepest = self.deepest.max(depth);
         self.nodes.push(KdNode {
             kind: KdNode::LEAF,
@@ -144,97 +207,72 @@ impl<'a> Builder<'a> {
             index: self.leaf_objects.len() as u32,
             count: ids.len() as u32,
         });
-        self.leaf_objects.extend_from_slice(ids);
+        self.leaf_objects.extend_from_slice(&ids);
     }
 
-    fn clipped(&self, id: u32, cell: &Aabb) -> Aabb {
-        let b = self.object_bounds[id as usize];
-        Aabb {
-            min: b.min.max(cell.min),
-            max: b.max.min(cell.max),
-        }
-    }
-
-    /// Builds the subtree over `ids` in `cell`, appending its nodes depth
+    /// Builds the subtree over `objects` in `cell`, appending its nodes depth
     /// first (below child, then above child) with up to `threads` threads.
-    fn node(&mut self, ids: Vec<u32>, cell: Aabb, depth: u32, threads: usize) {
-        let n = ids.len();
-        let leaf_cost = self.params.intersection_cost * n as f32;
-        let split = if n <= 1 || depth >= self.params.max_depth {
-            None
-        } else {
-            self.best_split(&ids, &cell)
-        };
-        let Some(split) = split.filter(|s| s.cost < leaf_cost) else {
-            self.leaf(&ids, depth);
-            return;
-        };
-        let (a, p) = (split.axis, split.position);
-        let mut left = Vec::new();
-        let mut right = Vec::new();
-        for &id in &ids {
-            let b = self.clipped(id, &cell);
-            if b.min[a] <= p {
-                left.push(id);
-            }
-            // A flat object lying in the plane goes both ways: a ray can meet
-            // it from either side at a point where it crosses two planes at
-            // once, and so spends no time in the cell below.
-            if b.max[a] > p || b.min[a] == p {
-                right.push(id);
-            }
-        }
-        if left.len() == n && right.len() == n {
-            self.leaf(&ids, depth); // no progress possible
-            return;
-        }
-        drop(ids);
-        let mut left_cell = cell;
-        left_cell.max[a] = p;
-        let mut right_cell = cell;
-        right_cell.min[a] = p;
+    fn node(&mut self, objects: S::Objects, cell: Aabb, depth: u32, threads: usize) {
+        let n = S::count(&objects);
+        let (axis, position, below, above) =
+            match self.strategy.split(objects, &cell, depth, &mut self.scratch) {
+                Decision::Leaf(objects) => {
+                    self.leaf(S::leaf_ids(objects), depth);
+                    return;
+                }
+                Decision::Split {
+                    axis,
+                    position,
+                    below,
+                    above,
+                } => (axis, position, below, above),
+            };
+        let mut below_cell = cell;
+        below_cell.max[axis] = position;
+        let mut above_cell = cell;
+        above_cell.min[axis] = position;
 
         let this = self.nodes.len();
         self.nodes.push(KdNode {
-            kind: a as u32,
-            split: p,
+            kind: axis as u32,
+            split: position,
             index: 0,
             count: 0,
         });
         if threads < 2 || n < PARALLEL_MIN_OBJECTS {
-            self.node(left, left_cell, depth + 1, 1);
+            self.node(below, below_cell, depth + 1, 1);
             self.nodes[this].index = self.nodes.len() as u32;
-            self.node(right, right_cell, depth + 1, 1);
+            self.node(above, above_cell, depth + 1, 1);
             return;
         }
         // The above child on another thread, into a builder of its own.
-        let right_threads = threads / 2;
-        let mut above = Builder::new(self.object_bounds, self.params);
-        let mut job = Some((right, right_cell));
+        let above_threads = threads / 2;
+        let mut other = Builder::new(self.strategy);
+        let mut job = Some((above, above_cell));
         let worker_panic = std::thread::scope(|scope| {
             let worker = std::thread::Builder::new()
                 .name("kdray-kdtree".into())
                 .spawn_scoped(scope, || {
-                    if let Some((ids, cell)) = job.take() {
-                        above.node(ids, cell, depth + 1, right_threads);
+                    if let Some((objects, cell)) = job.take() {
+                        other.node(objects, cell, depth + 1, above_threads);
                     }
                 });
-            self.node(left, left_cell, depth + 1, threads - right_threads);
+            self.node(below, below_cell, depth + 1, threads - above_threads);
             worker.ok().and_then(|w| w.join().err())
         });
         if let Some(payload) = worker_panic {
             std::panic::resume_unwind(payload);
         }
-        if let Some((ids, cell)) = job.take() {
+        if let Some((objects, cell)) = job.take() {
             // The thread could not start: build it here.
-            above.node(ids, cell, depth + 1, 1);
+            other.node(objects, cell, depth + 1, 1);
         }
-        self.append_above_child(this, above);
+        self.append_above_child(this, other);
     }
 
     /// Appends a subtree built apart as the above child of node `this`,
     /// shifting its node and leaf-list indices past what is here.
-    fn append_above_child(&mut self, this: usize, above: Builder<'_>) {
+    fn append_above_child(&mut self, this: usize, above: Builder<'_, S>) {
         let node_base = self.nodes.len() as u32;
         let leaf_base = self.leaf_objects.len() as u32;
         self.nodes[this].index = node_base;
@@ -244,115 +282,5 @@ impl<'a> Builder<'a> {
         }));
         self.leaf_objects.extend(above.leaf_objects);
         self.deepest = self.deepest.max(above.deepest);
-    }
-
-    /// The cheapest plane over all axes, among the objects' clipped bound
-    /// planes strictly inside the cell.
-    #[allow(clippy::neg_cmp_op_on_partial_ord)] // NaN counts as not positive
-    fn best_split(&self, ids: &[u32], cell: &Aabb) -> Option<Split> {
-        let n = ids.len();
-        let area = cell.surface_area();
-        if !(area > 0.0) {
-            return None;
-        }
-        let inv_area = 1.0 / area;
-        let mut best: Option<Split> = None;
-        let mut mins = Vec::with_capacity(n);
-        let mut maxs = Vec::with_capacity(n);
-        for a in 0..3 {
-            let (lo, hi) = (cell.min[a], cell.max[a]);
-            if !(hi > lo) {
-                continue;
-            }
-            mins.clear();
-            maxs.clear();
-            for &id in ids {
-                let b = self.clipped(id, cell);
-                mins.push(b.min[a]);
-                maxs.push(b.max[a]);
-            }
-            sort_total(&mut mins);
-            sort_total(&mut maxs);
-            // Sweep candidate planes in increasing order; i = #(min <= p), j = #(max <= p).
-            let (mut i, mut j) = (0, 0);
-            loop {
-                let next = match (mins.get(i), maxs.get(j)) {
-                    (Some(&x), Some(&y)) => x.min(y),
-                    (Some(&x), None) => x,
-                    (None, Some(&y)) => y,
-                    (None, None) => break,
-                };
-                while i < n && mins[i] <= next {
-                    i += 1;
-                }
-                while j < n && maxs[j] <= next {
-                    j += 1;
-                }
-                if next <= lo || next >= hi {
-                    continue;
-                }
-                let (n_left, n_right) = (i, n - j);
-                let mut left_cell = *cell;
-                left_cell.max[a] = next;
-                let mut right_cell = *cell;
-                right_cell.min[a] = next;
-                let p_left = left_cell.surface_area() * inv_area;
-                let p_right = right_cell.surface_area() * inv_area;
-                let bonus = if n_left == 0 || n_right == 0 {
-                    self.params.empty_bonus
-                } else {
-                    1.0
-                };
-                let cost = self.params.traversal_cost
-                    + bonus
-                        * self.params.intersection_cost
-                        * (p_left * n_left as f32 + p_right * n_right as f32);
-                if best.as_ref().is_none_or(|b| cost < b.cost) {
-                    best = Some(Split {
-                        axis: a,
-                        position: next,
-                        cost,
-                    });
-                }
-            }
-        }
-        best
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-    use proptest::prelude::*;
-
-    /// Finite floats and the awkward ones: both zeros, subnormals,
-    /// infinities and NaNs of either sign.
-    fn any_float() -> impl Strategy<Value = f32> {
-        prop_oneof![
-            any::<f32>(),
-            prop::sample::select(vec![
-                0.0,
-                -0.0,
-                f32::MIN_POSITIVE / 2.0,
-                -f32::MIN_POSITIVE / 2.0,
-                f32::INFINITY,
-                f32::NEG_INFINITY,
-                f32::NAN,
-                -f32::NAN,
-                f32::MAX,
-                f32::MIN,
-            ]),
-        ]
-    }
-
-    proptest! {
-        #[test]
-        fn sort_total_sorts_like_total_cmp(mut values in prop::collection::vec(any_float(), 0..200)) {
-            let mut expected = values.clone();
-            expected.sort_unstable_by(f32::total_cmp);
-            sort_total(&mut values);
-            let bits = |v: &[f32]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
-            prop_assert_eq!(bits(&values), bits(&expected));
-        }
     }
 }

@@ -1,17 +1,24 @@
-//! The k-d tree: built on the CPU with the surface area heuristic
-//! ([`build`]), flattened into the GPU layout ([`crate::layout::KdNode`] +
-//! a leaf-object list), and walked by CPU mirrors of the shader's stackless
-//! walks ([`Traversal`]: [`traverse`], [`traverse_ropes`] over [`Ropes`],
-//! [`traverse_short_stack`]) that the tests check against brute force.
+//! The k-d tree: built on the CPU ([`build`]: the surface area heuristic
+//! with perfect splits, or the seed's median split), flattened into the GPU
+//! layout ([`crate::layout::KdNode`] + a leaf-object list), and walked by CPU
+//! mirrors of the shader's stackless walks ([`Traversal`]: [`traverse`],
+//! [`traverse_ropes`] over [`Ropes`], [`traverse_short_stack`]) that the
+//! tests check against brute force.
 
 mod build;
+mod clip;
+mod events;
+mod median;
 pub mod ropes;
+mod sah;
 pub mod traversal;
 pub mod traverse;
 pub mod traverse_ropes;
 pub mod traverse_short_stack;
 
-pub use build::{build, build_with_threads, BuildParams, KdTree};
+pub use build::{
+    build, build_primitives, build_with_threads, BuildParams, BuildStrategy, KdTree,
+};
 pub use ropes::Ropes;
 pub use traversal::Traversal;
 
@@ -21,8 +28,13 @@ use crate::layout::KdNode;
 impl KdTree {
     /// Builds the tree over all objects of `prims` with the default parameters.
     pub fn for_primitives(prims: &Primitives) -> KdTree {
-        let bounds: Vec<_> = (0..prims.len() as u32).map(|id| prims.bounds(id)).collect();
-        build(&bounds, BuildParams::for_object_count(bounds.len()))
+        Self::build_for(prims, BuildParams::for_primitives(prims))
+    }
+
+    /// Builds the tree over all objects of `prims` (triangles clipped to the
+    /// cells as polygons, spheres by their boxes) on every core.
+    pub fn build_for(prims: &Primitives, params: BuildParams) -> KdTree {
+        build_primitives(prims, params, build::available_threads())
     }
 
     /// One leaf holding objects `0..object_count`, in `bounds`: a valid tree
