@@ -565,10 +565,7 @@ fn scene_of(mesh: &Mesh) -> Scene {
         .primitives()
         .triangles
         .iter()
-        .map(|t| Triangle {
-            vertices: t.v.map(|v| v.as_dvec3()),
-            material: 0,
-        })
+        .map(|t| Triangle::flat(t.v.map(|v| v.as_dvec3()), 0))
         .collect();
     scene
 }
