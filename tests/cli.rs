@@ -365,25 +365,42 @@ fn absent_backend_exits_1_and_says_what_to_install() {
     assert!(dir.temp_files().is_empty(), "{:?}", dir.temp_files());
 }
 
+/// Brute force, the SAH tree and the seed's median tree (`--build median`)
+/// give the same pixels.
 #[test]
 fn brute_force_and_kdtree_images_agree() {
     let dir = TempDir::new("accel");
     let mixed = scene_path("mixed.toml");
     let mut images = Vec::new();
-    for accel in ["brute", "kdtree"] {
-        let name = format!("{accel}.png");
-        let run = kdray(
-            &dir.path,
-            &[
-                "render", &mixed, "-o", &name, "--width", "64", "--height", "48", "--accel", accel,
-            ],
-        );
-        assert_eq!(run.code, 0, "{accel}: {run:#?}");
-        let (w, h, rgb) = read_png_rgb(&dir.join(&name)).unwrap();
+    for (name, flags) in [
+        ("brute", ["--accel", "brute", "--build", "sah"]),
+        ("sah", ["--accel", "kdtree", "--build", "sah"]),
+        ("median", ["--accel", "kdtree", "--build", "median"]),
+    ] {
+        let png = format!("{name}.png");
+        let mut args = vec![
+            "render", &mixed, "-o", &png, "--width", "64", "--height", "48",
+        ];
+        args.extend(flags);
+        let run = kdray(&dir.path, &args);
+        assert_eq!(run.code, 0, "{name}: {run:#?}");
+        let (w, h, rgb) = read_png_rgb(&dir.join(&png)).unwrap();
         assert_eq!((w, h), (64, 48));
-        images.push(rgb);
+        images.push((name, rgb));
     }
-    assert!(images[0] == images[1], "the two PNGs' pixels differ");
+    for (name, rgb) in &images[1..] {
+        assert!(
+            *rgb == images[0].1,
+            "{name}: the PNG's pixels differ from brute force's"
+        );
+    }
+    let run = kdray(
+        &dir.path,
+        &["render", &mixed, "-o", "x.png", "--build", "fastest"],
+    );
+    assert_eq!(run.code, 2, "{run:#?}");
+    assert!(run.stderr.join("\n").contains("median"), "{:?}", run.stderr);
+    assert!(!dir.join("x.png").exists());
 }
 
 /// Mesh files that cannot be drawn (issue 10, section 5): before, a binary

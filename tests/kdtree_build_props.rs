@@ -43,35 +43,66 @@ fn triangle(v: [Vec3; 3]) -> Object {
 fn object() -> impl Strategy<Value = Object> {
     prop_oneof![
         // Long thin triangles: 3 to 25 units long, 1e-4 to 0.3 wide.
-        (vec3(10.0), unit(), 3.0f32..25.0, 0.0f32..1.0, unit(), prop_oneof![1e-4f32..1e-2, 1e-2f32..0.3])
+        (
+            vec3(10.0),
+            unit(),
+            3.0f32..25.0,
+            0.0f32..1.0,
+            unit(),
+            prop_oneof![1e-4f32..1e-2, 1e-2f32..0.3]
+        )
             .prop_map(|(a, d, len, along, side, width)| {
                 let b = a + d * len;
                 triangle([a, b, a + d * (len * along) + side * width])
             }),
         // Long thin triangles lying in an axis plane.
-        (snapped(16), 0usize..3, -12.0f32..12.0, -12.0f32..12.0, -1.0f32..1.0, -1.0f32..1.0, 1e-3f32..0.5)
+        (
+            snapped(16),
+            0usize..3,
+            -12.0f32..12.0,
+            -12.0f32..12.0,
+            -1.0f32..1.0,
+            -1.0f32..1.0,
+            1e-3f32..0.5
+        )
             .prop_map(|(a, axis, du, dv, au, av, width)| {
                 let (u, v) = (Vec3::AXES[(axis + 1) % 3], Vec3::AXES[(axis + 2) % 3]);
                 let b = a + u * du + v * dv;
-                triangle([a, b, a + u * (du * 0.5 + au * width) + v * (dv * 0.5 + av * width)])
+                triangle([
+                    a,
+                    b,
+                    a + u * (du * 0.5 + au * width) + v * (dv * 0.5 + av * width),
+                ])
             }),
         // A fan: thin triangles sharing one vertex, as a fanned polygon.
-        (vec3(10.0), unit(), 0.5f32..8.0, 3usize..24)
-            .prop_map(|(centre, axis, radius, n)| {
-                let (u, w) = axis.any_orthonormal_pair();
-                let rim: Vec<Vec3> = (0..n)
-                    .map(|i| {
-                        let a = std::f32::consts::TAU * i as f32 / n as f32;
-                        centre + radius * (a.cos() * u + a.sin() * w)
+        (vec3(10.0), unit(), 0.5f32..8.0, 3usize..24).prop_map(|(centre, axis, radius, n)| {
+            let (u, w) = axis.any_orthonormal_pair();
+            let rim: Vec<Vec3> = (0..n)
+                .map(|i| {
+                    let a = std::f32::consts::TAU * i as f32 / n as f32;
+                    centre + radius * (a.cos() * u + a.sin() * w)
+                })
+                .collect();
+            Object::Triangles(
+                (1..n - 1)
+                    .map(|i| TriangleF32 {
+                        v: [rim[0], rim[i], rim[i + 1]],
                     })
-                    .collect();
-                Object::Triangles((1..n - 1).map(|i| TriangleF32 { v: [rim[0], rim[i], rim[i + 1]] }).collect())
-            }),
+                    .collect(),
+            )
+        }),
         // Triangles with snapped vertices: vertices and edges on shared planes.
         (snapped(16), snapped(4), snapped(4)).prop_map(|(a, b, c)| triangle([a, a + b, a + c])),
         // Small random triangles.
-        (vec3(10.0), 0.01f32..2.0, unit(), unit()).prop_map(|(c, s, a, b)| triangle([c, c + a * s, c + b * s])),
-        (vec3(10.0), prop_oneof![0.05f32..1.0, 1e-4f32..1e-2, 3.0f32..20.0])
+        (vec3(10.0), 0.01f32..2.0, unit(), unit()).prop_map(|(c, s, a, b)| triangle([
+            c,
+            c + a * s,
+            c + b * s
+        ])),
+        (
+            vec3(10.0),
+            prop_oneof![0.05f32..1.0, 1e-4f32..1e-2, 3.0f32..20.0]
+        )
             .prop_map(|(center, radius)| Object::Sphere(SphereF32 { center, radius })),
     ]
 }
@@ -158,7 +189,11 @@ fn to_f32(t: &TriangleF32, p: DVec3) -> Vec3 {
 /// A point of the triangle, from barycentric weights in f64, rounded to the
 /// nearest f32 (so it is what an f32 computation of that point gives at best).
 fn on_triangle(t: &TriangleF32, a: f64, b: f64) -> Vec3 {
-    let (a, b) = if a + b > 1.0 { (1.0 - a, 1.0 - b) } else { (a, b) };
+    let (a, b) = if a + b > 1.0 {
+        (1.0 - a, 1.0 - b)
+    } else {
+        (a, b)
+    };
     let [p, q, r] = t.v.map(f64v);
     to_f32(t, p + (q - p) * a + (r - p) * b)
 }
@@ -257,7 +292,14 @@ fn direction() -> impl Strategy<Value = Vec3> {
 type RaySeed = (Vec3, Vec3, u8, usize, f64, f64);
 
 fn ray_seed() -> impl Strategy<Value = RaySeed> {
-    (vec3(16.0), direction(), 0u8..5, any::<usize>(), 0.0f64..=1.0, 0.0f64..=1.0)
+    (
+        vec3(16.0),
+        direction(),
+        0u8..5,
+        any::<usize>(),
+        0.0f64..=1.0,
+        0.0f64..=1.0,
+    )
 }
 
 /// Turns a seed into a ray: 0 as drawn; 1 starting on a split plane; 2 lying
@@ -469,11 +511,17 @@ fn a_diagonal_sliver_is_referenced_only_where_it_passes() {
         let tree = tree_for(&prims, median, 15.0);
         let cells = cells_referencing(&tree, id);
         let leaves = tree.nodes.iter().filter(|n| n.is_leaf()).count();
-        assert!(leaves > 100, "median {median}: a deep tree ({leaves} leaves)");
+        assert!(
+            leaves > 100,
+            "median {median}: a deep tree ({leaves} leaves)"
+        );
         assert!(!cells.is_empty());
         for cell in &cells {
             let d = segment_box_distance(a, b, cell);
-            assert!(d < 0.02, "median {median}: the sliver is {d} away from a cell referencing it: {cell:?}");
+            assert!(
+                d < 0.02,
+                "median {median}: the sliver is {d} away from a cell referencing it: {cell:?}"
+            );
         }
     }
 }
@@ -556,7 +604,9 @@ fn gear_scene_rays_match_brute_force() {
             } else {
                 on_triangle(t, rng.next_f64(), rng.next_f64())
             };
-            let Some(dir) = (target - origin).try_normalize() else { continue };
+            let Some(dir) = (target - origin).try_normalize() else {
+                continue;
+            };
             let ray = Ray { origin, dir };
             let brute_hit = closest_hit_brute(&prims, &ray, T_INFINITY);
             if brute_hit.is_some_and(|b| false_hit(&prims, &ray, &b)) {
@@ -569,11 +619,13 @@ fn gear_scene_rays_match_brute_force() {
             // different t for the same point: a tie.
             let tie = |k: f32, b: f32| (k - b).abs() <= 1e-4 * b.max(1.0);
             assert!(
-                kd.is_none() && brute.is_none()
-                    || kd.zip(brute).is_some_and(|(k, b)| tie(k, b)),
+                kd.is_none() && brute.is_none() || kd.zip(brute).is_some_and(|(k, b)| tie(k, b)),
                 "median {median}: kd {kd:?} brute {brute:?} ray {ray:?}"
             );
         }
     }
-    assert!(false_hits < 60, "{false_hits} of 6,000 rays skipped as false hits");
+    assert!(
+        false_hits < 60,
+        "{false_hits} of 6,000 rays skipped as false hits"
+    );
 }

@@ -46,14 +46,17 @@ fn split_bindings_give_the_unsplit_image() {
     let a = &prepared.arrays;
     let triangles = a.triangles.len() as u64;
     let leaves = a.leaf_ropes.len() as u64;
-    // Two chunks of triangles, the last one partial.
-    let chunk = (triangles / 2 + 7) * 48;
-    assert!(triangles * 48 > chunk && triangles * 48 <= 2 * chunk);
-    assert!(
-        leaves * 48 > chunk,
-        "the leaf ropes ({leaves}) should need several chunks too"
-    );
-    let odd = (triangles * 3 / 5) * 48 + 7; // not a whole number of elements
+    // Two chunks of the larger array, the last one partial; the smaller
+    // must need two as well (both arrays are 48 B an element).
+    let most = triangles.max(leaves);
+    let chunk = (most / 2 + 7) * 48;
+    for (name, n) in [("triangles", triangles), ("leaf ropes", leaves)] {
+        assert!(
+            n * 48 > chunk && n * 48 <= 2 * chunk,
+            "the {name} ({n}) should need two chunks of {chunk} B"
+        );
+    }
+    let odd = (most * 3 / 5) * 48 + 7; // not a whole number of elements
     for walk in Traversal::ALL {
         let whole = render_with_chunks(&prepared, walk, u64::MAX);
         for chunk_bytes in [chunk, odd] {

@@ -49,7 +49,9 @@ impl Mesh {
     fn primitives(&self) -> Primitives {
         Primitives {
             spheres: Vec::new(),
-            triangles: (0..self.triangles.len()).map(|i| self.triangle(i)).collect(),
+            triangles: (0..self.triangles.len())
+                .map(|i| self.triangle(i))
+                .collect(),
         }
     }
 
@@ -125,11 +127,13 @@ fn placement() -> impl Strategy<Value = Placement> {
         1 => (-3.2f64..3.2, -3.2f64..3.2, -3.2f64..3.2)
             .prop_map(|(a, b, c)| Some(DQuat::from_euler(glam::EulerRot::XYZ, a, b, c))),
     ];
-    (0.05f64..20.0, offset, turn, 0usize..3).prop_map(|(scale, offset, turn, permutation)| Placement {
-        scale,
-        offset,
-        turn,
-        permutation,
+    (0.05f64..20.0, offset, turn, 0usize..3).prop_map(|(scale, offset, turn, permutation)| {
+        Placement {
+            scale,
+            offset,
+            turn,
+            permutation,
+        }
     })
 }
 
@@ -182,7 +186,13 @@ fn fan() -> impl Strategy<Value = Mesh> {
 /// A strip of 2 - 8 triangles, each sharing an edge with the next.
 fn strip() -> impl Strategy<Value = Mesh> {
     (2usize..9)
-        .prop_flat_map(|n| (prop::collection::vec(-0.2f64..0.2, n + 2), heights(n + 2), placement()))
+        .prop_flat_map(|n| {
+            (
+                prop::collection::vec(-0.2f64..0.2, n + 2),
+                heights(n + 2),
+                placement(),
+            )
+        })
         .prop_map(|(jitter, h, placement)| {
             let local = (0..jitter.len())
                 .map(|i| DVec3::new(0.5 * i as f64 + jitter[i], (i % 2) as f64, h[i]))
@@ -208,7 +218,11 @@ fn subdivided_quad() -> impl Strategy<Value = Mesh> {
             let mut local = Vec::new();
             for j in 0..=m {
                 for i in 0..=n {
-                    local.push(DVec3::new(i as f64 / n as f64, j as f64 / m as f64, h[id(i, j)]));
+                    local.push(DVec3::new(
+                        i as f64 / n as f64,
+                        j as f64 / m as f64,
+                        h[id(i, j)],
+                    ));
                 }
             }
             let mut triangles = Vec::new();
@@ -230,7 +244,13 @@ fn subdivided_quad() -> impl Strategy<Value = Mesh> {
 /// vertex: its diagonals are the shared edges, long and thin triangles included.
 fn triangulated_polygon() -> impl Strategy<Value = Mesh> {
     (4usize..11)
-        .prop_flat_map(|n| (prop::collection::vec(0.0f64..1.0, n), 0.05f64..1.0, placement()))
+        .prop_flat_map(|n| {
+            (
+                prop::collection::vec(0.0f64..1.0, n),
+                0.05f64..1.0,
+                placement(),
+            )
+        })
         .prop_map(|(mut angles, aspect, placement)| {
             angles.sort_by(f64::total_cmp);
             angles.dedup_by(|a, b| (*a - *b).abs() < 1e-3);
@@ -289,10 +309,22 @@ fn aim() -> impl Strategy<Value = Aim> {
 }
 
 /// The ray aimed at `target` along `aim`, starting `distance` before it.
-fn aimed_ray(mesh: &Mesh, target: Vec3, near_triangle: usize, aim: &Aim, distance: f32) -> Option<Ray> {
+fn aimed_ray(
+    mesh: &Mesh,
+    target: Vec3,
+    near_triangle: usize,
+    aim: &Aim,
+    distance: f32,
+) -> Option<Ray> {
     let dir = match *aim {
         Aim::Random(v) => v.normalize(),
-        Aim::Axis(a, neg) => if neg { -Vec3::AXES[a] } else { Vec3::AXES[a] },
+        Aim::Axis(a, neg) => {
+            if neg {
+                -Vec3::AXES[a]
+            } else {
+                Vec3::AXES[a]
+            }
+        }
         Aim::Grazing { tangent, tilt } => {
             let n = mesh.triangle(near_triangle).normal();
             let in_plane = (tangent - tangent.dot(n) * n).try_normalize()?;
@@ -372,7 +404,11 @@ fn segment_distance(p: [f64; 2], q: [f64; 2]) -> f64 {
 }
 
 /// The nearest hit among the mesh's triangles by `intersect`.
-fn nearest_hit(mesh: &Mesh, ray: &Ray, intersect: impl Fn(&TriangleF32, &Ray) -> Option<f32>) -> Option<f32> {
+fn nearest_hit(
+    mesh: &Mesh,
+    ray: &Ray,
+    intersect: impl Fn(&TriangleF32, &Ray) -> Option<f32>,
+) -> Option<f32> {
     (0..mesh.triangles.len())
         .filter_map(|i| intersect(&mesh.triangle(i), ray))
         .min_by(f32::total_cmp)
@@ -407,7 +443,10 @@ fn moller_trumbore(tri: &TriangleF32, ray: &Ray) -> Option<f32> {
 type Pick = (usize, f32, Aim, f32);
 
 fn picks() -> impl Strategy<Value = Vec<Pick>> {
-    prop::collection::vec((any::<usize>(), edge_parameter(), aim(), 0.5f32..30.0), 1..32)
+    prop::collection::vec(
+        (any::<usize>(), edge_parameter(), aim(), 0.5f32..30.0),
+        1..32,
+    )
 }
 
 /// The rays of `picks` into `mesh`, each with the f64 verdict.
@@ -424,7 +463,10 @@ fn rays_into(mesh: &Mesh, picks: &[Pick]) -> Vec<(Ray, Truth)> {
             let (a, b) = edges[pick % edges.len()];
             let (va, vb) = (mesh.vertices[a], mesh.vertices[b]);
             let target = va + *s * (vb - va);
-            let near = mesh.triangles.iter().position(|t| t.contains(&a) && t.contains(&b))?;
+            let near = mesh
+                .triangles
+                .iter()
+                .position(|t| t.contains(&a) && t.contains(&b))?;
             let ray = aimed_ray(mesh, target, near, aim, distance * size.max(1.0))?;
             let truth = judge(mesh, &ray);
             Some((ray, truth))
@@ -440,7 +482,12 @@ fn check_watertight(mesh: &Mesh, rays: &[(Ray, Truth)]) -> Result<usize, TestCas
         if let Truth::Crosses(t_true) = *truth {
             decided += 1;
             let hit = nearest_hit(mesh, ray, TriangleF32::intersect);
-            prop_assert!(hit.is_some(), "crack: no triangle hit, ray {:?}, mesh {:?}", ray, mesh);
+            prop_assert!(
+                hit.is_some(),
+                "crack: no triangle hit, ray {:?}, mesh {:?}",
+                ray,
+                mesh
+            );
             let t = hit.unwrap() as f64;
             // Rounding moves the crossing along the ray by ~1/|cos| times as much.
             let cos = (0..mesh.triangles.len())
@@ -480,10 +527,16 @@ fn most_aimed_rays_are_decided_crossings() {
         let picks = picks().new_tree(&mut runner).unwrap().current();
         let rays = rays_into(&mesh, &picks);
         total += rays.len();
-        crossing += rays.iter().filter(|(_, t)| matches!(t, Truth::Crosses(_))).count();
+        crossing += rays
+            .iter()
+            .filter(|(_, t)| matches!(t, Truth::Crosses(_)))
+            .count();
     }
     assert!(total > 1000, "only {total} rays");
-    assert!(crossing * 3 > total, "only {crossing} of {total} rays are decided crossings");
+    assert!(
+        crossing * 3 > total,
+        "only {crossing} of {total} rays are decided crossings"
+    );
 }
 
 /// A fan of eight triangles around (0, 0, 0) in the plane z = 0: the ray
@@ -503,10 +556,20 @@ fn rays_through_a_flat_fan_hit() {
     for spoke in 1..9 {
         for s in [0.0f32, 0.1, 1.0 / 3.0, 0.5, 0.7, 0.9] {
             let target = s * mesh.vertices[spoke];
-            for dir in [Vec3::NEG_Z, Vec3::new(0.3, -0.2, -1.0).normalize(), Vec3::new(1.0, 1.0, -1e-3).normalize()] {
-                let ray = Ray { origin: target - 3.0 * dir, dir };
+            for dir in [
+                Vec3::NEG_Z,
+                Vec3::new(0.3, -0.2, -1.0).normalize(),
+                Vec3::new(1.0, 1.0, -1e-3).normalize(),
+            ] {
+                let ray = Ray {
+                    origin: target - 3.0 * dir,
+                    dir,
+                };
                 assert!(matches!(judge(&mesh, &ray), Truth::Crosses(_)), "{ray:?}");
-                assert!(nearest_hit(&mesh, &ray, TriangleF32::intersect).is_some(), "{ray:?}");
+                assert!(
+                    nearest_hit(&mesh, &ray, TriangleF32::intersect).is_some(),
+                    "{ray:?}"
+                );
             }
         }
     }
@@ -516,17 +579,35 @@ fn rays_through_a_flat_fan_hit() {
 /// exactly 0 counts as inside), and exactly through a shared vertex hits all.
 #[test]
 fn exact_edge_and_vertex_hits_count_for_every_triangle_there() {
-    let quad = [Vec3::new(0.0, 0.0, 0.0), Vec3::new(1.0, 0.0, 0.0), Vec3::new(1.0, 1.0, 0.0), Vec3::new(0.0, 1.0, 0.0)];
-    let lower = TriangleF32 { v: [quad[0], quad[1], quad[2]] };
-    let upper = TriangleF32 { v: [quad[0], quad[2], quad[3]] };
-    let on_diagonal = Ray { origin: Vec3::new(0.5, 0.5, 2.0), dir: Vec3::NEG_Z };
+    let quad = [
+        Vec3::new(0.0, 0.0, 0.0),
+        Vec3::new(1.0, 0.0, 0.0),
+        Vec3::new(1.0, 1.0, 0.0),
+        Vec3::new(0.0, 1.0, 0.0),
+    ];
+    let lower = TriangleF32 {
+        v: [quad[0], quad[1], quad[2]],
+    };
+    let upper = TriangleF32 {
+        v: [quad[0], quad[2], quad[3]],
+    };
+    let on_diagonal = Ray {
+        origin: Vec3::new(0.5, 0.5, 2.0),
+        dir: Vec3::NEG_Z,
+    };
     assert_eq!(lower.intersect(&on_diagonal), Some(2.0));
     assert_eq!(upper.intersect(&on_diagonal), Some(2.0));
-    let on_vertex = Ray { origin: Vec3::new(1.0, 1.0, -3.0), dir: Vec3::Z };
+    let on_vertex = Ray {
+        origin: Vec3::new(1.0, 1.0, -3.0),
+        dir: Vec3::Z,
+    };
     assert_eq!(lower.intersect(&on_vertex), Some(3.0));
     assert_eq!(upper.intersect(&on_vertex), Some(3.0));
     // Beside the edge by one f32 step: exactly one of the two.
-    let beside = Ray { origin: Vec3::new(0.5, f32::from_bits(0.5f32.to_bits() - 1), 2.0), dir: Vec3::NEG_Z };
+    let beside = Ray {
+        origin: Vec3::new(0.5, f32::from_bits(0.5f32.to_bits() - 1), 2.0),
+        dir: Vec3::NEG_Z,
+    };
     assert!(lower.intersect(&beside).is_some() != upper.intersect(&beside).is_some());
 }
 
@@ -534,18 +615,46 @@ fn exact_edge_and_vertex_hits_count_for_every_triangle_there() {
 /// from behind and one pointing away are two-sided and t > 0 as before.
 #[test]
 fn degenerate_parallel_and_behind_cases() {
-    let tri = TriangleF32 { v: [Vec3::ZERO, Vec3::X, Vec3::Y] };
-    let in_plane = Ray { origin: Vec3::new(-1.0, 0.25, 0.0), dir: Vec3::X };
+    let tri = TriangleF32 {
+        v: [Vec3::ZERO, Vec3::X, Vec3::Y],
+    };
+    let in_plane = Ray {
+        origin: Vec3::new(-1.0, 0.25, 0.0),
+        dir: Vec3::X,
+    };
     assert_eq!(tri.intersect(&in_plane), None);
-    let line = TriangleF32 { v: [Vec3::ZERO, Vec3::X, 2.0 * Vec3::X] };
-    assert_eq!(line.intersect(&Ray { origin: Vec3::new(0.5, 0.0, 1.0), dir: Vec3::NEG_Z }), None);
+    let line = TriangleF32 {
+        v: [Vec3::ZERO, Vec3::X, 2.0 * Vec3::X],
+    };
+    assert_eq!(
+        line.intersect(&Ray {
+            origin: Vec3::new(0.5, 0.0, 1.0),
+            dir: Vec3::NEG_Z
+        }),
+        None
+    );
     let point = TriangleF32 { v: [Vec3::ONE; 3] };
-    assert_eq!(point.intersect(&Ray { origin: Vec3::new(1.0, 1.0, 0.0), dir: Vec3::Z }), None);
-    let from_below = Ray { origin: Vec3::new(0.25, 0.25, -2.0), dir: Vec3::Z };
+    assert_eq!(
+        point.intersect(&Ray {
+            origin: Vec3::new(1.0, 1.0, 0.0),
+            dir: Vec3::Z
+        }),
+        None
+    );
+    let from_below = Ray {
+        origin: Vec3::new(0.25, 0.25, -2.0),
+        dir: Vec3::Z,
+    };
     assert_eq!(tri.intersect(&from_below), Some(2.0));
-    let away = Ray { origin: Vec3::new(0.25, 0.25, 2.0), dir: Vec3::Z };
+    let away = Ray {
+        origin: Vec3::new(0.25, 0.25, 2.0),
+        dir: Vec3::Z,
+    };
     assert_eq!(tri.intersect(&away), None);
-    let outside = Ray { origin: Vec3::new(0.6, 0.6, 2.0), dir: Vec3::NEG_Z };
+    let outside = Ray {
+        origin: Vec3::new(0.6, 0.6, 2.0),
+        dir: Vec3::NEG_Z,
+    };
     assert_eq!(tri.intersect(&outside), None);
 }
 

@@ -8,7 +8,7 @@ use std::time::Instant;
 
 use super::{Accel, GpuContext, SceneArrays, SceneBuffers};
 use crate::geometry::Primitives;
-use crate::kdtree::KdTree;
+use crate::kdtree::{BuildParams, BuildStrategy, KdTree};
 use crate::layout::FrameParams;
 use crate::scene::Scene;
 
@@ -30,10 +30,21 @@ impl PreparedScene {
     /// Builds what `accel` needs: the k-d tree for [`Accel::Kdtree`], a single
     /// leaf for [`Accel::Brute`].
     pub fn new(scene: Scene, accel: Accel) -> PreparedScene {
+        Self::built_by(scene, accel, BuildStrategy::default())
+    }
+
+    /// [`PreparedScene::new`] with the k-d tree built by `strategy`.
+    pub fn built_by(scene: Scene, accel: Accel, strategy: BuildStrategy) -> PreparedScene {
         let prims = Primitives::from_scene(&scene);
         let started = Instant::now();
         let tree = match accel {
-            Accel::Kdtree => KdTree::for_primitives(&prims),
+            Accel::Kdtree => KdTree::build_for(
+                &prims,
+                BuildParams {
+                    strategy,
+                    ..BuildParams::for_primitives(&prims)
+                },
+            ),
             Accel::Brute => KdTree::single_leaf(prims.len() as u32, prims.scene_bounds()),
         };
         let build_ms = match accel {

@@ -34,6 +34,32 @@ pub enum BuildStrategy {
     Median,
 }
 
+impl BuildStrategy {
+    pub const ALL: [BuildStrategy; 2] = [BuildStrategy::Sah, BuildStrategy::Median];
+
+    pub fn name(self) -> &'static str {
+        match self {
+            BuildStrategy::Sah => "sah",
+            BuildStrategy::Median => "median",
+        }
+    }
+}
+
+impl crate::choice::Choice for BuildStrategy {
+    const ALL: &'static [Self] = &BuildStrategy::ALL;
+
+    fn name(self) -> &'static str {
+        BuildStrategy::name(self)
+    }
+
+    fn help(self) -> &'static str {
+        match self {
+            BuildStrategy::Sah => "surface area heuristic with perfect splits (Wald & Havran 2006)",
+            BuildStrategy::Median => "the seed's median split, straddlers in both children",
+        }
+    }
+}
+
 /// Knobs of the build. Costs are in units of one traversal step.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct BuildParams {
@@ -74,7 +100,8 @@ impl BuildParams {
 pub struct KdTree {
     pub nodes: Vec<KdNode>,
     pub leaf_objects: Vec<u32>,
-    /// Union of all object bounds: the root node's box.
+    /// The root node's box: the union of all object bounds, widened by the
+    /// build's tolerance ε (see `clip`).
     pub bounds: Aabb,
     pub max_depth: u32,
 }
@@ -120,9 +147,15 @@ fn build_shapes(shapes: Shapes<'_>, params: BuildParams, threads: usize) -> KdTr
             max_depth: 0,
         };
     }
-    let bounds = (0..n as u32)
-        .map(|id| shapes.bounds(id))
-        .fold(Aabb::EMPTY, Aabb::union);
+    // The root cell reaches ε past the objects, like every cell: a ray
+    // meeting an object at its box's corner may, by rounding, miss the
+    // exact box (a proptest's ray aimed at a lone triangle's vertex did).
+    let bounds = super::clip::widen(
+        &(0..n as u32)
+            .map(|id| shapes.bounds(id))
+            .fold(Aabb::EMPTY, Aabb::union),
+        shapes.tolerance(),
+    );
     let (nodes, leaf_objects, deepest) = match params.strategy {
         BuildStrategy::Sah => {
             let sah = Sah { shapes, params };
@@ -215,7 +248,10 @@ impl<'s, S: Strategy> Builder<'s, S> {
     fn node(&mut self, objects: S::Objects, cell: Aabb, depth: u32, threads: usize) {
         let n = S::count(&objects);
         let (axis, position, below, above) =
-            match self.strategy.split(objects, &cell, depth, &mut self.scratch) {
+            match self
+                .strategy
+                .split(objects, &cell, depth, &mut self.scratch)
+            {
                 Decision::Leaf(objects) => {
                     self.leaf(S::leaf_ids(objects), depth);
                     return;

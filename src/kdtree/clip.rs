@@ -143,7 +143,13 @@ impl Polygon {
     /// Keeps the part with `x[axis] <= c` (`keep_below`) or `x[axis] >= c`.
     /// New vertices lie exactly on the plane; the others are kept as they are.
     fn clip(&self, axis: usize, c: f64, keep_below: bool) -> Polygon {
-        let inside = |v: &DVec3| if keep_below { v[axis] <= c } else { v[axis] >= c };
+        let inside = |v: &DVec3| {
+            if keep_below {
+                v[axis] <= c
+            } else {
+                v[axis] >= c
+            }
+        };
         let mut out = Polygon {
             vertices: [DVec3::ZERO; MAX_VERTICES],
             len: 0,
@@ -227,7 +233,9 @@ pub fn clip_triangle(t: &TriangleF32, reach: &Aabb) -> Option<Aabb> {
     // f64 rounding of the clip is some 1e-16 of the coordinates; a guard of
     // 2^-40 of them keeps the box conservative before it is rounded to f32.
     let (min, max) = polygon.bounds();
-    let guard = t.magnitude().max(reach.min.abs().max(reach.max.abs()).max_element()) as f64
+    let guard = t
+        .magnitude()
+        .max(reach.min.abs().max(reach.max.abs()).max_element()) as f64
         * (1.0 / (1u64 << 40) as f64);
     let widened = Aabb {
         min: (min - guard).to_array().map(f32_down).into(),
@@ -284,7 +292,11 @@ mod tests {
     #[test]
     fn a_triangle_clipped_by_a_box_gives_the_exact_polygon_box() {
         let t = TriangleF32 {
-            v: [Vec3::ZERO, Vec3::new(4.0, 0.0, 0.0), Vec3::new(0.0, 4.0, 0.0)],
+            v: [
+                Vec3::ZERO,
+                Vec3::new(4.0, 0.0, 0.0),
+                Vec3::new(0.0, 4.0, 0.0),
+            ],
         };
         let cell = Aabb {
             min: Vec3::new(1.0, 1.0, -1.0),
@@ -305,7 +317,11 @@ mod tests {
     #[test]
     fn the_hypotenuse_cuts_the_cell() {
         let t = TriangleF32 {
-            v: [Vec3::ZERO, Vec3::new(4.0, 0.0, 0.0), Vec3::new(0.0, 4.0, 0.0)],
+            v: [
+                Vec3::ZERO,
+                Vec3::new(4.0, 0.0, 0.0),
+                Vec3::new(0.0, 4.0, 0.0),
+            ],
         };
         let cell = Aabb {
             min: Vec3::new(2.0, 0.5, -1.0),
@@ -354,12 +370,20 @@ mod tests {
     #[test]
     fn touching_the_closed_cell_counts() {
         let t = TriangleF32 {
-            v: [Vec3::ONE, Vec3::new(3.0, 1.0, 2.0), Vec3::new(2.0, 3.0, 3.0)],
+            v: [
+                Vec3::ONE,
+                Vec3::new(3.0, 1.0, 2.0),
+                Vec3::new(2.0, 3.0, 3.0),
+            ],
         };
         let got = clip_triangle(&t, &cube(0.0, 1.0)).unwrap();
         assert_close_outside(got, cube(1.0, 1.0), 3.0);
         let edge = TriangleF32 {
-            v: [Vec3::new(1.0, 0.2, 0.2), Vec3::new(1.0, 0.8, 0.8), Vec3::new(3.0, 0.5, 0.1)],
+            v: [
+                Vec3::new(1.0, 0.2, 0.2),
+                Vec3::new(1.0, 0.8, 0.8),
+                Vec3::new(3.0, 0.5, 0.1),
+            ],
         };
         let got = clip_triangle(&edge, &cube(0.0, 1.0)).unwrap();
         assert_eq!(got.max.x, 1.0);

@@ -36,11 +36,7 @@ impl Median<'_> {
     /// The plane between the two middle centres on axis `a`.
     fn median_plane(objects: &Clipped, a: usize, centres: &mut Vec<f32>) -> f32 {
         centres.clear();
-        centres.extend(
-            objects
-                .iter()
-                .map(|(_, b)| 0.5 * b.min[a] + 0.5 * b.max[a]),
-        );
+        centres.extend(objects.iter().map(|(_, b)| 0.5 * b.min[a] + 0.5 * b.max[a]));
         let m = centres.len() / 2;
         let (lower, upper, _) = centres.select_nth_unstable_by(m, f32::total_cmp);
         let below = lower.iter().copied().fold(f32::NEG_INFINITY, f32::max);

@@ -16,9 +16,7 @@ pub mod traverse;
 pub mod traverse_ropes;
 pub mod traverse_short_stack;
 
-pub use build::{
-    build, build_primitives, build_with_threads, BuildParams, BuildStrategy, KdTree,
-};
+pub use build::{build, build_primitives, build_with_threads, BuildParams, BuildStrategy, KdTree};
 pub use ropes::Ropes;
 pub use traversal::Traversal;
 

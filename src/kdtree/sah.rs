@@ -152,7 +152,9 @@ impl Sah<'_> {
                     1.0
                 };
                 let cost = p.traversal_cost
-                    + bonus * p.intersection_cost * (p_below * below as f32 + p_above * above as f32);
+                    + bonus
+                        * p.intersection_cost
+                        * (p_below * below as f32 + p_above * above as f32);
                 if best.is_none_or(|b| cost < b.cost) {
                     best = Some(Split {
                         axis: a,

@@ -9,7 +9,7 @@ use clap::{Parser, Subcommand};
 use kdray::bench::{BenchOptions, GenerateOptions, SceneKind, DEFAULT_SEED};
 use kdray::choice::Choice;
 use kdray::gpu::Accel;
-use kdray::kdtree::Traversal;
+use kdray::kdtree::{BuildStrategy, Traversal};
 
 #[derive(Parser)]
 #[command(
@@ -68,6 +68,9 @@ pub struct RenderArgs {
     /// The kernel's k-d walk (with --accel kdtree; the window starts with it, T cycles them).
     #[arg(long, value_parser = choice::<Traversal>(), default_value = "ropes")]
     pub traversal: Traversal,
+    /// How the k-d tree is built (with --accel kdtree, without --window).
+    #[arg(long, value_parser = choice::<BuildStrategy>(), default_value = "sah", conflicts_with = "window")]
+    pub build: BuildStrategy,
     /// Print one JSON object of figures on stdout (with --window: frame rates, on exit).
     #[arg(long)]
     pub stats: bool,

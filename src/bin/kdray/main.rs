@@ -60,6 +60,7 @@ fn render(args: RenderArgs) -> Result<()> {
         samples,
         accel,
         traversal,
+        build,
         stats,
         heatmap,
         heatmap_max,
@@ -104,7 +105,7 @@ fn render(args: RenderArgs) -> Result<()> {
         .progress_chars("=> "),
     );
     let (width, height) = (scene.render.width, scene.render.height);
-    let prepared = kdray::gpu::PreparedScene::new(scene, accel);
+    let prepared = kdray::gpu::PreparedScene::built_by(scene, accel, build);
     // The heatmap's scale needs every pixel: its costs are kept whole (4
     // bytes per pixel), unlike the image.
     let mut work: Vec<u32> = Vec::new();
