@@ -159,7 +159,7 @@ fn tree_for(prims: &Primitives, median: bool, cost: f32) -> KdTree {
 
 /// The leaf a point descends to: below a plane when `p <= split`, as the
 /// traversal sends a ray lying in the plane.
-fn leaf_ids<'t>(tree: &'t KdTree, p: Vec3) -> &'t [u32] {
+fn leaf_ids(tree: &KdTree, p: Vec3) -> &[u32] {
     let mut node = 0usize;
     while !tree.nodes[node].is_leaf() {
         let n = tree.nodes[node];
