@@ -304,11 +304,18 @@ impl SceneBuffers {
         let limit = super::max_binding_bytes(&ctx.device.limits());
         let chunk_bytes = chunk_bytes.min(limit);
         arrays.check_fits_in(limit, chunk_bytes)?;
+        // check_fits_in names what does not fit; this only guards the split.
+        let parts = arrays.buffers(chunk_bytes).ok_or_else(|| {
+            crate::Error::Gpu(format!(
+                "the scene does not fit in two bindings of {}",
+                human_bytes(chunk_bytes)
+            ))
+        })?;
         let what = format!(
             "uploading the scene ({} of GPU memory)",
             human_bytes(arrays.byte_size())
         );
-        ctx.checked(&what, |device| Self::create(device, arrays, chunk_bytes))
+        ctx.checked(&what, |device| Self::create(device, arrays, &parts))
     }
 
     /// Bind group entries for the scene's bindings.
@@ -323,10 +330,11 @@ impl SceneBuffers {
     }
 
     /// Creates the buffers; errors go to the caller's error scopes.
-    fn create(device: &wgpu::Device, arrays: &SceneArrays, chunk_bytes: u64) -> Self {
-        let parts = arrays
-            .buffers(chunk_bytes)
-            .expect("checked by check_fits_in");
+    fn create(
+        device: &wgpu::Device,
+        arrays: &SceneArrays,
+        parts: &[(&'static str, &[u8])],
+    ) -> Self {
         let chunked = [bindings::TRIANGLES_1.name, bindings::LEAF_ROPES_1.name];
         let split = parts
             .iter()
