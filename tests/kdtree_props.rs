@@ -503,19 +503,15 @@ fn the_big_leaf_faces_many_small_ones() {
     assert!(most >= 20, "no rope leads to more than {most} leaves");
 }
 
-/// A known gap, found by `rays_through_leaf_corners_and_edges_match_brute_force`
-/// and shared by all three walks (they agree exactly), so it lies in the
-/// tree's classification and the restart walk's rules, not in the new walks:
-/// a ray crosses the planes x = 5, y = -1.25 and z = 4 at one point, which is
-/// a vertex of triangle 4 and the corner (max x, max y, max z) of its box.
-/// The triangle touches those planes from below only, so it is filed only
-/// below each; the ray is above x and z before the corner and above y after
-/// it, so no cell it spends time in holds the triangle, and brute force's
-/// hit at the vertex is missed. Ignored until the build files objects that
-/// touch a plane on both sides (or the walks visit the cells at a corner);
-/// `cargo test -- --ignored` shows it.
+/// Found by `rays_through_leaf_corners_and_edges_match_brute_force`, once a
+/// known gap shared by all three walks: a ray crosses the planes x = 5,
+/// y = -1.25 and z = 4 at one point, which is a vertex of triangle 4 and the
+/// corner (max x, max y, max z) of its box. The triangle touches those planes
+/// from below only; when it was filed below each, no cell the ray spends time
+/// in held it and brute force's hit at the vertex was missed. The build now
+/// files an object that touches a plane (within `clip::TOLERANCE`) on both
+/// sides, so every walk finds the hit.
 #[test]
-#[ignore = "known gap: an object met only at its box corner where three split planes cross"]
 fn a_ray_touching_an_object_only_at_its_box_corner_is_missed() {
     let v = Vec3::new;
     let triangles = [
