@@ -73,16 +73,89 @@ pub const TRIANGLE_NORMALS: Binding = binding(
     "array<TriangleNormals>",
     StorageRead,
 );
-/// The triangles past the first binding's chunk: `triangles` holds the
-/// first chunk, this one the rest (shaders/chunks.wgsl,
-/// [`crate::gpu::SceneArrays`]).
-pub const TRIANGLES_1: Binding = binding(16, "triangles_1", "array<Triangle>", StorageRead);
-/// The leaf ropes past the first binding's chunk, likewise.
-pub const LEAF_ROPES_1: Binding = binding(17, "leaf_ropes_1", "array<LeafRopes>", StorageRead);
-/// How many bindings the triangles and the leaf ropes may each spread over.
-/// Two: OpenGL drivers (llvmpipe among them) offer 16 storage buffers per
-/// stage, and the render pipeline declares 13 with them.
-pub const CHUNKS: usize = 2;
+/// The most bindings one split array may spread over (shaders/chunks.wgsl):
+/// the adapter's storage buffers per stage decide how many it gets
+/// ([`scene_chunks`]). Five: lavapipe offers 32 per stage, and the query
+/// entry point declares 6 whole scene arrays + 4 split arrays x 5 + its 3
+/// buffers = 29 with them; 5 x 128 MiB holds 13.9 million triangles.
+pub const MAX_CHUNKS: usize = 5;
+
+/// An array of the scene that may lie in several bindings, each but the last
+/// full (shaders/chunks.wgsl): its bindings, first chunk first, and the
+/// WGSL function the contract generates to read element `j` of chunk `k`.
+pub struct SplitArray {
+    pub chunks: [Binding; MAX_CHUNKS],
+    /// Bytes per element (the WGSL array's stride).
+    pub element_bytes: usize,
+    pub reader: &'static str,
+    pub element_type: &'static str,
+}
+
+const fn chunk(index: u32, name: &'static str, wgsl_type: &'static str) -> Binding {
+    binding(index, name, wgsl_type, StorageRead)
+}
+
+/// Every split array, in the order of [`SPLIT_ARRAYS`].
+pub const SPLIT_TRIANGLES: SplitArray = SplitArray {
+    chunks: [
+        TRIANGLES,
+        chunk(30, "triangles_1", "array<Triangle>"),
+        chunk(31, "triangles_2", "array<Triangle>"),
+        chunk(32, "triangles_3", "array<Triangle>"),
+        chunk(33, "triangles_4", "array<Triangle>"),
+    ],
+    element_bytes: 48,
+    reader: "triangles_chunk",
+    element_type: "Triangle",
+};
+pub const SPLIT_KD_NODES: SplitArray = SplitArray {
+    chunks: [
+        KD_NODES,
+        chunk(34, "kd_nodes_1", "array<KdNode>"),
+        chunk(35, "kd_nodes_2", "array<KdNode>"),
+        chunk(36, "kd_nodes_3", "array<KdNode>"),
+        chunk(37, "kd_nodes_4", "array<KdNode>"),
+    ],
+    element_bytes: 16,
+    reader: "kd_nodes_chunk",
+    element_type: "KdNode",
+};
+pub const SPLIT_LEAF_OBJECTS: SplitArray = SplitArray {
+    chunks: [
+        LEAF_OBJECTS,
+        chunk(38, "leaf_objects_1", "array<u32>"),
+        chunk(39, "leaf_objects_2", "array<u32>"),
+        chunk(40, "leaf_objects_3", "array<u32>"),
+        chunk(41, "leaf_objects_4", "array<u32>"),
+    ],
+    element_bytes: 4,
+    reader: "leaf_objects_chunk",
+    element_type: "u32",
+};
+pub const SPLIT_LEAF_ROPES: SplitArray = SplitArray {
+    chunks: [
+        LEAF_ROPES,
+        chunk(42, "leaf_ropes_1", "array<LeafRopes>"),
+        chunk(43, "leaf_ropes_2", "array<LeafRopes>"),
+        chunk(44, "leaf_ropes_3", "array<LeafRopes>"),
+        chunk(45, "leaf_ropes_4", "array<LeafRopes>"),
+    ],
+    element_bytes: 48,
+    reader: "leaf_ropes_chunk",
+    element_type: "LeafRopes",
+};
+
+/// The arrays that can pass one binding for a large mesh. The others cannot
+/// before these run out of chunks (docs/design.md has the arithmetic):
+/// `object_materials` (4 B an object), `leaf_rope_index` (4 B a node) and
+/// `triangle_normals` (12 B a smooth triangle) stay whole.
+pub const SPLIT_ARRAYS: [&SplitArray; 4] = [
+    &SPLIT_TRIANGLES,
+    &SPLIT_KD_NODES,
+    &SPLIT_LEAF_OBJECTS,
+    &SPLIT_LEAF_ROPES,
+];
+
 /// `trace_rays` (the debug entry point): the rays to trace.
 pub const QUERY_RAYS: Binding = binding(10, "query_rays", "array<QueryRay>", StorageRead);
 /// `trace_rays`: one hit per ray.
@@ -100,40 +173,62 @@ pub const QUERY_COSTS: Binding = binding(21, "query_costs", "array<u32>", Storag
 /// Words per pixel (or per query) in [`PIXEL_COSTS`] and [`QUERY_COSTS`].
 pub const COST_WORDS: usize = 3;
 
-/// The scene's storage buffers, in the order [`crate::gpu::SceneArrays`] lists them.
-pub const SCENE: [Binding; 12] = [
-    SPHERES,
-    TRIANGLES,
-    TRIANGLES_1,
-    OBJECT_MATERIALS,
-    MATERIALS,
-    LIGHTS,
-    KD_NODES,
-    LEAF_OBJECTS,
-    LEAF_ROPES,
-    LEAF_ROPES_1,
-    LEAF_ROPE_INDEX,
-    TRIANGLE_NORMALS,
-];
-
-/// Every binding the kernel declares: the parameters, the scene, and each
-/// entry point's own buffers.
-pub fn all() -> Vec<Binding> {
-    entry_point_bindings(&[
-        TILE_OUTPUT,
-        ACCUMULATION,
-        QUERY_RAYS,
-        QUERY_HITS,
-        PIXEL_COSTS,
-        QUERY_COSTS,
-    ])
+/// The scene's storage buffers, in the order [`crate::gpu::SceneArrays`]
+/// lists them, each split array with its first `chunks` bindings.
+pub fn scene(chunks: usize) -> Vec<Binding> {
+    let split = |a: &SplitArray| a.chunks[..chunks].to_vec();
+    let mut scene = vec![SPHERES];
+    scene.extend(split(&SPLIT_TRIANGLES));
+    scene.extend([OBJECT_MATERIALS, MATERIALS, LIGHTS]);
+    scene.extend(split(&SPLIT_KD_NODES));
+    scene.extend(split(&SPLIT_LEAF_OBJECTS));
+    scene.extend(split(&SPLIT_LEAF_ROPES));
+    scene.extend([LEAF_ROPE_INDEX, TRIANGLE_NORMALS]);
+    scene
 }
 
-/// The bindings an entry point uses: the frame parameters, the scene, and
-/// its own outputs (and inputs).
-pub fn entry_point_bindings(outputs: &[Binding]) -> Vec<Binding> {
+/// `render_tile`'s own buffers.
+pub const RENDER_OUTPUTS: [Binding; 2] = [TILE_OUTPUT, PIXEL_COSTS];
+/// `accumulate_tile`'s own buffers.
+pub const ACCUMULATE_OUTPUTS: [Binding; 2] = [ACCUMULATION, PIXEL_COSTS];
+/// `trace_rays`'s own buffers.
+pub const QUERY_OUTPUTS: [Binding; 3] = [QUERY_RAYS, QUERY_HITS, QUERY_COSTS];
+
+/// How many bindings each split array gets on a device with `limits`: as
+/// many as the storage buffers per stage allow for the entry point with the
+/// most buffers of its own (at least 1, at most [`MAX_CHUNKS`]). Lavapipe
+/// (Vulkan, 32 per stage): 5; llvmpipe's GL (16 per stage): 1, no split.
+pub fn scene_chunks(limits: &wgpu::Limits) -> usize {
+    let per_stage = limits.max_storage_buffers_per_shader_stage as usize;
+    let whole_arrays = scene(1).len() - SPLIT_ARRAYS.len();
+    let own = [
+        RENDER_OUTPUTS.len(),
+        ACCUMULATE_OUTPUTS.len(),
+        QUERY_OUTPUTS.len(),
+    ]
+    .into_iter()
+    .max()
+    .unwrap_or(0);
+    (per_stage.saturating_sub(whole_arrays + own) / SPLIT_ARRAYS.len()).clamp(1, MAX_CHUNKS)
+}
+
+/// Every binding the kernel declares with `chunks` bindings per split
+/// array: the parameters, the scene, and each entry point's own buffers.
+pub fn all(chunks: usize) -> Vec<Binding> {
+    let mut all = entry_point_bindings(chunks, &RENDER_OUTPUTS);
+    for b in ACCUMULATE_OUTPUTS.into_iter().chain(QUERY_OUTPUTS) {
+        if !all.contains(&b) {
+            all.push(b);
+        }
+    }
+    all
+}
+
+/// The bindings an entry point uses: the frame parameters, the scene (with
+/// `chunks` bindings per split array), and its own outputs (and inputs).
+pub fn entry_point_bindings(chunks: usize, outputs: &[Binding]) -> Vec<Binding> {
     let mut all = vec![PARAMS];
-    all.extend(SCENE);
+    all.extend(scene(chunks));
     all.extend_from_slice(outputs);
     all
 }
@@ -210,9 +305,10 @@ fn address_space(access: Access) -> &'static str {
     }
 }
 
-/// The WGSL text generated from this module: the shared constants and the
-/// binding declarations (the struct types they name are in shaders/types.wgsl).
-pub fn wgsl_contract() -> String {
+/// The WGSL text generated from this module for `chunks` bindings per split
+/// array: the shared constants, the binding declarations (the struct types
+/// they name are in shaders/types.wgsl) and each split array's chunk reader.
+pub fn wgsl_contract(chunks: usize) -> String {
     let mut text = String::from("// Generated from src/gpu/bindings.rs: edit it there.\n");
     for (name, value) in SHARED_CONSTANTS {
         text += &format!(
@@ -221,7 +317,7 @@ pub fn wgsl_contract() -> String {
             value.wgsl_literal()
         );
     }
-    for b in all() {
+    for b in all(chunks) {
         text += &format!(
             "@group(0) @binding({}) var<{}> {}: {};\n",
             b.index,
@@ -230,6 +326,28 @@ pub fn wgsl_contract() -> String {
             b.wgsl_type
         );
     }
+    text += &format!("// Bindings per split array.\nconst SCENE_CHUNKS: u32 = {chunks}u;\n");
+    for array in SPLIT_ARRAYS {
+        text += &chunk_reader(array, chunks);
+    }
+    text
+}
+
+/// `fn <reader>(k: u32, j: u32) -> <element>`: element `j` of chunk `k` of
+/// `array` (chunks past the declared ones read the first; shaders/chunks.wgsl
+/// never asks for them).
+fn chunk_reader(array: &SplitArray, chunks: usize) -> String {
+    let mut text = format!(
+        "fn {}(k: u32, j: u32) -> {} {{\n    switch k {{\n",
+        array.reader, array.element_type
+    );
+    for (k, b) in array.chunks[..chunks].iter().enumerate().skip(1) {
+        text += &format!("        case {k}u: {{ return {}[j]; }}\n", b.name);
+    }
+    text += &format!(
+        "        default: {{ return {}[j]; }}\n    }}\n}}\n",
+        array.chunks[0].name
+    );
     text
 }
 
@@ -308,21 +426,28 @@ pub fn trace_pipeline_on(
 mod tests {
     use super::*;
 
-    fn kernel() -> naga::Module {
-        crate::gpu::shaders::parse_and_validate(&crate::gpu::shaders::trace_source()).0
+    fn kernel(chunks: usize) -> naga::Module {
+        crate::gpu::shaders::parse_and_validate(&crate::gpu::shaders::trace_source(chunks)).0
     }
 
     /// Each global of the kernel is a binding of this table, at its number
-    /// and with its access, and each binding of the table is declared.
+    /// and with its access, and each binding of the table is declared, for
+    /// every number of chunks.
     #[test]
     fn kernel_bindings_are_the_contract() {
-        let module = kernel();
+        for chunks in 1..=MAX_CHUNKS {
+            kernel_bindings_are_the_contract_with(chunks);
+        }
+    }
+
+    fn kernel_bindings_are_the_contract_with(chunks: usize) {
+        let table = all(chunks);
+        let module = kernel(chunks);
         let mut seen = Vec::new();
         for (_, global) in module.global_variables.iter() {
             let Some(res) = &global.binding else { continue };
             let name = global.name.as_deref().unwrap_or("");
-            let all = all();
-            let b = all
+            let b = table
                 .iter()
                 .find(|b| b.name == name)
                 .unwrap_or_else(|| panic!("the kernel binds `{name}`, which bindings.rs lacks"));
@@ -340,24 +465,24 @@ mod tests {
             assert_eq!(access, b.access, "access of {name}");
             seen.push(name.to_string());
         }
-        for b in all() {
+        for b in &table {
             assert!(
                 seen.iter().any(|s| s == b.name),
                 "{} is not declared",
                 b.name
             );
         }
-        let mut indices: Vec<u32> = all().iter().map(|b| b.index).collect();
+        let mut indices: Vec<u32> = table.iter().map(|b| b.index).collect();
         indices.sort_unstable();
         indices.dedup();
-        assert_eq!(indices.len(), all().len(), "two bindings share a number");
+        assert_eq!(indices.len(), table.len(), "two bindings share a number");
     }
 
     /// Each shared constant, as naga evaluates the kernel's declaration, has
     /// exactly the host's value (bit for bit for floats).
     #[test]
     fn kernel_constants_equal_the_hosts() {
-        let module = kernel();
+        let module = kernel(MAX_CHUNKS);
         for (name, value) in SHARED_CONSTANTS {
             let (_, constant) = module
                 .constants
@@ -376,6 +501,40 @@ mod tests {
                     assert_eq!(host.to_bits(), kernel.to_bits(), "{name}")
                 }
                 (host, kernel) => panic!("{name}: host {host:?}, kernel {kernel:?}"),
+            }
+        }
+    }
+
+    /// The chunk count fits the adapter: every entry point's bindings with
+    /// it stay within the storage buffers per stage, and one more chunk
+    /// would not (unless at MAX_CHUNKS); lavapipe's Vulkan (32) gets 5,
+    /// llvmpipe's GL (16) 1.
+    #[test]
+    fn scene_chunks_fit_the_storage_buffers_per_stage() {
+        let storage = |b: &[Binding]| b.iter().filter(|b| b.access != Uniform).count();
+        let with = |per_stage| {
+            scene_chunks(&wgpu::Limits {
+                max_storage_buffers_per_shader_stage: per_stage,
+                ..wgpu::Limits::default()
+            })
+        };
+        assert_eq!(with(32), 5);
+        assert_eq!(with(16), 1);
+        for per_stage in 13..64u32 {
+            let chunks = with(per_stage);
+            let most = |chunks| {
+                [&RENDER_OUTPUTS[..], &ACCUMULATE_OUTPUTS, &QUERY_OUTPUTS]
+                    .iter()
+                    .map(|outputs| storage(&entry_point_bindings(chunks, outputs)))
+                    .max()
+                    .unwrap()
+            };
+            assert!(most(chunks) <= per_stage as usize, "{per_stage} per stage");
+            if chunks < MAX_CHUNKS {
+                assert!(
+                    most(chunks + 1) > per_stage as usize,
+                    "{per_stage} per stage"
+                );
             }
         }
     }

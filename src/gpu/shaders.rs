@@ -59,7 +59,9 @@ pub const PRESENT_FRAGMENT_ENTRY_POINT: &str = "fs_main";
 pub fn trace_module(device: &wgpu::Device) -> wgpu::ShaderModule {
     let desc = wgpu::ShaderModuleDescriptor {
         label: Some("trace"),
-        source: wgpu::ShaderSource::Wgsl(trace_source().into()),
+        source: wgpu::ShaderSource::Wgsl(
+            trace_source(super::bindings::scene_chunks(&device.limits())).into(),
+        ),
     };
     let checks = wgpu::ShaderRuntimeChecks {
         force_loop_bounding: false,
@@ -71,12 +73,12 @@ pub fn trace_module(device: &wgpu::Device) -> wgpu::ShaderModule {
     unsafe { device.create_shader_module_trusted(desc, checks) }
 }
 
-/// The whole trace kernel as one WGSL module: the generated contract, then
-/// the files.
-pub fn trace_source() -> String {
+/// The whole trace kernel as one WGSL module, with `chunks` bindings per
+/// split array: the generated contract, then the files.
+pub fn trace_source(chunks: usize) -> String {
     let mut source = format!(
         "// ---- bindings.rs\n{}\n",
-        super::bindings::wgsl_contract()
+        super::bindings::wgsl_contract(chunks)
     );
     for (name, text) in TRACE_PARTS {
         source += &format!("// ---- {name}\n{text}\n");
@@ -103,7 +105,7 @@ mod tests {
 
     #[test]
     fn trace_kernel_parses_and_validates() {
-        let (module, _) = parse_and_validate(&trace_source());
+        let (module, _) = parse_and_validate(&trace_source(super::super::bindings::MAX_CHUNKS));
         let entry = module
             .entry_points
             .iter()

@@ -238,10 +238,10 @@ impl Viewer {
             let module = shaders::trace_module(device);
             let trace = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
                 label: Some(shaders::ACCUMULATE_ENTRY_POINT),
-                entries: &bindings::layout_entries(&bindings::entry_point_bindings(&[
-                    bindings::ACCUMULATION,
-                    bindings::PIXEL_COSTS,
-                ])),
+                entries: &bindings::layout_entries(&bindings::entry_point_bindings(
+                    bindings::scene_chunks(&device.limits()),
+                    &bindings::ACCUMULATE_OUTPUTS,
+                )),
             });
             let accumulate = bindings::trace_pipeline_on(
                 device,
