@@ -1,8 +1,8 @@
 // Arrays split over several bindings, so that a scene may exceed one storage
 // binding (128 MiB on lavapipe): the triangles, the k-d nodes, the leaf
-// object lists and the leaf ropes lie in up to SCENE_CHUNKS bindings each
-// (the adapter decides how many: bindings::scene_chunks), every one but the
-// last full. The first binding's length is the chunk length (a scene that
+// object lists and the leaf ropes lie in up to TRIANGLES_CHUNKS,
+// KD_NODES_CHUNKS, ... bindings each (the adapter decides how many:
+// bindings::scene_chunks), every one but the last full. The first binding's length is the chunk length (a scene that
 // fits has one chunk, and every index is below it). Every walk reads these
 // four arrays through the functions below, never directly. The bindings and
 // the `<array>_chunk(k, j)` readers are generated (src/gpu/bindings.rs);
@@ -22,13 +22,14 @@ struct ChunkIndex {
     index: u32,
 }
 
-// Where element `i` of a split array lies when each chunk holds
-// `chunk_length` elements. Comparisons and subtractions only: no integer
-// division (llvmpipe runs it one lane at a time), no product that could
-// overflow; the loop has a constant bound, so it unrolls.
-fn chunk_index(i: u32, chunk_length: u32) -> ChunkIndex {
+// Where element `i` of a split array of `chunks` bindings lies when each
+// holds `chunk_length` elements. Comparisons and subtractions only: no
+// integer division (llvmpipe runs it one lane at a time), no product that
+// could overflow; `chunks` is a generated constant at every call, so the
+// loop unrolls.
+fn chunk_index(i: u32, chunk_length: u32, chunks: u32) -> ChunkIndex {
     var at = ChunkIndex(0u, i);
-    for (var c = 1u; c < SCENE_CHUNKS; c++) {
+    for (var c = 1u; c < chunks; c++) {
         let past = at.index >= chunk_length;
         at.chunk += select(0u, 1u, past);
         at.index -= select(0u, chunk_length, past);
@@ -40,7 +41,7 @@ fn triangle(i: u32) -> Triangle {
     if (!SPLIT_SCENE) {
         return triangles[i];
     }
-    let at = chunk_index(i, arrayLength(&triangles));
+    let at = chunk_index(i, arrayLength(&triangles), TRIANGLES_CHUNKS);
     return triangles_chunk(at.chunk, at.index);
 }
 
@@ -48,7 +49,7 @@ fn kd_node(i: u32) -> KdNode {
     if (!SPLIT_SCENE) {
         return kd_nodes[i];
     }
-    let at = chunk_index(i, arrayLength(&kd_nodes));
+    let at = chunk_index(i, arrayLength(&kd_nodes), KD_NODES_CHUNKS);
     return kd_nodes_chunk(at.chunk, at.index);
 }
 
@@ -57,7 +58,7 @@ fn leaf_object(i: u32) -> u32 {
     if (!SPLIT_SCENE) {
         return leaf_objects[i];
     }
-    let at = chunk_index(i, arrayLength(&leaf_objects));
+    let at = chunk_index(i, arrayLength(&leaf_objects), LEAF_OBJECTS_CHUNKS);
     return leaf_objects_chunk(at.chunk, at.index);
 }
 
@@ -71,7 +72,7 @@ fn rope_face(r: u32, face: u32) -> RopeFace {
     if (!SPLIT_SCENE) {
         return RopeFace(leaf_ropes[r].faces[face], leaf_ropes[r].ropes[face]);
     }
-    let at = chunk_index(r, arrayLength(&leaf_ropes));
+    let at = chunk_index(r, arrayLength(&leaf_ropes), LEAF_ROPES_CHUNKS);
     var record = leaf_ropes_chunk(at.chunk, at.index);
     return RopeFace(record.faces[face], record.ropes[face]);
 }

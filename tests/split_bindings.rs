@@ -46,9 +46,9 @@ fn render_with_chunks(
         .unwrap_or_else(|e| panic!("{e}"))
 }
 
-/// The bindings per split array on this adapter (5 on lavapipe).
-fn chunks() -> u64 {
-    bindings::scene_chunks(&gpu().device.limits()) as u64
+/// The bindings of each split array on this adapter (lavapipe: 6, 6, 3, 8).
+fn chunks() -> [u64; 4] {
+    bindings::scene_chunks(&gpu().device.limits()).map(|k| k as u64)
 }
 
 /// (elements, bytes per element) of each split array, in the order of
@@ -69,27 +69,33 @@ fn split_arrays(prepared: &PreparedScene) -> [(u64, u64); 4] {
     })
 }
 
-/// Chunk sizes of `elements(n)` elements per array (`n` its length), plus
-/// `extra_bytes`; each array must then need exactly `pieces` bindings.
+/// Chunk sizes of `elements(n, pieces)` elements per array (`n` its
+/// length), plus `extra_bytes`; each array must then need exactly its
+/// `pieces` bindings.
 fn chunk_bytes_of(
     prepared: &PreparedScene,
-    pieces: u64,
-    elements: impl Fn(u64) -> u64,
+    pieces: [u64; 4],
+    elements: impl Fn(u64, u64) -> u64,
     extra_bytes: u64,
 ) -> ChunkBytes {
     let arrays = split_arrays(prepared);
     std::array::from_fn(|i| {
         let (n, size) = arrays[i];
-        let bytes = elements(n) * size + extra_bytes;
+        let bytes = elements(n, pieces[i]) * size + extra_bytes;
         let per_chunk = bytes / size;
         assert_eq!(
             n.div_ceil(per_chunk),
-            pieces,
+            pieces[i],
             "{} ({n} elements) in chunks of {bytes} B",
             bindings::SPLIT_ARRAYS[i].chunks[0].name
         );
         bytes
     })
+}
+
+/// Every split array in two bindings, the second partial.
+fn two_chunks(prepared: &PreparedScene) -> ChunkBytes {
+    chunk_bytes_of(prepared, [2; 4], |n, _| n / 2 + 7, 0)
 }
 
 /// The torus scene (4,610 smooth and flat triangles, mirrors).
@@ -98,25 +104,26 @@ fn torus() -> PreparedScene {
 }
 
 /// The chunk sizes the tests run: every split array in two bindings, the
-/// last one partial; in as many as the adapter gives; in two bindings of a
-/// size that is no whole number of elements; and a leaf-object chunk that
-/// ends inside a leaf's list.
+/// last one partial; in as many as the adapter gives each; in two bindings
+/// of a size that is no whole number of elements; and a leaf-object chunk
+/// that ends inside a leaf's list.
 fn chunkings(prepared: &PreparedScene) -> Vec<(&'static str, ChunkBytes)> {
-    let k = chunks();
     assert!(
-        k >= 2,
-        "this adapter gives split arrays one binding: nothing to test"
+        chunks().iter().all(|&k| k >= 2),
+        "this adapter gives a split array one binding: nothing to test"
     );
-    let mut cases = vec![
-        ("two chunks", chunk_bytes_of(prepared, 2, |n| n / 2 + 7, 0)),
+    vec![
+        ("two chunks", two_chunks(prepared)),
         (
             "all chunks",
-            chunk_bytes_of(prepared, k, |n| n.div_ceil(k), 0),
+            chunk_bytes_of(prepared, chunks(), |n, k| n.div_ceil(k), 0),
         ),
-        ("odd bytes", chunk_bytes_of(prepared, 2, |n| n * 3 / 5, 7)),
-    ];
-    cases.push(("inside a leaf", chunk_inside_a_leaf(prepared)));
-    cases
+        (
+            "odd bytes",
+            chunk_bytes_of(prepared, [2; 4], |n, _| n * 3 / 5, 7),
+        ),
+        ("inside a leaf", chunk_inside_a_leaf(prepared)),
+    ]
 }
 
 /// Chunk sizes whose leaf-object chunk boundary falls strictly inside one
@@ -125,7 +132,7 @@ fn chunkings(prepared: &PreparedScene) -> Vec<(&'static str, ChunkBytes)> {
 fn chunk_inside_a_leaf(prepared: &PreparedScene) -> ChunkBytes {
     let a = &prepared.arrays;
     let references = a.leaf_objects.len() as u64;
-    let k = chunks();
+    let k = chunks()[2];
     // A boundary at `index + 1` of a leaf of two or more objects, with a
     // chunk length that needs no more than the adapter's bindings.
     let leaf = a
@@ -136,7 +143,7 @@ fn chunk_inside_a_leaf(prepared: &PreparedScene) -> ChunkBytes {
         .expect("a leaf of two or more objects in the right place");
     let chunk = leaf.index as u64 + 1;
     assert!(leaf.index < chunk as u32 && (chunk as u32) < leaf.index + leaf.count);
-    let mut bytes = chunk_bytes_of(prepared, 2, |n| n / 2 + 7, 0);
+    let mut bytes = two_chunks(prepared);
     bytes[2] = chunk * 4;
     bytes
 }
@@ -233,9 +240,9 @@ fn split_bindings_give_the_unsplit_ray_queries() {
 #[test]
 fn an_array_beyond_its_bindings_is_refused() {
     let prepared = torus();
-    let k = chunks();
     for (i, (n, size)) in split_arrays(&prepared).into_iter().enumerate() {
-        let mut bytes = chunk_bytes_of(&prepared, 2, |n| n / 2 + 7, 0);
+        let k = chunks()[i];
+        let mut bytes = two_chunks(&prepared);
         bytes[i] = n.div_ceil(k + 1) * size;
         let message = SceneBuffers::upload_split(gpu(), &prepared.arrays, bytes)
             .err()

@@ -73,76 +73,78 @@ pub const TRIANGLE_NORMALS: Binding = binding(
     "array<TriangleNormals>",
     StorageRead,
 );
-/// The most bindings one split array may spread over (shaders/chunks.wgsl):
-/// the adapter's storage buffers per stage decide how many it gets
-/// ([`scene_chunks`]). Five: lavapipe offers 32 per stage, and the query
-/// entry point declares 6 whole scene arrays + 4 split arrays x 5 + its 3
-/// buffers = 29 with them; 5 x 128 MiB holds 13.9 million triangles.
-pub const MAX_CHUNKS: usize = 5;
+/// The most bindings one split array may spread over (shaders/chunks.wgsl);
+/// the adapter's storage buffers per stage decide how many each gets
+/// ([`scene_chunks`]). Eight x 128 MiB holds 22 million triangles.
+pub const MAX_CHUNKS: usize = 8;
 
 /// An array of the scene that may lie in several bindings, each but the last
 /// full (shaders/chunks.wgsl): its bindings, first chunk first, and the
-/// WGSL function the contract generates to read element `j` of chunk `k`.
+/// WGSL names the contract generates for it.
 pub struct SplitArray {
     pub chunks: [Binding; MAX_CHUNKS],
     /// Bytes per element (the WGSL array's stride).
     pub element_bytes: usize,
+    /// Its bytes per triangle of a large mesh (the bunny subdivided twice,
+    /// 1.1 million triangles: 2.94 nodes, 1.47 leaves and 5.8 leaf
+    /// references per triangle): [`scene_chunks`] shares the bindings out
+    /// by these.
+    pub bytes_per_triangle: u32,
+    /// `fn <reader>(k: u32, j: u32) -> <element_type>`: element `j` of chunk `k`.
     pub reader: &'static str,
     pub element_type: &'static str,
+    /// `const <count_constant>: u32`: the bindings it has in this kernel.
+    pub count_constant: &'static str,
 }
 
-const fn chunk(index: u32, name: &'static str, wgsl_type: &'static str) -> Binding {
-    binding(index, name, wgsl_type, StorageRead)
+/// A split array's bindings: `$first`, then `$name_1` ... `$name_7` at
+/// `$base` ... `$base + 6`.
+macro_rules! split_array {
+    ($first:expr, $name:literal, $type:literal, $base:literal) => {
+        [
+            $first,
+            binding($base, concat!($name, "_1"), $type, StorageRead),
+            binding($base + 1, concat!($name, "_2"), $type, StorageRead),
+            binding($base + 2, concat!($name, "_3"), $type, StorageRead),
+            binding($base + 3, concat!($name, "_4"), $type, StorageRead),
+            binding($base + 4, concat!($name, "_5"), $type, StorageRead),
+            binding($base + 5, concat!($name, "_6"), $type, StorageRead),
+            binding($base + 6, concat!($name, "_7"), $type, StorageRead),
+        ]
+    };
 }
 
-/// Every split array, in the order of [`SPLIT_ARRAYS`].
 pub const SPLIT_TRIANGLES: SplitArray = SplitArray {
-    chunks: [
-        TRIANGLES,
-        chunk(30, "triangles_1", "array<Triangle>"),
-        chunk(31, "triangles_2", "array<Triangle>"),
-        chunk(32, "triangles_3", "array<Triangle>"),
-        chunk(33, "triangles_4", "array<Triangle>"),
-    ],
+    chunks: split_array!(TRIANGLES, "triangles", "array<Triangle>", 30),
     element_bytes: 48,
+    bytes_per_triangle: 48,
     reader: "triangles_chunk",
     element_type: "Triangle",
+    count_constant: "TRIANGLES_CHUNKS",
 };
 pub const SPLIT_KD_NODES: SplitArray = SplitArray {
-    chunks: [
-        KD_NODES,
-        chunk(34, "kd_nodes_1", "array<KdNode>"),
-        chunk(35, "kd_nodes_2", "array<KdNode>"),
-        chunk(36, "kd_nodes_3", "array<KdNode>"),
-        chunk(37, "kd_nodes_4", "array<KdNode>"),
-    ],
+    chunks: split_array!(KD_NODES, "kd_nodes", "array<KdNode>", 37),
     element_bytes: 16,
+    bytes_per_triangle: 47,
     reader: "kd_nodes_chunk",
     element_type: "KdNode",
+    count_constant: "KD_NODES_CHUNKS",
 };
 pub const SPLIT_LEAF_OBJECTS: SplitArray = SplitArray {
-    chunks: [
-        LEAF_OBJECTS,
-        chunk(38, "leaf_objects_1", "array<u32>"),
-        chunk(39, "leaf_objects_2", "array<u32>"),
-        chunk(40, "leaf_objects_3", "array<u32>"),
-        chunk(41, "leaf_objects_4", "array<u32>"),
-    ],
+    chunks: split_array!(LEAF_OBJECTS, "leaf_objects", "array<u32>", 44),
     element_bytes: 4,
+    bytes_per_triangle: 23,
     reader: "leaf_objects_chunk",
     element_type: "u32",
+    count_constant: "LEAF_OBJECTS_CHUNKS",
 };
 pub const SPLIT_LEAF_ROPES: SplitArray = SplitArray {
-    chunks: [
-        LEAF_ROPES,
-        chunk(42, "leaf_ropes_1", "array<LeafRopes>"),
-        chunk(43, "leaf_ropes_2", "array<LeafRopes>"),
-        chunk(44, "leaf_ropes_3", "array<LeafRopes>"),
-        chunk(45, "leaf_ropes_4", "array<LeafRopes>"),
-    ],
+    chunks: split_array!(LEAF_ROPES, "leaf_ropes", "array<LeafRopes>", 51),
     element_bytes: 48,
+    bytes_per_triangle: 71,
     reader: "leaf_ropes_chunk",
     element_type: "LeafRopes",
+    count_constant: "LEAF_ROPES_CHUNKS",
 };
 
 /// The arrays that can pass one binding for a large mesh. The others cannot
@@ -173,16 +175,23 @@ pub const QUERY_COSTS: Binding = binding(21, "query_costs", "array<u32>", Storag
 /// Words per pixel (or per query) in [`PIXEL_COSTS`] and [`QUERY_COSTS`].
 pub const COST_WORDS: usize = 3;
 
+/// How many bindings each split array has, in the order of
+/// [`SPLIT_ARRAYS`] (1 to [`MAX_CHUNKS`] each).
+pub type SceneChunks = [usize; 4];
+
+/// One binding per split array: what a kernel without splitting declares.
+pub const UNSPLIT: SceneChunks = [1; 4];
+
 /// The scene's storage buffers, in the order [`crate::gpu::SceneArrays`]
 /// lists them, each split array with its first `chunks` bindings.
-pub fn scene(chunks: usize) -> Vec<Binding> {
-    let split = |a: &SplitArray| a.chunks[..chunks].to_vec();
+pub fn scene(chunks: SceneChunks) -> Vec<Binding> {
+    let split = |i: usize| SPLIT_ARRAYS[i].chunks[..chunks[i]].to_vec();
     let mut scene = vec![SPHERES];
-    scene.extend(split(&SPLIT_TRIANGLES));
+    scene.extend(split(0));
     scene.extend([OBJECT_MATERIALS, MATERIALS, LIGHTS]);
-    scene.extend(split(&SPLIT_KD_NODES));
-    scene.extend(split(&SPLIT_LEAF_OBJECTS));
-    scene.extend(split(&SPLIT_LEAF_ROPES));
+    scene.extend(split(1));
+    scene.extend(split(2));
+    scene.extend(split(3));
     scene.extend([LEAF_ROPE_INDEX, TRIANGLE_NORMALS]);
     scene
 }
@@ -194,13 +203,17 @@ pub const ACCUMULATE_OUTPUTS: [Binding; 2] = [ACCUMULATION, PIXEL_COSTS];
 /// `trace_rays`'s own buffers.
 pub const QUERY_OUTPUTS: [Binding; 3] = [QUERY_RAYS, QUERY_HITS, QUERY_COSTS];
 
-/// How many bindings each split array gets on a device with `limits`: as
-/// many as the storage buffers per stage allow for the entry point with the
-/// most buffers of its own (at least 1, at most [`MAX_CHUNKS`]). Lavapipe
-/// (Vulkan, 32 per stage): 5; llvmpipe's GL (16 per stage): 1, no split.
-pub fn scene_chunks(limits: &wgpu::Limits) -> usize {
+/// How many bindings each split array gets on a device with `limits`: the
+/// storage buffers per stage left by the whole arrays and the entry point
+/// with the most buffers of its own, shared out one at a time to the array
+/// with the most bytes per triangle per binding so far
+/// ([`SplitArray::bytes_per_triangle`]), at least 1 and at most
+/// [`MAX_CHUNKS`] each. Lavapipe (Vulkan, 32 per stage, 23 left):
+/// triangles 6, nodes 6, leaf references 3, leaf ropes 8; llvmpipe's GL
+/// (16 per stage, 7 left): 2, 2, 1, 2.
+pub fn scene_chunks(limits: &wgpu::Limits) -> SceneChunks {
     let per_stage = limits.max_storage_buffers_per_shader_stage as usize;
-    let whole_arrays = scene(1).len() - SPLIT_ARRAYS.len();
+    let whole_arrays = scene(UNSPLIT).len() - SPLIT_ARRAYS.len();
     let own = [
         RENDER_OUTPUTS.len(),
         ACCUMULATE_OUTPUTS.len(),
@@ -209,12 +222,27 @@ pub fn scene_chunks(limits: &wgpu::Limits) -> usize {
     .into_iter()
     .max()
     .unwrap_or(0);
-    (per_stage.saturating_sub(whole_arrays + own) / SPLIT_ARRAYS.len()).clamp(1, MAX_CHUNKS)
+    let mut left = per_stage
+        .saturating_sub(whole_arrays + own)
+        .saturating_sub(SPLIT_ARRAYS.len());
+    let mut chunks = UNSPLIT;
+    while left > 0 {
+        let share = |i: usize| SPLIT_ARRAYS[i].bytes_per_triangle as f64 / chunks[i] as f64;
+        let Some(next) = (0..chunks.len())
+            .filter(|&i| chunks[i] < MAX_CHUNKS)
+            .reduce(|a, b| if share(b) > share(a) { b } else { a })
+        else {
+            break;
+        };
+        chunks[next] += 1;
+        left -= 1;
+    }
+    chunks
 }
 
 /// Every binding the kernel declares with `chunks` bindings per split
 /// array: the parameters, the scene, and each entry point's own buffers.
-pub fn all(chunks: usize) -> Vec<Binding> {
+pub fn all(chunks: SceneChunks) -> Vec<Binding> {
     let mut all = entry_point_bindings(chunks, &RENDER_OUTPUTS);
     for b in ACCUMULATE_OUTPUTS.into_iter().chain(QUERY_OUTPUTS) {
         if !all.contains(&b) {
@@ -226,7 +254,7 @@ pub fn all(chunks: usize) -> Vec<Binding> {
 
 /// The bindings an entry point uses: the frame parameters, the scene (with
 /// `chunks` bindings per split array), and its own outputs (and inputs).
-pub fn entry_point_bindings(chunks: usize, outputs: &[Binding]) -> Vec<Binding> {
+pub fn entry_point_bindings(chunks: SceneChunks, outputs: &[Binding]) -> Vec<Binding> {
     let mut all = vec![PARAMS];
     all.extend(scene(chunks));
     all.extend_from_slice(outputs);
@@ -308,7 +336,7 @@ fn address_space(access: Access) -> &'static str {
 /// The WGSL text generated from this module for `chunks` bindings per split
 /// array: the shared constants, the binding declarations (the struct types
 /// they name are in shaders/types.wgsl) and each split array's chunk reader.
-pub fn wgsl_contract(chunks: usize) -> String {
+pub fn wgsl_contract(chunks: SceneChunks) -> String {
     let mut text = String::from("// Generated from src/gpu/bindings.rs: edit it there.\n");
     for (name, value) in SHARED_CONSTANTS {
         text += &format!(
@@ -326,8 +354,8 @@ pub fn wgsl_contract(chunks: usize) -> String {
             b.wgsl_type
         );
     }
-    text += &format!("// Bindings per split array.\nconst SCENE_CHUNKS: u32 = {chunks}u;\n");
-    for array in SPLIT_ARRAYS {
+    for (array, chunks) in SPLIT_ARRAYS.into_iter().zip(chunks) {
+        text += &format!("const {}: u32 = {chunks}u;\n", array.count_constant);
         text += &chunk_reader(array, chunks);
     }
     text
@@ -426,7 +454,7 @@ pub fn trace_pipeline_on(
 mod tests {
     use super::*;
 
-    fn kernel(chunks: usize) -> naga::Module {
+    fn kernel(chunks: SceneChunks) -> naga::Module {
         crate::gpu::shaders::parse_and_validate(&crate::gpu::shaders::trace_source(chunks)).0
     }
 
@@ -435,12 +463,12 @@ mod tests {
     /// every number of chunks.
     #[test]
     fn kernel_bindings_are_the_contract() {
-        for chunks in 1..=MAX_CHUNKS {
+        for chunks in [UNSPLIT, [2, 3, 1, 8], [MAX_CHUNKS; 4]] {
             kernel_bindings_are_the_contract_with(chunks);
         }
     }
 
-    fn kernel_bindings_are_the_contract_with(chunks: usize) {
+    fn kernel_bindings_are_the_contract_with(chunks: SceneChunks) {
         let table = all(chunks);
         let module = kernel(chunks);
         let mut seen = Vec::new();
@@ -482,7 +510,7 @@ mod tests {
     /// exactly the host's value (bit for bit for floats).
     #[test]
     fn kernel_constants_equal_the_hosts() {
-        let module = kernel(MAX_CHUNKS);
+        let module = kernel([MAX_CHUNKS; 4]);
         for (name, value) in SHARED_CONSTANTS {
             let (_, constant) = module
                 .constants
@@ -505,10 +533,10 @@ mod tests {
         }
     }
 
-    /// The chunk count fits the adapter: every entry point's bindings with
-    /// it stay within the storage buffers per stage, and one more chunk
-    /// would not (unless at MAX_CHUNKS); lavapipe's Vulkan (32) gets 5,
-    /// llvmpipe's GL (16) 1.
+    /// The chunk counts fit the adapter: every entry point's bindings with
+    /// them stay within the storage buffers per stage, and one more binding
+    /// for any array below MAX_CHUNKS would not; lavapipe's Vulkan (32) and
+    /// llvmpipe's GL (16) get what the docs say.
     #[test]
     fn scene_chunks_fit_the_storage_buffers_per_stage() {
         let storage = |b: &[Binding]| b.iter().filter(|b| b.access != Uniform).count();
@@ -518,22 +546,26 @@ mod tests {
                 ..wgpu::Limits::default()
             })
         };
-        assert_eq!(with(32), 5);
-        assert_eq!(with(16), 1);
+        assert_eq!(with(32), [6, 6, 3, 8]);
+        assert_eq!(with(16), [2, 2, 1, 2]);
+        assert_eq!(with(8), UNSPLIT, "WebGPU's default: no split");
+        assert_eq!(with(1000), [MAX_CHUNKS; 4]);
+        let most = |chunks| {
+            [&RENDER_OUTPUTS[..], &ACCUMULATE_OUTPUTS, &QUERY_OUTPUTS]
+                .iter()
+                .map(|outputs| storage(&entry_point_bindings(chunks, outputs)))
+                .max()
+                .unwrap()
+        };
         for per_stage in 13..64u32 {
             let chunks = with(per_stage);
-            let most = |chunks| {
-                [&RENDER_OUTPUTS[..], &ACCUMULATE_OUTPUTS, &QUERY_OUTPUTS]
-                    .iter()
-                    .map(|outputs| storage(&entry_point_bindings(chunks, outputs)))
-                    .max()
-                    .unwrap()
-            };
             assert!(most(chunks) <= per_stage as usize, "{per_stage} per stage");
-            if chunks < MAX_CHUNKS {
+            for i in 0..chunks.len() {
+                let mut more = chunks;
+                more[i] += 1;
                 assert!(
-                    most(chunks + 1) > per_stage as usize,
-                    "{per_stage} per stage"
+                    chunks[i] == MAX_CHUNKS || most(more) > per_stage as usize,
+                    "{per_stage} per stage: {chunks:?} leaves room"
                 );
             }
         }

@@ -166,16 +166,16 @@ impl SceneArrays {
     fn buffers(
         &self,
         chunk_bytes: ChunkBytes,
-        chunks: usize,
+        chunks: bindings::SceneChunks,
     ) -> Result<Vec<(&'static str, &[u8])>, &'static str> {
         let mut pieces = Vec::with_capacity(bindings::SPLIT_ARRAYS.len());
-        for ((array, bytes), chunk_bytes) in bindings::SPLIT_ARRAYS
+        for (i, (array, bytes)) in bindings::SPLIT_ARRAYS
             .iter()
             .zip(self.split_arrays())
-            .zip(chunk_bytes)
+            .enumerate()
         {
             pieces.push(
-                split(bytes, array.element_bytes, chunk_bytes, chunks)
+                split(bytes, array.element_bytes, chunk_bytes[i], chunks[i])
                     .ok_or(array.chunks[0].name)?,
             );
         }
@@ -204,7 +204,7 @@ impl SceneArrays {
 
     /// Total bytes the scene needs on the GPU (storage buffers only).
     pub fn byte_size(&self) -> u64 {
-        self.buffers(WHOLE, 1)
+        self.buffers(WHOLE, bindings::UNSPLIT)
             .unwrap_or_default()
             .iter()
             .map(|(_, b)| b.len() as u64)
@@ -227,30 +227,32 @@ impl SceneArrays {
         &self,
         limit: u64,
         chunk_bytes: ChunkBytes,
-        chunks: usize,
+        chunks: bindings::SceneChunks,
     ) -> crate::Result<()> {
-        let whole = self.buffers(WHOLE, 1).unwrap_or_default();
+        let whole = self.buffers(WHOLE, bindings::UNSPLIT).unwrap_or_default();
         let split_array = |name: &str| {
-            bindings::SPLIT_ARRAYS
-                .into_iter()
-                .zip(chunk_bytes)
-                .find(|(a, _)| a.chunks[0].name == name)
+            (0..chunks.len()).find(|&i| bindings::SPLIT_ARRAYS[i].chunks[0].name == name)
         };
         // The first buffer, in binding order, that no binding (or none of a
         // split array's bindings) can hold.
         let too_big = whole.iter().find(|(name, bytes)| match split_array(name) {
-            Some((a, chunk_bytes)) => split(bytes, a.element_bytes, chunk_bytes, chunks).is_none(),
+            Some(i) => split(
+                bytes,
+                bindings::SPLIT_ARRAYS[i].element_bytes,
+                chunk_bytes[i],
+                chunks[i],
+            )
+            .is_none(),
             None => bytes.len() as u64 > limit,
         });
         let Some(&(name, bytes)) = too_big else {
             return Ok(());
         };
         let bytes = bytes.len() as u64;
-        let is_split = split_array(name).is_some();
-        let split_note = match chunks {
-            _ if !is_split => String::new(),
-            1 => " (1 binding for it on this adapter)".to_string(),
-            n => format!(" ({n} bindings for it)"),
+        let split_note = match split_array(name).map(|i| chunks[i]) {
+            None => String::new(),
+            Some(1) => " (1 binding for it on this adapter)".to_string(),
+            Some(n) => format!(" ({n} bindings for it)"),
         };
         Err(crate::Error::Gpu(format!(
             "the scene is too large for this adapter: its {name} buffer needs {} but the adapter binds at most {} \
@@ -351,9 +353,7 @@ impl SceneBuffers {
         arrays.check_fits_in(limit, chunk_bytes, chunks)?;
         // check_fits_in names what does not fit; this only guards the split.
         let parts = arrays.buffers(chunk_bytes, chunks).map_err(|name| {
-            crate::Error::Gpu(format!(
-                "the scene's {name} do not fit in {chunks} bindings"
-            ))
+            crate::Error::Gpu(format!("the scene's {name} do not fit in their bindings"))
         })?;
         let what = format!(
             "uploading the scene ({} of GPU memory)",
@@ -378,7 +378,7 @@ impl SceneBuffers {
         device: &wgpu::Device,
         arrays: &SceneArrays,
         parts: &[(&'static str, &[u8])],
-        chunks: usize,
+        chunks: bindings::SceneChunks,
     ) -> Self {
         // Any piece past a split array's first that holds data.
         let later_chunks: Vec<&str> = bindings::SPLIT_ARRAYS

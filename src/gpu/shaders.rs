@@ -75,7 +75,7 @@ pub fn trace_module(device: &wgpu::Device) -> wgpu::ShaderModule {
 
 /// The whole trace kernel as one WGSL module, with `chunks` bindings per
 /// split array: the generated contract, then the files.
-pub fn trace_source(chunks: usize) -> String {
+pub fn trace_source(chunks: super::bindings::SceneChunks) -> String {
     let mut source = format!(
         "// ---- bindings.rs\n{}\n",
         super::bindings::wgsl_contract(chunks)
@@ -105,7 +105,8 @@ mod tests {
 
     #[test]
     fn trace_kernel_parses_and_validates() {
-        let (module, _) = parse_and_validate(&trace_source(super::super::bindings::MAX_CHUNKS));
+        let (module, _) =
+            parse_and_validate(&trace_source([super::super::bindings::MAX_CHUNKS; 4]));
         let entry = module
             .entry_points
             .iter()
