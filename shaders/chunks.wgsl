@@ -73,6 +73,5 @@ fn rope_face(r: u32, face: u32) -> RopeFace {
         return RopeFace(leaf_ropes[r].faces[face], leaf_ropes[r].ropes[face]);
     }
     let at = chunk_index(r, arrayLength(&leaf_ropes), LEAF_ROPES_CHUNKS);
-    var record = leaf_ropes_chunk(at.chunk, at.index);
-    return RopeFace(record.faces[face], record.ropes[face]);
+    return leaf_ropes_chunk(at.chunk, at.index, face);
 }

@@ -90,9 +90,13 @@ pub struct SplitArray {
     /// references per triangle): [`scene_chunks`] shares the bindings out
     /// by these.
     pub bytes_per_triangle: u32,
-    /// `fn <reader>(k: u32, j: u32) -> <element_type>`: element `j` of chunk `k`.
+    /// `fn <reader>(k: u32, j: u32<reader_params>) -> <returns>`: what
+    /// `read` says of element `j` of chunk `k` (`@` in `read` stands for
+    /// the chunk's binding).
     pub reader: &'static str,
-    pub element_type: &'static str,
+    pub reader_params: &'static str,
+    pub returns: &'static str,
+    pub read: &'static str,
     /// `const <count_constant>: u32`: the bindings it has in this kernel.
     pub count_constant: &'static str,
 }
@@ -119,7 +123,9 @@ pub const SPLIT_TRIANGLES: SplitArray = SplitArray {
     element_bytes: 48,
     bytes_per_triangle: 48,
     reader: "triangles_chunk",
-    element_type: "Triangle",
+    reader_params: "",
+    returns: "Triangle",
+    read: "@[j]",
     count_constant: "TRIANGLES_CHUNKS",
 };
 pub const SPLIT_KD_NODES: SplitArray = SplitArray {
@@ -127,7 +133,9 @@ pub const SPLIT_KD_NODES: SplitArray = SplitArray {
     element_bytes: 16,
     bytes_per_triangle: 47,
     reader: "kd_nodes_chunk",
-    element_type: "KdNode",
+    reader_params: "",
+    returns: "KdNode",
+    read: "@[j]",
     count_constant: "KD_NODES_CHUNKS",
 };
 pub const SPLIT_LEAF_OBJECTS: SplitArray = SplitArray {
@@ -135,15 +143,23 @@ pub const SPLIT_LEAF_OBJECTS: SplitArray = SplitArray {
     element_bytes: 4,
     bytes_per_triangle: 23,
     reader: "leaf_objects_chunk",
-    element_type: "u32",
+    reader_params: "",
+    returns: "u32",
+    read: "@[j]",
     count_constant: "LEAF_OBJECTS_CHUNKS",
 };
 pub const SPLIT_LEAF_ROPES: SplitArray = SplitArray {
     chunks: split_array!(LEAF_ROPES, "leaf_ropes", "array<LeafRopes>", 51),
     element_bytes: 48,
     bytes_per_triangle: 71,
+    // One face's plane and rope, not the whole 48-byte record: a record
+    // copied to a local and indexed by a variable face lives in memory on
+    // llvmpipe, which made the split rope walk 4-6x slower than the unsplit
+    // one (bunny, 1.1 million triangles).
     reader: "leaf_ropes_chunk",
-    element_type: "LeafRopes",
+    reader_params: ", face: u32",
+    returns: "RopeFace",
+    read: "RopeFace(@[j].faces[face], @[j].ropes[face])",
     count_constant: "LEAF_ROPES_CHUNKS",
 };
 
@@ -361,20 +377,21 @@ pub fn wgsl_contract(chunks: SceneChunks) -> String {
     text
 }
 
-/// `fn <reader>(k: u32, j: u32) -> <element>`: element `j` of chunk `k` of
-/// `array` (chunks past the declared ones read the first; shaders/chunks.wgsl
-/// never asks for them).
+/// `array`'s reader: `array.read` of element `j` of chunk `k` (chunks past
+/// the declared ones read the first; shaders/chunks.wgsl never asks for
+/// them).
 fn chunk_reader(array: &SplitArray, chunks: usize) -> String {
     let mut text = format!(
-        "fn {}(k: u32, j: u32) -> {} {{\n    switch k {{\n",
-        array.reader, array.element_type
+        "fn {}(k: u32, j: u32{}) -> {} {{\n    switch k {{\n",
+        array.reader, array.reader_params, array.returns
     );
+    let read = |b: &Binding| array.read.replace('@', b.name);
     for (k, b) in array.chunks[..chunks].iter().enumerate().skip(1) {
-        text += &format!("        case {k}u: {{ return {}[j]; }}\n", b.name);
+        text += &format!("        case {k}u: {{ return {}; }}\n", read(b));
     }
     text += &format!(
-        "        default: {{ return {}[j]; }}\n    }}\n}}\n",
-        array.chunks[0].name
+        "        default: {{ return {}; }}\n    }}\n}}\n",
+        read(&array.chunks[0])
     );
     text
 }
