@@ -163,10 +163,11 @@ pub const SPLIT_LEAF_ROPES: SplitArray = SplitArray {
     count_constant: "LEAF_ROPES_CHUNKS",
 };
 
-/// The arrays that can pass one binding for a large mesh. The others cannot
-/// before these run out of chunks (docs/design.md has the arithmetic):
-/// `object_materials` (4 B an object), `leaf_rope_index` (4 B a node) and
-/// `triangle_normals` (12 B a smooth triangle) stay whole.
+/// The arrays that pass one binding first as a mesh grows (24 to 72 bytes a
+/// triangle; docs/design.md has the arithmetic). The others stay whole:
+/// `leaf_rope_index` (4 B a node) and `triangle_normals` (12 B a smooth
+/// triangle) pass 128 MiB at about 11 million triangles, the largest mesh
+/// lavapipe then takes; `object_materials` (4 B an object) at 33 million.
 pub const SPLIT_ARRAYS: [&SplitArray; 4] = [
     &SPLIT_TRIANGLES,
     &SPLIT_KD_NODES,

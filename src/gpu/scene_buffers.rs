@@ -168,19 +168,13 @@ impl SceneArrays {
         chunk_bytes: ChunkBytes,
         chunks: bindings::SceneChunks,
     ) -> Result<Vec<(&'static str, &[u8])>, &'static str> {
-        let mut pieces = Vec::with_capacity(bindings::SPLIT_ARRAYS.len());
-        for (i, (array, bytes)) in bindings::SPLIT_ARRAYS
-            .iter()
-            .zip(self.split_arrays())
-            .enumerate()
-        {
-            pieces.push(
-                split(bytes, array.element_bytes, chunk_bytes[i], chunks[i])
-                    .ok_or(array.chunks[0].name)?,
-            );
+        let arrays = self.split_arrays();
+        let mut pieces: [Vec<&[u8]>; 4] = Default::default();
+        for (i, array) in bindings::SPLIT_ARRAYS.iter().enumerate() {
+            pieces[i] = split(arrays[i], array.element_bytes, chunk_bytes[i], chunks[i])
+                .ok_or(array.chunks[0].name)?;
         }
-        let [triangles, nodes, leaf_objects, ropes]: [Vec<&[u8]>; 4] =
-            pieces.try_into().map_err(|_| "split arrays")?;
+        let [triangles, nodes, leaf_objects, ropes] = pieces;
         let bytes: Vec<&[u8]> = [bytemuck::cast_slice(&self.spheres)]
             .into_iter()
             .chain(triangles)
