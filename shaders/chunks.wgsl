@@ -1,12 +1,14 @@
 // Arrays split over several bindings, so that a scene may exceed one storage
 // binding (128 MiB on lavapipe): the triangles, the k-d nodes, the leaf
-// object lists and the leaf ropes lie in up to TRIANGLES_CHUNKS,
-// KD_NODES_CHUNKS, ... bindings each (the adapter decides how many:
-// bindings::scene_chunks), every one but the last full. The first binding's length is the chunk length (a scene that
-// fits has one chunk, and every index is below it). Every walk reads these
-// four arrays through the functions below, never directly. The bindings and
-// the `<array>_chunk(k, j)` readers are generated (src/gpu/bindings.rs);
-// the host cuts the arrays in src/gpu/scene_buffers.rs (`split`).
+// object lists, the leaf ropes, the rope index and the vertex normals lie in
+// up to TRIANGLES_CHUNKS, KD_NODES_CHUNKS, ... bindings each (the adapter
+// decides how many: bindings::scene_chunks), every one but the last full.
+// The first binding's length is the chunk length (a scene that fits has one
+// chunk, and every index is below it). Every walk, the shading and the query
+// kernel read these six arrays through the functions below, never directly.
+// The bindings, the counts and the `<array>_chunk(k, j)` readers are
+// generated (src/gpu/bindings.rs); the host cuts the arrays in
+// src/gpu/scene_buffers.rs (`split`).
 
 // Whether the scene's arrays may be split: a pipeline-overridable constant,
 // so that the renderer's pipeline for scenes that fit one binding each has
@@ -74,4 +76,22 @@ fn rope_face(r: u32, face: u32) -> RopeFace {
     }
     let at = chunk_index(r, arrayLength(&leaf_ropes), LEAF_ROPES_CHUNKS);
     return leaf_ropes_chunk(at.chunk, at.index, face);
+}
+
+// The rope walk's record of k-d node `i` (leaves only).
+fn leaf_rope_record(i: u32) -> u32 {
+    if (!SPLIT_SCENE) {
+        return leaf_rope_index[i];
+    }
+    let at = chunk_index(i, arrayLength(&leaf_rope_index), LEAF_ROPE_INDEX_CHUNKS);
+    return leaf_rope_index_chunk(at.chunk, at.index);
+}
+
+// Vertex normals record `i` (`Triangle::normals` of a smooth triangle).
+fn triangle_normals_record(i: u32) -> TriangleNormals {
+    if (!SPLIT_SCENE) {
+        return triangle_normals[i];
+    }
+    let at = chunk_index(i, arrayLength(&triangle_normals), TRIANGLE_NORMALS_CHUNKS);
+    return triangle_normals_chunk(at.chunk, at.index);
 }

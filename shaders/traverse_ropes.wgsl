@@ -75,7 +75,7 @@ fn trace_kdtree_ropes(ray: Ray, t_limit: f32, any_hit: bool) -> Hit {
         }
         walk_cost.y += 1u;
         // The exit: the first face ahead with a rope, else t_far.
-        let r = leaf_rope_index[node_index];
+        let r = leaf_rope_record(node_index);
         var exit = RopeExit(t_far, NO_ROPE);
         exit = rope_exit_on_axis(r, 0u, ray, exit);
         exit = rope_exit_on_axis(r, 1u, ray, exit);

@@ -1,14 +1,15 @@
 //! Meshes past one storage binding (issue 10 §3): the triangles, the k-d
-//! nodes, the leaf object lists and the leaf ropes may each spread over
-//! several bindings (shaders/chunks.wgsl). Small chunk sizes force the split
-//! path on small scenes, whose images and ray query answers must equal the
-//! unsplit ones bit for bit, for every walk.
+//! nodes, the leaf object lists, the leaf ropes, the rope index and the
+//! vertex normals may each spread over several bindings
+//! (shaders/chunks.wgsl). Small chunk sizes force the split path on small
+//! scenes, whose images and ray query answers must equal the unsplit ones
+//! bit for bit, for every walk.
 
 mod common;
 
 use common::*;
 use kdray::geometry::Ray;
-use kdray::gpu::bindings;
+use kdray::gpu::bindings::{self, SPLIT_ARRAY_COUNT};
 use kdray::gpu::scene_buffers::{ChunkBytes, WHOLE};
 use kdray::gpu::{
     Accel, PreparedScene, RayQueries, RayQuery, RenderedImage, Renderer, SceneBuffers, TilePlan,
@@ -46,20 +47,23 @@ fn render_with_chunks(
         .unwrap_or_else(|e| panic!("{e}"))
 }
 
-/// The bindings of each split array on this adapter (lavapipe: 6, 6, 3, 8).
-fn chunks() -> [u64; 4] {
+/// The bindings of each split array on this adapter (lavapipe: 5, 5, 3, 8,
+/// 2, 2).
+fn chunks() -> [u64; SPLIT_ARRAY_COUNT] {
     bindings::scene_chunks(&gpu().device.limits()).map(|k| k as u64)
 }
 
 /// (elements, bytes per element) of each split array, in the order of
 /// `bindings::SPLIT_ARRAYS`.
-fn split_arrays(prepared: &PreparedScene) -> [(u64, u64); 4] {
+fn split_arrays(prepared: &PreparedScene) -> [(u64, u64); SPLIT_ARRAY_COUNT] {
     let a = &prepared.arrays;
     let lengths = [
         a.triangles.len(),
         a.nodes.len(),
         a.leaf_objects.len(),
         a.leaf_ropes.len(),
+        a.leaf_rope_index.len(),
+        a.triangle_normals.len(),
     ];
     std::array::from_fn(|i| {
         (
@@ -74,7 +78,7 @@ fn split_arrays(prepared: &PreparedScene) -> [(u64, u64); 4] {
 /// `pieces` bindings.
 fn chunk_bytes_of(
     prepared: &PreparedScene,
-    pieces: [u64; 4],
+    pieces: [u64; SPLIT_ARRAY_COUNT],
     elements: impl Fn(u64, u64) -> u64,
     extra_bytes: u64,
 ) -> ChunkBytes {
@@ -95,7 +99,7 @@ fn chunk_bytes_of(
 
 /// Every split array in two bindings, the second partial.
 fn two_chunks(prepared: &PreparedScene) -> ChunkBytes {
-    chunk_bytes_of(prepared, [2; 4], |n, _| n / 2 + 7, 0)
+    chunk_bytes_of(prepared, [2; SPLIT_ARRAY_COUNT], |n, _| n / 2 + 7, 0)
 }
 
 /// The torus scene (4,610 smooth and flat triangles, mirrors).
@@ -120,7 +124,7 @@ fn chunkings(prepared: &PreparedScene) -> Vec<(&'static str, ChunkBytes)> {
         ),
         (
             "odd bytes",
-            chunk_bytes_of(prepared, [2; 4], |n, _| n * 3 / 5, 7),
+            chunk_bytes_of(prepared, [2; SPLIT_ARRAY_COUNT], |n, _| n * 3 / 5, 7),
         ),
         ("inside a leaf", chunk_inside_a_leaf(prepared)),
     ]

@@ -86,7 +86,7 @@ pub struct SplitArray {
     /// Bytes per element (the WGSL array's stride).
     pub element_bytes: usize,
     /// Its bytes per triangle of a large mesh (the bunny subdivided twice,
-    /// 1.1 million triangles: 2.94 nodes, 1.47 leaves and 5.8 leaf
+    /// 1.1 million triangles, smooth: 2.94 nodes, 1.47 leaves and 5.8 leaf
     /// references per triangle): [`scene_chunks`] shares the bindings out
     /// by these.
     pub bytes_per_triangle: u32,
@@ -163,16 +163,47 @@ pub const SPLIT_LEAF_ROPES: SplitArray = SplitArray {
     count_constant: "LEAF_ROPES_CHUNKS",
 };
 
-/// The arrays that pass one binding first as a mesh grows (24 to 72 bytes a
-/// triangle; docs/design.md has the arithmetic). The others stay whole:
-/// `leaf_rope_index` (4 B a node) and `triangle_normals` (12 B a smooth
-/// triangle) pass 128 MiB at about 11 million triangles, the largest mesh
-/// lavapipe then takes; `object_materials` (4 B an object) at 33 million.
-pub const SPLIT_ARRAYS: [&SplitArray; 4] = [
+pub const SPLIT_LEAF_ROPE_INDEX: SplitArray = SplitArray {
+    chunks: split_array!(LEAF_ROPE_INDEX, "leaf_rope_index", "array<u32>", 58),
+    element_bytes: 4,
+    bytes_per_triangle: 12,
+    reader: "leaf_rope_index_chunk",
+    reader_params: "",
+    returns: "u32",
+    read: "@[j]",
+    count_constant: "LEAF_ROPE_INDEX_CHUNKS",
+};
+pub const SPLIT_TRIANGLE_NORMALS: SplitArray = SplitArray {
+    chunks: split_array!(
+        TRIANGLE_NORMALS,
+        "triangle_normals",
+        "array<TriangleNormals>",
+        65
+    ),
+    element_bytes: 12,
+    bytes_per_triangle: 12,
+    reader: "triangle_normals_chunk",
+    reader_params: "",
+    returns: "TriangleNormals",
+    read: "@[j]",
+    count_constant: "TRIANGLE_NORMALS_CHUNKS",
+};
+
+/// How many arrays may be split.
+pub const SPLIT_ARRAY_COUNT: usize = 6;
+
+/// Every array that passes one binding as a mesh grows (12 to 72 bytes a
+/// triangle, so between 1.9 and 11 million triangles; docs/design.md has the
+/// arithmetic). The others stay whole: `object_materials` (4 B an object)
+/// passes 128 MiB at 33 million objects, past what the split arrays hold;
+/// spheres, materials and lights do not grow with a mesh.
+pub const SPLIT_ARRAYS: [&SplitArray; SPLIT_ARRAY_COUNT] = [
     &SPLIT_TRIANGLES,
     &SPLIT_KD_NODES,
     &SPLIT_LEAF_OBJECTS,
     &SPLIT_LEAF_ROPES,
+    &SPLIT_LEAF_ROPE_INDEX,
+    &SPLIT_TRIANGLE_NORMALS,
 ];
 
 /// `trace_rays` (the debug entry point): the rays to trace.
@@ -194,10 +225,10 @@ pub const COST_WORDS: usize = 3;
 
 /// How many bindings each split array has, in the order of
 /// [`SPLIT_ARRAYS`] (1 to [`MAX_CHUNKS`] each).
-pub type SceneChunks = [usize; 4];
+pub type SceneChunks = [usize; SPLIT_ARRAY_COUNT];
 
 /// One binding per split array: what a kernel without splitting declares.
-pub const UNSPLIT: SceneChunks = [1; 4];
+pub const UNSPLIT: SceneChunks = [1; SPLIT_ARRAY_COUNT];
 
 /// The scene's storage buffers, in the order [`crate::gpu::SceneArrays`]
 /// lists them, each split array with its first `chunks` bindings.
@@ -209,7 +240,8 @@ pub fn scene(chunks: SceneChunks) -> Vec<Binding> {
     scene.extend(split(1));
     scene.extend(split(2));
     scene.extend(split(3));
-    scene.extend([LEAF_ROPE_INDEX, TRIANGLE_NORMALS]);
+    scene.extend(split(4));
+    scene.extend(split(5));
     scene
 }
 
@@ -225,9 +257,9 @@ pub const QUERY_OUTPUTS: [Binding; 3] = [QUERY_RAYS, QUERY_HITS, QUERY_COSTS];
 /// with the most buffers of its own, shared out one at a time to the array
 /// with the most bytes per triangle per binding so far
 /// ([`SplitArray::bytes_per_triangle`]), at least 1 and at most
-/// [`MAX_CHUNKS`] each. Lavapipe (Vulkan, 32 per stage, 23 left):
-/// triangles 6, nodes 6, leaf references 3, leaf ropes 8; llvmpipe's GL
-/// (16 per stage, 7 left): 2, 2, 1, 2.
+/// [`MAX_CHUNKS`] each. Lavapipe (Vulkan, 32 per stage, 25 left):
+/// triangles 5, nodes 5, leaf references 3, leaf ropes 8, rope index 2,
+/// normals 2; llvmpipe's GL (16 per stage, 9 left): 2, 2, 1, 2, 1, 1.
 pub fn scene_chunks(limits: &wgpu::Limits) -> SceneChunks {
     let per_stage = limits.max_storage_buffers_per_shader_stage as usize;
     let whole_arrays = scene(UNSPLIT).len() - SPLIT_ARRAYS.len();
@@ -481,7 +513,7 @@ mod tests {
     /// every number of chunks.
     #[test]
     fn kernel_bindings_are_the_contract() {
-        for chunks in [UNSPLIT, [2, 3, 1, 8], [MAX_CHUNKS; 4]] {
+        for chunks in [UNSPLIT, [2, 3, 1, 8, 1, 2], [MAX_CHUNKS; SPLIT_ARRAY_COUNT]] {
             kernel_bindings_are_the_contract_with(chunks);
         }
     }
@@ -528,7 +560,7 @@ mod tests {
     /// exactly the host's value (bit for bit for floats).
     #[test]
     fn kernel_constants_equal_the_hosts() {
-        let module = kernel([MAX_CHUNKS; 4]);
+        let module = kernel([MAX_CHUNKS; SPLIT_ARRAY_COUNT]);
         for (name, value) in SHARED_CONSTANTS {
             let (_, constant) = module
                 .constants
@@ -564,10 +596,10 @@ mod tests {
                 ..wgpu::Limits::default()
             })
         };
-        assert_eq!(with(32), [6, 6, 3, 8]);
-        assert_eq!(with(16), [2, 2, 1, 2]);
+        assert_eq!(with(32), [5, 5, 3, 8, 2, 2]);
+        assert_eq!(with(16), [2, 2, 1, 2, 1, 1]);
         assert_eq!(with(8), UNSPLIT, "WebGPU's default: no split");
-        assert_eq!(with(1000), [MAX_CHUNKS; 4]);
+        assert_eq!(with(1000), [MAX_CHUNKS; SPLIT_ARRAY_COUNT]);
         let most = |chunks| {
             [&RENDER_OUTPUTS[..], &ACCUMULATE_OUTPUTS, &QUERY_OUTPUTS]
                 .iter()

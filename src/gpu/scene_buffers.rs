@@ -149,12 +149,14 @@ impl SceneArrays {
 
     /// The bytes of each split array, in the order of
     /// [`bindings::SPLIT_ARRAYS`].
-    fn split_arrays(&self) -> [&[u8]; 4] {
+    fn split_arrays(&self) -> [&[u8]; bindings::SPLIT_ARRAY_COUNT] {
         [
             bytemuck::cast_slice(&self.triangles),
             bytemuck::cast_slice(&self.nodes),
             bytemuck::cast_slice(&self.leaf_objects),
             bytemuck::cast_slice(&self.leaf_ropes),
+            bytemuck::cast_slice(&self.leaf_rope_index),
+            bytemuck::cast_slice(&self.triangle_normals),
         ]
     }
 
@@ -169,12 +171,12 @@ impl SceneArrays {
         chunks: bindings::SceneChunks,
     ) -> Result<Vec<(&'static str, &[u8])>, &'static str> {
         let arrays = self.split_arrays();
-        let mut pieces: [Vec<&[u8]>; 4] = Default::default();
+        let mut pieces: [Vec<&[u8]>; bindings::SPLIT_ARRAY_COUNT] = Default::default();
         for (i, array) in bindings::SPLIT_ARRAYS.iter().enumerate() {
             pieces[i] = split(arrays[i], array.element_bytes, chunk_bytes[i], chunks[i])
                 .ok_or(array.chunks[0].name)?;
         }
-        let [triangles, nodes, leaf_objects, ropes] = pieces;
+        let [triangles, nodes, leaf_objects, ropes, rope_index, normals] = pieces;
         let bytes: Vec<&[u8]> = [bytemuck::cast_slice(&self.spheres)]
             .into_iter()
             .chain(triangles)
@@ -186,10 +188,8 @@ impl SceneArrays {
             .chain(nodes)
             .chain(leaf_objects)
             .chain(ropes)
-            .chain([
-                bytemuck::cast_slice(&self.leaf_rope_index),
-                bytemuck::cast_slice(&self.triangle_normals),
-            ])
+            .chain(rope_index)
+            .chain(normals)
             .collect();
         let names = bindings::scene(chunks);
         debug_assert_eq!(bytes.len(), names.len());
@@ -212,7 +212,11 @@ impl SceneArrays {
     /// the buffer, its size and the limit.
     pub fn check_fits(&self, limits: &wgpu::Limits) -> crate::Result<()> {
         let limit = super::max_binding_bytes(limits);
-        self.check_fits_in(limit, [limit; 4], bindings::scene_chunks(limits))
+        self.check_fits_in(
+            limit,
+            [limit; bindings::SPLIT_ARRAY_COUNT],
+            bindings::scene_chunks(limits),
+        )
     }
 
     /// Every buffer within `limit` bytes, the split ones cut into at most
@@ -288,11 +292,11 @@ fn split(bytes: &[u8], element: usize, binding_bytes: u64, chunks: usize) -> Opt
 
 /// The most bytes of each split array one binding holds, in the order of
 /// [`bindings::SPLIT_ARRAYS`] (triangles, k-d nodes, leaf objects, leaf
-/// ropes); the device's limit caps each.
-pub type ChunkBytes = [u64; 4];
+/// ropes, rope index, vertex normals); the device's limit caps each.
+pub type ChunkBytes = [u64; bindings::SPLIT_ARRAY_COUNT];
 
 /// Each split array in one binding if the device allows it.
-pub const WHOLE: ChunkBytes = [u64::MAX; 4];
+pub const WHOLE: ChunkBytes = [u64::MAX; bindings::SPLIT_ARRAY_COUNT];
 
 /// Bytes for people: B, KiB or MiB.
 pub(crate) fn human_bytes(bytes: u64) -> String {
@@ -316,7 +320,7 @@ pub struct SceneBuffers {
     pub light_count: u32,
     pub node_count: u32,
     /// Whether a split array (triangles, k-d nodes, leaf object lists, leaf
-    /// ropes) lies in more than one binding (the kernel must then select
+    /// ropes, rope index, vertex normals) lies in more than one binding (the kernel must then select
     /// the chunk: `bindings::trace_pipeline_on`).
     pub split: bool,
 }

@@ -105,8 +105,9 @@ mod tests {
 
     #[test]
     fn trace_kernel_parses_and_validates() {
-        let (module, _) =
-            parse_and_validate(&trace_source([super::super::bindings::MAX_CHUNKS; 4]));
+        let (module, _) = parse_and_validate(&trace_source(
+            [super::super::bindings::MAX_CHUNKS; super::super::bindings::SPLIT_ARRAY_COUNT],
+        ));
         let entry = module
             .entry_points
             .iter()

@@ -676,6 +676,8 @@ mod tests {
             half(a.nodes.len(), 16),
             half(a.leaf_objects.len(), 4),
             half(a.leaf_ropes.len(), 48),
+            half(a.leaf_rope_index.len(), 4),
+            half(a.triangle_normals.len(), 12),
         ];
         let whole = SceneBuffers::upload(&ctx, a).unwrap();
         let split = SceneBuffers::upload_split(&ctx, a, chunks).unwrap();
