@@ -53,7 +53,8 @@ pub const PRESENT_FRAGMENT_ENTRY_POINT: &str = "fs_main";
 /// each descent step moves to a higher node index (children follow their
 /// parent in the flat layout, `flat_layout_is_what_the_kernel_assumes` in
 /// tests/kdtree_props.rs), and an index past the end is clamped to the last
-/// node, a leaf; leaf, brute-force, light and sample loops run over counts;
+/// node, a leaf; leaf, brute-force, light, sample and chunk (chunks.wgsl)
+/// loops run over counts;
 /// the reflection loop over `max_depth`. The counters cost 6-10% of the
 /// frame on lavapipe (docs/benchmarks.md).
 pub fn trace_module(device: &wgpu::Device) -> wgpu::ShaderModule {
