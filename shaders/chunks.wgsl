@@ -1,27 +1,67 @@
 // Arrays split over several bindings, so that a scene may exceed one storage
-// binding (128 MiB on lavapipe): the triangles and the leaf ropes lie in up
-// to two bindings each (bindings::CHUNKS), the first one full when there
-// are two. The first binding's
-// length is the chunk length (a scene that fits has one chunk, and every
-// index is below it). See SceneArrays::split in src/gpu/scene_buffers.rs.
+// binding (128 MiB on lavapipe): the triangles, the k-d nodes, the leaf
+// object lists, the leaf ropes, the rope index and the vertex normals lie in
+// up to TRIANGLES_CHUNKS, KD_NODES_CHUNKS, ... bindings each (the adapter
+// decides how many: bindings::scene_chunks), every one but the last full.
+// The first binding's length is the chunk length (a scene that fits has one
+// chunk, and every index is below it). Every walk, the shading and the query
+// kernel read these six arrays through the functions below, never directly.
+// The bindings, the counts and the `<array>_chunk(k, j)` readers are
+// generated (src/gpu/bindings.rs); the host cuts the arrays in
+// src/gpu/scene_buffers.rs (`split`).
 
 // Whether the scene's arrays may be split: a pipeline-overridable constant,
 // so that the renderer's pipeline for scenes that fit one binding each has
 // none of the chunk selection. Measured on lavapipe (torus scene, release
 // build), selecting the chunk at run time cost 25-45% of the frame even
 // when the branch was uniform; pipelines made without the constant (the
-// window, the debug entry point) take the general path.
+// debug entry point) take the general path.
 override SPLIT_SCENE: bool = true;
+
+// Element `index` of chunk `chunk` of a split array.
+struct ChunkIndex {
+    chunk: u32,
+    index: u32,
+}
+
+// Where element `i` of a split array of `chunks` bindings lies when each
+// holds `chunk_length` elements. Comparisons and subtractions only: no
+// integer division (llvmpipe runs it one lane at a time), no product that
+// could overflow; `chunks` is a generated constant at every call, so the
+// loop unrolls.
+fn chunk_index(i: u32, chunk_length: u32, chunks: u32) -> ChunkIndex {
+    var at = ChunkIndex(0u, i);
+    for (var c = 1u; c < chunks; c++) {
+        let past = at.index >= chunk_length;
+        at.chunk += select(0u, 1u, past);
+        at.index -= select(0u, chunk_length, past);
+    }
+    return at;
+}
 
 fn triangle(i: u32) -> Triangle {
     if (!SPLIT_SCENE) {
         return triangles[i];
     }
-    let chunk = arrayLength(&triangles);
-    if (i < chunk) {
-        return triangles[i];
+    let at = chunk_index(i, arrayLength(&triangles), TRIANGLES_CHUNKS);
+    return triangles_chunk(at.chunk, at.index);
+}
+
+fn kd_node(i: u32) -> KdNode {
+    if (!SPLIT_SCENE) {
+        return kd_nodes[i];
     }
-    return triangles_1[i - chunk];
+    let at = chunk_index(i, arrayLength(&kd_nodes), KD_NODES_CHUNKS);
+    return kd_nodes_chunk(at.chunk, at.index);
+}
+
+// Entry `i` of the leaves' object lists: an object id.
+fn leaf_object(i: u32) -> u32 {
+    if (!SPLIT_SCENE) {
+        return leaf_objects[i];
+    }
+    let at = chunk_index(i, arrayLength(&leaf_objects), LEAF_OBJECTS_CHUNKS);
+    return leaf_objects_chunk(at.chunk, at.index);
 }
 
 // Leaf record `r`'s face `face`: its plane coordinate and its rope.
@@ -34,10 +74,24 @@ fn rope_face(r: u32, face: u32) -> RopeFace {
     if (!SPLIT_SCENE) {
         return RopeFace(leaf_ropes[r].faces[face], leaf_ropes[r].ropes[face]);
     }
-    let chunk = arrayLength(&leaf_ropes);
-    if (r < chunk) {
-        return RopeFace(leaf_ropes[r].faces[face], leaf_ropes[r].ropes[face]);
+    let at = chunk_index(r, arrayLength(&leaf_ropes), LEAF_ROPES_CHUNKS);
+    return leaf_ropes_chunk(at.chunk, at.index, face);
+}
+
+// The rope walk's record of k-d node `i` (leaves only).
+fn leaf_rope_record(i: u32) -> u32 {
+    if (!SPLIT_SCENE) {
+        return leaf_rope_index[i];
     }
-    let j = r - chunk;
-    return RopeFace(leaf_ropes_1[j].faces[face], leaf_ropes_1[j].ropes[face]);
+    let at = chunk_index(i, arrayLength(&leaf_rope_index), LEAF_ROPE_INDEX_CHUNKS);
+    return leaf_rope_index_chunk(at.chunk, at.index);
+}
+
+// Vertex normals record `i` (`Triangle::normals` of a smooth triangle).
+fn triangle_normals_record(i: u32) -> TriangleNormals {
+    if (!SPLIT_SCENE) {
+        return triangle_normals[i];
+    }
+    let at = chunk_index(i, arrayLength(&triangle_normals), TRIANGLE_NORMALS_CHUNKS);
+    return triangle_normals_chunk(at.chunk, at.index);
 }

@@ -112,7 +112,7 @@ fn surface_at(id: u32, p: vec3<f32>, ray_dir: vec3<f32>) -> Surface {
     if (tri.normals == FLAT_TRIANGLE) {
         return Surface(g, g, p);
     }
-    let record = triangle_normals[tri.normals];
+    let record = triangle_normals_record(tri.normals);
     let b = barycentrics(tri, p);
     var n0 = decode_normal(record.n0);
     var n1 = decode_normal(record.n1);

@@ -20,7 +20,7 @@ fn test_leaf(leaf: KdNode, ray: Ray, t_limit: f32, any_hit: bool, best_so_far: H
     for (var i = leaf.index; i < leaf.index + leaf.count; i++) {
         loop_iterations += 1u;
         walk_cost.z += 1u;
-        let id = leaf_objects[i];
+        let id = leaf_object(i);
         let t = intersect_object(id, ray);
         if (t > 0.0) {
             if (any_hit) {
@@ -73,7 +73,7 @@ fn trace_kdtree(ray: Ray, t_limit: f32, any_hit: bool) -> Hit {
         var node_index = restart_node;
         var t_max = t_far;
         var push_down = true;
-        var node = kd_nodes[node_index];
+        var node = kd_node(node_index);
         walk_cost.x += 1u;
         while (node.kind != KD_LEAF) {
             loop_iterations += 1u;
@@ -99,7 +99,7 @@ fn trace_kdtree(ray: Ray, t_limit: f32, any_hit: bool) -> Hit {
             if (push_down) {
                 restart_node = node_index;
             }
-            node = kd_nodes[node_index];
+            node = kd_node(node_index);
             walk_cost.x += 1u;
         }
         walk_cost.y += 1u;

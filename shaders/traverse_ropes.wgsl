@@ -53,7 +53,7 @@ fn trace_kdtree_ropes(ray: Ray, t_limit: f32, any_hit: bool) -> Hit {
     for (var steps = 0u; steps <= params.node_count; steps++) {
         loop_iterations += 1u;
         var node_index = start;
-        var node = kd_nodes[node_index];
+        var node = kd_node(node_index);
         walk_cost.x += 1u;
         while (node.kind != KD_LEAF) {
             loop_iterations += 1u;
@@ -70,12 +70,12 @@ fn trace_kdtree_ropes(ray: Ray, t_limit: f32, any_hit: bool) -> Hit {
                 go_below = below_first != crossed;
             }
             node_index = select(node.index, node_index + 1u, go_below);
-            node = kd_nodes[node_index];
+            node = kd_node(node_index);
             walk_cost.x += 1u;
         }
         walk_cost.y += 1u;
         // The exit: the first face ahead with a rope, else t_far.
-        let r = leaf_rope_index[node_index];
+        let r = leaf_rope_record(node_index);
         var exit = RopeExit(t_far, NO_ROPE);
         exit = rope_exit_on_axis(r, 0u, ray, exit);
         exit = rope_exit_on_axis(r, 1u, ray, exit);

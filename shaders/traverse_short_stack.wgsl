@@ -52,7 +52,7 @@ fn trace_kdtree_short_stack(ray: Ray, t_limit: f32, any_hit: bool) -> Hit {
             t_max = t_far;
             push_down = true;
         }
-        var node = kd_nodes[node_index];
+        var node = kd_node(node_index);
         walk_cost.x += 1u;
         while (node.kind != KD_LEAF) {
             loop_iterations += 1u;
@@ -88,7 +88,7 @@ fn trace_kdtree_short_stack(ray: Ray, t_limit: f32, any_hit: bool) -> Hit {
             if (push_down) {
                 restart_node = node_index;
             }
-            node = kd_nodes[node_index];
+            node = kd_node(node_index);
             walk_cost.x += 1u;
         }
         walk_cost.y += 1u;

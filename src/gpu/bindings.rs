@@ -73,16 +73,139 @@ pub const TRIANGLE_NORMALS: Binding = binding(
     "array<TriangleNormals>",
     StorageRead,
 );
-/// The triangles past the first binding's chunk: `triangles` holds the
-/// first chunk, this one the rest (shaders/chunks.wgsl,
-/// [`crate::gpu::SceneArrays`]).
-pub const TRIANGLES_1: Binding = binding(16, "triangles_1", "array<Triangle>", StorageRead);
-/// The leaf ropes past the first binding's chunk, likewise.
-pub const LEAF_ROPES_1: Binding = binding(17, "leaf_ropes_1", "array<LeafRopes>", StorageRead);
-/// How many bindings the triangles and the leaf ropes may each spread over.
-/// Two: OpenGL drivers (llvmpipe among them) offer 16 storage buffers per
-/// stage, and the render pipeline declares 13 with them.
-pub const CHUNKS: usize = 2;
+/// The most bindings one split array may spread over (shaders/chunks.wgsl);
+/// the adapter's storage buffers per stage decide how many each gets
+/// ([`scene_chunks`]). Eight x 128 MiB holds 22 million triangles.
+pub const MAX_CHUNKS: usize = 8;
+
+/// An array of the scene that may lie in several bindings, each but the last
+/// full (shaders/chunks.wgsl): its bindings, first chunk first, and the
+/// WGSL names the contract generates for it.
+pub struct SplitArray {
+    pub chunks: [Binding; MAX_CHUNKS],
+    /// Bytes per element (the WGSL array's stride).
+    pub element_bytes: usize,
+    /// Its bytes per triangle of a large mesh (the bunny subdivided twice,
+    /// 1.1 million triangles, smooth: 2.94 nodes, 1.47 leaves and 5.8 leaf
+    /// references per triangle): [`scene_chunks`] shares the bindings out
+    /// by these.
+    pub bytes_per_triangle: u32,
+    /// `fn <reader>(k: u32, j: u32<reader_params>) -> <returns>`: what
+    /// `read` says of element `j` of chunk `k` (`@` in `read` stands for
+    /// the chunk's binding).
+    pub reader: &'static str,
+    pub reader_params: &'static str,
+    pub returns: &'static str,
+    pub read: &'static str,
+    /// `const <count_constant>: u32`: the bindings it has in this kernel.
+    pub count_constant: &'static str,
+}
+
+/// A split array's bindings: `$first`, then `$name_1` ... `$name_7` at
+/// `$base` ... `$base + 6`.
+macro_rules! split_array {
+    ($first:expr, $name:literal, $type:literal, $base:literal) => {
+        [
+            $first,
+            binding($base, concat!($name, "_1"), $type, StorageRead),
+            binding($base + 1, concat!($name, "_2"), $type, StorageRead),
+            binding($base + 2, concat!($name, "_3"), $type, StorageRead),
+            binding($base + 3, concat!($name, "_4"), $type, StorageRead),
+            binding($base + 4, concat!($name, "_5"), $type, StorageRead),
+            binding($base + 5, concat!($name, "_6"), $type, StorageRead),
+            binding($base + 6, concat!($name, "_7"), $type, StorageRead),
+        ]
+    };
+}
+
+pub const SPLIT_TRIANGLES: SplitArray = SplitArray {
+    chunks: split_array!(TRIANGLES, "triangles", "array<Triangle>", 30),
+    element_bytes: 48,
+    bytes_per_triangle: 48,
+    reader: "triangles_chunk",
+    reader_params: "",
+    returns: "Triangle",
+    read: "@[j]",
+    count_constant: "TRIANGLES_CHUNKS",
+};
+pub const SPLIT_KD_NODES: SplitArray = SplitArray {
+    chunks: split_array!(KD_NODES, "kd_nodes", "array<KdNode>", 37),
+    element_bytes: 16,
+    bytes_per_triangle: 47,
+    reader: "kd_nodes_chunk",
+    reader_params: "",
+    returns: "KdNode",
+    read: "@[j]",
+    count_constant: "KD_NODES_CHUNKS",
+};
+pub const SPLIT_LEAF_OBJECTS: SplitArray = SplitArray {
+    chunks: split_array!(LEAF_OBJECTS, "leaf_objects", "array<u32>", 44),
+    element_bytes: 4,
+    bytes_per_triangle: 23,
+    reader: "leaf_objects_chunk",
+    reader_params: "",
+    returns: "u32",
+    read: "@[j]",
+    count_constant: "LEAF_OBJECTS_CHUNKS",
+};
+pub const SPLIT_LEAF_ROPES: SplitArray = SplitArray {
+    chunks: split_array!(LEAF_ROPES, "leaf_ropes", "array<LeafRopes>", 51),
+    element_bytes: 48,
+    bytes_per_triangle: 71,
+    // One face's plane and rope, not the whole 48-byte record: a record
+    // copied to a local and indexed by a variable face lives in memory on
+    // llvmpipe, which made the split rope walk 4-6x slower than the unsplit
+    // one (bunny, 1.1 million triangles).
+    reader: "leaf_ropes_chunk",
+    reader_params: ", face: u32",
+    returns: "RopeFace",
+    read: "RopeFace(@[j].faces[face], @[j].ropes[face])",
+    count_constant: "LEAF_ROPES_CHUNKS",
+};
+
+pub const SPLIT_LEAF_ROPE_INDEX: SplitArray = SplitArray {
+    chunks: split_array!(LEAF_ROPE_INDEX, "leaf_rope_index", "array<u32>", 58),
+    element_bytes: 4,
+    bytes_per_triangle: 12,
+    reader: "leaf_rope_index_chunk",
+    reader_params: "",
+    returns: "u32",
+    read: "@[j]",
+    count_constant: "LEAF_ROPE_INDEX_CHUNKS",
+};
+pub const SPLIT_TRIANGLE_NORMALS: SplitArray = SplitArray {
+    chunks: split_array!(
+        TRIANGLE_NORMALS,
+        "triangle_normals",
+        "array<TriangleNormals>",
+        65
+    ),
+    element_bytes: 12,
+    bytes_per_triangle: 12,
+    reader: "triangle_normals_chunk",
+    reader_params: "",
+    returns: "TriangleNormals",
+    read: "@[j]",
+    count_constant: "TRIANGLE_NORMALS_CHUNKS",
+};
+
+/// How many arrays may be split.
+pub const SPLIT_ARRAY_COUNT: usize = 6;
+
+/// Every array that passes one binding as a mesh grows (12 to 72 bytes a
+/// triangle, so between 1.9 and 11 million triangles; docs/design.md has the
+/// arithmetic). The others stay whole: `object_materials` (4 B an object)
+/// passes 128 MiB at 33 million objects, past what the split arrays hold;
+/// spheres, materials and lights do not grow with a mesh.
+pub const SPLIT_ARRAYS: [&SplitArray; SPLIT_ARRAY_COUNT] = [
+    &SPLIT_TRIANGLES,
+    &SPLIT_KD_NODES,
+    &SPLIT_LEAF_OBJECTS,
+    &SPLIT_LEAF_ROPES,
+    &SPLIT_LEAF_ROPE_INDEX,
+    &SPLIT_TRIANGLE_NORMALS,
+];
+
 /// `trace_rays` (the debug entry point): the rays to trace.
 pub const QUERY_RAYS: Binding = binding(10, "query_rays", "array<QueryRay>", StorageRead);
 /// `trace_rays`: one hit per ray.
@@ -100,40 +223,89 @@ pub const QUERY_COSTS: Binding = binding(21, "query_costs", "array<u32>", Storag
 /// Words per pixel (or per query) in [`PIXEL_COSTS`] and [`QUERY_COSTS`].
 pub const COST_WORDS: usize = 3;
 
-/// The scene's storage buffers, in the order [`crate::gpu::SceneArrays`] lists them.
-pub const SCENE: [Binding; 12] = [
-    SPHERES,
-    TRIANGLES,
-    TRIANGLES_1,
-    OBJECT_MATERIALS,
-    MATERIALS,
-    LIGHTS,
-    KD_NODES,
-    LEAF_OBJECTS,
-    LEAF_ROPES,
-    LEAF_ROPES_1,
-    LEAF_ROPE_INDEX,
-    TRIANGLE_NORMALS,
-];
+/// How many bindings each split array has, in the order of
+/// [`SPLIT_ARRAYS`] (1 to [`MAX_CHUNKS`] each).
+pub type SceneChunks = [usize; SPLIT_ARRAY_COUNT];
 
-/// Every binding the kernel declares: the parameters, the scene, and each
-/// entry point's own buffers.
-pub fn all() -> Vec<Binding> {
-    entry_point_bindings(&[
-        TILE_OUTPUT,
-        ACCUMULATION,
-        QUERY_RAYS,
-        QUERY_HITS,
-        PIXEL_COSTS,
-        QUERY_COSTS,
-    ])
+/// One binding per split array: what a kernel without splitting declares.
+pub const UNSPLIT: SceneChunks = [1; SPLIT_ARRAY_COUNT];
+
+/// The scene's storage buffers, in the order [`crate::gpu::SceneArrays`]
+/// lists them, each split array with its first `chunks` bindings.
+pub fn scene(chunks: SceneChunks) -> Vec<Binding> {
+    let split = |i: usize| SPLIT_ARRAYS[i].chunks[..chunks[i]].to_vec();
+    let mut scene = vec![SPHERES];
+    scene.extend(split(0));
+    scene.extend([OBJECT_MATERIALS, MATERIALS, LIGHTS]);
+    scene.extend(split(1));
+    scene.extend(split(2));
+    scene.extend(split(3));
+    scene.extend(split(4));
+    scene.extend(split(5));
+    scene
 }
 
-/// The bindings an entry point uses: the frame parameters, the scene, and
-/// its own outputs (and inputs).
-pub fn entry_point_bindings(outputs: &[Binding]) -> Vec<Binding> {
+/// `render_tile`'s own buffers.
+pub const RENDER_OUTPUTS: [Binding; 2] = [TILE_OUTPUT, PIXEL_COSTS];
+/// `accumulate_tile`'s own buffers.
+pub const ACCUMULATE_OUTPUTS: [Binding; 2] = [ACCUMULATION, PIXEL_COSTS];
+/// `trace_rays`'s own buffers.
+pub const QUERY_OUTPUTS: [Binding; 3] = [QUERY_RAYS, QUERY_HITS, QUERY_COSTS];
+
+/// How many bindings each split array gets on a device with `limits`: the
+/// storage buffers per stage left by the whole arrays and the entry point
+/// with the most buffers of its own, shared out one at a time to the array
+/// with the most bytes per triangle per binding so far
+/// ([`SplitArray::bytes_per_triangle`]), at least 1 and at most
+/// [`MAX_CHUNKS`] each. Lavapipe (Vulkan, 32 per stage, 25 left):
+/// triangles 5, nodes 5, leaf references 3, leaf ropes 8, rope index 2,
+/// normals 2; llvmpipe's GL (16 per stage, 9 left): 2, 2, 1, 2, 1, 1.
+pub fn scene_chunks(limits: &wgpu::Limits) -> SceneChunks {
+    let per_stage = limits.max_storage_buffers_per_shader_stage as usize;
+    let whole_arrays = scene(UNSPLIT).len() - SPLIT_ARRAYS.len();
+    let own = [
+        RENDER_OUTPUTS.len(),
+        ACCUMULATE_OUTPUTS.len(),
+        QUERY_OUTPUTS.len(),
+    ]
+    .into_iter()
+    .max()
+    .unwrap_or(0);
+    let mut left = per_stage
+        .saturating_sub(whole_arrays + own)
+        .saturating_sub(SPLIT_ARRAYS.len());
+    let mut chunks = UNSPLIT;
+    while left > 0 {
+        let share = |i: usize| SPLIT_ARRAYS[i].bytes_per_triangle as f64 / chunks[i] as f64;
+        let Some(next) = (0..chunks.len())
+            .filter(|&i| chunks[i] < MAX_CHUNKS)
+            .reduce(|a, b| if share(b) > share(a) { b } else { a })
+        else {
+            break;
+        };
+        chunks[next] += 1;
+        left -= 1;
+    }
+    chunks
+}
+
+/// Every binding the kernel declares with `chunks` bindings per split
+/// array: the parameters, the scene, and each entry point's own buffers.
+pub fn all(chunks: SceneChunks) -> Vec<Binding> {
+    let mut all = entry_point_bindings(chunks, &RENDER_OUTPUTS);
+    for b in ACCUMULATE_OUTPUTS.into_iter().chain(QUERY_OUTPUTS) {
+        if !all.contains(&b) {
+            all.push(b);
+        }
+    }
+    all
+}
+
+/// The bindings an entry point uses: the frame parameters, the scene (with
+/// `chunks` bindings per split array), and its own outputs (and inputs).
+pub fn entry_point_bindings(chunks: SceneChunks, outputs: &[Binding]) -> Vec<Binding> {
     let mut all = vec![PARAMS];
-    all.extend(SCENE);
+    all.extend(scene(chunks));
     all.extend_from_slice(outputs);
     all
 }
@@ -210,9 +382,10 @@ fn address_space(access: Access) -> &'static str {
     }
 }
 
-/// The WGSL text generated from this module: the shared constants and the
-/// binding declarations (the struct types they name are in shaders/types.wgsl).
-pub fn wgsl_contract() -> String {
+/// The WGSL text generated from this module for `chunks` bindings per split
+/// array: the shared constants, the binding declarations (the struct types
+/// they name are in shaders/types.wgsl) and each split array's chunk reader.
+pub fn wgsl_contract(chunks: SceneChunks) -> String {
     let mut text = String::from("// Generated from src/gpu/bindings.rs: edit it there.\n");
     for (name, value) in SHARED_CONSTANTS {
         text += &format!(
@@ -221,7 +394,7 @@ pub fn wgsl_contract() -> String {
             value.wgsl_literal()
         );
     }
-    for b in all() {
+    for b in all(chunks) {
         text += &format!(
             "@group(0) @binding({}) var<{}> {}: {};\n",
             b.index,
@@ -230,6 +403,29 @@ pub fn wgsl_contract() -> String {
             b.wgsl_type
         );
     }
+    for (array, chunks) in SPLIT_ARRAYS.into_iter().zip(chunks) {
+        text += &format!("const {}: u32 = {chunks}u;\n", array.count_constant);
+        text += &chunk_reader(array, chunks);
+    }
+    text
+}
+
+/// `array`'s reader: `array.read` of element `j` of chunk `k` (chunks past
+/// the declared ones read the first; shaders/chunks.wgsl never asks for
+/// them).
+fn chunk_reader(array: &SplitArray, chunks: usize) -> String {
+    let mut text = format!(
+        "fn {}(k: u32, j: u32{}) -> {} {{\n    switch k {{\n",
+        array.reader, array.reader_params, array.returns
+    );
+    let read = |b: &Binding| array.read.replace('@', b.name);
+    for (k, b) in array.chunks[..chunks].iter().enumerate().skip(1) {
+        text += &format!("        case {k}u: {{ return {}; }}\n", read(b));
+    }
+    text += &format!(
+        "        default: {{ return {}; }}\n    }}\n}}\n",
+        read(&array.chunks[0])
+    );
     text
 }
 
@@ -308,21 +504,28 @@ pub fn trace_pipeline_on(
 mod tests {
     use super::*;
 
-    fn kernel() -> naga::Module {
-        crate::gpu::shaders::parse_and_validate(&crate::gpu::shaders::trace_source()).0
+    fn kernel(chunks: SceneChunks) -> naga::Module {
+        crate::gpu::shaders::parse_and_validate(&crate::gpu::shaders::trace_source(chunks)).0
     }
 
     /// Each global of the kernel is a binding of this table, at its number
-    /// and with its access, and each binding of the table is declared.
+    /// and with its access, and each binding of the table is declared, for
+    /// every number of chunks.
     #[test]
     fn kernel_bindings_are_the_contract() {
-        let module = kernel();
+        for chunks in [UNSPLIT, [2, 3, 1, 8, 1, 2], [MAX_CHUNKS; SPLIT_ARRAY_COUNT]] {
+            kernel_bindings_are_the_contract_with(chunks);
+        }
+    }
+
+    fn kernel_bindings_are_the_contract_with(chunks: SceneChunks) {
+        let table = all(chunks);
+        let module = kernel(chunks);
         let mut seen = Vec::new();
         for (_, global) in module.global_variables.iter() {
             let Some(res) = &global.binding else { continue };
             let name = global.name.as_deref().unwrap_or("");
-            let all = all();
-            let b = all
+            let b = table
                 .iter()
                 .find(|b| b.name == name)
                 .unwrap_or_else(|| panic!("the kernel binds `{name}`, which bindings.rs lacks"));
@@ -340,24 +543,24 @@ mod tests {
             assert_eq!(access, b.access, "access of {name}");
             seen.push(name.to_string());
         }
-        for b in all() {
+        for b in &table {
             assert!(
                 seen.iter().any(|s| s == b.name),
                 "{} is not declared",
                 b.name
             );
         }
-        let mut indices: Vec<u32> = all().iter().map(|b| b.index).collect();
+        let mut indices: Vec<u32> = table.iter().map(|b| b.index).collect();
         indices.sort_unstable();
         indices.dedup();
-        assert_eq!(indices.len(), all().len(), "two bindings share a number");
+        assert_eq!(indices.len(), table.len(), "two bindings share a number");
     }
 
     /// Each shared constant, as naga evaluates the kernel's declaration, has
     /// exactly the host's value (bit for bit for floats).
     #[test]
     fn kernel_constants_equal_the_hosts() {
-        let module = kernel();
+        let module = kernel([MAX_CHUNKS; SPLIT_ARRAY_COUNT]);
         for (name, value) in SHARED_CONSTANTS {
             let (_, constant) = module
                 .constants
@@ -376,6 +579,44 @@ mod tests {
                     assert_eq!(host.to_bits(), kernel.to_bits(), "{name}")
                 }
                 (host, kernel) => panic!("{name}: host {host:?}, kernel {kernel:?}"),
+            }
+        }
+    }
+
+    /// The chunk counts fit the adapter: every entry point's bindings with
+    /// them stay within the storage buffers per stage, and one more binding
+    /// for any array below MAX_CHUNKS would not; lavapipe's Vulkan (32) and
+    /// llvmpipe's GL (16) get what the docs say.
+    #[test]
+    fn scene_chunks_fit_the_storage_buffers_per_stage() {
+        let storage = |b: &[Binding]| b.iter().filter(|b| b.access != Uniform).count();
+        let with = |per_stage| {
+            scene_chunks(&wgpu::Limits {
+                max_storage_buffers_per_shader_stage: per_stage,
+                ..wgpu::Limits::default()
+            })
+        };
+        assert_eq!(with(32), [5, 5, 3, 8, 2, 2]);
+        assert_eq!(with(16), [2, 2, 1, 2, 1, 1]);
+        assert_eq!(with(8), UNSPLIT, "WebGPU's default: no split");
+        assert_eq!(with(1000), [MAX_CHUNKS; SPLIT_ARRAY_COUNT]);
+        let most = |chunks| {
+            [&RENDER_OUTPUTS[..], &ACCUMULATE_OUTPUTS, &QUERY_OUTPUTS]
+                .iter()
+                .map(|outputs| storage(&entry_point_bindings(chunks, outputs)))
+                .max()
+                .unwrap()
+        };
+        for per_stage in 13..64u32 {
+            let chunks = with(per_stage);
+            assert!(most(chunks) <= per_stage as usize, "{per_stage} per stage");
+            for i in 0..chunks.len() {
+                let mut more = chunks;
+                more[i] += 1;
+                assert!(
+                    chunks[i] == MAX_CHUNKS || most(more) > per_stage as usize,
+                    "{per_stage} per stage: {chunks:?} leaves room"
+                );
             }
         }
     }

@@ -38,11 +38,10 @@ impl RayQueries {
                 device,
                 &module,
                 super::shaders::QUERY_ENTRY_POINT,
-                &bindings::entry_point_bindings(&[
-                    bindings::QUERY_RAYS,
-                    bindings::QUERY_HITS,
-                    bindings::QUERY_COSTS,
-                ]),
+                &bindings::entry_point_bindings(
+                    bindings::scene_chunks(&device.limits()),
+                    &bindings::QUERY_OUTPUTS,
+                ),
             );
             RayQueries { pipeline, layout }
         })

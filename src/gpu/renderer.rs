@@ -174,9 +174,10 @@ pub struct Renderer {
     params_buffer: wgpu::Buffer,
 }
 
-/// The bindings `render_tile` is given.
-fn render_bindings() -> Vec<bindings::Binding> {
-    bindings::entry_point_bindings(&[bindings::TILE_OUTPUT, bindings::PIXEL_COSTS])
+/// The bindings `render_tile` is given on `device`.
+fn render_bindings(device: &wgpu::Device) -> Vec<bindings::Binding> {
+    let chunks = bindings::scene_chunks(&device.limits());
+    bindings::entry_point_bindings(chunks, &bindings::RENDER_OUTPUTS)
 }
 
 impl Renderer {
@@ -185,7 +186,7 @@ impl Renderer {
             let module = shaders::trace_module(device);
             let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
                 label: Some(shaders::TRACE_ENTRY_POINT),
-                entries: &bindings::layout_entries(&render_bindings()),
+                entries: &bindings::layout_entries(&render_bindings(device)),
             });
             let pipeline = bindings::trace_pipeline_on(
                 device,

@@ -147,14 +147,36 @@ impl SceneArrays {
         }
     }
 
+    /// The bytes of each split array, in the order of
+    /// [`bindings::SPLIT_ARRAYS`].
+    fn split_arrays(&self) -> [&[u8]; bindings::SPLIT_ARRAY_COUNT] {
+        [
+            bytemuck::cast_slice(&self.triangles),
+            bytemuck::cast_slice(&self.nodes),
+            bytemuck::cast_slice(&self.leaf_objects),
+            bytemuck::cast_slice(&self.leaf_ropes),
+            bytemuck::cast_slice(&self.leaf_rope_index),
+            bytemuck::cast_slice(&self.triangle_normals),
+        ]
+    }
+
     /// (binding name, bytes) of every storage buffer, in the order of
-    /// [`bindings::SCENE`]: the triangles and the leaf ropes cut into
-    /// [`bindings::CHUNKS`] pieces of at most `chunk_bytes` (`split`; the
-    /// pieces past the data are empty), the other arrays whole. None when a
-    /// split array needs more pieces than that.
-    fn buffers(&self, chunk_bytes: u64) -> Option<Vec<(&'static str, &[u8])>> {
-        let triangles = split(bytemuck::cast_slice(&self.triangles), 48, chunk_bytes)?;
-        let ropes = split(bytemuck::cast_slice(&self.leaf_ropes), 48, chunk_bytes)?;
+    /// [`bindings::scene`] with `chunks` bindings per split array: each
+    /// split array cut into pieces of at most its `chunk_bytes` (`split`;
+    /// the pieces past the data are empty), the other arrays whole. Err
+    /// names the first split array that needs more than `chunks` pieces.
+    fn buffers(
+        &self,
+        chunk_bytes: ChunkBytes,
+        chunks: bindings::SceneChunks,
+    ) -> Result<Vec<(&'static str, &[u8])>, &'static str> {
+        let arrays = self.split_arrays();
+        let mut pieces: [Vec<&[u8]>; bindings::SPLIT_ARRAY_COUNT] = Default::default();
+        for (i, array) in bindings::SPLIT_ARRAYS.iter().enumerate() {
+            pieces[i] = split(arrays[i], array.element_bytes, chunk_bytes[i], chunks[i])
+                .ok_or(array.chunks[0].name)?;
+        }
+        let [triangles, nodes, leaf_objects, ropes, rope_index, normals] = pieces;
         let bytes: Vec<&[u8]> = [bytemuck::cast_slice(&self.spheres)]
             .into_iter()
             .chain(triangles)
@@ -162,22 +184,21 @@ impl SceneArrays {
                 bytemuck::cast_slice(&self.object_materials),
                 bytemuck::cast_slice(&self.materials),
                 bytemuck::cast_slice(&self.lights),
-                bytemuck::cast_slice(&self.nodes),
-                bytemuck::cast_slice(&self.leaf_objects),
             ])
+            .chain(nodes)
+            .chain(leaf_objects)
             .chain(ropes)
-            .chain([
-                bytemuck::cast_slice(&self.leaf_rope_index),
-                bytemuck::cast_slice(&self.triangle_normals),
-            ])
+            .chain(rope_index)
+            .chain(normals)
             .collect();
-        debug_assert_eq!(bytes.len(), bindings::SCENE.len());
-        Some(bindings::SCENE.iter().map(|b| b.name).zip(bytes).collect())
+        let names = bindings::scene(chunks);
+        debug_assert_eq!(bytes.len(), names.len());
+        Ok(names.iter().map(|b| b.name).zip(bytes).collect())
     }
 
     /// Total bytes the scene needs on the GPU (storage buffers only).
     pub fn byte_size(&self) -> u64 {
-        self.buffers(u64::MAX)
+        self.buffers(WHOLE, bindings::UNSPLIT)
             .unwrap_or_default()
             .iter()
             .map(|(_, b)| b.len() as u64)
@@ -187,42 +208,49 @@ impl SceneArrays {
     /// Refuses, before anything is uploaded, a scene one of whose buffers
     /// exceeds what the adapter can bind (`max_storage_buffer_binding_size`,
     /// `max_buffer_size`), even split over the bindings the kernel has for
-    /// it: the message names the buffer, its size and the limit.
+    /// it on this adapter ([`bindings::scene_chunks`]): the message names
+    /// the buffer, its size and the limit.
     pub fn check_fits(&self, limits: &wgpu::Limits) -> crate::Result<()> {
         let limit = super::max_binding_bytes(limits);
-        self.check_fits_in(limit, limit)
+        self.check_fits_in(
+            limit,
+            [limit; bindings::SPLIT_ARRAY_COUNT],
+            bindings::scene_chunks(limits),
+        )
     }
 
-    /// Every buffer within `limit` bytes, the split ones cut into pieces of
-    /// at most `chunk_bytes` (<= `limit`).
-    fn check_fits_in(&self, limit: u64, chunk_bytes: u64) -> crate::Result<()> {
-        let whole = self.buffers(u64::MAX).unwrap_or_default();
-        let too_big = match self.buffers(chunk_bytes) {
-            Some(parts) => parts
-                .iter()
-                .find(|(_, b)| b.len() as u64 > limit)
-                .map(|(n, _)| *n),
-            // A split array beyond its CHUNKS bindings.
-            None => Some(
-                if split(bytemuck::cast_slice(&self.triangles), 48, chunk_bytes).is_none() {
-                    bindings::TRIANGLES.name
-                } else {
-                    bindings::LEAF_ROPES.name
-                },
-            ),
+    /// Every buffer within `limit` bytes, the split ones cut into at most
+    /// `chunks` pieces of at most their `chunk_bytes` (<= `limit`).
+    fn check_fits_in(
+        &self,
+        limit: u64,
+        chunk_bytes: ChunkBytes,
+        chunks: bindings::SceneChunks,
+    ) -> crate::Result<()> {
+        let whole = self.buffers(WHOLE, bindings::UNSPLIT).unwrap_or_default();
+        let split_array = |name: &str| {
+            (0..chunks.len()).find(|&i| bindings::SPLIT_ARRAYS[i].chunks[0].name == name)
         };
-        let Some(name) = too_big else {
+        // The first buffer, in binding order, that no binding (or none of a
+        // split array's bindings) can hold.
+        let too_big = whole.iter().find(|(name, bytes)| match split_array(name) {
+            Some(i) => split(
+                bytes,
+                bindings::SPLIT_ARRAYS[i].element_bytes,
+                chunk_bytes[i],
+                chunks[i],
+            )
+            .is_none(),
+            None => bytes.len() as u64 > limit,
+        });
+        let Some(&(name, bytes)) = too_big else {
             return Ok(());
         };
-        let bytes = whole
-            .iter()
-            .filter(|(n, _)| *n == name)
-            .map(|(_, b)| b.len() as u64)
-            .sum::<u64>();
-        let split_note = if name == bindings::TRIANGLES.name || name == bindings::LEAF_ROPES.name {
-            format!(" ({} bindings for it)", bindings::CHUNKS)
-        } else {
-            String::new()
+        let bytes = bytes.len() as u64;
+        let split_note = match split_array(name).map(|i| chunks[i]) {
+            None => String::new(),
+            Some(1) => " (1 binding for it on this adapter)".to_string(),
+            Some(n) => format!(" ({n} bindings for it)"),
         };
         Err(crate::Error::Gpu(format!(
             "the scene is too large for this adapter: its {name} buffer needs {} but the adapter binds at most {} \
@@ -237,26 +265,38 @@ impl SceneArrays {
     }
 }
 
-/// `bytes` (whole elements of `element` bytes) cut into [`bindings::CHUNKS`]
-/// pieces for bindings of at most `binding_bytes`: all of it in the first
-/// when it fits, else pieces of as many whole elements as a binding holds,
-/// every one but the last full (the kernel takes the first piece's length as
-/// the chunk length, shaders/chunks.wgsl), then empty ones. None when it
-/// needs more pieces.
-fn split(bytes: &[u8], element: usize, binding_bytes: u64) -> Option<[&[u8]; bindings::CHUNKS]> {
+/// `bytes` (whole elements of `element` bytes) cut into `chunks` pieces for
+/// bindings of at most `binding_bytes`: all of it in the first when it fits,
+/// else pieces of as many whole elements as a binding holds, every one but
+/// the last full (the kernel takes the first piece's length as the chunk
+/// length, shaders/chunks.wgsl), then empty ones. None when it needs more
+/// pieces.
+fn split(bytes: &[u8], element: usize, binding_bytes: u64, chunks: usize) -> Option<Vec<&[u8]>> {
     let chunk = if bytes.len() as u64 <= binding_bytes {
         bytes.len().max(element)
     } else {
         (binding_bytes / element as u64) as usize * element
     };
-    if chunk == 0 || bytes.len().div_ceil(chunk) > bindings::CHUNKS {
+    if chunk == 0 || bytes.len().div_ceil(chunk) > chunks {
         return None;
     }
-    Some(std::array::from_fn(|k| {
-        let start = (k * chunk).min(bytes.len());
-        &bytes[start..(start + chunk).min(bytes.len())]
-    }))
+    Some(
+        (0..chunks)
+            .map(|k| {
+                let start = (k * chunk).min(bytes.len());
+                &bytes[start..(start + chunk).min(bytes.len())]
+            })
+            .collect(),
+    )
 }
+
+/// The most bytes of each split array one binding holds, in the order of
+/// [`bindings::SPLIT_ARRAYS`] (triangles, k-d nodes, leaf objects, leaf
+/// ropes, rope index, vertex normals); the device's limit caps each.
+pub type ChunkBytes = [u64; bindings::SPLIT_ARRAY_COUNT];
+
+/// Each split array in one binding if the device allows it.
+pub const WHOLE: ChunkBytes = [u64::MAX; bindings::SPLIT_ARRAY_COUNT];
 
 /// Bytes for people: B, KiB or MiB.
 pub(crate) fn human_bytes(bytes: u64) -> String {
@@ -268,8 +308,10 @@ pub(crate) fn human_bytes(bytes: u64) -> String {
 }
 
 /// The scene's storage buffers on the device (the bindings of
-/// [`bindings::SCENE`]) and what the kernel's parameters say of them.
+/// [`bindings::scene`]) and what the kernel's parameters say of them.
 pub struct SceneBuffers {
+    /// The bindings of `buffers`, one each.
+    bindings: Vec<bindings::Binding>,
     buffers: Vec<wgpu::Buffer>,
     /// The box the walk clips rays to.
     pub bounds: Aabb,
@@ -277,50 +319,50 @@ pub struct SceneBuffers {
     pub object_count: u32,
     pub light_count: u32,
     pub node_count: u32,
-    /// Whether the triangles or the leaf ropes lie in more than one binding
-    /// (the kernel must then select the chunk: `bindings::trace_pipeline_on`).
+    /// Whether a split array (triangles, k-d nodes, leaf object lists, leaf
+    /// ropes, rope index, vertex normals) lies in more than one binding (the kernel must then select
+    /// the chunk: `bindings::trace_pipeline_on`).
     pub split: bool,
 }
 
 impl SceneBuffers {
-    /// Uploads `arrays` to the device, the triangles and leaf ropes over as
-    /// many bindings as they need (up to [`bindings::CHUNKS`] each). A scene
+    /// Uploads `arrays` to the device, each split array over as many
+    /// bindings as it needs (up to [`bindings::scene_chunks`] each). A scene
     /// with a buffer beyond the adapter's binding limits is refused before
     /// anything is allocated; one
     /// the device has no memory for fails with the size it needed. Either
     /// way the error is one line.
     pub fn upload(ctx: &GpuContext, arrays: &SceneArrays) -> crate::Result<Self> {
-        Self::upload_split(ctx, arrays, u64::MAX)
+        Self::upload_split(ctx, arrays, WHOLE)
     }
 
-    /// [`Self::upload`] with the triangles and leaf ropes split into
-    /// bindings of at most `chunk_bytes` each (capped at the device's
-    /// limit), so that tests run the split path on small scenes.
+    /// [`Self::upload`] with each split array cut into bindings of at most
+    /// its `chunk_bytes` (capped at the device's limit), so that tests run
+    /// the split path on small scenes.
     pub fn upload_split(
         ctx: &GpuContext,
         arrays: &SceneArrays,
-        chunk_bytes: u64,
+        chunk_bytes: ChunkBytes,
     ) -> crate::Result<Self> {
-        let limit = super::max_binding_bytes(&ctx.device.limits());
-        let chunk_bytes = chunk_bytes.min(limit);
-        arrays.check_fits_in(limit, chunk_bytes)?;
+        let limits = ctx.device.limits();
+        let limit = super::max_binding_bytes(&limits);
+        let chunks = bindings::scene_chunks(&limits);
+        let chunk_bytes = chunk_bytes.map(|b| b.min(limit));
+        arrays.check_fits_in(limit, chunk_bytes, chunks)?;
         // check_fits_in names what does not fit; this only guards the split.
-        let parts = arrays.buffers(chunk_bytes).ok_or_else(|| {
-            crate::Error::Gpu(format!(
-                "the scene does not fit in two bindings of {}",
-                human_bytes(chunk_bytes)
-            ))
+        let parts = arrays.buffers(chunk_bytes, chunks).map_err(|name| {
+            crate::Error::Gpu(format!("the scene's {name} do not fit in their bindings"))
         })?;
         let what = format!(
             "uploading the scene ({} of GPU memory)",
             human_bytes(arrays.byte_size())
         );
-        ctx.checked(&what, |device| Self::create(device, arrays, &parts))
+        ctx.checked(&what, |device| Self::create(device, arrays, &parts, chunks))
     }
 
     /// Bind group entries for the scene's bindings.
     pub fn bind_entries(&self) -> impl Iterator<Item = wgpu::BindGroupEntry<'_>> {
-        bindings::SCENE
+        self.bindings
             .iter()
             .zip(&self.buffers)
             .map(|(b, buffer)| wgpu::BindGroupEntry {
@@ -334,11 +376,16 @@ impl SceneBuffers {
         device: &wgpu::Device,
         arrays: &SceneArrays,
         parts: &[(&'static str, &[u8])],
+        chunks: bindings::SceneChunks,
     ) -> Self {
-        let chunked = [bindings::TRIANGLES_1.name, bindings::LEAF_ROPES_1.name];
+        // Any piece past a split array's first that holds data.
+        let later_chunks: Vec<&str> = bindings::SPLIT_ARRAYS
+            .iter()
+            .flat_map(|a| a.chunks[1..].iter().map(|b| b.name))
+            .collect();
         let split = parts
             .iter()
-            .any(|(name, bytes)| chunked.contains(name) && !bytes.is_empty());
+            .any(|(name, bytes)| later_chunks.contains(name) && !bytes.is_empty());
         let buffers = parts
             .iter()
             .map(|(name, bytes)| {
@@ -363,6 +410,7 @@ impl SceneBuffers {
             })
             .collect();
         SceneBuffers {
+            bindings: bindings::scene(chunks),
             buffers,
             bounds: arrays.bounds,
             sphere_count: arrays.spheres.len() as u32,
@@ -419,6 +467,35 @@ mod tests {
             ..wgpu::Limits::default()
         };
         assert!(a.check_fits(&limits).is_err());
+    }
+
+    /// `split` keeps every byte in order, in whole elements, each piece
+    /// within the binding; all pieces but the last non-empty one are full;
+    /// it refuses what needs more pieces than it has.
+    #[test]
+    fn split_cuts_whole_elements_in_order() {
+        let bytes: Vec<u8> = (0..100u8).collect(); // 25 elements of 4 B
+        for binding in [4u64, 7, 10, 24, 99, 100, 1000] {
+            for chunks in 1..=6 {
+                let per_chunk = (binding.min(100) / 4) as usize;
+                let needed = 25usize.div_ceil(per_chunk);
+                let Some(pieces) = split(&bytes, 4, binding, chunks) else {
+                    assert!(needed > chunks, "{binding} B x {chunks} was refused");
+                    continue;
+                };
+                assert!(needed <= chunks, "{binding} B x {chunks}");
+                assert_eq!(pieces.len(), chunks);
+                assert_eq!(pieces.concat(), bytes, "{binding} B x {chunks}");
+                let used = pieces.iter().filter(|p| !p.is_empty()).count();
+                for (k, p) in pieces.iter().enumerate() {
+                    assert!(p.len() as u64 <= binding && p.len() % 4 == 0);
+                    if k + 1 < used {
+                        assert_eq!(p.len(), per_chunk * 4, "{binding} B x {chunks}: piece {k}");
+                    }
+                }
+            }
+        }
+        assert!(split(&bytes, 4, 3, 5).is_none(), "no element fits");
     }
 
     /// Smooth triangles carry their own vertex normals to the GPU, whatever

@@ -53,13 +53,16 @@ pub const PRESENT_FRAGMENT_ENTRY_POINT: &str = "fs_main";
 /// each descent step moves to a higher node index (children follow their
 /// parent in the flat layout, `flat_layout_is_what_the_kernel_assumes` in
 /// tests/kdtree_props.rs), and an index past the end is clamped to the last
-/// node, a leaf; leaf, brute-force, light and sample loops run over counts;
+/// node, a leaf; leaf, brute-force, light, sample and chunk (chunks.wgsl)
+/// loops run over counts;
 /// the reflection loop over `max_depth`. The counters cost 6-10% of the
 /// frame on lavapipe (docs/benchmarks.md).
 pub fn trace_module(device: &wgpu::Device) -> wgpu::ShaderModule {
     let desc = wgpu::ShaderModuleDescriptor {
         label: Some("trace"),
-        source: wgpu::ShaderSource::Wgsl(trace_source().into()),
+        source: wgpu::ShaderSource::Wgsl(
+            trace_source(super::bindings::scene_chunks(&device.limits())).into(),
+        ),
     };
     let checks = wgpu::ShaderRuntimeChecks {
         force_loop_bounding: false,
@@ -71,12 +74,12 @@ pub fn trace_module(device: &wgpu::Device) -> wgpu::ShaderModule {
     unsafe { device.create_shader_module_trusted(desc, checks) }
 }
 
-/// The whole trace kernel as one WGSL module: the generated contract, then
-/// the files.
-pub fn trace_source() -> String {
+/// The whole trace kernel as one WGSL module, with `chunks` bindings per
+/// split array: the generated contract, then the files.
+pub fn trace_source(chunks: super::bindings::SceneChunks) -> String {
     let mut source = format!(
         "// ---- bindings.rs\n{}\n",
-        super::bindings::wgsl_contract()
+        super::bindings::wgsl_contract(chunks)
     );
     for (name, text) in TRACE_PARTS {
         source += &format!("// ---- {name}\n{text}\n");
@@ -103,7 +106,9 @@ mod tests {
 
     #[test]
     fn trace_kernel_parses_and_validates() {
-        let (module, _) = parse_and_validate(&trace_source());
+        let (module, _) = parse_and_validate(&trace_source(
+            [super::super::bindings::MAX_CHUNKS; super::super::bindings::SPLIT_ARRAY_COUNT],
+        ));
         let entry = module
             .entry_points
             .iter()

@@ -238,10 +238,10 @@ impl Viewer {
             let module = shaders::trace_module(device);
             let trace = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
                 label: Some(shaders::ACCUMULATE_ENTRY_POINT),
-                entries: &bindings::layout_entries(&bindings::entry_point_bindings(&[
-                    bindings::ACCUMULATION,
-                    bindings::PIXEL_COSTS,
-                ])),
+                entries: &bindings::layout_entries(&bindings::entry_point_bindings(
+                    bindings::scene_chunks(&device.limits()),
+                    &bindings::ACCUMULATE_OUTPUTS,
+                )),
             });
             let accumulate = bindings::trace_pipeline_on(
                 device,
@@ -602,5 +602,105 @@ impl Viewer {
             return Err(Error::Gpu("the screenshot readback came back short".into()));
         }
         Ok(rgb)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::gpu::{Accel, PreparedScene};
+
+    /// The window's picture of `scene` after one pass (one sample a pixel).
+    fn picture(
+        ctx: &GpuContext,
+        viewer: &mut Viewer,
+        prepared: &PreparedScene,
+        scene: &SceneBuffers,
+    ) -> Vec<u8> {
+        let (w, h) = (prepared.scene.render.width, prepared.scene.render.height);
+        let mut params = prepared.frame_params(scene, Accel::Kdtree);
+        params.samples_per_axis = 1;
+        params.sample_index = 0;
+        params.tile_origin = [0, 0];
+        params.tile_size = [w, h];
+        let work = FrameWork {
+            target: Target::Image,
+            clear_pixels: Some(w as u64 * h as u64),
+            pass: Some(params),
+            present: PresentParams {
+                image_size: [w, h],
+                target_size: [w, h],
+                preview_size: [0, 0],
+                show_image: 1,
+                _pad: 0,
+            },
+        };
+        let target = ctx.device.create_texture(&wgpu::TextureDescriptor {
+            label: Some("test target"),
+            size: wgpu::Extent3d {
+                width: w,
+                height: h,
+                depth_or_array_layers: 1,
+            },
+            mip_level_count: 1,
+            sample_count: 1,
+            dimension: wgpu::TextureDimension::D2,
+            format: wgpu::TextureFormat::Rgba8Unorm,
+            usage: wgpu::TextureUsages::RENDER_ATTACHMENT,
+            view_formats: &[],
+        });
+        let view = target.create_view(&Default::default());
+        viewer.frame(ctx, &view, &work, false).unwrap();
+        viewer.capture(ctx, w, h).unwrap()
+    }
+
+    /// The window picks its trace pipeline by the scene's split, as the
+    /// headless renderer does: a scene whose arrays lie in several bindings
+    /// (forced by small chunks) shows the same picture as the same scene
+    /// unsplit, whether the viewer starts with it or switches to it (a hot
+    /// reload), and switching back restores the unsplit pipeline. Without
+    /// the chunk selection the split scene's indices past the first chunk
+    /// would read the wrong (bounds-checked) elements.
+    #[test]
+    fn the_window_traces_split_scenes_with_the_split_pipeline() {
+        let ctx = GpuContext::new().unwrap();
+        let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/torus.toml");
+        let mut scene = crate::scene::load_scene(&path).unwrap();
+        (scene.render.width, scene.render.height) = (96, 54);
+        let prepared = PreparedScene::new(scene, Accel::Kdtree);
+        let a = &prepared.arrays;
+        // Two chunks of each split array (bindings::SPLIT_ARRAYS order).
+        let half = |n: usize, size: u64| (n as u64 / 2 + 1) * size;
+        let chunks = [
+            half(a.triangles.len(), 48),
+            half(a.nodes.len(), 16),
+            half(a.leaf_objects.len(), 4),
+            half(a.leaf_ropes.len(), 48),
+            half(a.leaf_rope_index.len(), 4),
+            half(a.triangle_normals.len(), 12),
+        ];
+        let whole = SceneBuffers::upload(&ctx, a).unwrap();
+        let split = SceneBuffers::upload_split(&ctx, a, chunks).unwrap();
+        assert!(split.split && !whole.split);
+        let pixels = 96 * 54;
+        let format = wgpu::TextureFormat::Rgba8Unorm;
+
+        let mut viewer = Viewer::new(&ctx, &whole, format, pixels).unwrap();
+        assert!(!viewer.accumulate_split);
+        let expected = picture(&ctx, &mut viewer, &prepared, &whole);
+        assert!(
+            expected.chunks(3).any(|p| p != &expected[..3]),
+            "the picture is blank"
+        );
+        viewer.set_scene(&ctx, &split).unwrap();
+        assert!(viewer.accumulate_split);
+        assert!(picture(&ctx, &mut viewer, &prepared, &split) == expected);
+        viewer.set_scene(&ctx, &whole).unwrap();
+        assert!(!viewer.accumulate_split);
+        assert!(picture(&ctx, &mut viewer, &prepared, &whole) == expected);
+
+        let mut viewer = Viewer::new(&ctx, &split, format, pixels).unwrap();
+        assert!(viewer.accumulate_split);
+        assert!(picture(&ctx, &mut viewer, &prepared, &split) == expected);
     }
 }
