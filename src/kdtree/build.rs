@@ -281,7 +281,6 @@ impl<'s, S: Strategy> Builder<'s, S> {
     /// Builds the subtree over `objects` in `cell`, appending its nodes depth
     /// first (below child, then above child) with up to `threads` threads.
     fn node(&mut self, objects: S::Objects, cell: Aabb, depth: u32, threads: usize) {
-        let n = S::count(&objects);
         let (axis, position, below, above) =
             match self
                 .strategy
@@ -310,10 +309,18 @@ impl<'s, S: Strategy> Builder<'s, S> {
             index: 0,
             count: 0,
         });
-        if threads < 2 || n < PARALLEL_MIN_OBJECTS {
-            self.node(below, below_cell, depth + 1, 1);
+        let (n_below, n_above) = (S::count(&below), S::count(&above));
+        if threads < 2 || n_below.min(n_above) < PARALLEL_MIN_OBJECTS {
+            // One child is small (an empty-space cut, say): the threads go
+            // on with the other, rather than one of them ending at once.
+            let (below_threads, above_threads) = if n_below >= n_above {
+                (threads, 1)
+            } else {
+                (1, threads)
+            };
+            self.node(below, below_cell, depth + 1, below_threads);
             self.nodes[this].index = self.nodes.len() as u32;
-            self.node(above, above_cell, depth + 1, 1);
+            self.node(above, above_cell, depth + 1, above_threads);
             return;
         }
         // The above child on another thread, into a builder of its own.
