@@ -557,8 +557,8 @@ fn bench_matrix_measures_every_build_and_walk() {
         .filter(|r| r["n"] == 60)
     {
         let ratio = format!(
-            "| {:.2}x |",
-            r["mrays_per_s"].as_f64().unwrap() / embree_mrays
+            "| {} |",
+            kdray::bench::report::ratio_text(r["mrays_per_s"].as_f64().unwrap() / embree_mrays)
         );
         let line = summary
             .lines()

@@ -137,7 +137,8 @@ pub fn scene_svg(report: &BenchReport, scene: &str, n: usize) -> String {
         r#"<text x="{}" y="24" font-size="17" text-anchor="middle">{}</text>"#,
         WIDTH / 2.0,
         xml(&format!(
-            "Rays per second: {scene}, N = {n}{}",
+            "Rays per second: {scene}, N = {}{}",
+            super::report::count(n as u64),
             first.map_or(String::new(), |r| format!(
                 ", {}x{}, max_depth {}",
                 r.width, r.height, r.max_depth
@@ -162,7 +163,8 @@ pub fn scene_svg(report: &BenchReport, scene: &str, n: usize) -> String {
             s,
             r#"<text x="{gx:.1}" y="{:.1}" font-size="12" text-anchor="middle">{}</text>"#,
             bottom + 16.0,
-            num(v)
+            // Multiples of a round step: the shortest decimal once rounded.
+            (v * 1e6).round() / 1e6
         );
         k += 1;
     }

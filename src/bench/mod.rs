@@ -70,6 +70,8 @@ pub struct BenchOptions {
     pub traversals: Vec<Traversal>,
     /// Measure the [`suite`]'s four scenes (instead of `sizes` or `scenes`).
     pub suite: bool,
+    /// Write each measured scene as JSON into `out/scenes/` (always with `suite`).
+    pub write_scenes: bool,
     /// Output folder (created if missing).
     pub out: PathBuf,
     /// Also save the k-d tree's image of every run.
@@ -313,7 +315,7 @@ impl BenchConfig {
             traversals: distinct(&args.traversals, Traversal::default()),
             out: args.out.clone(),
             save_images: args.save_images,
-            write_scenes: args.suite,
+            write_scenes: args.suite || args.write_scenes,
             command,
         })
     }

@@ -544,7 +544,8 @@ fn ms(v: Option<f64>) -> String {
     }
 }
 
-fn count(n: u64) -> String {
+/// `1234567` as `1,234,567`.
+pub fn count(n: u64) -> String {
     let s = n.to_string();
     let mut out = String::new();
     for (i, c) in s.chars().enumerate() {
@@ -554,6 +555,19 @@ fn count(n: u64) -> String {
         out.push(c);
     }
     out
+}
+
+/// A ratio with 3 significant digits down to 0.001 (`12.3x`, `1.23x`, `0.0412x`).
+pub fn ratio_text(v: f64) -> String {
+    if v >= 10.0 {
+        format!("{v:.1}x")
+    } else if v >= 1.0 {
+        format!("{v:.2}x")
+    } else if v >= 0.1 {
+        format!("{v:.3}x")
+    } else {
+        format!("{v:.4}x")
+    }
 }
 
 /// One scene's section of the summary: what was rendered, Embree's figure,
@@ -640,7 +654,7 @@ fn scene_table(s: &mut String, report: &BenchReport, scene: &str, n: usize) {
             continue;
         }
         let ratio = |num: Option<f64>, den: Option<f64>| match (num, den) {
-            (Some(a), Some(b)) if b > 0.0 => format!("{:.2}x", a / b),
+            (Some(a), Some(b)) if b > 0.0 => ratio_text(a / b),
             _ => "-".into(),
         };
         let _ = writeln!(

@@ -178,6 +178,10 @@ pub struct BenchArgs {
     /// into OUT/scenes/ for scripts/peers/bench_embree.py.
     #[arg(long, conflicts_with_all = ["scenes", "sizes", "kind", "width", "height", "max_depth"])]
     pub suite: bool,
+    /// Write each measured scene (with the size and depth overrides) as JSON
+    /// into OUT/scenes/, for scripts/peers/bench_embree.py (always with --suite).
+    #[arg(long)]
+    pub write_scenes: bool,
     /// Output folder (created if missing).
     #[arg(long, default_value = "bench-results")]
     pub out: PathBuf,
@@ -186,7 +190,7 @@ pub struct BenchArgs {
     pub save_images: bool,
     /// Measure nothing: read DIR/bench.json from an earlier run and rewrite
     /// its summary, fits, targets and plots in DIR.
-    #[arg(long, value_name = "DIR", conflicts_with_all = ["scenes", "save_images", "suite"])]
+    #[arg(long, value_name = "DIR", conflicts_with_all = ["scenes", "save_images", "suite", "write_scenes"])]
     pub replot: Option<PathBuf>,
 }
 
@@ -206,6 +210,7 @@ impl From<BenchArgs> for BenchOptions {
             builds: expand(&a.build),
             traversals: expand(&a.traversal),
             suite: a.suite,
+            write_scenes: a.write_scenes,
             out: a.out,
             save_images: a.save_images,
             replot: a.replot,
