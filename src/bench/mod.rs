@@ -701,6 +701,9 @@ pub fn scene_slug(label: &str, n: usize) -> String {
     format!("{clean}-{n}")
 }
 
+/// Loop iterations llvmpipe lets one invocation run (`GpuContext::has_loop_limit`).
+const LLVMPIPE_LOOP_LIMIT: usize = 65_535;
+
 /// Folder (in the output folder) of the scenes written for peers.
 pub const SCENES_DIR: &str = "scenes";
 
@@ -857,6 +860,20 @@ pub fn run_bench(ctx: &GpuContext, config: &BenchConfig) -> Result<BenchOutcome>
             }
 
             let mut record = new_record(&scene, accel);
+            if ctx.has_loop_limit() && n >= LLVMPIPE_LOOP_LIMIT {
+                // Every primary ray alone would loop over more objects than
+                // llvmpipe lets an invocation run: the image would be wrong.
+                record.status = RunStatus::Skipped;
+                record.note = Some(format!(
+                    "{n} objects: one ray's loop over them passes llvmpipe's limit of \
+                     {LLVMPIPE_LOOP_LIMIT} iterations per pixel"
+                ));
+                progress.line(describe_run(&record));
+                report.push(record);
+                report.write_data(&config.out)?;
+                progress.step();
+                continue;
+            }
             if let Some((predicted, how)) = predict_brute_ms(&brute_times, work) {
                 if predicted > config.budget_s * 1e3 {
                     record.status = RunStatus::Skipped;
