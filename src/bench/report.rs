@@ -329,13 +329,15 @@ impl BenchReport {
     }
 }
 
-/// The k-d cell the size series, fits and targets follow: the first
-/// (build, walk) measured, i.e. the first of `--build` and `--traversal`
-/// (the defaults unless given).
+/// The k-d cell the size series, fits and targets follow: the default
+/// build and walk where they were measured, else the first cell measured.
 fn primary_cell(runs: &[RunRecord]) -> (Option<BuildStrategy>, Option<Traversal>) {
-    runs.iter()
-        .find(|r| r.accel == Accel::Kdtree)
-        .map_or((None, None), |r| (r.build, r.traversal))
+    let default = (Some(BuildStrategy::default()), Some(Traversal::default()));
+    let kd = || runs.iter().filter(|r| r.accel == Accel::Kdtree);
+    if kd().any(|r| (r.build, r.traversal) == default) {
+        return default;
+    }
+    kd().next().map_or((None, None), |r| (r.build, r.traversal))
 }
 
 /// Whether `r` is of `accel` and, for the k-d tree, of the primary cell.
@@ -646,8 +648,11 @@ fn scene_table(s: &mut String, report: &BenchReport, scene: &str, n: usize) {
         if !r.is_ok() {
             let _ = writeln!(
                 s,
-                "{head} {} | | | | **{}**: {} | | | | | | | | |",
+                "{head} {} | {} | {} | {} | **{}**: {} | | | | | | | | |",
                 ms(r.build_ms),
+                r.kd_nodes.map_or(String::new(), |v| count(v as u64)),
+                opt(r.kd_max_depth),
+                opt_f(r.kd_refs_per_leaf, 2),
                 r.status.name(),
                 r.note.as_deref().unwrap_or("")
             );
@@ -740,7 +745,10 @@ pub fn markdown_summary(report: &BenchReport) -> String {
         .iter()
         .filter_map(|&(n, k)| brute.iter().find(|b| b.0 == n).map(|&(_, b)| (n, k, b)))
         .collect();
-    if !pairs.is_empty() {
+    // Across the suite's scenes (of different kinds and images) a series
+    // in N means nothing: each scene's table has its own ratios.
+    let series_make_sense = report.config.mode != super::BenchMode::Suite;
+    if series_make_sense && !pairs.is_empty() {
         let cell = match primary_cell(&report.runs) {
             (Some(b), Some(t)) => format!(" ({}/{})", crate::choice::Choice::name(b), t.name()),
             _ => String::new(),
@@ -758,7 +766,7 @@ pub fn markdown_summary(report: &BenchReport) -> String {
             );
         }
     }
-    if !report.fits.is_empty() {
+    if series_make_sense && !report.fits.is_empty() {
         let _ = writeln!(
             s,
             "\n| accel | log-log slope (N >= 100) | linear fit: ms = a + b N (relative error) | R^2 |"
