@@ -27,7 +27,8 @@ fn test_leaf(leaf: KdNode, ray: Ray, t_limit: f32, any_hit: bool, best_so_far: H
                 if (t < t_limit) {
                     return Hit(t, id);
                 }
-            } else if (t <= t_limit && t < best.t) {
+            } else if (t <= t_limit && (t < best.t || (t == best.t && id < best.object))) {
+                // Equal t: the lower id, as brute force's loop keeps it.
                 best = Hit(t, id);
             }
         }

@@ -365,8 +365,8 @@ fn absent_backend_exits_1_and_says_what_to_install() {
     assert!(dir.temp_files().is_empty(), "{:?}", dir.temp_files());
 }
 
-/// Brute force, the SAH tree and the seed's median tree (`--build median`)
-/// give the same pixels.
+/// Brute force, the SAH tree, the binned one and the seed's median tree
+/// (`--build median`) give the same pixels.
 #[test]
 fn brute_force_and_kdtree_images_agree() {
     let dir = TempDir::new("accel");
@@ -375,6 +375,7 @@ fn brute_force_and_kdtree_images_agree() {
     for (name, flags) in [
         ("brute", ["--accel", "brute", "--build", "sah"]),
         ("sah", ["--accel", "kdtree", "--build", "sah"]),
+        ("binned", ["--accel", "kdtree", "--build", "binned"]),
         ("median", ["--accel", "kdtree", "--build", "median"]),
     ] {
         let png = format!("{name}.png");

@@ -1,6 +1,6 @@
 //! Property tests of the k-d tree build over a scene's primitives: the SAH
-//! build with perfect splits (triangles clipped to the cells as polygons)
-//! and the seed's median build. Every point of a triangle (vertices, edges,
+//! build with perfect splits (triangles clipped to the cells as polygons),
+//! the binned one and the seed's median build. Every point of a triangle (vertices, edges,
 //! points exactly on split planes) lies in a leaf that references it; the
 //! CPU traversal finds what brute force finds, on scenes made to stress the
 //! clipping (long thin triangles, fans sharing a vertex, triangles lying in
@@ -135,26 +135,28 @@ fn scene() -> impl Strategy<Value = Primitives> {
     })
 }
 
-/// Build parameters: either strategy; traversal costs 1 (deep trees, many
-/// planes), 15 and 40 (the default's).
-fn params(prims: &Primitives, median: bool, cost: f32) -> BuildParams {
+/// Build parameters: any strategy; traversal costs 1 (deep trees, many
+/// planes), 15 and 40 (the default's). The binned build bins every node of
+/// three objects or more, so that these small scenes exercise it.
+fn params(prims: &Primitives, strategy: BuildStrategy, cost: f32) -> BuildParams {
     BuildParams {
         traversal_cost: cost,
-        strategy: if median {
-            BuildStrategy::Median
-        } else {
-            BuildStrategy::Sah
-        },
+        strategy,
+        exact_below: 2,
         ..BuildParams::for_primitives(prims)
     }
+}
+
+fn strategy() -> impl Strategy<Value = BuildStrategy> {
+    prop::sample::select(BuildStrategy::ALL.to_vec())
 }
 
 fn cost() -> impl Strategy<Value = f32> {
     prop_oneof![Just(1.0f32), Just(15.0), Just(40.0)]
 }
 
-fn tree_for(prims: &Primitives, median: bool, cost: f32) -> KdTree {
-    build_primitives(prims, params(prims, median, cost), 1)
+fn tree_for(prims: &Primitives, strategy: BuildStrategy, cost: f32) -> KdTree {
+    build_primitives(prims, params(prims, strategy, cost), 1)
 }
 
 /// The leaf a point descends to: below a plane when `p <= split`, as the
@@ -343,11 +345,11 @@ proptest! {
     #[test]
     fn every_point_of_a_triangle_is_in_a_leaf_that_references_it(
         prims in scene(),
-        median in any::<bool>(),
+        strategy in strategy(),
         cost in cost(),
         samples in prop::collection::vec((0.0f64..=1.0, 0.0f64..=1.0, any::<usize>()), 8),
     ) {
-        let tree = tree_for(&prims, median, cost);
+        let tree = tree_for(&prims, strategy, cost);
         let planes = inner_planes(&tree);
         let s = prims.spheres.len();
         for (i, t) in prims.triangles.iter().enumerate() {
@@ -384,11 +386,11 @@ proptest! {
     #[test]
     fn closest_hit_matches_brute_force(
         prims in scene(),
-        median in any::<bool>(),
+        strategy in strategy(),
         cost in cost(),
         rays in prop::collection::vec(ray_seed(), 1..40),
     ) {
-        let tree = tree_for(&prims, median, cost);
+        let tree = tree_for(&prims, strategy, cost);
         for seed in rays {
             if let Some(ray) = ray_for(&tree, &prims, seed) {
                 check_closest(&tree, &prims, &ray)?;
@@ -399,11 +401,11 @@ proptest! {
     #[test]
     fn any_hit_matches_brute_force_on_segments(
         prims in scene(),
-        median in any::<bool>(),
+        strategy in strategy(),
         cost in cost(),
         rays in prop::collection::vec((ray_seed(), 0.01f32..40.0), 1..40),
     ) {
-        let tree = tree_for(&prims, median, cost);
+        let tree = tree_for(&prims, strategy, cost);
         for (seed, length) in rays {
             let Some(ray) = ray_for(&tree, &prims, seed) else { continue };
             // Segments ending exactly at a hit are ties; step back from them.
@@ -426,8 +428,8 @@ proptest! {
     /// after their parent, every node reached once, leaf ranges in bounds,
     /// each leaf's ids ascending and distinct.
     #[test]
-    fn flat_layout_is_what_the_kernel_assumes(prims in scene(), median in any::<bool>(), cost in cost()) {
-        let tree = tree_for(&prims, median, cost);
+    fn flat_layout_is_what_the_kernel_assumes(prims in scene(), strategy in strategy(), cost in cost()) {
+        let tree = tree_for(&prims, strategy, cost);
         let n = tree.nodes.len();
         let mut reached = vec![0u32; n];
         let mut pending = vec![0usize];
@@ -507,20 +509,17 @@ fn a_diagonal_sliver_is_referenced_only_where_it_passes() {
         v: [a, b, b - Vec3::new(0.0, 0.0, 0.01)],
     });
     let id = prims.spheres.len() as u32;
-    for median in [false, true] {
-        let tree = tree_for(&prims, median, 15.0);
+    for strategy in BuildStrategy::ALL {
+        let tree = tree_for(&prims, strategy, 15.0);
         let cells = cells_referencing(&tree, id);
         let leaves = tree.nodes.iter().filter(|n| n.is_leaf()).count();
-        assert!(
-            leaves > 100,
-            "median {median}: a deep tree ({leaves} leaves)"
-        );
+        assert!(leaves > 100, "{strategy}: a deep tree ({leaves} leaves)");
         assert!(!cells.is_empty());
         for cell in &cells {
             let d = segment_box_distance(a, b, cell);
             assert!(
                 d < 0.02,
-                "median {median}: the sliver is {d} away from a cell referencing it: {cell:?}"
+                "{strategy}: the sliver is {d} away from a cell referencing it: {cell:?}"
             );
         }
     }
@@ -541,7 +540,7 @@ fn the_median_build_halves_by_centres_down_to_single_objects() {
             }
         }
     }
-    let tree = tree_for(&prims, true, 40.0);
+    let tree = tree_for(&prims, BuildStrategy::Median, 40.0);
     let root = tree.nodes[0];
     assert_eq!((root.kind, root.split), (0, 3.0), "root plane");
     let below = tree.nodes[1];
@@ -565,15 +564,15 @@ fn threads_do_not_change_the_tree() {
     ] {
         let scene = random_scene(&RandomSceneSpec::new(kind, count));
         let prims = Primitives::from_scene(&scene);
-        for median in [false, true] {
-            let params = params(&prims, median, 40.0);
+        for strategy in BuildStrategy::ALL {
+            let params = params(&prims, strategy, 40.0);
             let serial = build_primitives(&prims, params, 1);
             assert!(serial.nodes.len() > 1000, "{kind:?} {count}: a deep tree");
             for threads in [2, 3, 8] {
                 let parallel = build_primitives(&prims, params, threads);
                 assert!(
                     parallel == serial,
-                    "{kind:?} {count} median {median}: {threads} threads built another tree"
+                    "{kind:?} {count} {strategy}: {threads} threads built another tree"
                 );
             }
         }
@@ -589,8 +588,8 @@ fn gear_scene_rays_match_brute_force() {
     let prims = Primitives::from_scene(&scene);
     let mut rng = kdray::bench::random_scene::SplitMix64::new(9);
     let mut false_hits = 0;
-    for median in [false, true] {
-        let tree = KdTree::build_for(&prims, params(&prims, median, 40.0));
+    for strategy in BuildStrategy::ALL {
+        let tree = KdTree::build_for(&prims, params(&prims, strategy, 40.0));
         for i in 0..3000 {
             let origin = Vec3::new(
                 rng.range(-4.0, 4.0) as f32,
@@ -620,7 +619,7 @@ fn gear_scene_rays_match_brute_force() {
             let tie = |k: f32, b: f32| (k - b).abs() <= 1e-4 * b.max(1.0);
             assert!(
                 kd.is_none() && brute.is_none() || kd.zip(brute).is_some_and(|(k, b)| tie(k, b)),
-                "median {median}: kd {kd:?} brute {brute:?} ray {ray:?}"
+                "{strategy}: kd {kd:?} brute {brute:?} ray {ray:?}"
             );
         }
     }

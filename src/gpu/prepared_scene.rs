@@ -20,6 +20,8 @@ pub struct PreparedScene {
     /// of it would search like brute force.
     pub tree: KdTree,
     pub arrays: SceneArrays,
+    /// How the tree was built (the default for a single leaf).
+    pub strategy: BuildStrategy,
     /// Wall time of the tree build, in milliseconds (0 for a single leaf).
     pub build_ms: f64,
     /// Wall time of flattening into the GPU arrays, in milliseconds.
@@ -51,21 +53,33 @@ impl PreparedScene {
             Accel::Kdtree => started.elapsed().as_secs_f64() * 1e3,
             Accel::Brute => 0.0,
         };
-        Self::assemble(scene, &prims, tree, build_ms)
+        Self::assemble(scene, &prims, tree, strategy, build_ms)
     }
 
     /// `scene` with a tree built elsewhere over its objects (property
     /// tests choose the build's parameters).
     pub fn with_tree(scene: Scene, tree: KdTree) -> PreparedScene {
         let prims = Primitives::from_scene(&scene);
-        Self::assemble(scene, &prims, tree, 0.0)
+        Self::assemble(scene, &prims, tree, BuildStrategy::default(), 0.0)
     }
 
-    fn assemble(scene: Scene, prims: &Primitives, tree: KdTree, build_ms: f64) -> PreparedScene {
-        // The root cell is the objects' box (an empty scene's is empty).
-        let tree = KdTree {
-            bounds: prims.scene_bounds(),
-            ..tree
+    fn assemble(
+        scene: Scene,
+        prims: &Primitives,
+        tree: KdTree,
+        strategy: BuildStrategy,
+        build_ms: f64,
+    ) -> PreparedScene {
+        // The root cell is the build's: the objects' box widened by its
+        // tolerance ε (kdtree::clip), which the CPU mirrors walk too. An
+        // empty scene's is the empty box.
+        let tree = if prims.is_empty() {
+            KdTree {
+                bounds: prims.scene_bounds(),
+                ..tree
+            }
+        } else {
+            tree
         };
         let started = Instant::now();
         let arrays = SceneArrays::new(&scene, prims, &tree);
@@ -73,6 +87,7 @@ impl PreparedScene {
             scene,
             tree,
             arrays,
+            strategy,
             build_ms,
             flatten_ms: started.elapsed().as_secs_f64() * 1e3,
         }

@@ -113,6 +113,28 @@ pub fn sides(min: f32, max: f32, p: f32, eps: f32) -> (bool, bool) {
     )
 }
 
+/// The nearest plane position above `x` that an object ending at `x` does
+/// not touch (more than `eps` away, by [`sides`]'s arithmetic).
+pub fn clear_above(x: f32, eps: f32) -> f32 {
+    let p = f32_up(x as f64 + 2.0 * eps as f64);
+    if p > x {
+        p
+    } else {
+        p.next_up()
+    }
+}
+
+/// The nearest plane position below `x` that an object starting at `x`
+/// does not touch.
+pub fn clear_below(x: f32, eps: f32) -> f32 {
+    let p = f32_down(x as f64 - 2.0 * eps as f64);
+    if p < x {
+        p
+    } else {
+        p.next_down()
+    }
+}
+
 /// The intersection of two closed boxes, or `None` when they do not meet.
 pub fn intersect(a: &Aabb, b: &Aabb) -> Option<Aabb> {
     let out = Aabb {
@@ -249,6 +271,22 @@ pub fn clip_triangle(t: &TriangleF32, reach: &Aabb) -> Option<Aabb> {
 mod tests {
     use super::*;
     use glam::Vec3;
+
+    proptest::proptest! {
+        /// A gap plane is touched by nothing at `x`: an object ending there
+        /// goes below only, one starting there above only; and it lies
+        /// within a few ε (or one ulp for ε = 0) of `x`.
+        #[test]
+        fn gap_planes_touch_nothing_at_x(x in -1e6f32..1e6, scale in 0u32..3) {
+            let eps = [0.0, 1e-6, x.abs() * TOLERANCE][scale as usize];
+            let above = clear_above(x, eps);
+            proptest::prop_assert_eq!(sides(x, x, above, eps), (true, false));
+            proptest::prop_assert!(above as f64 - x as f64 <= 3.0 * eps as f64 + (x.abs() * f32::EPSILON) as f64 + 1e-38);
+            let below = clear_below(x, eps);
+            proptest::prop_assert_eq!(sides(x, x, below, eps), (false, true));
+            proptest::prop_assert!(x as f64 - below as f64 <= 3.0 * eps as f64 + (x.abs() * f32::EPSILON) as f64 + 1e-38);
+        }
+    }
 
     fn cube(min: f32, max: f32) -> Aabb {
         Aabb {

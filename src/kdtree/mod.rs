@@ -5,6 +5,7 @@
 //! [`traverse_ropes`] over [`Ropes`], [`traverse_short_stack`]) that the
 //! tests check against brute force.
 
+mod binned;
 mod build;
 mod clip;
 mod events;

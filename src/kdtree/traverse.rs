@@ -164,7 +164,9 @@ fn walk(
 }
 
 /// Tests the objects of leaf `node`, the step every walk shares. Nearest
-/// hit (`any` false): `best` improved by any hit with t <= t_limit. Any hit:
+/// hit (`any` false): `best` improved by any hit with t <= t_limit, and at
+/// an equal t by the lower id, which is the hit brute force's loop keeps
+/// (two objects met at one point may lie in different leaves). Any hit:
 /// the first hit with t < t_limit (the caller returns it at once), else
 /// `best` (None). Counts each object it tests. Mirrors `test_leaf` in
 /// shaders/traverse.wgsl.
@@ -188,7 +190,7 @@ pub(super) fn test_leaf(
                 if t < t_limit {
                     return Some(Hit { object: id, t });
                 }
-            } else if t <= t_limit && best.is_none_or(|b| t < b.t) {
+            } else if t <= t_limit && best.is_none_or(|b| t < b.t || (t == b.t && id < b.object)) {
                 best = Some(Hit { object: id, t });
             }
         }

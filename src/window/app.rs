@@ -51,7 +51,8 @@ pub fn run(options: WindowOptions) -> Result<()> {
         Err(_) => 0.0,
     };
     // Watch first, so a change made while the scene loads is not missed.
-    let (files, scene) = WatchList::record(|seen| gpu_scene::load(&options.scene, seen));
+    let (files, scene) =
+        WatchList::record(|seen| gpu_scene::load(&options.scene, options.build, seen));
     let watcher = SceneWatcher::new(files);
     let scene = scene?;
     let event_loop = EventLoop::new().map_err(|e| {
@@ -129,9 +130,10 @@ impl App {
     /// drawing the current one meanwhile.
     fn start_reload(&mut self) {
         let path = self.options.scene.clone();
+        let build = self.options.build;
         // The mesh list may have changed: the job also lists what to watch.
         self.reloads
-            .request(move || WatchList::record(|seen| gpu_scene::load(&path, seen)));
+            .request(move || WatchList::record(|seen| gpu_scene::load(&path, build, seen)));
         if let Some(session) = &mut self.session {
             session.title.reloading = true;
             session.update_title(&self.name, true);
@@ -234,6 +236,13 @@ impl App {
                 session.traversal = session.traversal.next();
                 session.refinement.invalidate();
                 session.update_title(&self.name, true);
+            }
+            Action::CycleBuild => {
+                // A new tree: prepared on the worker like a reload, shown
+                // when ready (the title says "reloading" meanwhile).
+                self.options.build = self.options.build.next();
+                eprintln!("kdray: building the {} tree", self.options.build);
+                self.start_reload();
             }
             Action::ToggleHeatmap => {
                 // The costs accumulate with the colours; refining again
@@ -600,6 +609,7 @@ impl Session {
             mrays,
             accel: self.accel,
             traversal: self.traversal,
+            build: self.scene.strategy(),
             max_depth: self.max_depth,
             heatmap: self.viewer.heatmap_scale(),
         });

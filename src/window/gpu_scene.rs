@@ -8,16 +8,21 @@ use super::camera_controller::Bounds;
 use super::refinement::Pass;
 use crate::error::Result;
 use crate::gpu::{Accel, GpuContext, PreparedScene, SceneBuffers};
+use crate::kdtree::BuildStrategy;
 use crate::layout::FrameParams;
 use crate::scene::{Camera, RenderSettings, Scene};
 
-/// Loads `path` and prepares it with the k-d tree: the window switches
-/// between the tree and brute force per frame (brute force only changes a
-/// flag the kernel reads), so the tree is always built.
+/// Loads `path` and prepares it with the k-d tree built by `strategy`: the
+/// window switches between the tree and brute force per frame (brute force
+/// only changes a flag the kernel reads), so the tree is always built.
 /// `seen` is told of every file read (the files to watch for hot reload).
-pub fn load(path: &Path, seen: &mut dyn FnMut(&Path)) -> Result<PreparedScene> {
+pub fn load(
+    path: &Path,
+    strategy: BuildStrategy,
+    seen: &mut dyn FnMut(&Path),
+) -> Result<PreparedScene> {
     let scene = crate::scene::load_scene_observed(path, seen)?;
-    Ok(PreparedScene::new(scene, Accel::Kdtree))
+    Ok(PreparedScene::built_by(scene, Accel::Kdtree, strategy))
 }
 
 /// A prepared scene on the device.
@@ -30,6 +35,11 @@ impl GpuScene {
     pub fn upload(ctx: &GpuContext, prepared: PreparedScene) -> Result<Self> {
         let buffers = prepared.upload(ctx)?;
         Ok(GpuScene { prepared, buffers })
+    }
+
+    /// How its k-d tree was built.
+    pub fn strategy(&self) -> BuildStrategy {
+        self.prepared.strategy
     }
 
     /// The scene as loaded.

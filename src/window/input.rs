@@ -18,6 +18,7 @@ kdray window controls:
   P                  save a screenshot (PNG in the current folder)
   B                  toggle k-d tree / brute force
   T                  cycle the k-d walk: restart, ropes, short stack
+  K                  cycle the k-d build: sah, median (rebuilds the tree)
   C                  toggle the cost heatmap (work per sample, false colour)
   [ ]                max_depth down / up
   H                  this help
@@ -34,6 +35,8 @@ pub enum Action {
     ToggleAccel,
     /// T: the next k-d walk (`Traversal::next`).
     CycleTraversal,
+    /// K: the next k-d build (`BuildStrategy::next`), rebuilt like a reload.
+    CycleBuild,
     /// C: the cost heatmap instead of the shaded image, or back.
     ToggleHeatmap,
     DepthDown,
@@ -45,12 +48,13 @@ pub enum Action {
 /// The window's own keys, by the character they type (lower case), each
 /// acting once per press. A new key is one line here, one in [`HELP`] and
 /// one arm in `App::handle_key`.
-const WINDOW_KEYS: [(&str, Action); 9] = [
+const WINDOW_KEYS: [(&str, Action); 10] = [
     ("f", Action::Camera(ControlKey::FrameAll)),
     ("r", Action::Camera(ControlKey::Reset)),
     ("p", Action::Screenshot),
     ("b", Action::ToggleAccel),
     ("t", Action::CycleTraversal),
+    ("k", Action::CycleBuild),
     ("c", Action::ToggleHeatmap),
     ("[", Action::DepthDown),
     ("]", Action::DepthUp),
@@ -243,6 +247,7 @@ mod tests {
             (none, ch("p"), Some(Action::Screenshot)),
             (none, ch("b"), Some(Action::ToggleAccel)),
             (none, ch("T"), Some(Action::CycleTraversal)),
+            (none, ch("k"), Some(Action::CycleBuild)),
             (none, ch("c"), Some(Action::ToggleHeatmap)),
             (none, ch("["), Some(Action::DepthDown)),
             (none, ch("]"), Some(Action::DepthUp)),

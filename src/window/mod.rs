@@ -52,6 +52,8 @@ pub struct WindowOptions {
     pub accel: Accel,
     /// The k-d walk to start with (T cycles them).
     pub traversal: crate::kdtree::Traversal,
+    /// The k-d build to start with (K cycles them, rebuilding the tree).
+    pub build: crate::kdtree::BuildStrategy,
     /// Present this many frames, then exit.
     pub frames: Option<u32>,
     /// On exit, save the last presented frame here.

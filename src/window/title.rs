@@ -4,7 +4,7 @@
 use std::time::{Duration, Instant};
 
 use crate::gpu::Accel;
-use crate::kdtree::Traversal;
+use crate::kdtree::{BuildStrategy, Traversal};
 
 /// Shortest interval between two title changes made by frames.
 pub const TITLE_INTERVAL: Duration = Duration::from_millis(250);
@@ -28,8 +28,9 @@ pub struct TitleFacts<'a> {
     pub frame_ms: f64,
     pub mrays: f64,
     pub accel: Accel,
-    /// The k-d walk (named with the k-d tree only).
+    /// The k-d walk and build (named with the k-d tree only).
     pub traversal: Traversal,
+    pub build: BuildStrategy,
     pub max_depth: u32,
     /// The cost heatmap is shown, with this top of scale (work per sample).
     pub heatmap: Option<u32>,
@@ -82,7 +83,7 @@ impl TitleBar {
             Progress::Refining { passes, samples } => format!("{passes}/{samples} spp"),
         };
         let accel = match facts.accel {
-            Accel::Kdtree => format!("kdtree {}", facts.traversal),
+            Accel::Kdtree => format!("kdtree {} {}", facts.build, facts.traversal),
             Accel::Brute => "brute".to_string(),
         };
         let mut title = format!(
@@ -122,18 +123,20 @@ mod tests {
             mrays: 1.5,
             accel: Accel::Kdtree,
             traversal: Traversal::Ropes,
+            build: BuildStrategy::Sah,
             max_depth: 5,
             heatmap: None,
         };
         assert_eq!(
             bar.text(&facts),
-            "seed.toml - 3/16 spp - 12.3 ms - 1.50 Mrays/s - kdtree ropes - depth 5"
+            "seed.toml - 3/16 spp - 12.3 ms - 1.50 Mrays/s - kdtree sah ropes - depth 5"
         );
         facts.traversal = Traversal::ShortStack;
+        facts.build = BuildStrategy::Median;
         facts.heatmap = Some(120);
         assert_eq!(
             bar.text(&facts),
-            "seed.toml - 3/16 spp - 12.3 ms - 1.50 Mrays/s - kdtree short-stack - depth 5 \
+            "seed.toml - 3/16 spp - 12.3 ms - 1.50 Mrays/s - kdtree median short-stack - depth 5 \
              - HEATMAP: nodes + objects per sample, 0 to 120"
         );
         facts.heatmap = None;

@@ -106,8 +106,8 @@ pub struct RenderArgs {
     /// The kernel's k-d walk (with --accel kdtree; the window starts with it, T cycles them).
     #[arg(long, value_parser = choice::<Traversal>(), default_value = "ropes")]
     pub traversal: Traversal,
-    /// How the k-d tree is built (with --accel kdtree, without --window).
-    #[arg(long, value_parser = choice::<BuildStrategy>(), default_value = "sah", conflicts_with = "window")]
+    /// How the k-d tree is built (with --accel kdtree; the window starts with it, K cycles them).
+    #[arg(long, value_parser = choice::<BuildStrategy>(), default_value = "sah")]
     pub build: BuildStrategy,
     /// Print one JSON object of figures on stdout (with --window: frame rates, on exit).
     #[arg(long)]

@@ -1,0 +1,57 @@
+//! Times the k-d tree build of a scene file, apart from loading it, in
+//! wall and CPU time (CPU time holds up better on a shared machine):
+//! `cargo run --release --example build_time -- SCENE [THREADS] [sah|binned|median]`.
+use std::time::Instant;
+
+fn main() -> Result<(), Box<dyn std::error::Error>> {
+    let mut args = std::env::args().skip(1);
+    let path = args.next().ok_or("usage: build_time SCENE [THREADS]")?;
+    let threads: usize = args.next().map_or(Ok(2), |t| t.parse())?;
+    let strategy = match args.next().as_deref() {
+        None | Some("sah") => kdray::kdtree::BuildStrategy::Sah,
+        Some("binned") => kdray::kdtree::BuildStrategy::Binned,
+        Some("median") => kdray::kdtree::BuildStrategy::Median,
+        Some(other) => return Err(format!("unknown build {other:?}").into()),
+    };
+    let t = Instant::now();
+    let scene = kdray::scene::load_scene(std::path::Path::new(&path))?;
+    let load_s = t.elapsed().as_secs_f64();
+    let prims = kdray::geometry::Primitives::from_scene(&scene);
+    let params = kdray::kdtree::BuildParams {
+        strategy,
+        ..kdray::kdtree::BuildParams::for_primitives(&prims)
+    };
+    let (t, cpu) = (Instant::now(), cpu_seconds());
+    let tree = kdray::kdtree::build_primitives(&prims, params, threads);
+    let build_s = t.elapsed().as_secs_f64();
+    let build_cpu_s = cpu_seconds() - cpu;
+    let stats = tree.stats();
+    println!(
+        "{path}: {} objects, load {load_s:.3} s, {} build on {threads} threads {build_s:.3} s ({build_cpu_s:.2} s of CPU), {} nodes, {} references",
+        prims.len(),
+        strategy.name(),
+        stats.nodes,
+        tree.leaf_objects.len()
+    );
+    Ok(())
+}
+
+/// User + system CPU time of this process so far, from /proc (Linux; 0
+/// elsewhere): unlike wall time, it does not grow when other processes
+/// share the cores.
+fn cpu_seconds() -> f64 {
+    let stat = std::fs::read_to_string("/proc/self/stat").unwrap_or_default();
+    // Fields after the command name, which is in parentheses.
+    let fields: Vec<&str> = stat
+        .rsplit_once(')')
+        .map_or(vec![], |(_, rest)| rest.split_whitespace().collect());
+    let ticks = |i: usize| {
+        fields
+            .get(i)
+            .and_then(|f| f.parse::<f64>().ok())
+            .unwrap_or(0.0)
+    };
+    // utime and stime are fields 14 and 15 of the line, 12 and 13 here; the
+    // clock tick is 1/100 s on Linux.
+    (ticks(11) + ticks(12)) / 100.0
+}
