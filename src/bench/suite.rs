@@ -1,5 +1,5 @@
 //! `kdray bench --suite`: the four scenes of the study's measurement
-//! (issue 9 §5), with the sizes chosen so the whole matrix (2 builds x 3
+//! (issue 9 §5), with the sizes chosen so the whole matrix (3 builds x 3
 //! walks + brute force) runs in about 10-15 minutes in release on the
 //! project's 2-core machine under lavapipe:
 //!
