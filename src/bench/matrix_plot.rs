@@ -21,12 +21,13 @@ const ROW_H: f64 = 26.0;
 const TOP: f64 = 62.0;
 const BOTTOM: f64 = 58.0;
 
-/// The plots.rs palette: k-d tree blue (SAH) and green (median), brute
-/// force red, the peer grey.
+/// The plots.rs palette: k-d tree blue (SAH; light blue binned) and green
+/// (median), brute force red, the peer grey.
 fn colour(r: &RunRecord) -> &'static str {
     match (r.accel, r.build) {
         (Accel::Brute, _) => "#cc3326",
         (Accel::Kdtree, Some(BuildStrategy::Median)) => "#288c46",
+        (Accel::Kdtree, Some(BuildStrategy::Binned)) => "#7fa8e0",
         (Accel::Kdtree, _) => "#1f60c4",
     }
 }

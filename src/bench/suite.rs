@@ -198,6 +198,16 @@ mod tests {
     }
 
     #[test]
+    fn without_the_bunny_the_suite_loads_the_generated_mesh_at_the_bunnys_settings() {
+        let cases = suite_cases(7, Path::new("/no/such/bunny.obj"));
+        let (label, scene) = cases[2].load().unwrap();
+        assert_eq!(label, GENERATED_MESH);
+        let r = &scene.render;
+        assert_eq!((r.width, r.height, r.max_depth), (1920, 1080, 1));
+        assert!(scene.spheres.is_empty() && scene.triangles.len() > 60_000);
+    }
+
+    #[test]
     fn the_generated_mesh_stands_where_the_bunny_does() {
         let scene = generated_mesh_scene().unwrap();
         let bunny = scene
