@@ -54,21 +54,7 @@ pub fn best_split(
     let mut best: Option<Split> = None;
     for a in 0..3 {
         let cost = AxisCost::new(params, cell, a, inv_area);
-        let mut consider = |x: f32, below: usize, above: usize| {
-            if !(cell.min[a] < x && x < cell.max[a]) {
-                return;
-            }
-            let c = cost.at(x, below, above);
-            if best.is_none_or(|b| c < b.cost) {
-                best = Some(Split {
-                    axis: a,
-                    position: x,
-                    cost: c,
-                    below,
-                    above,
-                });
-            }
-        };
+        let mut consider = |x, below, above| cost.keep_cheaper(&mut best, x, below, above);
         let lo = extent.min[a].max(cell.min[a]);
         let hi = extent.max[a].min(cell.max[a]);
         consider(clear_below(lo, gap), 0, n);

@@ -8,9 +8,14 @@
 //!
 //! The plane lies halfway between the two middle centres (for two objects,
 //! between them, rather than through one of them, which would make it
-//! straddle). When that plane is not strictly inside the cell or would not
-//! separate anything, the next axes are tried; when none works (coincident
-//! objects, say) the node is a leaf, as at the depth limit.
+//! straddle). When that plane is not strictly inside the cell or would
+//! leave a child every object, the next axes are tried; when none works
+//! (coincident objects, or mesh triangles that all reach across the plane)
+//! the node is a leaf, as at the depth limit. Requiring both children to
+//! shrink is what "down to one object" becomes once straddlers go to both
+//! sides: with a weaker rule (only "not all objects in both children") a
+//! mesh's neighbours, which share vertices, were copied down to the depth
+//! limit, and the bunny's tree had 41 M nodes, too big to upload.
 
 use crate::geometry::Aabb;
 
@@ -106,10 +111,14 @@ impl Strategy for Median<'_> {
                 .iter()
                 .filter(|(_, b)| b.max[a] > p || b.min[a] == p)
                 .count();
-            if below == n && above == n {
+            if below == n || above == n {
                 continue;
             }
             let (below, above) = self.partition(objects, a, p, cell);
+            if below.len() == n || above.len() == n {
+                // Objects within ε of the plane: no progress on one side.
+                return Decision::Leaf(if below.len() == n { below } else { above });
+            }
             return Decision::Split {
                 axis: a,
                 position: p,

@@ -103,6 +103,7 @@ pub(super) struct Split {
 /// The surface area heuristic's cost of a plane on one axis of a cell, as
 /// a function of its position: a child's area is linear in it.
 pub(super) struct AxisCost {
+    axis: usize,
     lo: f32,
     hi: f32,
     /// A child's share of the cell's area is `flat + per_unit * width`.
@@ -118,6 +119,7 @@ impl AxisCost {
         let e = (cell.max - cell.min).max(glam::Vec3::ZERO);
         let (d1, d2) = (e[(axis + 1) % 3], e[(axis + 2) % 3]);
         AxisCost {
+            axis,
             lo: cell.min[axis],
             hi: cell.max[axis],
             flat: 2.0 * d1 * d2 * inv_area,
@@ -140,6 +142,25 @@ impl AxisCost {
         };
         self.traversal
             + bonus * self.intersection * (p_below * below as f32 + p_above * above as f32)
+    }
+
+    /// Makes a plane at `x` the `best` when it lies strictly inside the
+    /// cell and costs less (the first found wins a tie).
+    #[allow(clippy::neg_cmp_op_on_partial_ord)] // NaN is not inside
+    pub fn keep_cheaper(&self, best: &mut Option<Split>, x: f32, below: usize, above: usize) {
+        if !(self.lo < x && x < self.hi) {
+            return;
+        }
+        let cost = self.at(x, below, above);
+        if best.is_none_or(|b| cost < b.cost) {
+            *best = Some(Split {
+                axis: self.axis,
+                position: x,
+                cost,
+                below,
+                above,
+            });
+        }
     }
 }
 
@@ -209,21 +230,7 @@ impl Sah<'_> {
                 continue;
             }
             let cost = AxisCost::new(&self.params, cell, a, inv_area);
-            let mut consider = |x: f32, below: usize, above: usize| {
-                if !(lo < x && x < hi) {
-                    return;
-                }
-                let cost = cost.at(x, below, above);
-                if best.is_none_or(|b| cost < b.cost) {
-                    best = Some(Split {
-                        axis: a,
-                        position: x,
-                        cost,
-                        below,
-                        above,
-                    });
-                }
-            };
+            let mut consider = |x, below, above| cost.keep_cheaper(&mut best, x, below, above);
             // Over the positions before the current one: objects whose
             // start, end or planar event lies there.
             let (mut starts, mut ends, mut planars) = (0usize, 0usize, 0usize);
