@@ -1,19 +1,28 @@
 //! `kdray bench` and `kdray generate`: the seed study's two experiments
 //! (render time against the number of objects for the naive loop, its
 //! figure 7; k-d tree against the naive loop on random scenes, its figure 9),
-//! reproduced on the GPU at up to a million objects.
+//! reproduced on the GPU at up to a million objects, and the matrix of
+//! builds and walks of issue 9 §5 (`--build`, `--traversal`, `--suite`).
 //!
-//! For each size N a deterministic random scene ([`random_scene`]) is built
-//! once, then rendered with the k-d tree and with brute force: upload once,
-//! one warm-up frame, then `repeat` timed frames whose median GPU time is
-//! reported. Brute force is skipped, and the skip recorded, when a linear
-//! extrapolation of its last measured frame (the seed's own model) exceeds
-//! the per-frame budget. Results go to a CSV, a JSON summary, a Markdown
-//! table and three log-log plots ([`report`], [`plots`]).
+//! For each scene (a random scene of size N, [`random_scene`], a scene
+//! file, or the [`suite`]'s four) the k-d tree is built once per build
+//! strategy and uploaded once per build; each walk then gets one warm-up
+//! frame, which also counts the walk's work (nodes, leaves and objects per
+//! ray, as `render --stats`) and gives the image, and `repeat` timed frames
+//! without counting, whose median GPU time is reported. Brute force runs
+//! once per scene and every k-d cell's image is compared with its image.
+//! Brute force is skipped, and the skip recorded, when a linear
+//! extrapolation of its measured frames (the seed's own model, in objects x
+//! primary rays) exceeds the per-frame budget. Results go to a CSV, a JSON
+//! summary, a Markdown summary with a table per scene, three log-log plots
+//! and an SVG plot per scene ([`report`], [`plots`], [`matrix_plot`]).
 
+pub mod matrix_plot;
+pub mod named;
 pub mod plots;
 pub mod random_scene;
 pub mod report;
+pub mod suite;
 
 use std::path::{Path, PathBuf};
 use std::time::Instant;
@@ -21,7 +30,9 @@ use std::time::Instant;
 use serde::{Deserialize, Serialize};
 
 use crate::error::{Error, Result};
-use crate::gpu::{Accel, GpuContext, PreparedScene, Renderer, TilePlan};
+use crate::gpu::{Accel, GpuContext, PreparedScene, Renderer, SceneBuffers, TilePlan};
+use crate::kdtree::{BuildStrategy, Traversal};
+use crate::layout::FrameParams;
 use crate::scene::Scene;
 
 pub use random_scene::{random_scene, RandomSceneSpec, SceneKind, DEFAULT_SEED};
@@ -53,6 +64,14 @@ pub struct BenchOptions {
     pub budget_s: f64,
     /// Which accelerations to run, in order.
     pub accel: Vec<Accel>,
+    /// The k-d tree's builds, in order [default: the default build].
+    pub builds: Vec<BuildStrategy>,
+    /// The k-d walks, in order [default: the default walk].
+    pub traversals: Vec<Traversal>,
+    /// Measure the [`suite`]'s four scenes (instead of `sizes` or `scenes`).
+    pub suite: bool,
+    /// Write each measured scene as JSON into `out/scenes/` (always with `suite`).
+    pub write_scenes: bool,
     /// Output folder (created if missing).
     pub out: PathBuf,
     /// Also save the k-d tree's image of every run.
@@ -151,6 +170,8 @@ pub enum BenchMode {
     Random,
     /// Scene files.
     Scenes,
+    /// The four scenes of [`suite`].
+    Suite,
 }
 
 /// How a run ended.
@@ -187,10 +208,42 @@ pub struct BenchConfig {
     pub repeat: u32,
     pub budget_s: f64,
     pub accels: Vec<Accel>,
+    /// The k-d tree's builds and walks: every (build, walk) is a cell.
+    #[serde(with = "named::list", default = "default_builds")]
+    pub builds: Vec<BuildStrategy>,
+    #[serde(default = "default_traversals")]
+    pub traversals: Vec<Traversal>,
     pub out: PathBuf,
     pub save_images: bool,
+    /// Write each measured scene (after the size and depth overrides) as
+    /// JSON into `out/scenes/`, for peers to trace the same rays
+    /// (scripts/peers/bench_embree.py); on with `--suite`.
+    #[serde(default)]
+    pub write_scenes: bool,
     /// The command line, for the report.
     pub command: String,
+}
+
+fn default_builds() -> Vec<BuildStrategy> {
+    vec![BuildStrategy::default()]
+}
+
+fn default_traversals() -> Vec<Traversal> {
+    vec![Traversal::default()]
+}
+
+/// `list` without repeats, in first-seen order; `default` when empty.
+fn distinct<T: PartialEq + Copy>(list: &[T], default: T) -> Vec<T> {
+    let mut out = Vec::new();
+    for &v in list {
+        if !out.contains(&v) {
+            out.push(v);
+        }
+    }
+    if out.is_empty() {
+        out.push(default);
+    }
+    out
 }
 
 impl BenchConfig {
@@ -213,8 +266,15 @@ impl BenchConfig {
                 args.budget_s
             )));
         }
+        if args.suite && !args.scenes.is_empty() {
+            return Err(Error::Usage(
+                "--suite: measures its own scenes; leave out --scene".into(),
+            ));
+        }
         let mut sizes = args.sizes.clone();
-        if args.scenes.is_empty() {
+        if args.suite {
+            sizes.clear();
+        } else if args.scenes.is_empty() {
             if sizes.is_empty() {
                 return Err(Error::Usage("--sizes: give at least one size".into()));
             }
@@ -232,13 +292,16 @@ impl BenchConfig {
                 accels.push(a);
             }
         }
+        let mode = if args.suite {
+            BenchMode::Suite
+        } else if args.scenes.is_empty() {
+            BenchMode::Random
+        } else {
+            BenchMode::Scenes
+        };
         Ok(BenchConfig {
-            mode: if args.scenes.is_empty() {
-                BenchMode::Random
-            } else {
-                BenchMode::Scenes
-            },
-            kind: args.scenes.is_empty().then_some(args.kind),
+            mode,
+            kind: (mode == BenchMode::Random).then_some(args.kind),
             sizes,
             seed: args.seed,
             scenes: args.scenes.clone(),
@@ -248,8 +311,11 @@ impl BenchConfig {
             repeat: args.repeat,
             budget_s: args.budget_s,
             accels,
+            builds: distinct(&args.builds, BuildStrategy::default()),
+            traversals: distinct(&args.traversals, Traversal::default()),
             out: args.out.clone(),
             save_images: args.save_images,
+            write_scenes: args.suite || args.write_scenes,
             command,
         })
     }
@@ -259,16 +325,28 @@ pub fn accel_name(accel: Accel) -> &'static str {
     crate::choice::Choice::name(accel)
 }
 
-/// One (scene, acceleration) measurement, or the record of why there is none.
+/// One (scene, acceleration[, build, walk]) measurement, or the record of
+/// why there is none.
 #[derive(Debug, Clone, Serialize, Deserialize)]
 pub struct RunRecord {
-    /// `spheres`, `triangles`, `mixed`, or the scene file's name.
+    /// `spheres`, `triangles`, `mixed`, `gears`, the scene file's name, or
+    /// `generated-mesh` (the suite's stand-in for the bunny).
     pub scene: String,
     /// Objects (spheres + triangles).
     pub n: usize,
     pub spheres: usize,
     pub triangles: usize,
     pub accel: Accel,
+    /// The k-d tree's build (kdtree runs).
+    #[serde(default, with = "named::option")]
+    pub build: Option<BuildStrategy>,
+    /// The k-d walk (kdtree runs).
+    #[serde(default)]
+    pub traversal: Option<Traversal>,
+    /// The scene as measured, written for peers (relative to the output
+    /// folder; with `write_scenes`).
+    #[serde(default)]
+    pub scene_file: Option<String>,
     pub status: RunStatus,
     /// Why it was skipped or failed.
     pub note: Option<String>,
@@ -306,8 +384,20 @@ pub struct RunRecord {
     pub primary_mrays_per_s: Option<f64>,
     /// Peak resident host memory during this run, MiB (VmHWM; Linux only).
     pub peak_host_mib: Option<f64>,
-    /// Pixels whose colour differs from the k-d tree's image (brute runs).
+    /// The walk's work per ray (all rays of the warm-up frame, as
+    /// `render --stats` counts them).
+    #[serde(default)]
+    pub nodes_visited_per_ray: Option<f64>,
+    #[serde(default)]
+    pub leaves_visited_per_ray: Option<f64>,
+    #[serde(default)]
+    pub objects_tested_per_ray: Option<f64>,
+    /// Brute runs: the most pixels by which any k-d cell's image of this
+    /// scene differs from brute force's.
     pub pixels_differing_from_kdtree: Option<u64>,
+    /// Kdtree runs: pixels whose colour differs from brute force's image.
+    #[serde(default)]
+    pub pixels_differing_from_brute: Option<u64>,
     /// Pixels whose loops reached llvmpipe's 65,535-iteration limit (and may
     /// be wrong); counted on llvmpipe only, null elsewhere.
     pub loop_limited_pixels: Option<u64>,
@@ -321,6 +411,9 @@ impl RunRecord {
             spheres: s.spheres.len(),
             triangles: s.triangles.len(),
             accel,
+            build: None,
+            traversal: None,
+            scene_file: None,
             status: RunStatus::Ok,
             note: None,
             width: s.render.width,
@@ -348,8 +441,25 @@ impl RunRecord {
             mrays_per_s: None,
             primary_mrays_per_s: None,
             peak_host_mib: None,
+            nodes_visited_per_ray: None,
+            leaves_visited_per_ray: None,
+            objects_tested_per_ray: None,
             pixels_differing_from_kdtree: None,
+            pixels_differing_from_brute: None,
             loop_limited_pixels: None,
+        }
+    }
+
+    /// `kdtree sah/ropes`, `brute`: the run's acceleration and cell.
+    pub fn cell_name(&self) -> String {
+        match (self.build, self.traversal) {
+            (Some(b), Some(t)) => format!(
+                "{} {}/{}",
+                accel_name(self.accel),
+                crate::choice::Choice::name(b),
+                t.name()
+            ),
+            _ => accel_name(self.accel).to_string(),
         }
     }
 
@@ -433,7 +543,7 @@ impl Progress {
 
 /// One line about a finished run, for stderr.
 fn describe_run(r: &RunRecord) -> String {
-    let head = format!("N={:>8} {:<6}", r.n, accel_name(r.accel));
+    let head = format!("{} N={:>8} {:<24}", r.scene, r.n, r.cell_name());
     match r.status {
         RunStatus::Ok => {
             let mut s = format!(
@@ -454,6 +564,9 @@ fn describe_run(r: &RunRecord) -> String {
             if let Some(d) = r.pixels_differing_from_kdtree {
                 s.push_str(&format!(", {d} px differ from kdtree"));
             }
+            if let Some(d) = r.pixels_differing_from_brute {
+                s.push_str(&format!(", {d} px differ from brute"));
+            }
             s
         }
         other => format!(
@@ -471,11 +584,128 @@ pub struct BenchOutcome {
     pub files: Vec<PathBuf>,
 }
 
-/// A scene to measure: its label and how to get it.
-enum Case {
+/// Where a measured scene comes from.
+#[derive(Debug, Clone)]
+pub enum CaseSource {
     Random(RandomSceneSpec),
     File(PathBuf),
+    /// A scene file compiled into the binary (the suite's), read as if
+    /// from `path`.
+    Text {
+        label: String,
+        path: PathBuf,
+        text: &'static str,
+    },
+    /// The suite's stand-in for the bunny ([`suite::generated_mesh_scene`]).
+    GeneratedMesh,
 }
+
+/// One scene to measure, with the image size and depth it is measured at
+/// (None: the scene's own).
+#[derive(Debug, Clone)]
+pub struct BenchCase {
+    pub source: CaseSource,
+    pub width: Option<u32>,
+    pub height: Option<u32>,
+    pub max_depth: Option<u32>,
+}
+
+impl BenchCase {
+    /// What the progress line says while the scene is made.
+    fn describe(&self) -> String {
+        match &self.source {
+            CaseSource::Random(spec) => format!("generating {} {}", spec.count, spec.kind.name()),
+            CaseSource::File(p) | CaseSource::Text { path: p, .. } => {
+                format!("loading {}", p.display())
+            }
+            CaseSource::GeneratedMesh => "generating a mesh in the bunny's place".into(),
+        }
+    }
+
+    /// The scene's label and the scene, with the overrides applied.
+    pub fn load(&self) -> Result<(String, Scene)> {
+        let (label, mut scene) = match &self.source {
+            CaseSource::Random(spec) => (spec.kind.name().to_string(), random_scene(spec)),
+            CaseSource::File(path) => (
+                path.file_name().map_or_else(
+                    || path.display().to_string(),
+                    |f| f.to_string_lossy().into_owned(),
+                ),
+                crate::scene::load_scene(path)?,
+            ),
+            CaseSource::Text { label, path, text } => {
+                (label.clone(), suite::parse_text(path, text)?)
+            }
+            CaseSource::GeneratedMesh => (
+                suite::GENERATED_MESH.to_string(),
+                suite::generated_mesh_scene()?,
+            ),
+        };
+        scene.render.width = self.width.unwrap_or(scene.render.width);
+        scene.render.height = self.height.unwrap_or(scene.render.height);
+        if let Some(d) = self.max_depth {
+            scene.render.max_depth = d;
+        }
+        Ok((label, scene))
+    }
+}
+
+/// The cases `config` asks for.
+pub fn cases(config: &BenchConfig) -> Vec<BenchCase> {
+    match config.mode {
+        BenchMode::Suite => suite::suite_cases(config.seed, Path::new(suite::BUNNY_OBJ)),
+        BenchMode::Scenes => config
+            .scenes
+            .iter()
+            .map(|p| BenchCase {
+                source: CaseSource::File(p.clone()),
+                width: config.width,
+                height: config.height,
+                max_depth: config.max_depth,
+            })
+            .collect(),
+        BenchMode::Random => {
+            let kind = config.kind.unwrap_or(SceneKind::Spheres);
+            config
+                .sizes
+                .iter()
+                .map(|&n| BenchCase {
+                    source: CaseSource::Random(RandomSceneSpec {
+                        kind,
+                        count: n,
+                        seed: config.seed,
+                        width: config.width.unwrap_or(random_scene::DEFAULT_WIDTH),
+                        height: config.height.unwrap_or(random_scene::DEFAULT_HEIGHT),
+                    }),
+                    width: None,
+                    height: None,
+                    max_depth: config.max_depth,
+                })
+                .collect()
+        }
+    }
+}
+
+/// `label-n`, in the characters a file name may safely hold.
+pub fn scene_slug(label: &str, n: usize) -> String {
+    let clean: String = label
+        .chars()
+        .map(|c| {
+            if c.is_ascii_alphanumeric() {
+                c.to_ascii_lowercase()
+            } else {
+                '-'
+            }
+        })
+        .collect();
+    format!("{clean}-{n}")
+}
+
+/// Loop iterations llvmpipe lets one invocation run (`GpuContext::has_loop_limit`).
+const LLVMPIPE_LOOP_LIMIT: usize = 65_535;
+
+/// Folder (in the output folder) of the scenes written for peers.
+pub const SCENES_DIR: &str = "scenes";
 
 /// Runs the benchmark on `ctx` and writes every output into `config.out`.
 pub fn run_bench(ctx: &GpuContext, config: &BenchConfig) -> Result<BenchOutcome> {
@@ -484,126 +714,213 @@ pub fn run_bench(ctx: &GpuContext, config: &BenchConfig) -> Result<BenchOutcome>
         what: "cannot create the folder",
         source,
     })?;
-    let cases: Vec<Case> = if config.scenes.is_empty() {
-        let kind = config.kind.unwrap_or(SceneKind::Spheres);
-        config
-            .sizes
-            .iter()
-            .map(|&n| {
-                Case::Random(RandomSceneSpec {
-                    kind,
-                    count: n,
-                    seed: config.seed,
-                    width: config.width.unwrap_or(random_scene::DEFAULT_WIDTH),
-                    height: config.height.unwrap_or(random_scene::DEFAULT_HEIGHT),
-                })
-            })
-            .collect()
-    } else {
-        config.scenes.iter().cloned().map(Case::File).collect()
-    };
+    // A peer's results belong to the run they were measured beside.
+    let stale = config.out.join(report::EMBREE_FILE);
+    if stale.is_file() {
+        eprintln!(
+            "kdray: removing {} of an earlier run (scripts/peers/bench_embree.py measures it again)",
+            stale.display()
+        );
+        let _ = std::fs::remove_file(&stale);
+    }
+    let cases = cases(config);
+    let cells = config.builds.len() * config.traversals.len();
+    let runs_per_case: usize = config
+        .accels
+        .iter()
+        .map(|a| if *a == Accel::Kdtree { cells } else { 1 })
+        .sum();
 
     let mut report = report::BenchReport::new(ctx, config);
-    let progress = Progress::new((cases.len() * config.accels.len()) as u64);
+    let progress = Progress::new((cases.len() * runs_per_case) as u64);
     let renderer = Renderer::new(ctx)?;
     let max_binding = crate::gpu::max_binding_bytes(&ctx.device.limits());
-    // Measured brute-force frames: (N, ms), for the budget's prediction.
+    // Measured brute-force frames: (objects x primary rays, ms), for the
+    // budget's prediction.
     let mut brute_times: Vec<(usize, f64)> = Vec::new();
     let mut files = Vec::new();
 
     for case in &cases {
-        progress.message(match case {
-            Case::Random(spec) => format!("generating {} {}", spec.count, spec.kind.name()),
-            Case::File(p) => format!("loading {}", p.display()),
-        });
+        progress.message(case.describe());
         reset_peak_host_memory();
         let started = Instant::now();
-        let (label, mut scene) = match case {
-            Case::Random(spec) => (spec.kind.name().to_string(), random_scene(spec)),
-            Case::File(path) => (
-                path.file_name().map_or_else(
-                    || path.display().to_string(),
-                    |f| f.to_string_lossy().into_owned(),
-                ),
-                crate::scene::load_scene(path)?,
-            ),
-        };
-        if let Case::File(_) = case {
-            scene.render.width = config.width.unwrap_or(scene.render.width);
-            scene.render.height = config.height.unwrap_or(scene.render.height);
-        }
-        if let Some(d) = config.max_depth {
-            scene.render.max_depth = d;
-        }
+        let (label, mut scene) = case.load()?;
         let scene_ms = ms_since(started);
         let n = scene.object_count();
+        if config.mode == BenchMode::Suite && label == suite::GENERATED_MESH {
+            report.notes.push(format!(
+                "Real mesh: {} is missing, so a generated mesh of {} triangles stood in for the bunny \
+                 (`apt-get install glmark2-data` installs it).",
+                suite::BUNNY_OBJ,
+                scene.triangles.len()
+            ));
+        } else if config.mode == BenchMode::Suite && label == "bunny.toml" {
+            report.notes.push(format!(
+                "Real mesh: the Stanford bunny ({}, {}), {} triangles with the floor and mirror.",
+                suite::BUNNY_SCENE,
+                suite::BUNNY_OBJ,
+                scene.triangles.len()
+            ));
+        }
+        let scene_file = if config.write_scenes {
+            Some(write_scene(&config.out, &label, &scene)?)
+        } else {
+            None
+        };
+        let r = &scene.render;
+        let work = n * (r.width as usize * r.height as usize * r.samples as usize);
         // The same dispatch plan as `kdray render`.
         let plan = TilePlan::new(
-            scene.render.width,
-            scene.render.height,
+            r.width,
+            r.height,
             TilePlan::DEFAULT_MAX_TILE_PIXELS,
             max_binding,
         );
-        let mut kd_image: Option<Vec<u8>> = None;
+        // Each k-d cell's image and its record's index, for brute force.
+        let mut kd_images: Vec<(usize, Vec<u8>)> = Vec::new();
+        let new_record = |scene: &Scene, accel| RunRecord {
+            scene_file: scene_file.clone(),
+            ..RunRecord::empty(&label, scene, accel, scene_ms)
+        };
 
         for &accel in &config.accels {
-            let mut record = RunRecord::empty(&label, &scene, accel, scene_ms);
-            let name = accel_name(accel);
-            if accel == Accel::Brute {
-                if let Some((predicted, how)) = predict_brute_ms(&brute_times, n) {
-                    if predicted > config.budget_s * 1e3 {
-                        record.status = RunStatus::Skipped;
-                        record.note = Some(format!(
-                            "predicted {:.1} s per frame ({how}) > budget {} s",
-                            predicted * 1e-3,
-                            config.budget_s
-                        ));
+            if accel == Accel::Kdtree {
+                for &build in &config.builds {
+                    progress.message(format!(
+                        "{label} N={n}: building ({})",
+                        crate::choice::Choice::name(build)
+                    ));
+                    let prepared = PreparedScene::built_by(scene, accel, build);
+                    progress.message(format!("{label} N={n}: uploading"));
+                    let t = Instant::now();
+                    let buffers = prepared.upload(ctx);
+                    let upload_ms = prepared.flatten_ms + ms_since(t);
+                    let stats = prepared.tree.stats();
+                    for &traversal in &config.traversals {
+                        let mut record = RunRecord {
+                            build: Some(build),
+                            traversal: Some(traversal),
+                            build_ms: Some(prepared.build_ms),
+                            kd_nodes: Some(stats.nodes),
+                            kd_leaves: Some(stats.leaves),
+                            kd_max_depth: Some(stats.max_depth),
+                            kd_refs_per_leaf: Some(stats.refs_per_leaf),
+                            upload_ms: Some(upload_ms),
+                            gpu_scene_bytes: Some(prepared.arrays.byte_size()),
+                            ..new_record(&prepared.scene, accel)
+                        };
+                        let result = match &buffers {
+                            Ok(buffers) => measure(
+                                ctx,
+                                &renderer,
+                                &prepared.scene,
+                                buffers,
+                                prepared
+                                    .frame_params(buffers, accel)
+                                    .with_traversal(traversal),
+                                plan,
+                                config,
+                                &progress,
+                                &mut record,
+                            ),
+                            Err(e) => Err(Error::Output(e.to_string())),
+                        };
+                        match result {
+                            Ok(rgb) => {
+                                if config.save_images {
+                                    let path = config.out.join(format!(
+                                        "render-{}-{}-{}.png",
+                                        scene_slug(&label, n),
+                                        crate::choice::Choice::name(build),
+                                        traversal.name()
+                                    ));
+                                    let r = &prepared.scene.render;
+                                    crate::output::write_png_atomic(
+                                        &path, r.width, r.height, &rgb,
+                                    )?;
+                                    files.push(path);
+                                }
+                                kd_images.push((report.runs.len(), rgb));
+                            }
+                            Err(e) => {
+                                record.status = RunStatus::Failed;
+                                record.note = Some(e.to_string());
+                            }
+                        }
+                        record.peak_host_mib = peak_host_mib();
                         progress.line(describe_run(&record));
                         report.push(record);
                         report.write_data(&config.out)?;
                         progress.step();
-                        continue;
                     }
+                    drop(buffers);
+                    scene = prepared.into_scene();
+                }
+                continue;
+            }
+
+            let mut record = new_record(&scene, accel);
+            if ctx.has_loop_limit() && n >= LLVMPIPE_LOOP_LIMIT {
+                // Every primary ray alone would loop over more objects than
+                // llvmpipe lets an invocation run: the image would be wrong.
+                record.status = RunStatus::Skipped;
+                record.note = Some(format!(
+                    "{n} objects: one ray's loop over them passes llvmpipe's limit of \
+                     {LLVMPIPE_LOOP_LIMIT} iterations per pixel"
+                ));
+                progress.line(describe_run(&record));
+                report.push(record);
+                report.write_data(&config.out)?;
+                progress.step();
+                continue;
+            }
+            if let Some((predicted, how)) = predict_brute_ms(&brute_times, work) {
+                if predicted > config.budget_s * 1e3 {
+                    record.status = RunStatus::Skipped;
+                    record.note = Some(format!(
+                        "predicted {:.1} s per frame ({how}) > budget {} s",
+                        predicted * 1e-3,
+                        config.budget_s
+                    ));
+                    progress.line(describe_run(&record));
+                    report.push(record);
+                    report.write_data(&config.out)?;
+                    progress.step();
+                    continue;
                 }
             }
-            progress.message(format!("N={n} {name}: building"));
+            progress.message(format!("{label} N={n} brute: preparing"));
             let prepared = PreparedScene::new(scene, accel);
-            let result = measure(
-                ctx,
-                &renderer,
-                &prepared,
-                accel,
-                plan,
-                config,
-                &progress,
-                &mut record,
-            );
+            let result = prepared.upload(ctx).and_then(|buffers| {
+                measure(
+                    ctx,
+                    &renderer,
+                    &prepared.scene,
+                    &buffers,
+                    prepared.frame_params(&buffers, accel),
+                    plan,
+                    config,
+                    &progress,
+                    &mut record,
+                )
+            });
+            record.upload_ms = Some(prepared.flatten_ms);
+            record.gpu_scene_bytes = Some(prepared.arrays.byte_size());
             scene = prepared.into_scene();
             match result {
                 Ok(rgb) => {
-                    if accel == Accel::Brute {
-                        brute_times.extend(record.gpu_ms.map(|ms| (n, ms)));
-                        if let Some(kd) = &kd_image {
-                            let differing = kd
-                                .chunks_exact(3)
-                                .zip(rgb.chunks_exact(3))
-                                .filter(|(a, b)| a != b)
-                                .count();
-                            record.pixels_differing_from_kdtree = Some(differing as u64);
-                        }
-                    } else {
-                        if config.save_images {
-                            let path = config.out.join(format!("render-{label}-{n}.png"));
-                            crate::output::write_png_atomic(
-                                &path,
-                                scene.render.width,
-                                scene.render.height,
-                                &rgb,
-                            )?;
-                            files.push(path);
-                        }
-                        kd_image = Some(rgb);
+                    brute_times.extend(record.gpu_ms.map(|ms| (work, ms)));
+                    let mut most = None;
+                    for (index, kd) in &kd_images {
+                        let differing = kd
+                            .chunks_exact(3)
+                            .zip(rgb.chunks_exact(3))
+                            .filter(|(a, b)| a != b)
+                            .count() as u64;
+                        report.runs[*index].pixels_differing_from_brute = Some(differing);
+                        most = Some(most.map_or(differing, |m: u64| m.max(differing)));
                     }
+                    record.pixels_differing_from_kdtree = most;
                 }
                 Err(e) => {
                     record.status = RunStatus::Failed;
@@ -621,37 +938,56 @@ pub fn run_bench(ctx: &GpuContext, config: &BenchConfig) -> Result<BenchOutcome>
     report.finish();
     files.extend(report.write_data(&config.out)?);
     files.extend(plots::write_plots(&report, &config.out)?);
+    files.extend(matrix_plot::write_matrix_plots(&report, &config.out)?);
     progress.finish();
     Ok(BenchOutcome { report, files })
 }
 
-/// Predicted brute-force frame time at `n` objects from the frames measured
-/// so far, and how it was obtained. Brute force costs a + b N per frame (the
-/// seed's linear model): with two or more sizes measured, a and b come from
-/// the two largest; with one, the frame is scaled by N / N0, which
-/// overestimates (it scales the fixed cost too) and so errs towards skipping.
-pub fn predict_brute_ms(measured: &[(usize, f64)], n: usize) -> Option<(f64, String)> {
+/// Writes `scene` as JSON into `out/scenes/`; returns its path relative to `out`.
+fn write_scene(out: &Path, label: &str, scene: &Scene) -> Result<String> {
+    let dir = out.join(SCENES_DIR);
+    std::fs::create_dir_all(&dir).map_err(|source| Error::File {
+        path: dir.clone(),
+        what: "cannot create the folder",
+        source,
+    })?;
+    let name = format!("{}.json", scene_slug(label, scene.object_count()));
+    let text = random_scene::scene_file_text(scene, random_scene::FileFormat::Json, "")
+        .map_err(|e| Error::Output(format!("{label}: cannot write the scene: {e}")))?;
+    crate::output::write_file_atomic(&dir.join(&name), text.as_bytes())?;
+    Ok(format!("{SCENES_DIR}/{name}"))
+}
+
+/// Predicted brute-force frame time for `work` (objects x primary rays)
+/// from the frames measured so far, and how it was obtained. Brute force
+/// costs a + b N per frame at a given image size (the seed's linear model),
+/// taken here as a + b W in W = N x primary rays so that scenes of other
+/// sizes and images can be compared: with two or more measured, a and b
+/// come from the two largest; with one, the frame is scaled by W / W0,
+/// which overestimates (it scales the fixed cost too) and so errs towards
+/// skipping.
+pub fn predict_brute_ms(measured: &[(usize, f64)], work: usize) -> Option<(f64, String)> {
     let mut pts: Vec<(usize, f64)> = measured.iter().copied().filter(|p| p.1 > 0.0).collect();
     pts.sort_by_key(|p| p.0);
     pts.dedup_by_key(|p| p.0);
     match pts.as_slice() {
         [] => None,
-        [(n0, ms0)] => Some((
-            ms0 * n as f64 / (*n0).max(1) as f64,
-            format!("{:.3} s at N={n0} scaled by N", ms0 * 1e-3),
+        [(w0, ms0)] => Some((
+            ms0 * work as f64 / (*w0).max(1) as f64,
+            format!("{:.3} s at N x rays = {w0} scaled", ms0 * 1e-3),
         )),
-        [.., (n0, ms0), (n1, ms1)] => {
-            let b = ((ms1 - ms0) / (*n1 as f64 - *n0 as f64)).max(0.0);
-            let a = (ms1 - b * *n1 as f64).max(0.0);
+        [.., (w0, ms0), (w1, ms1)] => {
+            let b = ((ms1 - ms0) / (*w1 as f64 - *w0 as f64)).max(0.0);
+            let a = (ms1 - b * *w1 as f64).max(0.0);
             let predicted = if b > 0.0 {
-                a + b * n as f64
+                a + b * work as f64
             } else {
-                ms1 * n as f64 / (*n1).max(1) as f64
+                ms1 * work as f64 / (*w1).max(1) as f64
             };
             Some((
                 predicted,
                 format!(
-                    "line through {:.3} s at N={n0} and {:.3} s at N={n1}",
+                    "line through {:.3} s at N x rays = {w0} and {:.3} s at {w1}",
                     ms0 * 1e-3,
                     ms1 * 1e-3
                 ),
@@ -660,46 +996,54 @@ pub fn predict_brute_ms(measured: &[(usize, f64)], n: usize) -> Option<(f64, Str
     }
 }
 
-/// Uploads and renders one prepared run; fills `record` and returns the
-/// image of the first frame.
+/// Renders one frame, counting the walk's work, and returns its image and
+/// summary.
+fn counted_frame(
+    ctx: &GpuContext,
+    renderer: &Renderer,
+    buffers: &SceneBuffers,
+    params: FrameParams,
+    plan: TilePlan,
+) -> Result<(Vec<u8>, crate::gpu::RenderSummary)> {
+    let mut rgb = Vec::with_capacity(params.width as usize * params.height as usize * 3);
+    let summary =
+        renderer.render_bands_with_cost(ctx, buffers, params, plan, true, &mut |band| {
+            rgb.extend_from_slice(band.rgb);
+            Ok(())
+        })?;
+    Ok((rgb, summary))
+}
+
+/// Renders one uploaded run: a warm-up frame that counts the walk's work
+/// (and gives the image), then `repeat` timed frames without counting;
+/// fills `record` and returns the image.
 #[allow(clippy::too_many_arguments)]
 fn measure(
     ctx: &GpuContext,
     renderer: &Renderer,
-    prepared: &PreparedScene,
-    accel: Accel,
+    scene: &Scene,
+    buffers: &SceneBuffers,
+    params: FrameParams,
     plan: TilePlan,
     config: &BenchConfig,
     progress: &Progress,
     record: &mut RunRecord,
 ) -> Result<Vec<u8>> {
-    let scene = &prepared.scene;
-    let n = scene.object_count();
-    let name = accel_name(accel);
-    if accel == Accel::Kdtree {
-        record.build_ms = Some(prepared.build_ms);
-        let stats = prepared.tree.stats();
-        record.kd_nodes = Some(stats.nodes);
-        record.kd_leaves = Some(stats.leaves);
-        record.kd_max_depth = Some(stats.max_depth);
-        record.kd_refs_per_leaf = Some(stats.refs_per_leaf);
-    }
-
-    progress.message(format!("N={n} {name}: uploading"));
+    let what = format!("{} N={} {}", record.scene, record.n, record.cell_name());
+    progress.message(format!("{what}: warm-up frame"));
     let t = Instant::now();
-    let buffers = prepared.upload(ctx)?;
-    record.upload_ms = Some(prepared.flatten_ms + ms_since(t));
-    record.gpu_scene_bytes = Some(prepared.arrays.byte_size());
-    let params = prepared.frame_params(&buffers, accel);
-
-    progress.message(format!("N={n} {name}: warm-up frame"));
-    let t = Instant::now();
-    let first = renderer.render(ctx, &buffers, params, plan)?;
+    let (rgb, first) = counted_frame(ctx, renderer, buffers, params, plan)?;
     let warmup_wall = ms_since(t);
+    if let Some(cost) = first.cost {
+        let rays = first.rays.total().max(1) as f64;
+        record.nodes_visited_per_ray = Some(cost.nodes_visited as f64 / rays);
+        record.leaves_visited_per_ray = Some(cost.leaves_visited as f64 / rays);
+        record.objects_tested_per_ray = Some(cost.objects_tested as f64 / rays);
+    }
     let mut samples = Vec::new();
     let mut walls = Vec::new();
     let budget_ms = config.budget_s * 1e3;
-    if accel == Accel::Brute && first.gpu_ms > budget_ms {
+    if record.accel == Accel::Brute && first.gpu_ms > budget_ms {
         // Already over budget: the warm-up frame is the only measurement.
         samples.push(first.gpu_ms);
         walls.push(warmup_wall);
@@ -710,9 +1054,9 @@ fn measure(
         ));
     } else {
         for k in 0..config.repeat {
-            progress.message(format!("N={n} {name}: frame {}/{}", k + 1, config.repeat));
+            progress.message(format!("{what}: frame {}/{}", k + 1, config.repeat));
             let t = Instant::now();
-            let image = renderer.render(ctx, &buffers, params, plan)?;
+            let image = renderer.render(ctx, buffers, params, plan)?;
             walls.push(ms_since(t));
             samples.push(image.gpu_ms);
         }
@@ -750,7 +1094,7 @@ fn measure(
         record.total_rays = Some(rays.total());
         record.mrays_per_s = Some(rays.total() as f64 / per_us);
     }
-    Ok(first.rgb)
+    Ok(rgb)
 }
 
 /// `kdray bench`: runs, writes the files, prints the summary on stdout.
@@ -780,16 +1124,26 @@ pub fn bench_cli(args: &BenchOptions) -> Result<()> {
 }
 
 /// Rewrites the summary, fits, targets and plots of the run recorded in
-/// `dir/bench.json`, in `dir`.
+/// `dir/bench.json`, in `dir`, taking in the Embree results of
+/// `dir/embree.json` when there are (scripts/peers/bench_embree.py).
 pub fn replot(dir: &Path) -> Result<BenchOutcome> {
     let path = dir.join(report::JSON_FILE);
     let text = std::fs::read_to_string(&path)
         .map_err(|e| Error::Usage(format!("{}: cannot read: {e}", path.display())))?;
     let mut report: report::BenchReport = serde_json::from_str(&text)
         .map_err(|e| Error::Usage(format!("{}: not a kdray bench report: {e}", path.display())))?;
+    let embree = dir.join(report::EMBREE_FILE);
+    if embree.is_file() {
+        let text = std::fs::read_to_string(&embree)
+            .map_err(|e| Error::Usage(format!("{}: cannot read: {e}", embree.display())))?;
+        report.embree = Some(serde_json::from_str(&text).map_err(|e| {
+            Error::Usage(format!("{}: not an Embree result: {e}", embree.display()))
+        })?);
+    }
     report.refresh();
     let mut files = report.write_data(dir)?;
     files.extend(plots::write_plots(&report, dir)?);
+    files.extend(matrix_plot::write_matrix_plots(&report, dir)?);
     Ok(BenchOutcome { report, files })
 }
 
@@ -818,7 +1172,7 @@ mod tests {
         // Two points on ms = 40 + 1 * N: the fixed cost is not scaled.
         let (ms, how) = predict_brute_ms(&[(10, 50.0), (100, 140.0)], 10_000).unwrap();
         assert!((ms - 10_040.0).abs() < 1e-6, "{ms}");
-        assert!(how.contains("N=10 ") && how.contains("N=100"), "{how}");
+        assert!(how.contains("= 10 ") && how.contains("at 100"), "{how}");
         // Noise that makes the line fall is not extrapolated downwards.
         let (ms, _) = predict_brute_ms(&[(10, 60.0), (100, 50.0)], 1000).unwrap();
         assert!((ms - 500.0).abs() < 1e-9, "{ms}");

@@ -349,8 +349,8 @@ pub fn write_plots(report: &BenchReport, out: &Path) -> Result<Vec<PathBuf>> {
     if let (Some(first), Some(last)) = (speedup.first(), speedup.last()) {
         let (lo, hi) = (first.0.min(last.0), first.0.max(last.0).max(first.0 * 10.0));
         series.push(Series {
-            label: "100x (the target at N = 10,000)".into(),
-            points: vec![(lo, 100.0), (hi, 100.0)],
+            label: "300x (the target at N = 10,000)".into(),
+            points: vec![(lo, 300.0), (hi, 300.0)],
             colour: FIT_COLOUR,
             dashed: true,
             marker: Marker::None,
@@ -380,14 +380,14 @@ pub fn write_plots(report: &BenchReport, out: &Path) -> Result<Vec<PathBuf>> {
     let build: Vec<(f64, f64)> = report
         .runs
         .iter()
-        .filter(|r| r.accel == Accel::Kdtree && r.is_ok())
+        .filter(|r| report.in_series(r, Accel::Kdtree) && r.is_ok())
         .filter_map(|r| Some((r.n as f64, r.build_ms?)))
         .filter(|p| p.1 > 0.0)
         .collect();
     let upload: Vec<(f64, f64)> = report
         .runs
         .iter()
-        .filter(|r| r.accel == Accel::Kdtree && r.is_ok())
+        .filter(|r| report.in_series(r, Accel::Kdtree) && r.is_ok())
         .filter_map(|r| Some((r.n as f64, r.upload_ms?)))
         .filter(|p| p.1 > 0.0)
         .collect();

@@ -46,6 +46,44 @@ fn choice<T: Choice + Clone>() -> impl TypedValueParser<Value = T> {
     .try_map(|name| T::from_name(&name).ok_or("not one of the possible values"))
 }
 
+/// One value of a list flag that also takes `all`.
+#[derive(Clone, Copy)]
+pub enum OrAll<T> {
+    One(T),
+    All,
+}
+
+/// A list flag's value: one of a [`Choice`]'s names or `all` (every
+/// value); clap lists them, and an unknown name is exit 2 naming them.
+fn choice_or_all<T: Choice + Clone>() -> impl TypedValueParser<Value = OrAll<T>> {
+    PossibleValuesParser::new(
+        T::ALL
+            .iter()
+            .map(|c| PossibleValue::new(c.name()).help(c.help()))
+            .chain(std::iter::once(
+                PossibleValue::new("all").help("every value"),
+            )),
+    )
+    .try_map(|name| match name.as_str() {
+        "all" => Ok(OrAll::All),
+        _ => T::from_name(&name)
+            .map(OrAll::One)
+            .ok_or("not one of the possible values"),
+    })
+}
+
+/// The values a list flag names, `all` expanded, in order.
+fn expand<T: Choice>(list: &[OrAll<T>]) -> Vec<T> {
+    let mut out = Vec::new();
+    for v in list {
+        match v {
+            OrAll::One(c) => out.push(*c),
+            OrAll::All => out.extend_from_slice(T::ALL),
+        }
+    }
+    out
+}
+
 #[derive(clap::Args)]
 pub struct RenderArgs {
     /// The scene file.
@@ -127,6 +165,23 @@ pub struct BenchArgs {
     /// Which accelerations to run.
     #[arg(long, value_parser = choice::<Accel>(), value_delimiter = ',', default_values = ["kdtree", "brute"])]
     pub accel: Vec<Accel>,
+    /// The k-d tree's builds, comma separated, or `all`: each build is made
+    /// and uploaded once and measured with every --traversal [default: sah].
+    #[arg(long, value_name = "LIST", value_parser = choice_or_all::<BuildStrategy>(), value_delimiter = ',')]
+    pub build: Vec<OrAll<BuildStrategy>>,
+    /// The k-d walks, comma separated, or `all` [default: ropes].
+    #[arg(long, value_name = "LIST", value_parser = choice_or_all::<Traversal>(), value_delimiter = ',')]
+    pub traversal: Vec<OrAll<Traversal>>,
+    /// Measure the study's four scenes (random spheres, random triangles,
+    /// the bunny or a generated mesh, the seed scene; sizes in
+    /// docs/benchmarks.md) instead of --sizes or --scene, and write them
+    /// into OUT/scenes/ for scripts/peers/bench_embree.py.
+    #[arg(long, conflicts_with_all = ["scenes", "sizes", "kind", "width", "height", "max_depth"])]
+    pub suite: bool,
+    /// Write each measured scene (with the size and depth overrides) as JSON
+    /// into OUT/scenes/, for scripts/peers/bench_embree.py (always with --suite).
+    #[arg(long)]
+    pub write_scenes: bool,
     /// Output folder (created if missing).
     #[arg(long, default_value = "bench-results")]
     pub out: PathBuf,
@@ -135,7 +190,7 @@ pub struct BenchArgs {
     pub save_images: bool,
     /// Measure nothing: read DIR/bench.json from an earlier run and rewrite
     /// its summary, fits, targets and plots in DIR.
-    #[arg(long, value_name = "DIR", conflicts_with_all = ["scenes", "save_images"])]
+    #[arg(long, value_name = "DIR", conflicts_with_all = ["scenes", "save_images", "suite", "write_scenes"])]
     pub replot: Option<PathBuf>,
 }
 
@@ -152,6 +207,10 @@ impl From<BenchArgs> for BenchOptions {
             repeat: a.repeat,
             budget_s: a.budget_s,
             accel: a.accel,
+            builds: expand(&a.build),
+            traversals: expand(&a.traversal),
+            suite: a.suite,
+            write_scenes: a.write_scenes,
             out: a.out,
             save_images: a.save_images,
             replot: a.replot,
