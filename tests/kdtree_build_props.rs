@@ -13,15 +13,9 @@ use kdray::kdtree::traverse::{any_hit, any_hit_brute, closest_hit, closest_hit_b
 use kdray::kdtree::{build_primitives, BuildParams, BuildStrategy, KdTree};
 use proptest::prelude::*;
 
-fn vec3(range: f32) -> impl Strategy<Value = Vec3> {
-    (-range..range, -range..range, -range..range).prop_map(|(x, y, z)| Vec3::new(x, y, z))
-}
-
-fn unit() -> impl Strategy<Value = Vec3> {
-    vec3(1.0)
-        .prop_filter("non-zero", |v| v.length() > 1e-3)
-        .prop_map(|v| v.normalize())
-}
+#[path = "support/strategies.rs"]
+mod strategies;
+use strategies::{direction, unit, vec3};
 
 /// Coordinates on a half-unit grid: many objects then share planes, and
 /// edges and faces lie in the planes the build cuts at.
@@ -275,20 +269,6 @@ fn inner_planes(tree: &KdTree) -> Vec<(usize, f32)> {
         .collect()
 }
 
-/// Directions: random, along an axis, parallel to an axis plane.
-fn direction() -> impl Strategy<Value = Vec3> {
-    prop_oneof![
-        3 => unit(),
-        1 => (0usize..3, any::<bool>()).prop_map(|(a, neg)| if neg { -Vec3::AXES[a] } else { Vec3::AXES[a] }),
-        1 => (0usize..3, -1.0f32..1.0, -1.0f32..1.0).prop_filter("non-zero", |(_, x, y)| x.abs() + y.abs() > 1e-3).prop_map(|(a, x, y)| {
-            let mut v = Vec3::ZERO;
-            v[(a + 1) % 3] = x;
-            v[(a + 2) % 3] = y;
-            v.normalize()
-        }),
-    ]
-}
-
 /// What a ray is made from: an origin, a direction, and how to tie it to the
 /// scene (see `ray_for`).
 type RaySeed = (Vec3, Vec3, u8, usize, f64, f64);
@@ -430,27 +410,8 @@ proptest! {
     #[test]
     fn flat_layout_is_what_the_kernel_assumes(prims in scene(), strategy in strategy(), cost in cost()) {
         let tree = tree_for(&prims, strategy, cost);
-        let n = tree.nodes.len();
-        let mut reached = vec![0u32; n];
-        let mut pending = vec![0usize];
-        while let Some(i) = pending.pop() {
-            reached[i] += 1;
-            let node = tree.nodes[i];
-            if node.is_leaf() {
-                let end = node.index as usize + node.count as usize;
-                prop_assert!(end <= tree.leaf_objects.len());
-                let ids = &tree.leaf_objects[node.index as usize..end];
-                prop_assert!(ids.windows(2).all(|w| w[0] < w[1]), "leaf {} ids {:?}", i, ids);
-                prop_assert!(ids.iter().all(|&id| (id as usize) < prims.len()));
-            } else {
-                prop_assert!(node.kind < 3 && node.split.is_finite());
-                let above = node.index as usize;
-                prop_assert!(i + 1 < above && above < n, "node {}: children {} and {} of {}", i, i + 1, above, n);
-                pending.push(i + 1);
-                pending.push(above);
-            }
-        }
-        prop_assert!(reached.iter().all(|&r| r == 1));
+        let error = strategies::flat_layout_error(&tree, prims.len());
+        prop_assert!(error.is_none(), "{}", error.unwrap_or_default());
     }
 }
 

@@ -194,29 +194,8 @@ proptest! {
     #[test]
     fn flat_layout_is_what_the_kernel_assumes(prims in scene(), cost in traversal_cost()) {
         let tree = tree_for(&prims, cost).tree;
-        let n = tree.nodes.len();
-        prop_assert!(n >= 1);
-        let mut reached = vec![0u32; n];
-        let mut pending = vec![0usize];
-        while let Some(i) = pending.pop() {
-            reached[i] += 1;
-            let node = tree.nodes[i];
-            if node.is_leaf() {
-                let end = node.index as usize + node.count as usize;
-                prop_assert!(end <= tree.leaf_objects.len(), "leaf {} ends at {}", i, end);
-                for &id in &tree.leaf_objects[node.index as usize..end] {
-                    prop_assert!((id as usize) < prims.len(), "leaf {} names object {}", i, id);
-                }
-            } else {
-                prop_assert!(node.kind < 3, "node {} has kind {}", i, node.kind);
-                prop_assert!(node.split.is_finite(), "node {} splits at {}", i, node.split);
-                let above = node.index as usize;
-                prop_assert!(i + 1 < above && above < n, "node {}: children {} and {} of {}", i, i + 1, above, n);
-                pending.push(i + 1);
-                pending.push(above);
-            }
-        }
-        prop_assert!(reached.iter().all(|&r| r == 1), "every node reached exactly once: {:?}", reached);
+        let error = strategies::flat_layout_error(&tree, prims.len());
+        prop_assert!(error.is_none(), "{}", error.unwrap_or_default());
     }
 
     /// Every object is referenced by the leaf containing any point of its box.

@@ -323,19 +323,24 @@ mod tests {
         assert_eq!(clip_triangle(&t, &cube(-1.0, 2.0)), Some(t.bounds()));
     }
 
+    /// The right triangle (0,0,0), (4,0,0), (0,4,0) in the plane z = 0.
+    fn right_triangle() -> TriangleF32 {
+        TriangleF32 {
+            v: [
+                Vec3::ZERO,
+                Vec3::new(4.0, 0.0, 0.0),
+                Vec3::new(0.0, 4.0, 0.0),
+            ],
+        }
+    }
+
     /// The right triangle (0,0,0), (4,0,0), (0,4,0) clipped by the unit cube
     /// [1,2]^3 shifted to z in [-1, 1]: its hypotenuse x + y = 4 passes the
     /// cell's far corner, so the part inside is the square [1,2] x [1,2]
     /// (x + y <= 4 holds everywhere in it, with equality only at (2,2)).
     #[test]
     fn a_triangle_clipped_by_a_box_gives_the_exact_polygon_box() {
-        let t = TriangleF32 {
-            v: [
-                Vec3::ZERO,
-                Vec3::new(4.0, 0.0, 0.0),
-                Vec3::new(0.0, 4.0, 0.0),
-            ],
-        };
+        let t = right_triangle();
         let cell = Aabb {
             min: Vec3::new(1.0, 1.0, -1.0),
             max: Vec3::new(2.0, 2.0, 1.0),
@@ -354,13 +359,7 @@ mod tests {
     /// [2,3] x [0.5,3] below x + y = 4, whose box is [2,3] x [0.5,2].
     #[test]
     fn the_hypotenuse_cuts_the_cell() {
-        let t = TriangleF32 {
-            v: [
-                Vec3::ZERO,
-                Vec3::new(4.0, 0.0, 0.0),
-                Vec3::new(0.0, 4.0, 0.0),
-            ],
-        };
+        let t = right_triangle();
         let cell = Aabb {
             min: Vec3::new(2.0, 0.5, -1.0),
             max: Vec3::new(3.0, 3.0, 1.0),

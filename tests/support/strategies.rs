@@ -61,9 +61,17 @@ pub fn scene() -> impl Strategy<Value = Primitives> {
     })
 }
 
+/// A random unit vector.
+pub fn unit() -> impl Strategy<Value = Vec3> {
+    vec3(1.0)
+        .prop_filter("non-zero", |v| v.length() > 1e-3)
+        .prop_map(|v| v.normalize())
+}
+
+/// Directions: random, along an axis, parallel to an axis plane.
 pub fn direction() -> impl Strategy<Value = Vec3> {
     prop_oneof![
-        3 => vec3(1.0).prop_filter("non-zero", |v| v.length() > 1e-3).prop_map(|v| v.normalize()),
+        3 => unit(),
         1 => (0usize..3, any::<bool>()).prop_map(|(a, neg)| if neg { -Vec3::AXES[a] } else { Vec3::AXES[a] }),
         // Parallel to one axis plane but not to an axis.
         1 => (0usize..3, -1.0f32..1.0, -1.0f32..1.0).prop_filter("non-zero", |(_, x, y)| x.abs() + y.abs() > 1e-3).prop_map(|(a, x, y)| {
@@ -101,4 +109,51 @@ pub fn tree_for(prims: &Primitives, traversal_cost: f32) -> KdTree {
         ..kdray::kdtree::BuildParams::for_object_count(bounds.len())
     };
     kdray::kdtree::build(&bounds, params)
+}
+
+/// What is wrong with the tree's flat layout, as the kernel reads it, or
+/// `None`: every inner node's below child right after it and its above
+/// child later, every node reached exactly once, leaf ranges in bounds,
+/// each leaf's ids ascending, distinct and below `object_count`.
+pub fn flat_layout_error(tree: &KdTree, object_count: usize) -> Option<String> {
+    let n = tree.nodes.len();
+    if n == 0 {
+        return Some("no nodes".into());
+    }
+    let mut reached = vec![0u32; n];
+    let mut pending = vec![0usize];
+    while let Some(i) = pending.pop() {
+        reached[i] += 1;
+        let node = tree.nodes[i];
+        if node.is_leaf() {
+            let end = node.index as usize + node.count as usize;
+            if end > tree.leaf_objects.len() {
+                return Some(format!("leaf {i} ends at {end}"));
+            }
+            let ids = &tree.leaf_objects[node.index as usize..end];
+            if !ids.windows(2).all(|w| w[0] < w[1]) {
+                return Some(format!("leaf {i} ids {ids:?}"));
+            }
+            if let Some(id) = ids.iter().find(|&&id| id as usize >= object_count) {
+                return Some(format!("leaf {i} names object {id}"));
+            }
+        } else {
+            if node.kind >= 3 || !node.split.is_finite() {
+                return Some(format!(
+                    "node {i}: kind {}, split {}",
+                    node.kind, node.split
+                ));
+            }
+            let above = node.index as usize;
+            if !(i + 1 < above && above < n) {
+                return Some(format!("node {i}: children {} and {above} of {n}", i + 1));
+            }
+            pending.push(i + 1);
+            pending.push(above);
+        }
+    }
+    reached
+        .iter()
+        .position(|&r| r != 1)
+        .map(|i| format!("node {i} reached {} times", reached[i]))
 }
