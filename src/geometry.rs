@@ -40,6 +40,11 @@ impl Aabb {
         self.min.cmpgt(self.max).any()
     }
 
+    /// The largest coordinate magnitude in the box.
+    pub fn magnitude(&self) -> f32 {
+        self.min.abs().max(self.max.abs()).max_element()
+    }
+
     pub fn surface_area(&self) -> f32 {
         let e = (self.max - self.min).max(Vec3::ZERO);
         2.0 * (e.x * e.y + e.y * e.z + e.z * e.x)

@@ -125,9 +125,11 @@ impl BuildParams {
 }
 
 /// With [`BuildStrategy::Binned`], nodes of more objects than this are
-/// split by binning (see [`BuildParams::exact_below`]): measured on the
-/// bunny subdivided to 1.1 M triangles, 32 gave the fastest build (16 and
-/// 8 made more references, 128 and up were slower).
+/// split by binning (see [`BuildParams::exact_below`]). Measured on the
+/// bunny subdivided to 1.1 M triangles, one thread, CPU time under load 3
+/// (`examples/build_time.rs`, two runs each): 8 built in 4.8-4.9 s but with
+/// 8% more references, 32 in 5.0-5.4 s, 128 and 512 in 6.1-7.4 s, the
+/// exact sweep everywhere in 7.3-7.8 s; 32 is the compromise.
 pub const BINNED_EXACT_BELOW: usize = 32;
 
 /// The flattened tree: nodes depth first, and the leaves' object id lists.

@@ -40,11 +40,7 @@ pub const TOLERANCE: f32 = 1.0 / (1u32 << 18) as f32;
 impl<'a> Shapes<'a> {
     pub fn primitives(prims: &'a Primitives) -> Self {
         let b = prims.scene_bounds();
-        let magnitude = if prims.is_empty() {
-            0.0
-        } else {
-            b.min.abs().max(b.max.abs()).max_element()
-        };
+        let magnitude = if prims.is_empty() { 0.0 } else { b.magnitude() };
         Shapes::Primitives {
             prims,
             tolerance: magnitude * TOLERANCE,
@@ -255,10 +251,7 @@ pub fn clip_triangle(t: &TriangleF32, reach: &Aabb) -> Option<Aabb> {
     // f64 rounding of the clip is some 1e-16 of the coordinates; a guard of
     // 2^-40 of them keeps the box conservative before it is rounded to f32.
     let (min, max) = polygon.bounds();
-    let guard = t
-        .magnitude()
-        .max(reach.min.abs().max(reach.max.abs()).max_element()) as f64
-        * (1.0 / (1u64 << 40) as f64);
+    let guard = t.magnitude().max(reach.magnitude()) as f64 * (1.0 / (1u64 << 40) as f64);
     let widened = Aabb {
         min: (min - guard).to_array().map(f32_down).into(),
         max: (max + guard).to_array().map(f32_up).into(),

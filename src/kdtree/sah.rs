@@ -187,7 +187,7 @@ pub struct Sah<'a> {
 impl<'a> Sah<'a> {
     /// The strategy for `shapes`, whose union is `root`.
     pub fn new(shapes: Shapes<'a>, params: BuildParams, root: &Aabb) -> Self {
-        let magnitude = root.min.abs().max(root.max.abs()).max_element();
+        let magnitude = root.magnitude();
         let gap = shapes.tolerance().max(magnitude * super::clip::TOLERANCE);
         Sah {
             shapes,
