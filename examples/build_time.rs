@@ -1,6 +1,9 @@
 //! Times the k-d tree build of a scene file, apart from loading it, in
 //! wall and CPU time (CPU time holds up better on a shared machine):
 //! `cargo run --release --example build_time -- SCENE [THREADS] [sah|binned|median]`.
+//! The digest it prints changes when the tree does, so a faster build can
+//! show that it builds the same tree. `EXACT_BELOW=N` and
+//! `TRAVERSAL_COST=C` override those build parameters, for experiments.
 use std::time::Instant;
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
@@ -21,19 +24,47 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         strategy,
         ..kdray::kdtree::BuildParams::for_primitives(&prims)
     };
+    let params = match std::env::var("EXACT_BELOW") {
+        Ok(v) => kdray::kdtree::BuildParams {
+            exact_below: v.parse()?,
+            ..params
+        },
+        Err(_) => params,
+    };
+    let params = match std::env::var("TRAVERSAL_COST") {
+        Ok(v) => kdray::kdtree::BuildParams {
+            traversal_cost: v.parse()?,
+            ..params
+        },
+        Err(_) => params,
+    };
     let (t, cpu) = (Instant::now(), cpu_seconds());
     let tree = kdray::kdtree::build_primitives(&prims, params, threads);
     let build_s = t.elapsed().as_secs_f64();
     let build_cpu_s = cpu_seconds() - cpu;
     let stats = tree.stats();
     println!(
-        "{path}: {} objects, load {load_s:.3} s, {} build on {threads} threads {build_s:.3} s ({build_cpu_s:.2} s of CPU), {} nodes, {} references",
+        "{path}: {} objects, load {load_s:.3} s, {} build on {threads} threads {build_s:.3} s ({build_cpu_s:.2} s of CPU), {} nodes, {} references, digest {:016x}",
         prims.len(),
         strategy.name(),
         stats.nodes,
-        tree.leaf_objects.len()
+        tree.leaf_objects.len(),
+        digest(&tree)
     );
     Ok(())
+}
+
+/// FNV-1a over the flat nodes and leaf lists: equal digests mean a faster
+/// build made the same tree.
+fn digest(tree: &kdray::kdtree::KdTree) -> u64 {
+    let words = tree
+        .nodes
+        .iter()
+        .flat_map(|n| [n.kind, n.split.to_bits(), n.index, n.count])
+        .chain(tree.leaf_objects.iter().copied());
+    words.fold(0xcbf2_9ce4_8422_2325, |h, w| {
+        (h ^ w as u64).wrapping_mul(0x0000_0100_0000_01b3)
+    })
 }
 
 /// User + system CPU time of this process so far, from /proc (Linux; 0

@@ -51,32 +51,46 @@ pub fn best_split(
     }
     let inv_area = 1.0 / area;
     let extent = boxes.iter().fold(Aabb::EMPTY, |e, b| e.union(b.bounds));
+    let lo = [0, 1, 2].map(|a| extent.min[a].max(cell.min[a]));
+    let hi = [0, 1, 2].map(|a| extent.max[a].min(cell.max[a]));
+    let width = [0, 1, 2].map(|a| hi[a] - lo[a]);
+    let binnable = [0, 1, 2].map(|a| width[a] > 0.0 && width[a].is_finite());
+    let scale = [0, 1, 2].map(|a| {
+        if binnable[a] {
+            BINS as f32 / width[a]
+        } else {
+            0.0
+        }
+    });
+    // One pass over the boxes fills the six histograms: their increments
+    // are independent (per axis, one after another, neighbouring boxes of
+    // a mesh often fall in one bin and wait on each other's count).
+    // The saturating cast puts boxes reaching ε past the cell in the end
+    // bins.
+    let bin = |a: usize, x: f32| (((x - lo[a]) * scale[a]) as usize).min(BINS - 1);
+    let mut starts = [[0u32; BINS]; 3];
+    let mut ends = [[0u32; BINS]; 3];
+    for b in boxes {
+        for a in 0..3 {
+            starts[a][bin(a, b.bounds.min[a])] += 1;
+            ends[a][bin(a, b.bounds.max[a])] += 1;
+        }
+    }
     let mut best: Option<Split> = None;
     for a in 0..3 {
         let cost = AxisCost::new(params, cell, a, inv_area);
         let mut consider = |x, below, above| cost.keep_cheaper(&mut best, x, below, above);
-        let lo = extent.min[a].max(cell.min[a]);
-        let hi = extent.max[a].min(cell.max[a]);
+        let (lo, hi, width) = (lo[a], hi[a], width[a]);
         consider(clear_below(lo, gap), 0, n);
-        let width = hi - lo;
-        if !(width > 0.0) || !width.is_finite() {
+        if !binnable[a] {
             consider(clear_above(hi, gap), n, 0);
             continue;
         }
-        let scale = BINS as f32 / width;
-        // The saturating cast puts boxes reaching ε past the cell in the
-        // end bins.
-        let bin = |x: f32| (((x - lo) * scale) as usize).min(BINS - 1);
-        let mut starts = [0usize; BINS];
-        let mut ends = [0usize; BINS];
-        for b in boxes {
-            starts[bin(b.bounds.min[a])] += 1;
-            ends[bin(b.bounds.max[a])] += 1;
-        }
+        let (starts, ends) = (&starts[a], &ends[a]);
         let (mut below, mut above) = (0, n);
         for i in 1..BINS {
-            below += starts[i - 1];
-            above -= ends[i - 1];
+            below += starts[i - 1] as usize;
+            above -= ends[i - 1] as usize;
             let x = lo + width * (i as f32 / BINS as f32);
             if lo < x && x < hi {
                 consider(x, below, above);
@@ -87,34 +101,38 @@ pub fn best_split(
     best
 }
 
-/// The children's boxes for a plane at `position` on `axis`: an object
-/// wholly on one side keeps its box; one on both sides (within `eps`) is
-/// clipped again to each child's cell and left out of a child it turns
-/// out not to reach. Order is kept, so the tree does not depend on threads.
+/// The children's boxes for the plane of `split`: an object wholly on one
+/// side keeps its box; one on both sides (within `eps`) is clipped again to
+/// each child's cell and left out of a child it turns out not to reach.
+/// Order is kept, so the tree does not depend on threads. The split's
+/// counts size the children (estimates: a few more objects may come within
+/// ε of the plane).
 pub fn partition(
     boxes: Vec<ClippedBox>,
-    axis: usize,
-    position: f32,
+    split: &Split,
     cell: &Aabb,
     shapes: &Shapes<'_>,
 ) -> (Vec<ClippedBox>, Vec<ClippedBox>) {
+    let (axis, position) = (split.axis, split.position);
     let eps = shapes.tolerance();
     let mut below_cell = *cell;
     below_cell.max[axis] = position;
     let mut above_cell = *cell;
     above_cell.min[axis] = position;
-    let mut below = Vec::with_capacity(boxes.len() / 2 + 1);
-    let mut above = Vec::with_capacity(boxes.len() / 2 + 1);
+    let (below_reach, above_reach) = (shapes.reach(&below_cell), shapes.reach(&above_cell));
+    let room = |count: usize| (count + count / 16 + 4).min(boxes.len());
+    let mut below = Vec::with_capacity(room(split.below));
+    let mut above = Vec::with_capacity(room(split.above));
     for b in boxes {
         match sides(b.bounds.min[axis], b.bounds.max[axis], position, eps) {
             (true, false) => below.push(b),
             (false, true) => above.push(b),
             // Both, or a NaN box: clipping decides.
             _ => {
-                if let Some(bounds) = shapes.clip(b.id, &below_cell) {
+                if let Some(bounds) = shapes.clip_within(b.id, &below_reach) {
                     below.push(ClippedBox { id: b.id, bounds });
                 }
-                if let Some(bounds) = shapes.clip(b.id, &above_cell) {
+                if let Some(bounds) = shapes.clip_within(b.id, &above_reach) {
                     above.push(ClippedBox { id: b.id, bounds });
                 }
             }
@@ -169,7 +187,14 @@ mod tests {
             min: Vec3::ZERO,
             max: Vec3::new(4.0, 1.0, 1.0),
         };
-        let (below, above) = partition(boxes.clone(), 0, 2.0, &cell, &shapes);
+        let split = Split {
+            axis: 0,
+            position: 2.0,
+            cost: 0.0,
+            below: 2,
+            above: 2,
+        };
+        let (below, above) = partition(boxes.clone(), &split, &cell, &shapes);
         assert_eq!(below.iter().map(|b| b.id).collect::<Vec<_>>(), [0, 1]);
         assert_eq!(above.iter().map(|b| b.id).collect::<Vec<_>>(), [1, 2]);
         assert_eq!(below[0], boxes[0]);

@@ -74,13 +74,25 @@ impl<'a> Shapes<'a> {
     /// `None` when the object does not come that near. Never smaller than
     /// the exact answer (see the module comment).
     pub fn clip(&self, id: u32, cell: &Aabb) -> Option<Aabb> {
-        let reach = widen(cell, self.tolerance());
+        self.clip_within(id, &self.reach(cell))
+    }
+
+    /// Where an object must come to belong to `cell`: the cell widened by
+    /// ε ([`Shapes::clip_within`] takes it, so that a partition widens
+    /// each child's cell once).
+    pub fn reach(&self, cell: &Aabb) -> Aabb {
+        widen(cell, self.tolerance())
+    }
+
+    /// Box of the part of object `id` in `reach`, a cell widened by
+    /// [`Shapes::reach`], or `None` when it does not meet it.
+    pub fn clip_within(&self, id: u32, reach: &Aabb) -> Option<Aabb> {
         match self {
             Shapes::Primitives { prims, .. } if id as usize >= prims.spheres.len() => {
                 let t = &prims.triangles[id as usize - prims.spheres.len()];
-                clip_triangle(t, &reach)
+                clip_triangle(t, reach)
             }
-            _ => intersect(&self.bounds(id), &reach),
+            _ => intersect(&self.bounds(id), reach),
         }
     }
 }

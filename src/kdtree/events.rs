@@ -55,12 +55,18 @@ pub fn id(event: u64) -> u32 {
 /// axes' lists: a flat side gives one planar event, any other a start and
 /// an end.
 pub fn push_box(lists: &mut [Vec<u64>; 3], id: u32, b: &Aabb) {
-    for (a, list) in lists.iter_mut().enumerate() {
+    for_each_event(id, b, |a, event| lists[a].push(event));
+}
+
+/// Calls `f(axis, event)` for each event of object `id` with clipped box
+/// `b`, as [`push_box`] files them.
+pub fn for_each_event(id: u32, b: &Aabb, mut f: impl FnMut(usize, u64)) {
+    for a in 0..3 {
         if b.min[a] == b.max[a] {
-            list.push(pack(b.min[a], PLANAR, id));
+            f(a, pack(b.min[a], PLANAR, id));
         } else {
-            list.push(pack(b.min[a], START, id));
-            list.push(pack(b.max[a], END, id));
+            f(a, pack(b.min[a], START, id));
+            f(a, pack(b.max[a], END, id));
         }
     }
 }

@@ -78,6 +78,34 @@ impl EventLists {
         }
     }
 
+    /// The objects' clipped boxes, by ascending id, read back from the
+    /// events (a `-0.0` bound comes back as `0.0`, which classifies alike).
+    fn into_boxes(self) -> Vec<ClippedBox> {
+        let ids = self.ids();
+        let mut boxes: Vec<ClippedBox> = ids
+            .iter()
+            .map(|&id| ClippedBox {
+                id,
+                bounds: Aabb::EMPTY,
+            })
+            .collect();
+        for (a, list) in self.axes.iter().enumerate() {
+            for &e in list {
+                let Ok(slot) = ids.binary_search(&events::id(e)) else {
+                    continue; // an END without its START: none are made
+                };
+                let x = events::value(events::position_key(e));
+                let b = &mut boxes[slot].bounds;
+                match events::kind(e) {
+                    START => b.min[a] = x,
+                    END => b.max[a] = x,
+                    _ => (b.min[a], b.max[a]) = (x, x),
+                }
+            }
+        }
+        boxes
+    }
+
     /// The object ids, ascending.
     fn ids(&self) -> Vec<u32> {
         let mut ids: Vec<u32> = self.axes[0]
@@ -164,6 +192,12 @@ impl AxisCost {
     }
 }
 
+/// Nodes of at most this many objects are split by [`Sah::split_few`],
+/// from their clipped boxes with the events sorted on the stack, rather
+/// than by keeping sorted event lists (whose split, merge and allocations
+/// cost more than sorting a few events afresh). Both find the same plane.
+pub(super) const FEW: usize = 32;
+
 /// Where each object of the node goes; indexed by object id.
 const BELOW: u8 = 1;
 const ABOVE: u8 = 2;
@@ -215,8 +249,7 @@ impl Sah<'_> {
     /// before z, lower before higher), which keeps the tree the same on any
     /// thread count.
     #[allow(clippy::neg_cmp_op_on_partial_ord)] // NaN counts as not positive
-    fn best_split(&self, lists: &EventLists, cell: &Aabb) -> Option<Split> {
-        let n = lists.count;
+    fn best_split(&self, axes: [&[u64]; 3], n: usize, cell: &Aabb) -> Option<Split> {
         let area = cell.surface_area();
         if !(area > 0.0) {
             return None;
@@ -224,7 +257,7 @@ impl Sah<'_> {
         let inv_area = 1.0 / area;
         let gap = self.gap;
         let mut best: Option<Split> = None;
-        for (a, list) in lists.axes.iter().enumerate() {
+        for (a, list) in axes.into_iter().enumerate() {
             let (lo, hi) = (cell.min[a], cell.max[a]);
             if !(hi > lo) {
                 continue;
@@ -256,9 +289,16 @@ impl Sah<'_> {
                     None => consider(gap_high, gap_below, gap_above),
                     Some(xp) => {
                         let gap_low = clear_above(xp, gap);
+                        // With the counts fixed, the cost is linear in the
+                        // position, rising when more objects are below: only
+                        // one end of the gap can be cheapest (both on a tie).
                         if gap_low <= gap_high {
-                            consider(gap_low, gap_below, gap_above);
-                            consider(gap_high, gap_below, gap_above);
+                            if gap_below >= gap_above {
+                                consider(gap_low, gap_below, gap_above);
+                            }
+                            if gap_below <= gap_above {
+                                consider(gap_high, gap_below, gap_above);
+                            }
                         }
                     }
                 }
@@ -336,12 +376,14 @@ impl Sah<'_> {
         let mut new_below: [Vec<u64>; 3] = Default::default();
         let mut new_above: [Vec<u64>; 3] = Default::default();
         let (mut n_below, mut n_above) = (0, 0);
+        let below_reach = self.shapes.reach(&below_cell);
+        let above_reach = self.shapes.reach(&above_cell);
         for &id in &straddling {
-            if let Some(b) = self.shapes.clip(id, &below_cell) {
+            if let Some(b) = self.shapes.clip_within(id, &below_reach) {
                 events::push_box(&mut new_below, id, &b);
                 n_below += 1;
             }
-            if let Some(b) = self.shapes.clip(id, &above_cell) {
+            if let Some(b) = self.shapes.clip_within(id, &above_reach) {
                 events::push_box(&mut new_above, id, &b);
                 n_above += 1;
             }
@@ -406,6 +448,24 @@ impl Sah<'_> {
         }
     }
 
+    /// Whether every plane costs at least as much as testing the node's
+    /// `n` objects, so that the node is a leaf without a sweep. A plane's
+    /// cost is at least `T + bonus I flat n`: each object goes to one child
+    /// or both, and a child's share of the cell's area is at least `flat`,
+    /// the share of the cell's cross-section ([`AxisCost`]). With the
+    /// default costs, nodes of two objects never split (T = 2 I); about half
+    /// of all nodes are leaves, and their sweeps found nothing.
+    fn no_plane_can_pay(&self, n: usize, cell: &Aabb) -> bool {
+        let e = (cell.max - cell.min).max(glam::Vec3::ZERO);
+        let smallest_cross_section = (e.y * e.z).min(e.z * e.x).min(e.x * e.y);
+        let flat = 2.0 * smallest_cross_section / cell.surface_area();
+        let p = &self.params;
+        let bound =
+            p.traversal_cost + p.empty_bonus.min(1.0) * p.intersection_cost * flat * n as f32;
+        // The margin covers the sweep's f32 rounding of the same terms.
+        bound * (1.0 - 1e-5) >= p.intersection_cost * n as f32
+    }
+
     /// The exact sweep's decision (Wald & Havran 2006).
     fn split_events(
         &self,
@@ -415,7 +475,8 @@ impl Sah<'_> {
     ) -> Decision<SahObjects> {
         let n = lists.count;
         let leaf_cost = self.params.intersection_cost * n as f32;
-        match self.best_split(&lists, cell) {
+        let axes = [0, 1, 2].map(|a| lists.axes[a].as_slice());
+        match self.best_split(axes, n, cell) {
             Some(s) if s.cost < leaf_cost && !(s.below == n && s.above == n) => {
                 let (below, above) = self.partition(lists, &s, cell, side);
                 if below.count == n && above.count == n {
@@ -433,6 +494,58 @@ impl Sah<'_> {
         }
     }
 
+    /// The exact decision for a node of at most [`FEW`] objects: the
+    /// events of their boxes, sorted on the stack, swept as
+    /// [`Sah::split_events`] sweeps its lists (the same events in the same
+    /// order, so the same plane), and the boxes partitioned as the binned
+    /// build partitions them (the same children).
+    fn split_few(&self, boxes: Vec<ClippedBox>, cell: &Aabb) -> Decision<SahObjects> {
+        let n = boxes.len();
+        debug_assert!(n <= FEW);
+        let mut events = [[0u64; 2 * FEW]; 3];
+        let mut lens = [0usize; 3];
+        for b in &boxes {
+            events::for_each_event(b.id, &b.bounds, |a, e| {
+                events[a][lens[a]] = e;
+                lens[a] += 1;
+            });
+        }
+        for (list, &len) in events.iter_mut().zip(&lens) {
+            list[..len].sort_unstable();
+        }
+        let sorted = [0, 1, 2].map(|a| &events[a][..lens[a]]);
+        let leaf_cost = self.params.intersection_cost * n as f32;
+        match self.best_split(sorted, n, cell) {
+            Some(s) if s.cost < leaf_cost && !(s.below == n && s.above == n) => {
+                let (below, above) = binned::partition(boxes, &s, cell, &self.shapes);
+                if below.len() == n && above.len() == n {
+                    return Decision::Leaf(SahObjects::Boxes(below));
+                }
+                Decision::Split {
+                    axis: s.axis,
+                    position: s.position,
+                    below: SahObjects::Boxes(below),
+                    above: SahObjects::Boxes(above),
+                }
+            }
+            _ => Decision::Leaf(SahObjects::Boxes(boxes)),
+        }
+    }
+
+    /// The exact decision over a node's boxes.
+    fn split_exact(
+        &self,
+        boxes: Vec<ClippedBox>,
+        cell: &Aabb,
+        side: &mut Vec<u8>,
+    ) -> Decision<SahObjects> {
+        if boxes.len() <= FEW {
+            self.split_few(boxes, cell)
+        } else {
+            self.split_events(EventLists::from_boxes(&boxes), cell, side)
+        }
+    }
+
     /// The binned decision; when binning finds no plane worth taking, the
     /// exact sweep looks at every event before the node becomes a leaf.
     fn split_boxes(
@@ -445,8 +558,7 @@ impl Sah<'_> {
         let leaf_cost = self.params.intersection_cost * n as f32;
         match binned::best_split(&boxes, cell, &self.params, self.gap) {
             Some(s) if s.cost < leaf_cost && !(s.below == n && s.above == n) => {
-                let (below, above) =
-                    binned::partition(boxes, s.axis, s.position, cell, &self.shapes);
+                let (below, above) = binned::partition(boxes, &s, cell, &self.shapes);
                 if below.len() == n && above.len() == n {
                     return Decision::Leaf(SahObjects::Boxes(below));
                 }
@@ -457,7 +569,7 @@ impl Sah<'_> {
                     above: SahObjects::Boxes(above),
                 }
             }
-            _ => self.split_events(EventLists::from_boxes(&boxes), cell, side),
+            _ => self.split_exact(boxes, cell, side),
         }
     }
 }
@@ -502,14 +614,13 @@ impl Strategy for Sah<'_> {
         side: &mut Vec<u8>,
     ) -> Decision<SahObjects> {
         let n = Self::count(&objects);
-        if n <= 1 || depth >= self.params.max_depth {
+        if n <= 1 || depth >= self.params.max_depth || self.no_plane_can_pay(n, cell) {
             return Decision::Leaf(objects);
         }
         match objects {
             SahObjects::Boxes(boxes) if n > self.exact_below => self.split_boxes(boxes, cell, side),
-            SahObjects::Boxes(boxes) => {
-                self.split_events(EventLists::from_boxes(&boxes), cell, side)
-            }
+            SahObjects::Boxes(boxes) => self.split_exact(boxes, cell, side),
+            SahObjects::Events(lists) if n <= FEW => self.split_few(lists.into_boxes(), cell),
             SahObjects::Events(lists) => self.split_events(lists, cell, side),
         }
     }
@@ -548,5 +659,129 @@ mod tests {
         assert_eq!(root.kind, 0, "split on x");
         assert!(1.0 < root.split && root.split < 2.0, "{}", root.split);
         assert_eq!(tree.leaf_objects.len(), 2, "{:?}", tree);
+    }
+}
+
+/// The shortcuts of the sweep against the full sweep: the stack path for
+/// few objects and the leaf bound must decide as the event lists do.
+#[cfg(test)]
+mod shortcut_tests {
+    use super::*;
+    use crate::kdtree::build::BuildParams;
+    use glam::Vec3;
+    use proptest::prelude::{prop, prop_assert, prop_assert_eq, proptest};
+    use proptest::strategy::Strategy as _;
+
+    /// Boxes on a coarse grid, so that faces coincide and objects touch,
+    /// some flat on an axis.
+    fn boxes(max: usize) -> impl proptest::strategy::Strategy<Value = Vec<Aabb>> {
+        let corner = || {
+            (0i32..8, 0i32..8, 0i32..8)
+                .prop_map(|(x, y, z)| Vec3::new(x as f32, y as f32, z as f32))
+        };
+        let size = || {
+            (0i32..4, 0i32..4, 0i32..4)
+                .prop_map(|(x, y, z)| Vec3::new(x as f32, y as f32, z as f32))
+        };
+        prop::collection::vec((corner(), size()), 1..=max).prop_map(|v| {
+            v.into_iter()
+                .map(|(min, s)| Aabb { min, max: min + s })
+                .collect()
+        })
+    }
+
+    /// The cell: the boxes' union, grown by `margin` on every side.
+    fn cell_around(all: &[Aabb], margin: f32) -> Aabb {
+        let u = all.iter().copied().fold(Aabb::EMPTY, Aabb::union);
+        Aabb {
+            min: u.min - margin,
+            max: u.max + margin,
+        }
+    }
+
+    /// A decision as the plane and each child's ids, ascending.
+    fn summary(d: Decision<SahObjects>) -> (Option<(usize, u32)>, Vec<u32>, Vec<u32>) {
+        match d {
+            Decision::Leaf(o) => (None, Sah::leaf_ids(o), vec![]),
+            Decision::Split {
+                axis,
+                position,
+                below,
+                above,
+            } => (
+                Some((axis, position.to_bits())),
+                Sah::leaf_ids(below),
+                Sah::leaf_ids(above),
+            ),
+        }
+    }
+
+    fn params(traversal_cost: f32) -> BuildParams {
+        BuildParams {
+            traversal_cost,
+            ..BuildParams::for_object_count(FEW)
+        }
+    }
+
+    proptest! {
+        /// `split_few` takes the plane and children the event lists give.
+        #[test]
+        fn few_objects_split_as_the_event_lists_do(
+            all in boxes(FEW), margin in 0.0f32..2.0, traversal_cost in prop::sample::select(vec![1.0f32, 10.0, 40.0])
+        ) {
+            let cell = cell_around(&all, margin);
+            let sah = Sah::new(Shapes::Boxes(&all), params(traversal_cost), &cell);
+            let clipped: Vec<ClippedBox> = all
+                .iter()
+                .enumerate()
+                .map(|(id, &bounds)| ClippedBox { id: id as u32, bounds })
+                .collect();
+            let few = summary(sah.split_few(clipped.clone(), &cell));
+            let lists = sah.split_events(EventLists::from_boxes(&clipped), &cell, &mut Vec::new());
+            prop_assert_eq!(few, summary(lists));
+        }
+
+        /// When the bound says no plane can pay, the sweep finds none that
+        /// does.
+        #[test]
+        fn the_leaf_bound_never_hides_a_paying_plane(
+            all in boxes(6), margin in 0.0f32..2.0, traversal_cost in prop::sample::select(vec![1.0f32, 10.0, 40.0])
+        ) {
+            let cell = cell_around(&all, margin);
+            let sah = Sah::new(Shapes::Boxes(&all), params(traversal_cost), &cell);
+            let n = all.len();
+            if sah.no_plane_can_pay(n, &cell) {
+                let lists = EventLists::root(&Shapes::Boxes(&all), 1);
+                let axes = [0, 1, 2].map(|a| lists.axes[a].as_slice());
+                let best = sah.best_split(axes, n, &cell);
+                let leaf_cost = sah.params.intersection_cost * n as f32;
+                prop_assert!(best.is_none_or(|s| s.cost >= leaf_cost), "{best:?} against {leaf_cost}");
+            }
+        }
+
+        /// Boxes read back from a node's event lists are the boxes.
+        #[test]
+        fn event_lists_give_their_boxes_back(all in boxes(FEW)) {
+            let clipped: Vec<ClippedBox> = all
+                .iter()
+                .enumerate()
+                .map(|(id, &bounds)| ClippedBox { id: id as u32, bounds })
+                .collect();
+            prop_assert_eq!(EventLists::from_boxes(&clipped).into_boxes(), clipped);
+        }
+    }
+
+    /// The bound is not vacuous: two objects in a cube never pay for a
+    /// plane at the default costs (T = 2 I), twenty do.
+    #[test]
+    fn the_leaf_bound_decides_small_nodes() {
+        let cube = Aabb {
+            min: Vec3::ZERO,
+            max: Vec3::ONE,
+        };
+        let all = [cube; 20];
+        let sah = Sah::new(Shapes::Boxes(&all), params(40.0), &cube);
+        assert!(sah.no_plane_can_pay(2, &cube));
+        assert!(!sah.no_plane_can_pay(20, &cube));
     }
 }
