@@ -15,6 +15,7 @@ use std::path::{Path, PathBuf};
 use glam::DVec3;
 
 use super::mesh::{Mesh, MeshMaterial, MeshTriangle};
+use super::obj_chunks;
 use super::SceneError;
 
 /// Reads an OBJ file. With `with_materials` false (the scene overrides the material) mtllib/usemtl are ignored entirely (an MTL file need not exist).
@@ -53,8 +54,32 @@ pub fn parse_obj(text: &str, path: &Path, with_materials: bool) -> Result<Mesh, 
     parse_obj_counting(text, path, with_materials, &mut |_| {}, &mut 0)
 }
 
-/// The parser; `faces` counts the `f` statements.
+/// The parser; `faces` counts the `f` statements. Without materials the
+/// fast path (`obj_chunks`: bytes, one chunk per core) parses the file; it
+/// leaves every error, and every file with materials, to the reference
+/// parser below, so messages come from one place.
 fn parse_obj_counting(
+    text: &str,
+    path: &Path,
+    with_materials: bool,
+    on_read: &mut dyn FnMut(&Path),
+    faces: &mut usize,
+) -> Result<Mesh, SceneError> {
+    if !with_materials {
+        let body = text.strip_prefix('\u{feff}').unwrap_or(text);
+        if let Some((mesh, statements)) =
+            obj_chunks::parse(body, obj_chunks::threads_for(body.len()))
+        {
+            *faces = statements;
+            return Ok(mesh);
+        }
+    }
+    parse_reference(text, path, with_materials, on_read, faces)
+}
+
+/// The reference parser, one line at a time: the meaning of every statement
+/// and every error message. `faces` counts the `f` statements.
+pub(super) fn parse_reference(
     text: &str,
     path: &Path,
     with_materials: bool,
