@@ -37,20 +37,23 @@ pub(super) fn threads_for(len: usize) -> usize {
 /// the reference parser must decide (an error, or input the fast path does
 /// not handle).
 pub(super) fn parse(text: &str, threads: usize) -> Option<(Mesh, usize)> {
-    let chunks: Vec<Chunk> = on_threads(split_at_lines(text, threads), Chunk::parse)
+    let mut chunks: Vec<Chunk> = on_threads(split_at_lines(text, threads), Chunk::parse)
         .into_iter()
         .collect::<Option<_>>()?;
 
-    // Where each chunk's vertices and normals start in the whole file.
+    // The file's vertices and normals: the first chunk's, which usually
+    // holds them all (exporters write vertices first), extended by the
+    // others'; and where each chunk's start.
     let mut starts = Vec::with_capacity(chunks.len());
-    let (mut positions, mut normals) = (Vec::new(), Vec::new());
-    let mut face_statements = 0usize;
-    for chunk in &chunks {
+    let mut positions = std::mem::take(&mut chunks[0].positions);
+    let mut normals = std::mem::take(&mut chunks[0].normals);
+    starts.push((0, 0));
+    for chunk in &chunks[1..] {
         starts.push((positions.len(), normals.len()));
         positions.extend_from_slice(&chunk.positions);
         normals.extend_from_slice(&chunk.normals);
-        face_statements += chunk.face_statements;
     }
+    let face_statements = chunks.iter().map(|c| c.face_statements).sum();
     let file = Resolved {
         positions: &positions,
         normals: &normals,
