@@ -1,25 +1,30 @@
 //! The OBJ reader's fast path: the text cut at line boundaries into one
 //! chunk per thread, each chunk's `v`, `vn` and `f` statements parsed from
 //! its bytes without allocating per line, then the faces resolved and
-//! fan-triangulated on the same threads into one `Mesh`.
+//! fan-triangulated on the same threads into one `Mesh`. Material
+//! statements (`mtllib`, `usemtl`) are kept per chunk and replayed in file
+//! order on one thread between the two.
 //!
 //! It gives exactly the mesh of the reference parser (`obj::parse_reference`)
-//! or gives up: on any statement it does not handle the same way (an error
-//! of any kind, an index written `+5` or with ten digits, materials) it
-//! returns None and the caller runs the reference parser, which then
-//! reports the error with its file, line and key. So errors keep one
-//! implementation, and the fast path only has to be right on valid input;
-//! `tests` compares the two on generated files, bit for bit.
+//! or declines: on any statement it does not handle the same way (an error
+//! of any kind, an index written with ten digits) the caller runs the
+//! reference parser, which then reports the error with its file, line and
+//! key. So errors keep one implementation, and the fast path only has to be
+//! right on valid input; `tests` compares the two on generated files, bit
+//! for bit, with and without materials.
 //!
 //! Indices are resolved after every chunk is parsed, since a chunk does not
 //! know how many vertices the chunks before it define: each face keeps the
 //! raw OBJ indices and the chunk's own vertex and normal counts at the face.
 
+use std::collections::HashMap;
 use std::mem::MaybeUninit;
+use std::path::{Path, PathBuf};
 
 use glam::DVec3;
 
-use super::mesh::{Mesh, MeshTriangle};
+use super::mesh::{Mesh, MeshMaterial, MeshTriangle};
+use super::obj;
 
 /// Smallest chunk worth a thread: below this a thread's start and the merge
 /// cost more than they save (a 1 MiB OBJ parses in about 10 ms).
@@ -32,14 +37,42 @@ pub(super) fn threads_for(len: usize) -> usize {
     cores.min(len / MIN_CHUNK_BYTES).max(1)
 }
 
-/// The mesh of `text` (without materials; byte order mark already removed)
-/// and the number of `f` statements, parsed on `threads` threads; None where
-/// the reference parser must decide (an error, or input the fast path does
-/// not handle).
-pub(super) fn parse(text: &str, threads: usize) -> Option<(Mesh, usize)> {
-    let mut chunks: Vec<Chunk> = on_threads(split_at_lines(text, threads), Chunk::parse)
-        .into_iter()
-        .collect::<Option<_>>()?;
+/// Where the materials of a file come from: the OBJ's path (MTL files are
+/// relative to its folder) and the observer told of each MTL file just
+/// before it is read.
+pub(super) struct MaterialFiles<'p> {
+    pub path: &'p Path,
+    pub on_read: &'p mut dyn FnMut(&Path),
+}
+
+/// What the fast path made of a file.
+pub(super) enum Outcome {
+    /// The mesh and the number of `f` statements.
+    Mesh(Mesh, usize),
+    /// Left to the reference parser, after telling the observer of
+    /// `mtl_reads` MTL files: the reference parser tells it of the same
+    /// files first, in the same order (see `parse`).
+    Declined { mtl_reads: usize },
+}
+
+/// The mesh of `text` (byte order mark already removed) parsed on `threads`
+/// threads, with the materials of `materials` when given; or `Declined`
+/// where the reference parser must decide (an error, or input the fast path
+/// does not handle).
+///
+/// Every check that does not read an MTL file runs before the first is
+/// read, so a file declined after reading some is refused by the reference
+/// parser at an MTL statement, after it reads exactly the same files.
+pub(super) fn parse(text: &str, threads: usize, materials: Option<MaterialFiles>) -> Outcome {
+    let declined = Outcome::Declined { mtl_reads: 0 };
+    let with_materials = materials.is_some();
+    let Some(mut chunks) = on_threads(split_at_lines(text, threads), |piece| {
+        Chunk::parse(piece, with_materials)
+    })
+    .into_iter()
+    .collect::<Option<Vec<Chunk>>>() else {
+        return declined;
+    };
 
     // The file's vertices and normals: the first chunk's, which usually
     // holds them all (exporters write vertices first), extended by the
@@ -63,14 +96,35 @@ pub(super) fn parse(text: &str, threads: usize) -> Option<(Mesh, usize)> {
     // Two passes over the faces: count each chunk's triangles (zero-area ones
     // are skipped, so only the arithmetic can tell), then write them in place
     // into one vector, each chunk into its own part. Writing them into one
-    // vector per chunk and appending would copy half the mesh again.
-    let counts = on_threads(jobs.clone(), |(chunk, &start)| {
+    // vector per chunk and appending would copy half the mesh again. The
+    // count also checks every index.
+    let no_material = [(0, None)];
+    let Some(counts) = on_threads(jobs.clone(), |(chunk, &start)| {
         let mut count = 0usize;
-        file.triangles(chunk, start, |_| count += 1).map(|()| count)
+        file.triangles(chunk, start, &no_material, |_| count += 1)
+            .map(|()| count)
     })
     .into_iter()
-    .collect::<Option<Vec<usize>>>()?;
+    .collect::<Option<Vec<usize>>>() else {
+        return declined;
+    };
     let total: usize = counts.iter().sum();
+
+    // Materials, in file order, reading the MTL files.
+    let (runs, materials) = match materials {
+        None => (vec![no_material.to_vec(); chunks.len()], Vec::new()),
+        Some(files) => {
+            let mut state = MaterialState::new(files);
+            match state.runs(&chunks) {
+                Some(runs) => (runs, state.used),
+                None => {
+                    return Outcome::Declined {
+                        mtl_reads: state.reads,
+                    }
+                }
+            }
+        }
+    };
 
     let mut triangles: Vec<MeshTriangle> = Vec::with_capacity(total);
     advise_huge_pages(&mut triangles);
@@ -82,11 +136,11 @@ pub(super) fn parse(text: &str, threads: usize) -> Option<(Mesh, usize)> {
         rest = tail;
     }
     let written = on_threads(
-        parts.into_iter().zip(jobs).collect(),
-        |(part, (chunk, &start)): (&mut [MaybeUninit<MeshTriangle>], _)| {
+        parts.into_iter().zip(jobs).zip(&runs).collect(),
+        |((part, (chunk, &start)), runs): ((&mut [MaybeUninit<MeshTriangle>], _), &Vec<_>)| {
             let mut slots = part.iter_mut();
             let mut written = 0usize;
-            let resolved = file.triangles(chunk, start, |t| {
+            let resolved = file.triangles(chunk, start, runs, |t| {
                 if let Some(slot) = slots.next() {
                     slot.write(t);
                     written += 1;
@@ -105,10 +159,119 @@ pub(super) fn parse(text: &str, threads: usize) -> Option<(Mesh, usize)> {
 
     let mesh = Mesh {
         triangles,
-        materials: Vec::new(),
+        materials,
         vertex_count: positions.len(),
     };
-    Some((mesh, face_statements))
+    Outcome::Mesh(mesh, face_statements)
+}
+
+/// The materials of a chunk's faces: (first face, material) for each run of
+/// faces with one material, the first run at face 0.
+type MaterialRuns = Vec<(usize, Option<usize>)>;
+
+/// The reference parser's material statements replayed in file order:
+/// `mtllib` reads MTL files into the library, `usemtl` names the material
+/// of the faces after it, which becomes used at the first such face.
+struct MaterialState<'p, 't> {
+    files: MaterialFiles<'p>,
+    library: HashMap<String, MeshMaterial>,
+    loaded: Vec<PathBuf>,
+    /// Index in `used` of each material used so far, by name.
+    used_index: HashMap<String, usize>,
+    used: Vec<MeshMaterial>,
+    /// The last `usemtl`'s name, from the text.
+    current: Option<&'t str>,
+    current_index: Option<usize>,
+    /// MTL files the observer was told of.
+    reads: usize,
+}
+
+impl<'p, 't> MaterialState<'p, 't> {
+    fn new(files: MaterialFiles<'p>) -> Self {
+        MaterialState {
+            files,
+            library: HashMap::new(),
+            loaded: Vec::new(),
+            used_index: HashMap::new(),
+            used: Vec::new(),
+            current: None,
+            current_index: None,
+            reads: 0,
+        }
+    }
+
+    /// Per chunk, the runs of its faces' material: (first face, material).
+    /// None where the reference parser refuses a statement.
+    fn runs(&mut self, chunks: &[Chunk<'t>]) -> Option<Vec<MaterialRuns>> {
+        let mut all = Vec::with_capacity(chunks.len());
+        for chunk in chunks {
+            let mut runs = Vec::new();
+            let mut next_face = 0usize;
+            for &(faces_before, event) in &chunk.events {
+                if faces_before > next_face {
+                    runs.push((next_face, Some(self.face_material()?)));
+                    next_face = faces_before;
+                }
+                match event {
+                    Event::Mtllib(line) => self.mtllib(line)?,
+                    Event::Usemtl(line) => {
+                        let name = obj::rest_of_line(line, "usemtl");
+                        if name.is_empty() {
+                            return None;
+                        }
+                        self.current = Some(name);
+                        self.current_index = None;
+                    }
+                }
+            }
+            if chunk.faces.len() > next_face {
+                runs.push((next_face, Some(self.face_material()?)));
+            }
+            all.push(runs);
+        }
+        Some(all)
+    }
+
+    /// The material of a face: the last `usemtl`'s, in order of first use.
+    fn face_material(&mut self) -> Option<usize> {
+        if let Some(index) = self.current_index {
+            return Some(index);
+        }
+        let name = self.current?;
+        let found = self.library.get(name)?;
+        let index = *self.used_index.entry(name.to_string()).or_insert_with(|| {
+            self.used.push(found.clone());
+            self.used.len() - 1
+        });
+        self.current_index = Some(index);
+        Some(index)
+    }
+
+    /// Reads the MTL files of an `mtllib` statement not read yet.
+    fn mtllib(&mut self, line: &str) -> Option<()> {
+        let mut any = false;
+        for name in line.split_ascii_whitespace().skip(1) {
+            any = true;
+            let folder = self.files.path.parent().unwrap_or_else(|| Path::new(""));
+            let mtl_path = folder.join(name);
+            if self.loaded.contains(&mtl_path) {
+                continue;
+            }
+            (self.files.on_read)(&mtl_path);
+            self.reads += 1;
+            let text = super::read_input_file(&mtl_path).ok()?;
+            obj::parse_mtl(
+                &String::from_utf8_lossy(&text),
+                &mtl_path,
+                &mut self.library,
+            )
+            .ok()?;
+            self.loaded.push(mtl_path);
+        }
+        // A material that was undefined before may be defined now.
+        self.current_index = None;
+        any.then_some(())
+    }
 }
 
 /// Asks the kernel to back the spare capacity of `v` with 2 MiB pages
@@ -204,23 +367,34 @@ struct Face {
     normals_before: u32,
 }
 
+/// A material statement (only read when materials are asked for), with
+/// its line as the reference parser sees it (no `\r`, no comment).
+#[derive(Debug, Clone, Copy)]
+enum Event<'a> {
+    Mtllib(&'a str),
+    Usemtl(&'a str),
+}
+
 /// What one chunk of the file defines, indices unresolved.
 #[derive(Debug, Default)]
-struct Chunk {
+struct Chunk<'a> {
     positions: Vec<DVec3>,
     normals: Vec<DVec3>,
     corners: Vec<Corner>,
     faces: Vec<Face>,
     face_statements: usize,
+    /// Material statements, each with the number of faces before it.
+    events: Vec<(usize, Event<'a>)>,
 }
 
-impl Chunk {
+impl<'a> Chunk<'a> {
     /// Parses whole lines; None at the first statement the fast path leaves
     /// to the reference parser.
-    fn parse(text: &str) -> Option<Chunk> {
+    fn parse(text: &'a str, with_materials: bool) -> Option<Chunk<'a>> {
         let mut chunk = Chunk::default();
         let mut line = Line { text, at: 0 };
         while line.at < text.len() {
+            let line_start = line.at;
             match line.token() {
                 Some("v") => {
                     let mut xyz = [0.0f64; 3];
@@ -267,7 +441,20 @@ impl Chunk {
                         normals_before: u32::try_from(chunk.normals.len()).ok()?,
                     });
                 }
-                // Everything the reference parser ignores without materials.
+                Some(keyword @ ("mtllib" | "usemtl")) if with_materials => {
+                    line.next_line();
+                    let raw = text[line_start..line.at]
+                        .strip_suffix('\n')
+                        .unwrap_or(&text[line_start..line.at]);
+                    let statement = obj::strip_comment(raw);
+                    let event = match keyword {
+                        "mtllib" => Event::Mtllib(statement),
+                        _ => Event::Usemtl(statement),
+                    };
+                    chunk.events.push((chunk.faces.len(), event));
+                    continue;
+                }
+                // Everything the reference parser ignores.
                 _ => {}
             }
             line.next_line();
@@ -416,17 +603,24 @@ impl Resolved<'_> {
     /// Calls `emit` with each triangle of `chunk`'s faces, in order, exactly
     /// as the reference parser builds them (fan-triangulated, zero-area
     /// triangles skipped); `start` is where the chunk's vertices and normals
-    /// begin in the file. None at an index out of range.
+    /// begin in the file; `runs` the faces' materials as (first face,
+    /// material), starting at face 0. None at an index out of range.
     fn triangles(
         &self,
         chunk: &Chunk,
         start: (usize, usize),
+        runs: &[(usize, Option<usize>)],
         mut emit: impl FnMut(MeshTriangle),
     ) -> Option<()> {
         // (vertex, normal) of each corner of the current face.
         let mut face: Vec<(usize, Option<usize>)> = Vec::with_capacity(8);
         let mut corners_start = 0usize;
-        for f in &chunk.faces {
+        let mut run = 0usize;
+        for (i, f) in chunk.faces.iter().enumerate() {
+            while run + 1 < runs.len() && runs[run + 1].0 <= i {
+                run += 1;
+            }
+            let material = runs[run].1;
             let defined = start.0 + f.positions_before as usize;
             let defined_normals = start.1 + f.normals_before as usize;
             let end = f.corners_end as usize;
@@ -453,7 +647,7 @@ impl Resolved<'_> {
                     vertices: [a, b, c],
                     corners: corners.map(|(v, _)| v),
                     normals: corners.map(|(_, n)| n.map(|n| self.normals[n])),
-                    material: None,
+                    material,
                 });
             }
         }
@@ -475,9 +669,9 @@ fn resolve(index: i32, defined: usize) -> Option<usize> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::scene::obj::{parse_obj, parse_reference};
+    use crate::scene::obj::{parse_obj, parse_obj_counting, parse_reference};
+    use crate::scene::SceneError;
     use proptest::prelude::*;
-    use std::path::Path;
 
     /// The reference parser's mesh and `f` count, or its error, as text:
     /// `{:?}` writes every f64 in its shortest round-trip form, so equal text
@@ -492,7 +686,13 @@ mod tests {
     /// The fast path on `threads` chunks, as `reference` writes it; None
     /// where it leaves the text to the reference parser.
     fn fast(text: &str, threads: usize) -> Option<(String, usize)> {
-        parse(text, threads).map(|(mesh, faces)| (format!("{mesh:?}"), faces))
+        match parse(text, threads, None) {
+            Outcome::Mesh(mesh, faces) => Some((format!("{mesh:?}"), faces)),
+            Outcome::Declined { mtl_reads } => {
+                assert_eq!(mtl_reads, 0);
+                None
+            }
+        }
     }
 
     /// Decimal numbers as exporters write them, and awkward ones: signs,
@@ -713,6 +913,116 @@ mod tests {
         }
     }
 
+    /// A folder of MTL files for the material property: two that define
+    /// `teal` (the first definition wins), one with an error.
+    fn mtl_folder() -> &'static Path {
+        static FOLDER: std::sync::OnceLock<std::path::PathBuf> = std::sync::OnceLock::new();
+        FOLDER.get_or_init(|| {
+            let dir =
+                std::env::temp_dir().join(format!("kdray-obj-chunks-test-{}", std::process::id()));
+            std::fs::create_dir_all(&dir).unwrap();
+            let files = [
+                (
+                    "a.mtl",
+                    "newmtl gold\nKd 1 0.8 0\nNs 20\nnewmtl teal\nKd 0 0.5 0.5\n",
+                ),
+                (
+                    "b.mtl",
+                    "newmtl teal\r\nKd 1 1 1\r\nnewmtl my red\nKa 1\nKd 1 0 0\n",
+                ),
+                ("bad.mtl", "newmtl x\nKd 1 1\n"),
+            ];
+            for (name, text) in files {
+                std::fs::write(dir.join(name), text).unwrap();
+            }
+            dir
+        })
+    }
+
+    /// A parse with materials of `text` as `m.obj` in `mtl_folder()`: the
+    /// mesh or error as `reference` writes it, and the files the observer
+    /// was told of.
+    fn with_materials(
+        text: &str,
+        parser: impl FnOnce(&str, &Path, &mut dyn FnMut(&Path), &mut usize) -> Result<Mesh, SceneError>,
+    ) -> (Result<(String, usize), String>, Vec<PathBuf>) {
+        let mut read = Vec::new();
+        let mut faces = 0;
+        let path = mtl_folder().join("m.obj");
+        let result = parser(text, &path, &mut |p| read.push(p.to_path_buf()), &mut faces)
+            .map(|mesh| (format!("{mesh:?}"), faces))
+            .map_err(|e| e.to_string());
+        (result, read)
+    }
+
+    /// Generated files with material statements inserted at random lines.
+    fn obj_text_with_materials() -> impl Strategy<Value = String> {
+        let statement = prop_oneof![
+            12 => prop::sample::select(vec![
+                "usemtl gold", "usemtl teal", "usemtl  my red # c", "mtllib a.mtl",
+                "mtllib b.mtl a.mtl", "mtllib  a.mtl\t# again",
+            ]),
+            1 => prop::sample::select(vec![
+                "usemtl nope", "usemtl", "usemtl # none", "mtllib missing.mtl",
+                "mtllib bad.mtl", "mtllib", "Usemtl gold",
+            ]),
+        ];
+        (
+            prop::bool::weighted(0.8),
+            obj_text(),
+            prop::collection::vec((any::<prop::sample::Index>(), statement), 0..8),
+        )
+            .prop_map(|(header, text, inserts)| {
+                let mut lines: Vec<String> = text.split('\n').map(str::to_string).collect();
+                for (at, statement) in inserts {
+                    let at = at.index(lines.len() + 1);
+                    lines.insert(at, statement.to_string());
+                }
+                let body = lines.join("\n");
+                if header {
+                    format!("mtllib a.mtl b.mtl\nusemtl gold\n{body}")
+                } else {
+                    body
+                }
+            })
+    }
+
+    proptest! {
+        #![proptest_config(ProptestConfig::with_cases(512))]
+
+        /// With materials too: the same mesh (materials in order of first
+        /// use, each face's index), error, and MTL files read, in order, on
+        /// 1, 2, 3 and 5 chunks and through `parse_obj_counting`.
+        #[test]
+        fn fast_path_gives_the_reference_mesh_with_materials(
+            text in obj_text_with_materials()
+        ) {
+            let (want, want_read) = with_materials(&text, |t, p, r, f| {
+                parse_reference(t, p, true, r, f)
+            });
+            let body = text.strip_prefix('\u{feff}').unwrap_or(&text).to_string();
+            for threads in [1, 2, 3, 5] {
+                let mut outcome = None;
+                let (_, read) = with_materials(&body, |t, path, on_read, _| {
+                    outcome = Some(parse(t, threads, Some(MaterialFiles { path, on_read })));
+                    Err(SceneError::new(path, None, None, "unused"))
+                });
+                match outcome.unwrap() {
+                    Outcome::Mesh(mesh, faces) => {
+                        prop_assert_eq!(Ok((format!("{mesh:?}"), faces)), want.clone());
+                        prop_assert_eq!(&read, &want_read);
+                    }
+                    Outcome::Declined { mtl_reads } => {
+                        prop_assert_eq!(mtl_reads, read.len());
+                        prop_assert!(want_read.starts_with(&read));
+                    }
+                }
+            }
+            let chosen = with_materials(&text, |t, p, r, f| parse_obj_counting(t, p, true, r, f));
+            prop_assert_eq!(chosen, (want, want_read));
+        }
+    }
+
     /// The generated files exercise both outcomes: the fast path takes many
     /// of them (so the property compares meshes), and the reference parser
     /// refuses many.
@@ -724,7 +1034,7 @@ mod tests {
         for _ in 0..400 {
             let text = obj_text().new_tree(&mut runner).unwrap().current();
             let body = text.strip_prefix('\u{feff}').unwrap_or(&text);
-            if let Some((mesh, _)) = parse(body, 2) {
+            if let Outcome::Mesh(mesh, _) = parse(body, 2, None) {
                 taken += 1;
                 triangles += mesh.triangles.len();
             }
@@ -735,6 +1045,33 @@ mod tests {
             "{taken} taken, {refused} refused"
         );
         assert!(triangles >= 1000, "{triangles} triangles");
+
+        // With materials: meshes using two materials or more, and refusals
+        // after an MTL file was read.
+        let (mut mixed, mut refused_after_reading) = (0, 0);
+        for _ in 0..400 {
+            let text = obj_text_with_materials()
+                .new_tree(&mut runner)
+                .unwrap()
+                .current();
+            let body = text.strip_prefix('\u{feff}').unwrap_or(&text);
+            let path = mtl_folder().join("m.obj");
+            let files = MaterialFiles {
+                path: &path,
+                on_read: &mut |_| {},
+            };
+            match parse(body, 2, Some(files)) {
+                Outcome::Mesh(mesh, _) => mixed += usize::from(mesh.materials.len() >= 2),
+                Outcome::Declined { mtl_reads } => {
+                    refused_after_reading += usize::from(mtl_reads > 0)
+                }
+            }
+        }
+        assert!(mixed >= 30, "{mixed} meshes with two materials or more");
+        assert!(
+            refused_after_reading >= 20,
+            "{refused_after_reading} refused after reading"
+        );
     }
 
     /// The fast path does take the valid files it is meant for (else the
