@@ -27,7 +27,8 @@ use super::mesh::{Mesh, MeshMaterial, MeshTriangle};
 use super::obj;
 
 /// Smallest chunk worth a thread: below this a thread's start and the merge
-/// cost more than they save (a 1 MiB OBJ parses in about 10 ms).
+/// cost more than they save (one thread parses 1 MiB in about 3 ms: the 43 MB
+/// bunny in 0.125 s).
 const MIN_CHUNK_BYTES: usize = 1 << 20;
 
 /// Threads to parse `len` bytes with: one per core, at most one per
@@ -139,15 +140,16 @@ pub(super) fn parse(text: &str, threads: usize, materials: Option<MaterialFiles>
         parts.into_iter().zip(jobs).zip(&runs).collect(),
         |((part, (chunk, &start)), runs): ((&mut [MaybeUninit<MeshTriangle>], _), &Vec<_>)| {
             let mut slots = part.iter_mut();
-            let mut written = 0usize;
+            let (mut emitted, mut written) = (0usize, 0usize);
             let resolved = file.triangles(chunk, start, runs, |t| {
+                emitted += 1;
                 if let Some(slot) = slots.next() {
                     slot.write(t);
                     written += 1;
                 }
             });
             // The same faces and arithmetic as the count: the same triangles.
-            assert!(resolved.is_some() && written == part.len());
+            assert!(resolved.is_some() && emitted == part.len() && written == part.len());
             written
         },
     );
