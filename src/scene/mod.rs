@@ -12,6 +12,7 @@ pub mod gltf;
 pub mod mesh;
 mod normals;
 pub mod obj;
+mod obj_chunks;
 mod parse;
 mod source_map;
 

@@ -15,6 +15,7 @@ use std::path::{Path, PathBuf};
 use glam::DVec3;
 
 use super::mesh::{Mesh, MeshMaterial, MeshTriangle};
+use super::obj_chunks;
 use super::SceneError;
 
 /// Reads an OBJ file. With `with_materials` false (the scene overrides the material) mtllib/usemtl are ignored entirely (an MTL file need not exist).
@@ -53,8 +54,45 @@ pub fn parse_obj(text: &str, path: &Path, with_materials: bool) -> Result<Mesh, 
     parse_obj_counting(text, path, with_materials, &mut |_| {}, &mut 0)
 }
 
-/// The parser; `faces` counts the `f` statements.
-fn parse_obj_counting(
+/// The parser; `faces` counts the `f` statements. The fast path
+/// (`obj_chunks`: bytes, one chunk per core) parses the file; it leaves
+/// every error, and the forms it does not handle, to the reference parser
+/// below, so messages come from one place.
+pub(super) fn parse_obj_counting(
+    text: &str,
+    path: &Path,
+    with_materials: bool,
+    on_read: &mut dyn FnMut(&Path),
+    faces: &mut usize,
+) -> Result<Mesh, SceneError> {
+    let body = text.strip_prefix('\u{feff}').unwrap_or(text);
+    let materials = with_materials.then_some(obj_chunks::MaterialFiles {
+        path,
+        on_read: &mut *on_read,
+    });
+    let mtl_reads = match obj_chunks::parse(body, obj_chunks::threads_for(body.len()), materials) {
+        obj_chunks::Outcome::Mesh(mesh, statements) => {
+            *faces = statements;
+            return Ok(mesh);
+        }
+        obj_chunks::Outcome::Declined { mtl_reads } => mtl_reads,
+    };
+    // The reference parser reads the same MTL files first: the observer
+    // has been told of them already.
+    let mut told = 0usize;
+    let mut on_read_rest = |p: &Path| {
+        if told < mtl_reads {
+            told += 1;
+        } else {
+            on_read(p);
+        }
+    };
+    parse_reference(text, path, with_materials, &mut on_read_rest, faces)
+}
+
+/// The reference parser, one line at a time: the meaning of every statement
+/// and every error message. `faces` counts the `f` statements.
+pub(super) fn parse_reference(
     text: &str,
     path: &Path,
     with_materials: bool,
@@ -241,7 +279,7 @@ fn parse_obj_counting(
 /// Parses an MTL file into `library`. A material already in `library`
 /// (defined by an earlier MTL file, or earlier in this one) keeps its first
 /// definition.
-fn parse_mtl(
+pub(super) fn parse_mtl(
     text: &str,
     path: &Path,
     library: &mut HashMap<String, MeshMaterial>,
@@ -356,7 +394,7 @@ fn read_text(path: &Path, what: &str) -> Result<String, SceneError> {
 }
 
 /// The line without its `\r` and anything from `#` on.
-fn strip_comment(line: &str) -> &str {
+pub(super) fn strip_comment(line: &str) -> &str {
     let line = line.strip_suffix('\r').unwrap_or(line);
     match line.find('#') {
         Some(at) => &line[..at],
@@ -366,7 +404,7 @@ fn strip_comment(line: &str) -> &str {
 
 /// Everything after the keyword (the line's first token), trimmed: names may
 /// contain spaces.
-fn rest_of_line<'a>(line: &'a str, keyword: &str) -> &'a str {
+pub(super) fn rest_of_line<'a>(line: &'a str, keyword: &str) -> &'a str {
     let line = line.trim_start_matches(|c: char| c.is_ascii_whitespace());
     line.get(keyword.len()..).unwrap_or("").trim()
 }
