@@ -514,8 +514,25 @@ impl Sah<'_> {
             list[..len].sort_unstable();
         }
         let sorted = [0, 1, 2].map(|a| &events[a][..lens[a]]);
+        let best = self.best_split(sorted, n, cell);
+        self.split_boxes_at(boxes, best, cell, |boxes| {
+            Decision::Leaf(SahObjects::Boxes(boxes))
+        })
+    }
+
+    /// Splits `boxes` at `split` when it pays (it costs less than a leaf
+    /// and does not put every object in both children), else leaves them
+    /// to `otherwise`. A leaf, too, when clipping put every object in both.
+    fn split_boxes_at(
+        &self,
+        boxes: Vec<ClippedBox>,
+        split: Option<Split>,
+        cell: &Aabb,
+        otherwise: impl FnOnce(Vec<ClippedBox>) -> Decision<SahObjects>,
+    ) -> Decision<SahObjects> {
+        let n = boxes.len();
         let leaf_cost = self.params.intersection_cost * n as f32;
-        match self.best_split(sorted, n, cell) {
+        match split {
             Some(s) if s.cost < leaf_cost && !(s.below == n && s.above == n) => {
                 let (below, above) = binned::partition(boxes, &s, cell, &self.shapes);
                 if below.len() == n && above.len() == n {
@@ -528,7 +545,7 @@ impl Sah<'_> {
                     above: SahObjects::Boxes(above),
                 }
             }
-            _ => Decision::Leaf(SahObjects::Boxes(boxes)),
+            _ => otherwise(boxes),
         }
     }
 
@@ -554,23 +571,10 @@ impl Sah<'_> {
         cell: &Aabb,
         side: &mut Vec<u8>,
     ) -> Decision<SahObjects> {
-        let n = boxes.len();
-        let leaf_cost = self.params.intersection_cost * n as f32;
-        match binned::best_split(&boxes, cell, &self.params, self.gap) {
-            Some(s) if s.cost < leaf_cost && !(s.below == n && s.above == n) => {
-                let (below, above) = binned::partition(boxes, &s, cell, &self.shapes);
-                if below.len() == n && above.len() == n {
-                    return Decision::Leaf(SahObjects::Boxes(below));
-                }
-                Decision::Split {
-                    axis: s.axis,
-                    position: s.position,
-                    below: SahObjects::Boxes(below),
-                    above: SahObjects::Boxes(above),
-                }
-            }
-            _ => self.split_exact(boxes, cell, side),
-        }
+        let best = binned::best_split(&boxes, cell, &self.params, self.gap);
+        self.split_boxes_at(boxes, best, cell, |boxes| {
+            self.split_exact(boxes, cell, side)
+        })
     }
 }
 
