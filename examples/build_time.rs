@@ -49,35 +49,10 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         strategy.name(),
         stats.nodes,
         tree.leaf_objects.len(),
-        sah_cost(&tree, &params),
+        tree.sah_cost(&params),
         digest(&tree)
     );
     Ok(())
-}
-
-/// The tree's expected cost for a random ray through the root (the surface
-/// area heuristic summed over the nodes, in the build's units): a measure
-/// of tree quality free of the machine's noise.
-fn sah_cost(tree: &kdray::kdtree::KdTree, params: &kdray::kdtree::BuildParams) -> f64 {
-    let root_area = tree.bounds.surface_area() as f64;
-    let mut total = 0.0;
-    let mut stack = vec![(0usize, tree.bounds)];
-    while let Some((i, cell)) = stack.pop() {
-        let node = tree.nodes[i];
-        let share = cell.surface_area() as f64 / root_area;
-        if node.is_leaf() {
-            total += share * params.intersection_cost as f64 * node.count as f64;
-            continue;
-        }
-        total += share * params.traversal_cost as f64;
-        let axis = node.kind as usize;
-        let (mut below, mut above) = (cell, cell);
-        below.max[axis] = node.split;
-        above.min[axis] = node.split;
-        stack.push((i + 1, below));
-        stack.push((node.index as usize, above));
-    }
-    total
 }
 
 /// FNV-1a over the flat nodes and leaf lists: equal digests mean a faster

@@ -418,23 +418,14 @@ proptest! {
 /// Cells of the leaves that reference object `id`.
 fn cells_referencing(tree: &KdTree, id: u32) -> Vec<Aabb> {
     let mut out = Vec::new();
-    let mut pending = vec![(0usize, tree.bounds)];
-    while let Some((i, cell)) = pending.pop() {
-        let node = tree.nodes[i];
-        if node.is_leaf() {
-            let ids = &tree.leaf_objects[node.index as usize..(node.index + node.count) as usize];
-            if ids.contains(&id) {
-                out.push(cell);
-            }
-        } else {
-            let a = node.kind as usize;
-            let (mut below, mut above) = (cell, cell);
-            below.max[a] = node.split;
-            above.min[a] = node.split;
-            pending.push((i + 1, below));
-            pending.push((node.index as usize, above));
+    tree.visit_cells(|node, cell| {
+        if node.is_leaf()
+            && tree.leaf_objects[node.index as usize..(node.index + node.count) as usize]
+                .contains(&id)
+        {
+            out.push(*cell);
         }
-    }
+    });
     out
 }
 

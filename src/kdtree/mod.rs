@@ -53,6 +53,46 @@ impl KdTree {
         }
     }
 
+    /// Calls `f(node, cell)` for every node with the cell it covers,
+    /// parents before children (the root's cell is `bounds`).
+    pub fn visit_cells(&self, mut f: impl FnMut(&KdNode, &Aabb)) {
+        let mut pending = vec![(0usize, self.bounds)];
+        while let Some((i, cell)) = pending.pop() {
+            let Some(node) = self.nodes.get(i) else {
+                continue;
+            };
+            f(node, &cell);
+            if !node.is_leaf() {
+                let axis = node.kind as usize;
+                let (mut below, mut above) = (cell, cell);
+                below.max[axis] = node.split;
+                above.min[axis] = node.split;
+                pending.push((node.index as usize, above));
+                pending.push((i + 1, below));
+            }
+        }
+    }
+
+    /// The tree's expected cost for a random ray through the root cell:
+    /// the surface area heuristic summed over the nodes with `params`'
+    /// costs (traversal per inner node, intersection per leaf reference,
+    /// each weighted by its cell's share of the root's area). A measure of
+    /// tree quality free of the machine's noise (`examples/build_time.rs`).
+    pub fn sah_cost(&self, params: &BuildParams) -> f64 {
+        let root_area = self.bounds.surface_area() as f64;
+        let mut total = 0.0;
+        self.visit_cells(|node, cell| {
+            let share = cell.surface_area() as f64 / root_area;
+            total += share
+                * if node.is_leaf() {
+                    params.intersection_cost as f64 * node.count as f64
+                } else {
+                    params.traversal_cost as f64
+                };
+        });
+        total
+    }
+
     pub fn stats(&self) -> TreeStats {
         let leaves = self.nodes.iter().filter(|n| n.is_leaf()).count();
         TreeStats {
@@ -72,4 +112,59 @@ pub struct TreeStats {
     pub max_depth: u32,
     /// Mean number of object references per leaf (empty leaves included).
     pub refs_per_leaf: f64,
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use glam::Vec3;
+
+    /// One split of the cube [0, 2]^3 at x = 0.5: the children's areas,
+    /// by hand, are 2·(0.5·2 + 2·2 + 2·0.5) = 12 and 2·(1.5·2 + 2·2 + 1.5·2)
+    /// = 20 of the root's 24; the walk visits parents first, below first.
+    #[test]
+    fn the_sah_cost_weights_each_node_by_its_area() {
+        let tree = KdTree {
+            nodes: vec![
+                KdNode {
+                    kind: 0,
+                    split: 0.5,
+                    index: 2,
+                    count: 0,
+                },
+                KdNode {
+                    kind: KdNode::LEAF,
+                    split: 0.0,
+                    index: 0,
+                    count: 1,
+                },
+                KdNode {
+                    kind: KdNode::LEAF,
+                    split: 0.0,
+                    index: 1,
+                    count: 3,
+                },
+            ],
+            leaf_objects: vec![0, 1, 2, 3],
+            bounds: Aabb {
+                min: Vec3::ZERO,
+                max: Vec3::splat(2.0),
+            },
+            max_depth: 1,
+        };
+        let params = BuildParams {
+            traversal_cost: 10.0,
+            intersection_cost: 1.0,
+            ..BuildParams::for_object_count(4)
+        };
+        let expected = 10.0 + 12.0 / 24.0 * 1.0 + 20.0 / 24.0 * 3.0;
+        assert!(
+            (tree.sah_cost(&params) - expected).abs() < 1e-9,
+            "{}",
+            tree.sah_cost(&params)
+        );
+        let mut cells = Vec::new();
+        tree.visit_cells(|n, c| cells.push((n.count, c.max.x, c.min.x)));
+        assert_eq!(cells, [(0, 2.0, 0.0), (1, 0.5, 0.0), (3, 2.0, 0.5)]);
+    }
 }
