@@ -15,6 +15,14 @@ fn miss() -> Hit {
 // hit with t < t_limit (the caller returns it at once), else a miss. Takes
 // and returns the hit by value: a ptr<function, Hit> parameter measured
 // twice as slow on lavapipe (design.md).
+// Whether GPU object `a` comes before `b` in the scene: the GPU stores
+// objects in the tree's leaf order, so its ids do not order ties as the
+// scene's do (two faces met at one edge rendered differently with another
+// tree).
+fn first_in_scene(a: u32, b: u32) -> bool {
+    return objects[a].y < objects[b].y;
+}
+
 fn test_leaf(leaf: KdNode, ray: Ray, t_limit: f32, any_hit: bool, best_so_far: Hit) -> Hit {
     var best = best_so_far;
     for (var i = leaf.index; i < leaf.index + leaf.count; i++) {
@@ -27,8 +35,8 @@ fn test_leaf(leaf: KdNode, ray: Ray, t_limit: f32, any_hit: bool, best_so_far: H
                 if (t < t_limit) {
                     return Hit(t, id);
                 }
-            } else if (t <= t_limit && (t < best.t || (t == best.t && id < best.object))) {
-                // Equal t: the lower id, as brute force's loop keeps it.
+            } else if (t <= t_limit && (t < best.t || (t == best.t && first_in_scene(id, best.object)))) {
+                // Equal t: the lower scene id, as brute force's loop keeps it.
                 best = Hit(t, id);
             }
         }
@@ -127,7 +135,7 @@ fn trace_brute(ray: Ray, t_limit: f32, any_hit: bool) -> Hit {
                 if (t < t_limit) {
                     return Hit(t, id);
                 }
-            } else if (t <= t_limit && t < best.t) {
+            } else if (t <= t_limit && (t < best.t || (t == best.t && first_in_scene(id, best.object)))) {
                 best = Hit(t, id);
             }
         }

@@ -51,8 +51,10 @@ use Access::{StorageRead, StorageReadWrite, Uniform};
 pub const PARAMS: Binding = binding(0, "params", "FrameParams", Uniform);
 pub const SPHERES: Binding = binding(1, "spheres", "array<Sphere>", StorageRead);
 pub const TRIANGLES: Binding = binding(2, "triangles", "array<Triangle>", StorageRead);
-/// Material index of every object id (spheres first, then triangles).
-pub const OBJECT_MATERIALS: Binding = binding(3, "object_materials", "array<u32>", StorageRead);
+/// Per GPU object id (spheres first, then triangles, in the tree's leaf
+/// order): x its material index, y its scene id, which breaks ties between
+/// hits at an equal t as brute force's loop over the scene does.
+pub const OBJECTS: Binding = binding(3, "objects", "array<vec2<u32>>", StorageRead);
 pub const MATERIALS: Binding = binding(4, "materials", "array<Material>", StorageRead);
 pub const LIGHTS: Binding = binding(5, "lights", "array<Light>", StorageRead);
 pub const KD_NODES: Binding = binding(6, "kd_nodes", "array<KdNode>", StorageRead);
@@ -194,8 +196,8 @@ pub const SPLIT_ARRAY_COUNT: usize = 6;
 
 /// Every array that passes one binding as a mesh grows (12 to 72 bytes a
 /// triangle, so between 1.9 and 11 million triangles; docs/design.md has the
-/// arithmetic). The others stay whole: `object_materials` (4 B an object)
-/// passes 128 MiB at 33 million objects, past what the split arrays hold;
+/// arithmetic). The others stay whole: `objects` (8 B an object)
+/// passes 128 MiB at 16.7 million objects, past what the split arrays hold;
 /// spheres, materials and lights do not grow with a mesh.
 pub const SPLIT_ARRAYS: [&SplitArray; SPLIT_ARRAY_COUNT] = [
     &SPLIT_TRIANGLES,
@@ -236,7 +238,7 @@ pub fn scene(chunks: SceneChunks) -> Vec<Binding> {
     let split = |i: usize| SPLIT_ARRAYS[i].chunks[..chunks[i]].to_vec();
     let mut scene = vec![SPHERES];
     scene.extend(split(0));
-    scene.extend([OBJECT_MATERIALS, MATERIALS, LIGHTS]);
+    scene.extend([OBJECTS, MATERIALS, LIGHTS]);
     scene.extend(split(1));
     scene.extend(split(2));
     scene.extend(split(3));

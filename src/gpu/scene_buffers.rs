@@ -14,7 +14,9 @@ use crate::scene::Scene;
 pub struct SceneArrays {
     pub spheres: Vec<GpuSphere>,
     pub triangles: Vec<GpuTriangle>,
-    pub object_materials: Vec<u32>,
+    /// Per GPU object: its material index and its scene id
+    /// ([`super::bindings::OBJECTS`]).
+    pub objects: Vec<[u32; 2]>,
     pub materials: Vec<GpuMaterial>,
     pub lights: Vec<GpuLight>,
     pub nodes: Vec<KdNode>,
@@ -109,7 +111,7 @@ impl SceneArrays {
                 })
                 .collect(),
             triangles,
-            object_materials: order.iter().map(|&id| material(id)).collect(),
+            objects: order.iter().map(|&id| [material(id), id]).collect(),
             materials: scene
                 .materials
                 .iter()
@@ -181,7 +183,7 @@ impl SceneArrays {
             .into_iter()
             .chain(triangles)
             .chain([
-                bytemuck::cast_slice(&self.object_materials),
+                bytemuck::cast_slice(&self.objects),
                 bytemuck::cast_slice(&self.materials),
                 bytemuck::cast_slice(&self.lights),
             ])
@@ -414,7 +416,7 @@ impl SceneBuffers {
             buffers,
             bounds: arrays.bounds,
             sphere_count: arrays.spheres.len() as u32,
-            object_count: arrays.object_materials.len() as u32,
+            object_count: arrays.objects.len() as u32,
             light_count: arrays.lights.len() as u32,
             node_count: arrays.nodes.len() as u32,
             split,
@@ -594,7 +596,7 @@ mod tests {
         for gpu in 0..prims.len() as u32 {
             let id = original(gpu);
             assert!(!std::mem::replace(&mut seen[id], true), "object {id} twice");
-            assert_eq!(a.object_materials[gpu as usize], material(id));
+            assert_eq!(a.objects[gpu as usize], [material(id), id as u32]);
         }
         for (&gpu, &id) in a.leaf_objects.iter().zip(&tree.leaf_objects) {
             assert_eq!(original(gpu), id as usize);
