@@ -31,7 +31,7 @@ pub enum BuildStrategy {
     /// The same heuristic evaluated at 32 bin boundaries per axis, snapped
     /// to the nearest object faces, in nodes of many objects, exact below
     /// (after Shevtsov et al. 2007): a tree as good by the heuristic (within
-    /// 1-3%) and as fast to trace, built faster.
+    /// 1-3%) and as fast to trace, built 1.3-1.5x faster (docs/benchmarks.md).
     Binned,
     /// The seed study's Algorithm 2: the median of the objects' centres on
     /// axis `depth mod 3`, down to one object per leaf, with straddling
@@ -130,7 +130,9 @@ impl BuildParams {
 /// bunny subdivided to 1.1 M triangles, one thread, CPU time under load 3
 /// (`examples/build_time.rs`, two runs each): 8 built in 4.8-4.9 s but with
 /// 8% more references, 32 in 5.0-5.4 s, 128 and 512 in 6.1-7.4 s, the
-/// exact sweep everywhere in 7.3-7.8 s; 32 is the compromise.
+/// exact sweep everywhere in 7.3-7.8 s; 32 is the compromise. With snapped
+/// bins (20:41 UTC, `EXACT_BELOW=N build_time ... 1 binned`), 12 and 6 gave
+/// 2% and 4% more nodes and built no faster than 32.
 pub const BINNED_EXACT_BELOW: usize = 32;
 
 /// The flattened tree: nodes depth first, and the leaves' object id lists.
