@@ -171,13 +171,24 @@ pub(super) fn available_threads() -> usize {
 }
 
 fn build_shapes(shapes: Shapes<'_>, params: BuildParams, threads: usize) -> KdTree {
+    build_forking(shapes, params, threads, PARALLEL_MIN_OBJECTS).0
+}
+
+/// [`build_shapes`], forking nodes whose children both hold `fork_min`
+/// objects or more; also says how many subtrees other threads built.
+fn build_forking(
+    shapes: Shapes<'_>,
+    params: BuildParams,
+    threads: usize,
+    fork_min: usize,
+) -> (KdTree, usize) {
     let threads = threads.max(1);
     let n = shapes.len();
     if n == 0 {
         let median = Median { shapes, params };
-        let mut builder = Builder::new(&median);
+        let mut builder = Builder::new(&median, fork_min);
         builder.leaf(Vec::new(), 0);
-        return KdTree {
+        let tree = KdTree {
             nodes: builder.nodes,
             leaf_objects: builder.leaf_objects,
             bounds: Aabb {
@@ -186,6 +197,7 @@ fn build_shapes(shapes: Shapes<'_>, params: BuildParams, threads: usize) -> KdTr
             },
             max_depth: 0,
         };
+        return (tree, 0);
     }
     // The root cell reaches ε past the objects, like every cell: a ray
     // meeting an object at its box's corner may, by rounding, miss the
@@ -196,26 +208,57 @@ fn build_shapes(shapes: Shapes<'_>, params: BuildParams, threads: usize) -> KdTr
             .fold(Aabb::EMPTY, Aabb::union),
         shapes.tolerance(),
     );
-    let (nodes, leaf_objects, deepest) = match params.strategy {
+    let ((nodes, leaf_objects, deepest), taken) = match params.strategy {
         BuildStrategy::Sah | BuildStrategy::Binned => {
             let sah = Sah::new(shapes, params, &bounds);
-            let mut builder = Builder::new(&sah);
-            builder.node(sah.root(threads), bounds, 0, threads);
-            (builder.nodes, builder.leaf_objects, builder.deepest)
+            let root = sah.root(threads);
+            build_on_threads(&sah, root, bounds, threads, fork_min)
         }
         BuildStrategy::Median => {
             let median = Median { shapes, params };
-            let mut builder = Builder::new(&median);
-            builder.node(median.root(), bounds, 0, threads);
-            (builder.nodes, builder.leaf_objects, builder.deepest)
+            let root = median.root();
+            build_on_threads(&median, root, bounds, threads, fork_min)
         }
     };
-    KdTree {
+    let tree = KdTree {
         nodes,
         leaf_objects,
         bounds,
         max_depth: deepest,
+    };
+    (tree, taken)
+}
+
+/// Builds the tree from the root's objects on a pool of `threads` threads
+/// (on this one for 1, or when the pool cannot start), forking nodes whose
+/// children both hold `fork_min` objects or more: the nodes, the leaf lists
+/// and the depth of the deepest leaf, and how many subtrees were built by
+/// a thread other than their parent's.
+fn build_on_threads<S: Strategy>(
+    strategy: &S,
+    root: S::Objects,
+    bounds: Aabb,
+    threads: usize,
+    fork_min: usize,
+) -> ((Vec<KdNode>, Vec<u32>, u32), usize) {
+    let mut builder = Builder::new(strategy, fork_min);
+    let pool = (threads > 1)
+        .then(|| {
+            rayon::ThreadPoolBuilder::new()
+                .num_threads(threads)
+                .thread_name(|i| format!("kdray-kdtree-{i}"))
+                .build()
+                .ok()
+        })
+        .flatten();
+    match pool {
+        Some(pool) => pool.install(|| builder.node(root, bounds, 0, true)),
+        None => builder.node(root, bounds, 0, false),
     }
+    (
+        (builder.nodes, builder.leaf_objects, builder.deepest),
+        builder.taken,
+    )
 }
 
 /// What a strategy decides at one node.
@@ -256,19 +299,28 @@ struct Builder<'s, S: Strategy> {
     nodes: Vec<KdNode>,
     leaf_objects: Vec<u32>,
     deepest: u32,
+    /// Both children of a node this big or bigger are forked as tasks.
+    fork_min: usize,
+    /// How many subtrees other threads built and this one appended.
+    taken: usize,
 }
 
-/// Subtrees over fewer objects than this are built on the calling thread.
+/// A node forks its children as parallel tasks only when both hold at least
+/// this many objects; smaller subtrees are built on the thread that has
+/// them (a task costs about a microsecond, a subtree of 4,096 triangles
+/// milliseconds).
 const PARALLEL_MIN_OBJECTS: usize = 4096;
 
 impl<'s, S: Strategy> Builder<'s, S> {
-    fn new(strategy: &'s S) -> Self {
+    fn new(strategy: &'s S, fork_min: usize) -> Self {
         Builder {
             strategy,
             scratch: strategy.scratch(),
             nodes: Vec::new(),
             leaf_objects: Vec::new(),
             deepest: 0,
+            fork_min,
+            taken: 0,
         }
     }
 
@@ -284,8 +336,15 @@ impl<'s, S: Strategy> Builder<'s, S> {
     }
 
     /// Builds the subtree over `objects` in `cell`, appending its nodes depth
-    /// first (below child, then above child) with up to `threads` threads.
-    fn node(&mut self, objects: S::Objects, cell: Aabb, depth: u32, threads: usize) {
+    /// first (below child, then above child). With `parallel` (the caller is
+    /// a worker of the build's thread pool) the children of big nodes are
+    /// forked: the below child is built here and the above child is left to
+    /// any idle thread (work stealing, so threads stay busy whatever the
+    /// shape of the tree; a static split gave one thread 60% of the work).
+    /// The above child is built into a builder of its own only when another
+    /// thread took it, and appended after the below child either way, so
+    /// the tree is the same on any number of threads.
+    fn node(&mut self, objects: S::Objects, cell: Aabb, depth: u32, parallel: bool) {
         let (axis, position, below, above) =
             match self
                 .strategy
@@ -314,43 +373,34 @@ impl<'s, S: Strategy> Builder<'s, S> {
             index: 0,
             count: 0,
         });
-        let (n_below, n_above) = (S::count(&below), S::count(&above));
-        if threads < 2 || n_below.min(n_above) < PARALLEL_MIN_OBJECTS {
-            // One child is small (an empty-space cut, say): the threads go
-            // on with the other, rather than one of them ending at once.
-            let (below_threads, above_threads) = if n_below >= n_above {
-                (threads, 1)
-            } else {
-                (1, threads)
-            };
-            self.node(below, below_cell, depth + 1, below_threads);
+        let fork = parallel && S::count(&below).min(S::count(&above)) >= self.fork_min;
+        if !fork {
+            self.node(below, below_cell, depth + 1, parallel);
             self.nodes[this].index = self.nodes.len() as u32;
-            self.node(above, above_cell, depth + 1, above_threads);
+            self.node(above, above_cell, depth + 1, parallel);
             return;
         }
-        // The above child on another thread, into a builder of its own.
-        let above_threads = threads / 2;
-        let mut other = Builder::new(self.strategy);
-        let mut job = Some((above, above_cell));
-        let worker_panic = std::thread::scope(|scope| {
-            let worker = std::thread::Builder::new()
-                .name("kdray-kdtree".into())
-                .spawn_scoped(scope, || {
-                    if let Some((objects, cell)) = job.take() {
-                        other.node(objects, cell, depth + 1, above_threads);
-                    }
-                });
-            self.node(below, below_cell, depth + 1, threads - above_threads);
-            worker.ok().and_then(|w| w.join().err())
-        });
-        if let Some(payload) = worker_panic {
-            std::panic::resume_unwind(payload);
+        let (strategy, fork_min) = (self.strategy, self.fork_min);
+        let (_, taken) = rayon::join_context(
+            |_| self.node(below, below_cell, depth + 1, true),
+            move |task| {
+                if task.migrated() {
+                    let mut other = Builder::new(strategy, fork_min);
+                    other.node(above, above_cell, depth + 1, true);
+                    Ok(other)
+                } else {
+                    // Not taken: this thread builds it, in place, below.
+                    Err(above)
+                }
+            },
+        );
+        match taken {
+            Ok(other) => self.append_above_child(this, other),
+            Err(above) => {
+                self.nodes[this].index = self.nodes.len() as u32;
+                self.node(above, above_cell, depth + 1, true);
+            }
         }
-        if let Some((objects, cell)) = job.take() {
-            // The thread could not start: build it here.
-            other.node(objects, cell, depth + 1, 1);
-        }
-        self.append_above_child(this, other);
     }
 
     /// Appends a subtree built apart as the above child of node `this`,
@@ -365,5 +415,67 @@ impl<'s, S: Strategy> Builder<'s, S> {
         }));
         self.leaf_objects.extend(above.leaf_objects);
         self.deepest = self.deepest.max(above.deepest);
+        self.taken += 1 + above.taken;
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use glam::Vec3;
+
+    /// Boxes of a few sizes scattered by a fixed generator (an LCG), some
+    /// long enough to straddle many planes.
+    fn scattered_boxes(n: usize) -> Vec<Aabb> {
+        let mut state = 0x2545_f491_4f6c_dd1du64;
+        let mut next = move || {
+            state = state
+                .wrapping_mul(6_364_136_223_846_793_005)
+                .wrapping_add(1_442_695_040_888_963_407);
+            (state >> 40) as f32 / (1u64 << 24) as f32
+        };
+        (0..n)
+            .map(|i| {
+                let min = Vec3::new(next(), next(), next()) * 100.0;
+                let size = if i % 7 == 0 { 20.0 } else { 1.0 };
+                let extent = Vec3::new(next(), next(), next()) * size;
+                Aabb {
+                    min,
+                    max: min + extent,
+                }
+            })
+            .collect()
+    }
+
+    /// With every node forked (children of 2 objects or more), idle threads
+    /// take subtrees from all over the tree and from each other, and the
+    /// tree they append is the one a single thread builds, for every
+    /// strategy. The test also checks that subtrees were taken, so that the
+    /// appending path ran.
+    #[test]
+    fn subtrees_taken_by_other_threads_give_the_same_tree() {
+        let boxes = scattered_boxes(3_000);
+        for strategy in BuildStrategy::ALL {
+            let params = BuildParams {
+                strategy,
+                ..BuildParams::for_object_count(boxes.len())
+            };
+            let (serial, none) = build_forking(Shapes::Boxes(&boxes), params, 1, 2);
+            assert_eq!(none, 0, "{strategy}: one thread takes nothing");
+            assert!(serial.nodes.len() > 1000, "{strategy}: a deep tree");
+            let mut taken = 0;
+            for threads in [2, 3, 8] {
+                let (tree, t) = build_forking(Shapes::Boxes(&boxes), params, threads, 2);
+                assert!(
+                    tree == serial,
+                    "{strategy}: {threads} threads built another tree"
+                );
+                taken += t;
+            }
+            assert!(
+                taken > 0,
+                "{strategy}: no subtree was taken by another thread"
+            );
+        }
     }
 }
