@@ -920,12 +920,13 @@ mod tests {
     }
 
     /// A folder of MTL files for the material property: two that define
-    /// `teal` (the first definition wins), one with an error.
+    /// `teal` (the first definition wins), one with an error. One folder
+    /// for every run, so that runs leave nothing new behind; each file is
+    /// renamed into place, so a run beside this one never reads half a file.
     fn mtl_folder() -> &'static Path {
         static FOLDER: std::sync::OnceLock<std::path::PathBuf> = std::sync::OnceLock::new();
         FOLDER.get_or_init(|| {
-            let dir =
-                std::env::temp_dir().join(format!("kdray-obj-chunks-test-{}", std::process::id()));
+            let dir = std::env::temp_dir().join("kdray-obj-chunks-test");
             std::fs::create_dir_all(&dir).unwrap();
             let files = [
                 (
@@ -939,7 +940,9 @@ mod tests {
                 ("bad.mtl", "newmtl x\nKd 1 1\n"),
             ];
             for (name, text) in files {
-                std::fs::write(dir.join(name), text).unwrap();
+                let part = dir.join(format!("{name}.{}", std::process::id()));
+                std::fs::write(&part, text).unwrap();
+                std::fs::rename(&part, dir.join(name)).unwrap();
             }
             dir
         })
