@@ -67,9 +67,24 @@ fn leaf_order(tree: &KdTree, sphere_count: usize, object_count: usize) -> Vec<u3
 
 impl SceneArrays {
     pub fn new(scene: &Scene, prims: &Primitives, tree: &KdTree) -> Self {
+        // The ropes (a pass down the tree) beside the rest (passes over the
+        // objects and leaves), each on a core of its own: for the
+        // 1.1M-triangle bunny they take about 200 and 150 ms on one.
+        let (ropes, arrays) = rayon::join(
+            || Ropes::build(tree),
+            || Self::all_but_ropes(scene, prims, tree),
+        );
+        SceneArrays {
+            leaf_ropes: ropes.leaves,
+            leaf_rope_index: ropes.leaf_of_node,
+            ..arrays
+        }
+    }
+
+    /// Every array but the ropes' two, which are left empty.
+    fn all_but_ropes(scene: &Scene, prims: &Primitives, tree: &KdTree) -> Self {
         let sphere_count = prims.spheres.len();
         let order = leaf_order(tree, sphere_count, prims.len());
-        let ropes = Ropes::build(tree);
         let mut gpu_id = vec![0u32; order.len()];
         for (new, &old) in order.iter().enumerate() {
             gpu_id[old as usize] = new as u32;
@@ -141,8 +156,8 @@ impl SceneArrays {
                 .iter()
                 .map(|&id| gpu_id[id as usize])
                 .collect(),
-            leaf_ropes: ropes.leaves,
-            leaf_rope_index: ropes.leaf_of_node,
+            leaf_ropes: Vec::new(),
+            leaf_rope_index: Vec::new(),
             triangle_normals,
             bounds: tree.bounds,
             scene_ids: order,
