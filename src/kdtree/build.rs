@@ -278,7 +278,8 @@ pub(super) enum Decision<O> {
 pub(super) trait Strategy: Sync {
     /// A node's objects, in whatever form the strategy keeps them.
     type Objects: Send;
-    /// Working memory a thread reuses from node to node.
+    /// Working memory a builder reuses from node to node (a subtree that
+    /// another thread takes gets a builder, and so a scratch, of its own).
     type Scratch: Send;
     fn scratch(&self) -> Self::Scratch;
     fn count(objects: &Self::Objects) -> usize;
