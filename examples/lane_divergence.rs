@@ -1,0 +1,71 @@
+//! How much llvmpipe's lockstep execution multiplies a walk's work: it runs
+//! the 8 invocations of a row of 8 pixels in a workgroup as one SIMD group,
+//! and a loop runs while any of them needs it, so a group costs about 8
+//! times its busiest pixel rather than the sum of its pixels. Renders a
+//! scene with the per-pixel walk costs (nodes visited plus objects tested,
+//! over every ray of the pixel) for the k-d tree and for brute force, and
+//! prints each one's total work, its work in lockstep (8 x the group's
+//! maximum, summed) and their ratio. Counts, not times: the figures do not
+//! depend on the machine's load.
+//! `cargo run --release --example lane_divergence -- SCENE [WIDTH HEIGHT [ropes|restart|short-stack]]`
+use kdray::gpu::{Accel, GpuContext, PreparedScene};
+
+fn main() -> Result<(), Box<dyn std::error::Error>> {
+    let mut args = std::env::args().skip(1);
+    let path = args
+        .next()
+        .ok_or("usage: lane_divergence SCENE [WIDTH HEIGHT [TRAVERSAL]]")?;
+    let mut scene = kdray::scene::load_scene(std::path::Path::new(&path))?;
+    if let (Some(w), Some(h)) = (args.next(), args.next()) {
+        scene.render.width = w.parse()?;
+        scene.render.height = h.parse()?;
+    }
+    let traversal = match args.next().as_deref() {
+        None | Some("ropes") => kdray::kdtree::Traversal::Ropes,
+        Some("restart") => kdray::kdtree::Traversal::Restart,
+        Some("short-stack") => kdray::kdtree::Traversal::ShortStack,
+        Some(other) => return Err(format!("unknown traversal {other:?}").into()),
+    };
+    let width = scene.render.width as usize;
+    let ctx = GpuContext::new()?;
+    let mut totals = Vec::new();
+    for accel in [Accel::Kdtree, Accel::Brute] {
+        let prepared = PreparedScene::new(scene.clone(), accel);
+        let mut work: Vec<u64> = Vec::new();
+        let (stats, _) = kdray::render::render_scene_streaming(
+            &ctx,
+            &prepared,
+            accel,
+            traversal,
+            kdray::gpu::TilePlan::DEFAULT_MAX_TILE_PIXELS,
+            true,
+            &mut |band| {
+                if let Some(costs) = band.costs {
+                    work.extend(costs.iter().map(|c| c.work() as u64));
+                }
+                Ok(())
+            },
+        )?;
+        let sum: u64 = work.iter().sum();
+        // Rows of 8 pixels aligned to the 8 x 8 workgroups.
+        let lockstep: u64 = work
+            .chunks(width)
+            .flat_map(|row| row.chunks(8))
+            .map(|group| 8 * group.iter().copied().max().unwrap_or(0))
+            .sum();
+        println!(
+            "{accel:?}: work {sum}, in lockstep {lockstep} ({:.2}x), GPU {:.0} ms",
+            lockstep as f64 / sum.max(1) as f64,
+            stats.gpu_ms
+        );
+        totals.push((sum, lockstep, stats.gpu_ms));
+    }
+    let (kd, brute) = (totals[0], totals[1]);
+    println!(
+        "brute / k-d tree: work {:.1}x, work in lockstep {:.1}x, GPU time {:.1}x",
+        brute.0 as f64 / kd.0.max(1) as f64,
+        brute.1 as f64 / kd.1.max(1) as f64,
+        brute.2 / kd.2
+    );
+    Ok(())
+}
