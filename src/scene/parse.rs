@@ -15,7 +15,7 @@ use glam::{DMat3, DVec3};
 use serde::de::{self, Deserializer, MapAccess, SeqAccess, Visitor};
 use serde::{Deserialize, Serialize, Serializer};
 
-use super::mesh::{self, Mesh};
+use super::mesh::{self, Mesh, MeshTriangle};
 use super::normals::{self, unit};
 use super::source_map::SourceMap;
 use super::{
@@ -1030,13 +1030,18 @@ impl Validator<'_> {
                 reflection: mm.reflection,
             }));
         }
-        let world_triangles = self.place(i, &mesh, transform, translate)?;
-        let shading = MeshNormals::new(m.smooth, &mesh, &world_triangles, transform);
-        for (t, (vertices, has_area)) in mesh.triangles.iter().zip(world_triangles) {
-            if !has_area {
+        let world = self.place(i, &mesh, transform, translate)?;
+        let shading = MeshNormals::new(m.smooth, &mesh, &world, transform);
+        triangles.reserve(mesh.triangles.len());
+        for t in &mesh.triangles {
+            let Some(vertices) = placed_corners(&world, t) else {
+                // The readers write only indices in range.
+                return Err(self.error(&key("path"), "a face has a vertex index out of range"));
+            };
+            if !has_area(&vertices) {
                 continue; // collapsed by an extreme scale: it can never be hit
             }
-            let material = match (override_material, t.material) {
+            let material = match (override_material, t.material()) {
                 (Some(m), _) => m,
                 (None, Some(local)) => first_material + local as u32,
                 // The readers guarantee a material when asked for them.
@@ -1051,32 +1056,45 @@ impl Validator<'_> {
         Ok(())
     }
 
-    /// The mesh's triangles in world space, each with whether it still has
-    /// an area there (an extreme scale can collapse one).
+    /// The mesh's shared vertices in world space, each transformed once.
+    /// A vertex that lands beyond the GPU's range is an error only where a
+    /// triangle uses it (an OBJ file may define vertices no face uses).
     fn place(
         &self,
         i: usize,
         mesh: &Mesh,
         transform: DMat3,
         translate: DVec3,
-    ) -> Result<Vec<([DVec3; 3], bool)>, SceneError> {
-        mesh.triangles
+    ) -> Result<Vec<DVec3>, SceneError> {
+        let world: Vec<DVec3> = mesh
+            .positions
             .iter()
-            .map(|t| {
-                let vertices = t.vertices.map(|v| transform * v + translate);
-                if !vertices
+            .map(|&v| transform * v + translate)
+            .collect();
+        let in_range = |v: &DVec3| v.is_finite() && v.abs().max_element() <= MAX_COORDINATE;
+        // Usually every vertex is in range, and the triangles need no look.
+        if !world.iter().all(in_range) {
+            let uses_one_out_of_range = mesh.triangles.iter().any(|t| {
+                t.corners
                     .iter()
-                    .all(|v| v.is_finite() && v.abs().max_element() <= MAX_COORDINATE)
-                {
-                    return Err(self.error(
-                        &format!("meshes[{i}].scale"),
-                        "the transformed mesh has a non-finite vertex, or one beyond ±1e15 (the GPU computes in f32)",
-                    ));
-                }
-                Ok((vertices, has_area(&vertices)))
-            })
-            .collect()
+                    .any(|&c| world.get(c as usize).is_some_and(|v| !in_range(v)))
+            });
+            if uses_one_out_of_range {
+                return Err(self.error(
+                    &format!("meshes[{i}].scale"),
+                    "the transformed mesh has a non-finite vertex, or one beyond ±1e15 (the GPU computes in f32)",
+                ));
+            }
+        }
+        Ok(world)
     }
+}
+
+/// The corners of `t` among the placed vertices `world`; None where an index
+/// is out of range.
+fn placed_corners(world: &[DVec3], t: &MeshTriangle) -> Option<[DVec3; 3]> {
+    let [a, b, c] = t.corners.map(|i| world.get(i as usize).copied());
+    Some([a?, b?, c?])
 }
 
 /// How a mesh entry's triangles are shaded: flat, or with normals from the
@@ -1085,35 +1103,39 @@ enum MeshNormals {
     Flat,
     /// The file's normals where all three corners of a triangle have one.
     FromFile {
-        normal_matrix: DMat3,
+        /// Each of the file's normals in world space, of unit length; None
+        /// where it cannot be normalised.
+        file: Vec<Option<DVec3>>,
     },
     /// The file's normals where a corner has one, else the angle-weighted
     /// normal of its shared vertex (computed in world space).
     Smooth {
-        normal_matrix: DMat3,
+        file: Vec<Option<DVec3>>,
         computed: Vec<DVec3>,
     },
 }
 
 impl MeshNormals {
-    fn new(
-        smooth: Option<bool>,
-        mesh: &Mesh,
-        world: &[([DVec3; 3], bool)],
-        transform: DMat3,
-    ) -> Self {
-        let normal_matrix = normals::normal_matrix(transform);
+    /// `world`: the mesh's vertices in world space.
+    fn new(smooth: Option<bool>, mesh: &Mesh, world: &[DVec3], transform: DMat3) -> Self {
+        // Each file normal carried once (not once per corner that names it).
+        let file_normals = || {
+            let normal_matrix = normals::normal_matrix(transform);
+            mesh.normals
+                .iter()
+                .map(|&n| unit(normal_matrix * n))
+                .collect()
+        };
         match smooth {
             Some(false) => MeshNormals::Flat,
-            None => MeshNormals::FromFile { normal_matrix },
+            None => MeshNormals::FromFile {
+                file: file_normals(),
+            },
             Some(true) => MeshNormals::Smooth {
-                normal_matrix,
+                file: file_normals(),
                 computed: normals::angle_weighted(
-                    mesh.vertex_count,
-                    mesh.triangles
-                        .iter()
-                        .zip(world)
-                        .map(|(t, (vertices, _))| (*vertices, t.corners)),
+                    world,
+                    mesh.triangles.iter().map(|t| t.corners.map(|c| c as usize)),
                 ),
             },
         }
@@ -1122,26 +1144,25 @@ impl MeshNormals {
     /// The world-space unit normals of `t` (placed at `vertices`), or None
     /// for flat shading. A normal that cannot be normalised (zero in the
     /// file, or a vertex whose faces cancel) is the face's own normal.
-    fn of(&self, t: &mesh::MeshTriangle, vertices: &[DVec3; 3]) -> Option<[DVec3; 3]> {
+    fn of(&self, t: &MeshTriangle, vertices: &[DVec3; 3]) -> Option<[DVec3; 3]> {
         let face = || unit((vertices[1] - vertices[0]).cross(vertices[2] - vertices[0]));
-        let from_file = |m: &DMat3, k: usize| t.normals[k].and_then(|n| unit(*m * n));
+        let from_file = |file: &[Option<DVec3>], k: usize| {
+            t.normal(k).and_then(|n| file.get(n).copied().flatten())
+        };
         match self {
             MeshNormals::Flat => None,
-            MeshNormals::FromFile { normal_matrix } => {
-                if t.normals.iter().any(Option::is_none) {
+            MeshNormals::FromFile { file } => {
+                if (0..3).any(|k| t.normal(k).is_none()) {
                     return None;
                 }
                 let face = face()?;
-                Some([0, 1, 2].map(|k| from_file(normal_matrix, k).unwrap_or(face)))
+                Some([0, 1, 2].map(|k| from_file(file, k).unwrap_or(face)))
             }
-            MeshNormals::Smooth {
-                normal_matrix,
-                computed,
-            } => {
+            MeshNormals::Smooth { file, computed } => {
                 let face = face()?;
                 Some([0, 1, 2].map(|k| {
-                    from_file(normal_matrix, k)
-                        .or_else(|| computed.get(t.corners[k]).copied().and_then(unit))
+                    from_file(file, k)
+                        .or_else(|| computed.get(t.corners[k] as usize).copied().and_then(unit))
                         .unwrap_or(face)
                 }))
             }
