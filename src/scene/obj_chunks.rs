@@ -282,11 +282,12 @@ impl<'p, 't> MaterialState<'p, 't> {
 
 /// Asks the kernel to back the spare capacity of `v` with 2 MiB pages
 /// where it can (Linux's transparent huge pages, which are commonly enabled
-/// only on request). The triangles of a million-triangle mesh take 230 MB,
-/// otherwise one page fault per 4 KiB as they are written: on the 2-core
-/// machine this took the scene's load from 0.73 s to 0.63 s (median of
-/// eight, benchmarks.md "OBJ load"). A hint: nothing changes where it is
-/// refused.
+/// only on request): one fault per 2 MiB instead of per 4 KiB as the
+/// triangles are written. Measured when a triangle took 208 bytes (230 MB
+/// for a million-triangle mesh): the scene's load 0.73 s -> 0.63 s (median
+/// of eight, benchmarks.md "OBJ load"); at 28 bytes a triangle (31 MB) it
+/// matters less and was not measured again. A hint: nothing changes where
+/// it is refused.
 #[cfg(target_os = "linux")]
 fn advise_huge_pages<T>(v: &mut Vec<T>) {
     const HUGE_PAGE: usize = 2 << 20;
