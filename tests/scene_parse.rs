@@ -1857,8 +1857,8 @@ mod meshes {
         let mesh = &scene.triangles[1..];
         assert_eq!(mesh.len(), raw.triangles.len());
         for (t, r) in mesh.iter().zip(&raw.triangles) {
-            assert_eq!(t.vertices, r.vertices);
-            let want = format!("torus.obj:{}", raw.materials[r.material.unwrap()].name);
+            assert_eq!(Some(t.vertices), raw.vertices(r));
+            let want = format!("torus.obj:{}", raw.materials[r.material().unwrap()].name);
             assert_eq!(scene.materials[t.material as usize].name, want);
         }
         let gold_faces = mesh.iter().filter(|t| t.material == gold as u32).count();
@@ -2209,7 +2209,7 @@ translate = [0.0, 0.0, 0.0]
         let raw = load_obj(&obj, false).unwrap();
         assert_eq!(scene.triangles.len(), 1 + raw.triangles.len());
         for (t, r) in scene.triangles[1..].iter().zip(&raw.triangles) {
-            assert_eq!(t.vertices, r.vertices);
+            assert_eq!(Some(t.vertices), raw.vertices(r));
             assert_eq!(t.material, 0);
         }
         assert_eq!(scene.object_count(), 2 + raw.triangles.len());

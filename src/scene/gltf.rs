@@ -23,7 +23,7 @@ use glam::{DMat3, DMat4, DVec3};
 use gltf::accessor::{DataType, Dimensions};
 use gltf::mesh::Mode;
 
-use super::mesh::{Mesh, MeshMaterial, MeshTriangle};
+use super::mesh::{mesh_index, Mesh, MeshMaterial, MeshTriangle, NO_INDEX};
 use super::SceneError;
 
 /// Reads a `.gltf` or `.glb` file (told apart by content: a GLB starts with
@@ -409,20 +409,37 @@ impl Reader<'_> {
                         .materials
                         .push(pbr_material(&primitive.material()));
                 }
-                Some(local)
+                mesh_index(local)
+                    .ok_or_else(|| format!("{at}: more materials than a mesh can index"))?
             } else {
-                None
+                NO_INDEX
             };
 
-            let base = self.mesh.vertex_count;
-            self.mesh.vertex_count += positions.len();
-            let world_positions: Vec<DVec3> = positions
-                .iter()
-                .map(|&p| world.transform_point3(p))
-                .collect();
+            // This primitive's vertices (and normals) are appended to the
+            // mesh's, placed by the node; its indices are offset by what
+            // was there before. The bases are checked so that every index
+            // fits below NO_INDEX.
+            let too_many = || {
+                format!(
+                    "{at}: the scene places more than {NO_INDEX} vertices, more than a mesh can index"
+                )
+            };
+            let vertex_base = self.mesh.positions.len();
+            mesh_index(vertex_base + positions.len()).ok_or_else(too_many)?;
+            let normal_base = self.mesh.normals.len();
+            if let Some(normals) = &normals {
+                mesh_index(normal_base + normals.len()).ok_or_else(too_many)?;
+                self.mesh
+                    .normals
+                    .extend(normals.iter().map(|&n| normal_matrix * n));
+            }
+            self.mesh
+                .positions
+                .extend(positions.iter().map(|&p| world.transform_point3(p)));
+            let placed = &self.mesh.positions[vertex_base..];
             for c in corners {
                 self.triangles_seen += 1;
-                let vertices = c.map(|i| world_positions[i]);
+                let vertices = c.map(|i| placed[i]);
                 if (vertices[1] - vertices[0])
                     .cross(vertices[2] - vertices[0])
                     .length()
@@ -430,10 +447,14 @@ impl Reader<'_> {
                 {
                     continue; // cannot be hit, has no normal
                 }
+                // In range: the bases plus a count were checked above.
                 self.mesh.triangles.push(MeshTriangle {
-                    vertices,
-                    corners: c.map(|i| base + i),
-                    normals: c.map(|i| normals.as_ref().map(|n| normal_matrix * n[i])),
+                    corners: c.map(|i| (vertex_base + i) as u32),
+                    normals: if normals.is_some() {
+                        c.map(|i| (normal_base + i) as u32)
+                    } else {
+                        [NO_INDEX; 3]
+                    },
                     material,
                 });
             }

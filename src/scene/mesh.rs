@@ -1,12 +1,30 @@
-//! A mesh file in its own coordinates, whatever its format: triangles with
-//! their shared-vertex indices and optional normals, and the materials they
-//! use. `load_mesh` picks the reader by the file's extension.
+//! A mesh file in its own coordinates, whatever its format: its shared
+//! vertices and normals, its triangles as index triples into them, and the
+//! materials they use. `load_mesh` picks the reader by the file's extension.
+//!
+//! Indices rather than coordinates per triangle: a triangle is 28 bytes
+//! instead of the 208 that three `DVec3` corners, three optional normals and
+//! the corner ids took, and the scene's placement transforms each shared
+//! vertex once instead of each corner (a closed mesh has about half as many
+//! vertices as triangles, so six times fewer). Measured on the 1.1M-triangle
+//! bunny in docs/benchmarks.md "OBJ load".
 
 use std::path::Path;
 
 use glam::DVec3;
 
 use super::SceneError;
+
+/// The index that stands for "none": in `MeshTriangle::normals`, a corner
+/// without a file normal; in `MeshTriangle::material`, a triangle of a mesh
+/// read without materials. No vertex, normal or material has this index
+/// (the readers refuse a mesh that would need it).
+pub const NO_INDEX: u32 = u32::MAX;
+
+/// `i` as a mesh index, or None where it does not fit below [`NO_INDEX`].
+pub fn mesh_index(i: usize) -> Option<u32> {
+    u32::try_from(i).ok().filter(|&i| i != NO_INDEX)
+}
 
 /// A material of a mesh file, already in kdray's terms (for MTL: Ka, Kd, Ks,
 /// Ns and no reflection; for glTF: the rule in docs/scene-format.md).
@@ -20,31 +38,68 @@ pub struct MeshMaterial {
     pub reflection: f64,
 }
 
-/// One triangle in the file's coordinates (glTF: its scene's, node
-/// transforms applied).
-#[derive(Debug, Clone, PartialEq)]
+/// One triangle: indices into its mesh's arrays (28 bytes).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct MeshTriangle {
-    pub vertices: [DVec3; 3],
-    /// Which shared vertex each corner is, `0..Mesh::vertex_count`: corners
-    /// with the same index are one vertex for computed smooth normals (OBJ:
-    /// the `v` index; glTF: the index into a primitive's vertices).
-    pub corners: [usize; 3],
-    /// The file's own normal at each corner, where it gives one (not
-    /// necessarily of unit length).
-    pub normals: [Option<DVec3>; 3],
-    /// Index into `Mesh::materials`; None when materials were not asked for.
-    pub material: Option<usize>,
+    /// Each corner's vertex, an index into `Mesh::positions`. Corners with
+    /// one index are one shared vertex, for computed smooth normals (OBJ:
+    /// the `v` statement; glTF: a vertex of a primitive placed by one node).
+    pub corners: [u32; 3],
+    /// Each corner's normal from the file, an index into `Mesh::normals`;
+    /// [`NO_INDEX`] where the file gives the corner none.
+    pub normals: [u32; 3],
+    /// Index into `Mesh::materials`; [`NO_INDEX`] when materials were not
+    /// asked for.
+    pub material: u32,
 }
 
-/// The triangles of a mesh file and the materials they use.
+impl MeshTriangle {
+    /// The index into `Mesh::normals` of corner `k`'s normal, if it has one.
+    pub fn normal(&self, k: usize) -> Option<usize> {
+        self.normals
+            .get(k)
+            .filter(|&&n| n != NO_INDEX)
+            .map(|&n| n as usize)
+    }
+
+    /// The index into `Mesh::materials`, if materials were asked for.
+    pub fn material(&self) -> Option<usize> {
+        (self.material != NO_INDEX).then_some(self.material as usize)
+    }
+}
+
+/// The vertices, normals and triangles of a mesh file and the materials
+/// they use.
 #[derive(Debug, Clone, PartialEq, Default)]
 pub struct Mesh {
+    /// The shared vertices, in the file's coordinates (glTF: its scene's,
+    /// the node transforms applied; a mesh placed by two nodes has its
+    /// vertices twice). All of the file's, also those no triangle uses (OBJ:
+    /// every `v` statement, in order).
+    pub positions: Vec<DVec3>,
+    /// The file's vertex normals, carried like the positions (glTF: by the
+    /// inverse transpose of the node transform); not necessarily of unit
+    /// length. OBJ: every `vn` statement, in order.
+    pub normals: Vec<DVec3>,
+    /// Only triangles with an area in the file's coordinates.
     pub triangles: Vec<MeshTriangle>,
     /// Deduplicated, in order of first use by a triangle; only materials some
     /// triangle uses are here.
     pub materials: Vec<MeshMaterial>,
-    /// Number of distinct shared vertices the corners index.
-    pub vertex_count: usize,
+}
+
+impl Mesh {
+    /// The three vertices of `t`, in the file's coordinates; None where a
+    /// corner's index is out of range (the readers never write one).
+    pub fn vertices(&self, t: &MeshTriangle) -> Option<[DVec3; 3]> {
+        let [a, b, c] = t.corners.map(|i| self.positions.get(i as usize).copied());
+        Some([a?, b?, c?])
+    }
+
+    /// The file's normal at corner `k` of `t`, if it gives one.
+    pub fn normal(&self, t: &MeshTriangle, k: usize) -> Option<DVec3> {
+        self.normals.get(t.normal(k)?).copied()
+    }
 }
 
 /// The mesh formats, by extension (case-insensitive).

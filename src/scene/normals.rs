@@ -8,15 +8,20 @@ use glam::{DMat3, DVec3};
 /// vertex of that corner. Unlike area or plain averages this does not depend
 /// on how a polygon was split into triangles (a cube's corner gets the
 /// diagonal whichever way its faces are cut). `triangles` gives each
-/// triangle's vertices and the shared-vertex index of each corner (corners
-/// with one index are one vertex). The result is per shared vertex, of unit
-/// length, or zero where the faces around a vertex cancel or there are none.
+/// triangle's corners as indices into `vertices` (corners with one index are
+/// one vertex); a triangle with an index out of range is left out. The
+/// result is per vertex, of unit length, or zero where the faces around a
+/// vertex cancel or there are none.
 pub fn angle_weighted(
-    vertex_count: usize,
-    triangles: impl IntoIterator<Item = ([DVec3; 3], [usize; 3])>,
+    vertices: &[DVec3],
+    triangles: impl IntoIterator<Item = [usize; 3]>,
 ) -> Vec<DVec3> {
-    let mut sums = vec![DVec3::ZERO; vertex_count];
-    for (v, corners) in triangles {
+    let mut sums = vec![DVec3::ZERO; vertices.len()];
+    for corners in triangles {
+        let [Some(&v0), Some(&v1), Some(&v2)] = corners.map(|i| vertices.get(i)) else {
+            continue;
+        };
+        let v = [v0, v1, v2];
         let Some(normal) = unit((v[1] - v[0]).cross(v[2] - v[0])) else {
             continue; // no area, no direction
         };
@@ -24,9 +29,7 @@ pub fn angle_weighted(
             let (a, b) = (v[(k + 1) % 3] - v[k], v[(k + 2) % 3] - v[k]);
             // atan2 of |a x b| and a.b: accurate for small and large angles.
             let angle = a.cross(b).length().atan2(a.dot(b));
-            if let Some(sum) = sums.get_mut(corners[k]) {
-                *sum += angle * normal;
-            }
+            sums[corners[k]] += angle * normal;
         }
     }
     sums.into_iter()
@@ -90,10 +93,7 @@ mod tests {
     }
 
     fn normals_of(vertices: &[DVec3], triangles: &[[usize; 3]]) -> Vec<DVec3> {
-        angle_weighted(
-            vertices.len(),
-            triangles.iter().map(|t| (t.map(|i| vertices[i]), *t)),
-        )
+        angle_weighted(vertices, triangles.iter().copied())
     }
 
     #[test]
@@ -153,9 +153,13 @@ mod tests {
 
     #[test]
     fn unused_vertices_and_zero_area_triangles_give_zero() {
-        let v = [DVec3::ZERO, DVec3::X, DVec3::X * 2.0];
-        let normals = angle_weighted(4, [(v, [0, 1, 2])]);
+        // Vertex 3 is used by no triangle; [0, 1, 2] is collinear.
+        let v = [DVec3::ZERO, DVec3::X, DVec3::X * 2.0, DVec3::Y];
+        let normals = angle_weighted(&v, [[0, 1, 2]]);
         assert_eq!(normals, vec![DVec3::ZERO; 4]);
+        // A triangle with an index out of range is left out.
+        let normals = angle_weighted(&v, [[0, 1, 3], [0, 3, 4]]);
+        assert_eq!(normals[3], DVec3::Z);
     }
 
     #[test]

@@ -14,7 +14,7 @@ use std::path::{Path, PathBuf};
 
 use glam::DVec3;
 
-use super::mesh::{Mesh, MeshMaterial, MeshTriangle};
+use super::mesh::{mesh_index, Mesh, MeshMaterial, MeshTriangle, NO_INDEX};
 use super::obj_chunks;
 use super::SceneError;
 
@@ -99,11 +99,10 @@ pub(super) fn parse_reference(
     on_read: &mut dyn FnMut(&Path),
     faces: &mut usize,
 ) -> Result<Mesh, SceneError> {
-    let mut vertices: Vec<DVec3> = Vec::new();
-    let mut normals: Vec<DVec3> = Vec::new();
     let mut mesh = Mesh::default();
-    // Reused for every face so that faces allocate nothing: (v, vn) indices.
-    let mut face: Vec<(usize, Option<usize>)> = Vec::with_capacity(8);
+    // Reused for every face so that faces allocate nothing: (v, vn) indices,
+    // the normal's NO_INDEX where the corner names none.
+    let mut face: Vec<(u32, u32)> = Vec::with_capacity(8);
 
     // Materials state (only touched when `with_materials`).
     let mut library: HashMap<String, MeshMaterial> = HashMap::new();
@@ -144,7 +143,7 @@ pub(super) fn parse_reference(
                         "expected 3 coordinates (x y z [w]), found {count}"
                     )));
                 }
-                vertices.push(DVec3::from_array(xyz));
+                mesh.positions.push(DVec3::from_array(xyz));
             }
             "vn" => {
                 let mut xyz = [0.0f64; 3];
@@ -159,15 +158,21 @@ pub(super) fn parse_reference(
                 if count != 3 {
                     return Err(err(format!("expected 3 numbers (x y z), found {count}")));
                 }
-                normals.push(DVec3::from_array(xyz));
+                mesh.normals.push(DVec3::from_array(xyz));
             }
             "f" => {
                 *faces += 1;
                 face.clear();
                 for token in tokens {
-                    let index = resolve_index(token, vertices.len()).map_err(err)?;
-                    let normal = resolve_normal(token, normals.len()).map_err(err)?;
-                    face.push((index, normal));
+                    let index = resolve_index(token, mesh.positions.len()).map_err(err)?;
+                    let normal = resolve_normal(token, mesh.normals.len()).map_err(err)?;
+                    face.push((
+                        as_mesh_index(index, token, "vertex").map_err(err)?,
+                        match normal {
+                            Some(n) => as_mesh_index(n, token, "normal").map_err(err)?,
+                            None => NO_INDEX,
+                        },
+                    ));
                 }
                 if face.len() < 3 {
                     return Err(err(format!(
@@ -216,11 +221,15 @@ pub(super) fn parse_reference(
                 } else {
                     None
                 };
+                let material = match material {
+                    Some(m) => as_mesh_index(m, "usemtl", "material").map_err(err)?,
+                    None => NO_INDEX,
+                };
 
                 let first = face[0];
                 for pair in face[1..].windows(2) {
                     let corners = [first, pair[0], pair[1]];
-                    let [a, b, c] = corners.map(|(v, _)| vertices[v]);
+                    let [a, b, c] = corners.map(|(v, _)| mesh.positions[v as usize]);
                     // Skip zero-area triangles: they cannot be hit and have no
                     // normal. "Zero" is the cross product's f64 length, so a
                     // cross product so small that its squared length underflows
@@ -229,9 +238,8 @@ pub(super) fn parse_reference(
                         continue;
                     }
                     mesh.triangles.push(MeshTriangle {
-                        vertices: [a, b, c],
                         corners: corners.map(|(v, _)| v),
-                        normals: corners.map(|(_, n)| n.map(|n| normals[n])),
+                        normals: corners.map(|(_, n)| n),
                         material,
                     });
                 }
@@ -272,7 +280,6 @@ pub(super) fn parse_reference(
         }
     }
 
-    mesh.vertex_count = vertices.len();
     Ok(mesh)
 }
 
@@ -434,6 +441,18 @@ fn resolve_normal(token: &str, defined: usize) -> Result<Option<usize>, String> 
     }
 }
 
+/// A resolved 0-based index as a mesh's u32 index; an error past what a
+/// mesh can index (over four billion vertices, normals or materials: never
+/// in a file that fits in memory, but never a panic either).
+fn as_mesh_index(index: usize, token: &str, what: &str) -> Result<u32, String> {
+    mesh_index(index).ok_or_else(|| {
+        format!(
+            "{what} index {} in '{token}' is beyond the {NO_INDEX} a mesh can index",
+            index + 1
+        )
+    })
+}
+
 /// An OBJ index (1-based, or negative: -1 is the last defined so far).
 fn resolve(text: &str, token: &str, what: &str, defined: usize) -> Result<usize, String> {
     let Ok(index) = text.parse::<i64>() else {
@@ -495,6 +514,11 @@ mod tests {
         DVec3::new(x, y, z)
     }
 
+    /// The vertices of triangle `i` of `mesh`.
+    fn vertices(mesh: &Mesh, i: usize) -> [DVec3; 3] {
+        mesh.vertices(&mesh.triangles[i]).unwrap()
+    }
+
     /// A fresh folder under the temp dir, unique per process and call.
     fn temp_dir(tag: &str) -> PathBuf {
         static COUNTER: AtomicUsize = AtomicUsize::new(0);
@@ -514,12 +538,16 @@ mod tests {
         assert_eq!(
             mesh.triangles,
             vec![MeshTriangle {
-                vertices: [d(0., 0., 0.), d(1., 0., 0.), d(0., 1., 0.)],
                 corners: [0, 1, 2],
-                normals: [None; 3],
-                material: None
+                normals: [NO_INDEX; 3],
+                material: NO_INDEX
             }]
         );
+        assert_eq!(
+            mesh.positions,
+            [d(0., 0., 0.), d(1., 0., 0.), d(0., 1., 0.)]
+        );
+        assert!(mesh.normals.is_empty());
         assert!(mesh.materials.is_empty());
     }
 
@@ -527,7 +555,7 @@ mod tests {
     fn w_coordinate_is_ignored() {
         let mesh = parse("v 0 0 0 1\nv 1 0 0 0.5\nv 0 1 0 2\nf 1 2 3\n");
         assert_eq!(
-            mesh.triangles[0].vertices,
+            vertices(&mesh, 0),
             [d(0., 0., 0.), d(1., 0., 0.), d(0., 1., 0.)]
         );
     }
@@ -537,8 +565,8 @@ mod tests {
         let mesh = parse(&format!("{SQUARE}f 1 2 3 4\n"));
         let [a, b, c, e] = [d(0., 0., 0.), d(1., 0., 0.), d(1., 1., 0.), d(0., 1., 0.)];
         assert_eq!(mesh.triangles.len(), 2);
-        assert_eq!(mesh.triangles[0].vertices, [a, b, c]);
-        assert_eq!(mesh.triangles[1].vertices, [a, c, e]);
+        assert_eq!(vertices(&mesh, 0), [a, b, c]);
+        assert_eq!(vertices(&mesh, 1), [a, c, e]);
     }
 
     #[test]
@@ -552,7 +580,9 @@ mod tests {
             d(1., 2., 0.),
             d(-1., 1., 0.),
         ];
-        let got: Vec<_> = mesh.triangles.iter().map(|t| t.vertices).collect();
+        let got: Vec<_> = (0..mesh.triangles.len())
+            .map(|i| vertices(&mesh, i))
+            .collect();
         assert_eq!(
             got,
             vec![[v[0], v[1], v[2]], [v[0], v[2], v[3]], [v[0], v[3], v[4]]]
@@ -565,9 +595,15 @@ mod tests {
                     f 1 2 3\nf 1/1 2/2 3/3\nf 1//1 2//1 3//1\nf 1/1/1 2/2/1 3/3/1\n";
         let mesh = parse(text);
         assert_eq!(mesh.triangles.len(), 4);
-        for t in &mesh.triangles {
-            assert_eq!(t.vertices, [d(0., 0., 0.), d(1., 0., 0.), d(0., 1., 0.)]);
+        for i in 0..4 {
+            assert_eq!(
+                vertices(&mesh, i),
+                [d(0., 0., 0.), d(1., 0., 0.), d(0., 1., 0.)]
+            );
         }
+        // Only the `v//vn` and `v/vt/vn` forms name normals.
+        let normals: Vec<_> = mesh.triangles.iter().map(|t| t.normals).collect();
+        assert_eq!(normals, [[NO_INDEX; 3], [NO_INDEX; 3], [0; 3], [0; 3]]);
     }
 
     #[test]
@@ -576,13 +612,15 @@ mod tests {
         let text = "v 0 0 0\nv 1 0 0\nv 0 1 0\nf -3 -2 -1\nv 5 5 5\nv 6 5 5\nvn 0 0 1\nf -5//1 -1//1 -2//1\n";
         let mesh = parse(text);
         assert_eq!(
-            mesh.triangles[0].vertices,
+            vertices(&mesh, 0),
             [d(0., 0., 0.), d(1., 0., 0.), d(0., 1., 0.)]
         );
         assert_eq!(
-            mesh.triangles[1].vertices,
+            vertices(&mesh, 1),
             [d(0., 0., 0.), d(6., 5., 5.), d(5., 5., 5.)]
         );
+        assert_eq!(mesh.triangles[1].corners, [0, 4, 3]);
+        assert_eq!(mesh.triangles[1].normals, [0; 3]);
     }
 
     #[test]
@@ -594,7 +632,7 @@ mod tests {
         let mesh = parse(text);
         assert_eq!(mesh.triangles.len(), 1);
         assert_eq!(
-            mesh.triangles[0].vertices,
+            vertices(&mesh, 0),
             [d(0., 0., 0.), d(2., 0., 0.), d(0., 1., 0.)]
         );
         // Tiny but non-zero area is kept...
@@ -616,7 +654,7 @@ mod tests {
         let mesh = parse(text);
         assert_eq!(mesh.triangles.len(), 1);
         assert_eq!(
-            mesh.triangles[0].vertices,
+            vertices(&mesh, 0),
             [d(0., 0., 0.), d(1., 0., 0.), d(0., 1., 0.)]
         );
     }
@@ -664,7 +702,7 @@ mod tests {
         .unwrap();
         let mesh = load_obj(&obj, false).unwrap();
         assert_eq!(mesh.triangles.len(), 1);
-        assert_eq!(mesh.triangles[0].material, None);
+        assert_eq!(mesh.triangles[0].material(), None);
         assert!(mesh.materials.is_empty());
         // With materials the missing file is an error at the mtllib line.
         let e = load_obj(&obj, true).unwrap_err();
@@ -719,13 +757,13 @@ mod tests {
                 reflection: 0.0,
             }
         );
-        let used: Vec<_> = mesh.triangles.iter().map(|t| t.material).collect();
+        let used: Vec<_> = mesh.triangles.iter().map(|t| t.material()).collect();
         assert_eq!(used, [Some(0), Some(1), Some(1), Some(0)]);
 
         // Without materials, the same file gives the same triangles and no materials.
         let plain = load_obj(&obj, false).unwrap();
         assert!(plain.materials.is_empty());
-        assert!(plain.triangles.iter().all(|t| t.material.is_none()));
+        assert!(plain.triangles.iter().all(|t| t.material().is_none()));
         assert_eq!(plain.triangles.len(), 4);
         let _ = std::fs::remove_dir_all(&dir);
     }
@@ -948,15 +986,16 @@ mod tests {
         names.sort();
         assert_eq!(names, ["gold", "teal"]);
         for t in &mesh.triangles {
-            assert!(t.material.is_some());
-            for v in t.vertices {
+            assert!(t.material().is_some());
+            let vertices = mesh.vertices(t).unwrap();
+            for v in vertices {
                 // Inside the torus's bounding box, on its surface.
                 let ring = (v.x * v.x + v.z * v.z).sqrt() - 1.0;
                 let tube = (ring * ring + v.y * v.y).sqrt();
                 assert!((tube - 0.35).abs() < 1e-5, "{v}");
             }
             // Outward winding: the normal points away from the tube's centre line.
-            let [a, b, c] = t.vertices;
+            let [a, b, c] = vertices;
             let n = (b - a).cross(c - a);
             let centroid = (a + b + c) / 3.0;
             let on_ring = DVec3::new(centroid.x, 0.0, centroid.z).normalize();

@@ -23,7 +23,7 @@ use std::path::{Path, PathBuf};
 
 use glam::DVec3;
 
-use super::mesh::{Mesh, MeshMaterial, MeshTriangle};
+use super::mesh::{mesh_index, Mesh, MeshMaterial, MeshTriangle, NO_INDEX};
 use super::obj;
 
 /// Smallest chunk worth a thread: below this a thread's start and the merge
@@ -90,7 +90,6 @@ pub(super) fn parse(text: &str, threads: usize, materials: Option<MaterialFiles>
     let face_statements = chunks.iter().map(|c| c.face_statements).sum();
     let file = Resolved {
         positions: &positions,
-        normals: &normals,
     };
     let jobs: Vec<_> = chunks.iter().zip(&starts).collect();
 
@@ -164,9 +163,10 @@ pub(super) fn parse(text: &str, threads: usize, materials: Option<MaterialFiles>
     unsafe { triangles.set_len(total) };
 
     let mesh = Mesh {
+        positions,
+        normals,
         triangles,
         materials,
-        vertex_count: positions.len(),
     };
     Outcome::Mesh(mesh, face_statements)
 }
@@ -282,11 +282,12 @@ impl<'p, 't> MaterialState<'p, 't> {
 
 /// Asks the kernel to back the spare capacity of `v` with 2 MiB pages
 /// where it can (Linux's transparent huge pages, which are commonly enabled
-/// only on request). The triangles of a million-triangle mesh take 230 MB,
-/// otherwise one page fault per 4 KiB as they are written: on the 2-core
-/// machine this took the scene's load from 0.73 s to 0.63 s (median of
-/// eight, benchmarks.md "OBJ load"). A hint: nothing changes where it is
-/// refused.
+/// only on request): one fault per 2 MiB instead of per 4 KiB as the
+/// triangles are written. Measured when a triangle took 208 bytes (230 MB
+/// for a million-triangle mesh): the scene's load 0.73 s -> 0.63 s (median
+/// of eight, benchmarks.md "OBJ load"); at 28 bytes a triangle (31 MB) it
+/// matters less and was not measured again. A hint: nothing changes where
+/// it is refused.
 #[cfg(target_os = "linux")]
 fn advise_huge_pages<T>(v: &mut Vec<T>) {
     const HUGE_PAGE: usize = 2 << 20;
@@ -598,11 +599,11 @@ fn index(bytes: &[u8]) -> Option<i32> {
     }
 }
 
-/// The whole file's vertices and normals, for resolving faces.
+/// The whole file's vertices, for resolving faces (their normals are only
+/// indexed, and the count at each face is kept in the chunk).
 #[derive(Clone, Copy)]
 struct Resolved<'a> {
     positions: &'a [DVec3],
-    normals: &'a [DVec3],
 }
 
 impl Resolved<'_> {
@@ -610,7 +611,8 @@ impl Resolved<'_> {
     /// as the reference parser builds them (fan-triangulated, zero-area
     /// triangles skipped); `start` is where the chunk's vertices and normals
     /// begin in the file; `runs` the faces' materials as (first face,
-    /// material), starting at face 0. None at an index out of range.
+    /// material), starting at face 0. None at an index out of range, or one
+    /// a mesh cannot hold (`mesh_index`).
     fn triangles(
         &self,
         chunk: &Chunk,
@@ -618,24 +620,27 @@ impl Resolved<'_> {
         runs: &[(usize, Option<usize>)],
         mut emit: impl FnMut(MeshTriangle),
     ) -> Option<()> {
-        // (vertex, normal) of each corner of the current face.
-        let mut face: Vec<(usize, Option<usize>)> = Vec::with_capacity(8);
+        // (vertex, normal or NO_INDEX) of each corner of the current face.
+        let mut face: Vec<(u32, u32)> = Vec::with_capacity(8);
         let mut corners_start = 0usize;
         let mut run = 0usize;
         for (i, f) in chunk.faces.iter().enumerate() {
             while run + 1 < runs.len() && runs[run + 1].0 <= i {
                 run += 1;
             }
-            let material = runs[run].1;
+            let material = match runs[run].1 {
+                Some(m) => mesh_index(m)?,
+                None => NO_INDEX,
+            };
             let defined = start.0 + f.positions_before as usize;
             let defined_normals = start.1 + f.normals_before as usize;
             let end = f.corners_end as usize;
             face.clear();
             for c in &chunk.corners[corners_start..end] {
-                let v = resolve(c.v, defined)?;
+                let v = mesh_index(resolve(c.v, defined)?)?;
                 let vn = match c.vn {
-                    0 => None,
-                    vn => Some(resolve(vn, defined_normals)?),
+                    0 => NO_INDEX,
+                    vn => mesh_index(resolve(vn, defined_normals)?)?,
                 };
                 face.push((v, vn));
             }
@@ -644,15 +649,14 @@ impl Resolved<'_> {
             let first = face[0];
             for pair in face[1..].windows(2) {
                 let corners = [first, pair[0], pair[1]];
-                let [a, b, c] = corners.map(|(v, _)| self.positions[v]);
+                let [a, b, c] = corners.map(|(v, _)| self.positions[v as usize]);
                 // The reference parser's zero-area test, the same arithmetic.
                 if (b - a).cross(c - a).length() == 0.0 {
                     continue;
                 }
                 emit(MeshTriangle {
-                    vertices: [a, b, c],
                     corners: corners.map(|(v, _)| v),
-                    normals: corners.map(|(_, n)| n.map(|n| self.normals[n])),
+                    normals: corners.map(|(_, n)| n),
                     material,
                 });
             }
