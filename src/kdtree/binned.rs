@@ -147,16 +147,44 @@ pub fn partition(
     cell: &Aabb,
     shapes: &Shapes<'_>,
 ) -> (Vec<ClippedBox>, Vec<ClippedBox>) {
-    let (axis, position) = (split.axis, split.position);
-    let eps = shapes.tolerance();
+    if boxes.len() <= IN_PLACE {
+        partition_in_place(boxes, split, cell, shapes)
+    } else {
+        partition_fresh(boxes, split, cell, shapes)
+    }
+}
+
+/// Nodes of at most this many objects ([`super::sah::FEW`] and some more)
+/// give their vector to the lower child: one allocation fewer per split,
+/// where most splits are (the bunny's binned build, one thread: 1.5% less
+/// CPU). A bigger node's child would keep the parent's capacity.
+const IN_PLACE: usize = 64;
+
+/// The reaches of the two children's cells.
+fn reaches(split: &Split, cell: &Aabb, shapes: &Shapes<'_>) -> (Aabb, Aabb) {
     let mut below_cell = *cell;
-    below_cell.max[axis] = position;
+    below_cell.max[split.axis] = split.position;
     let mut above_cell = *cell;
-    above_cell.min[axis] = position;
-    let (below_reach, above_reach) = (shapes.reach(&below_cell), shapes.reach(&above_cell));
-    let room = |count: usize| (count + count / 16 + 4).min(boxes.len());
-    let mut below = Vec::with_capacity(room(split.below));
-    let mut above = Vec::with_capacity(room(split.above));
+    above_cell.min[split.axis] = split.position;
+    (shapes.reach(&below_cell), shapes.reach(&above_cell))
+}
+
+/// Room for a child of about `count` boxes out of `n`.
+fn room(count: usize, n: usize) -> usize {
+    (count + count / 16 + 4).min(n)
+}
+
+/// [`partition`] into two new vectors.
+fn partition_fresh(
+    boxes: Vec<ClippedBox>,
+    split: &Split,
+    cell: &Aabb,
+    shapes: &Shapes<'_>,
+) -> (Vec<ClippedBox>, Vec<ClippedBox>) {
+    let (axis, position, eps) = (split.axis, split.position, shapes.tolerance());
+    let (below_reach, above_reach) = reaches(split, cell, shapes);
+    let mut below = Vec::with_capacity(room(split.below, boxes.len()));
+    let mut above = Vec::with_capacity(room(split.above, boxes.len()));
     for b in boxes {
         match sides(b.bounds.min[axis], b.bounds.max[axis], position, eps) {
             (true, false) => below.push(b),
@@ -173,6 +201,44 @@ pub fn partition(
         }
     }
     (below, above)
+}
+
+/// [`partition`], writing the lower child over `boxes`: each box gives
+/// that child at most one box, so the write never passes the read.
+fn partition_in_place(
+    mut boxes: Vec<ClippedBox>,
+    split: &Split,
+    cell: &Aabb,
+    shapes: &Shapes<'_>,
+) -> (Vec<ClippedBox>, Vec<ClippedBox>) {
+    let (axis, position, eps) = (split.axis, split.position, shapes.tolerance());
+    let (below_reach, above_reach) = reaches(split, cell, shapes);
+    let mut above = Vec::with_capacity(room(split.above, boxes.len()));
+    let mut kept = 0;
+    for i in 0..boxes.len() {
+        let b = boxes[i];
+        let lower = match sides(b.bounds.min[axis], b.bounds.max[axis], position, eps) {
+            (true, false) => Some(b),
+            (false, true) => {
+                above.push(b);
+                None
+            }
+            // Both, or a NaN box: clipping decides.
+            _ => {
+                let lower = shapes.clip_within(b.id, &below_reach);
+                if let Some(bounds) = shapes.clip_within(b.id, &above_reach) {
+                    above.push(ClippedBox { id: b.id, bounds });
+                }
+                lower.map(|bounds| ClippedBox { id: b.id, bounds })
+            }
+        };
+        if let Some(lower) = lower {
+            boxes[kept] = lower;
+            kept += 1;
+        }
+    }
+    boxes.truncate(kept);
+    (boxes, above)
 }
 
 #[cfg(test)]
@@ -235,6 +301,37 @@ mod tests {
             best_split(&boxes, &cell, &BuildParams::for_object_count(8), 1e-4).expect("a split");
         assert_eq!((s.axis, s.below, s.above), (0, 6, 2));
         assert!(5.3 < s.position && s.position < 5.301, "{}", s.position);
+    }
+
+    proptest::proptest! {
+        /// The lower child written over the parent's vector is the one
+        /// built afresh, and so is the upper child, for boxes on a coarse
+        /// grid (faces on the plane, flat boxes) and any plane.
+        #[test]
+        fn partition_in_place_matches_fresh_vectors(
+            raw in proptest::collection::vec((0i32..8, 0i32..8, 0i32..4, 0i32..4), 1..80),
+            axis in 0usize..2,
+            position in 0i32..16,
+        ) {
+            let all: Vec<Aabb> = raw
+                .iter()
+                .map(|&(x, y, w, h)| Aabb {
+                    min: Vec3::new(x as f32, y as f32, 0.0),
+                    max: Vec3::new((x + w) as f32, (y + h) as f32, 1.0),
+                })
+                .collect();
+            let shapes = Shapes::Boxes(&all);
+            let boxes: Vec<ClippedBox> = all
+                .iter()
+                .enumerate()
+                .map(|(id, &bounds)| ClippedBox { id: id as u32, bounds })
+                .collect();
+            let cell = Aabb { min: Vec3::ZERO, max: Vec3::new(12.0, 12.0, 1.0) };
+            let split = Split { axis, position: position as f32 * 0.75, cost: 0.0, below: 1, above: 1 };
+            let fresh = partition_fresh(boxes.clone(), &split, &cell, &shapes);
+            let in_place = partition_in_place(boxes, &split, &cell, &shapes);
+            proptest::prop_assert_eq!(in_place, fresh);
+        }
     }
 
     /// A box across the plane is clipped into both children; boxes on one

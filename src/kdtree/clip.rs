@@ -184,6 +184,10 @@ impl Polygon {
             vertices: [DVec3::ZERO; MAX_VERTICES],
             len: 0,
         };
+        let n = self.len;
+        let Some(&last) = self.vertices[..n].last() else {
+            return out;
+        };
         let mut push = |v: DVec3| {
             // A convex polygon gains at most one vertex per plane; the guard
             // only matters for a polygon that rounding made slightly concave.
@@ -192,11 +196,13 @@ impl Polygon {
                 out.len += 1;
             }
         };
-        let n = self.len;
-        for i in 0..n {
-            let prev = self.vertices[(i + n - 1) % n];
-            let cur = self.vertices[i];
-            let (prev_in, cur_in) = (inside(&prev), inside(&cur));
+        // Each edge (prev, cur), the last vertex to the first first; the
+        // previous vertex is carried along (an index `% n` was a division
+        // per vertex).
+        let mut prev = last;
+        let mut prev_in = inside(&prev);
+        for &cur in &self.vertices[..n] {
+            let cur_in = inside(&cur);
             if prev_in != cur_in {
                 // One endpoint on each side, so the denominator is non-zero
                 // and t lies in [0, 1] (rounding is monotonic).
@@ -208,6 +214,7 @@ impl Polygon {
             if cur_in {
                 push(cur);
             }
+            (prev, prev_in) = (cur, cur_in);
         }
         out
     }
