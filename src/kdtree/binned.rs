@@ -169,6 +169,34 @@ fn reaches(split: &Split, cell: &Aabb, shapes: &Shapes<'_>) -> (Aabb, Aabb) {
     (shapes.reach(&below_cell), shapes.reach(&above_cell))
 }
 
+/// Box `b`'s part in the lower and in the upper child of a plane at
+/// `position` on `axis`: a box wholly on one side keeps its box; one on
+/// both (within `eps`), or a NaN box, is clipped again to each child's
+/// reach (`reaches`: lower, upper) and left out of a child it turns out
+/// not to reach.
+#[inline(always)]
+fn route(
+    b: ClippedBox,
+    axis: usize,
+    position: f32,
+    eps: f32,
+    reaches: &(Aabb, Aabb),
+    shapes: &Shapes<'_>,
+) -> (Option<ClippedBox>, Option<ClippedBox>) {
+    match sides(b.bounds.min[axis], b.bounds.max[axis], position, eps) {
+        (true, false) => (Some(b), None),
+        (false, true) => (None, Some(b)),
+        _ => {
+            let clipped = |reach: &Aabb| {
+                shapes
+                    .clip_within(b.id, reach)
+                    .map(|bounds| ClippedBox { id: b.id, bounds })
+            };
+            (clipped(&reaches.0), clipped(&reaches.1))
+        }
+    }
+}
+
 /// Room for a child of about `count` boxes out of `n`.
 fn room(count: usize, n: usize) -> usize {
     (count + count / 16 + 4).min(n)
@@ -182,23 +210,13 @@ fn partition_fresh(
     shapes: &Shapes<'_>,
 ) -> (Vec<ClippedBox>, Vec<ClippedBox>) {
     let (axis, position, eps) = (split.axis, split.position, shapes.tolerance());
-    let (below_reach, above_reach) = reaches(split, cell, shapes);
+    let reaches = reaches(split, cell, shapes);
     let mut below = Vec::with_capacity(room(split.below, boxes.len()));
     let mut above = Vec::with_capacity(room(split.above, boxes.len()));
     for b in boxes {
-        match sides(b.bounds.min[axis], b.bounds.max[axis], position, eps) {
-            (true, false) => below.push(b),
-            (false, true) => above.push(b),
-            // Both, or a NaN box: clipping decides.
-            _ => {
-                if let Some(bounds) = shapes.clip_within(b.id, &below_reach) {
-                    below.push(ClippedBox { id: b.id, bounds });
-                }
-                if let Some(bounds) = shapes.clip_within(b.id, &above_reach) {
-                    above.push(ClippedBox { id: b.id, bounds });
-                }
-            }
-        }
+        let (lower, upper) = route(b, axis, position, eps, &reaches, shapes);
+        below.extend(lower);
+        above.extend(upper);
     }
     (below, above)
 }
@@ -212,26 +230,12 @@ fn partition_in_place(
     shapes: &Shapes<'_>,
 ) -> (Vec<ClippedBox>, Vec<ClippedBox>) {
     let (axis, position, eps) = (split.axis, split.position, shapes.tolerance());
-    let (below_reach, above_reach) = reaches(split, cell, shapes);
+    let reaches = reaches(split, cell, shapes);
     let mut above = Vec::with_capacity(room(split.above, boxes.len()));
     let mut kept = 0;
     for i in 0..boxes.len() {
-        let b = boxes[i];
-        let lower = match sides(b.bounds.min[axis], b.bounds.max[axis], position, eps) {
-            (true, false) => Some(b),
-            (false, true) => {
-                above.push(b);
-                None
-            }
-            // Both, or a NaN box: clipping decides.
-            _ => {
-                let lower = shapes.clip_within(b.id, &below_reach);
-                if let Some(bounds) = shapes.clip_within(b.id, &above_reach) {
-                    above.push(ClippedBox { id: b.id, bounds });
-                }
-                lower.map(|bounds| ClippedBox { id: b.id, bounds })
-            }
-        };
+        let (lower, upper) = route(boxes[i], axis, position, eps, &reaches, shapes);
+        above.extend(upper);
         if let Some(lower) = lower {
             boxes[kept] = lower;
             kept += 1;
