@@ -147,10 +147,11 @@ pub fn partition(
     cell: &Aabb,
     shapes: &Shapes<'_>,
 ) -> (Vec<ClippedBox>, Vec<ClippedBox>) {
+    let router = Router::new(split, cell, shapes);
     if boxes.len() <= IN_PLACE {
-        partition_in_place(boxes, split, cell, shapes)
+        partition_in_place(boxes, split, &router)
     } else {
-        partition_fresh(boxes, split, cell, shapes)
+        partition_fresh(boxes, split, &router)
     }
 }
 
@@ -160,39 +161,50 @@ pub fn partition(
 /// CPU). A bigger node's child would keep the parent's capacity.
 const IN_PLACE: usize = 64;
 
-/// The reaches of the two children's cells.
-fn reaches(split: &Split, cell: &Aabb, shapes: &Shapes<'_>) -> (Aabb, Aabb) {
-    let mut below_cell = *cell;
-    below_cell.max[split.axis] = split.position;
-    let mut above_cell = *cell;
-    above_cell.min[split.axis] = split.position;
-    (shapes.reach(&below_cell), shapes.reach(&above_cell))
-}
-
-/// Box `b`'s part in the lower and in the upper child of a plane at
-/// `position` on `axis`: a box wholly on one side keeps its box; one on
-/// both (within `eps`), or a NaN box, is clipped again to each child's
-/// reach (`reaches`: lower, upper) and left out of a child it turns out
-/// not to reach.
-#[inline(always)]
-fn route(
-    b: ClippedBox,
+/// Where a node's boxes go against its split plane: a box wholly on one
+/// side keeps its box; one on both (within ε), or a NaN box, is clipped
+/// again to each child's reach and left out of a child it turns out not to
+/// reach.
+struct Router<'a, 's> {
     axis: usize,
     position: f32,
     eps: f32,
-    reaches: &(Aabb, Aabb),
-    shapes: &Shapes<'_>,
-) -> (Option<ClippedBox>, Option<ClippedBox>) {
-    match sides(b.bounds.min[axis], b.bounds.max[axis], position, eps) {
-        (true, false) => (Some(b), None),
-        (false, true) => (None, Some(b)),
-        _ => {
-            let clipped = |reach: &Aabb| {
-                shapes
-                    .clip_within(b.id, reach)
-                    .map(|bounds| ClippedBox { id: b.id, bounds })
-            };
-            (clipped(&reaches.0), clipped(&reaches.1))
+    below_reach: Aabb,
+    above_reach: Aabb,
+    shapes: &'a Shapes<'s>,
+}
+
+impl<'a, 's> Router<'a, 's> {
+    fn new(split: &Split, cell: &Aabb, shapes: &'a Shapes<'s>) -> Self {
+        let mut below_cell = *cell;
+        below_cell.max[split.axis] = split.position;
+        let mut above_cell = *cell;
+        above_cell.min[split.axis] = split.position;
+        Router {
+            axis: split.axis,
+            position: split.position,
+            eps: shapes.tolerance(),
+            below_reach: shapes.reach(&below_cell),
+            above_reach: shapes.reach(&above_cell),
+            shapes,
+        }
+    }
+
+    /// Box `b`'s part in the lower and in the upper child.
+    #[inline(always)]
+    fn route(&self, b: ClippedBox) -> (Option<ClippedBox>, Option<ClippedBox>) {
+        let (min, max) = (b.bounds.min[self.axis], b.bounds.max[self.axis]);
+        match sides(min, max, self.position, self.eps) {
+            (true, false) => (Some(b), None),
+            (false, true) => (None, Some(b)),
+            _ => {
+                let clipped = |reach: &Aabb| {
+                    self.shapes
+                        .clip_within(b.id, reach)
+                        .map(|bounds| ClippedBox { id: b.id, bounds })
+                };
+                (clipped(&self.below_reach), clipped(&self.above_reach))
+            }
         }
     }
 }
@@ -203,18 +215,11 @@ fn room(count: usize, n: usize) -> usize {
 }
 
 /// [`partition`] into two new vectors.
-fn partition_fresh(
-    boxes: Vec<ClippedBox>,
-    split: &Split,
-    cell: &Aabb,
-    shapes: &Shapes<'_>,
-) -> (Vec<ClippedBox>, Vec<ClippedBox>) {
-    let (axis, position, eps) = (split.axis, split.position, shapes.tolerance());
-    let reaches = reaches(split, cell, shapes);
+fn partition_fresh(boxes: Vec<ClippedBox>, split: &Split, router: &Router) -> Children {
     let mut below = Vec::with_capacity(room(split.below, boxes.len()));
     let mut above = Vec::with_capacity(room(split.above, boxes.len()));
     for b in boxes {
-        let (lower, upper) = route(b, axis, position, eps, &reaches, shapes);
+        let (lower, upper) = router.route(b);
         below.extend(lower);
         above.extend(upper);
     }
@@ -223,18 +228,11 @@ fn partition_fresh(
 
 /// [`partition`], writing the lower child over `boxes`: each box gives
 /// that child at most one box, so the write never passes the read.
-fn partition_in_place(
-    mut boxes: Vec<ClippedBox>,
-    split: &Split,
-    cell: &Aabb,
-    shapes: &Shapes<'_>,
-) -> (Vec<ClippedBox>, Vec<ClippedBox>) {
-    let (axis, position, eps) = (split.axis, split.position, shapes.tolerance());
-    let reaches = reaches(split, cell, shapes);
+fn partition_in_place(mut boxes: Vec<ClippedBox>, split: &Split, router: &Router) -> Children {
     let mut above = Vec::with_capacity(room(split.above, boxes.len()));
     let mut kept = 0;
     for i in 0..boxes.len() {
-        let (lower, upper) = route(boxes[i], axis, position, eps, &reaches, shapes);
+        let (lower, upper) = router.route(boxes[i]);
         above.extend(upper);
         if let Some(lower) = lower {
             boxes[kept] = lower;
@@ -244,6 +242,9 @@ fn partition_in_place(
     boxes.truncate(kept);
     (boxes, above)
 }
+
+/// The boxes of a split's lower and upper child.
+type Children = (Vec<ClippedBox>, Vec<ClippedBox>);
 
 #[cfg(test)]
 mod tests {
@@ -332,8 +333,9 @@ mod tests {
                 .collect();
             let cell = Aabb { min: Vec3::ZERO, max: Vec3::new(12.0, 12.0, 1.0) };
             let split = Split { axis, position: position as f32 * 0.75, cost: 0.0, below: 1, above: 1 };
-            let fresh = partition_fresh(boxes.clone(), &split, &cell, &shapes);
-            let in_place = partition_in_place(boxes, &split, &cell, &shapes);
+            let router = Router::new(&split, &cell, &shapes);
+            let fresh = partition_fresh(boxes.clone(), &split, &router);
+            let in_place = partition_in_place(boxes, &split, &router);
             proptest::prop_assert_eq!(in_place, fresh);
         }
     }
