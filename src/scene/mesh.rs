@@ -62,6 +62,14 @@ impl MeshTriangle {
             .map(|&n| n as usize)
     }
 
+    /// Its three corners among `points` (a mesh's positions, or those
+    /// positions placed in the scene); None where an index is out of range
+    /// (the readers never write one).
+    pub fn corners_in(&self, points: &[DVec3]) -> Option<[DVec3; 3]> {
+        let [a, b, c] = self.corners.map(|i| points.get(i as usize).copied());
+        Some([a?, b?, c?])
+    }
+
     /// The index into `Mesh::materials`, if materials were asked for.
     pub fn material(&self) -> Option<usize> {
         (self.material != NO_INDEX).then_some(self.material as usize)
@@ -92,8 +100,7 @@ impl Mesh {
     /// The three vertices of `t`, in the file's coordinates; None where a
     /// corner's index is out of range (the readers never write one).
     pub fn vertices(&self, t: &MeshTriangle) -> Option<[DVec3; 3]> {
-        let [a, b, c] = t.corners.map(|i| self.positions.get(i as usize).copied());
-        Some([a?, b?, c?])
+        t.corners_in(&self.positions)
     }
 
     /// The file's normal at corner `k` of `t`, if it gives one.

@@ -1043,12 +1043,12 @@ impl Validator<'_> {
         // scene's vector (rayon writes an indexed iterator in place), which
         // on two cores also halves the wait for its fresh pages.
         let all_kept = mesh.triangles.par_iter().all(|t| {
-            placed_corners(&world, t).is_some_and(|v| has_area(&v)) && material_of(t).is_some()
+            t.corners_in(&world).is_some_and(|v| has_area(&v)) && material_of(t).is_some()
         });
         if all_kept {
             triangles.par_extend(mesh.triangles.par_iter().map(|t| {
                 // Both in range and present, checked just above.
-                let vertices = placed_corners(&world, t).unwrap_or_default();
+                let vertices = t.corners_in(&world).unwrap_or_default();
                 Triangle {
                     vertices,
                     normals: shading.of(t, &vertices),
@@ -1061,7 +1061,7 @@ impl Validator<'_> {
         // reported.
         triangles.reserve(mesh.triangles.len());
         for t in &mesh.triangles {
-            let Some(vertices) = placed_corners(&world, t) else {
+            let Some(vertices) = t.corners_in(&world) else {
                 // The readers write only indices in range.
                 return Err(self.error(&key("path"), "a face has a vertex index out of range"));
             };
@@ -1113,13 +1113,6 @@ impl Validator<'_> {
         }
         Ok(world)
     }
-}
-
-/// The corners of `t` among the placed vertices `world`; None where an index
-/// is out of range.
-fn placed_corners(world: &[DVec3], t: &MeshTriangle) -> Option<[DVec3; 3]> {
-    let [a, b, c] = t.corners.map(|i| world.get(i as usize).copied());
-    Some([a?, b?, c?])
 }
 
 /// How a mesh entry's triangles are shaded: flat, or with normals from the
