@@ -48,14 +48,12 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         )?;
         let sum: u64 = work.iter().sum();
         // Rows of 8 pixels aligned to the 8 x 8 workgroups.
-        let lockstep: u64 = work
-            .chunks(width)
-            .flat_map(|row| row.chunks(8))
-            .map(|group| 8 * group.iter().copied().max().unwrap_or(0))
-            .sum();
+        let lockstep = lockstep_work(&work, width, 8, 1);
+        let lockstep_4x2 = lockstep_work(&work, width, 4, 2);
         println!(
-            "{accel:?}: work {sum}, in lockstep {lockstep} ({:.2}x), GPU {:.0} ms",
+            "{accel:?}: work {sum}, in lockstep {lockstep} ({:.2}x; 4x2 blocks {:.2}x), GPU {:.0} ms",
             lockstep as f64 / sum.max(1) as f64,
+            lockstep_4x2 as f64 / sum.max(1) as f64,
             stats.gpu_ms
         );
         totals.push((sum, lockstep, stats.gpu_ms));
@@ -68,4 +66,23 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         brute.2 / kd.2
     );
     Ok(())
+}
+
+/// Work in lockstep when each SIMD group of 8 lanes covers a `bw` x `bh`
+/// block of pixels: 8 times the block's busiest pixel, summed.
+fn lockstep_work(work: &[u64], width: usize, bw: usize, bh: usize) -> u64 {
+    let height = work.len() / width.max(1);
+    let mut total = 0;
+    for by in (0..height).step_by(bh) {
+        for bx in (0..width).step_by(bw) {
+            let mut most = 0;
+            for y in by..(by + bh).min(height) {
+                for x in bx..(bx + bw).min(width) {
+                    most = most.max(work[y * width + x]);
+                }
+            }
+            total += 8 * most;
+        }
+    }
+    total
 }

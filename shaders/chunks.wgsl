@@ -47,12 +47,21 @@ fn triangle(i: u32) -> Triangle {
     return triangles_chunk(at.chunk, at.index);
 }
 
+fn unpack_kd_node(p: PackedKdNode) -> KdNode {
+    let kind = p.tag_and_index & 3u;
+    let above = p.tag_and_index >> 2u;
+    if (kind == KD_LEAF) {
+        return KdNode(kind, 0.0, p.split_or_first, above);
+    }
+    return KdNode(kind, bitcast<f32>(p.split_or_first), above, 0u);
+}
+
 fn kd_node(i: u32) -> KdNode {
     if (!SPLIT_SCENE) {
-        return kd_nodes[i];
+        return unpack_kd_node(kd_nodes[i]);
     }
     let at = chunk_index(i, arrayLength(&kd_nodes), KD_NODES_CHUNKS);
-    return kd_nodes_chunk(at.chunk, at.index);
+    return unpack_kd_node(kd_nodes_chunk(at.chunk, at.index));
 }
 
 // Entry `i` of the leaves' object lists: an object id.

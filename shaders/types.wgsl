@@ -9,6 +9,13 @@ struct KdNode {
     count: u32,      // leaf: number of object ids
 }
 
+// A k-d node as stored (src/layout.rs GpuKdNode), 8 bytes; kd_node()
+// unpacks it into a KdNode.
+struct PackedKdNode {
+    tag_and_index: u32,   // kind in bits 0-1; inner: above child, leaf: count
+    split_or_first: u32,  // inner: the plane (f32 bits); leaf: first entry
+}
+
 // A leaf's box and the node beyond each face (src/layout.rs LeafRopes).
 // Face 2 * axis is the low side, 2 * axis + 1 the high side.
 struct LeafRopes {

@@ -47,7 +47,7 @@ fn render_with_chunks(
         .unwrap_or_else(|e| panic!("{e}"))
 }
 
-/// The bindings of each split array on this adapter (lavapipe: 5, 5, 3, 8,
+/// The bindings of each split array on this adapter (lavapipe: 7, 3, 3, 8,
 /// 2, 2).
 fn chunks() -> [u64; SPLIT_ARRAY_COUNT] {
     bindings::scene_chunks(&gpu().device.limits()).map(|k| k as u64)
@@ -142,6 +142,7 @@ fn chunk_inside_a_leaf(prepared: &PreparedScene) -> ChunkBytes {
     let leaf = a
         .nodes
         .iter()
+        .map(|n| n.unpack())
         .filter(|n| n.is_leaf() && n.count >= 2)
         .find(|n| (n.index as u64 + 1) * k >= references && (n.index as u64 + 1) < references)
         .expect("a leaf of two or more objects in the right place");

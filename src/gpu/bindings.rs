@@ -57,7 +57,7 @@ pub const TRIANGLES: Binding = binding(2, "triangles", "array<Triangle>", Storag
 pub const OBJECTS: Binding = binding(3, "objects", "array<vec2<u32>>", StorageRead);
 pub const MATERIALS: Binding = binding(4, "materials", "array<Material>", StorageRead);
 pub const LIGHTS: Binding = binding(5, "lights", "array<Light>", StorageRead);
-pub const KD_NODES: Binding = binding(6, "kd_nodes", "array<KdNode>", StorageRead);
+pub const KD_NODES: Binding = binding(6, "kd_nodes", "array<PackedKdNode>", StorageRead);
 pub const LEAF_OBJECTS: Binding = binding(7, "leaf_objects", "array<u32>", StorageRead);
 /// `render_tile`'s output: ray counters, then one packed RGBA8 per pixel.
 pub const TILE_OUTPUT: Binding = binding(8, "tile_output", "TileOutput", StorageReadWrite);
@@ -131,12 +131,12 @@ pub const SPLIT_TRIANGLES: SplitArray = SplitArray {
     count_constant: "TRIANGLES_CHUNKS",
 };
 pub const SPLIT_KD_NODES: SplitArray = SplitArray {
-    chunks: split_array!(KD_NODES, "kd_nodes", "array<KdNode>", 37),
-    element_bytes: 16,
-    bytes_per_triangle: 47,
+    chunks: split_array!(KD_NODES, "kd_nodes", "array<PackedKdNode>", 37),
+    element_bytes: 8,
+    bytes_per_triangle: 24,
     reader: "kd_nodes_chunk",
     reader_params: "",
-    returns: "KdNode",
+    returns: "PackedKdNode",
     read: "@[j]",
     count_constant: "KD_NODES_CHUNKS",
 };
@@ -260,8 +260,8 @@ pub const QUERY_OUTPUTS: [Binding; 3] = [QUERY_RAYS, QUERY_HITS, QUERY_COSTS];
 /// with the most bytes per triangle per binding so far
 /// ([`SplitArray::bytes_per_triangle`]), at least 1 and at most
 /// [`MAX_CHUNKS`] each. Lavapipe (Vulkan, 32 per stage, 25 left):
-/// triangles 5, nodes 5, leaf references 3, leaf ropes 8, rope index 2,
-/// normals 2; llvmpipe's GL (16 per stage, 9 left): 2, 2, 1, 2, 1, 1.
+/// triangles 7, nodes 3, leaf references 3, leaf ropes 8, rope index 2,
+/// normals 2; llvmpipe's GL (16 per stage, 9 left): 2, 1, 1, 3, 1, 1.
 pub fn scene_chunks(limits: &wgpu::Limits) -> SceneChunks {
     let per_stage = limits.max_storage_buffers_per_shader_stage as usize;
     let whole_arrays = scene(UNSPLIT).len() - SPLIT_ARRAYS.len();
@@ -598,8 +598,8 @@ mod tests {
                 ..wgpu::Limits::default()
             })
         };
-        assert_eq!(with(32), [5, 5, 3, 8, 2, 2]);
-        assert_eq!(with(16), [2, 2, 1, 2, 1, 1]);
+        assert_eq!(with(32), [7, 3, 3, 8, 2, 2]);
+        assert_eq!(with(16), [2, 1, 1, 3, 1, 1]);
         assert_eq!(with(8), UNSPLIT, "WebGPU's default: no split");
         assert_eq!(with(1000), [MAX_CHUNKS; SPLIT_ARRAY_COUNT]);
         let most = |chunks| {

@@ -6,7 +6,7 @@ use super::GpuContext;
 use crate::geometry::{Aabb, Primitives};
 use crate::kdtree::{KdTree, Ropes};
 use crate::layout::{
-    GpuLight, GpuMaterial, GpuSphere, GpuTriangle, GpuTriangleNormals, KdNode, LeafRopes,
+    GpuKdNode, GpuLight, GpuMaterial, GpuSphere, GpuTriangle, GpuTriangleNormals, LeafRopes,
 };
 use crate::scene::Scene;
 
@@ -19,7 +19,7 @@ pub struct SceneArrays {
     pub objects: Vec<[u32; 2]>,
     pub materials: Vec<GpuMaterial>,
     pub lights: Vec<GpuLight>,
-    pub nodes: Vec<KdNode>,
+    pub nodes: Vec<GpuKdNode>,
     pub leaf_objects: Vec<u32>,
     /// The rope walk's data: per leaf its box and ropes, per node its leaf
     /// record (`kdtree::Ropes`; node indices are the tree's).
@@ -150,7 +150,7 @@ impl SceneArrays {
                     ..bytemuck::Zeroable::zeroed()
                 })
                 .collect(),
-            nodes: tree.nodes.clone(),
+            nodes: tree.nodes.iter().map(GpuKdNode::pack).collect(),
             leaf_objects: tree
                 .leaf_objects
                 .iter()
@@ -244,6 +244,7 @@ impl SceneArrays {
         chunk_bytes: ChunkBytes,
         chunks: bindings::SceneChunks,
     ) -> crate::Result<()> {
+        packed_nodes_fit(self.nodes.len(), self.leaf_objects.len())?;
         let whole = self.buffers(WHOLE, bindings::UNSPLIT).unwrap_or_default();
         let split_array = |name: &str| {
             (0..chunks.len()).find(|&i| bindings::SPLIT_ARRAYS[i].chunks[0].name == name)
@@ -280,6 +281,21 @@ impl SceneArrays {
             self.leaf_objects.len()
         )))
     }
+}
+
+/// Whether a tree of `nodes` nodes and `leaf_references` leaf references
+/// packs into [`GpuKdNode`]s: every child index and leaf count within the 30
+/// bits it has. (2^30 leaf references are some 160 million triangles' worth
+/// at 6.7 a triangle, more than the split bindings hold on lavapipe.)
+fn packed_nodes_fit(nodes: usize, leaf_references: usize) -> crate::Result<()> {
+    let most = GpuKdNode::MAX_INDEX as usize;
+    if nodes > most + 1 || leaf_references > most {
+        return Err(crate::Error::Gpu(format!(
+            "the scene is too large for the kernel: its k-d tree has {nodes} nodes and {leaf_references} \
+             leaf references, and a node holds child indices and leaf counts of at most {most}"
+        )));
+    }
+    Ok(())
 }
 
 /// `bytes` (whole elements of `element` bytes) cut into `chunks` pieces for
@@ -455,6 +471,17 @@ mod tests {
         let scene = parse_scene(&text, std::path::Path::new("t.toml"), SceneFormat::Toml).unwrap();
         let prims = Primitives::from_scene(&scene);
         SceneArrays::new(&scene, &prims, &KdTree::for_primitives(&prims))
+    }
+
+    #[test]
+    fn trees_past_the_packed_index_are_refused() {
+        let most = GpuKdNode::MAX_INDEX as usize;
+        assert!(packed_nodes_fit(most + 1, most).is_ok());
+        for (nodes, refs) in [(most + 2, 0), (1, most + 1)] {
+            let message = packed_nodes_fit(nodes, refs).unwrap_err().to_string();
+            assert!(message.contains("too large for the kernel"), "{message}");
+            assert!(message.contains(&format!("{nodes} nodes")), "{message}");
+        }
     }
 
     #[test]

@@ -673,7 +673,7 @@ mod tests {
         let half = |n: usize, size: u64| (n as u64 / 2 + 1) * size;
         let chunks = [
             half(a.triangles.len(), 48),
-            half(a.nodes.len(), 16),
+            half(a.nodes.len(), 8),
             half(a.leaf_objects.len(), 4),
             half(a.leaf_ropes.len(), 48),
             half(a.leaf_rope_index.len(), 4),
