@@ -73,18 +73,23 @@ fn leaf_object(i: u32) -> u32 {
     return leaf_objects_chunk(at.chunk, at.index);
 }
 
-// Leaf record `r`'s face `face`: its plane coordinate and its rope.
-struct RopeFace {
-    plane: f32,
-    rope: u32,
-}
-
-fn rope_face(r: u32, face: u32) -> RopeFace {
+// Leaf record `r`'s face `face`: its plane coordinate (infinite on the
+// scene's boundary), and the node beyond it. Two readers, so that the walk
+// loads the planes of the three faces ahead and only the rope it follows.
+fn rope_plane(r: u32, face: u32) -> f32 {
     if (!SPLIT_SCENE) {
-        return RopeFace(leaf_ropes[r].faces[face], leaf_ropes[r].ropes[face]);
+        return leaf_ropes[r].faces[face];
     }
     let at = chunk_index(r, arrayLength(&leaf_ropes), LEAF_ROPES_CHUNKS);
-    return leaf_ropes_chunk(at.chunk, at.index, face);
+    return bitcast<f32>(leaf_ropes_chunk(at.chunk, at.index, face, false));
+}
+
+fn rope_target(r: u32, face: u32) -> u32 {
+    if (!SPLIT_SCENE) {
+        return leaf_ropes[r].ropes[face];
+    }
+    let at = chunk_index(r, arrayLength(&leaf_ropes), LEAF_ROPES_CHUNKS);
+    return leaf_ropes_chunk(at.chunk, at.index, face, true);
 }
 
 // The rope walk's record of k-d node `i` (leaves only).

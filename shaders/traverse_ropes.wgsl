@@ -1,29 +1,28 @@
 // The rope walk (Popov, Günther, Seidel, Slusallek 2007). Mirrors
 // src/kdtree/traverse_ropes.rs, which explains the cases: the descent
 // classifies planes by t (crossed at or before t_min: past it), a leaf's
-// exit is its first face ahead with a rope (faces on the scene's boundary
-// count as t_far), and a leaf reached through a rope that the ray spends no
+// exit is its first face ahead (faces on the scene's boundary lie at
+// infinity, so the ray leaves through them at t_far), and a leaf reached through a rope that the ray spends no
 // time in (an edge or a corner) is skipped for a descent from the root.
 
-// The first face ahead so far: where the ray meets it, and its rope.
+// The first face ahead so far: where the ray meets it, and which face.
 struct RopeExit {
     t: f32,
-    rope: u32,
+    face: u32,   // NO_FACE: none met before t_far
 }
 
+const NO_FACE: u32 = 6u;
+
 // `exit`, or the face of leaf record `r` ahead on axis `a` if the ray meets
-// it sooner and it has a rope.
+// it sooner. Only the plane is loaded: a face on the scene's boundary lies
+// at infinity (t_face = +inf), so it is never sooner.
 fn rope_exit_on_axis(r: u32, a: u32, ray: Ray, exit: RopeExit) -> RopeExit {
     let d = ray.dir[a];
     if (abs(d) >= PARALLEL_EPSILON) {
         let face = 2u * a + select(0u, 1u, d > 0.0);
-        let f = rope_face(r, face);
-        let rope = f.rope;
-        if (rope != NO_ROPE) {
-            let t_face = (f.plane - ray.origin[a]) / d;
-            if (t_face < exit.t) {
-                return RopeExit(t_face, rope);
-            }
+        let t_face = (rope_plane(r, face) - ray.origin[a]) / d;
+        if (t_face < exit.t) {
+            return RopeExit(t_face, face);
         }
     }
     return exit;
@@ -74,9 +73,9 @@ fn trace_kdtree_ropes(ray: Ray, t_limit: f32, any_hit: bool) -> Hit {
             walk_cost.x += 1u;
         }
         walk_cost.y += 1u;
-        // The exit: the first face ahead with a rope, else t_far.
+        // The exit: the first face ahead, else t_far.
         let r = leaf_rope_record(node_index);
-        var exit = RopeExit(t_far, NO_ROPE);
+        var exit = RopeExit(t_far, NO_FACE);
         exit = rope_exit_on_axis(r, 0u, ray, exit);
         exit = rope_exit_on_axis(r, 1u, ray, exit);
         exit = rope_exit_on_axis(r, 2u, ray, exit);
@@ -95,8 +94,10 @@ fn trace_kdtree_ropes(ray: Ray, t_limit: f32, any_hit: bool) -> Hit {
         if (best.t <= t_max || t_max >= t_far) {
             return best;
         }
+        // t_max < t_far, so a face was met: load its rope, the one rope
+        // this leaf needs.
         t_min = t_max;
-        start = exit.rope;
+        start = rope_target(r, exit.face);
         from_root = false;
     }
     return best;

@@ -19,7 +19,7 @@ struct PackedKdNode {
 // A leaf's box and the node beyond each face (src/layout.rs LeafRopes).
 // Face 2 * axis is the low side, 2 * axis + 1 the high side.
 struct LeafRopes {
-    faces: array<f32, 6>,   // plane coordinate of each face
+    faces: array<f32, 6>,   // plane coordinate of each face; -inf / +inf on the scene's boundary
     ropes: array<u32, 6>,   // node beyond each face; NO_ROPE on the scene's boundary
 }
 

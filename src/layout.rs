@@ -99,7 +99,10 @@ impl GpuKdNode {
 #[repr(C)]
 #[derive(Debug, Clone, Copy, PartialEq, Pod, Zeroable)]
 pub struct LeafRopes {
-    /// The plane coordinate of each face (min x, max x, min y, max y, min z, max z).
+    /// The plane coordinate of each face (min x, max x, min y, max y, min z,
+    /// max z); on the scene's boundary -inf for a low face and +inf for a
+    /// high one, so that a ray never meets it (the rope walk then needs no
+    /// rope to see that it has none).
     pub faces: [f32; 6],
     /// The node beyond each face: the smallest one whose cell holds the
     /// whole face strictly inside its planes; [`LeafRopes::NONE`] on the

@@ -295,10 +295,15 @@ fn grid_scene() -> impl Strategy<Value = Primitives> {
     })
 }
 
-/// The box of leaf record `pick`, as (min, max).
+/// The box of leaf record `pick`, as (min, max): its faces, those on the
+/// scene's boundary (stored at infinity) at the tree's bounds.
 fn leaf_box(walks: &Walks, pick: usize) -> (Vec3, Vec3) {
     let f = walks.ropes.leaves[pick % walks.ropes.leaves.len()].faces;
-    (Vec3::new(f[0], f[2], f[4]), Vec3::new(f[1], f[3], f[5]))
+    let b = walks.tree.bounds;
+    (
+        Vec3::new(f[0], f[2], f[4]).max(b.min),
+        Vec3::new(f[1], f[3], f[5]).min(b.max),
+    )
 }
 
 /// The sign vector of a ray direction: each axis -1, 0 or 1, not all 0.

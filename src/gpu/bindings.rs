@@ -154,14 +154,15 @@ pub const SPLIT_LEAF_ROPES: SplitArray = SplitArray {
     chunks: split_array!(LEAF_ROPES, "leaf_ropes", "array<LeafRopes>", 51),
     element_bytes: 48,
     bytes_per_triangle: 71,
-    // One face's plane and rope, not the whole 48-byte record: a record
-    // copied to a local and indexed by a variable face lives in memory on
-    // llvmpipe, which made the split rope walk 4-6x slower than the unsplit
-    // one (bunny, 1.1 million triangles).
+    // One word of one face (its plane's bits, or its rope when `rope`;
+    // every call passes a constant, so only that load remains), not the
+    // whole 48-byte record: a record copied to a local and indexed by a
+    // variable face lives in memory on llvmpipe, which made the split rope
+    // walk 4-6x slower than the unsplit one (bunny, 1.1 million triangles).
     reader: "leaf_ropes_chunk",
-    reader_params: ", face: u32",
-    returns: "RopeFace",
-    read: "RopeFace(@[j].faces[face], @[j].ropes[face])",
+    reader_params: ", face: u32, rope: bool",
+    returns: "u32",
+    read: "select(bitcast<u32>(@[j].faces[face]), @[j].ropes[face], rope)",
     count_constant: "LEAF_ROPES_CHUNKS",
 };
 

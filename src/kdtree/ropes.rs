@@ -47,7 +47,10 @@ impl Ropes {
             let node = nodes[i];
             if node.is_leaf() {
                 leaf_of_node[i] = leaves.len() as u32;
-                leaves.push(LeafRopes { faces, ropes });
+                leaves.push(LeafRopes {
+                    faces: boundary_at_infinity(faces, &ropes),
+                    ropes,
+                });
                 continue;
             }
             let a = node.kind as usize;
@@ -72,6 +75,21 @@ impl Ropes {
     pub fn leaf(&self, node: usize) -> &LeafRopes {
         &self.leaves[self.leaf_of_node[node] as usize]
     }
+}
+
+/// `faces` with each face that has no rope (the scene's boundary) moved to
+/// infinity, outwards: the walk then meets only faces it can leave through.
+fn boundary_at_infinity(mut faces: [f32; 6], ropes: &[u32; 6]) -> [f32; 6] {
+    for (face, (plane, &rope)) in faces.iter_mut().zip(ropes).enumerate() {
+        if rope == LeafRopes::NONE {
+            *plane = if face % 2 == 1 {
+                f32::INFINITY
+            } else {
+                f32::NEG_INFINITY
+            };
+        }
+    }
+    faces
 }
 
 /// The smallest node below `rope` whose cell still holds the whole `face`
@@ -132,11 +150,12 @@ mod tests {
         crate::kdtree::build(&bounds, params)
     }
 
-    fn box_of(r: &LeafRopes) -> Aabb {
+    /// A record's box, its faces at infinity cut to the scene's `bounds`.
+    fn box_of(r: &LeafRopes, bounds: &Aabb) -> Aabb {
         let f = r.faces;
         Aabb {
-            min: Vec3::new(f[0], f[2], f[4]),
-            max: Vec3::new(f[1], f[3], f[5]),
+            min: Vec3::new(f[0], f[2], f[4]).max(bounds.min),
+            max: Vec3::new(f[1], f[3], f[5]).min(bounds.max),
         }
     }
 
@@ -159,7 +178,7 @@ mod tests {
     }
 
     /// Every leaf gets its cell as its box; a face on the scene's boundary
-    /// has no rope; every other face's rope is a node whose cell holds the
+    /// has no rope and lies at infinity; every other face's rope is a node whose cell holds the
     /// whole face and lies on the face's outer side.
     #[test]
     fn ropes_point_across_their_faces() {
@@ -185,7 +204,7 @@ mod tests {
         for &i in &leaves {
             let r = ropes.leaf(i);
             let cell = cells[i];
-            assert_eq!(box_of(r), cell, "leaf {i}");
+            assert_eq!(box_of(r, &tree.bounds), cell, "leaf {i}");
             for face in 0..6 {
                 let (a, high) = (face / 2, face % 2 == 1);
                 let on_boundary = match high {
@@ -194,8 +213,15 @@ mod tests {
                 };
                 if on_boundary {
                     assert_eq!(r.ropes[face], LeafRopes::NONE, "leaf {i} face {face}");
+                    let outwards = if high {
+                        f32::INFINITY
+                    } else {
+                        f32::NEG_INFINITY
+                    };
+                    assert_eq!(r.faces[face], outwards, "leaf {i} face {face}");
                     continue;
                 }
+                assert_eq!(r.faces[face], if high { cell.max[a] } else { cell.min[a] });
                 let target = r.ropes[face] as usize;
                 let t = cells[target];
                 // Across: the target's cell starts at the face's plane.

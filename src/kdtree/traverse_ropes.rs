@@ -11,9 +11,10 @@
 //!   far side; any other plane is ahead or never crossed, the ray is on its
 //!   first side. No entry point is computed.
 //! - a leaf's exit is the smallest `t` at which the ray meets one of its
-//!   faces ahead that has a rope, computed as the restart walk computes
-//!   `t_split` (`(plane - o) / d`); faces on the scene's boundary count as
-//!   `t_far`, as in the restart walk.
+//!   faces ahead, computed as the restart walk computes `t_split`
+//!   (`(plane - o) / d`); faces on the scene's boundary lie at infinity
+//!   (`LeafRopes::faces`), so the ray leaves through them at `t_far`, as in
+//!   the restart walk. Only the face it leaves through needs its rope.
 //! - at an edge or a corner, two or three faces are met at the same `t`.
 //!   The walk takes the first, and the rope's node may then lie on the near
 //!   side of a plane the ray crossed at that same `t` (the face's other
@@ -105,25 +106,26 @@ fn descend(nodes: &[KdNode], mut node: usize, ray: &Ray, t_min: f32, cost: &mut 
     node
 }
 
-/// The first face ahead so far: where the ray meets it, and its rope.
+/// The first face ahead so far: where the ray meets it, and which face
+/// (`None`: none before `t_far`).
 #[derive(Clone, Copy)]
 struct RopeExit {
     t: f32,
-    rope: u32,
+    face: Option<usize>,
 }
 
-/// `exit`, or `leaf`'s face ahead on axis `a` if the ray meets it sooner
-/// and it has a rope.
+/// `exit`, or `leaf`'s face ahead on axis `a` if the ray meets it sooner.
+/// A face on the scene's boundary lies at infinity, so it never is.
 fn rope_exit_on_axis(leaf: &LeafRopes, a: usize, ray: &Ray, exit: RopeExit) -> RopeExit {
     let d = ray.dir[a];
     if d.abs() >= PARALLEL_EPSILON {
         let face = 2 * a + usize::from(d > 0.0);
-        let rope = leaf.ropes[face];
-        if rope != LeafRopes::NONE {
-            let t_face = (leaf.faces[face] - ray.origin[a]) / d;
-            if t_face < exit.t {
-                return RopeExit { t: t_face, rope };
-            }
+        let t_face = (leaf.faces[face] - ray.origin[a]) / d;
+        if t_face < exit.t {
+            return RopeExit {
+                t: t_face,
+                face: Some(face),
+            };
         }
     }
     exit
@@ -159,10 +161,10 @@ fn walk(
     for _ in 0..max_restarts(nodes.len()) {
         let node = descend(nodes, start, ray, t_min, cost);
         let leaf = ropes.leaf(node);
-        // The exit: the first face ahead with a rope, else t_far.
+        // The exit: the first face ahead, else t_far.
         let mut exit = RopeExit {
             t: t_far,
-            rope: LeafRopes::NONE,
+            face: None,
         };
         for a in 0..3 {
             exit = rope_exit_on_axis(leaf, a, ray, exit);
@@ -183,8 +185,13 @@ fn walk(
         if best.is_some_and(|hit| hit.t <= t_max) || t_max >= t_far {
             return best;
         }
+        // t_max < t_far, so a face was met: its rope is the one the walk needs.
+        let Some(face) = exit.face else {
+            debug_assert!(false, "no exit face before t_far: {ray:?}");
+            return best;
+        };
         t_min = t_max;
-        start = exit.rope as usize;
+        start = leaf.ropes[face] as usize;
         from_root = false;
     }
     debug_assert!(false, "the rope walk ran out of steps: {ray:?}");
