@@ -100,28 +100,63 @@ pub struct BuildParams {
     pub strategy: BuildStrategy,
 }
 
+/// The cost of testing a sphere, in the build's units (a traversal step
+/// costs 40): Wald & Havran's 20 (see [`BuildParams::for_object_count`]).
+pub const SPHERE_TEST_COST: f32 = 20.0;
+
+/// The cost of testing a triangle: twice a sphere's, in scenes of at most
+/// [`LARGE_SCENE_OBJECTS`] objects. Measured on lavapipe with the 8-byte
+/// nodes (docs/design.md "Costs"), a mesh's frame is 6 - 18% faster with a
+/// triangle at 40 than at 20 (the bunny, the gears, a 100,000-triangle
+/// soup, the torus, the bunny at 1.1 M triangles): a triangle test loads
+/// nine floats where a sphere's loads four.
+pub const TRIANGLE_TEST_COST: f32 = 40.0;
+
+/// Past this many objects a triangle costs what a sphere does
+/// ([`SPHERE_TEST_COST`]): a bigger mesh's tree grows by 1.8x in nodes
+/// (the 1.1 M bunny: 2.7 M -> 4.9 M), its build by 37% (2.05 -> 2.81 s on
+/// two threads) and its frame gains only 7%, so one 1080p frame breaks
+/// even at about 400,000 triangles; its GPU arrays grow by half, which
+/// would bring the largest mesh lavapipe's bindings hold from about 13.6 M
+/// triangles down to 10 M.
+pub const LARGE_SCENE_OBJECTS: usize = 1 << 19;
+
 impl BuildParams {
     /// Depth limit 8 + 1.3 log2 N (Havran's rule of thumb); intersection
-    /// cost 20 and empty bonus 0.8 as in Wald & Havran 2006, but traversal
-    /// 40 rather than their 15: kd-restart re-descends for every leaf, so
-    /// steps cost more than in a stack walk. Measured on lavapipe (see
-    /// docs/benchmarks.md): 11-18% faster at 1,000 to 1,000,000 spheres, and
-    /// less than half the tree memory at a million.
+    /// cost 20 ([`SPHERE_TEST_COST`]) and empty bonus 0.8 as in Wald &
+    /// Havran 2006, but traversal 40 rather than their 15: kd-restart
+    /// re-descends for every leaf, so steps cost more than in a stack walk.
+    /// Measured on lavapipe (see docs/benchmarks.md): 11-18% faster at
+    /// 1,000 to 1,000,000 spheres, and less than half the tree memory at a
+    /// million. With the rope walk and 8-byte nodes, a million spheres are
+    /// still fastest at 40 (20 is 5% slower there, 1-5% faster at 1,000 and
+    /// 10,000).
     pub fn for_object_count(n: usize) -> Self {
         let max_depth = (8.0 + 1.3 * (n.max(1) as f64).log2()).round() as u32;
         BuildParams {
             max_depth: max_depth.min(64),
             traversal_cost: 40.0,
-            intersection_cost: 20.0,
+            intersection_cost: SPHERE_TEST_COST,
             empty_bonus: 0.8,
             exact_below: BINNED_EXACT_BELOW,
             strategy: BuildStrategy::Sah,
         }
     }
 
-    /// The defaults for a scene's objects.
+    /// The defaults for a scene's objects: the intersection cost is the
+    /// mean of its objects' test costs ([`SPHERE_TEST_COST`],
+    /// [`TRIANGLE_TEST_COST`]), since the heuristic counts objects, not
+    /// their kinds; past [`LARGE_SCENE_OBJECTS`], a sphere's.
     pub fn for_primitives(prims: &Primitives) -> Self {
-        Self::for_object_count(prims.len())
+        let n = prims.len();
+        let mut params = Self::for_object_count(n);
+        if n > 0 && n <= LARGE_SCENE_OBJECTS {
+            let spheres = prims.spheres.len() as f64;
+            let triangles = prims.triangles.len() as f64;
+            let total = spheres * SPHERE_TEST_COST as f64 + triangles * TRIANGLE_TEST_COST as f64;
+            params.intersection_cost = (total / n as f64) as f32;
+        }
+        params
     }
 }
 
@@ -428,6 +463,35 @@ impl<'s, S: Strategy> Builder<'s, S> {
 mod tests {
     use super::*;
     use glam::Vec3;
+
+    /// A scene's intersection cost is the mean of its objects' test costs.
+    #[test]
+    fn intersection_cost_follows_the_scene_kinds() {
+        use crate::geometry::{SphereF32, TriangleF32};
+        let sphere = SphereF32 {
+            center: Vec3::ZERO,
+            radius: 1.0,
+        };
+        let triangle = TriangleF32 {
+            v: [Vec3::ZERO, Vec3::X, Vec3::Y],
+        };
+        let scene = |s: usize, t: usize| Primitives {
+            spheres: vec![sphere; s],
+            triangles: vec![triangle; t],
+        };
+        let cost = |s, t| BuildParams::for_primitives(&scene(s, t)).intersection_cost;
+        assert_eq!(cost(0, 0), SPHERE_TEST_COST);
+        assert_eq!(cost(5, 0), SPHERE_TEST_COST);
+        assert_eq!(cost(0, 5), TRIANGLE_TEST_COST);
+        assert_eq!(
+            cost(1, 3),
+            (SPHERE_TEST_COST + 3.0 * TRIANGLE_TEST_COST) / 4.0
+        );
+        assert_eq!(
+            BuildParams::for_primitives(&scene(1, 3)).traversal_cost,
+            40.0
+        );
+    }
 
     /// Boxes of a few sizes scattered by a fixed generator (an LCG), some
     /// long enough to straddle many planes.

@@ -17,7 +17,10 @@ pub mod traverse;
 pub mod traverse_ropes;
 pub mod traverse_short_stack;
 
-pub use build::{build, build_primitives, build_with_threads, BuildParams, BuildStrategy, KdTree};
+pub use build::{
+    build, build_primitives, build_with_threads, BuildParams, BuildStrategy, KdTree,
+    SPHERE_TEST_COST, TRIANGLE_TEST_COST,
+};
 pub use ropes::Ropes;
 pub use traversal::Traversal;
 
