@@ -104,21 +104,37 @@ pub struct BuildParams {
 /// costs 40): Wald & Havran's 20 (see [`BuildParams::for_object_count`]).
 pub const SPHERE_TEST_COST: f32 = 20.0;
 
-/// The cost of testing a triangle: twice a sphere's, in scenes of at most
-/// [`LARGE_SCENE_OBJECTS`] objects. Measured on lavapipe with the 8-byte
-/// nodes (docs/design.md "Costs"), a mesh's frame is 6 - 18% faster with a
-/// triangle at 40 than at 20 (the bunny, the gears, a 100,000-triangle
-/// soup, the torus, the bunny at 1.1 M triangles): a triangle test loads
-/// nine floats where a sphere's loads four.
-pub const TRIANGLE_TEST_COST: f32 = 40.0;
+/// The cost of testing a triangle in a scene of `objects` objects: 80 (four
+/// sphere tests) up to [`SMALL_SCENE_OBJECTS`], 40 up to
+/// [`LARGE_SCENE_OBJECTS`], 20 (a sphere's) beyond. A triangle test loads
+/// nine floats where a sphere's loads four, and the frame of a mesh is
+/// faster the more the heuristic trades its triangle tests for node steps;
+/// but the tree grows with it (about 11, 5.5 and 2.4 nodes a triangle on
+/// the bunny), and with it the build and the GPU arrays. Measured on
+/// lavapipe (docs/design.md "Costs"): at 80 against 40 the bunny, the
+/// torus and `scenes/bunny.toml` render 7 - 8% faster and the gears 2.5%;
+/// at 40 against 20, 6 - 18% on meshes up to 1.1 M triangles. Past the
+/// tiers the build costs more than one 1080p frame gains: at 278,664
+/// triangles 80 builds in 1.61 s instead of 1.13 for a 7% faster frame;
+/// at 1.1 M, 40 builds in 2.81 s instead of 2.05 for 7%, and would bring
+/// the largest mesh lavapipe's bindings hold from about 13.6 M triangles
+/// to 10 M.
+pub fn triangle_test_cost(objects: usize) -> f32 {
+    if objects <= SMALL_SCENE_OBJECTS {
+        80.0
+    } else if objects <= LARGE_SCENE_OBJECTS {
+        40.0
+    } else {
+        SPHERE_TEST_COST
+    }
+}
 
-/// Past this many objects a triangle costs what a sphere does
-/// ([`SPHERE_TEST_COST`]): a bigger mesh's tree grows by 1.8x in nodes
-/// (the 1.1 M bunny: 2.7 M -> 4.9 M), its build by 37% (2.05 -> 2.81 s on
-/// two threads) and its frame gains only 7%, so one 1080p frame breaks
-/// even at about 400,000 triangles; its GPU arrays grow by half, which
-/// would bring the largest mesh lavapipe's bindings hold from about 13.6 M
-/// triangles down to 10 M.
+/// Scenes of at most this many objects test a triangle at 80
+/// ([`triangle_test_cost`]).
+pub const SMALL_SCENE_OBJECTS: usize = 1 << 17;
+
+/// Scenes of more than this many objects test a triangle at a sphere's
+/// cost ([`triangle_test_cost`]).
 pub const LARGE_SCENE_OBJECTS: usize = 1 << 19;
 
 /// The factor (< 1) on the cost of a split that leaves one child empty:
@@ -156,15 +172,16 @@ impl BuildParams {
 
     /// The defaults for a scene's objects: the intersection cost is the
     /// mean of its objects' test costs ([`SPHERE_TEST_COST`],
-    /// [`TRIANGLE_TEST_COST`]), since the heuristic counts objects, not
-    /// their kinds; past [`LARGE_SCENE_OBJECTS`], a sphere's.
+    /// [`triangle_test_cost`]), since the heuristic counts objects, not
+    /// their kinds.
     pub fn for_primitives(prims: &Primitives) -> Self {
         let n = prims.len();
         let mut params = Self::for_object_count(n);
-        if n > 0 && n <= LARGE_SCENE_OBJECTS {
+        if n > 0 {
             let spheres = prims.spheres.len() as f64;
             let triangles = prims.triangles.len() as f64;
-            let total = spheres * SPHERE_TEST_COST as f64 + triangles * TRIANGLE_TEST_COST as f64;
+            let total =
+                spheres * SPHERE_TEST_COST as f64 + triangles * triangle_test_cost(n) as f64;
             params.intersection_cost = (total / n as f64) as f32;
         }
         params
@@ -493,15 +510,15 @@ mod tests {
         let cost = |s, t| BuildParams::for_primitives(&scene(s, t)).intersection_cost;
         assert_eq!(cost(0, 0), SPHERE_TEST_COST);
         assert_eq!(cost(5, 0), SPHERE_TEST_COST);
-        assert_eq!(cost(0, 5), TRIANGLE_TEST_COST);
-        assert_eq!(
-            cost(1, 3),
-            (SPHERE_TEST_COST + 3.0 * TRIANGLE_TEST_COST) / 4.0
-        );
-        assert_eq!(
-            BuildParams::for_primitives(&scene(1, 3)).traversal_cost,
-            40.0
-        );
+        assert_eq!(cost(0, 5), 80.0);
+        assert_eq!(cost(1, 3), (SPHERE_TEST_COST + 3.0 * 80.0) / 4.0);
+        let params = BuildParams::for_primitives(&scene(1, 3));
+        assert_eq!(params.traversal_cost, 40.0);
+        // The tiers, at their edges.
+        assert_eq!(cost(0, SMALL_SCENE_OBJECTS), 80.0);
+        assert_eq!(cost(0, SMALL_SCENE_OBJECTS + 1), 40.0);
+        assert_eq!(cost(0, LARGE_SCENE_OBJECTS), 40.0);
+        assert_eq!(cost(0, LARGE_SCENE_OBJECTS + 1), SPHERE_TEST_COST);
     }
 
     /// Boxes of a few sizes scattered by a fixed generator (an LCG), some

@@ -18,8 +18,8 @@ pub mod traverse_ropes;
 pub mod traverse_short_stack;
 
 pub use build::{
-    build, build_primitives, build_with_threads, BuildParams, BuildStrategy, KdTree,
-    SPHERE_TEST_COST, TRIANGLE_TEST_COST,
+    build, build_primitives, build_with_threads, triangle_test_cost, BuildParams, BuildStrategy,
+    KdTree, EMPTY_BONUS, LARGE_SCENE_OBJECTS, SMALL_SCENE_OBJECTS, SPHERE_TEST_COST,
 };
 pub use ropes::Ropes;
 pub use traversal::Traversal;
