@@ -109,14 +109,15 @@ pub const SPHERE_TEST_COST: f32 = 20.0;
 /// [`LARGE_SCENE_OBJECTS`], 20 (a sphere's) beyond. A triangle test loads
 /// nine floats where a sphere's loads four, and the frame of a mesh is
 /// faster the more the heuristic trades its triangle tests for node steps;
-/// but the tree grows with it (about 11, 5.5 and 2.4 nodes a triangle on
-/// the bunny), and with it the build and the GPU arrays. Measured on
+/// but the tree grows with it (about 11, 6 and 2 nodes a triangle on the
+/// bunny), and with it the build and the GPU arrays. Measured on
 /// lavapipe (docs/design.md "Costs"): at 80 against 40 the bunny, the
 /// torus and `scenes/bunny.toml` render 7 - 8% faster and the gears 2.5%;
 /// at 40 against 20, 6 - 18% on meshes up to 1.1 M triangles. Past the
 /// tiers the build costs more than one 1080p frame gains: at 278,664
 /// triangles 80 builds in 1.61 s instead of 1.13 for a 7% faster frame;
-/// at 1.1 M, 40 builds in 2.81 s instead of 2.05 for 7%, and would bring
+/// at 1.1 M (with the bonus at 0.8), 40 builds in 2.81 s instead of 2.05
+/// for 7%, and would bring
 /// the largest mesh lavapipe's bindings hold from about 13.6 M triangles
 /// to 10 M.
 pub fn triangle_test_cost(objects: usize) -> f32 {
