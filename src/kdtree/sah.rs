@@ -452,9 +452,11 @@ impl Sah<'_> {
     /// `n` objects, so that the node is a leaf without a sweep. A plane's
     /// cost is at least `T + bonus I flat n`: each object goes to one child
     /// or both, and a child's share of the cell's area is at least `flat`,
-    /// the share of the cell's cross-section ([`AxisCost`]). With the
-    /// default costs, nodes of two objects never split (T = 2 I); about half
-    /// of all nodes are leaves, and their sweeps found nothing.
+    /// the share of the cell's cross-section ([`AxisCost`]). With a
+    /// sphere's cost (T = 2 I), nodes of two objects never split; about half
+    /// of all nodes are leaves, and their sweeps found nothing. (A triangle
+    /// test costs up to 80, twice T (`triangle_test_cost`), so in small
+    /// meshes nodes of two triangles may split.)
     fn no_plane_can_pay(&self, n: usize, cell: &Aabb) -> bool {
         let e = (cell.max - cell.min).max(glam::Vec3::ZERO);
         let smallest_cross_section = (e.y * e.z).min(e.z * e.x).min(e.x * e.y);
