@@ -8,7 +8,9 @@
 //! maximum, summed) and their ratio. Counts, not times: the figures do not
 //! depend on the machine's load.
 //! `cargo run --release --example lane_divergence -- SCENE [WIDTH HEIGHT [ropes|restart|short-stack]]`
+use kdray::choice::Choice;
 use kdray::gpu::{Accel, GpuContext, PreparedScene};
+use kdray::kdtree::Traversal;
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     let mut args = std::env::args().skip(1);
@@ -20,11 +22,11 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         scene.render.width = w.parse()?;
         scene.render.height = h.parse()?;
     }
-    let traversal = match args.next().as_deref() {
-        None | Some("ropes") => kdray::kdtree::Traversal::Ropes,
-        Some("restart") => kdray::kdtree::Traversal::Restart,
-        Some("short-stack") => kdray::kdtree::Traversal::ShortStack,
-        Some(other) => return Err(format!("unknown traversal {other:?}").into()),
+    let traversal = match args.next() {
+        None => Traversal::Ropes,
+        Some(name) => {
+            Traversal::from_name(&name).ok_or_else(|| format!("unknown traversal {name:?}"))?
+        }
     };
     let width = scene.render.width as usize;
     let ctx = GpuContext::new()?;

@@ -2,8 +2,9 @@
 // src/kdtree/traverse_ropes.rs, which explains the cases: the descent
 // classifies planes by t (crossed at or before t_min: past it), a leaf's
 // exit is its first face ahead (faces on the scene's boundary lie at
-// infinity, so the ray leaves through them at t_far), and a leaf reached through a rope that the ray spends no
-// time in (an edge or a corner) is skipped for a descent from the root.
+// infinity, so the ray leaves through them at t_far), and a leaf reached
+// through a rope that the ray spends no time in (an edge or a corner) is
+// skipped for a descent from the root.
 
 // The first face ahead so far: where the ray meets it, and which face.
 struct RopeExit {

@@ -38,8 +38,8 @@ impl KdNode {
 /// node's above-child index or a leaf's object count; `split_or_first` is
 /// an inner node's plane (its f32 bits) or a leaf's first entry in the
 /// leaf-object list. A descent step loads two words instead of four:
-/// measured on lavapipe, 12% off the bunny's frame and 14% off the gears'
-/// (docs/benchmarks.md). Unpacked by `unpack_kd_node` in
+/// measured on lavapipe, 11% off the bunny's frame and 12% off the gears'
+/// (docs/benchmarks.md, 2026-11-24 01:10 UTC). Unpacked by `unpack_kd_node` in
 /// shaders/chunks.wgsl, which [`GpuKdNode::unpack`] mirrors.
 #[repr(C)]
 #[derive(Debug, Clone, Copy, PartialEq, Pod, Zeroable)]

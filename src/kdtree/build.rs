@@ -117,9 +117,8 @@ pub const SPHERE_TEST_COST: f32 = 20.0;
 /// tiers the build costs more than one 1080p frame gains: at 278,664
 /// triangles 80 builds in 1.61 s instead of 1.13 for a 7% faster frame;
 /// at 1.1 M (with the bonus at 0.8), 40 builds in 2.81 s instead of 2.05
-/// for 7%, and would bring
-/// the largest mesh lavapipe's bindings hold from about 13.6 M triangles
-/// to 10 M.
+/// for 7%, and would bring the largest mesh lavapipe's bindings hold from
+/// about 13.6 M triangles to 10 M.
 pub fn triangle_test_cost(objects: usize) -> f32 {
     if objects <= SMALL_SCENE_OBJECTS {
         80.0
@@ -152,8 +151,8 @@ pub const EMPTY_BONUS: f32 = 0.95;
 impl BuildParams {
     /// Depth limit 8 + 1.3 log2 N (Havran's rule of thumb); intersection
     /// cost 20 ([`SPHERE_TEST_COST`]) as in Wald & Havran 2006, but
-    /// traversal 40 rather than their 15: kd-restart
-    /// re-descends for every leaf, so steps cost more than in a stack walk.
+    /// traversal 40 rather than their 15: kd-restart re-descends for every
+    /// leaf, so steps cost more than in a stack walk.
     /// Measured on lavapipe (see docs/benchmarks.md): 11-18% faster at
     /// 1,000 to 1,000,000 spheres, and less than half the tree memory at a
     /// million. With the rope walk and 8-byte nodes, a million spheres are

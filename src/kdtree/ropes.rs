@@ -178,8 +178,8 @@ mod tests {
     }
 
     /// Every leaf gets its cell as its box; a face on the scene's boundary
-    /// has no rope and lies at infinity; every other face's rope is a node whose cell holds the
-    /// whole face and lies on the face's outer side.
+    /// has no rope and lies at infinity; every other face's rope is a node
+    /// whose cell holds the whole face and lies on the face's outer side.
     #[test]
     fn ropes_point_across_their_faces() {
         let mut centres = Vec::new();
