@@ -9,6 +9,7 @@ mod binned;
 mod build;
 mod clip;
 mod events;
+mod few;
 mod median;
 pub mod ropes;
 mod sah;

@@ -16,6 +16,7 @@ use super::binned::{self, ClippedBox};
 use super::build::{BuildParams, Decision, Strategy};
 use super::clip::{clear_above, clear_below, sides, Shapes};
 use super::events::{self, END, PLANAR, START};
+use super::few;
 
 /// One node's objects: the events of their clipped boxes, sorted, per axis.
 #[derive(Debug)]
@@ -161,22 +162,37 @@ impl AxisCost {
     /// The cost of a plane at `x` with `below` and `above` objects in the
     /// children.
     pub fn at(&self, x: f32, below: usize, above: usize) -> f32 {
+        self.at_counts(x, below as f32, above as f32)
+    }
+
+    /// [`AxisCost::at`] with the counts as floats (whole numbers), the
+    /// form a loop over many positions vectorises.
+    #[inline(always)]
+    pub fn at_counts(&self, x: f32, below: f32, above: f32) -> f32 {
         let p_below = self.flat + self.per_unit * (x - self.lo);
         let p_above = self.flat + self.per_unit * (self.hi - x);
-        let bonus = if below == 0 || above == 0 {
+        let bonus = if below == 0.0 || above == 0.0 {
             self.empty_bonus
         } else {
             1.0
         };
-        self.traversal
-            + bonus * self.intersection * (p_below * below as f32 + p_above * above as f32)
+        self.traversal + bonus * self.intersection * (p_below * below + p_above * above)
+    }
+
+    /// Whether a plane at `x` lies strictly inside the cell (NaN does not).
+    #[inline(always)]
+    pub fn inside(&self, x: f32) -> bool {
+        self.lo < x && x < self.hi
+    }
+
+    pub fn axis(&self) -> usize {
+        self.axis
     }
 
     /// Makes a plane at `x` the `best` when it lies strictly inside the
     /// cell and costs less (the first found wins a tie).
-    #[allow(clippy::neg_cmp_op_on_partial_ord)] // NaN is not inside
     pub fn keep_cheaper(&self, best: &mut Option<Split>, x: f32, below: usize, above: usize) {
-        if !(self.lo < x && x < self.hi) {
+        if !self.inside(x) {
             return;
         }
         let cost = self.at(x, below, above);
@@ -496,17 +512,35 @@ impl Sah<'_> {
         }
     }
 
-    /// The exact decision for a node of at most [`FEW`] objects: the
-    /// events of their boxes, sorted on the stack, swept as
-    /// [`Sah::split_events`] sweeps its lists (the same events in the same
-    /// order, so the same plane), and the boxes partitioned as the binned
-    /// build partitions them (the same children).
+    /// The exact decision for a node of at most [`FEW`] objects: the plane
+    /// [`Sah::split_events`] would choose ([`few::cheapest_paying_split`]
+    /// for up to [`few::MAX_OBJECTS`] finite boxes, else
+    /// [`Sah::sorted_few_split`]), and
+    /// the boxes partitioned as the binned build partitions them (the same
+    /// children).
     fn split_few(&self, boxes: Vec<ClippedBox>, cell: &Aabb) -> Decision<SahObjects> {
-        let n = boxes.len();
-        debug_assert!(n <= FEW);
+        debug_assert!(boxes.len() <= FEW);
+        let finite = boxes
+            .iter()
+            .all(|b| b.bounds.min.is_finite() && b.bounds.max.is_finite());
+        let best = if finite && boxes.len() <= few::MAX_OBJECTS {
+            few::cheapest_paying_split(&boxes, cell, &self.params, self.gap)
+        } else {
+            self.sorted_few_split(&boxes, cell)
+        };
+        self.split_boxes_at(boxes, best, cell, |boxes| {
+            Decision::Leaf(SahObjects::Boxes(boxes))
+        })
+    }
+
+    /// The best plane for at most [`FEW`] boxes by the sorted sweep: the
+    /// events of their boxes sorted on the stack and swept as
+    /// [`Sah::split_events`] sweeps its lists (the same events in the same
+    /// order, so the same plane).
+    fn sorted_few_split(&self, boxes: &[ClippedBox], cell: &Aabb) -> Option<Split> {
         let mut events = [[0u64; 2 * FEW]; 3];
         let mut lens = [0usize; 3];
-        for b in &boxes {
+        for b in boxes {
             events::for_each_event(b.id, &b.bounds, |a, e| {
                 events[a][lens[a]] = e;
                 lens[a] += 1;
@@ -516,10 +550,7 @@ impl Sah<'_> {
             list[..len].sort_unstable();
         }
         let sorted = [0, 1, 2].map(|a| &events[a][..lens[a]]);
-        let best = self.best_split(sorted, n, cell);
-        self.split_boxes_at(boxes, best, cell, |boxes| {
-            Decision::Leaf(SahObjects::Boxes(boxes))
-        })
+        self.best_split(sorted, boxes.len(), cell)
     }
 
     /// Splits `boxes` at `split` when it pays (it costs less than a leaf
@@ -696,6 +727,32 @@ mod shortcut_tests {
         })
     }
 
+    /// Boxes of any finite coordinates around the origin, one in four
+    /// flat on an axis, some starting on x where the one before ends.
+    fn float_boxes(max: usize) -> impl proptest::strategy::Strategy<Value = Vec<Aabb>> {
+        let corner = || (-4.0f32..4.0, -4.0f32..4.0, -4.0f32..4.0).prop_map(Vec3::from);
+        let size = || {
+            (0.0f32..2.0, 0.0f32..2.0, 0.0f32..2.0, 0usize..4).prop_map(|(x, y, z, flat)| {
+                let mut s = Vec3::new(x, y, z);
+                if flat < 3 {
+                    s[flat] = 0.0;
+                }
+                s
+            })
+        };
+        prop::collection::vec((corner(), size(), proptest::bool::ANY), 1..=max).prop_map(|v| {
+            let mut out: Vec<Aabb> = Vec::with_capacity(v.len());
+            for (min, s, touch) in v {
+                let mut b = Aabb { min, max: min + s };
+                if let (true, Some(last)) = (touch, out.last()) {
+                    (b.min.x, b.max.x) = (last.max.x, last.max.x + s.x);
+                }
+                out.push(b);
+            }
+            out
+        })
+    }
+
     /// The cell: the boxes' union, grown by `margin` on every side.
     fn cell_around(all: &[Aabb], margin: f32) -> Aabb {
         let u = all.iter().copied().fold(Aabb::EMPTY, Aabb::union);
@@ -745,6 +802,35 @@ mod shortcut_tests {
             let few = summary(sah.split_few(clipped.clone(), &cell));
             let lists = sah.split_events(EventLists::from_boxes(&clipped), &cell, &mut Vec::new());
             prop_assert_eq!(few, summary(lists));
+        }
+
+        /// The search without sorting ([`few`]) finds the sorted sweep's
+        /// plane whenever that plane costs less than a leaf, at every node
+        /// size up to [`FEW`]: on grid boxes (ties, touching faces, flat
+        /// boxes, zeros of both signs) and on boxes of any coordinates.
+        #[test]
+        fn the_search_without_sorting_finds_the_sweeps_plane(
+            all in proptest::prop_oneof![boxes(FEW), float_boxes(FEW)],
+            margin in 0.0f32..2.0,
+            traversal_cost in prop::sample::select(vec![1.0f32, 10.0, 40.0]),
+            empty_bonus in prop::sample::select(vec![0.8f32, 0.95, 1.0]),
+        ) {
+            let cell = cell_around(&all, margin);
+            let params = BuildParams { empty_bonus, ..params(traversal_cost) };
+            let sah = Sah::new(Shapes::Boxes(&all), params, &cell);
+            let clipped: Vec<ClippedBox> = all
+                .iter()
+                .enumerate()
+                .map(|(id, &bounds)| ClippedBox { id: id as u32, bounds })
+                .collect();
+            let leaf_cost = params.intersection_cost * all.len() as f32;
+            let plane = |s: Split| (s.axis, s.position.to_bits(), s.cost.to_bits(), s.below, s.above);
+            let sorted = sah
+                .sorted_few_split(&clipped, &cell)
+                .filter(|s| s.cost < leaf_cost)
+                .map(plane);
+            let unsorted = few::cheapest_paying_split(&clipped, &cell, &params, sah.gap).map(plane);
+            prop_assert_eq!(unsorted, sorted);
         }
 
         /// When the bound says no plane can pay, the sweep finds none that
