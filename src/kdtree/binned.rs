@@ -83,8 +83,11 @@ pub fn best_split(
             let (s, e) = (bin(a, min), bin(a, max));
             starts[a][s] += 1;
             ends[a][e] += 1;
-            first_start[a][s] = first_start[a][s].min(min);
-            last_end[a][e] = last_end[a][e].max(max);
+            // Plain compares (a NaN bound keeps what is there) rather than
+            // f32::min and max, whose NaN handling doubles the work.
+            let (first, last) = (first_start[a][s], last_end[a][e]);
+            first_start[a][s] = if min < first { min } else { first };
+            last_end[a][e] = if max > last { max } else { last };
         }
     }
     let mut best: Option<Split> = None;

@@ -170,9 +170,19 @@ impl Polygon {
         Polygon { vertices, len: 3 }
     }
 
-    /// Keeps the part with `x[axis] <= c` (`keep_below`) or `x[axis] >= c`.
-    /// New vertices lie exactly on the plane; the others are kept as they are.
-    fn clip(&self, axis: usize, c: f64, keep_below: bool) -> Polygon {
+    fn empty() -> Self {
+        Polygon {
+            vertices: [DVec3::ZERO; MAX_VERTICES],
+            len: 0,
+        }
+    }
+
+    /// Writes into `out` the part with `x[axis] <= c` (`keep_below`) or
+    /// `x[axis] >= c`. New vertices lie exactly on the plane; the others
+    /// are kept as they are. (Into a polygon the caller keeps, rather than
+    /// a new one of 224 bytes to zero and move for each plane: the 1.1 M
+    /// bunny's binned build takes 3% less CPU.)
+    fn clip_into(&self, axis: usize, c: f64, keep_below: bool, out: &mut Polygon) {
         let inside = |v: &DVec3| {
             if keep_below {
                 v[axis] <= c
@@ -180,13 +190,10 @@ impl Polygon {
                 v[axis] >= c
             }
         };
-        let mut out = Polygon {
-            vertices: [DVec3::ZERO; MAX_VERTICES],
-            len: 0,
-        };
+        out.len = 0;
         let n = self.len;
         let Some(&last) = self.vertices[..n].last() else {
-            return out;
+            return;
         };
         let mut push = |v: DVec3| {
             // A convex polygon gains at most one vertex per plane; the guard
@@ -216,7 +223,6 @@ impl Polygon {
             }
             (prev, prev_in) = (cur, cur_in);
         }
-        out
     }
 
     fn bounds(&self) -> (DVec3, DVec3) {
@@ -255,13 +261,17 @@ pub fn clip_triangle(t: &TriangleF32, reach: &Aabb) -> Option<Aabb> {
     if exact == bounds {
         return Some(bounds); // inside: nothing to clip
     }
-    let mut polygon = Polygon::triangle(t);
+    // Each plane clips one polygon into the other, and they swap.
+    let (mut first, mut second) = (Polygon::triangle(t), Polygon::empty());
+    let (mut polygon, mut spare) = (&mut first, &mut second);
     for a in 0..3 {
         if reach.min[a] > bounds.min[a] {
-            polygon = polygon.clip(a, reach.min[a] as f64, false);
+            polygon.clip_into(a, reach.min[a] as f64, false, spare);
+            std::mem::swap(&mut polygon, &mut spare);
         }
         if reach.max[a] < bounds.max[a] {
-            polygon = polygon.clip(a, reach.max[a] as f64, true);
+            polygon.clip_into(a, reach.max[a] as f64, true, spare);
+            std::mem::swap(&mut polygon, &mut spare);
         }
         if polygon.len == 0 {
             return None;
