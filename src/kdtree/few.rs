@@ -16,7 +16,7 @@ use crate::geometry::Aabb;
 use super::binned::ClippedBox;
 use super::build::BuildParams;
 use super::clip::{clear_above, clear_below};
-use super::sah::{AxisCost, Split, FEW};
+use super::sah::{AxisCost, Split, FEW, GAP_ROUNDING_MARGIN};
 
 /// Nodes of at most this many objects are searched here, bigger ones by the
 /// sorted sweep: this search is O(n^2) where the sort is O(n log n).
@@ -102,11 +102,6 @@ impl Group {
     }
 }
 
-/// A bound may exceed the exact cost at a gap plane by the rounding of the
-/// two ends' sums: only bounds above the best by more than this share are
-/// ruled out.
-const ROUNDING_MARGIN: f32 = 1e-4;
-
 /// The plane the sorted sweep chooses ([`super::sah`]) when it costs less
 /// than a leaf of `boxes`, else `None`. The boxes' bounds must be finite.
 /// Ties go as in the sweep: the lowest axis, then the lowest position.
@@ -128,7 +123,7 @@ pub(super) fn cheapest_paying_split(
         split: None,
         cost: params.intersection_cost * n as f32,
     };
-    let may_beat = |bound: f32, best: &Best| bound * (1.0 - ROUNDING_MARGIN) <= best.cost;
+    let may_beat = |bound: f32, best: &Best| bound * (1.0 - GAP_ROUNDING_MARGIN) <= best.cost;
     for a in 0..3 {
         if !(cell.max[a] > cell.min[a]) {
             continue;

@@ -208,6 +208,29 @@ impl AxisCost {
     }
 }
 
+/// Whether a plane in the gap between positions `low` and `high`, with
+/// `below` and `above` objects in the children, may cost no more than the
+/// `best`: the cost is linear in the position, so at least its value at one
+/// end, less a margin for the rounding of the two sums.
+fn gap_may_beat(
+    best: &Option<Split>,
+    cost: &AxisCost,
+    low: f32,
+    high: f32,
+    below: usize,
+    above: usize,
+) -> bool {
+    let Some(best) = best else {
+        return true;
+    };
+    let bound = cost.at(low, below, above).min(cost.at(high, below, above));
+    bound * (1.0 - GAP_ROUNDING_MARGIN) <= best.cost
+}
+
+/// How far the rounding of a cost at a gap's end may take it above the
+/// exact line's (a few ulps of the sums): see [`gap_may_beat`].
+pub(super) const GAP_ROUNDING_MARGIN: f32 = 1e-4;
+
 /// Nodes of at most this many objects are split by [`Sah::split_few`],
 /// from their clipped boxes with the events sorted on the stack, rather
 /// than by keeping sorted event lists (whose split, merge and allocations
@@ -279,7 +302,9 @@ impl Sah<'_> {
                 continue;
             }
             let cost = AxisCost::new(&self.params, cell, a, inv_area);
-            let mut consider = |x, below, above| cost.keep_cheaper(&mut best, x, below, above);
+            let consider = |best: &mut Option<Split>, x, below, above| {
+                cost.keep_cheaper(best, x, below, above)
+            };
             // Over the positions before the current one: objects whose
             // start, end or planar event lies there.
             let (mut starts, mut ends, mut planars) = (0usize, 0usize, 0usize);
@@ -300,33 +325,41 @@ impl Sah<'_> {
                 // The gap before x: below, the objects with min before it;
                 // above, those with max after it.
                 let (gap_below, gap_above) = (starts + planars, n - ends - planars);
-                let gap_high = clear_below(x, gap);
                 match previous {
-                    None => consider(gap_high, gap_below, gap_above),
+                    None => consider(&mut best, clear_below(x, gap), gap_below, gap_above),
+                    // The cost is linear in the gap, so at least its
+                    // value at one end: a gap that cannot beat the best
+                    // is passed over without placing its planes.
+                    Some(xp) if !gap_may_beat(&best, &cost, xp, x, gap_below, gap_above) => {}
                     Some(xp) => {
-                        let gap_low = clear_above(xp, gap);
+                        let (gap_low, gap_high) = (clear_above(xp, gap), clear_below(x, gap));
                         // With the counts fixed, the cost is linear in the
                         // position, rising when more objects are below: only
                         // one end of the gap can be cheapest (both on a tie).
                         if gap_low <= gap_high {
                             if gap_below >= gap_above {
-                                consider(gap_low, gap_below, gap_above);
+                                consider(&mut best, gap_low, gap_below, gap_above);
                             }
                             if gap_below <= gap_above {
-                                consider(gap_high, gap_below, gap_above);
+                                consider(&mut best, gap_high, gap_below, gap_above);
                             }
                         }
                     }
                 }
                 // At x: min <= x below, max >= x above.
-                consider(x, starts + s + planars + pl, n - ends - planars);
+                consider(&mut best, x, starts + s + planars + pl, n - ends - planars);
                 starts += s;
                 ends += e;
                 planars += pl;
                 previous = Some(x);
             }
             if let Some(xp) = previous {
-                consider(clear_above(xp, gap), starts + planars, n - ends - planars);
+                consider(
+                    &mut best,
+                    clear_above(xp, gap),
+                    starts + planars,
+                    n - ends - planars,
+                );
             }
         }
         best
