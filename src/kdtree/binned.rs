@@ -201,12 +201,11 @@ impl<'a, 's> Router<'a, 's> {
             (true, false) => (Some(b), None),
             (false, true) => (None, Some(b)),
             _ => {
-                let clipped = |reach: &Aabb| {
+                let (below, above) =
                     self.shapes
-                        .clip_within(b.id, reach)
-                        .map(|bounds| ClippedBox { id: b.id, bounds })
-                };
-                (clipped(&self.below_reach), clipped(&self.above_reach))
+                        .clip_across(b.id, self.axis, &self.below_reach, &self.above_reach);
+                let boxed = |bounds| ClippedBox { id: b.id, bounds };
+                (below.map(boxed), above.map(boxed))
             }
         }
     }

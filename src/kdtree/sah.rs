@@ -428,11 +428,12 @@ impl Sah<'_> {
         let below_reach = self.shapes.reach(&below_cell);
         let above_reach = self.shapes.reach(&above_cell);
         for &id in &straddling {
-            if let Some(b) = self.shapes.clip_within(id, &below_reach) {
+            let (below, above) = self.shapes.clip_across(id, a, &below_reach, &above_reach);
+            if let Some(b) = below {
                 events::push_box(&mut new_below, id, &b);
                 n_below += 1;
             }
-            if let Some(b) = self.shapes.clip_within(id, &above_reach) {
+            if let Some(b) = above {
                 events::push_box(&mut new_above, id, &b);
                 n_above += 1;
             }
