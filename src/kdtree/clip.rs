@@ -283,7 +283,7 @@ pub fn clip_triangle(t: &TriangleF32, reach: &Aabb) -> Option<Aabb> {
     }
     let mut clip = Clip::new(t);
     for a in 0..3 {
-        clip.to_axis(a, reach, &bounds);
+        clip.by_faces_on(a, reach, &bounds);
     }
     clip.bounds(t, reach, &exact)
 }
@@ -308,7 +308,7 @@ pub fn clip_triangle_across(
     }
     let mut shared = Clip::new(t);
     for a in (0..3).filter(|&a| a != axis) {
-        shared.to_axis(a, below, &bounds);
+        shared.by_faces_on(a, below, &bounds);
     }
     let child = |reach: &Aabb, exact: Option<Aabb>| {
         let exact = exact?;
@@ -316,7 +316,7 @@ pub fn clip_triangle_across(
             return Some(bounds);
         }
         let mut clip = shared.clone();
-        clip.to_axis(axis, reach, &bounds);
+        clip.by_faces_on(axis, reach, &bounds);
         clip.bounds(t, reach, &exact)
     };
     (child(below, exact_below), child(above, exact_above))
@@ -341,7 +341,7 @@ impl Clip {
     }
 
     /// Clips by the faces of `reach` on axis `a` that cut `bounds`.
-    fn to_axis(&mut self, a: usize, reach: &Aabb, bounds: &Aabb) {
+    fn by_faces_on(&mut self, a: usize, reach: &Aabb, bounds: &Aabb) {
         if reach.min[a] > bounds.min[a] {
             self.plane(a, reach.min[a] as f64, false);
         }
