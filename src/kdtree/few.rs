@@ -147,15 +147,16 @@ pub(super) fn cheapest_paying_split(
             let [at, gap_after, gap_before] = group.bounds(&cost, n as f32, lowest);
             for l in 0..LANES.min(2 * n - first) {
                 let y = group.y[l];
-                let below = group.starts_at_or_before[l] as usize;
+                // Counts become integers only for the candidates costed.
+                let below = || group.starts_at_or_before[l] as usize;
                 if at[l] <= best.cost {
                     let above = group.ends_at_or_after[l] as usize;
-                    best.offer(&cost, y, below, above);
+                    best.offer(&cost, y, below(), above);
                 }
                 if may_beat(gap_after[l], &best) {
                     // The gap between y and the next position, as the sweep
                     // takes it: only the end the cost's slope favours.
-                    let above = group.ends_after[l] as usize;
+                    let (below, above) = (below(), group.ends_after[l] as usize);
                     let low = clear_above(y, gap);
                     let next = group.next[l];
                     if next == f32::INFINITY {
