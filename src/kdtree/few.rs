@@ -48,28 +48,32 @@ impl Group {
     /// boxes stream past.
     #[inline(always)]
     fn count(y: [f32; LANES], mins: &[f32], maxs: &[f32]) -> Group {
-        let one = |c: bool| if c { 1.0 } else { 0.0 };
-        let mut g = Group {
-            y,
-            starts_at_or_before: [0.0; LANES],
-            ends_at_or_after: [0.0; LANES],
-            ends_after: [0.0; LANES],
-            next: [f32::INFINITY; LANES],
-        };
+        // Integer counts: a compare's mask is subtracted, where a float
+        // count would mask a 1.0 and add it.
+        let mut starts_at_or_before = [0i32; LANES];
+        let mut ends_at_or_after = [0i32; LANES];
+        let mut ends_after = [0i32; LANES];
+        let mut next = [f32::INFINITY; LANES];
         for (&min, &max) in mins.iter().zip(maxs) {
             for l in 0..LANES {
                 let y = y[l];
-                g.starts_at_or_before[l] += one(min <= y);
-                g.ends_at_or_after[l] += one(max >= y);
-                g.ends_after[l] += one(max > y);
+                starts_at_or_before[l] += (min <= y) as i32;
+                ends_at_or_after[l] += (max >= y) as i32;
+                ends_after[l] += (max > y) as i32;
                 let above_min = if min > y { min } else { f32::INFINITY };
                 let above_max = if max > y { max } else { f32::INFINITY };
-                let next = g.next[l];
-                let next = if above_min < next { above_min } else { next };
-                g.next[l] = if above_max < next { above_max } else { next };
+                let n = next[l];
+                let n = if above_min < n { above_min } else { n };
+                next[l] = if above_max < n { above_max } else { n };
             }
         }
-        g
+        Group {
+            y,
+            starts_at_or_before: starts_at_or_before.map(|c| c as f32),
+            ends_at_or_after: ends_at_or_after.map(|c| c as f32),
+            ends_after: ends_after.map(|c| c as f32),
+            next,
+        }
     }
 
     /// Lower bounds of the three kinds of candidate at each position: the
