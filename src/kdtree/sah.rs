@@ -162,7 +162,9 @@ impl AxisCost {
     /// The cost of a plane at `x` with `below` and `above` objects in the
     /// children.
     pub fn at(&self, x: f32, below: usize, above: usize) -> f32 {
-        self.at_counts(x, below as f32, above as f32)
+        // Through u32 (counts are below 2^30, `events::MAX_OBJECTS`): one
+        // instruction each, where a usize takes several.
+        self.at_counts(x, below as u32 as f32, above as u32 as f32)
     }
 
     /// [`AxisCost::at`] with the counts as floats (whole numbers), the
@@ -223,7 +225,8 @@ fn gap_may_beat(
     let Some(best) = best else {
         return true;
     };
-    let bound = cost.at(low, below, above).min(cost.at(high, below, above));
+    let (at_low, at_high) = (cost.at(low, below, above), cost.at(high, below, above));
+    let bound = if at_low < at_high { at_low } else { at_high };
     bound * (1.0 - GAP_ROUNDING_MARGIN) <= best.cost
 }
 
