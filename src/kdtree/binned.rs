@@ -15,7 +15,7 @@
 use crate::geometry::Aabb;
 
 use super::clip::{clear_above, clear_below, sides, Shapes};
-use super::sah::{AxisCost, Split};
+use super::sah::{inverse_area, AxisCost, Split};
 use super::BuildParams;
 
 /// Bins per axis.
@@ -49,11 +49,7 @@ pub fn best_split(
     gap: f32,
 ) -> Option<Split> {
     let n = boxes.len();
-    let area = cell.surface_area();
-    if !(area > 0.0) {
-        return None;
-    }
-    let inv_area = 1.0 / area;
+    let inv_area = inverse_area(cell)?;
     let extent = boxes.iter().fold(Aabb::EMPTY, |e, b| e.union(b.bounds));
     let lo = [0, 1, 2].map(|a| extent.min[a].max(cell.min[a]));
     let hi = [0, 1, 2].map(|a| extent.max[a].min(cell.max[a]));

@@ -16,7 +16,7 @@ use crate::geometry::Aabb;
 use super::binned::ClippedBox;
 use super::build::BuildParams;
 use super::clip::{clear_above, clear_below};
-use super::sah::{AxisCost, Split, FEW, GAP_ROUNDING_MARGIN};
+use super::sah::{inverse_area, AxisCost, Split, FEW, GAP_ROUNDING_MARGIN};
 
 /// Nodes of at most this many objects are searched here, bigger ones by the
 /// sorted sweep: this search is O(n^2) where the sort is O(n log n).
@@ -118,11 +118,7 @@ pub(super) fn cheapest_paying_split(
 ) -> Option<Split> {
     let n = boxes.len();
     debug_assert!(n <= FEW);
-    let area = cell.surface_area();
-    if !(area > 0.0) {
-        return None;
-    }
-    let inv_area = 1.0 / area;
+    let inv_area = inverse_area(cell)?;
     let mut best = Best {
         split: None,
         cost: params.intersection_cost * n as f32,

@@ -129,6 +129,14 @@ pub(super) struct Split {
     pub above: usize,
 }
 
+/// One over the cell's surface area, by which every plane's cost divides
+/// its children's areas; `None` for a flat or NaN cell, which no plane
+/// splits.
+pub(super) fn inverse_area(cell: &Aabb) -> Option<f32> {
+    let area = cell.surface_area();
+    (area > 0.0).then(|| 1.0 / area)
+}
+
 /// The surface area heuristic's cost of a plane on one axis of a cell, as
 /// a function of its position: a child's area is linear in it.
 pub(super) struct AxisCost {
@@ -292,11 +300,7 @@ impl Sah<'_> {
     /// thread count.
     #[allow(clippy::neg_cmp_op_on_partial_ord)] // NaN counts as not positive
     fn best_split(&self, axes: [&[u64]; 3], n: usize, cell: &Aabb) -> Option<Split> {
-        let area = cell.surface_area();
-        if !(area > 0.0) {
-            return None;
-        }
-        let inv_area = 1.0 / area;
+        let inv_area = inverse_area(cell)?;
         let gap = self.gap;
         let mut best: Option<Split> = None;
         for (a, list) in axes.into_iter().enumerate() {
