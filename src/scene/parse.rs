@@ -698,6 +698,11 @@ struct Validator<'a> {
     on_read: RefCell<&'a mut dyn FnMut(&Path)>,
 }
 
+/// The path of a key, made only when an error names it: made for every
+/// number, a million spheres' six million paths, that no error read, were
+/// 0.43 s of their JSON file's 1.0 s load.
+type KeyPath<'a> = &'a dyn Fn() -> String;
+
 impl Validator<'_> {
     /// An error at `key`, on the line of the key or, when the file leaves it
     /// out (a default is at fault), of the nearest enclosing table it has.
@@ -714,30 +719,30 @@ impl Validator<'_> {
         SceneError::new(self.file, line, Some(key.to_string()), message)
     }
 
-    fn number(&self, key: &str, x: f64) -> Result<f64, SceneError> {
+    fn number(&self, key: KeyPath, x: f64) -> Result<f64, SceneError> {
         if x.is_finite() {
             Ok(x)
         } else {
-            Err(self.error(key, format!("must be a finite number, got {x:?}")))
+            Err(self.error(&key(), format!("must be a finite number, got {x:?}")))
         }
     }
 
     /// A finite vector; a bad component is named by its index, `key[i]`.
-    fn vector(&self, key: &str, v: Vec3) -> Result<DVec3, SceneError> {
+    fn vector(&self, key: KeyPath, v: Vec3) -> Result<DVec3, SceneError> {
         for (i, x) in v.0.into_iter().enumerate() {
-            self.number(&format!("{key}[{i}]"), x)?;
+            self.number(&|| format!("{}[{i}]", key()), x)?;
         }
         Ok(DVec3::from_array(v.0))
     }
 
     /// A point in space: finite, and within ±MAX_COORDINATE so that the
     /// GPU's f32 arithmetic (which squares distances) cannot overflow.
-    fn position(&self, key: &str, v: Vec3) -> Result<DVec3, SceneError> {
+    fn position(&self, key: KeyPath, v: Vec3) -> Result<DVec3, SceneError> {
         let p = self.vector(key, v)?;
         for (i, x) in p.to_array().into_iter().enumerate() {
             if x.abs() > MAX_COORDINATE {
                 return Err(self.error(
-                    &format!("{key}[{i}]"),
+                    &format!("{}[{i}]", key()),
                     format!(
                         "must be within ±{MAX_COORDINATE:e} (the GPU computes in f32), got {x:e}"
                     ),
@@ -747,11 +752,11 @@ impl Validator<'_> {
         Ok(p)
     }
 
-    fn colour(&self, key: &str, v: Vec3) -> Result<DVec3, SceneError> {
+    fn colour(&self, key: KeyPath, v: Vec3) -> Result<DVec3, SceneError> {
         let c = self.vector(key, v)?;
         if c.min_element() < 0.0 {
             return Err(self.error(
-                key,
+                &key(),
                 format!("colour components must be >= 0, got {:?}", v.0),
             ));
         }
@@ -773,10 +778,10 @@ impl Validator<'_> {
             .map(|(i, l)| {
                 let key = |k: &str| format!("lights[{i}].{k}");
                 Ok(Light {
-                    position: self.position(&key("position"), l.position)?,
-                    ambient: self.colour(&key("ambient"), l.ambient)?,
-                    diffuse: self.colour(&key("diffuse"), l.diffuse)?,
-                    specular: self.colour(&key("specular"), l.specular)?,
+                    position: self.position(&|| key("position"), l.position)?,
+                    ambient: self.colour(&|| key("ambient"), l.ambient)?,
+                    diffuse: self.colour(&|| key("diffuse"), l.diffuse)?,
+                    specular: self.colour(&|| key("specular"), l.specular)?,
                 })
             })
             .collect::<Result<Vec<_>, SceneError>>()?;
@@ -785,14 +790,14 @@ impl Validator<'_> {
         let mut material_index = BTreeMap::new();
         for (name, m) in &raw.materials {
             let key = |k: &str| format!("materials.{name}.{k}");
-            let shininess = self.number(&key("shininess"), m.shininess)?;
+            let shininess = self.number(&|| key("shininess"), m.shininess)?;
             if shininess < 0.0 {
                 return Err(self.error(
                     &key("shininess"),
                     format!("must be >= 0, got {shininess:?}"),
                 ));
             }
-            let reflection = self.number(&key("reflection"), m.reflection)?;
+            let reflection = self.number(&|| key("reflection"), m.reflection)?;
             if !(0.0..=1.0).contains(&reflection) {
                 return Err(self.error(
                     &key("reflection"),
@@ -802,9 +807,9 @@ impl Validator<'_> {
             material_index.insert(name.clone(), materials.len() as u32);
             materials.push(Material {
                 name: name.clone(),
-                ambient: self.colour(&key("ambient"), m.ambient)?,
-                diffuse: self.colour(&key("diffuse"), m.diffuse)?,
-                specular: self.colour(&key("specular"), m.specular)?,
+                ambient: self.colour(&|| key("ambient"), m.ambient)?,
+                diffuse: self.colour(&|| key("diffuse"), m.diffuse)?,
+                specular: self.colour(&|| key("specular"), m.specular)?,
                 shininess,
                 reflection,
             });
@@ -829,7 +834,7 @@ impl Validator<'_> {
         let mut spheres = Vec::with_capacity(raw.spheres.len());
         for (i, s) in raw.spheres.iter().enumerate() {
             let key = |k: &str| format!("spheres[{i}].{k}");
-            let radius = self.number(&key("radius"), s.radius)?;
+            let radius = self.number(&|| key("radius"), s.radius)?;
             if radius <= 0.0 {
                 return Err(self.error(&key("radius"), format!("must be > 0, got {radius:?}")));
             }
@@ -840,7 +845,7 @@ impl Validator<'_> {
                 ));
             }
             spheres.push(Sphere {
-                center: self.position(&key("center"), s.center)?,
+                center: self.position(&|| key("center"), s.center)?,
                 radius,
                 material: lookup(&key("material"), &s.material)?,
             });
@@ -851,7 +856,7 @@ impl Validator<'_> {
             let key = |k: &str| format!("triangles[{i}].{k}");
             let mut vertices = [DVec3::ZERO; 3];
             for (j, (v, raw_v)) in vertices.iter_mut().zip(t.vertices.0).enumerate() {
-                *v = self.position(&format!("{}[{j}]", key("vertices")), raw_v)?;
+                *v = self.position(&|| format!("{}[{j}]", key("vertices")), raw_v)?;
             }
             if !has_area(&vertices) {
                 return Err(self.error(&key("vertices"), "triangle has zero area"));
@@ -881,10 +886,10 @@ impl Validator<'_> {
     }
 
     fn camera(&self, c: &RawCamera) -> Result<Camera, SceneError> {
-        let position = self.position("camera.position", c.position)?;
-        let look_at = self.position("camera.look_at", c.look_at)?;
-        let up = self.vector("camera.up", c.up.unwrap_or(DEFAULT_UP))?;
-        let vfov_degrees = self.number("camera.vfov", c.vfov)?;
+        let position = self.position(&|| "camera.position".into(), c.position)?;
+        let look_at = self.position(&|| "camera.look_at".into(), c.look_at)?;
+        let up = self.vector(&|| "camera.up".into(), c.up.unwrap_or(DEFAULT_UP))?;
+        let vfov_degrees = self.number(&|| "camera.vfov".into(), c.vfov)?;
         if !(vfov_degrees > 0.0 && vfov_degrees < 180.0) {
             return Err(self.error(
                 "camera.vfov",
@@ -927,7 +932,10 @@ impl Validator<'_> {
                 return Err(self.error(key, format!("must be in 1..={MAX_IMAGE_SIDE}, got {side}")));
             }
         }
-        let min_intensity = self.number("render.min_intensity", r.min_intensity.unwrap_or(0.05))?;
+        let min_intensity = self.number(
+            &|| "render.min_intensity".into(),
+            r.min_intensity.unwrap_or(0.05),
+        )?;
         if !(0.0..=1.0).contains(&min_intensity) {
             return Err(self.error(
                 "render.min_intensity",
@@ -948,7 +956,10 @@ impl Validator<'_> {
             height,
             min_intensity,
             max_depth,
-            background: self.colour("render.background", r.background.unwrap_or_default())?,
+            background: self.colour(
+                &|| "render.background".into(),
+                r.background.unwrap_or_default(),
+            )?,
             shadow_mode: match r.shadow_mode {
                 None | Some(RawShadowMode::Ambient) => ShadowMode::Ambient,
                 Some(RawShadowMode::Seed) => ShadowMode::Seed,
@@ -969,14 +980,14 @@ impl Validator<'_> {
     ) -> Result<(), SceneError> {
         let key = |k: &str| format!("meshes[{i}].{k}");
         let scale = match m.scale {
-            RawScale::Uniform(s) => DVec3::splat(self.number(&key("scale"), s)?),
-            RawScale::PerAxis(v) => self.vector(&key("scale"), v)?,
+            RawScale::Uniform(s) => DVec3::splat(self.number(&|| key("scale"), s)?),
+            RawScale::PerAxis(v) => self.vector(&|| key("scale"), v)?,
         };
         if scale.abs().min_element() == 0.0 {
             return Err(self.error(&key("scale"), "must be non-zero on every axis"));
         }
-        let rotate = self.vector(&key("rotate"), m.rotate)?;
-        let translate = self.position(&key("translate"), m.translate)?;
+        let rotate = self.vector(&|| key("rotate"), m.rotate)?;
+        let translate = self.position(&|| key("translate"), m.translate)?;
         let transform = mesh_transform(scale, rotate);
 
         let base = self.file.parent().unwrap_or(Path::new(""));
