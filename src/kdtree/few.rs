@@ -23,7 +23,8 @@ use super::sah::{inverse_area, AxisCost, Split, FEW, GAP_ROUNDING_MARGIN};
 /// Measured on the 1.1 M-triangle bunny, binned build on one thread, CPU
 /// time (`examples/build_time.rs`, three rounds, 2026-11-24): 3.90-3.94 s
 /// with the sorted sweep for every node, 3.58-3.62 s with this search up
-/// to 10, 12 or 14 objects, 3.93 s up to 16 and 4.04 s up to 20.
+/// to 10, 12 or 14 objects, 3.93 s up to 16 and 4.04 s up to 20 (and once
+/// the counts were integers, up to 16 took the time of up to 12).
 pub(super) const MAX_OBJECTS: usize = 12;
 
 /// Candidates are compared in groups of this many (two SSE registers).
@@ -191,7 +192,6 @@ struct Best {
 impl Best {
     /// Keeps a plane at `x` strictly inside the cell when it costs less, or
     /// as much at a lower position on the same axis.
-    #[allow(clippy::neg_cmp_op_on_partial_ord)] // NaN is not inside
     fn offer(&mut self, cost: &AxisCost, x: f32, below: usize, above: usize) {
         if !cost.inside(x) {
             return;
