@@ -450,7 +450,7 @@ mod tests {
                     (Some(g), Some(a)) => {
                         for i in 0..3 {
                             for (x, y) in [(g.min[i], a.min[i]), (g.max[i], a.max[i])] {
-                                // The guard of `Clip::bounds` at these
+                                // The guard of `polygon_bounds` at these
                                 // magnitudes (at most 4).
                                 let guard = 4.0 * (1.0 / (1u64 << 40) as f32);
                                 proptest::prop_assert!(
