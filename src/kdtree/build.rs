@@ -348,11 +348,15 @@ pub(super) trait Strategy: Sync {
     fn count(objects: &Self::Objects) -> usize;
     /// The ids of a leaf's objects, ascending.
     fn leaf_ids(objects: Self::Objects) -> Vec<u32>;
+    /// With `parallel` the caller is a worker of the build's thread pool,
+    /// and the split may share its own work out on it (the decision must
+    /// not depend on it).
     fn split(
         &self,
         objects: Self::Objects,
         cell: &Aabb,
         depth: u32,
+        parallel: bool,
         scratch: &mut Self::Scratch,
     ) -> Decision<Self::Objects>;
 }
@@ -416,7 +420,7 @@ impl<'s, S: Strategy> Builder<'s, S> {
         let (axis, position, below, above) =
             match self
                 .strategy
-                .split(objects, &cell, depth, &mut self.scratch)
+                .split(objects, &cell, depth, parallel, &mut self.scratch)
             {
                 Decision::Leaf(objects) => {
                     self.leaf(S::leaf_ids(objects), depth);

@@ -94,6 +94,7 @@ impl Strategy for Median<'_> {
         objects: Clipped,
         cell: &Aabb,
         depth: u32,
+        _parallel: bool,
         centres: &mut Vec<f32>,
     ) -> Decision<Clipped> {
         let n = objects.len();
