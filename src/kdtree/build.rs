@@ -346,8 +346,10 @@ pub(super) trait Strategy: Sync {
     type Scratch: Send;
     fn scratch(&self) -> Self::Scratch;
     fn count(objects: &Self::Objects) -> usize;
-    /// The ids of a leaf's objects, ascending.
-    fn leaf_ids(objects: Self::Objects) -> Vec<u32>;
+    /// Appends the ids of a leaf's objects to `out`, ascending (into the
+    /// tree's list itself: a vector of its own for each of the 1.1 M-triangle
+X
+    fn leaf_ids(objects: Self::Objects, out: &mut Vec<u32>);
     /// With `parallel` the caller is a worker of the build's thread pool,
     /// and the split may share its own work out on it (the decision must
     /// not depend on it).
@@ -394,15 +396,16 @@ impl<'s, S: Strategy> Builder<'s, S> {
         }
     }
 
-    fn leaf(&mut self, ids: Vec<u32>, depth: u32) {
+    fn leaf(&mut self, objects: S::Objects, depth: u32) {
         self.deepest = self.deepest.max(depth);
+        let first = self.leaf_objects.len();
+        S::leaf_ids(objects, &mut self.leaf_objects);
         self.nodes.push(KdNode {
             kind: KdNode::LEAF,
             split: 0.0,
-            index: self.leaf_objects.len() as u32,
-            count: ids.len() as u32,
+            index: first as u32,
+            count: (self.leaf_objects.len() - first) as u32,
         });
-        self.leaf_objects.extend_from_slice(&ids);
     }
 
     /// Builds the subtree over `objects` in `cell`, appending its nodes depth
@@ -423,7 +426,7 @@ impl<'s, S: Strategy> Builder<'s, S> {
                 .split(objects, &cell, depth, parallel, &mut self.scratch)
             {
                 Decision::Leaf(objects) => {
-                    self.leaf(S::leaf_ids(objects), depth);
+                    self.leaf(objects, depth);
                     return;
                 }
                 Decision::Split {

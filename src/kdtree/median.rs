@@ -83,10 +83,10 @@ impl Strategy for Median<'_> {
         objects.len()
     }
 
-    fn leaf_ids(objects: Clipped) -> Vec<u32> {
-        let mut ids: Vec<u32> = objects.into_iter().map(|(id, _)| id).collect();
-        ids.sort_unstable();
-        ids
+    fn leaf_ids(objects: Clipped, out: &mut Vec<u32>) {
+        let first = out.len();
+        out.extend(objects.into_iter().map(|(id, _)| id));
+        out[first..].sort_unstable();
     }
 
     fn split(

@@ -113,13 +113,17 @@ impl EventLists {
 
     /// The object ids, ascending.
     fn ids(&self) -> Vec<u32> {
-        let mut ids: Vec<u32> = self.axes[0]
+        let mut ids: Vec<u32> = self.unsorted_ids().collect();
+        ids.sort_unstable();
+        ids
+    }
+
+    /// The object ids, in the order of the x axis's events.
+    fn unsorted_ids(&self) -> impl Iterator<Item = u32> + '_ {
+        self.axes[0]
             .iter()
             .filter(|&&e| events::kind(e) != END)
             .map(|&e| events::id(e))
-            .collect();
-        ids.sort_unstable();
-        ids
     }
 }
 
@@ -697,15 +701,13 @@ impl Strategy for Sah<'_> {
         }
     }
 
-    fn leaf_ids(objects: SahObjects) -> Vec<u32> {
+    fn leaf_ids(objects: SahObjects, out: &mut Vec<u32>) {
+        let first = out.len();
         match objects {
-            SahObjects::Boxes(boxes) => {
-                let mut ids: Vec<u32> = boxes.iter().map(|b| b.id).collect();
-                ids.sort_unstable();
-                ids
-            }
-            SahObjects::Events(lists) => lists.ids(),
+            SahObjects::Boxes(boxes) => out.extend(boxes.iter().map(|b| b.id)),
+            SahObjects::Events(lists) => out.extend(lists.unsorted_ids()),
         }
+        out[first..].sort_unstable();
     }
 
     /// A leaf when the node holds at most one object, at the depth limit,
@@ -854,10 +856,17 @@ mod shortcut_tests {
         }
     }
 
+    /// A node's object ids, ascending.
+    fn ids(objects: SahObjects) -> Vec<u32> {
+        let mut out = Vec::new();
+        Sah::leaf_ids(objects, &mut out);
+        out
+    }
+
     /// A decision as the plane and each child's ids, ascending.
     fn summary(d: Decision<SahObjects>) -> (Option<(usize, u32)>, Vec<u32>, Vec<u32>) {
         match d {
-            Decision::Leaf(o) => (None, Sah::leaf_ids(o), vec![]),
+            Decision::Leaf(o) => (None, ids(o), vec![]),
             Decision::Split {
                 axis,
                 position,
@@ -865,8 +874,8 @@ mod shortcut_tests {
                 above,
             } => (
                 Some((axis, position.to_bits())),
-                Sah::leaf_ids(below),
-                Sah::leaf_ids(above),
+                ids(below),
+                ids(above),
             ),
         }
     }
