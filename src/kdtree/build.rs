@@ -348,7 +348,7 @@ pub(super) trait Strategy: Sync {
     fn count(objects: &Self::Objects) -> usize;
     /// Appends the ids of a leaf's objects to `out`, ascending (into the
     /// tree's list itself: a vector of its own for each of the 1.1 M-triangle
-X
+    /// bunny's 1.16 M leaves cost 1% of its build).
     fn leaf_ids(objects: Self::Objects, out: &mut Vec<u32>);
     /// With `parallel` the caller is a worker of the build's thread pool,
     /// and the split may share its own work out on it (the decision must

@@ -872,11 +872,7 @@ mod shortcut_tests {
                 position,
                 below,
                 above,
-            } => (
-                Some((axis, position.to_bits())),
-                ids(below),
-                ids(above),
-            ),
+            } => (Some((axis, position.to_bits())), ids(below), ids(above)),
         }
     }
 
