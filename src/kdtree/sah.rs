@@ -847,6 +847,21 @@ mod shortcut_tests {
         })
     }
 
+    /// [`float_boxes`] scaled by 2^-60 to 2^60 and moved by up to 2^20 of
+    /// their size: cells whose coordinates round coarsely against their
+    /// width, and costs of any magnitude.
+    fn far_float_boxes(max: usize) -> impl proptest::strategy::Strategy<Value = Vec<Aabb>> {
+        (float_boxes(max), -60i32..60, -1.0e6f32..1.0e6).prop_map(|(all, exp, shift)| {
+            let scale = 2f32.powi(exp);
+            all.into_iter()
+                .map(|b| Aabb {
+                    min: (b.min + shift) * scale,
+                    max: (b.max + shift) * scale,
+                })
+                .collect()
+        })
+    }
+
     /// The cell: the boxes' union, grown by `margin` on every side.
     fn cell_around(all: &[Aabb], margin: f32) -> Aabb {
         let u = all.iter().copied().fold(Aabb::EMPTY, Aabb::union);
@@ -904,10 +919,11 @@ mod shortcut_tests {
         /// The search without sorting ([`few`]) finds the sorted sweep's
         /// plane whenever that plane costs less than a leaf, at every node
         /// size up to [`FEW`]: on grid boxes (ties, touching faces, flat
-        /// boxes, zeros of both signs) and on boxes of any coordinates.
+        /// boxes, zeros of both signs) and on boxes of any coordinates, near
+        /// the origin or scaled and moved far from it.
         #[test]
         fn the_search_without_sorting_finds_the_sweeps_plane(
-            all in proptest::prop_oneof![boxes(FEW), float_boxes(FEW)],
+            all in proptest::prop_oneof![boxes(FEW), float_boxes(FEW), far_float_boxes(FEW)],
             margin in 0.0f32..2.0,
             traversal_cost in prop::sample::select(vec![1.0f32, 10.0, 40.0]),
             empty_bonus in prop::sample::select(vec![0.8f32, 0.95, 1.0]),
