@@ -310,9 +310,16 @@ impl Sah<'_> {
     /// children (2.3x the references of a one-side rule on the subdivided
     /// bunny, docs/design.md). Ties go to the first found (x before y
     /// before z, lower before higher), which keeps the tree the same on any
-    /// thread count.
-    #[allow(clippy::neg_cmp_op_on_partial_ord)] // NaN counts as not positive
+    /// thread count. Gaps that cannot beat the best so far are passed over
+    /// ([`gap_may_beat`]), which a test holds to the full sweep's plane.
     fn best_split(&self, axes: [&[u64]; 3], n: usize, cell: &Aabb) -> Option<Split> {
+        self.sweep(axes, n, cell, true)
+    }
+
+    /// [`Sah::best_split`], with or without passing over the gaps that
+    /// cannot beat the best.
+    #[allow(clippy::neg_cmp_op_on_partial_ord)] // NaN counts as not positive
+    fn sweep(&self, axes: [&[u64]; 3], n: usize, cell: &Aabb, skip_gaps: bool) -> Option<Split> {
         let inv_area = inverse_area(cell)?;
         let gap = self.gap;
         let mut best: Option<Split> = None;
@@ -350,7 +357,9 @@ impl Sah<'_> {
                     // The cost is linear in the gap, so at least its
                     // value at one end: a gap that cannot beat the best
                     // is passed over without placing its planes.
-                    Some(xp) if !gap_may_beat(&best, &cost, xp, x, gap_below, gap_above) => {}
+                    Some(xp)
+                        if skip_gaps
+                            && !gap_may_beat(&best, &cost, xp, x, gap_below, gap_above) => {}
                     Some(xp) => {
                         let (gap_low, gap_high) = (clear_above(xp, gap), clear_below(x, gap));
                         // With the counts fixed, the cost is linear in the
@@ -625,6 +634,15 @@ impl Sah<'_> {
         }
         let sorted = [0, 1, 2].map(|a| &events[a][..lens[a]]);
         self.best_split(sorted, boxes.len(), cell)
+    }
+
+    /// The full sweep's plane for `boxes`: every gap costed, none passed
+    /// over (the reference the tests hold the shortcuts to).
+    #[cfg(test)]
+    fn full_sweep(&self, boxes: &[ClippedBox], cell: &Aabb) -> Option<Split> {
+        let lists = EventLists::from_boxes(boxes);
+        let axes = [0, 1, 2].map(|a| lists.axes[a].as_slice());
+        self.sweep(axes, boxes.len(), cell, false)
     }
 
     /// Splits `boxes` at `split` when it pays (it costs less than a leaf
@@ -916,7 +934,34 @@ mod shortcut_tests {
             prop_assert_eq!(few, summary(lists));
         }
 
-        /// The search without sorting ([`few`]) finds the sorted sweep's
+        /// The sweep that passes over gaps which cannot beat the best finds
+        /// the full sweep's plane, for nodes of up to 200 boxes (so sorted
+        /// lists of hundreds of events) of every kind the tests make.
+        #[test]
+        fn passing_over_gaps_keeps_the_sweeps_plane(
+            all in proptest::prop_oneof![boxes(200), float_boxes(200), far_float_boxes(200)],
+            margin in 0.0f32..2.0,
+            traversal_cost in prop::sample::select(vec![1.0f32, 10.0, 40.0]),
+            empty_bonus in prop::sample::select(vec![0.8f32, 0.95, 1.0]),
+        ) {
+            let cell = cell_around(&all, margin);
+            let params = BuildParams { empty_bonus, ..params(traversal_cost) };
+            let sah = Sah::new(Shapes::Boxes(&all), params, &cell);
+            let clipped: Vec<ClippedBox> = all
+                .iter()
+                .enumerate()
+                .map(|(id, &bounds)| ClippedBox { id: id as u32, bounds })
+                .collect();
+            let lists = EventLists::from_boxes(&clipped);
+            let axes = [0, 1, 2].map(|a| lists.axes[a].as_slice());
+            let plane = |s: Split| (s.axis, s.position.to_bits(), s.cost.to_bits(), s.below, s.above);
+            prop_assert_eq!(
+                sah.best_split(axes, all.len(), &cell).map(plane),
+                sah.full_sweep(&clipped, &cell).map(plane)
+            );
+        }
+
+        /// The search without sorting ([`few`]) finds the full sweep's
         /// plane whenever that plane costs less than a leaf, at every node
         /// size up to [`FEW`]: on grid boxes (ties, touching faces, flat
         /// boxes, zeros of both signs) and on boxes of any coordinates, near
@@ -939,7 +984,7 @@ mod shortcut_tests {
             let leaf_cost = params.intersection_cost * all.len() as f32;
             let plane = |s: Split| (s.axis, s.position.to_bits(), s.cost.to_bits(), s.below, s.above);
             let sorted = sah
-                .sorted_few_split(&clipped, &cell)
+                .full_sweep(&clipped, &cell)
                 .filter(|s| s.cost < leaf_cost)
                 .map(plane);
             let unsorted = few::cheapest_paying_split(&clipped, &cell, &params, sah.gap).map(plane);
