@@ -12,6 +12,8 @@
 //! Partition is the exact build's: [`super::clip::sides`] with ε, and the
 //! objects straddling the plane clipped again to each child's cell.
 
+use glam::Vec3A;
+
 use crate::geometry::Aabb;
 
 use super::clip::{clear_above, clear_below, sides, Shapes};
@@ -67,16 +69,18 @@ pub fn best_split(
     // a mesh often fall in one bin and wait on each other's count).
     // The saturating cast puts boxes reaching ε past the cell in the end
     // bins.
-    let bin = |a: usize, x: f32| (((x - lo[a]) * scale[a]) as usize).min(BINS - 1);
+    let (lo3, scale3) = (Vec3A::from_array(lo), Vec3A::from_array(scale));
+    let bins = |x: glam::Vec3| bins_of(x, lo3, scale3);
     let mut starts = [[0u32; BINS]; 3];
     let mut ends = [[0u32; BINS]; 3];
     // Per bin, the lowest start and the highest end in it.
     let mut first_start = [[f32::INFINITY; BINS]; 3];
     let mut last_end = [[f32::NEG_INFINITY; BINS]; 3];
     for b in boxes {
+        let (start_bins, end_bins) = (bins(b.bounds.min), bins(b.bounds.max));
         for a in 0..3 {
             let (min, max) = (b.bounds.min[a], b.bounds.max[a]);
-            let (s, e) = (bin(a, min), bin(a, max));
+            let (s, e) = (start_bins[a], end_bins[a]);
             starts[a][s] += 1;
             ends[a][e] += 1;
             // Plain compares (a NaN bound keeps what is there) rather than
@@ -132,6 +136,19 @@ pub fn best_split(
         consider(clear_above(hi, gap), n, 0);
     }
     best
+}
+
+/// The bins of a box's three mins, or maxes, at once, for bins starting at
+/// `lo` and `scale` bins a unit: `((x - lo) * scale) as usize` clamped to
+/// the last bin, as the saturating cast does it (below 0 and NaN to bin
+/// 0), with the float clamped first in four lanes (1.7% of the binned
+/// build of the 1.1 M bunny, where the three casts were 5%).
+#[inline(always)]
+fn bins_of(x: glam::Vec3, lo: Vec3A, scale: Vec3A) -> [usize; 3] {
+    let last = Vec3A::splat((BINS - 1) as f32);
+    // SSE's max gives its second operand for a NaN: 0, as the cast does.
+    let f = ((Vec3A::from(x) - lo) * scale).max(Vec3A::ZERO).min(last);
+    [f.x as usize, f.y as usize, f.z as usize]
 }
 
 /// The children's boxes for the plane of `split`: an object wholly on one
@@ -307,6 +324,22 @@ mod tests {
     }
 
     proptest::proptest! {
+        /// Binning three coordinates at once puts each in the bin the
+        /// saturating cast of one gives, for any floats: NaN, infinities,
+        /// below the first bin and past the last.
+        #[test]
+        fn bins_in_lanes_are_the_casts_bins(
+            x in proptest::array::uniform3(proptest::prop_oneof![
+                proptest::num::f32::ANY, -2.0f32..40.0, proptest::sample::select(vec![f32::NAN, f32::INFINITY, f32::NEG_INFINITY, -0.0])
+            ]),
+            lo in -8.0f32..8.0,
+            scale in proptest::sample::select(vec![0.0f32, 1e-30, 0.37, 1.0, 8.0, 1e30]),
+        ) {
+            let got = bins_of(Vec3::from(x), Vec3A::splat(lo), Vec3A::splat(scale));
+            let want = x.map(|x| (((x - lo) * scale) as usize).min(BINS - 1));
+            proptest::prop_assert_eq!(got, want);
+        }
+
         /// The lower child written over the parent's vector is the one
         /// built afresh, and so is the upper child, for boxes on a coarse
         /// grid (faces on the plane, flat boxes) and any plane.
