@@ -150,7 +150,11 @@ fn bins_of(x: glam::Vec3, lo: Vec3A, scale: Vec3A) -> [usize; 3] {
     // Through i32, exact in [0, 31]: a cast to usize took 2.5% of the build
     // more.
     let f = ((Vec3A::from(x) - lo) * scale).max(Vec3A::ZERO).min(last);
-    [f.x as i32 as usize, f.y as i32 as usize, f.z as i32 as usize]
+    [
+        f.x as i32 as usize,
+        f.y as i32 as usize,
+        f.z as i32 as usize,
+    ]
 }
 
 /// The children's boxes for the plane of `split`: an object wholly on one

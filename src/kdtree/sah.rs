@@ -880,6 +880,54 @@ mod shortcut_tests {
         })
     }
 
+    /// A node of up to `max` boxes of every kind above, the margin of its
+    /// cell around them, and the build's costs.
+    fn nodes(
+        max: usize,
+    ) -> impl proptest::strategy::Strategy<Value = (Vec<Aabb>, f32, BuildParams)> {
+        (
+            proptest::prop_oneof![boxes(max), float_boxes(max), far_float_boxes(max)],
+            0.0f32..2.0,
+            prop::sample::select(vec![1.0f32, 10.0, 40.0]),
+            prop::sample::select(vec![0.8f32, 0.95, 1.0]),
+        )
+            .prop_map(|(all, margin, traversal_cost, empty_bonus)| {
+                let params = BuildParams {
+                    empty_bonus,
+                    ..params(traversal_cost)
+                };
+                (all, margin, params)
+            })
+    }
+
+    /// The cell of a node of [`nodes`] and the build over its boxes.
+    fn node(all: &[Aabb], margin: f32, params: BuildParams) -> (Aabb, Sah<'_>) {
+        let cell = cell_around(all, margin);
+        (cell, Sah::new(Shapes::Boxes(all), params, &cell))
+    }
+
+    /// Each box as the clipped box of the object of its index.
+    fn as_clipped(all: &[Aabb]) -> Vec<ClippedBox> {
+        all.iter()
+            .enumerate()
+            .map(|(id, &bounds)| ClippedBox {
+                id: id as u32,
+                bounds,
+            })
+            .collect()
+    }
+
+    /// A split with its position and cost as bits, to compare exactly.
+    fn exact_plane(s: Split) -> (usize, u32, u32, usize, usize) {
+        (
+            s.axis,
+            s.position.to_bits(),
+            s.cost.to_bits(),
+            s.below,
+            s.above,
+        )
+    }
+
     /// The cell: the boxes' union, grown by `margin` on every side.
     fn cell_around(all: &[Aabb], margin: f32) -> Aabb {
         let u = all.iter().copied().fold(Aabb::EMPTY, Aabb::union);
@@ -924,11 +972,7 @@ mod shortcut_tests {
         ) {
             let cell = cell_around(&all, margin);
             let sah = Sah::new(Shapes::Boxes(&all), params(traversal_cost), &cell);
-            let clipped: Vec<ClippedBox> = all
-                .iter()
-                .enumerate()
-                .map(|(id, &bounds)| ClippedBox { id: id as u32, bounds })
-                .collect();
+            let clipped = as_clipped(&all);
             let few = summary(sah.split_few(clipped.clone(), &cell));
             let lists = sah.split_events(EventLists::from_boxes(&clipped), &cell, false, &mut Vec::new());
             prop_assert_eq!(few, summary(lists));
@@ -938,26 +982,14 @@ mod shortcut_tests {
         /// the full sweep's plane, for nodes of up to 200 boxes (so sorted
         /// lists of hundreds of events) of every kind the tests make.
         #[test]
-        fn passing_over_gaps_keeps_the_sweeps_plane(
-            all in proptest::prop_oneof![boxes(200), float_boxes(200), far_float_boxes(200)],
-            margin in 0.0f32..2.0,
-            traversal_cost in prop::sample::select(vec![1.0f32, 10.0, 40.0]),
-            empty_bonus in prop::sample::select(vec![0.8f32, 0.95, 1.0]),
-        ) {
-            let cell = cell_around(&all, margin);
-            let params = BuildParams { empty_bonus, ..params(traversal_cost) };
-            let sah = Sah::new(Shapes::Boxes(&all), params, &cell);
-            let clipped: Vec<ClippedBox> = all
-                .iter()
-                .enumerate()
-                .map(|(id, &bounds)| ClippedBox { id: id as u32, bounds })
-                .collect();
+        fn passing_over_gaps_keeps_the_sweeps_plane((all, margin, params) in nodes(200)) {
+            let (cell, sah) = node(&all, margin, params);
+            let clipped = as_clipped(&all);
             let lists = EventLists::from_boxes(&clipped);
             let axes = [0, 1, 2].map(|a| lists.axes[a].as_slice());
-            let plane = |s: Split| (s.axis, s.position.to_bits(), s.cost.to_bits(), s.below, s.above);
             prop_assert_eq!(
-                sah.best_split(axes, all.len(), &cell).map(plane),
-                sah.full_sweep(&clipped, &cell).map(plane)
+                sah.best_split(axes, all.len(), &cell).map(exact_plane),
+                sah.full_sweep(&clipped, &cell).map(exact_plane)
             );
         }
 
@@ -967,27 +999,15 @@ mod shortcut_tests {
         /// boxes, zeros of both signs) and on boxes of any coordinates, near
         /// the origin or scaled and moved far from it.
         #[test]
-        fn the_search_without_sorting_finds_the_sweeps_plane(
-            all in proptest::prop_oneof![boxes(FEW), float_boxes(FEW), far_float_boxes(FEW)],
-            margin in 0.0f32..2.0,
-            traversal_cost in prop::sample::select(vec![1.0f32, 10.0, 40.0]),
-            empty_bonus in prop::sample::select(vec![0.8f32, 0.95, 1.0]),
-        ) {
-            let cell = cell_around(&all, margin);
-            let params = BuildParams { empty_bonus, ..params(traversal_cost) };
-            let sah = Sah::new(Shapes::Boxes(&all), params, &cell);
-            let clipped: Vec<ClippedBox> = all
-                .iter()
-                .enumerate()
-                .map(|(id, &bounds)| ClippedBox { id: id as u32, bounds })
-                .collect();
+        fn the_search_without_sorting_finds_the_sweeps_plane((all, margin, params) in nodes(FEW)) {
+            let (cell, sah) = node(&all, margin, params);
+            let clipped = as_clipped(&all);
             let leaf_cost = params.intersection_cost * all.len() as f32;
-            let plane = |s: Split| (s.axis, s.position.to_bits(), s.cost.to_bits(), s.below, s.above);
             let sorted = sah
                 .full_sweep(&clipped, &cell)
                 .filter(|s| s.cost < leaf_cost)
-                .map(plane);
-            let unsorted = few::cheapest_paying_split(&clipped, &cell, &params, sah.gap).map(plane);
+                .map(exact_plane);
+            let unsorted = few::cheapest_paying_split(&clipped, &cell, &params, sah.gap).map(exact_plane);
             prop_assert_eq!(unsorted, sorted);
         }
 
@@ -1012,11 +1032,7 @@ mod shortcut_tests {
         /// Boxes read back from a node's event lists are the boxes.
         #[test]
         fn event_lists_give_their_boxes_back(all in boxes(FEW)) {
-            let clipped: Vec<ClippedBox> = all
-                .iter()
-                .enumerate()
-                .map(|(id, &bounds)| ClippedBox { id: id as u32, bounds })
-                .collect();
+            let clipped = as_clipped(&all);
             prop_assert_eq!(EventLists::from_boxes(&clipped).into_boxes(), clipped);
         }
     }
