@@ -598,15 +598,15 @@ impl Sah<'_> {
     /// The exact decision for a node of at most [`FEW`] objects: the plane
     /// [`Sah::split_events`] would choose ([`few::cheapest_paying_split`]
     /// for up to [`few::MAX_OBJECTS`] finite boxes, else
-    /// [`Sah::sorted_few_split`]), and
-    /// the boxes partitioned as the binned build partitions them (the same
-    /// children).
+    /// [`Sah::sorted_few_split`]), and the boxes partitioned as the binned
+    /// build partitions them (the same children).
     fn split_few(&self, boxes: Vec<ClippedBox>, cell: &Aabb) -> Decision<SahObjects> {
         debug_assert!(boxes.len() <= FEW);
-        let finite = boxes
-            .iter()
-            .all(|b| b.bounds.min.is_finite() && b.bounds.max.is_finite());
-        let best = if finite && boxes.len() <= few::MAX_OBJECTS {
+        let searchable = boxes.len() <= few::MAX_OBJECTS
+            && boxes
+                .iter()
+                .all(|b| b.bounds.min.is_finite() && b.bounds.max.is_finite());
+        let best = if searchable {
             few::cheapest_paying_split(&boxes, cell, &self.params, self.gap)
         } else {
             self.sorted_few_split(&boxes, cell)
@@ -839,8 +839,8 @@ mod shortcut_tests {
         })
     }
 
-    /// Boxes of any finite coordinates around the origin, one in four
-    /// flat on an axis, some starting on x where the one before ends.
+    /// Boxes of any finite coordinates around the origin, three in four
+    /// flat on one axis, some starting on x where the one before ends.
     fn float_boxes(max: usize) -> impl proptest::strategy::Strategy<Value = Vec<Aabb>> {
         let corner = || (-4.0f32..4.0, -4.0f32..4.0, -4.0f32..4.0).prop_map(Vec3::from);
         let size = || {
