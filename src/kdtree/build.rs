@@ -106,35 +106,42 @@ pub const SPHERE_TEST_COST: f32 = 20.0;
 
 /// The cost of testing a triangle in a scene of `objects` objects: 80 (four
 /// sphere tests) up to [`SMALL_SCENE_OBJECTS`], 40 up to
-/// [`LARGE_SCENE_OBJECTS`], 20 (a sphere's) beyond. A triangle test loads
-/// nine floats where a sphere's loads four, and the frame of a mesh is
-/// faster the more the heuristic trades its triangle tests for node steps;
-/// but the tree grows with it (about 11, 6 and 2 nodes a triangle on the
-/// bunny), and with it the build and the GPU arrays. Measured on
-/// lavapipe (docs/design.md "Costs"): at 80 against 40 the bunny, the
-/// torus and `scenes/bunny.toml` render 7 - 8% faster and the gears 2.5%;
-/// at 40 against 20, 6 - 18% on meshes up to 1.1 M triangles. Past the
-/// tiers the build costs more than one 1080p frame gains: at 278,664
-/// triangles 80 builds in 1.61 s instead of 1.13 for a 7% faster frame;
-/// at 1.1 M (with the bonus at 0.8), 40 builds in 2.81 s instead of 2.05
-/// for 7%, and would bring the largest mesh lavapipe's bindings hold from
-/// about 13.6 M triangles to 10 M.
+/// [`LARGE_SCENE_OBJECTS`], 10 ([`LARGE_SCENE_TRIANGLE_COST`]) beyond. A
+/// triangle test loads nine floats where a sphere's loads four, and the
+/// frame of a mesh is faster the more the heuristic trades its triangle
+/// tests for node steps; but the tree grows with it (about 11, 6, 2 and 0.7
+/// nodes a triangle on the bunny), and with it the build and the GPU arrays.
+/// Measured on lavapipe (docs/design.md "Costs"): at 80 against 40 the
+/// bunny, the torus and `scenes/bunny.toml` render 7 - 8% faster and the
+/// gears 2.5%; at 40 against 20, 6 - 18% on meshes up to 1.1 M triangles.
+/// Past the tiers the build costs more than one 1080p frame gains: at
+/// 278,664 triangles 80 builds in 1.61 s instead of 1.13 for a 7% faster
+/// frame; past 2^19 the cost is a trade of the frame for the build, no
+/// longer a test's price: at 1.1 M triangles 10 builds in 0.95 s instead of
+/// 1.49 (binned) with 37% smaller GPU arrays, for a frame 7% slower (3.75
+/// against 3.52 s at 1080p), and build + upload + frame is 8% shorter; at
+/// 557,332 triangles 2% shorter.
 pub fn triangle_test_cost(objects: usize) -> f32 {
     if objects <= SMALL_SCENE_OBJECTS {
         80.0
     } else if objects <= LARGE_SCENE_OBJECTS {
         40.0
     } else {
-        SPHERE_TEST_COST
+        LARGE_SCENE_TRIANGLE_COST
     }
 }
+
+/// A triangle's cost past [`LARGE_SCENE_OBJECTS`] ([`triangle_test_cost`]):
+/// half a sphere test's, so that leaves hold about 7 triangles instead of 3
+/// and the tree a third of the nodes.
+pub const LARGE_SCENE_TRIANGLE_COST: f32 = 10.0;
 
 /// Scenes of at most this many objects test a triangle at 80
 /// ([`triangle_test_cost`]).
 pub const SMALL_SCENE_OBJECTS: usize = 1 << 17;
 
-/// Scenes of more than this many objects test a triangle at a sphere's
-/// cost ([`triangle_test_cost`]).
+/// Scenes of more than this many objects test a triangle at
+/// [`LARGE_SCENE_TRIANGLE_COST`] ([`triangle_test_cost`]).
 pub const LARGE_SCENE_OBJECTS: usize = 1 << 19;
 
 /// The factor (< 1) on the cost of a split that leaves one child empty:
@@ -525,7 +532,7 @@ mod tests {
         assert_eq!(cost(0, SMALL_SCENE_OBJECTS), 80.0);
         assert_eq!(cost(0, SMALL_SCENE_OBJECTS + 1), 40.0);
         assert_eq!(cost(0, LARGE_SCENE_OBJECTS), 40.0);
-        assert_eq!(cost(0, LARGE_SCENE_OBJECTS + 1), SPHERE_TEST_COST);
+        assert_eq!(cost(0, LARGE_SCENE_OBJECTS + 1), LARGE_SCENE_TRIANGLE_COST);
     }
 
     /// Boxes of a few sizes scattered by a fixed generator (an LCG), some
