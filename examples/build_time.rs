@@ -18,8 +18,8 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     };
     let t = Instant::now();
     let scene = kdray::scene::load_scene(std::path::Path::new(&path))?;
-    let load_s = t.elapsed().as_secs_f64();
     let prims = kdray::geometry::Primitives::from_scene(&scene);
+    let load_s = t.elapsed().as_secs_f64();
     let params = kdray::kdtree::BuildParams {
         strategy,
         ..kdray::kdtree::BuildParams::for_primitives(&prims)

@@ -12,6 +12,7 @@ pub mod error;
 pub mod fuzz_support;
 pub mod geometry;
 pub mod gpu;
+mod huge_pages;
 pub mod kdtree;
 pub mod layout;
 pub mod output;

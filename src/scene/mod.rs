@@ -137,8 +137,10 @@ impl Scene {
 pub const MAX_INPUT_BYTES: u64 = 2 << 30;
 
 /// Reads an input file: only regular files (a path like /dev/zero would be
-/// read forever), at most MAX_INPUT_BYTES.
+/// read forever), at most MAX_INPUT_BYTES, into a vector of its size (one
+/// byte more, where `read_to_end` sees the end) on huge pages.
 pub(crate) fn read_input_file(path: &std::path::Path) -> std::io::Result<Vec<u8>> {
+    use std::io::Read;
     use std::io::{Error, ErrorKind};
     let meta = std::fs::metadata(path)?;
     if !meta.is_file() {
@@ -150,5 +152,8 @@ pub(crate) fn read_input_file(path: &std::path::Path) -> std::io::Result<Vec<u8>
             format!("larger than {} GiB", MAX_INPUT_BYTES >> 30),
         ));
     }
-    std::fs::read(path)
+    let mut file = std::fs::File::open(path)?;
+    let mut bytes = crate::huge_pages::with_capacity(meta.len() as usize + 1);
+    file.read_to_end(&mut bytes)?;
+    Ok(bytes)
 }

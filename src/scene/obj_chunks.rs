@@ -127,7 +127,7 @@ pub(super) fn parse(text: &str, threads: usize, materials: Option<MaterialFiles>
     };
 
     let mut triangles: Vec<MeshTriangle> = Vec::with_capacity(total);
-    advise_huge_pages(&mut triangles);
+    crate::huge_pages::advise(&mut triangles);
     let mut parts = Vec::with_capacity(counts.len());
     let mut rest = &mut triangles.spare_capacity_mut()[..total];
     for &count in &counts {
@@ -279,41 +279,6 @@ impl<'p, 't> MaterialState<'p, 't> {
         any.then_some(())
     }
 }
-
-/// Asks the kernel to back the spare capacity of `v` with 2 MiB pages
-/// where it can (Linux's transparent huge pages, which are commonly enabled
-/// only on request): one fault per 2 MiB instead of per 4 KiB as the
-/// triangles are written. Measured when a triangle took 208 bytes (230 MB
-/// for a million-triangle mesh): the scene's load 0.73 s -> 0.63 s (median
-/// of eight, benchmarks.md "OBJ load"); at 28 bytes a triangle (31 MB) it
-/// matters less and was not measured again. A hint: nothing changes where
-/// it is refused.
-#[cfg(target_os = "linux")]
-fn advise_huge_pages<T>(v: &mut Vec<T>) {
-    const HUGE_PAGE: usize = 2 << 20;
-    let spare = v.spare_capacity_mut();
-    let begin = spare.as_mut_ptr() as usize;
-    let end = begin + std::mem::size_of_val(spare);
-    let (first, last) = (
-        begin.next_multiple_of(HUGE_PAGE),
-        end / HUGE_PAGE * HUGE_PAGE,
-    );
-    if last > first {
-        // SAFETY: [first, last) lies inside the vector's allocation, which
-        // is borrowed mutably here; MADV_HUGEPAGE changes how its pages are
-        // backed, never their contents. The result is ignored: it is a hint.
-        unsafe {
-            libc::madvise(
-                first as *mut libc::c_void,
-                last - first,
-                libc::MADV_HUGEPAGE,
-            );
-        }
-    }
-}
-
-#[cfg(not(target_os = "linux"))]
-fn advise_huge_pages<T>(_: &mut Vec<T>) {}
 
 /// `text` cut into `parts` pieces of about equal size, each ending just
 /// after a newline (the last at the end of the text); some may be empty.

@@ -1057,6 +1057,8 @@ impl Validator<'_> {
             t.corners_in(&world).is_some_and(|v| has_area(&v)) && material_of(t).is_some()
         });
         if all_kept {
+            triangles.reserve(mesh.triangles.len());
+            crate::huge_pages::advise(triangles);
             triangles.par_extend(mesh.triangles.par_iter().map(|t| {
                 // Both in range and present, checked just above.
                 let vertices = t.corners_in(&world).unwrap_or_default();
