@@ -1,7 +1,7 @@
 //! The exact heuristic for nodes of a few objects, without sorting. Most
 //! of a big mesh's nodes are small: 1.23 M of the 2.3 M nodes of the
-//! 1.1 M-triangle bunny's tree hold 3 to [`MAX_OBJECTS`] objects (and 46%
-//! of them become leaves). Every face of every box is a candidate
+//! 1.1 M-triangle bunny's tree held 3 to 12 objects when its leaves held
+//! about 3 (and 46% of them became leaves). Every face of every box is a candidate
 //! position, and each box is compared against all candidates of an axis
 //! at once, in lanes the compiler vectorises. The counts are the ones the
 //! sorted sweep ([`super::sah`]) keeps, so the plane is the sweep's, bit
@@ -24,8 +24,11 @@ use super::sah::{inverse_area, AxisCost, Split, FEW, GAP_ROUNDING_MARGIN};
 /// time (`examples/build_time.rs`, three rounds, 2026-11-24): 3.90-3.94 s
 /// with the sorted sweep for every node, 3.58-3.62 s with this search up
 /// to 10, 12 or 14 objects, 3.93 s up to 16 and 4.04 s up to 20 (and once
-/// the counts were integers, up to 16 took the time of up to 12).
-pub(super) const MAX_OBJECTS: usize = 12;
+/// the counts were integers, up to 16 took the time of up to 12). With
+/// leaves of about 7 triangles (`LARGE_SCENE_TRIANGLE_COST`, 06:30 UTC,
+/// three rounds): up to 16 1.76 - 1.78 s, 24 1.77 s, 32 1.81 s, 12 1.79 -
+/// 1.81 s.
+pub(super) const MAX_OBJECTS: usize = 16;
 
 /// Candidates are compared in groups of this many (two SSE registers).
 const LANES: usize = 8;
