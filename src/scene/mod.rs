@@ -153,7 +153,9 @@ pub(crate) fn read_input_file(path: &std::path::Path) -> std::io::Result<Vec<u8>
         ));
     }
     let mut file = std::fs::File::open(path)?;
-    let mut bytes = crate::huge_pages::with_capacity(meta.len() as usize + 1);
+    let room = usize::try_from(meta.len() + 1).unwrap_or(usize::MAX);
+    let mut bytes = crate::huge_pages::try_with_capacity(room)
+        .map_err(|e| Error::new(ErrorKind::OutOfMemory, e.to_string()))?;
     file.read_to_end(&mut bytes)?;
     Ok(bytes)
 }
