@@ -131,9 +131,10 @@ pub fn triangle_test_cost(objects: usize) -> f32 {
     }
 }
 
-/// A triangle's cost past [`LARGE_SCENE_OBJECTS`] ([`triangle_test_cost`]):
-/// half a sphere test's, so that leaves hold about 7 triangles instead of 3
-/// and the tree a third of the nodes.
+/// A triangle's cost past [`LARGE_SCENE_OBJECTS`] ([`triangle_test_cost`]).
+/// Not what a test costs (about twice a sphere's) but the build's price:
+/// leaves of about 7 triangles instead of 3, a third of the nodes, for a
+/// frame 6 - 7% slower (docs/design.md "A fourth tier").
 pub const LARGE_SCENE_TRIANGLE_COST: f32 = 10.0;
 
 /// Scenes of at most this many objects test a triangle at 80

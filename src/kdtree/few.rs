@@ -1,9 +1,9 @@
 //! The exact heuristic for nodes of a few objects, without sorting. Most
 //! of a big mesh's nodes are small: 1.23 M of the 2.3 M nodes of the
 //! 1.1 M-triangle bunny's tree held 3 to 12 objects when its leaves held
-//! about 3 (and 46% of them became leaves). Every face of every box is a candidate
-//! position, and each box is compared against all candidates of an axis
-//! at once, in lanes the compiler vectorises. The counts are the ones the
+//! about 3 (and 46% of them became leaves). Every face of every box is a
+//! candidate position, and each box is compared against all candidates of
+//! an axis at once, in lanes the compiler vectorises. The counts are the ones the
 //! sorted sweep ([`super::sah`]) keeps, so the plane is the sweep's, bit
 //! for bit (a proptest holds them equal, and the digest of the bunny's
 //! tree did not change). The costs are bounded in lanes too, and only the
