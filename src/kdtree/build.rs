@@ -277,26 +277,39 @@ fn build_forking(
         };
         return (tree, 0);
     }
-    // The root cell reaches ε past the objects, like every cell: a ray
-    // meeting an object at its box's corner may, by rounding, miss the
-    // exact box (a proptest's ray aimed at a lone triangle's vertex did).
-    let bounds = super::clip::widen(
-        &(0..n as u32)
-            .map(|id| shapes.bounds(id))
-            .fold(Aabb::EMPTY, Aabb::union),
-        shapes.tolerance(),
-    );
-    let ((nodes, leaf_objects, deepest), taken) = match params.strategy {
-        BuildStrategy::Sah | BuildStrategy::Binned => {
-            let sah = Sah::new(shapes, params, &bounds);
-            let root = sah.root(threads);
-            build_on_threads(&sah, root, bounds, threads, fork_min)
-        }
-        BuildStrategy::Median => {
-            let median = Median { shapes, params };
-            let root = median.root();
-            build_on_threads(&median, root, bounds, threads, fork_min)
-        }
+    // The build runs on a pool of `threads` threads (this one for 1, or
+    // when the pool cannot start), the root's bounds and objects too.
+    let pool = (threads > 1)
+        .then(|| {
+            rayon::ThreadPoolBuilder::new()
+                .num_threads(threads)
+                .thread_name(|i| format!("kdray-kdtree-{i}"))
+                .build()
+                .ok()
+        })
+        .flatten();
+    let run = |parallel: bool| {
+        // The root cell reaches ε past the objects, like every cell: a ray
+        // meeting an object at its box's corner may, by rounding, miss the
+        // exact box (a proptest's ray aimed at a lone triangle's vertex did).
+        let bounds = super::clip::widen(&union_of_bounds(&shapes, parallel), shapes.tolerance());
+        let built = match params.strategy {
+            BuildStrategy::Sah | BuildStrategy::Binned => {
+                let sah = Sah::new(shapes, params, &bounds);
+                let root = sah.root(threads, parallel);
+                build_from(&sah, root, bounds, parallel, fork_min)
+            }
+            BuildStrategy::Median => {
+                let median = Median { shapes, params };
+                let root = median.root();
+                build_from(&median, root, bounds, parallel, fork_min)
+            }
+        };
+        (built, bounds)
+    };
+    let (((nodes, leaf_objects, deepest), taken), bounds) = match pool {
+        Some(pool) => pool.install(|| run(true)),
+        None => run(false),
     };
     let tree = KdTree {
         nodes,
@@ -307,32 +320,43 @@ fn build_forking(
     (tree, taken)
 }
 
-/// Builds the tree from the root's objects on a pool of `threads` threads
-/// (on this one for 1, or when the pool cannot start), forking nodes whose
-/// children both hold `fork_min` objects or more: the nodes, the leaf lists
-/// and the depth of the deepest leaf, and how many subtrees were built by
-/// a thread other than their parent's.
-fn build_on_threads<S: Strategy>(
+/// Objects per piece of the root's bounds: the pieces' unions are made on
+/// all threads with `parallel` and joined in order, the same pieces either
+/// way, so that the bounds do not depend on the threads.
+const BOUNDS_PIECE: usize = 1 << 15;
+
+/// The union of all objects' boxes.
+fn union_of_bounds(shapes: &Shapes<'_>, parallel: bool) -> Aabb {
+    let n = shapes.len();
+    let piece = |p: usize| {
+        (p * BOUNDS_PIECE..((p + 1) * BOUNDS_PIECE).min(n))
+            .map(|id| shapes.bounds(id as u32))
+            .fold(Aabb::EMPTY, Aabb::union)
+    };
+    let pieces = 0..n.div_ceil(BOUNDS_PIECE);
+    let unions: Vec<Aabb> = if parallel {
+        use rayon::prelude::*;
+        pieces.into_par_iter().map(piece).collect()
+    } else {
+        pieces.map(piece).collect()
+    };
+    unions.into_iter().fold(Aabb::EMPTY, Aabb::union)
+}
+
+/// Builds the tree from the root's objects, forking nodes whose children
+/// both hold `fork_min` objects or more when `parallel` (the caller is a
+/// worker of the build's pool): the nodes, the leaf lists and the depth of
+/// the deepest leaf, and how many subtrees were built by a thread other
+/// than their parent's.
+fn build_from<S: Strategy>(
     strategy: &S,
     root: S::Objects,
     bounds: Aabb,
-    threads: usize,
+    parallel: bool,
     fork_min: usize,
 ) -> ((Vec<KdNode>, Vec<u32>, u32), usize) {
     let mut builder = Builder::new(strategy, fork_min);
-    let pool = (threads > 1)
-        .then(|| {
-            rayon::ThreadPoolBuilder::new()
-                .num_threads(threads)
-                .thread_name(|i| format!("kdray-kdtree-{i}"))
-                .build()
-                .ok()
-        })
-        .flatten();
-    match pool {
-        Some(pool) => pool.install(|| builder.node(root, bounds, 0, true)),
-        None => builder.node(root, bounds, 0, false),
-    }
+    builder.node(root, bounds, 0, parallel);
     (
         (builder.nodes, builder.leaf_objects, builder.deepest),
         builder.taken,
@@ -564,6 +588,34 @@ mod tests {
                 }
             })
             .collect()
+    }
+
+    /// A scene big enough for the root's bounds to be joined from pieces
+    /// and its boxes binned in halves, on the threads or on one: the same
+    /// bounds, bit for bit, and the same tree.
+    #[test]
+    fn a_big_root_is_split_alike_on_any_thread_count() {
+        let mut boxes = scattered_boxes(70_000);
+        // A zero of each sign on the lowest faces, where a join in another
+        // order could keep the other one.
+        boxes[5].min.x = -0.0;
+        boxes[40_000].min.x = 0.0;
+        let params = BuildParams {
+            strategy: BuildStrategy::Binned,
+            ..BuildParams::for_object_count(boxes.len())
+        };
+        let bits = |b: Aabb| [b.min.to_array(), b.max.to_array()].map(|v| v.map(f32::to_bits));
+        let serial_bounds = union_of_bounds(&Shapes::Boxes(&boxes), false);
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(2)
+            .build()
+            .expect("a pool");
+        let parallel_bounds = pool.install(|| union_of_bounds(&Shapes::Boxes(&boxes), true));
+        assert_eq!(bits(serial_bounds), bits(parallel_bounds));
+        let (serial, _) = build_forking(Shapes::Boxes(&boxes), params, 1, PARALLEL_MIN_OBJECTS);
+        let (parallel, _) = build_forking(Shapes::Boxes(&boxes), params, 2, PARALLEL_MIN_OBJECTS);
+        assert!(serial == parallel, "two threads built another tree");
+        assert_eq!(bits(serial.bounds), bits(parallel.bounds));
     }
 
     /// With every node forked (children of 2 objects or more), idle threads

@@ -527,18 +527,24 @@ pub enum SahObjects {
 }
 
 impl Sah<'_> {
-    /// The root's objects: boxes when the scene is big enough to bin,
-    /// else sorted events (`threads` sort the three lists).
-    pub fn root(&self, threads: usize) -> SahObjects {
+    /// The root's objects: boxes when the scene is big enough to bin (made
+    /// on the build's threads with `parallel`), else sorted events
+    /// (`threads` sort the three lists).
+    pub fn root(&self, threads: usize, parallel: bool) -> SahObjects {
         if self.shapes.len() > self.exact_below {
-            SahObjects::Boxes(
-                (0..self.shapes.len() as u32)
-                    .map(|id| ClippedBox {
-                        id,
-                        bounds: self.shapes.bounds(id),
-                    })
-                    .collect(),
-            )
+            let root_box = |id| ClippedBox {
+                id,
+                bounds: self.shapes.bounds(id),
+            };
+            let ids = 0..self.shapes.len() as u32;
+            let mut boxes = crate::huge_pages::with_capacity(ids.len());
+            if parallel {
+                use rayon::prelude::*;
+                boxes.par_extend(ids.into_par_iter().map(root_box));
+            } else {
+                boxes.extend(ids.map(root_box));
+            }
+            SahObjects::Boxes(boxes)
         } else {
             SahObjects::Events(EventLists::root(&self.shapes, threads))
         }
@@ -694,9 +700,10 @@ impl Sah<'_> {
         &self,
         boxes: Vec<ClippedBox>,
         cell: &Aabb,
+        parallel: bool,
         side: &mut Vec<u8>,
     ) -> Decision<SahObjects> {
-        let best = binned::best_split(&boxes, cell, &self.params, self.gap);
+        let best = binned::best_split(&boxes, cell, &self.params, self.gap, parallel);
         self.split_boxes_at(boxes, best, cell, |boxes| {
             self.split_exact(boxes, cell, side)
         })
@@ -746,7 +753,9 @@ impl Strategy for Sah<'_> {
             return Decision::Leaf(objects);
         }
         match objects {
-            SahObjects::Boxes(boxes) if n > self.exact_below => self.split_boxes(boxes, cell, side),
+            SahObjects::Boxes(boxes) if n > self.exact_below => {
+                self.split_boxes(boxes, cell, parallel, side)
+            }
             SahObjects::Boxes(boxes) => self.split_exact(boxes, cell, side),
             SahObjects::Events(lists) if n <= FEW => self.split_few(lists.into_boxes(), cell),
             SahObjects::Events(lists) => self.split_events(lists, cell, parallel, side),
