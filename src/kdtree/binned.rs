@@ -42,7 +42,9 @@ pub struct ClippedBox {
 /// 1% of the exact sweep's by the heuristic, where plain boundaries cost
 /// up to 17% more (docs/design.md). Counts are estimates: an object goes
 /// below a boundary when its box starts in a lower bin, above when it ends
-/// in the boundary's bin or a higher one.
+/// in the boundary's bin or a higher one. With `parallel` (the caller is a
+/// worker of the build's pool) a big node's boxes are counted in halves on
+/// two threads ([`in_halves`]); the plane is the same either way.
 #[allow(clippy::neg_cmp_op_on_partial_ord)] // NaN counts as not positive
 pub fn best_split(
     boxes: &[ClippedBox],
