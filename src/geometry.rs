@@ -124,7 +124,7 @@ impl SphereF32 {
 
 /// The watertight triangle test's per-ray constants: `kz` is the axis the
 /// ray runs most along, `kx`, `ky` the two others; the shear (sx, sy) and the
-/// scale sz map the ray's direction onto (0, 0, 1). |dir[kz]| >= 1/sqrt(3) for
+/// scale sz map the ray's direction onto (0, 0, 1). `|dir[kz]| >= 1/sqrt(3)` for
 /// a unit direction, so the divisions are safe. Ties pick the lower axis.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct RayShear {

@@ -2,7 +2,7 @@
 //! shaders/types.wgsl byte for byte. A unit test checks every size and field
 //! offset against naga's layout of the WGSL declarations.
 //!
-//! WGSL's vec3<f32> is 16-byte aligned, so each `[f32; 3]` is followed by a
+//! WGSL's `vec3<f32>` is 16-byte aligned, so each `[f32; 3]` is followed by a
 //! 4-byte field (a scalar that belongs with it, or explicit padding).
 
 use bytemuck::{Pod, Zeroable};

@@ -4,7 +4,7 @@
 //! reproduced on the GPU at up to a million objects, and the matrix of
 //! builds and walks of issue 9 §5 (`--build`, `--traversal`, `--suite`).
 //!
-//! For each scene (a random scene of size N, [`random_scene`], a scene
+//! For each scene (a random scene of size N, [`random_scene()`], a scene
 //! file, or the [`suite`]'s four) the k-d tree is built once per build
 //! strategy and uploaded once per build; each walk then gets one warm-up
 //! frame, which also counts the walk's work (nodes, leaves and objects per
@@ -87,7 +87,7 @@ pub struct GenerateOptions {
     /// Number of objects.
     pub count: usize,
     pub seed: u64,
-    /// Image size written into [render].
+    /// Image size written into `[render]`.
     pub width: u32,
     pub height: u32,
     /// The scene file to write: .json for JSON, anything else TOML.

@@ -1,5 +1,5 @@
 //! The scene flattened into GPU arrays (host side) and uploaded as storage
-//! buffers, at the bindings of [`super::bindings::SCENE`].
+//! buffers, at the bindings of [`super::bindings::scene`].
 
 use super::bindings;
 use super::GpuContext;

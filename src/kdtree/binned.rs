@@ -44,7 +44,7 @@ pub struct ClippedBox {
 /// below a boundary when its box starts in a lower bin, above when it ends
 /// in the boundary's bin or a higher one. With `parallel` (the caller is a
 /// worker of the build's pool) a big node's boxes are counted in halves on
-/// two threads ([`in_halves`]); the plane is the same either way.
+/// two threads (`in_halves`); the plane is the same either way.
 #[allow(clippy::neg_cmp_op_on_partial_ord)] // NaN counts as not positive
 pub fn best_split(
     boxes: &[ClippedBox],

@@ -3,19 +3,19 @@
 //! the camera is still, with mouse and keyboard controls and hot reload.
 //!
 //! - [`camera_controller`]: input events in, camera out (pure, unit-tested).
-//! - [`input`]: winit events -> the controller's inputs and the window's
+//! - `input`: winit events -> the controller's inputs and the window's
 //!   own key actions.
-//! - [`refinement`]: which image each frame traces: preview scale, bands,
+//! - `refinement`: which image each frame traces: preview scale, bands,
 //!   passes (pure, unit-tested).
-//! - [`frame_stats`]: frame figures and the exit report (pure, unit-tested).
-//! - [`heatmap_view`]: the cost heatmap's texels (pure, unit-tested).
-//! - [`title`]: what the title bar says, and how often (pure, unit-tested).
+//! - `frame_stats`: frame figures and the exit report (pure, unit-tested).
+//! - `heatmap_view`: the cost heatmap's texels (pure, unit-tested).
+//! - `title`: what the title bar says, and how often (pure, unit-tested).
 //! - [`reload`]: polling the scene file and its OBJ/MTL files.
-//! - [`gpu_scene`]: the scene prepared, uploaded and turned into the
+//! - `gpu_scene`: the scene prepared, uploaded and turned into the
 //!   shader's parameters.
-//! - [`surface`]: the window's surface: device, format, resizing, present.
+//! - `surface`: the window's surface: device, format, resizing, present.
 //! - [`view`]: the accumulation pass, the present pass and screenshots.
-//! - [`app`]: the winit event handler that ties them together.
+//! - `app`: the winit event handler that ties them together.
 
 mod app;
 pub mod camera_controller;
