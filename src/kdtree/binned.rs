@@ -368,6 +368,11 @@ mod tests {
         }
     }
 
+    /// The binned plane of eight boxes, on one thread.
+    fn split_of_eight(boxes: &[ClippedBox], cell: &Aabb, gap: f32) -> Split {
+        best_split(boxes, cell, &BuildParams::for_object_count(8), gap, false).expect("a split")
+    }
+
     /// Two clusters of unit boxes on x, [0, 4] and [12, 16], in the cell
     /// [0, 16]: the best boundary lies in the empty stretch between them
     /// and counts each cluster on its side only.
@@ -381,14 +386,7 @@ mod tests {
             min: Vec3::ZERO,
             max: Vec3::new(16.0, 1.0, 1.0),
         };
-        let s = best_split(
-            &boxes,
-            &cell,
-            &BuildParams::for_object_count(8),
-            1e-5,
-            false,
-        )
-        .expect("a split");
+        let s = split_of_eight(&boxes, &cell, 1e-5);
         assert_eq!(s.axis, 0);
         assert!((4.0..=12.0).contains(&s.position), "{}", s.position);
         assert_eq!((s.below, s.above), (4, 4));
@@ -415,14 +413,7 @@ mod tests {
             min: Vec3::ZERO,
             max: Vec3::new(32.0, 1.0, 1.0),
         };
-        let s = best_split(
-            &boxes,
-            &cell,
-            &BuildParams::for_object_count(8),
-            1e-4,
-            false,
-        )
-        .expect("a split");
+        let s = split_of_eight(&boxes, &cell, 1e-4);
         assert_eq!((s.axis, s.below, s.above), (0, 6, 2));
         assert!(5.3 < s.position && s.position < 5.301, "{}", s.position);
     }
