@@ -26,7 +26,7 @@ use super::sah::{inverse_area, AxisCost, Split, FEW, GAP_ROUNDING_MARGIN};
 /// to 10, 12 or 14 objects, 3.93 s up to 16 and 4.04 s up to 20 (and once
 /// the counts were integers, up to 16 took the time of up to 12). With
 /// leaves of about 7 triangles (`LARGE_SCENE_TRIANGLE_COST`, 06:30 UTC,
-/// three rounds): up to 16 1.76 - 1.78 s, 24 1.77 s, 32 1.81 s, 12 1.79 -
+/// three rounds): up to 16 1.76 - 1.78 s, 24 1.77 - 1.78 s, 32 1.81 s, 12 1.79 -
 /// 1.81 s.
 pub(super) const MAX_OBJECTS: usize = 16;
 
