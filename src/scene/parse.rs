@@ -1061,7 +1061,7 @@ impl Validator<'_> {
         triangles.reserve(mesh.triangles.len());
         crate::huge_pages::advise(triangles);
         triangles.par_extend(mesh.triangles.par_iter().map(|t| {
-            let vertices = t.corners_in(&world).filter(|v| has_area(v));
+            let vertices = t.corners_in(&world).filter(has_area);
             match (vertices, material_of(t)) {
                 (Some(vertices), Some(material)) => Triangle {
                     vertices,
