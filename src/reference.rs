@@ -107,7 +107,11 @@ impl<'a> ReferenceTracer<'a> {
         let normals = scene
             .triangles
             .iter()
-            .map(|t| t.normals.map(|n| GpuTriangleNormals::pack(n).unpack()))
+            .map(|t| {
+                scene
+                    .normals_of(t)
+                    .map(|n| GpuTriangleNormals::pack(n).unpack())
+            })
             .collect();
         ReferenceTracer {
             scene,

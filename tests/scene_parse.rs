@@ -2627,7 +2627,10 @@ mod gltf_meshes {
                 // glTF positions and node transforms are f32.
                 let d = (g.vertices[k] - o.vertices[k]).abs().max_element();
                 assert!(d < 1e-5, "{:?} vs {:?}", g.vertices, o.vertices);
-                let (gn, on) = (g.normals.unwrap()[k], o.normals.unwrap()[k]);
+                let (gn, on) = (
+                    from_glb.normals_of(g).unwrap()[k],
+                    from_obj.normals_of(o).unwrap()[k],
+                );
                 assert!((gn - on).abs().max_element() < 1e-5, "{gn} vs {on}");
                 assert!((gn.length() - 1.0).abs() < 1e-12);
             }
@@ -2721,7 +2724,7 @@ mod gltf_meshes {
         for (g, w) in scene.triangles[1].vertices.iter().zip(want) {
             assert!((*g - w).abs().max_element() < 1e-5, "{g} vs {w}");
         }
-        assert_eq!(scene.triangles[1].normals, None);
+        assert_eq!(scene.normals_of(&scene.triangles[1]), None);
         // smooth = true: no vertex is shared, so every corner gets the face's normal.
         let scene = mesh_triangles(
             &dir,
@@ -2730,7 +2733,7 @@ mod gltf_meshes {
         );
         let [a, b, c] = scene.triangles[1].vertices;
         let face = (b - a).cross(c - a).normalize();
-        for n in scene.triangles[1].normals.unwrap() {
+        for n in scene.normals_of(&scene.triangles[1]).unwrap() {
             assert!((n - face).abs().max_element() < 1e-12, "{n} vs {face}");
         }
     }
@@ -2739,12 +2742,26 @@ mod gltf_meshes {
 mod mesh_normals {
     use super::*;
 
-    fn load(dir: &TempDir, obj: &str, keys: &[(&str, &str)]) -> Vec<Triangle> {
+    /// A mesh's triangle as loaded, its normals looked up in the scene.
+    #[derive(Debug, Clone, Copy)]
+    struct Shaded {
+        vertices: [DVec3; 3],
+        normals: Option<[DVec3; 3]>,
+    }
+
+    fn load(dir: &TempDir, obj: &str, keys: &[(&str, &str)]) -> Vec<Shaded> {
         dir.write("m.obj", obj);
         let mut all = vec![("path", "\"m.obj\""), ("material", "\"red\"")];
         all.extend_from_slice(keys);
         let (scene, _) = scene_with_mesh(dir, &all);
-        load_ok(&scene).triangles[1..].to_vec()
+        let scene = load_ok(&scene);
+        scene.triangles[1..]
+            .iter()
+            .map(|t| Shaded {
+                vertices: t.vertices,
+                normals: scene.normals_of(t),
+            })
+            .collect()
     }
 
     const WITH_NORMALS: &str = "v 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nvn 0 0 2\nvn 0 1 1\nvn 1 0 0\n\

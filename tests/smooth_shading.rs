@@ -149,7 +149,10 @@ fn a_smooth_icosphere_renders_like_the_exact_sphere() {
     let sphere = render(&scene_in(&dir, EXACT_SPHERE), Accel::Kdtree);
     let smooth_scene = scene_in(&dir, &mesh_entry(None));
     assert_eq!(smooth_scene.triangles.len(), 5120);
-    assert!(smooth_scene.triangles.iter().all(|t| t.normals.is_some()));
+    assert!(smooth_scene
+        .triangles
+        .iter()
+        .all(|t| smooth_scene.normals_of(t).is_some()));
     let smooth = render(&smooth_scene, Accel::Kdtree);
     let flat = render(&scene_in(&dir, &mesh_entry(Some(false))), Accel::Kdtree);
     let (w, h) = (sphere.width, sphere.height);
@@ -234,7 +237,7 @@ material = "floor"
             .triangles
             .iter()
             .map(|t| kdray::scene::Triangle {
-                normals: None,
+                normals: kdray::scene::Triangle::FLAT,
                 ..*t
             })
             .collect(),

@@ -248,6 +248,7 @@ pub fn random_scene(spec: &RandomSceneSpec) -> Scene {
         materials: materials(),
         spheres,
         triangles,
+        triangle_normals: Vec::new(),
     }
 }
 

@@ -94,13 +94,14 @@ impl SceneArrays {
             None => scene.triangles[id as usize - sphere_count].material,
         };
         let mut triangle_normals = Vec::new();
-        let mut normals_of = |id: u32| match scene.triangles[id as usize - sphere_count].normals {
-            Some(n) => {
-                triangle_normals.push(GpuTriangleNormals::pack(n));
-                triangle_normals.len() as u32 - 1
-            }
-            None => GpuTriangle::FLAT,
-        };
+        let mut normals_of =
+            |id: u32| match scene.normals_of(&scene.triangles[id as usize - sphere_count]) {
+                Some(n) => {
+                    triangle_normals.push(GpuTriangleNormals::pack(n));
+                    triangle_normals.len() as u32 - 1
+                }
+                None => GpuTriangle::FLAT,
+            };
         let triangles = order[sphere_count..]
             .iter()
             .map(|&id| {
@@ -559,7 +560,8 @@ mod tests {
         for (i, t) in scene.triangles.iter_mut().enumerate() {
             if i % 3 == 0 {
                 let v = t.vertices[0];
-                t.normals = Some([
+                t.normals = scene.triangle_normals.len() as u32;
+                scene.triangle_normals.push([
                     glam::DVec3::new(v.x, 1.0, 0.5).normalize(),
                     glam::DVec3::new(-1.0, v.y, 0.25).normalize(),
                     glam::DVec3::new(0.5, -0.5, v.z).normalize(),
@@ -575,7 +577,7 @@ mod tests {
         for (gpu, t) in a.triangles.iter().enumerate() {
             let original = &scene.triangles[a.scene_ids[spheres + gpu] as usize - spheres];
             assert_eq!(original.vertices[0].as_vec3().to_array(), t.v0);
-            match original.normals {
+            match scene.normals_of(original) {
                 None => assert_eq!(t.normals, GpuTriangle::FLAT),
                 Some(expected) => {
                     records.push(t.normals);

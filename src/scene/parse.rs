@@ -867,12 +867,20 @@ impl Validator<'_> {
             ));
         }
 
+        let mut triangle_normals = Vec::new();
         for (i, m) in raw.meshes.iter().enumerate() {
             let override_material = match &m.material {
                 Some(name) => Some(lookup(&|| format!("meshes[{i}].material"), name)?),
                 None => None,
             };
-            self.mesh(i, m, override_material, &mut materials, &mut triangles)?;
+            self.mesh(
+                i,
+                m,
+                override_material,
+                &mut materials,
+                &mut triangles,
+                &mut triangle_normals,
+            )?;
         }
 
         Ok(Scene {
@@ -882,6 +890,7 @@ impl Validator<'_> {
             materials,
             spheres,
             triangles,
+            triangle_normals,
         })
     }
 
@@ -977,6 +986,7 @@ impl Validator<'_> {
         override_material: Option<u32>,
         materials: &mut Vec<Material>,
         triangles: &mut Vec<Triangle>,
+        normals: &mut Vec<[DVec3; 3]>,
     ) -> Result<(), SceneError> {
         let key = |k: &str| format!("meshes[{i}].{k}");
         let scale = match m.scale {
@@ -1056,31 +1066,53 @@ impl Validator<'_> {
         // and checked on the way (a separate pass of checks took 15 ms of
         // the 1.1 M-triangle bunny's 0.22 s load); where one is not kept,
         // they are dropped and built again below.
-        let first = triangles.len();
+        let (first, first_normals) = (triangles.len(), normals.len());
         let all_kept = std::sync::atomic::AtomicBool::new(true);
+        let kept = |t: &MeshTriangle| {
+            let vertices = t.corners_in(&world).filter(has_area);
+            let kept = vertices.zip(material_of(t));
+            if kept.is_none() {
+                all_kept.store(false, std::sync::atomic::Ordering::Relaxed);
+            }
+            kept.unwrap_or_default()
+        };
         triangles.reserve(mesh.triangles.len());
         crate::huge_pages::advise(triangles);
-        triangles.par_extend(mesh.triangles.par_iter().map(|t| {
-            let vertices = t.corners_in(&world).filter(has_area);
-            match (vertices, material_of(t)) {
-                (Some(vertices), Some(material)) => Triangle {
+        if let MeshNormals::Flat = shading {
+            triangles.par_extend(mesh.triangles.par_iter().map(|t| {
+                let (vertices, material) = kept(t);
+                Triangle::flat(vertices, material)
+            }));
+        } else {
+            // Triangle i's normals at `first_normals + i` (left unused,
+            // zero, for the rare triangle shaded flat): so each triangle
+            // knows its index, and both vectors are written in place.
+            normals.reserve(mesh.triangles.len());
+            crate::huge_pages::advise(normals);
+            let pairs = mesh.triangles.par_iter().enumerate().map(|(i, t)| {
+                let (vertices, material) = kept(t);
+                let n = shading.of(t, &vertices);
+                let index = u32::try_from(first_normals + i)
+                    .ok()
+                    .filter(|_| n.is_some());
+                let triangle = Triangle {
                     vertices,
-                    normals: shading.of(t, &vertices),
                     material,
-                },
-                _ => {
-                    all_kept.store(false, std::sync::atomic::Ordering::Relaxed);
-                    Triangle::flat([DVec3::ZERO; 3], 0)
-                }
-            }
-        }));
+                    normals: index.unwrap_or(Triangle::FLAT),
+                };
+                (triangle, n.unwrap_or_default())
+            });
+            let mut both = (std::mem::take(triangles), std::mem::take(normals));
+            both.par_extend(pairs);
+            (*triangles, *normals) = both;
+        }
         if all_kept.into_inner() {
             return Ok(());
         }
         triangles.truncate(first);
+        normals.truncate(first_normals);
         // Otherwise one by one: collapsed triangles skipped, the first fault
         // reported.
-        triangles.reserve(mesh.triangles.len());
         for t in &mesh.triangles {
             let Some(vertices) = t.corners_in(&world) else {
                 // The readers write only indices in range.
@@ -1093,11 +1125,12 @@ impl Validator<'_> {
                 // The readers guarantee a material when asked for them.
                 return Err(self.error(&key("path"), "a face has no material"));
             };
-            triangles.push(Triangle {
-                vertices,
-                normals: shading.of(t, &vertices),
-                material,
-            });
+            let mut triangle = Triangle::flat(vertices, material);
+            if let Some(n) = shading.of(t, &vertices) {
+                triangle.normals = u32::try_from(normals.len()).unwrap_or(Triangle::FLAT);
+                normals.push(n);
+            }
+            triangles.push(triangle);
         }
         Ok(())
     }
@@ -1167,6 +1200,8 @@ impl MeshNormals {
         };
         match smooth {
             Some(false) => MeshNormals::Flat,
+            // A file without normals is flat unless asked otherwise.
+            None if mesh.normals.is_empty() => MeshNormals::Flat,
             None => MeshNormals::FromFile {
                 file: file_normals(),
             },
@@ -1271,11 +1306,12 @@ mod tests {
         );
     }
 
-    fn assert_triangle(t: &Triangle, vertices: [DVec3; 3], normals: Option<[DVec3; 3]>) {
+    fn assert_triangle(scene: &Scene, i: usize, vertices: [DVec3; 3], normals: Option<[DVec3; 3]>) {
+        let t = &scene.triangles[i];
         for (got, want) in t.vertices.iter().zip(vertices) {
             assert_near(*got, want);
         }
-        match (t.normals, normals) {
+        match (scene.normals_of(t), normals) {
             (Some(got), Some(want)) => {
                 for (g, w) in got.iter().zip(want) {
                     assert_near(*g, w);
@@ -1324,19 +1360,11 @@ mod tests {
             turn(0.0, 1.0, 0.0),
         ];
         assert_eq!(scene.triangles.len(), 3);
-        assert_triangle(
-            &scene.triangles[0],
-            [v[0], v[1], v[3]],
-            Some([n[0], n[1], n[2]]),
-        );
+        assert_triangle(&scene, 0, [v[0], v[1], v[3]], Some([n[0], n[1], n[2]]));
         // -1 is the fifth vertex and the third normal, as defined so far.
-        assert_triangle(
-            &scene.triangles[1],
-            [v[4], v[1], v[3]],
-            Some([n[2], n[0], n[1]]),
-        );
+        assert_triangle(&scene, 1, [v[4], v[1], v[3]], Some([n[2], n[0], n[1]]));
         // Corners without normals: flat shading from the file.
-        assert_triangle(&scene.triangles[2], [v[4], v[0], v[1]], None);
+        assert_triangle(&scene, 2, [v[4], v[0], v[1]], None);
         let _ = std::fs::remove_dir_all(&dir);
     }
 
@@ -1359,6 +1387,25 @@ mod tests {
         );
         let got: Vec<_> = scene.triangles.iter().map(|t| t.vertices).collect();
         assert_eq!(got, [[o, x, z], [o, y, z]]);
+        // With a normal per face (its own face's, on the axes, which the
+        // normal matrix keeps), each kept triangle keeps its own.
+        std::fs::write(
+            dir.join("n.obj"),
+            "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nvn 0 -1 0\nvn 0 0 1\nvn 2 0 0\n\
+             f 1//1 2//1 4//1\nf 1//2 2//2 3//2\nf 1//3 3//3 4//3\n",
+        )
+        .unwrap();
+        let scene = mesh_scene(&dir, "path = \"n.obj\"\nscale = [1e-160, 1e-160, 1]");
+        let got: Vec<_> = scene
+            .triangles
+            .iter()
+            .map(|t| (t.vertices, scene.normals_of(t)))
+            .collect();
+        let want = [
+            ([o, x, z], Some([DVec3::NEG_Y; 3])),
+            ([o, y, z], Some([DVec3::X; 3])),
+        ];
+        assert_eq!(got, want);
         let _ = std::fs::remove_dir_all(&dir);
     }
 
@@ -1427,8 +1474,9 @@ mod tests {
             for (got, want) in t.vertices.iter().zip(vertices) {
                 assert!(near(*got, want), "got {got}, want {want}");
             }
-            assert_eq!(t.normals.is_some(), normals.is_some(), "{t:?}");
-            if let (Some(got), Some(want)) = (t.normals, normals) {
+            let got_normals = scene.normals_of(t);
+            assert_eq!(got_normals.is_some(), normals.is_some(), "{t:?}");
+            if let (Some(got), Some(want)) = (got_normals, normals) {
                 for (g, w) in got.iter().zip(want) {
                     assert!(near(*g, w), "normal {g}, want {w}");
                 }
