@@ -1207,10 +1207,9 @@ impl MeshNormals {
             },
             Some(true) => MeshNormals::Smooth {
                 file: file_normals(),
-                computed: normals::angle_weighted(
-                    world,
-                    mesh.triangles.iter().map(|t| t.corners.map(|c| c as usize)),
-                ),
+                computed: normals::angle_weighted(world, &mesh.triangles, |t| {
+                    t.corners.map(|c| c as usize)
+                }),
             },
         }
     }
