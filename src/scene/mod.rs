@@ -191,6 +191,7 @@ pub(crate) fn read_input_file(path: &std::path::Path) -> std::io::Result<Vec<u8>
 /// kernel's copy from its cache into fresh memory runs at about 1.5 GB/s
 /// on one core of the project's machine (the 43 MB OBJ of the 1.1
 /// M-triangle bunny took 28 ms).
+#[cfg_attr(not(unix), allow(dead_code))]
 const PARALLEL_READ_BYTES: u64 = 8 << 20;
 
 /// Fills `room` with the file's first bytes, one part per core, each part
