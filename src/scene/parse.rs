@@ -1086,7 +1086,9 @@ impl Validator<'_> {
         } else {
             // Triangle i's normals at `first_normals + i` (left unused,
             // zero, for the rare triangle shaded flat): so each triangle
-            // knows its index, and both vectors are written in place.
+            // knows its index, and both vectors are written in place. (An
+            // index past u32 cannot arise: the tree holds at most 2^30
+            // objects.)
             normals.reserve(mesh.triangles.len());
             crate::huge_pages::advise(normals);
             let pairs = mesh.triangles.par_iter().enumerate().map(|(i, t)| {
