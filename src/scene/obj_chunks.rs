@@ -392,7 +392,7 @@ impl<'a> Chunk<'a> {
         let mut line = Line { text, at: 0 };
         while line.at < text.len() {
             let line_start = line.at;
-            match line.token() {
+            match line.keyword() {
                 Some("v") => {
                     let mut xyz = [0.0f64; 3];
                     let mut count = 0usize;
@@ -489,6 +489,23 @@ impl<'a> Line<'a> {
         }
         // Both ends are next to ASCII bytes or at the text's ends: char boundaries.
         (self.at > start).then(|| &self.text[start..self.at])
+    }
+
+    /// The statement's first token, as [`Line::token`] reads it; a line
+    /// that starts `v`, `vn` or `f` and a blank (nearly every line of a
+    /// mesh) is told by its first bytes.
+    fn keyword(&mut self) -> Option<&'a str> {
+        let bytes = self.text.as_bytes();
+        let at = self.at;
+        let blank = |i: usize| matches!(bytes.get(i), Some(b' ' | b'\t'));
+        let (keyword, len) = match (bytes.get(at), bytes.get(at + 1)) {
+            (Some(b'v'), _) if blank(at + 1) => ("v", 1),
+            (Some(b'f'), _) if blank(at + 1) => ("f", 1),
+            (Some(b'v'), Some(b'n')) if blank(at + 2) => ("vn", 2),
+            _ => return self.token(),
+        };
+        self.at = at + len;
+        Some(keyword)
     }
 
     /// The next token as a number ([`number`]): None at the statement's
