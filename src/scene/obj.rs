@@ -34,9 +34,11 @@ pub fn load_obj_observed(
     on_read: &mut dyn FnMut(&Path),
 ) -> Result<Mesh, SceneError> {
     on_read(path);
-    let text = read_text(path, "OBJ")?;
+    let bytes = super::read_input_file(path).map_err(|e| {
+        SceneError::new(path, None, None, format!("cannot read OBJ file: {e}")).with_source(e)
+    })?;
     let mut faces = 0usize;
-    let mesh = parse_obj_counting(&text, path, with_materials, on_read, &mut faces)?;
+    let mesh = parse_obj_bytes(&bytes, path, with_materials, on_read, &mut faces)?;
     if mesh.triangles.is_empty() {
         let message = if faces == 0 {
             "no faces: the file has no `f` statement, so the mesh would draw nothing".to_string()
@@ -54,10 +56,7 @@ pub fn parse_obj(text: &str, path: &Path, with_materials: bool) -> Result<Mesh, 
     parse_obj_counting(text, path, with_materials, &mut |_| {}, &mut 0)
 }
 
-/// The parser; `faces` counts the `f` statements. The fast path
-/// (`obj_chunks`: bytes, one chunk per core) parses the file; it leaves
-/// every error, and the forms it does not handle, to the reference parser
-/// below, so messages come from one place.
+/// The parser of a text; `faces` counts the `f` statements.
 pub(super) fn parse_obj_counting(
     text: &str,
     path: &Path,
@@ -65,7 +64,22 @@ pub(super) fn parse_obj_counting(
     on_read: &mut dyn FnMut(&Path),
     faces: &mut usize,
 ) -> Result<Mesh, SceneError> {
-    let body = text.strip_prefix('\u{feff}').unwrap_or(text);
+    parse_obj_bytes(text.as_bytes(), path, with_materials, on_read, faces)
+}
+
+/// The parser of a file's bytes; `faces` counts the `f` statements. The
+/// fast path (`obj_chunks`: one chunk per core, each chunk's UTF-8 checked
+/// on its thread) parses the file; it leaves every error, invalid UTF-8
+/// included, and the forms it does not handle, to the reference parser
+/// below, so messages come from one place.
+fn parse_obj_bytes(
+    bytes: &[u8],
+    path: &Path,
+    with_materials: bool,
+    on_read: &mut dyn FnMut(&Path),
+    faces: &mut usize,
+) -> Result<Mesh, SceneError> {
+    let body = bytes.strip_prefix("\u{feff}".as_bytes()).unwrap_or(bytes);
     let materials = with_materials.then_some(obj_chunks::MaterialFiles {
         path,
         on_read: &mut *on_read,
@@ -87,6 +101,7 @@ pub(super) fn parse_obj_counting(
             on_read(p);
         }
     };
+    let text = utf8_text(bytes, path, "OBJ")?;
     parse_reference(text, path, with_materials, &mut on_read_rest, faces)
 }
 
@@ -379,15 +394,13 @@ pub(super) fn parse_mtl(
     Ok(())
 }
 
-/// The file as UTF-8 text. Not UTF-8 is an error naming the line of the
-/// first bad byte: it is how a binary file (a `.glb` misnamed `.obj`, an
-/// image) shows, and reading it as text would silently give an empty mesh.
-fn read_text(path: &Path, what: &str) -> Result<String, SceneError> {
-    let bytes = super::read_input_file(path).map_err(|e| {
-        SceneError::new(path, None, None, format!("cannot read {what} file: {e}")).with_source(e)
-    })?;
-    String::from_utf8(bytes).map_err(|e| {
-        let valid = &e.as_bytes()[..e.utf8_error().valid_up_to()];
+/// The file's `bytes` as UTF-8 text. Not UTF-8 is an error naming the line
+/// of the first bad byte: it is how a binary file (a `.glb` misnamed
+/// `.obj`, an image) shows, and reading it as text would silently give an
+/// empty mesh.
+fn utf8_text<'b>(bytes: &'b [u8], path: &Path, what: &str) -> Result<&'b str, SceneError> {
+    std::str::from_utf8(bytes).map_err(|e| {
+        let valid = &bytes[..e.valid_up_to()];
         let line = valid.iter().filter(|&&b| b == b'\n').count() + 1;
         let offset = valid.len();
         SceneError::new(
@@ -396,7 +409,7 @@ fn read_text(path: &Path, what: &str) -> Result<String, SceneError> {
             None,
             format!("not a text {what} file: invalid UTF-8 at byte {offset} (a binary file? kdray reads binary glTF as .glb)"),
         )
-        .with_source(e.utf8_error())
+        .with_source(e)
     })
 }
 
