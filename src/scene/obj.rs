@@ -39,6 +39,7 @@ pub fn load_obj_observed(
     })?;
     let mut faces = 0usize;
     let mesh = parse_obj_bytes(&bytes, path, with_materials, on_read, &mut faces)?;
+    crate::huge_pages::free_in_background(bytes);
     if mesh.triangles.is_empty() {
         let message = if faces == 0 {
             "no faces: the file has no `f` statement, so the mesh would draw nothing".to_string()

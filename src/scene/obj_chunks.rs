@@ -196,6 +196,11 @@ pub(super) fn parse(text: &[u8], threads: usize, materials: Option<MaterialFiles
         triangles,
         materials,
     };
+    let parsed: Vec<_> = chunks
+        .into_iter()
+        .map(|c| (c.positions, c.normals, c.corners, c.faces))
+        .collect();
+    crate::huge_pages::free_in_background(parsed);
     Outcome::Mesh(mesh, face_statements)
 }
 

@@ -1109,6 +1109,7 @@ impl Validator<'_> {
             (*triangles, *normals) = both;
         }
         if all_kept.into_inner() {
+            crate::huge_pages::free_in_background((mesh, world, shading));
             return Ok(());
         }
         triangles.truncate(first);
