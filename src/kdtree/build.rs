@@ -292,7 +292,7 @@ fn build_forking(
         // The root cell reaches ε past the objects, like every cell: a ray
         // meeting an object at its box's corner may, by rounding, miss the
         // exact box (a proptest's ray aimed at a lone triangle's vertex did).
-        let bounds = super::clip::widen(&union_of_bounds(&shapes, parallel), shapes.tolerance());
+        let bounds = super::clip::widen(&shapes.union(parallel), shapes.tolerance());
         let built = match params.strategy {
             BuildStrategy::Sah | BuildStrategy::Binned => {
                 let sah = Sah::new(shapes, params, &bounds);
@@ -318,29 +318,6 @@ fn build_forking(
         max_depth: deepest,
     };
     (tree, taken)
-}
-
-/// Objects per piece of the root's bounds: the pieces' unions are made on
-/// all threads with `parallel` and joined in order, the same pieces either
-/// way, so that the bounds do not depend on the threads.
-const BOUNDS_PIECE: usize = 1 << 15;
-
-/// The union of all objects' boxes.
-fn union_of_bounds(shapes: &Shapes<'_>, parallel: bool) -> Aabb {
-    let n = shapes.len();
-    let piece = |p: usize| {
-        (p * BOUNDS_PIECE..((p + 1) * BOUNDS_PIECE).min(n))
-            .map(|id| shapes.bounds(id as u32))
-            .fold(Aabb::EMPTY, Aabb::union)
-    };
-    let pieces = 0..n.div_ceil(BOUNDS_PIECE);
-    let unions: Vec<Aabb> = if parallel {
-        use rayon::prelude::*;
-        pieces.into_par_iter().map(piece).collect()
-    } else {
-        pieces.map(piece).collect()
-    };
-    unions.into_iter().fold(Aabb::EMPTY, Aabb::union)
 }
 
 /// Builds the tree from the root's objects, forking nodes whose children
@@ -605,12 +582,12 @@ mod tests {
             ..BuildParams::for_object_count(boxes.len())
         };
         let bits = |b: Aabb| [b.min.to_array(), b.max.to_array()].map(|v| v.map(f32::to_bits));
-        let serial_bounds = union_of_bounds(&Shapes::Boxes(&boxes), false);
+        let serial_bounds = Shapes::Boxes(&boxes).union(false);
         let pool = rayon::ThreadPoolBuilder::new()
             .num_threads(2)
             .build()
             .expect("a pool");
-        let parallel_bounds = pool.install(|| union_of_bounds(&Shapes::Boxes(&boxes), true));
+        let parallel_bounds = pool.install(|| Shapes::Boxes(&boxes).union(true));
         assert_eq!(bits(serial_bounds), bits(parallel_bounds));
         let (serial, _) = build_forking(Shapes::Boxes(&boxes), params, 1, PARALLEL_MIN_OBJECTS);
         let (parallel, _) = build_forking(Shapes::Boxes(&boxes), params, 2, PARALLEL_MIN_OBJECTS);

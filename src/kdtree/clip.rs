@@ -31,6 +31,9 @@ pub enum Shapes<'a> {
         prims: &'a Primitives,
         /// ε: how near a cell an object must come to belong to it.
         tolerance: f32,
+        /// The union of the objects' boxes, which ε is made from (kept, not
+        /// made again for the root's cell).
+        union: Aabb,
     },
 }
 
@@ -39,11 +42,27 @@ pub const TOLERANCE: f32 = 1.0 / (1u32 << 18) as f32;
 
 impl<'a> Shapes<'a> {
     pub fn primitives(prims: &'a Primitives) -> Self {
-        let b = prims.scene_bounds();
-        let magnitude = if prims.is_empty() { 0.0 } else { b.magnitude() };
+        let union = prims.scene_bounds();
+        let magnitude = if prims.is_empty() {
+            0.0
+        } else {
+            union.magnitude()
+        };
         Shapes::Primitives {
             prims,
             tolerance: magnitude * TOLERANCE,
+            union,
+        }
+    }
+
+    /// The union of all objects' boxes ([`crate::geometry::union_in_pieces`]
+    /// for plain boxes, on the current pool's threads with `parallel`).
+    pub fn union(&self, parallel: bool) -> Aabb {
+        match self {
+            Shapes::Boxes(b) => {
+                crate::geometry::union_in_pieces(b.len(), |id| b[id as usize], parallel)
+            }
+            Shapes::Primitives { union, .. } => *union,
         }
     }
 
