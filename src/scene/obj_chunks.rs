@@ -480,18 +480,9 @@ impl<'a> Line<'a> {
     /// The next token of the current line's statement, or None at its end
     /// (the '\n', a '#' or the end of the text), where the cursor stays.
     fn token(&mut self) -> Option<&'a str> {
-        let bytes = self.text.as_bytes();
-        while self.at < bytes.len()
-            && bytes[self.at] != b'\n'
-            && bytes[self.at].is_ascii_whitespace()
-        {
-            self.at += 1;
-        }
+        self.skip_blanks();
         let start = self.at;
-        while self.at < bytes.len()
-            && !bytes[self.at].is_ascii_whitespace()
-            && bytes[self.at] != b'#'
-        {
+        while !self.ends_token_at(self.at) {
             self.at += 1;
         }
         // Both ends are next to ASCII bytes or at the text's ends: char boundaries.
