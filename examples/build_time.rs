@@ -1,6 +1,8 @@
 //! Times the k-d tree build of a scene file, apart from loading it, in
 //! wall and CPU time (CPU time holds up better on a shared machine):
-//! `cargo run --release --example build_time -- SCENE [THREADS] [sah|binned|median]`.
+//! `cargo run --release --example build_time -- SCENE [THREADS] [sah|binned|median|exact]`,
+//! where `exact` is the default build with every event a candidate at every
+//! scene size (`BuildParams::bin_past_objects` unbounded).
 //! The digest it prints changes when the tree does, so a faster build can
 //! show that it builds the same tree. `EXACT_BELOW=N` and
 //! `TRAVERSAL_COST=C` override those build parameters, for experiments.
@@ -10,11 +12,13 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let mut args = std::env::args().skip(1);
     let path = args.next().ok_or("usage: build_time SCENE [THREADS]")?;
     let threads: usize = args.next().map_or(Ok(2), |t| t.parse())?;
-    let strategy = match args.next().as_deref() {
-        None | Some("sah") => kdray::kdtree::BuildStrategy::Sah,
-        Some("binned") => kdray::kdtree::BuildStrategy::Binned,
-        Some("median") => kdray::kdtree::BuildStrategy::Median,
-        Some(other) => return Err(format!("unknown build {other:?}").into()),
+    let name = args.next().unwrap_or_else(|| "sah".into());
+    let (strategy, bin_past_objects) = match name.as_str() {
+        "exact" => (kdray::kdtree::BuildStrategy::Sah, usize::MAX),
+        other => match kdray::choice::Choice::from_name(other) {
+            Some(strategy) => (strategy, kdray::kdtree::BINNED_PAST_OBJECTS),
+            None => return Err(format!("unknown build {other:?}").into()),
+        },
     };
     let t = Instant::now();
     let scene = kdray::scene::load_scene(std::path::Path::new(&path))?;
@@ -22,6 +26,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let load_s = t.elapsed().as_secs_f64();
     let params = kdray::kdtree::BuildParams {
         strategy,
+        bin_past_objects,
         ..kdray::kdtree::BuildParams::for_primitives(&prims)
     };
     let params = match std::env::var("EXACT_BELOW") {
@@ -46,7 +51,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     println!(
         "{path}: {} objects, load {load_s:.3} s, {} build on {threads} threads {build_s:.3} s ({build_cpu_s:.2} s of CPU), {} nodes, {} references, SAH cost {:.1}, digest {:016x}",
         prims.len(),
-        strategy.name(),
+        name,
         stats.nodes,
         tree.leaf_objects.len(),
         tree.sah_cost(&params),

@@ -25,7 +25,10 @@ use super::sah::Sah;
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 pub enum BuildStrategy {
     /// Surface area heuristic over the clipped objects' bounds, every event
-    /// a candidate (Wald & Havran 2006): the default.
+    /// a candidate (Wald & Havran 2006): the default. In scenes of more
+    /// than [`BuildParams::bin_past_objects`] objects (2^19) its big nodes
+    /// are binned as [`BuildStrategy::Binned`] bins them
+    /// ([`BINNED_PAST_OBJECTS`] says why).
     #[default]
     Sah,
     /// The same heuristic evaluated at 32 bin boundaries per axis, snapped
@@ -79,7 +82,7 @@ impl crate::choice::Choice for BuildStrategy {
 
     fn help(self) -> &'static str {
         match self {
-            BuildStrategy::Sah => "surface area heuristic with perfect splits, every event a candidate (Wald & Havran 2006)",
+            BuildStrategy::Sah => "surface area heuristic with perfect splits, every event a candidate (Wald & Havran 2006); binned in big nodes past 2^19 objects",
             BuildStrategy::Binned => "the same, binned in big nodes with snapped boundaries: a faster build of a tree as good",
             BuildStrategy::Median => "the seed's median split, straddlers in both children",
         }
@@ -97,6 +100,10 @@ pub struct BuildParams {
     /// The binned build ([`BuildStrategy::Binned`]) bins nodes of more
     /// objects than this and sweeps every event of the others.
     pub exact_below: usize,
+    /// The default build ([`BuildStrategy::Sah`]) bins as the binned build
+    /// does in scenes of more objects than this ([`BINNED_PAST_OBJECTS`]),
+    /// and sweeps every event of every node in the others.
+    pub bin_past_objects: usize,
     pub strategy: BuildStrategy,
 }
 
@@ -174,7 +181,20 @@ impl BuildParams {
             intersection_cost: SPHERE_TEST_COST,
             empty_bonus: EMPTY_BONUS,
             exact_below: BINNED_EXACT_BELOW,
+            bin_past_objects: BINNED_PAST_OBJECTS,
             strategy: BuildStrategy::Sah,
+        }
+    }
+
+    /// Nodes of more objects than this are split by binning, the others by
+    /// the exact sweep, in a scene of `objects` objects: `exact_below` for
+    /// the binned build at every size and for the default one past
+    /// `bin_past_objects`; never otherwise.
+    pub fn binned_above(&self, objects: usize) -> usize {
+        match self.strategy {
+            BuildStrategy::Binned => self.exact_below,
+            BuildStrategy::Sah if objects > self.bin_past_objects => self.exact_below,
+            BuildStrategy::Sah | BuildStrategy::Median => usize::MAX,
         }
     }
 
@@ -212,6 +232,17 @@ impl BuildParams {
 /// frame within the noise; on smaller scenes 0.2 - 1% more references
 /// and a cost within 0.1%.
 pub const BINNED_EXACT_BELOW: usize = 16;
+
+/// The default build ([`BuildStrategy::Sah`]) bins the big nodes of scenes
+/// of more objects than this ([`BuildParams::bin_past_objects`]): the size
+/// past which a triangle's cost is the build's price, not a test's
+/// ([`LARGE_SCENE_OBJECTS`]). Measured past it (2026-11-24, two threads,
+/// docs/benchmarks.md): the exact sweep built the 1.1 M bunny in 3.2 s
+/// against 1.5 s binned and two 278 k bunnies in 1.64 s against 0.72 s,
+/// for trees within 1% by the heuristic; the 1.1 M bunny's image was the
+/// same, byte for byte, and its frame the same. Up to it every tree stays
+/// the exact sweep's.
+pub const BINNED_PAST_OBJECTS: usize = LARGE_SCENE_OBJECTS;
 
 /// The flattened tree: nodes depth first, and the leaves' object id lists.
 #[derive(Debug, Clone, PartialEq)]
@@ -625,5 +656,51 @@ mod tests {
                 "{strategy}: no subtree was taken by another thread"
             );
         }
+    }
+
+    /// The default build sweeps every event up to `bin_past_objects`
+    /// objects and bins beyond, at the binned build's `exact_below`; the
+    /// binned build bins at every size, the median build never.
+    #[test]
+    fn the_default_build_bins_only_past_its_scene_size() {
+        let params = |strategy| BuildParams {
+            strategy,
+            ..BuildParams::for_object_count(10)
+        };
+        let sah = params(BuildStrategy::Sah);
+        assert_eq!(sah.bin_past_objects, BINNED_PAST_OBJECTS);
+        assert_eq!(BINNED_PAST_OBJECTS, LARGE_SCENE_OBJECTS);
+        assert_eq!(sah.binned_above(BINNED_PAST_OBJECTS), usize::MAX);
+        assert_eq!(
+            sah.binned_above(BINNED_PAST_OBJECTS + 1),
+            BINNED_EXACT_BELOW
+        );
+        for n in [0, 17, BINNED_PAST_OBJECTS + 1] {
+            assert_eq!(
+                params(BuildStrategy::Binned).binned_above(n),
+                BINNED_EXACT_BELOW
+            );
+            assert_eq!(params(BuildStrategy::Median).binned_above(n), usize::MAX);
+        }
+    }
+
+    /// The same rule, through a build: with the scene's size lowered under
+    /// the threshold, the default build makes the binned build's tree; at
+    /// the threshold, the exact sweep's, which here is another tree.
+    #[test]
+    fn past_its_scene_size_the_default_build_is_the_binned_one() {
+        let boxes = scattered_boxes(2_000);
+        let params = |strategy, bin_past_objects| BuildParams {
+            strategy,
+            bin_past_objects,
+            ..BuildParams::for_object_count(boxes.len())
+        };
+        let tree = |p| build_with_threads(&boxes, p, 1);
+        let binned = tree(params(BuildStrategy::Binned, usize::MAX));
+        let exact = tree(params(BuildStrategy::Sah, usize::MAX));
+        assert!(binned != exact, "the scene must tell the two builds apart");
+        let n = boxes.len();
+        assert!(tree(params(BuildStrategy::Sah, n - 1)) == binned);
+        assert!(tree(params(BuildStrategy::Sah, n)) == exact);
     }
 }

@@ -20,8 +20,8 @@ pub mod traverse_short_stack;
 
 pub use build::{
     build, build_primitives, build_with_threads, triangle_test_cost, BuildParams, BuildStrategy,
-    KdTree, EMPTY_BONUS, LARGE_SCENE_OBJECTS, LARGE_SCENE_TRIANGLE_COST, SMALL_SCENE_OBJECTS,
-    SPHERE_TEST_COST,
+    KdTree, BINNED_PAST_OBJECTS, EMPTY_BONUS, LARGE_SCENE_OBJECTS, LARGE_SCENE_TRIANGLE_COST,
+    SMALL_SCENE_OBJECTS, SPHERE_TEST_COST,
 };
 pub use ropes::Ropes;
 pub use traversal::Traversal;

@@ -276,8 +276,7 @@ pub struct Sah<'a> {
     /// put a reported hit in a cell that does not hold its object (a
     /// proptest found one with planes one ulp from the faces).
     gap: f32,
-    /// Nodes of more objects are binned: `params.exact_below` for the
-    /// binned build, never for the exact one.
+    /// Nodes of more objects are binned ([`BuildParams::binned_above`]).
     exact_below: usize,
 }
 
@@ -290,10 +289,7 @@ impl<'a> Sah<'a> {
             shapes,
             params,
             gap: if gap.is_finite() { gap } else { 0.0 },
-            exact_below: match params.strategy {
-                super::BuildStrategy::Binned => params.exact_below,
-                _ => usize::MAX,
-            },
+            exact_below: params.binned_above(shapes.len()),
         }
     }
 }
