@@ -11,7 +11,8 @@
 //! surfaces, and a file of them would draw nothing).
 //!
 //! The crate parses and validates the document; kdray reads the buffers
-//! itself (only regular files next to the glTF file, or `data:` URIs, each
+//! itself (regular files named by a path, relative to the glTF file's
+//! folder, or `data:` URIs; never a URI with another scheme; each file
 //! reported to the caller before it is read) and the accessors too, with
 //! every offset, stride and count checked against the bytes present, so a
 //! truncated or hostile file is an error and never a panic.
