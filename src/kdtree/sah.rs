@@ -277,7 +277,7 @@ pub struct Sah<'a> {
     /// proptest found one with planes one ulp from the faces).
     gap: f32,
     /// Nodes of more objects are binned ([`BuildParams::binned_above`]).
-    exact_below: usize,
+    binned_above: usize,
 }
 
 impl<'a> Sah<'a> {
@@ -289,7 +289,7 @@ impl<'a> Sah<'a> {
             shapes,
             params,
             gap: if gap.is_finite() { gap } else { 0.0 },
-            exact_below: params.binned_above(shapes.len()),
+            binned_above: params.binned_above(shapes.len()),
         }
     }
 }
@@ -527,7 +527,7 @@ impl Sah<'_> {
     /// on the build's threads with `parallel`), else sorted events
     /// (`threads` sort the three lists).
     pub fn root(&self, threads: usize, parallel: bool) -> SahObjects {
-        if self.shapes.len() > self.exact_below {
+        if self.shapes.len() > self.binned_above {
             let root_box = |id| ClippedBox {
                 id,
                 bounds: self.shapes.bounds(id),
@@ -734,7 +734,7 @@ impl Strategy for Sah<'_> {
     /// A leaf when the node holds at most one object, at the depth limit,
     /// when no plane is cheaper than testing every object, or when the best
     /// plane would not separate anything. Nodes of more than
-    /// `exact_below` objects are split by binning, the others by the exact
+    /// `binned_above` objects are split by binning, the others by the exact
     /// sweep.
     fn split(
         &self,
@@ -749,7 +749,7 @@ impl Strategy for Sah<'_> {
             return Decision::Leaf(objects);
         }
         match objects {
-            SahObjects::Boxes(boxes) if n > self.exact_below => {
+            SahObjects::Boxes(boxes) if n > self.binned_above => {
                 self.split_boxes(boxes, cell, parallel, side)
             }
             SahObjects::Boxes(boxes) => self.split_exact(boxes, cell, side),
