@@ -83,6 +83,18 @@ fn ray_shear(dir: vec3<f32>) -> RayShear {
     return RayShear(kx, ky, kz, dir[kx] * sz, dir[ky] * sz, sz);
 }
 
+// Whether dir is parallel to the triangle's plane, to rounding: the normal's
+// component along it, from the edges alone, within IN_PLANE_MARGIN of
+// |e1|max |e2|max. See TriangleF32::runs_in_plane.
+fn runs_in_plane(tri: Triangle, dir: vec3<f32>) -> bool {
+    let e1 = tri.v1 - tri.v0;
+    let e2 = tri.v2 - tri.v0;
+    let m1 = abs(e1);
+    let m2 = abs(e2);
+    let scale = max(m1.x, max(m1.y, m1.z)) * max(m2.x, max(m2.y, m2.z));
+    return abs(dot(cross(e1, e2), dir)) <= scale * IN_PLANE_MARGIN;
+}
+
 // Watertight, two-sided (Woop, Benthin and Wald, JCGT 2013); t > 0 or
 // NO_HIT. Edge-function signs come from comparing two rounded products, the
 // same two in both triangles of a shared edge; equal products (an edge
@@ -110,7 +122,7 @@ fn intersect_triangle(tri: Triangle, ray: Ray) -> f32 {
         return NO_HIT;
     }
     let det = (u0 - u1) + (v0 - v1) + (w0 - w1);
-    if (abs(det) < 1e-30) {
+    if (abs(det) < 1e-30 || runs_in_plane(tri, ray.dir)) {
         return NO_HIT;
     }
     let az = sh.sz * a[sh.kz];

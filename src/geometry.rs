@@ -10,6 +10,12 @@ pub const T_INFINITY: f32 = 3.0e38;
 /// plane, so no division can overflow.
 pub const PARALLEL_EPSILON: f32 = 1e-20;
 
+/// A ray counts as lying in a triangle's plane when the normal's component
+/// along it is at most this share of |e1|max |e2|max
+/// (`TriangleF32::runs_in_plane`): twice the bound on that dot product's
+/// rounding.
+pub const IN_PLANE_MARGIN: f32 = 1.0 / (1u32 << 18) as f32;
+
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Ray {
     pub origin: Vec3,
@@ -207,13 +213,33 @@ impl TriangleF32 {
             return None;
         }
         let det = (u0 - u1) + (v0 - v1) + (w0 - w1);
-        if det.abs() < 1e-30 {
+        if det.abs() < 1e-30 || self.runs_in_plane(ray.dir) {
             return None; // degenerate, or the ray lies in the triangle's plane
         }
         let (az, bz, cz) = (sh.sz * a[sh.kz], sh.sz * b[sh.kz], sh.sz * c[sh.kz]);
         let t_scaled = (u0 - u1) * az + (v0 - v1) * bz + (w0 - w1) * cz;
         let t = t_scaled * (1.0 / det);
         (t > 0.0).then_some(t)
+    }
+
+    /// Whether `dir` is parallel to the triangle's plane, to rounding: the
+    /// edge functions above then sit at rounding noise, may share a sign,
+    /// and their `t` lands anywhere on the plane's line (a CI run's ray in
+    /// the plane of a grid triangle was hit 6 units beyond the triangle's
+    /// box, where no k-d cell holds it). The test is the normal's component
+    /// along `dir`, made from the edges alone, so its rounding (under
+    /// 2^-19 of |e1|max |e2|max: the edges, the cross product and the dot
+    /// each round by 2^-24 of such products) does not grow with the ray's
+    /// length as the sheared coordinates' does. The margin rejects rays
+    /// within about 4e-6 rad of a well-shaped triangle's plane: it is seen
+    /// edge-on, with no area to hit. Asked only of candidate hits, so it
+    /// costs the walk nothing on the tests that miss. Mirrors
+    /// `runs_in_plane` in shaders/intersect.wgsl.
+    pub fn runs_in_plane(&self, dir: Vec3) -> bool {
+        let e1 = self.v[1] - self.v[0];
+        let e2 = self.v[2] - self.v[0];
+        let scale = e1.abs().max_element() * e2.abs().max_element();
+        e1.cross(e2).dot(dir).abs() <= scale * IN_PLANE_MARGIN
     }
 
     /// Unit geometric normal (not yet turned to face a ray).
@@ -330,4 +356,87 @@ pub fn union_in_pieces(n: usize, bounds: impl Fn(u32) -> Aabb + Sync, parallel: 
         pieces.map(piece).collect()
     };
     unions.into_iter().fold(Aabb::EMPTY, Aabb::union)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn ray(origin: Vec3, dir: Vec3) -> Ray {
+        Ray {
+            origin,
+            dir: dir.normalize(),
+        }
+    }
+
+    /// A CI run's case: a ray lying in the triangle's plane (normal
+    /// (-1, 1, -1), direction (0, -1, -1)), 6 units past its box. The shear's
+    /// rounding left the three edge functions at noise of one sign, and the
+    /// test reported a hit at t = 11.67, at x = 7.5 on a triangle whose x
+    /// ends at 1.25.
+    #[test]
+    fn a_ray_in_the_plane_beyond_the_triangle_misses_it() {
+        let tri = TriangleF32 {
+            v: [
+                Vec3::new(-7.75, 4.25, 7.5),
+                Vec3::new(-2.25, 7.75, 5.5),
+                Vec3::new(1.25, 5.5, -0.25),
+            ],
+        };
+        let r = ray(
+            Vec3::new(7.5000725, 16.0, 3.9999275),
+            Vec3::new(0.0, -1.0, -1.0),
+        );
+        assert!(tri.runs_in_plane(r.dir));
+        assert_eq!(tri.intersect(&r), None);
+    }
+
+    /// Rays in the plane of a triangle, through its inside, from afar and
+    /// near, in many directions, miss it (it is seen edge-on); the same
+    /// rays tilted out of the plane by 1e-3 rad hit it where they cross the
+    /// plane, near the centroid.
+    #[test]
+    fn rays_in_a_triangles_plane_miss_it_and_tilted_ones_hit() {
+        let triangles = [
+            [[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]],
+            [[-7.75, 4.25, 7.5], [-2.25, 7.75, 5.5], [1.25, 5.5, -0.25]],
+            [[3.1, -2.7, 9.4], [5.3, 1.9, -4.2], [-6.6, 0.35, 2.05]],
+            [[1000.0, 1000.5, 999.0], [1000.2, 1000.1, 1000.3], [999.7, 999.9, 1000.6]],
+        ];
+        let mut tilted_hits = 0;
+        for v in triangles {
+            let tri = TriangleF32 {
+                v: v.map(Vec3::from_array),
+            };
+            let n = tri.normal();
+            let (u, w) = n.any_orthonormal_pair();
+            let centroid = (tri.v[0] + tri.v[1] + tri.v[2]) / 3.0;
+            for k in 0..16 {
+                let angle = k as f32 * std::f32::consts::TAU / 16.0;
+                let along = u * angle.cos() + w * angle.sin();
+                for distance in [0.5f32, 5.0, 50.0] {
+                    let in_plane = ray(centroid - along * distance, along);
+                    assert_eq!(
+                        tri.intersect(&in_plane),
+                        None,
+                        "{tri:?} hit by {in_plane:?}, which lies in its plane"
+                    );
+                    let dir = (along + n * 1e-3).normalize();
+                    let tilted = ray(centroid - dir * distance, dir);
+                    // Where the f32 ray meets the f32 triangle's plane, in f64.
+                    let (o, d) = (tilted.origin.as_dvec3(), tilted.dir.as_dvec3());
+                    let [a, b, c] = tri.v.map(|p| p.as_dvec3());
+                    let normal = (b - a).cross(c - a);
+                    let expected = normal.dot(a - o) / normal.dot(d);
+                    let t = tri.intersect(&tilted);
+                    assert!(
+                        t.is_some_and(|t| (t as f64 - expected).abs() <= 1e-3 * expected),
+                        "{tri:?} missed by {tilted:?} (t {t:?}, expected {expected})"
+                    );
+                    tilted_hits += 1;
+                }
+            }
+        }
+        assert_eq!(tilted_hits, 4 * 16 * 3);
+    }
 }

@@ -308,6 +308,64 @@ proptest! {
     }
 }
 
+/// The kernel's triangle test, like the CPU's (`TriangleF32::runs_in_plane`),
+/// misses a triangle seen edge-on: a CI run's ray lying in a grid triangle's
+/// plane, beyond its box, was hit there by the CPU test, and rays in the
+/// plane through the triangle's inside. The same rays tilted out of the plane
+/// by 1e-2 rad hit it, on the kernel as on the CPU.
+#[test]
+fn gpu_rays_in_a_triangles_plane_miss_it() {
+    use glam::Vec3;
+    use kdray::geometry::TriangleF32;
+    let tri = TriangleF32 {
+        v: [
+            Vec3::new(-7.75, 4.25, 7.5),
+            Vec3::new(-2.25, 7.75, 5.5),
+            Vec3::new(1.25, 5.5, -0.25),
+        ],
+    };
+    let prims = Primitives {
+        spheres: Vec::new(),
+        triangles: vec![tri],
+    };
+    let tree = KdTree::for_primitives(&prims);
+    let n = tri.normal();
+    let (u, w) = n.any_orthonormal_pair();
+    let centroid = (tri.v[0] + tri.v[1] + tri.v[2]) / 3.0;
+    let mut in_plane = vec![nearest(Ray {
+        origin: Vec3::new(7.5000725, 16.0, 3.9999275),
+        dir: Vec3::new(0.0, -1.0, -1.0).normalize(),
+    })];
+    let mut tilted = Vec::new();
+    for k in 0..8 {
+        let angle = k as f32 * std::f32::consts::TAU / 8.0;
+        let along = u * angle.cos() + w * angle.sin();
+        in_plane.push(nearest(Ray {
+            origin: centroid - along * 5.0,
+            dir: along,
+        }));
+        let dir = (along + n * 1e-2).normalize();
+        tilted.push(nearest(Ray {
+            origin: centroid - dir * 5.0,
+            dir,
+        }));
+    }
+    for (rays, hits) in [(&in_plane, false), (&tilted, true)] {
+        let (brute, walks) = trace_both(&prims, &tree, rays);
+        for (q, b) in rays.iter().zip(&brute) {
+            let cpu = traverse::closest_hit_brute(&prims, &q.ray, T_INFINITY);
+            assert_eq!(cpu.is_some(), hits, "CPU: {cpu:?} for {:?}", q.ray);
+            assert_eq!(b.is_some(), hits, "kernel: {b:?} for {:?}", q.ray);
+            if let (Some(b), Some(c)) = (b, cpu) {
+                assert!((b.t - c.t).abs() <= 1e-4 * c.t, "kernel {b:?}, CPU {c:?}");
+            }
+        }
+        for (kd, walk) in walks.iter().zip(Traversal::ALL) {
+            assert_eq!(kd, &brute, "{walk}");
+        }
+    }
+}
+
 /// An empty scene costs nothing: no walk reads a node or tests an object.
 #[test]
 fn an_empty_scene_costs_nothing() {
