@@ -39,15 +39,31 @@ struct Xvfb {
     display: String,
 }
 
+/// How long one Xvfb may take to make its socket before it is stopped
+/// and another display tried. It takes well under a second alone; 20 s
+/// was once too short with the suite's other tests on both cores
+/// (2026-11-24), and once, on a machine whose Xvfb had never run, one of
+/// two servers started together made no socket in 90 s while the other
+/// was up at once (2026-11-25): a hung server is replaced, not waited on.
+const XVFB_START: Duration = Duration::from_secs(30);
+/// Servers that may hang before the test gives up.
+const XVFB_HUNG_TRIES: usize = 3;
+
 impl Xvfb {
     fn start() -> Xvfb {
         static NEXT: AtomicU32 = AtomicU32::new(0);
+        let mut hung = Vec::new();
         for _ in 0..50 {
             let n = 100 + (std::process::id() * 7 + NEXT.fetch_add(1, Ordering::SeqCst)) % 30000;
             let socket = PathBuf::from(format!("/tmp/.X11-unix/X{n}"));
             if socket.exists() || Path::new(&format!("/tmp/.X{n}-lock")).exists() {
                 continue;
             }
+            // Its own words, for the failure message if it hangs.
+            let log = std::env::temp_dir().join(format!("kdray-xvfb-{n}.log"));
+            let stderr = std::fs::File::create(&log)
+                .map(Stdio::from)
+                .unwrap_or_else(|_| Stdio::null());
             let spawned = Command::new("Xvfb")
                 .args([
                     &format!(":{n}"),
@@ -59,7 +75,7 @@ impl Xvfb {
                 ])
                 .stdin(Stdio::null())
                 .stdout(Stdio::null())
-                .stderr(Stdio::null())
+                .stderr(stderr)
                 .spawn();
             let child = match spawned {
                 Ok(child) => child,
@@ -73,24 +89,34 @@ impl Xvfb {
                 child,
                 display: format!(":{n}"),
             };
-            // 20 s was once too short: with the suite's other tests on both
-            // cores, Xvfb took longer to make its socket (2026-11-24).
-            let deadline = Instant::now() + Duration::from_secs(90);
-            loop {
+            let deadline = Instant::now() + XVFB_START;
+            let started = loop {
                 if socket.exists() {
-                    return server;
+                    break true;
                 }
                 // Exited: most likely another server took this display; try the next.
                 if server.child.try_wait().unwrap().is_some() {
-                    break;
+                    break false;
                 }
-                assert!(
-                    Instant::now() < deadline,
-                    "Xvfb {} did not start",
-                    server.display
-                );
+                if Instant::now() >= deadline {
+                    let said = std::fs::read_to_string(&log).unwrap_or_default();
+                    hung.push(format!("{}: {}", server.display, said.trim()));
+                    break false;
+                }
                 std::thread::sleep(Duration::from_millis(20));
+            };
+            let _ = std::fs::remove_file(&log);
+            if started {
+                return server;
             }
+            drop(server); // stopped (SIGTERM, then SIGKILL) before the next try
+            assert!(
+                hung.len() < XVFB_HUNG_TRIES,
+                "{} Xvfb servers made no socket in {:?} each: {}",
+                hung.len(),
+                XVFB_START,
+                hung.join("; ")
+            );
         }
         panic!("found no free X display for Xvfb");
     }
