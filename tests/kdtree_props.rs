@@ -458,7 +458,7 @@ fn the_big_leaf_faces_many_small_ones() {
 /// files an object that touches a plane (within `clip::TOLERANCE`) on both
 /// sides, so every walk finds the hit.
 #[test]
-fn a_ray_touching_an_object_only_at_its_box_corner_is_missed() {
+fn a_ray_touching_an_object_only_at_its_box_corner_finds_it() {
     let v = Vec3::new;
     let triangles = [
         [v(0.0, 0.0, 0.0), v(1.25, 0.0, 0.0), v(-4.0, 1.25, 1.25)],
