@@ -130,7 +130,21 @@ fn intersect_triangle(tri: Triangle, ray: Ray) -> f32 {
     let cz = sh.sz * c[sh.kz];
     let t_scaled = (u0 - u1) * az + (v0 - v1) * bz + (w0 - w1) * cz;
     let t = t_scaled * (1.0 / det);
-    return select(NO_HIT, t, t > 0.0);
+    return select(NO_HIT, t, t > 0.0 && holds_hit_at(tri, ray, t));
+}
+
+// Whether the point at t lies within HIT_BOX_MARGIN of the largest
+// coordinate the test works with of the triangle's box; farther, the hit is
+// the rounding's. See TriangleF32::holds_hit_at.
+fn holds_hit_at(tri: Triangle, ray: Ray, t: f32) -> bool {
+    let lo = min(tri.v0, min(tri.v1, tri.v2));
+    let hi = max(tri.v0, max(tri.v1, tri.v2));
+    let p = ray.origin + ray.dir * t;
+    let m = max(abs(lo), abs(hi));
+    let o = abs(ray.origin);
+    let scale = max(max(m.x, max(m.y, m.z)), max(o.x, max(o.y, o.z)));
+    let margin = vec3<f32>(scale * HIT_BOX_MARGIN);
+    return all(lo - margin <= p) && all(p <= hi + margin);
 }
 
 fn intersect_object(id: u32, ray: Ray) -> f32 {

@@ -10,6 +10,11 @@ pub const T_INFINITY: f32 = 3.0e38;
 /// plane, so no division can overflow.
 pub const PARALLEL_EPSILON: f32 = 1e-20;
 
+/// A triangle's hit point may lie this share of the largest coordinate
+/// its test works with outside the triangle's box, and no more
+/// (`TriangleF32::holds_hit_at`).
+pub const HIT_BOX_MARGIN: f32 = 1.0 / 1024.0;
+
 /// A ray counts as lying in a triangle's plane when the normal's component
 /// along it is at most this share of |e1|max |e2|max
 /// (`TriangleF32::runs_in_plane`): twice the bound on that dot product's
@@ -219,7 +224,26 @@ impl TriangleF32 {
         let (az, bz, cz) = (sh.sz * a[sh.kz], sh.sz * b[sh.kz], sh.sz * c[sh.kz]);
         let t_scaled = (u0 - u1) * az + (v0 - v1) * bz + (w0 - w1) * cz;
         let t = t_scaled * (1.0 / det);
-        (t > 0.0).then_some(t)
+        (t > 0.0 && self.holds_hit_at(ray, t)).then_some(t)
+    }
+
+    /// Whether the point at `t` lies within the test's rounding of the
+    /// triangle's box. Far from it, the hit is the rounding's: a small
+    /// triangle seen nearly edge-on from afar (a CI run's: 1.5e-4 across,
+    /// 18 units out, 5e-4 rad off its plane) has sheared coordinates whose
+    /// rounding (2^-24 of the distances, ~1e-6) dwarfs its projected width
+    /// (~1e-8), so its edge functions are noise that may share a sign, and
+    /// `t`, a weighted mean of the vertices' depths, puts the point on the
+    /// ray beside the triangle, 19 units from it there. The margin, 2^-10 of
+    /// the largest coordinate the test works with, is far above the
+    /// rounding of a true hit's point and far below such misses. Mirrors
+    /// `holds_hit_at` in shaders/intersect.wgsl.
+    pub fn holds_hit_at(&self, ray: &Ray, t: f32) -> bool {
+        let b = self.bounds();
+        let p = ray.origin + ray.dir * t;
+        let scale = self.magnitude().max(ray.origin.abs().max_element());
+        let margin = Vec3::splat(scale * HIT_BOX_MARGIN);
+        (b.min - margin).cmple(p).all() && p.cmple(b.max + margin).all()
     }
 
     /// Whether `dir` is parallel to the triangle's plane, to rounding: the
@@ -389,6 +413,53 @@ mod tests {
         );
         assert!(tri.runs_in_plane(r.dir));
         assert_eq!(tri.intersect(&r), None);
+    }
+
+    /// A CI run's case: a triangle 1.5e-4 across, 18 units from the ray's
+    /// origin and 5e-4 rad off its plane. The shear's rounding swamped the
+    /// projected triangle, the edge functions shared a sign, and the test
+    /// reported a hit at a point 19 units beside the triangle.
+    #[test]
+    fn a_far_small_triangle_nearly_edge_on_is_not_hit_beside_itself() {
+        let tri = TriangleF32 {
+            v: [
+                Vec3::new(0.09544055, 6.176846, 3.757659),
+                Vec3::new(0.09544055, 6.176853, 3.7576532),
+                Vec3::new(0.09558137, 6.176692, 3.7577822),
+            ],
+        };
+        let r = Ray {
+            origin: Vec3::new(-8.836889, -6.568033, 13.11186),
+            dir: Vec3::new(0.7282444, -0.5278434, 0.4370827),
+        };
+        assert!(!tri.runs_in_plane(r.dir), "not parallel to rounding");
+        assert_eq!(tri.intersect(&r), None);
+    }
+
+    /// Small triangles far away, hit head-on and at 1e-2 rad from edge-on
+    /// through their centroid, are hit there: the box check keeps true hits.
+    #[test]
+    fn far_small_triangles_are_hit_where_rays_cross_them() {
+        for (size, distance) in [(1e-3f32, 100.0f32), (1e-4, 10.0), (1e-2, 1000.0)] {
+            let centre = Vec3::new(3.0, -2.0, 5.0);
+            let tri = TriangleF32 {
+                v: [
+                    centre,
+                    centre + Vec3::new(size, 0.0, 0.0),
+                    centre + Vec3::new(0.0, size, 0.0),
+                ],
+            };
+            let centroid = (tri.v[0] + tri.v[1] + tri.v[2]) / 3.0;
+            for dir in [Vec3::Z, Vec3::new(1.0, 0.3, 1e-2)] {
+                let dir = dir.normalize();
+                let r = ray(centroid - dir * distance, dir);
+                let t = tri.intersect(&r);
+                assert!(
+                    t.is_some_and(|t| (t - distance).abs() <= 1e-3 * distance),
+                    "{tri:?} by {r:?}: {t:?}"
+                );
+            }
+        }
     }
 
     /// Rays in the plane of a triangle, through its inside, from afar and

@@ -366,6 +366,50 @@ fn gpu_rays_in_a_triangles_plane_miss_it() {
     }
 }
 
+/// The kernel, like the CPU (`TriangleF32::holds_hit_at`), turns away a
+/// hit the rounding made beside a triangle: a CI run's triangle 1.5e-4
+/// across, 18 units out, 5e-4 rad off edge-on, was "hit" 19 units beside
+/// itself. A ray along its normal through its centroid, from as far, hits it.
+#[test]
+fn gpu_hits_beside_a_far_small_triangle_are_turned_away() {
+    use glam::Vec3;
+    use kdray::geometry::TriangleF32;
+    let tri = TriangleF32 {
+        v: [
+            Vec3::new(0.09544055, 6.176846, 3.757659),
+            Vec3::new(0.09544055, 6.176853, 3.7576532),
+            Vec3::new(0.09558137, 6.176692, 3.7577822),
+        ],
+    };
+    let prims = Primitives {
+        spheres: Vec::new(),
+        triangles: vec![tri],
+    };
+    let tree = KdTree::for_primitives(&prims);
+    let origin = Vec3::new(-8.836889, -6.568033, 13.11186);
+    let centroid = (tri.v[0] + tri.v[1] + tri.v[2]) / 3.0;
+    let rays = [
+        nearest(Ray {
+            origin,
+            dir: Vec3::new(0.7282444, -0.5278434, 0.4370827),
+        }),
+        nearest(Ray {
+            origin: centroid + tri.normal() * 18.0,
+            dir: -tri.normal(),
+        }),
+    ];
+    let (brute, walks) = trace_both(&prims, &tree, &rays);
+    assert_eq!(brute[0], None, "the kernel's hit beside the triangle");
+    let cpu = traverse::closest_hit_brute(&prims, &rays[1].ray, T_INFINITY);
+    let (Some(b), Some(c)) = (brute[1], cpu) else {
+        panic!("the centroid's ray: kernel {:?}, CPU {cpu:?}", brute[1]);
+    };
+    assert!((b.t - c.t).abs() <= 1e-4 * c.t, "kernel {b:?}, CPU {c:?}");
+    for (kd, walk) in walks.iter().zip(Traversal::ALL) {
+        assert_eq!(kd, &brute, "{walk}");
+    }
+}
+
 /// An empty scene costs nothing: no walk reads a node or tests an object.
 #[test]
 fn an_empty_scene_costs_nothing() {

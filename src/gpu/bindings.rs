@@ -8,7 +8,7 @@
 //! Tests check the generated declarations against naga's reading of the
 //! kernel: binding numbers and access by name, constants by value.
 
-use crate::geometry::{IN_PLANE_MARGIN, PARALLEL_EPSILON, T_INFINITY};
+use crate::geometry::{HIT_BOX_MARGIN, IN_PLANE_MARGIN, PARALLEL_EPSILON, T_INFINITY};
 use crate::layout::{
     GpuTriangle, KdNode, LeafRopes, ACCEL_BRUTE, ACCEL_KDTREE, SHADOW_AMBIENT, SHADOW_SEED,
     TRAVERSAL_RESTART, TRAVERSAL_ROPES, TRAVERSAL_SHORT_STACK,
@@ -321,7 +321,7 @@ pub enum SharedValue {
 }
 
 /// Every constant the kernel and the host must agree on, by WGSL name.
-pub const SHARED_CONSTANTS: [(&str, SharedValue); 16] = [
+pub const SHARED_CONSTANTS: [(&str, SharedValue); 17] = [
     ("KD_LEAF", SharedValue::U32(KdNode::LEAF)),
     ("ACCEL_KDTREE", SharedValue::U32(ACCEL_KDTREE)),
     ("ACCEL_BRUTE", SharedValue::U32(ACCEL_BRUTE)),
@@ -334,6 +334,9 @@ pub const SHARED_CONSTANTS: [(&str, SharedValue); 16] = [
     // A ray lies in a triangle's plane when the normal's component along it
     // is at most this share of |e1|max |e2|max (TriangleF32::runs_in_plane).
     ("IN_PLANE_MARGIN", SharedValue::F32(IN_PLANE_MARGIN)),
+    // A triangle's hit point may lie this share of the test's largest
+    // coordinate outside its box (TriangleF32::holds_hit_at).
+    ("HIT_BOX_MARGIN", SharedValue::F32(HIT_BOX_MARGIN)),
     // `QueryHit::object` and the kernel's `Hit::object` when nothing was hit.
     ("NO_OBJECT", SharedValue::U32(NO_OBJECT)),
     // Invocations whose loops ran this many iterations are counted as
