@@ -83,16 +83,13 @@ fn ray_shear(dir: vec3<f32>) -> RayShear {
     return RayShear(kx, ky, kz, dir[kx] * sz, dir[ky] * sz, sz);
 }
 
-// Whether dir is parallel to the triangle's plane, to rounding: the normal's
-// component along it, from the edges alone, within IN_PLANE_MARGIN of
-// |e1|max |e2|max. See TriangleF32::runs_in_plane.
+// Whether dir lies in the triangle's plane as far as its own arithmetic can
+// tell: the normal's component along it, from the edges alone, within
+// IN_PLANE_MARGIN of the normal's size. See TriangleF32::runs_in_plane.
 fn runs_in_plane(tri: Triangle, dir: vec3<f32>) -> bool {
-    let e1 = tri.v1 - tri.v0;
-    let e2 = tri.v2 - tri.v0;
-    let m1 = abs(e1);
-    let m2 = abs(e2);
-    let scale = max(m1.x, max(m1.y, m1.z)) * max(m2.x, max(m2.y, m2.z));
-    return abs(dot(cross(e1, e2), dir)) <= scale * IN_PLANE_MARGIN;
+    let n = cross(tri.v1 - tri.v0, tri.v2 - tri.v0);
+    let m = abs(n);
+    return abs(dot(n, dir)) <= (m.x + m.y + m.z) * IN_PLANE_MARGIN;
 }
 
 // Watertight, two-sided (Woop, Benthin and Wald, JCGT 2013); t > 0 or

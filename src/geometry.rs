@@ -16,10 +16,9 @@ pub const PARALLEL_EPSILON: f32 = 1e-20;
 pub const HIT_BOX_MARGIN: f32 = 1.0 / 1024.0;
 
 /// A ray counts as lying in a triangle's plane when the normal's component
-/// along it is at most this share of |e1|max |e2|max
-/// (`TriangleF32::runs_in_plane`): twice the bound on that dot product's
-/// rounding.
-pub const IN_PLANE_MARGIN: f32 = 1.0 / (1u32 << 18) as f32;
+/// along it is at most this share of the normal's size (|n.x| + |n.y| +
+/// |n.z|): about 1e-6 rad (`TriangleF32::runs_in_plane`).
+pub const IN_PLANE_MARGIN: f32 = 1.0 / (1u32 << 20) as f32;
 
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Ray {
@@ -246,24 +245,25 @@ impl TriangleF32 {
         (b.min - margin).cmple(p).all() && p.cmple(b.max + margin).all()
     }
 
-    /// Whether `dir` is parallel to the triangle's plane, to rounding: the
-    /// edge functions above then sit at rounding noise, may share a sign,
-    /// and their `t` lands anywhere on the plane's line (a CI run's ray in
-    /// the plane of a grid triangle was hit 6 units beyond the triangle's
-    /// box, where no k-d cell holds it). The test is the normal's component
-    /// along `dir`, made from the edges alone, so its rounding (under
-    /// 2^-19 of |e1|max |e2|max: the edges, the cross product and the dot
-    /// each round by 2^-24 of such products) does not grow with the ray's
-    /// length as the sheared coordinates' does. The margin rejects rays
-    /// within about 4e-6 rad of a well-shaped triangle's plane: it is seen
-    /// edge-on, with no area to hit. Asked only of candidate hits, so it
-    /// costs the walk nothing on the tests that miss. Mirrors
-    /// `runs_in_plane` in shaders/intersect.wgsl.
+    /// Whether `dir` lies in the triangle's plane as far as the triangle's
+    /// own arithmetic can tell: the normal's component along it, made from
+    /// the edges alone (so it does not grow with the ray's length, as the
+    /// sheared coordinates' rounding does), is within 2^-20 of the normal's
+    /// size, about 1e-6 rad. The edge functions are then rounding noise that
+    /// may share a sign (a CI run's ray in the plane of a grid triangle was
+    /// hit 6 units beyond its box). A margin of 2^-18 of |e1|max |e2|max,
+    /// the bound on this dot product's rounding, was tried first: it turned
+    /// slivers (edges 2.6e-4 rad apart) away from rays 0.4 degrees off their
+    /// plane, and a fan of them cracked (`tests/triangle_edges.rs`). For a
+    /// sliver whose normal is itself uncertain the edge functions decide,
+    /// and `holds_hit_at` catches what they get wrong far from the
+    /// triangle. Asked only of candidate hits. Mirrors `runs_in_plane` in
+    /// shaders/intersect.wgsl.
     pub fn runs_in_plane(&self, dir: Vec3) -> bool {
         let e1 = self.v[1] - self.v[0];
         let e2 = self.v[2] - self.v[0];
-        let scale = e1.abs().max_element() * e2.abs().max_element();
-        e1.cross(e2).dot(dir).abs() <= scale * IN_PLANE_MARGIN
+        let n = e1.cross(e2);
+        n.dot(dir).abs() <= (n.x.abs() + n.y.abs() + n.z.abs()) * IN_PLANE_MARGIN
     }
 
     /// Unit geometric normal (not yet turned to face a ray).

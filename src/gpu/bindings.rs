@@ -332,7 +332,7 @@ pub const SHARED_CONSTANTS: [(&str, SharedValue); 17] = [
     // Direction components below this count as parallel to an axis plane.
     ("PARALLEL_EPSILON", SharedValue::F32(PARALLEL_EPSILON)),
     // A ray lies in a triangle's plane when the normal's component along it
-    // is at most this share of |e1|max |e2|max (TriangleF32::runs_in_plane).
+    // is at most this share of the normal's size (TriangleF32::runs_in_plane).
     ("IN_PLANE_MARGIN", SharedValue::F32(IN_PLANE_MARGIN)),
     // A triangle's hit point may lie this share of the test's largest
     // coordinate outside its box (TriangleF32::holds_hit_at).
