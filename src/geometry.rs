@@ -240,7 +240,12 @@ impl TriangleF32 {
     pub fn holds_hit_at(&self, ray: &Ray, t: f32) -> bool {
         let b = self.bounds();
         let p = ray.origin + ray.dir * t;
-        let scale = self.magnitude().max(ray.origin.abs().max_element());
+        let scale = b
+            .min
+            .abs()
+            .max(b.max.abs())
+            .max(ray.origin.abs())
+            .max_element();
         let margin = Vec3::splat(scale * HIT_BOX_MARGIN);
         (b.min - margin).cmple(p).all() && p.cmple(b.max + margin).all()
     }

@@ -308,6 +308,30 @@ proptest! {
     }
 }
 
+/// One triangle traced by the kernel, each ray expected to hit it or not:
+/// the kernel's brute-force loop and the CPU's agree with the expectation
+/// and with each other's t, and every walk gives brute force's answer.
+fn check_one_triangle(tri: kdray::geometry::TriangleF32, rays: &[(RayQuery, bool)]) {
+    let prims = Primitives {
+        spheres: Vec::new(),
+        triangles: vec![tri],
+    };
+    let tree = KdTree::for_primitives(&prims);
+    let queries: Vec<RayQuery> = rays.iter().map(|&(q, _)| q).collect();
+    let (brute, walks) = trace_both(&prims, &tree, &queries);
+    for ((q, hits), b) in rays.iter().zip(&brute) {
+        let cpu = traverse::closest_hit_brute(&prims, &q.ray, T_INFINITY);
+        assert_eq!(cpu.is_some(), *hits, "CPU: {cpu:?} for {:?}", q.ray);
+        assert_eq!(b.is_some(), *hits, "kernel: {b:?} for {:?}", q.ray);
+        if let (Some(b), Some(c)) = (b, cpu) {
+            assert!((b.t - c.t).abs() <= 1e-4 * c.t, "kernel {b:?}, CPU {c:?}");
+        }
+    }
+    for (kd, walk) in walks.iter().zip(Traversal::ALL) {
+        assert_eq!(kd, &brute, "{walk}");
+    }
+}
+
 /// The kernel's triangle test, like the CPU's (`TriangleF32::runs_in_plane`),
 /// misses a triangle seen edge-on: a CI run's ray lying in a grid triangle's
 /// plane, beyond its box, was hit there by the CPU test, and rays in the
@@ -316,54 +340,39 @@ proptest! {
 #[test]
 fn gpu_rays_in_a_triangles_plane_miss_it() {
     use glam::Vec3;
-    use kdray::geometry::TriangleF32;
-    let tri = TriangleF32 {
+    let tri = kdray::geometry::TriangleF32 {
         v: [
             Vec3::new(-7.75, 4.25, 7.5),
             Vec3::new(-2.25, 7.75, 5.5),
             Vec3::new(1.25, 5.5, -0.25),
         ],
     };
-    let prims = Primitives {
-        spheres: Vec::new(),
-        triangles: vec![tri],
-    };
-    let tree = KdTree::for_primitives(&prims);
     let n = tri.normal();
     let (u, w) = n.any_orthonormal_pair();
     let centroid = (tri.v[0] + tri.v[1] + tri.v[2]) / 3.0;
-    let mut in_plane = vec![nearest(Ray {
-        origin: Vec3::new(7.5000725, 16.0, 3.9999275),
-        dir: Vec3::new(0.0, -1.0, -1.0).normalize(),
-    })];
-    let mut tilted = Vec::new();
+    let mut rays = vec![(
+        nearest(Ray {
+            origin: Vec3::new(7.5000725, 16.0, 3.9999275),
+            dir: Vec3::new(0.0, -1.0, -1.0).normalize(),
+        }),
+        false,
+    )];
     for k in 0..8 {
         let angle = k as f32 * std::f32::consts::TAU / 8.0;
         let along = u * angle.cos() + w * angle.sin();
-        in_plane.push(nearest(Ray {
+        let in_plane = Ray {
             origin: centroid - along * 5.0,
             dir: along,
-        }));
+        };
         let dir = (along + n * 1e-2).normalize();
-        tilted.push(nearest(Ray {
+        let tilted = Ray {
             origin: centroid - dir * 5.0,
             dir,
-        }));
+        };
+        rays.push((nearest(in_plane), false));
+        rays.push((nearest(tilted), true));
     }
-    for (rays, hits) in [(&in_plane, false), (&tilted, true)] {
-        let (brute, walks) = trace_both(&prims, &tree, rays);
-        for (q, b) in rays.iter().zip(&brute) {
-            let cpu = traverse::closest_hit_brute(&prims, &q.ray, T_INFINITY);
-            assert_eq!(cpu.is_some(), hits, "CPU: {cpu:?} for {:?}", q.ray);
-            assert_eq!(b.is_some(), hits, "kernel: {b:?} for {:?}", q.ray);
-            if let (Some(b), Some(c)) = (b, cpu) {
-                assert!((b.t - c.t).abs() <= 1e-4 * c.t, "kernel {b:?}, CPU {c:?}");
-            }
-        }
-        for (kd, walk) in walks.iter().zip(Traversal::ALL) {
-            assert_eq!(kd, &brute, "{walk}");
-        }
-    }
+    check_one_triangle(tri, &rays);
 }
 
 /// The kernel, like the CPU (`TriangleF32::holds_hit_at`), turns away a
@@ -373,41 +382,23 @@ fn gpu_rays_in_a_triangles_plane_miss_it() {
 #[test]
 fn gpu_hits_beside_a_far_small_triangle_are_turned_away() {
     use glam::Vec3;
-    use kdray::geometry::TriangleF32;
-    let tri = TriangleF32 {
+    let tri = kdray::geometry::TriangleF32 {
         v: [
             Vec3::new(0.09544055, 6.176846, 3.757659),
             Vec3::new(0.09544055, 6.176853, 3.7576532),
             Vec3::new(0.09558137, 6.176692, 3.7577822),
         ],
     };
-    let prims = Primitives {
-        spheres: Vec::new(),
-        triangles: vec![tri],
-    };
-    let tree = KdTree::for_primitives(&prims);
-    let origin = Vec3::new(-8.836889, -6.568033, 13.11186);
     let centroid = (tri.v[0] + tri.v[1] + tri.v[2]) / 3.0;
-    let rays = [
-        nearest(Ray {
-            origin,
-            dir: Vec3::new(0.7282444, -0.5278434, 0.4370827),
-        }),
-        nearest(Ray {
-            origin: centroid + tri.normal() * 18.0,
-            dir: -tri.normal(),
-        }),
-    ];
-    let (brute, walks) = trace_both(&prims, &tree, &rays);
-    assert_eq!(brute[0], None, "the kernel's hit beside the triangle");
-    let cpu = traverse::closest_hit_brute(&prims, &rays[1].ray, T_INFINITY);
-    let (Some(b), Some(c)) = (brute[1], cpu) else {
-        panic!("the centroid's ray: kernel {:?}, CPU {cpu:?}", brute[1]);
+    let beside = Ray {
+        origin: Vec3::new(-8.836889, -6.568033, 13.11186),
+        dir: Vec3::new(0.7282444, -0.5278434, 0.4370827),
     };
-    assert!((b.t - c.t).abs() <= 1e-4 * c.t, "kernel {b:?}, CPU {c:?}");
-    for (kd, walk) in walks.iter().zip(Traversal::ALL) {
-        assert_eq!(kd, &brute, "{walk}");
-    }
+    let head_on = Ray {
+        origin: centroid + tri.normal() * 18.0,
+        dir: -tri.normal(),
+    };
+    check_one_triangle(tri, &[(nearest(beside), false), (nearest(head_on), true)]);
 }
 
 /// An empty scene costs nothing: no walk reads a node or tests an object.
