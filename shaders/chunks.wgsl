@@ -10,13 +10,9 @@
 // generated (src/gpu/bindings.rs); the host cuts the arrays in
 // src/gpu/scene_buffers.rs (`split`).
 
-// Whether the scene's arrays may be split: a pipeline-overridable constant,
-// so that the renderer's pipeline for scenes that fit one binding each has
-// none of the chunk selection. Measured on lavapipe (torus scene, release
-// build), selecting the chunk at run time cost 25-45% of the frame even
-// when the branch was uniform; pipelines made without the constant (the
-// debug entry point) take the general path.
-override SPLIT_SCENE: bool = true;
+// Whether the scene's arrays may be split is SPLIT_SCENE (variant.wgsl): the
+// renderer's pipeline for scenes that fit one binding each has none of the
+// chunk selection.
 
 // Element `index` of chunk `chunk` of a split array.
 struct ChunkIndex {

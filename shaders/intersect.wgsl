@@ -145,7 +145,7 @@ fn holds_hit_at(tri: Triangle, ray: Ray, t: f32) -> bool {
 }
 
 fn intersect_object(id: u32, ray: Ray) -> f32 {
-    if (id < params.sphere_count) {
+    if (is_sphere(id)) {
         return intersect_sphere(spheres[id], ray);
     }
     return intersect_triangle(triangle(id - params.sphere_count), ray);
@@ -153,7 +153,7 @@ fn intersect_object(id: u32, ray: Ray) -> f32 {
 
 // Largest coordinate magnitude the object's intersection works with.
 fn object_magnitude(id: u32) -> f32 {
-    if (id < params.sphere_count) {
+    if (is_sphere(id)) {
         let s = spheres[id];
         let c = abs(s.center);
         return max(c.x, max(c.y, c.z)) + s.radius;
@@ -165,7 +165,7 @@ fn object_magnitude(id: u32) -> f32 {
 
 // Unit geometric normal at p (not yet turned to face the ray).
 fn object_normal(id: u32, p: vec3<f32>) -> vec3<f32> {
-    if (id < params.sphere_count) {
+    if (is_sphere(id)) {
         return normalize(p - spheres[id].center);
     }
     let tri = triangle(id - params.sphere_count);

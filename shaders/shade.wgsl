@@ -105,11 +105,11 @@ fn surface_at(id: u32, p: vec3<f32>, ray_dir: vec3<f32>) -> Surface {
     if (dot(g, ray_dir) > 0.0) {
         g = -g;
     }
-    if (id < params.sphere_count) {
+    if (is_sphere(id)) {
         return Surface(g, g, p);
     }
     let tri = triangle(id - params.sphere_count);
-    if (tri.normals == FLAT_TRIANGLE) {
+    if (!SMOOTH_TRIANGLES || tri.normals == FLAT_TRIANGLE) {
         return Surface(g, g, p);
     }
     let record = triangle_normals_record(tri.normals);

@@ -146,14 +146,16 @@ fn trace_brute(ray: Ray, t_limit: f32, any_hit: bool) -> Hit {
     return best;
 }
 
+// The frame's walk; a specialised pipeline holds only that one (variant.wgsl).
 fn trace_ray(ray: Ray, t_limit: f32, any_hit: bool) -> Hit {
-    if (params.accel == ACCEL_BRUTE) {
+    if (frame_accel() == ACCEL_BRUTE) {
         return trace_brute(ray, t_limit, any_hit);
     }
-    if (params.traversal == TRAVERSAL_ROPES) {
+    let traversal = frame_traversal();
+    if (traversal == TRAVERSAL_ROPES) {
         return trace_kdtree_ropes(ray, t_limit, any_hit);
     }
-    if (params.traversal == TRAVERSAL_SHORT_STACK) {
+    if (traversal == TRAVERSAL_SHORT_STACK) {
         return trace_kdtree_short_stack(ray, t_limit, any_hit);
     }
     return trace_kdtree(ray, t_limit, any_hit);

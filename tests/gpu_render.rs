@@ -5,7 +5,7 @@
 mod common;
 
 use common::*;
-use kdray::gpu::{Accel, PreparedScene, RenderedImage, Renderer, TilePlan};
+use kdray::gpu::{Accel, KernelVariant, PreparedScene, RenderedImage, Renderer, TilePlan};
 use kdray::kdtree::Traversal;
 use kdray::scene::Scene;
 
@@ -317,4 +317,69 @@ fn gpu_matches_the_cpu_reference_on_every_scene() {
             d.pixels_over
         );
     }
+}
+
+/// Each frame runs a pipeline specialised for its scene and walk
+/// (`gpu::kernel_variant`): only that walk, only the scene's kinds of
+/// object, smooth shading only where a triangle has vertex normals. On every
+/// shipped scene (spheres only, triangles only, both, smooth) and for every
+/// walk and brute force, the specialised pipeline renders the general
+/// kernel's image bit for bit, with the same ray counts; and it is a
+/// specialised one, so the comparison is not the general kernel with itself.
+#[test]
+fn specialised_pipelines_render_what_the_general_kernel_renders() {
+    const BRUTE_FORCE_MAX_OBJECTS: usize = 10_000;
+    let ctx = gpu();
+    let specialised = Renderer::new(ctx).unwrap_or_else(|e| panic!("{e}"));
+    let general = Renderer::general(ctx).unwrap_or_else(|e| panic!("{e}"));
+    let mut kinds_seen = std::collections::HashSet::new();
+    for path in shipped_scenes() {
+        let scene = small_scene(&path);
+        let mut frames: Vec<(Accel, Option<Traversal>)> = Traversal::ALL
+            .iter()
+            .map(|&t| (Accel::Kdtree, Some(t)))
+            .collect();
+        if scene.object_count() <= BRUTE_FORCE_MAX_OBJECTS {
+            frames.push((Accel::Brute, None));
+        }
+        for (accel, traversal) in frames {
+            let prepared = PreparedScene::new(scene.clone(), accel);
+            let buffers = prepared.upload(ctx).unwrap_or_else(|e| panic!("{e}"));
+            let mut params = prepared.frame_params(&buffers, accel);
+            if let Some(t) = traversal {
+                params = params.with_traversal(t);
+            }
+            let variant = specialised.variant_for(&buffers, &params);
+            assert_ne!(variant, KernelVariant::GENERAL);
+            assert_eq!(
+                general.variant_for(&buffers, &params),
+                KernelVariant::GENERAL
+            );
+            kinds_seen.insert((variant.spheres, variant.triangles, variant.smooth_triangles));
+            let plan = TilePlan::new(
+                scene.render.width,
+                scene.render.height,
+                TilePlan::DEFAULT_MAX_TILE_PIXELS,
+                kdray::gpu::max_binding_bytes(&ctx.device.limits()),
+            );
+            let a = specialised
+                .render(ctx, &buffers, params, plan)
+                .unwrap_or_else(|e| panic!("{e}"));
+            let b = general
+                .render(ctx, &buffers, params, plan)
+                .unwrap_or_else(|e| panic!("{e}"));
+            let what = format!("{} ({accel:?}, {traversal:?}, {variant:?})", path.display());
+            let d = compare(&a.rgb, &b.rgb, a.width, a.height, 0);
+            assert_eq!(d.pixels_over, 0, "{what}: {d:?}");
+            assert_eq!(a.rays, b.rays, "{what}");
+        }
+    }
+    // Spheres only, triangles only, both; and a smooth mesh (scenes/bunny.toml).
+    for kinds in [(true, false), (false, true), (true, true)] {
+        assert!(
+            kinds_seen.iter().any(|k| (k.0, k.1) == kinds),
+            "no scene of kinds {kinds:?}"
+        );
+    }
+    assert!(kinds_seen.iter().any(|k| k.2), "no smooth scene");
 }

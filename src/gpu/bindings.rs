@@ -8,6 +8,7 @@
 //! Tests check the generated declarations against naga's reading of the
 //! kernel: binding numbers and access by name, constants by value.
 
+use super::kernel_variant::KernelVariant;
 use crate::geometry::{HIT_BOX_MARGIN, IN_PLANE_MARGIN, PARALLEL_EPSILON, T_INFINITY};
 use crate::layout::{
     GpuTriangle, KdNode, LeafRopes, ACCEL_BRUTE, ACCEL_KDTREE, SHADOW_AMBIENT, SHADOW_SEED,
@@ -321,7 +322,7 @@ pub enum SharedValue {
 }
 
 /// Every constant the kernel and the host must agree on, by WGSL name.
-pub const SHARED_CONSTANTS: [(&str, SharedValue); 17] = [
+pub const SHARED_CONSTANTS: [(&str, SharedValue); 18] = [
     ("KD_LEAF", SharedValue::U32(KdNode::LEAF)),
     ("ACCEL_KDTREE", SharedValue::U32(ACCEL_KDTREE)),
     ("ACCEL_BRUTE", SharedValue::U32(ACCEL_BRUTE)),
@@ -358,6 +359,11 @@ pub const SHARED_CONSTANTS: [(&str, SharedValue); 17] = [
     ("NO_ROPE", SharedValue::U32(LeafRopes::NONE)),
     // `Triangle::normals` of a flat-shaded triangle.
     ("FLAT_TRIANGLE", SharedValue::U32(GpuTriangle::FLAT)),
+    // An override (variant.wgsl) that leaves its choice to `params`.
+    (
+        "FROM_PARAMS",
+        SharedValue::U32(crate::gpu::kernel_variant::FROM_PARAMS),
+    ),
 ];
 
 /// The object id of a miss.
@@ -463,8 +469,8 @@ pub fn layout_entries(bindings: &[Binding]) -> Vec<wgpu::BindGroupLayoutEntry> {
 
 /// A compute pipeline for `entry_point` of the trace kernel, with an
 /// explicit layout of `bindings` (so bind groups built from the same table
-/// fit it, whatever the entry point happens to use). It reads the scene's
-/// arrays split or not ([`trace_pipeline_on`] with `split_scene`).
+/// fit it, whatever the entry point happens to use). It is the general
+/// variant: any scene, every choice read from the frame's uniforms.
 pub fn trace_pipeline(
     device: &wgpu::Device,
     module: &wgpu::ShaderModule,
@@ -475,34 +481,31 @@ pub fn trace_pipeline(
         label: Some(entry_point),
         entries: &layout_entries(bindings),
     });
-    let pipeline = trace_pipeline_on(device, module, entry_point, &layout, true);
+    let pipeline = trace_pipeline_on(device, module, entry_point, &layout, KernelVariant::GENERAL);
     (pipeline, layout)
 }
 
-/// A compute pipeline for `entry_point` with bind group layout `layout`.
-/// `split_scene` false makes a pipeline only for scenes whose triangles and
-/// leaf ropes lie in one binding each (`SceneBuffers::split`), without the
-/// kernel's chunk selection (shaders/chunks.wgsl, `SPLIT_SCENE`).
+/// A compute pipeline for `entry_point` with bind group layout `layout`,
+/// specialised as `variant` says (`gpu::kernel_variant`).
 pub fn trace_pipeline_on(
     device: &wgpu::Device,
     module: &wgpu::ShaderModule,
     entry_point: &str,
     layout: &wgpu::BindGroupLayout,
-    split_scene: bool,
+    variant: KernelVariant,
 ) -> wgpu::ComputePipeline {
     let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
         label: Some(entry_point),
         bind_group_layouts: &[Some(layout)],
         immediate_size: 0,
     });
-    let split = if split_scene { 1.0 } else { 0.0 };
     device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
         label: Some(entry_point),
         layout: Some(&pipeline_layout),
         module,
         entry_point: Some(entry_point),
         compilation_options: wgpu::PipelineCompilationOptions {
-            constants: &[("SPLIT_SCENE", split)],
+            constants: &variant.constants(),
             ..Default::default()
         },
         cache: None,

@@ -7,6 +7,7 @@ use super::bindings;
 use super::context::GpuContext;
 use super::scene_buffers::SceneBuffers;
 use super::shaders;
+use super::{KernelVariant, TracePipelines};
 use crate::error::{Error, Result};
 use crate::kdtree::traverse::WalkCost;
 use crate::layout::{FrameParams, RayCounters};
@@ -165,12 +166,10 @@ pub struct RenderedImage {
 }
 
 pub struct Renderer {
-    /// For scenes in one binding per array (no chunk selection).
-    pipeline: wgpu::ComputePipeline,
-    /// For scenes split over several bindings, made when first needed.
-    split_pipeline: std::sync::OnceLock<wgpu::ComputePipeline>,
-    module: wgpu::ShaderModule,
-    layout: wgpu::BindGroupLayout,
+    /// `render_tile`, one pipeline per kernel variant.
+    pipelines: TracePipelines,
+    /// Every frame with the general variant (tests).
+    general: bool,
     params_buffer: wgpu::Buffer,
 }
 
@@ -181,6 +180,7 @@ fn render_bindings(device: &wgpu::Device) -> Vec<bindings::Binding> {
 }
 
 impl Renderer {
+    /// Each frame runs a pipeline specialised for its scene and walk.
     pub fn new(ctx: &GpuContext) -> Result<Self> {
         ctx.checked("creating the trace pipeline", |device| {
             let module = shaders::trace_module(device);
@@ -188,13 +188,6 @@ impl Renderer {
                 label: Some(shaders::TRACE_ENTRY_POINT),
                 entries: &bindings::layout_entries(&render_bindings(device)),
             });
-            let pipeline = bindings::trace_pipeline_on(
-                device,
-                &module,
-                shaders::TRACE_ENTRY_POINT,
-                &layout,
-                false,
-            );
             let params_buffer = device.create_buffer(&wgpu::BufferDescriptor {
                 label: Some("frame params"),
                 size: std::mem::size_of::<FrameParams>() as u64,
@@ -202,37 +195,29 @@ impl Renderer {
                 mapped_at_creation: false,
             });
             Renderer {
-                pipeline,
-                split_pipeline: std::sync::OnceLock::new(),
-                module,
-                layout,
+                pipelines: TracePipelines::new(module, layout, shaders::TRACE_ENTRY_POINT),
+                general: false,
                 params_buffer,
             }
         })
     }
 
-    /// The pipeline for `scene`: with the chunk selection only if it is split.
-    fn pipeline_for(
-        &self,
-        ctx: &GpuContext,
-        scene: &SceneBuffers,
-    ) -> Result<&wgpu::ComputePipeline> {
-        if !scene.split {
-            return Ok(&self.pipeline);
+    /// A renderer whose every frame runs the general variant, which reads
+    /// the walk and the scene's kinds from the frame's uniforms: for tests
+    /// that hold the specialised pipelines to it.
+    pub fn general(ctx: &GpuContext) -> Result<Self> {
+        Ok(Renderer {
+            general: true,
+            ..Self::new(ctx)?
+        })
+    }
+
+    /// The variant a frame of `scene` with `params` runs.
+    pub fn variant_for(&self, scene: &SceneBuffers, params: &FrameParams) -> KernelVariant {
+        match self.general {
+            true => KernelVariant::GENERAL,
+            false => KernelVariant::for_frame(scene, params),
         }
-        if let Some(p) = self.split_pipeline.get() {
-            return Ok(p);
-        }
-        let p = ctx.checked("creating the trace pipeline for a split scene", |device| {
-            bindings::trace_pipeline_on(
-                device,
-                &self.module,
-                shaders::TRACE_ENTRY_POINT,
-                &self.layout,
-                true,
-            )
-        })?;
-        Ok(self.split_pipeline.get_or_init(|| p))
     }
 
     /// Renders the whole image, tile by tile, and reads it back.
@@ -287,7 +272,7 @@ impl Renderer {
     ) -> Result<RenderSummary> {
         let (width, height) = (params.width, params.height);
         let device = &ctx.device;
-        let pipeline = self.pipeline_for(ctx, scene)?;
+        let pipeline = self.pipelines.get(ctx, self.variant_for(scene, &params))?;
         let tile_pixels = plan.tile_width as u64 * plan.max_rows as u64;
         let tile_bytes = OUTPUT_HEADER_BYTES + tile_pixels * 4;
         let cost_bytes = match with_cost {
@@ -337,7 +322,7 @@ impl Renderer {
             });
             let bind_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
                 label: Some("trace"),
-                layout: &self.layout,
+                layout: self.pipelines.layout(),
                 entries: &entries,
             });
             (output, costs, readback, bind_group)
@@ -392,7 +377,7 @@ impl Renderer {
                         label: Some("trace tile"),
                         timestamp_writes: timer.as_ref().map(|t| t.writes()),
                     });
-                    pass.set_pipeline(pipeline);
+                    pass.set_pipeline(&pipeline);
                     pass.set_bind_group(0, &bind_group, &[]);
                     let (gx, gy) = shaders::TRACE_WORKGROUP;
                     pass.dispatch_workgroups(w.div_ceil(gx), h.div_ceil(gy), 1);

@@ -355,8 +355,10 @@ pub struct SceneBuffers {
     pub node_count: u32,
     /// Whether a split array (triangles, k-d nodes, leaf object lists, leaf
     /// ropes, rope index, vertex normals) lies in more than one binding (the kernel must then select
-    /// the chunk: `bindings::trace_pipeline_on`).
+    /// the chunk: `gpu::KernelVariant::split_scene`).
     pub split: bool,
+    /// Whether some triangle has vertex normals (smooth shading).
+    pub smooth_triangles: bool,
 }
 
 impl SceneBuffers {
@@ -452,6 +454,7 @@ impl SceneBuffers {
             light_count: arrays.lights.len() as u32,
             node_count: arrays.nodes.len() as u32,
             split,
+            smooth_triangles: !arrays.triangle_normals.is_empty(),
         }
     }
 }

@@ -3,8 +3,9 @@
 
 /// Files of the trace kernel, in the order they are concatenated (after the
 /// declarations generated from [`super::bindings`]).
-pub const TRACE_PARTS: [(&str, &str); 9] = [
+pub const TRACE_PARTS: [(&str, &str); 10] = [
     ("types.wgsl", include_str!("../../shaders/types.wgsl")),
+    ("variant.wgsl", include_str!("../../shaders/variant.wgsl")),
     ("chunks.wgsl", include_str!("../../shaders/chunks.wgsl")),
     (
         "intersect.wgsl",

@@ -3,7 +3,7 @@
 //! (shaders/present.wgsl) and screenshots of what the present pass shows.
 
 use crate::error::{Error, Result};
-use crate::gpu::{bindings, shaders, GpuContext, SceneBuffers};
+use crate::gpu::{bindings, shaders, GpuContext, KernelVariant, SceneBuffers, TracePipelines};
 use crate::layout::FrameParams;
 
 pub use crate::layout::PresentParams;
@@ -146,11 +146,10 @@ impl Layouts {
 }
 
 pub struct Viewer {
-    accumulate: wgpu::ComputePipeline,
-    /// Whether `accumulate` reads scenes split over several bindings
-    /// (`SceneBuffers::split`); remade when a scene of the other kind comes.
-    accumulate_split: bool,
-    trace_module: wgpu::ShaderModule,
+    /// `accumulate_tile`, one pipeline per kernel variant.
+    accumulate: TracePipelines,
+    /// The kernel variant of the scene shown, its walk left to each frame.
+    scene_variant: KernelVariant,
     present_pipeline_layout: wgpu::PipelineLayout,
     present_module: wgpu::ShaderModule,
     present: wgpu::RenderPipeline,
@@ -243,13 +242,6 @@ impl Viewer {
                     &bindings::ACCUMULATE_OUTPUTS,
                 )),
             });
-            let accumulate = bindings::trace_pipeline_on(
-                device,
-                &module,
-                shaders::ACCUMULATE_ENTRY_POINT,
-                &trace,
-                scene.split,
-            );
             let fragment = wgpu::ShaderStages::FRAGMENT;
             let present = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
                 label: Some("present"),
@@ -290,9 +282,12 @@ impl Viewer {
                 ),
             };
             Viewer {
-                accumulate,
-                accumulate_split: scene.split,
-                trace_module: module,
+                accumulate: TracePipelines::new(
+                    module,
+                    layouts.trace.clone(),
+                    shaders::ACCUMULATE_ENTRY_POINT,
+                ),
+                scene_variant: KernelVariant::for_scene(scene),
                 present: present_pipeline(
                     device,
                     &present_pipeline_layout,
@@ -311,18 +306,7 @@ impl Viewer {
 
     /// Traces `scene` from now on.
     pub fn set_scene(&mut self, ctx: &GpuContext, scene: &SceneBuffers) -> Result<()> {
-        if scene.split != self.accumulate_split {
-            self.accumulate = ctx.checked("creating the window's trace pipeline", |device| {
-                bindings::trace_pipeline_on(
-                    device,
-                    &self.trace_module,
-                    shaders::ACCUMULATE_ENTRY_POINT,
-                    &self.layouts.trace,
-                    scene.split,
-                )
-            })?;
-            self.accumulate_split = scene.split;
-        }
+        self.scene_variant = KernelVariant::for_scene(scene);
         let b = &self.bindings;
         let (image_group, preview_group) = ctx.checked("binding the scene", |device| {
             (
@@ -371,7 +355,7 @@ impl Viewer {
                 label: Some("frame"),
             });
         if heatmap {
-            self.encode_trace(ctx, &mut encoder, work);
+            self.encode_trace(ctx, &mut encoder, work)?;
             ctx.queue.submit([encoder.finish()]);
             self.heatmap = Some(self.update_heatmap(ctx, &work.present)?);
             encoder = ctx
@@ -381,7 +365,7 @@ impl Viewer {
                 });
         } else {
             self.heatmap = None;
-            self.encode_trace(ctx, &mut encoder, work);
+            self.encode_trace(ctx, &mut encoder, work)?;
         }
         ctx.queue.write_buffer(
             &self.layouts.present_params,
@@ -451,8 +435,15 @@ impl Viewer {
     }
 
     /// Records `work`'s clear and pass into `encoder`. The uniforms are
-    /// written now; submit before the next call.
-    fn encode_trace(&self, ctx: &GpuContext, encoder: &mut wgpu::CommandEncoder, work: &FrameWork) {
+    /// written now; submit before the next call. The pass's pipeline is the
+    /// scene's variant with the pass's walk, made the first time it is
+    /// needed (a new scene, or a walk chosen by key).
+    fn encode_trace(
+        &self,
+        ctx: &GpuContext,
+        encoder: &mut wgpu::CommandEncoder,
+        work: &FrameWork,
+    ) -> Result<()> {
         let b = &self.bindings;
         let (buffer, costs, group) = match work.target {
             Target::Image => (&b.image, &b.image_costs, &b.image_group),
@@ -464,13 +455,16 @@ impl Viewer {
             encoder.clear_buffer(costs, 0, Some(pixels * COST_TEXEL));
         }
         if let Some(params) = &work.pass {
+            let pipeline = self
+                .accumulate
+                .get(ctx, self.scene_variant.with_walk_of(params))?;
             ctx.queue
                 .write_buffer(&self.layouts.params, 0, bytemuck::bytes_of(params));
             let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
                 label: Some("accumulate"),
                 timestamp_writes: None,
             });
-            pass.set_pipeline(&self.accumulate);
+            pass.set_pipeline(&pipeline);
             pass.set_bind_group(0, group, &[]);
             let (gx, gy) = shaders::TRACE_WORKGROUP;
             pass.dispatch_workgroups(
@@ -479,6 +473,7 @@ impl Viewer {
                 1,
             );
         }
+        Ok(())
     }
 
     fn draw(
@@ -686,21 +681,24 @@ mod tests {
         let format = wgpu::TextureFormat::Rgba8Unorm;
 
         let mut viewer = Viewer::new(&ctx, &whole, format, pixels).unwrap();
-        assert!(!viewer.accumulate_split);
+        assert!(!viewer.scene_variant.split_scene);
         let expected = picture(&ctx, &mut viewer, &prepared, &whole);
         assert!(
             expected.chunks(3).any(|p| p != &expected[..3]),
             "the picture is blank"
         );
         viewer.set_scene(&ctx, &split).unwrap();
-        assert!(viewer.accumulate_split);
+        assert!(viewer.scene_variant.split_scene);
         assert!(picture(&ctx, &mut viewer, &prepared, &split) == expected);
+        let made = viewer.accumulate.variants();
+        assert!(made.iter().any(|v| v.split_scene) && made.iter().any(|v| !v.split_scene));
         viewer.set_scene(&ctx, &whole).unwrap();
-        assert!(!viewer.accumulate_split);
+        assert!(!viewer.scene_variant.split_scene);
         assert!(picture(&ctx, &mut viewer, &prepared, &whole) == expected);
 
         let mut viewer = Viewer::new(&ctx, &split, format, pixels).unwrap();
-        assert!(viewer.accumulate_split);
+        assert!(viewer.scene_variant.split_scene);
         assert!(picture(&ctx, &mut viewer, &prepared, &split) == expected);
+        assert!(viewer.accumulate.variants().iter().all(|v| v.split_scene));
     }
 }

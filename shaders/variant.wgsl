@@ -1,0 +1,45 @@
+// What this pipeline is specialised for: pipeline-overridable constants the
+// host sets per scene and frame (src/gpu/kernel_variant.rs, which says why:
+// llvmpipe runs a branch by masking lanes, not by jumping, so code a frame
+// cannot reach still costs it unless the compiler removes it). The defaults
+// are the general variant, which reads every choice from `params`.
+
+// Whether the scene's arrays may be split over several bindings
+// (chunks.wgsl). Measured on lavapipe (torus scene, release build),
+// selecting the chunk at run time cost 25-45% of the frame even when the
+// branch was uniform.
+override SPLIT_SCENE: bool = true;
+// ACCEL_KDTREE or ACCEL_BRUTE; FROM_PARAMS: `params.accel`.
+override ACCEL: u32 = FROM_PARAMS;
+// TRAVERSAL_RESTART, _ROPES or _SHORT_STACK; FROM_PARAMS: `params.traversal`.
+override TRAVERSAL: u32 = FROM_PARAMS;
+// Whether the scene may hold spheres, and triangles.
+override SPHERES: bool = true;
+override TRIANGLES: bool = true;
+// Whether a triangle may have vertex normals.
+override SMOOTH_TRIANGLES: bool = true;
+
+fn frame_accel() -> u32 {
+    if (ACCEL != FROM_PARAMS) {
+        return ACCEL;
+    }
+    return params.accel;
+}
+
+fn frame_traversal() -> u32 {
+    if (TRAVERSAL != FROM_PARAMS) {
+        return TRAVERSAL;
+    }
+    return params.traversal;
+}
+
+// Whether object `id` is a sphere (spheres come first, then triangles).
+fn is_sphere(id: u32) -> bool {
+    if (!TRIANGLES) {
+        return true;
+    }
+    if (!SPHERES) {
+        return false;
+    }
+    return id < params.sphere_count;
+}

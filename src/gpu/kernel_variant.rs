@@ -1,0 +1,192 @@
+//! What one trace pipeline is specialised for: the scene's layout and kinds
+//! of object, the accel and the k-d walk, set as the kernel's
+//! pipeline-overridable constants (shaders/variant.wgsl), so that each
+//! pipeline holds only the code its frames can reach.
+//!
+//! Why: llvmpipe (lavapipe, Mesa 22.3) runs a branch of an 8-lane SIMD group
+//! by masking its lanes, not by jumping over it, so every instruction
+//! outside a loop runs for every group whatever the condition, and every
+//! loop body runs at least once. A kernel that chose its walk from the
+//! frame's uniforms ran all four walks (and the sphere and the triangle test
+//! for every object) on every ray. Measured 2026-11-25 on the bunny at
+//! 1920 x 1080, primary + shadow (docs/benchmarks.md, "One pipeline per walk
+//! and scene"): from 1,403 - 1,557 ms to about 800 ms, the same image.
+//!
+//! The general variant ([`KernelVariant::GENERAL`]) reads every choice from
+//! the frame's uniforms at run time; the ray-query kernel uses it, so the
+//! tests hold both forms of the kernel to the CPU.
+
+use super::SceneBuffers;
+use crate::kdtree::Traversal;
+use crate::layout::{
+    FrameParams, ACCEL_BRUTE, ACCEL_KDTREE, TRAVERSAL_RESTART, TRAVERSAL_ROPES,
+    TRAVERSAL_SHORT_STACK,
+};
+
+/// An override's value meaning "read it from `FrameParams` at run time".
+pub const FROM_PARAMS: u32 = u32::MAX;
+
+/// The walk a pipeline is made for.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum Walk {
+    /// `FrameParams::accel` and `traversal` decide per frame.
+    FromParams,
+    /// The seed's loop over every object.
+    Brute,
+    /// A k-d walk.
+    Kdtree(Traversal),
+}
+
+/// The choices baked into one trace pipeline.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub struct KernelVariant {
+    /// Whether the scene's split arrays may lie in several bindings (the
+    /// chunk selection of shaders/chunks.wgsl); without it, an index past
+    /// the first binding reads the wrong (bounds-checked) element.
+    pub split_scene: bool,
+    pub walk: Walk,
+    /// Whether the scene may hold spheres, and triangles. A scene with
+    /// neither may have either.
+    pub spheres: bool,
+    pub triangles: bool,
+    /// Whether a triangle may have vertex normals (smooth shading).
+    pub smooth_triangles: bool,
+}
+
+impl KernelVariant {
+    /// Every choice made at run time: any scene, any frame.
+    pub const GENERAL: KernelVariant = KernelVariant {
+        split_scene: true,
+        walk: Walk::FromParams,
+        spheres: true,
+        triangles: true,
+        smooth_triangles: true,
+    };
+
+    /// The variant for frames of `scene` with `params`' accel and walk.
+    pub fn for_frame(scene: &SceneBuffers, params: &FrameParams) -> KernelVariant {
+        Self::for_scene(scene).with_walk_of(params)
+    }
+
+    /// The variant for `scene`, its walk left to the frame's uniforms.
+    pub fn for_scene(scene: &SceneBuffers) -> KernelVariant {
+        let spheres = scene.sphere_count > 0;
+        let triangles = scene.object_count > scene.sphere_count;
+        KernelVariant {
+            split_scene: scene.split,
+            walk: Walk::FromParams,
+            spheres: spheres || !triangles,
+            triangles: triangles || !spheres,
+            smooth_triangles: scene.smooth_triangles,
+        }
+    }
+
+    /// The same variant with `params`' accel and walk.
+    pub fn with_walk_of(self, params: &FrameParams) -> KernelVariant {
+        let walk = if params.accel == ACCEL_BRUTE {
+            Walk::Brute
+        } else {
+            match params.traversal {
+                TRAVERSAL_RESTART => Walk::Kdtree(Traversal::Restart),
+                TRAVERSAL_ROPES => Walk::Kdtree(Traversal::Ropes),
+                TRAVERSAL_SHORT_STACK => Walk::Kdtree(Traversal::ShortStack),
+                _ => Walk::FromParams,
+            }
+        };
+        KernelVariant { walk, ..self }
+    }
+
+    /// The pipeline constants that make this variant, by WGSL name
+    /// (shaders/variant.wgsl declares each of [`OVERRIDES`]).
+    pub fn constants(&self) -> [(&'static str, f64); 6] {
+        let flag = |b: bool| if b { 1.0 } else { 0.0 };
+        let (accel, traversal) = match self.walk {
+            Walk::FromParams => (FROM_PARAMS, FROM_PARAMS),
+            // The brute-force loop reads no tree: any walk will do.
+            Walk::Brute => (ACCEL_BRUTE, TRAVERSAL_RESTART),
+            Walk::Kdtree(t) => (
+                ACCEL_KDTREE,
+                match t {
+                    Traversal::Restart => TRAVERSAL_RESTART,
+                    Traversal::Ropes => TRAVERSAL_ROPES,
+                    Traversal::ShortStack => TRAVERSAL_SHORT_STACK,
+                },
+            ),
+        };
+        [
+            ("SPLIT_SCENE", flag(self.split_scene)),
+            ("ACCEL", accel as f64),
+            ("TRAVERSAL", traversal as f64),
+            ("SPHERES", flag(self.spheres)),
+            ("TRIANGLES", flag(self.triangles)),
+            ("SMOOTH_TRIANGLES", flag(self.smooth_triangles)),
+        ]
+    }
+}
+
+/// The names of the kernel's pipeline-overridable constants, all of which
+/// [`KernelVariant::constants`] sets.
+pub const OVERRIDES: [&str; 6] = [
+    "SPLIT_SCENE",
+    "ACCEL",
+    "TRAVERSAL",
+    "SPHERES",
+    "TRIANGLES",
+    "SMOOTH_TRIANGLES",
+];
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Each variant sets every override of the kernel, and no other name:
+    /// an override the host forgot would keep its general default, silently.
+    #[test]
+    fn every_override_of_the_kernel_is_set_by_the_host() {
+        let source = super::super::shaders::trace_source(super::super::bindings::UNSPLIT);
+        let module = naga::front::wgsl::parse_str(&source).expect("the kernel parses");
+        let mut declared: Vec<String> = module
+            .overrides
+            .iter()
+            .filter_map(|(_, o)| o.name.clone())
+            .collect();
+        declared.sort();
+        let mut expected: Vec<String> = OVERRIDES.iter().map(|s| s.to_string()).collect();
+        expected.sort();
+        assert_eq!(declared, expected);
+        let set: Vec<&str> = KernelVariant::GENERAL
+            .constants()
+            .iter()
+            .map(|(name, _)| *name)
+            .collect();
+        assert_eq!(set, OVERRIDES);
+    }
+
+    /// The general variant's values are the kernel's defaults, so a
+    /// pipeline made without constants is the general one.
+    #[test]
+    fn the_general_variant_is_the_kernels_default() {
+        let source = super::super::shaders::trace_source(super::super::bindings::UNSPLIT);
+        let module = naga::front::wgsl::parse_str(&source).expect("the kernel parses");
+        for (name, value) in KernelVariant::GENERAL.constants() {
+            let (_, o) = module
+                .overrides
+                .iter()
+                .find(|(_, o)| o.name.as_deref() == Some(name))
+                .expect("declared");
+            let init = o.init.expect("a default");
+            let default = match module.global_expressions[init] {
+                naga::Expression::Literal(naga::Literal::Bool(b)) => f64::from(u8::from(b)),
+                naga::Expression::Literal(naga::Literal::U32(u)) => u as f64,
+                naga::Expression::Constant(c) => {
+                    match module.global_expressions[module.constants[c].init] {
+                        naga::Expression::Literal(naga::Literal::U32(u)) => u as f64,
+                        ref e => panic!("{name}: unexpected default {e:?}"),
+                    }
+                }
+                ref e => panic!("{name}: unexpected default {e:?}"),
+            };
+            assert_eq!(default, value, "{name}");
+        }
+    }
+}
