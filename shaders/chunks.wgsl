@@ -35,15 +35,23 @@ fn chunk_index(i: u32, chunk_length: u32, chunks: u32) -> ChunkIndex {
     return at;
 }
 
-fn triangle(i: u32) -> Triangle {
-    if (!SPLIT_SCENE) {
-        return triangles[i];
-    }
-    let at = chunk_index(i, arrayLength(&triangles), TRIANGLES_CHUNKS);
-    return triangles_chunk(at.chunk, at.index);
+// The bindings hold triangles and k-d nodes as vectors (one load each
+// on llvmpipe, where a struct's members are loaded one by one); these unpack
+// them into the structs of types.wgsl.
+fn unpack_triangle(w: array<vec4<f32>, 3>) -> Triangle {
+    return Triangle(w[0].xyz, bitcast<u32>(w[0].w), w[1].xyz, bitcast<u32>(w[1].w), w[2].xyz);
 }
 
-fn unpack_kd_node(p: PackedKdNode) -> KdNode {
+fn triangle(i: u32) -> Triangle {
+    if (!SPLIT_SCENE) {
+        return unpack_triangle(triangles[i]);
+    }
+    let at = chunk_index(i, arrayLength(&triangles), TRIANGLES_CHUNKS);
+    return unpack_triangle(triangles_chunk(at.chunk, at.index));
+}
+
+fn unpack_kd_node(v: vec2<u32>) -> KdNode {
+    let p = PackedKdNode(v.x, v.y);
     let kind = p.tag_and_index & 3u;
     let above = p.tag_and_index >> 2u;
     if (kind == KD_LEAF) {

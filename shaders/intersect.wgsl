@@ -144,17 +144,41 @@ fn holds_hit_at(tri: Triangle, ray: Ray, t: f32) -> bool {
     return all(lo - margin <= p) && all(p <= hi + margin);
 }
 
+// Sphere `id`, stored as one vec4 (center, radius): one load on llvmpipe.
+fn sphere(id: u32) -> Sphere {
+    let v = spheres[id];
+    return Sphere(v.xyz, v.w);
+}
+
 fn intersect_object(id: u32, ray: Ray) -> f32 {
     if (is_sphere(id)) {
-        return intersect_sphere(spheres[id], ray);
+        return intersect_sphere(sphere(id), ray);
     }
     return intersect_triangle(triangle(id - params.sphere_count), ray);
+}
+
+// An object test for the walks: the hit's t (NO_HIT: none) and the object's
+// id in the scene's order, which breaks ties between equal t. A triangle
+// carries its id beside its vertices; a sphere's 16 bytes have no room, so
+// its id is read from `objects` (a load the any-hit walks, which break no
+// ties, leave out).
+struct ObjectTest {
+    t: f32,
+    scene_id: u32,
+}
+
+fn test_object(id: u32, ray: Ray) -> ObjectTest {
+    if (is_sphere(id)) {
+        return ObjectTest(intersect_sphere(sphere(id), ray), objects[id].y);
+    }
+    let tri = triangle(id - params.sphere_count);
+    return ObjectTest(intersect_triangle(tri, ray), tri.scene_id);
 }
 
 // Largest coordinate magnitude the object's intersection works with.
 fn object_magnitude(id: u32) -> f32 {
     if (is_sphere(id)) {
-        let s = spheres[id];
+        let s = sphere(id);
         let c = abs(s.center);
         return max(c.x, max(c.y, c.z)) + s.radius;
     }
@@ -166,7 +190,7 @@ fn object_magnitude(id: u32) -> f32 {
 // Unit geometric normal at p (not yet turned to face the ray).
 fn object_normal(id: u32, p: vec3<f32>) -> vec3<f32> {
     if (is_sphere(id)) {
-        return normalize(p - spheres[id].center);
+        return normalize(p - sphere(id).center);
     }
     let tri = triangle(id - params.sphere_count);
     return normalize(cross(tri.v1 - tri.v0, tri.v2 - tri.v0));

@@ -3,11 +3,12 @@
 
 struct Hit {
     t: f32,
-    object: u32,   // NO_OBJECT when nothing was hit
+    object: u32,     // NO_OBJECT when nothing was hit
+    scene_id: u32,   // the object's id in the scene's order (NO_OBJECT: none)
 }
 
 fn miss() -> Hit {
-    return Hit(T_INFINITY, NO_OBJECT);
+    return Hit(T_INFINITY, NO_OBJECT, NO_OBJECT);
 }
 
 // Tests the objects of `leaf`, the step every walk shares. Nearest hit:
@@ -15,29 +16,25 @@ fn miss() -> Hit {
 // hit with t < t_limit (the caller returns it at once), else a miss. Takes
 // and returns the hit by value: a ptr<function, Hit> parameter measured
 // twice as slow on lavapipe (design.md).
-// Whether GPU object `a` comes before `b` in the scene: the GPU stores
-// objects in the tree's leaf order, so its ids do not order ties as the
-// scene's do (two faces met at one edge rendered differently with another
-// tree).
-fn first_in_scene(a: u32, b: u32) -> bool {
-    return objects[a].y < objects[b].y;
-}
-
 fn test_leaf(leaf: KdNode, ray: Ray, t_limit: f32, any_hit: bool, best_so_far: Hit) -> Hit {
     var best = best_so_far;
     for (var i = leaf.index; i < leaf.index + leaf.count; i++) {
         loop_iterations += 1u;
         walk_cost.z += 1u;
         let id = leaf_object(i);
-        let t = intersect_object(id, ray);
+        let test = test_object(id, ray);
+        let t = test.t;
         if (t > 0.0) {
             if (any_hit) {
                 if (t < t_limit) {
-                    return Hit(t, id);
+                    return Hit(t, id, test.scene_id);
                 }
-            } else if (t <= t_limit && (t < best.t || (t == best.t && first_in_scene(id, best.object)))) {
+            } else if (t <= t_limit && (t < best.t || (t == best.t && test.scene_id < best.scene_id))) {
                 // Equal t: the lower scene id, as brute force's loop keeps it.
-                best = Hit(t, id);
+                // The GPU stores objects in the tree's leaf order, so its ids
+                // do not order ties as the scene's do (two faces met at one
+                // edge rendered differently with another tree).
+                best = Hit(t, id, test.scene_id);
             }
         }
     }
@@ -133,13 +130,14 @@ fn trace_brute(ray: Ray, t_limit: f32, any_hit: bool) -> Hit {
         if (t > 0.0) {
             if (any_hit) {
                 if (t < t_limit) {
-                    return Hit(t, id);
+                    return Hit(t, id, id);
                 }
             } else if (t <= t_limit && t < best.t) {
                 // Equal t: the first, which is the lower scene id where the
                 // objects are in scene order, as `--accel brute` uploads them
                 // (a tie check here cost this loop 6% on 10,000 spheres).
-                best = Hit(t, id);
+                // Its scene id is its GPU id there.
+                best = Hit(t, id, id);
             }
         }
     }

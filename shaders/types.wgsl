@@ -32,6 +32,7 @@ struct Triangle {
     v0: vec3<f32>,
     normals: u32,    // index into triangle_normals, or FLAT_TRIANGLE
     v1: vec3<f32>,
+    scene_id: u32,   // its id in the scene's order (objects[i].y), for ties
     v2: vec3<f32>,
 }
 

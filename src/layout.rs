@@ -123,14 +123,16 @@ pub struct GpuSphere {
 
 /// A triangle, 48 bytes: three vertices, and in the first vertex's padding
 /// the index of its vertex normals in `triangle_normals` (smooth shading),
-/// or [`GpuTriangle::FLAT`].
+/// or [`GpuTriangle::FLAT`]; in the second's, its id in the scene's object
+/// order (as `objects[i][1]`), which the walk's tie-break reads with the
+/// vertices rather than with a load of its own.
 #[repr(C)]
 #[derive(Debug, Clone, Copy, PartialEq, Pod, Zeroable)]
 pub struct GpuTriangle {
     pub v0: [f32; 3],
     pub normals: u32,
     pub v1: [f32; 3],
-    pub _pad1: f32,
+    pub scene_id: u32,
     pub v2: [f32; 3],
     pub _pad2: f32,
 }
@@ -535,7 +537,12 @@ mod tests {
         );
         layout_of!(&module, "LeafRopes", LeafRopes, [faces, ropes]);
         layout_of!(&module, "Sphere", GpuSphere, [center, radius]);
-        layout_of!(&module, "Triangle", GpuTriangle, [v0, normals, v1, v2]);
+        layout_of!(
+            &module,
+            "Triangle",
+            GpuTriangle,
+            [v0, normals, v1, scene_id, v2]
+        );
         layout_of!(&module, "TriangleNormals", GpuTriangleNormals, [n0, n1, n2]);
         layout_of!(
             &module,

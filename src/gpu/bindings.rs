@@ -50,15 +50,19 @@ use Access::{StorageRead, StorageReadWrite, Uniform};
 
 /// Camera, render settings, counts and the tile ([`crate::layout::FrameParams`]).
 pub const PARAMS: Binding = binding(0, "params", "FrameParams", Uniform);
-pub const SPHERES: Binding = binding(1, "spheres", "array<Sphere>", StorageRead);
-pub const TRIANGLES: Binding = binding(2, "triangles", "array<Triangle>", StorageRead);
+// Spheres, triangles and k-d nodes are declared as vectors, not as their
+// structs (shaders/types.wgsl): llvmpipe loads each member of a struct with a
+// loop over the 8 lanes of its own, so one vector load per 16 bytes is fewer
+// loops (design.md, "Vector loads"). The shader unpacks them into the structs.
+pub const SPHERES: Binding = binding(1, "spheres", "array<vec4<f32>>", StorageRead);
+pub const TRIANGLES: Binding = binding(2, "triangles", "array<array<vec4<f32>, 3>>", StorageRead);
 /// Per GPU object id (spheres first, then triangles, in the tree's leaf
 /// order): x its material index, y its scene id, which breaks ties between
 /// hits at an equal t as brute force's loop over the scene does.
 pub const OBJECTS: Binding = binding(3, "objects", "array<vec2<u32>>", StorageRead);
 pub const MATERIALS: Binding = binding(4, "materials", "array<Material>", StorageRead);
 pub const LIGHTS: Binding = binding(5, "lights", "array<Light>", StorageRead);
-pub const KD_NODES: Binding = binding(6, "kd_nodes", "array<PackedKdNode>", StorageRead);
+pub const KD_NODES: Binding = binding(6, "kd_nodes", "array<vec2<u32>>", StorageRead);
 pub const LEAF_OBJECTS: Binding = binding(7, "leaf_objects", "array<u32>", StorageRead);
 /// `render_tile`'s output: ray counters, then one packed RGBA8 per pixel.
 pub const TILE_OUTPUT: Binding = binding(8, "tile_output", "TileOutput", StorageReadWrite);
@@ -122,22 +126,22 @@ macro_rules! split_array {
 }
 
 pub const SPLIT_TRIANGLES: SplitArray = SplitArray {
-    chunks: split_array!(TRIANGLES, "triangles", "array<Triangle>", 30),
+    chunks: split_array!(TRIANGLES, "triangles", "array<array<vec4<f32>, 3>>", 30),
     element_bytes: 48,
     bytes_per_triangle: 48,
     reader: "triangles_chunk",
     reader_params: "",
-    returns: "Triangle",
+    returns: "array<vec4<f32>, 3>",
     read: "@[j]",
     count_constant: "TRIANGLES_CHUNKS",
 };
 pub const SPLIT_KD_NODES: SplitArray = SplitArray {
-    chunks: split_array!(KD_NODES, "kd_nodes", "array<PackedKdNode>", 37),
+    chunks: split_array!(KD_NODES, "kd_nodes", "array<vec2<u32>>", 37),
     element_bytes: 8,
     bytes_per_triangle: 24,
     reader: "kd_nodes_chunk",
     reader_params: "",
-    returns: "PackedKdNode",
+    returns: "vec2<u32>",
     read: "@[j]",
     count_constant: "KD_NODES_CHUNKS",
 };

@@ -110,6 +110,7 @@ impl SceneArrays {
                     v0: t.v[0].to_array(),
                     normals: normals_of(id),
                     v1: t.v[1].to_array(),
+                    scene_id: id,
                     v2: t.v[2].to_array(),
                     ..bytemuck::Zeroable::zeroed()
                 }
