@@ -18,12 +18,13 @@ pub enum Traversal {
     /// after each leaf, descend again from the restart node.
     Restart,
     /// Ropes (Popov et al. 2007): after each leaf, descend from the node
-    /// beyond the face the ray leaves through. The default: fastest over
-    /// the benchmark scenes on lavapipe (docs/design.md, "Traversal").
-    #[default]
+    /// beyond the face the ray leaves through.
     Ropes,
     /// kd-restart with a short stack (Horn et al. 2007): after each leaf,
     /// resume at the last far child remembered, restarting when none is left.
+    /// The default: fastest on every benchmark scene on lavapipe once each
+    /// walk has a pipeline of its own (docs/design.md, "Traversal").
+    #[default]
     ShortStack,
 }
 

@@ -104,7 +104,7 @@ pub struct RenderArgs {
     #[arg(long, value_parser = choice::<Accel>(), default_value = "kdtree")]
     pub accel: Accel,
     /// The kernel's k-d walk (with --accel kdtree; the window starts with it, T cycles them).
-    #[arg(long, value_parser = choice::<Traversal>(), default_value = "ropes")]
+    #[arg(long, value_parser = choice::<Traversal>(), default_value = "short-stack")]
     pub traversal: Traversal,
     /// How the k-d tree is built (with --accel kdtree; the window starts with it, K cycles them).
     #[arg(long, value_parser = choice::<BuildStrategy>(), default_value = "sah")]
@@ -169,7 +169,7 @@ pub struct BenchArgs {
     /// and uploaded once and measured with every --traversal [default: sah].
     #[arg(long, value_name = "LIST", value_parser = choice_or_all::<BuildStrategy>(), value_delimiter = ',')]
     pub build: Vec<OrAll<BuildStrategy>>,
-    /// The k-d walks, comma separated, or `all` [default: ropes].
+    /// The k-d walks, comma separated, or `all` [default: short-stack].
     #[arg(long, value_name = "LIST", value_parser = choice_or_all::<Traversal>(), value_delimiter = ',')]
     pub traversal: Vec<OrAll<Traversal>>,
     /// Measure the study's four scenes (random spheres, random triangles,
