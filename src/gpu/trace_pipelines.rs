@@ -1,6 +1,8 @@
 //! The trace kernel's pipelines for one entry point and bind group layout,
-//! one per [`KernelVariant`], each made the first time a frame needs it
-//! (lavapipe compiles a variant in about 0.1 - 0.2 s).
+//! one per [`KernelVariant`], each made the first time a frame needs it.
+//! llvmpipe compiles a variant at its first dispatch, in 0.2 - 0.4 s (the
+//! 1,000-sphere frame took 475 ms with an empty shader cache, 126 ms with
+//! it filled); Mesa's shader cache keeps it for later runs.
 
 use std::collections::HashMap;
 use std::sync::Mutex;
