@@ -50,8 +50,9 @@ pub const PRESENT_FRAGMENT_ENTRY_POINT: &str = "fs_main";
 /// buffers, and a wrong one must not read outside them. Its forced loop
 /// bounds (a counter added to every loop, so that a loop the compiler cannot
 /// prove finite cannot hang the GPU) are off, because every loop of the
-/// kernel ends by construction: k-d restarts are capped at `node_count + 1`;
-/// each descent step moves to a higher node index (children follow their
+/// kernel ends by construction: k-d restarts (and the short stack's leaves,
+/// which it may leave inside its descent loop) are capped at `node_count +
+/// 1`; each descent step moves to a higher node index (children follow their
 /// parent in the flat layout, `flat_layout_is_what_the_kernel_assumes` in
 /// tests/kdtree_props.rs), and an index past the end is clamped to the last
 /// node, a leaf; leaf, brute-force, light, sample and chunk (chunks.wgsl)

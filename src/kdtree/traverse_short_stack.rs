@@ -7,6 +7,12 @@
 //! (never filled, or emptied after dropping entries) it restarts from the
 //! restart node, with push-down, exactly as the restart walk does.
 //!
+//! The shader runs these steps in another loop shape: it leaves a leaf
+//! without objects inside its descent loop, so that llvmpipe runs the leaf
+//! loop only for leaves with objects (docs/design.md, "Short stack"). The
+//! leaves, intervals, hits and counted costs are these, which the ray-query
+//! tests compare.
+//!
 //! An entry needs no start: the far child's segment starts where the near
 //! child's last leaf ends, which is the `t_min` the walk has when it pops.
 //! A far child is remembered only when its segment is not empty
