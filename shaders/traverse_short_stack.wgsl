@@ -126,6 +126,9 @@ fn trace_kdtree_short_stack(ray: Ray, t_limit: f32, any_hit: bool) -> Hit {
                 }
             }
         }
+        // Leaving a tested leaf repeats the empty leaf's steps above: one
+        // copy, run from the descent loop after the test, measured 4 - 7%
+        // slower on the meshes (an extra masked pass through that loop).
         best = test_leaf(KdNode(KD_LEAF, 0.0, leaf_first, leaf_count), ray, t_limit, any_hit, best);
         if (any_hit && best.object != NO_OBJECT) {
             return best;
