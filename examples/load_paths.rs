@@ -7,7 +7,7 @@
 //! ```sh
 //! cargo run --release --example load_paths -- [N_LOG2] [STEPS]
 //! ```
-//! Measured for design.md "Where the scene lives on lavapipe".
+//! Measured for docs/design.md, "Where the scene's arrays live".
 
 use std::time::Instant;
 

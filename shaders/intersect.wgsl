@@ -150,18 +150,11 @@ fn sphere(id: u32) -> Sphere {
     return Sphere(v.xyz, v.w);
 }
 
-fn intersect_object(id: u32, ray: Ray) -> f32 {
-    if (is_sphere(id)) {
-        return intersect_sphere(sphere(id), ray);
-    }
-    return intersect_triangle(triangle(id - params.sphere_count), ray);
-}
-
-// An object test for the walks: the hit's t (NO_HIT: none) and the object's
-// id in the scene's order, which breaks ties between equal t. A triangle
+// An object test: the hit's t (NO_HIT: none) and the object's id in the
+// scene's order, which breaks the walks' ties between equal t. A triangle
 // carries its id beside its vertices; a sphere's 16 bytes have no room, so
-// its id is read from `objects` (a load the any-hit walks, which break no
-// ties, leave out).
+// its id is read from `objects` (a load the compiler leaves out where the id
+// is not used: any-hit walks and brute force, which break no ties by it).
 struct ObjectTest {
     t: f32,
     scene_id: u32,

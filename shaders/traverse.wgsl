@@ -126,7 +126,7 @@ fn trace_brute(ray: Ray, t_limit: f32, any_hit: bool) -> Hit {
     for (var id = 0u; id < params.object_count; id++) {
         loop_iterations += 1u;
         walk_cost.z += 1u;
-        let t = intersect_object(id, ray);
+        let t = test_object(id, ray).t;
         if (t > 0.0) {
             if (any_hit) {
                 if (t < t_limit) {

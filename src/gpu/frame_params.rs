@@ -86,7 +86,8 @@ impl FrameParams {
     }
 }
 
-fn traversal_value(traversal: Traversal) -> u32 {
+/// `FrameParams::traversal` for `traversal`.
+pub(super) fn traversal_value(traversal: Traversal) -> u32 {
     match traversal {
         Traversal::Restart => TRAVERSAL_RESTART,
         Traversal::Ropes => TRAVERSAL_ROPES,
@@ -94,7 +95,8 @@ fn traversal_value(traversal: Traversal) -> u32 {
     }
 }
 
-fn accel_value(accel: Accel) -> u32 {
+/// `FrameParams::accel` for `accel`.
+pub(super) fn accel_value(accel: Accel) -> u32 {
     match accel {
         Accel::Kdtree => ACCEL_KDTREE,
         Accel::Brute => ACCEL_BRUTE,

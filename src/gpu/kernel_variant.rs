@@ -16,12 +16,10 @@
 //! the frame's uniforms at run time; the ray-query kernel uses it, so the
 //! tests hold both forms of the kernel to the CPU.
 
-use super::SceneBuffers;
+use super::frame_params::{accel_value, traversal_value};
+use super::{Accel, SceneBuffers};
 use crate::kdtree::Traversal;
-use crate::layout::{
-    FrameParams, ACCEL_BRUTE, ACCEL_KDTREE, TRAVERSAL_RESTART, TRAVERSAL_ROPES,
-    TRAVERSAL_SHORT_STACK,
-};
+use crate::layout::FrameParams;
 
 /// An override's value meaning "read it from `FrameParams` at run time".
 pub const FROM_PARAMS: u32 = u32::MAX;
@@ -83,15 +81,13 @@ impl KernelVariant {
 
     /// The same variant with `params`' accel and walk.
     pub fn with_walk_of(self, params: &FrameParams) -> KernelVariant {
-        let walk = if params.accel == ACCEL_BRUTE {
+        let walk = if params.accel == accel_value(Accel::Brute) {
             Walk::Brute
         } else {
-            match params.traversal {
-                TRAVERSAL_RESTART => Walk::Kdtree(Traversal::Restart),
-                TRAVERSAL_ROPES => Walk::Kdtree(Traversal::Ropes),
-                TRAVERSAL_SHORT_STACK => Walk::Kdtree(Traversal::ShortStack),
-                _ => Walk::FromParams,
-            }
+            Traversal::ALL
+                .into_iter()
+                .find(|&t| traversal_value(t) == params.traversal)
+                .map_or(Walk::FromParams, Walk::Kdtree)
         };
         KernelVariant { walk, ..self }
     }
@@ -103,15 +99,11 @@ impl KernelVariant {
         let (accel, traversal) = match self.walk {
             Walk::FromParams => (FROM_PARAMS, FROM_PARAMS),
             // The brute-force loop reads no tree: any walk will do.
-            Walk::Brute => (ACCEL_BRUTE, TRAVERSAL_RESTART),
-            Walk::Kdtree(t) => (
-                ACCEL_KDTREE,
-                match t {
-                    Traversal::Restart => TRAVERSAL_RESTART,
-                    Traversal::Ropes => TRAVERSAL_ROPES,
-                    Traversal::ShortStack => TRAVERSAL_SHORT_STACK,
-                },
+            Walk::Brute => (
+                accel_value(Accel::Brute),
+                traversal_value(Traversal::Restart),
             ),
+            Walk::Kdtree(t) => (accel_value(Accel::Kdtree), traversal_value(t)),
         };
         [
             ("SPLIT_SCENE", flag(self.split_scene)),

@@ -1,8 +1,8 @@
 //! The trace kernel's pipelines for one entry point and bind group layout,
 //! one per [`KernelVariant`], each made the first time a frame needs it.
-//! llvmpipe compiles a variant at its first dispatch, in 0.2 - 0.4 s (the
-//! 1,000-sphere frame took 475 ms with an empty shader cache, 126 ms with
-//! it filled); Mesa's shader cache keeps it for later runs.
+//! llvmpipe compiles a variant at its first dispatch, in about 0.35 s (one
+//! measurement, under load: the 1,000-sphere frame took 475 ms with an empty
+//! shader cache, 126 ms with it filled); Mesa's shader cache keeps it.
 
 use std::collections::HashMap;
 use std::sync::Mutex;
@@ -59,7 +59,8 @@ impl TracePipelines {
         Ok(p)
     }
 
-    /// The variants made so far (tests).
+    /// The variants made so far.
+    #[cfg(test)]
     pub fn variants(&self) -> Vec<KernelVariant> {
         self.made
             .lock()
