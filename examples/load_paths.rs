@@ -27,6 +27,8 @@ fn source(steps: u32, mask: u32) -> String {
 @group(0) @binding(3) var pairs_tex: texture_2d<u32>;
 @group(0) @binding(4) var<uniform> small: array<vec4<u32>, 4096>;
 @group(0) @binding(5) var<storage, read_write> out: array<u32>;
+@group(0) @binding(6) var<storage, read> quads: array<vec4<u32>>;
+@group(0) @binding(7) var quads_tex: texture_2d<u32>;
 
 const STEPS: u32 = {steps}u;
 const MASK: u32 = {mask}u;
@@ -101,6 +103,22 @@ fn texture_pair(@builtin(global_invocation_id) gid: vec3<u32>) {{
 }}
 
 @compute @workgroup_size(8, 8, 1)
+fn storage_quad(@builtin(global_invocation_id) gid: vec3<u32>) {{
+    var i = start(gid, false);
+    var acc = 0u;
+    for (var s = 0u; s < STEPS; s++) {{ let q = quads[i]; i = q.x; acc += q.y + q.z + q.w; }}
+    done(gid, acc);
+}}
+
+@compute @workgroup_size(8, 8, 1)
+fn texture_quad(@builtin(global_invocation_id) gid: vec3<u32>) {{
+    var i = start(gid, false);
+    var acc = 0u;
+    for (var s = 0u; s < STEPS; s++) {{ let q = textureLoad(quads_tex, texel(i), 0); i = q.x; acc += q.y + q.z + q.w; }}
+    done(gid, acc);
+}}
+
+@compute @workgroup_size(8, 8, 1)
 fn uniform_word(@builtin(global_invocation_id) gid: vec3<u32>) {{
     var i = start(gid, false) & 16383u;
     var acc = 0u;
@@ -157,6 +175,10 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let mut words_with_small = words.clone();
     words_with_small[..16384].copy_from_slice(&small);
     let pairs: Vec<u32> = words.iter().flat_map(|&w| [w, w ^ 5]).collect();
+    let quads: Vec<u32> = words
+        .iter()
+        .flat_map(|&w| [w, w ^ 5, w ^ 6, w ^ 7])
+        .collect();
     use wgpu::util::DeviceExt;
     let storage = |data: &[u32]| {
         device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
@@ -168,6 +190,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let words_buf = storage(&words);
     let words_small_buf = storage(&words_with_small);
     let pairs_buf = storage(&pairs);
+    let quads_buf = storage(&quads);
     let uniform_buf = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
         label: None,
         contents: bytemuck::cast_slice(&small),
@@ -204,6 +227,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     };
     let words_tex = texture(wgpu::TextureFormat::R32Uint, &words, 1);
     let pairs_tex = texture(wgpu::TextureFormat::Rg32Uint, &pairs, 2);
+    let quads_tex = texture(wgpu::TextureFormat::Rgba32Uint, &quads, 4);
     let desc = wgpu::ShaderModuleDescriptor {
         label: None,
         source: wgpu::ShaderSource::Wgsl(source(steps, n as u32 - 1).into()),
@@ -244,6 +268,8 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             tex_entry(3),
             buf_entry(4, wgpu::BufferBindingType::Uniform),
             buf_entry(5, wgpu::BufferBindingType::Storage { read_only: false }),
+            buf_entry(6, read),
+            tex_entry(7),
         ],
     });
     let group_with = |words: &wgpu::Buffer| {
@@ -275,6 +301,14 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
                     binding: 5,
                     resource: out_buf.as_entire_binding(),
                 },
+                wgpu::BindGroupEntry {
+                    binding: 6,
+                    resource: quads_buf.as_entire_binding(),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 7,
+                    resource: wgpu::BindingResource::TextureView(&quads_tex),
+                },
             ],
         })
     };
@@ -293,6 +327,8 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         "texture_word",
         "texture_word_shared_row",
         "texture_pair",
+        "storage_quad",
+        "texture_quad",
         "uniform_word",
         "storage_word_small",
     ];

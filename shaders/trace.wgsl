@@ -65,10 +65,11 @@ fn trace_sample(pixel: vec2<u32>, sx: u32, sy: u32, k: u32) -> vec3<f32> {
 }
 
 // Adds this invocation's walk cost to pixel `i` of `pixel_costs` (three
-// words each), if the buffer has room: a one-word buffer means "not asked for".
+// words each), if the pipeline counts and the buffer has room: a one-word
+// buffer means "not asked for".
 fn add_pixel_cost(i: u32) {
     let at = 3u * i;
-    if (at + 2u < arrayLength(&pixel_costs)) {
+    if (COUNT_COSTS && at + 2u < arrayLength(&pixel_costs)) {
         pixel_costs[at] += walk_cost.x;
         pixel_costs[at + 1u] += walk_cost.y;
         pixel_costs[at + 2u] += walk_cost.z;

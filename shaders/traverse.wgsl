@@ -20,7 +20,7 @@ fn test_leaf(leaf: KdNode, ray: Ray, t_limit: f32, any_hit: bool, best_so_far: H
     var best = best_so_far;
     for (var i = leaf.index; i < leaf.index + leaf.count; i++) {
         loop_iterations += 1u;
-        walk_cost.z += 1u;
+        count_object();
         let id = leaf_object(i);
         let test = test_object(id, ray);
         let t = test.t;
@@ -51,8 +51,27 @@ var<private> loop_iterations: u32;
 // The work this invocation's walks did, over all its rays, counted as
 // src/kdtree/traverse.rs WalkCost: x nodes visited (every k-d node record
 // read: the inner nodes of each descent and its leaf), y leaves visited,
-// z objects tested. Private, so counting costs three register adds.
+// z objects tested. Counted only where the pipeline is made to
+// (COUNT_COSTS, variant.wgsl); elsewhere it stays zero.
 var<private> walk_cost: vec3<u32>;
+
+fn count_node() {
+    if (COUNT_COSTS) {
+        walk_cost.x += 1u;
+    }
+}
+
+fn count_leaf() {
+    if (COUNT_COSTS) {
+        walk_cost.y += 1u;
+    }
+}
+
+fn count_object() {
+    if (COUNT_COSTS) {
+        walk_cost.z += 1u;
+    }
+}
 
 // any_hit: return the first hit with t < t_limit; else the nearest hit with t <= t_limit.
 fn trace_kdtree(ray: Ray, t_limit: f32, any_hit: bool) -> Hit {
@@ -79,7 +98,7 @@ fn trace_kdtree(ray: Ray, t_limit: f32, any_hit: bool) -> Hit {
         var t_max = t_far;
         var push_down = true;
         var node = kd_node(node_index);
-        walk_cost.x += 1u;
+        count_node();
         while (node.kind != KD_LEAF) {
             loop_iterations += 1u;
             let a = node.kind;
@@ -105,9 +124,9 @@ fn trace_kdtree(ray: Ray, t_limit: f32, any_hit: bool) -> Hit {
                 restart_node = node_index;
             }
             node = kd_node(node_index);
-            walk_cost.x += 1u;
+            count_node();
         }
-        walk_cost.y += 1u;
+        count_leaf();
         best = test_leaf(node, ray, t_limit, any_hit, best);
         if (any_hit && best.object != NO_OBJECT) {
             return best;
@@ -125,7 +144,7 @@ fn trace_brute(ray: Ray, t_limit: f32, any_hit: bool) -> Hit {
     var best = miss();
     for (var id = 0u; id < params.object_count; id++) {
         loop_iterations += 1u;
-        walk_cost.z += 1u;
+        count_object();
         let t = test_object(id, ray).t;
         if (t > 0.0) {
             if (any_hit) {

@@ -54,7 +54,7 @@ fn trace_kdtree_ropes(ray: Ray, t_limit: f32, any_hit: bool) -> Hit {
         loop_iterations += 1u;
         var node_index = start;
         var node = kd_node(node_index);
-        walk_cost.x += 1u;
+        count_node();
         while (node.kind != KD_LEAF) {
             loop_iterations += 1u;
             let a = node.kind;
@@ -71,9 +71,9 @@ fn trace_kdtree_ropes(ray: Ray, t_limit: f32, any_hit: bool) -> Hit {
             }
             node_index = select(node.index, node_index + 1u, go_below);
             node = kd_node(node_index);
-            walk_cost.x += 1u;
+            count_node();
         }
-        walk_cost.y += 1u;
+        count_leaf();
         // The exit: the first face ahead, else t_far.
         let r = leaf_rope_record(node_index);
         var exit = RopeExit(t_far, NO_FACE);

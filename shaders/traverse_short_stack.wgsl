@@ -73,9 +73,9 @@ fn trace_kdtree_short_stack(ray: Ray, t_limit: f32, any_hit: bool) -> Hit {
                 }
             }
             let node = kd_node(node_index);
-            walk_cost.x += 1u;
+            count_node();
             if (node.kind == KD_LEAF) {
-                walk_cost.y += 1u;
+                count_leaf();
                 if (node.count != 0u) {
                     leaf_first = node.index;
                     leaf_count = node.count;

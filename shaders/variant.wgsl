@@ -18,6 +18,12 @@ override SPHERES: bool = true;
 override TRIANGLES: bool = true;
 // Whether a triangle may have vertex normals.
 override SMOOTH_TRIANGLES: bool = true;
+// Whether the walks count their work (walk_cost in traverse.wgsl): frames
+// that report it (--stats, the heatmap, bench's counted frame, the window)
+// and the ray-query kernel. Counting is private register adds, yet its
+// absence takes 4.4% off the instructions llvmpipe runs for the bunny
+// (docs/benchmarks.md, "Counting only when asked").
+override COUNT_COSTS: bool = true;
 
 fn frame_accel() -> u32 {
     if (ACCEL != FROM_PARAMS) {

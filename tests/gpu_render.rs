@@ -321,11 +321,13 @@ fn gpu_matches_the_cpu_reference_on_every_scene() {
 
 /// Each frame runs a pipeline specialised for its scene and walk
 /// (`gpu::kernel_variant`): only that walk, only the scene's kinds of
-/// object, smooth shading only where a triangle has vertex normals. On every
-/// shipped scene (spheres only, triangles only, both, smooth) and for every
-/// walk and brute force, the specialised pipeline renders the general
-/// kernel's image bit for bit, with the same ray counts; and it is a
-/// specialised one, so the comparison is not the general kernel with itself.
+/// object, smooth shading only where a triangle has vertex normals, and the
+/// walks' counters only where the frame reports its cost. On every shipped
+/// scene (spheres only, triangles only, both, smooth) and for every walk and
+/// brute force, the specialised pipeline renders the general kernel's image
+/// bit for bit, with the same ray counts; counting, it counts the general
+/// kernel's work pixel for pixel; and it is a specialised one, so the
+/// comparison is not the general kernel with itself.
 #[test]
 fn specialised_pipelines_render_what_the_general_kernel_renders() {
     const BRUTE_FORCE_MAX_OBJECTS: usize = 10_000;
@@ -349,10 +351,12 @@ fn specialised_pipelines_render_what_the_general_kernel_renders() {
             if let Some(t) = traversal {
                 params = params.with_traversal(t);
             }
-            let variant = specialised.variant_for(&buffers, &params);
+            let variant = specialised.variant_for(&buffers, &params, false);
             assert_ne!(variant, KernelVariant::GENERAL);
+            assert!(!variant.count_costs);
+            assert!(specialised.variant_for(&buffers, &params, true).count_costs);
             assert_eq!(
-                general.variant_for(&buffers, &params),
+                general.variant_for(&buffers, &params, false),
                 KernelVariant::GENERAL
             );
             kinds_seen.insert((variant.spheres, variant.triangles, variant.smooth_triangles));
@@ -372,6 +376,24 @@ fn specialised_pipelines_render_what_the_general_kernel_renders() {
             let d = compare(&a.rgb, &b.rgb, a.width, a.height, 0);
             assert_eq!(d.pixels_over, 0, "{what}: {d:?}");
             assert_eq!(a.rays, b.rays, "{what}");
+            let counted = |renderer: &Renderer| {
+                let mut costs = Vec::new();
+                let summary = renderer
+                    .render_bands_with_cost(ctx, &buffers, params, plan, true, &mut |band| {
+                        costs.extend_from_slice(band.costs.expect("costs asked for"));
+                        Ok(())
+                    })
+                    .unwrap_or_else(|e| panic!("{e}"));
+                (costs, summary.cost.expect("costs asked for"))
+            };
+            let (a_costs, a_total) = counted(&specialised);
+            let (b_costs, b_total) = counted(&general);
+            assert!(
+                a_total.nodes_visited + a_total.objects_tested > 0,
+                "{what}: nothing counted"
+            );
+            assert_eq!(a_total, b_total, "{what}");
+            assert!(a_costs == b_costs, "{what}: the per-pixel costs differ");
         }
     }
     // Spheres only, triangles only, both; and a smooth mesh (scenes/bunny.toml).

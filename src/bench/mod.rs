@@ -1015,7 +1015,8 @@ fn counted_frame(
 }
 
 /// Renders one uploaded run: a warm-up frame that counts the walk's work
-/// (and gives the image), then `repeat` timed frames without counting;
+/// (and gives the image), then `repeat` timed frames of a pipeline without
+/// the counters (`KernelVariant::count_costs`);
 /// fills `record` and returns the image.
 #[allow(clippy::too_many_arguments)]
 fn measure(
@@ -1053,6 +1054,9 @@ fn measure(
             config.budget_s
         ));
     } else {
+        // The timed frames' pipeline counts nothing, unlike the warm-up's:
+        // compile it first, so that the first timed frame does not include that.
+        renderer.compile(ctx, buffers, params, false)?;
         for k in 0..config.repeat {
             progress.message(format!("{what}: frame {}/{}", k + 1, config.repeat));
             let t = Instant::now();

@@ -1,5 +1,6 @@
 //! What one trace pipeline is specialised for: the scene's layout and kinds
-//! of object, the accel and the k-d walk, set as the kernel's
+//! of object, the accel and the k-d walk, and whether the frame counts the
+//! walks' work, set as the kernel's
 //! pipeline-overridable constants (shaders/variant.wgsl), so that each
 //! pipeline holds only the code its frames can reach.
 //!
@@ -49,6 +50,9 @@ pub struct KernelVariant {
     pub triangles: bool,
     /// Whether a triangle may have vertex normals (smooth shading).
     pub smooth_triangles: bool,
+    /// Whether the walks count their work (nodes, leaves, objects) for the
+    /// frame's cost buffer. Without, the counters are compiled out.
+    pub count_costs: bool,
 }
 
 impl KernelVariant {
@@ -59,14 +63,24 @@ impl KernelVariant {
         spheres: true,
         triangles: true,
         smooth_triangles: true,
+        count_costs: true,
     };
 
-    /// The variant for frames of `scene` with `params`' accel and walk.
-    pub fn for_frame(scene: &SceneBuffers, params: &FrameParams) -> KernelVariant {
-        Self::for_scene(scene).with_walk_of(params)
+    /// The variant for frames of `scene` with `params`' accel and walk,
+    /// counting the walks' work if `count_costs`.
+    pub fn for_frame(
+        scene: &SceneBuffers,
+        params: &FrameParams,
+        count_costs: bool,
+    ) -> KernelVariant {
+        KernelVariant {
+            count_costs,
+            ..Self::for_scene(scene).with_walk_of(params)
+        }
     }
 
-    /// The variant for `scene`, its walk left to the frame's uniforms.
+    /// The variant for `scene`, its walk left to the frame's uniforms,
+    /// counting the walks' work.
     pub fn for_scene(scene: &SceneBuffers) -> KernelVariant {
         let spheres = scene.sphere_count > 0;
         let triangles = scene.object_count > scene.sphere_count;
@@ -76,6 +90,7 @@ impl KernelVariant {
             spheres: spheres || !triangles,
             triangles: triangles || !spheres,
             smooth_triangles: scene.smooth_triangles,
+            count_costs: true,
         }
     }
 
@@ -94,7 +109,7 @@ impl KernelVariant {
 
     /// The pipeline constants that make this variant, by WGSL name
     /// (shaders/variant.wgsl declares each of [`OVERRIDES`]).
-    pub fn constants(&self) -> [(&'static str, f64); 6] {
+    pub fn constants(&self) -> [(&'static str, f64); 7] {
         let flag = |b: bool| if b { 1.0 } else { 0.0 };
         let (accel, traversal) = match self.walk {
             Walk::FromParams => (FROM_PARAMS, FROM_PARAMS),
@@ -112,19 +127,21 @@ impl KernelVariant {
             ("SPHERES", flag(self.spheres)),
             ("TRIANGLES", flag(self.triangles)),
             ("SMOOTH_TRIANGLES", flag(self.smooth_triangles)),
+            ("COUNT_COSTS", flag(self.count_costs)),
         ]
     }
 }
 
 /// The names of the kernel's pipeline-overridable constants, all of which
 /// [`KernelVariant::constants`] sets.
-pub const OVERRIDES: [&str; 6] = [
+pub const OVERRIDES: [&str; 7] = [
     "SPLIT_SCENE",
     "ACCEL",
     "TRAVERSAL",
     "SPHERES",
     "TRIANGLES",
     "SMOOTH_TRIANGLES",
+    "COUNT_COSTS",
 ];
 
 #[cfg(test)]

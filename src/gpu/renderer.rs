@@ -212,12 +212,41 @@ impl Renderer {
         })
     }
 
-    /// The variant a frame of `scene` with `params` runs.
-    pub fn variant_for(&self, scene: &SceneBuffers, params: &FrameParams) -> KernelVariant {
+    /// The variant a frame of `scene` with `params` runs; `with_cost`: one
+    /// that counts the walks' work.
+    pub fn variant_for(
+        &self,
+        scene: &SceneBuffers,
+        params: &FrameParams,
+        with_cost: bool,
+    ) -> KernelVariant {
         match self.general {
             true => KernelVariant::GENERAL,
-            false => KernelVariant::for_frame(scene, params),
+            false => KernelVariant::for_frame(scene, params, with_cost),
         }
+    }
+
+    /// Makes the pipeline that frames of `scene` with `params` run (counting
+    /// their work if `with_cost`) and has the driver compile it, by tracing
+    /// one workgroup's pixels: llvmpipe compiles a pipeline at its first
+    /// dispatch (about 0.35 s, docs/design.md), which would otherwise fall
+    /// into the next frame's GPU time. For timings.
+    pub fn compile(
+        &self,
+        ctx: &GpuContext,
+        scene: &SceneBuffers,
+        params: FrameParams,
+        with_cost: bool,
+    ) -> Result<()> {
+        let (w, h) = shaders::TRACE_WORKGROUP;
+        let params = FrameParams {
+            width: w.min(params.width),
+            height: h.min(params.height),
+            ..params
+        };
+        let plan = TilePlan::new(params.width, params.height, u64::MAX, u64::MAX);
+        self.render_bands_with_cost(ctx, scene, params, plan, with_cost, &mut |_| Ok(()))?;
+        Ok(())
     }
 
     /// Renders the whole image, tile by tile, and reads it back.
@@ -272,7 +301,9 @@ impl Renderer {
     ) -> Result<RenderSummary> {
         let (width, height) = (params.width, params.height);
         let device = &ctx.device;
-        let pipeline = self.pipelines.get(ctx, self.variant_for(scene, &params))?;
+        let pipeline = self
+            .pipelines
+            .get(ctx, self.variant_for(scene, &params, with_cost))?;
         let tile_pixels = plan.tile_width as u64 * plan.max_rows as u64;
         let tile_bytes = OUTPUT_HEADER_BYTES + tile_pixels * 4;
         let cost_bytes = match with_cost {
