@@ -20,9 +20,9 @@ override TRIANGLES: bool = true;
 override SMOOTH_TRIANGLES: bool = true;
 // Whether the walks count their work (walk_cost in traverse.wgsl): frames
 // that report it (--stats, the heatmap, bench's counted frame, the window)
-// and the ray-query kernel. Counting is private register adds, yet its
-// absence takes 4.4% off the instructions llvmpipe runs for the bunny
-// (docs/benchmarks.md, "Counting only when asked").
+// and the ray-query kernel. Counting is private register adds, yet without
+// it llvmpipe runs 4.7% fewer instructions for the bunny and its frame is
+// 1 - 3% shorter (docs/design.md, "Counting only when asked").
 override COUNT_COSTS: bool = true;
 
 fn frame_accel() -> u32 {
