@@ -31,10 +31,10 @@ done
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
 
-# The compiled code lies in anonymous executable mappings (llvmpipe maps a
-# fresh copy for each dispatch) that vanish with the device: gdb stops the
-# render where it renames its finished PNG into place, the device still
-# open, and copies every one of them out.
+# The compiled code lies in anonymous executable mappings that vanish with
+# the device (new ones appear as the frame goes on, about one a dispatch,
+# holding copies of the same code): gdb stops the render where it renames its
+# finished PNG into place, the device still open, and copies them all out.
 cat >"$work/dump.gdb" <<GDB
 set pagination off
 set confirm off
