@@ -7,6 +7,7 @@
 @compute @workgroup_size(QUERY_WORKGROUP, 1, 1)
 fn trace_rays(@builtin(global_invocation_id) gid: vec3<u32>,
               @builtin(num_workgroups) groups: vec3<u32>) {
+    read_params();
     let i = gid.y * groups.x * QUERY_WORKGROUP + gid.x;
     if (i >= arrayLength(&query_rays)) {
         return;

@@ -87,6 +87,7 @@ fn add_ray_counts() {
 
 @compute @workgroup_size(8, 8, 1)
 fn render_tile(@builtin(global_invocation_id) gid: vec3<u32>) {
+    read_params();
     if (gid.x >= params.tile_size.x || gid.y >= params.tile_size.y) {
         return;
     }
@@ -108,6 +109,7 @@ fn render_tile(@builtin(global_invocation_id) gid: vec3<u32>) {
 
 @compute @workgroup_size(8, 8, 1)
 fn accumulate_tile(@builtin(global_invocation_id) gid: vec3<u32>) {
+    read_params();
     if (gid.x >= params.tile_size.x || gid.y >= params.tile_size.y) {
         return;
     }

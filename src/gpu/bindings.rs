@@ -49,7 +49,9 @@ const fn binding(
 use Access::{StorageRead, StorageReadWrite, Uniform};
 
 /// Camera, render settings, counts and the tile ([`crate::layout::FrameParams`]).
-pub const PARAMS: Binding = binding(0, "params", "FrameParams", Uniform);
+/// Each entry point copies it into the private `params` before anything
+/// else (shaders/types.wgsl, `read_params`), and the kernel reads the copy.
+pub const PARAMS: Binding = binding(0, "frame_params", "FrameParams", Uniform);
 // Spheres, triangles and k-d nodes are declared as vectors, not as their
 // structs (shaders/types.wgsl): llvmpipe loads each member of a struct with a
 // loop over the 8 lanes of its own, so one vector load per 16 bytes is fewer

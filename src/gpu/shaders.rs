@@ -3,8 +3,12 @@
 
 /// Files of the trace kernel, in the order they are concatenated (after the
 /// declarations generated from [`super::bindings`]).
-pub const TRACE_PARTS: [(&str, &str); 10] = [
+pub const TRACE_PARTS: [(&str, &str); 11] = [
     ("types.wgsl", include_str!("../../shaders/types.wgsl")),
+    (
+        "frame_params.wgsl",
+        include_str!("../../shaders/frame_params.wgsl"),
+    ),
     ("variant.wgsl", include_str!("../../shaders/variant.wgsl")),
     ("chunks.wgsl", include_str!("../../shaders/chunks.wgsl")),
     (
@@ -126,6 +130,32 @@ mod tests {
             .find(|e| e.name == QUERY_ENTRY_POINT)
             .expect("query entry point");
         assert_eq!(query.workgroup_size, [QUERY_WORKGROUP, 1, 1]);
+    }
+
+    /// Each entry point copies the frame's parameters into the private
+    /// `params` before anything else (shaders/frame_params.wgsl): read
+    /// after a branch, it would still be right, but every read of a
+    /// uniform there costs llvmpipe a load per lane.
+    #[test]
+    fn every_entry_point_reads_the_frame_params_first() {
+        let (module, _) = parse_and_validate(&trace_source(
+            [super::super::bindings::MAX_CHUNKS; super::super::bindings::SPLIT_ARRAY_COUNT],
+        ));
+        assert!(module.entry_points.len() >= 3);
+        for entry in &module.entry_points {
+            let first = entry
+                .function
+                .body
+                .iter()
+                .find(|s| !matches!(s, naga::Statement::Emit(_)));
+            let called = match first {
+                Some(naga::Statement::Call { function, .. }) => {
+                    module.functions[*function].name.as_deref()
+                }
+                _ => None,
+            };
+            assert_eq!(called, Some("read_params"), "entry point {}", entry.name);
+        }
     }
 
     /// Every .wgsl file in shaders/ is part of a validated module.
