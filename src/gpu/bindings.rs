@@ -50,7 +50,7 @@ use Access::{StorageRead, StorageReadWrite, Uniform};
 
 /// Camera, render settings, counts and the tile ([`crate::layout::FrameParams`]).
 /// Each entry point copies it into the private `params` before anything
-/// else (shaders/types.wgsl, `read_params`), and the kernel reads the copy.
+/// else (shaders/frame_params.wgsl, `read_params`), and the kernel reads the copy.
 pub const PARAMS: Binding = binding(0, "frame_params", "FrameParams", Uniform);
 // Spheres, triangles and k-d nodes are declared as vectors, not as their
 // structs (shaders/types.wgsl): llvmpipe loads each member of a struct with a
