@@ -19,7 +19,7 @@
 # Instructions are not time: a private register add counts as much as a
 # load that misses the cache. Nor is this the kernel a plain run executes:
 # valgrind hides AVX-512, so llvmpipe compiles an AVX2 kernel here, which
-# spills where the AVX-512 one does not and ran 1.8 - 2.2x slower natively
+# spills where the AVX-512 one does not and ran 1.9 - 2.4x slower natively
 # (GALLIUM_OVERRIDE_CPU_CAPS=avx makes a plain run compile it too). Check a
 # change that the count favours with alternating timed runs
 # (docs/benchmarks.md, "the kernel that runs is not the kernel valgrind counts").
