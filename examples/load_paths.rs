@@ -1,8 +1,10 @@
 //! What a dependent load costs on this adapter, by the way the kernel reads
 //! memory: a storage buffer, a sampled texture (`textureLoad`) or a uniform
 //! buffer, one word or two at a time, each lane on its own chain or all
-//! lanes of a row on one. Each invocation follows a random cycle through
-//! `n` words for `steps` loads; the GPU time per load is printed.
+//! lanes of a row on one, and under which lanes' masks. Each invocation
+//! follows a random cycle through `n` words for `steps` steps; the GPU time
+//! per step is printed (one load a step, except in the `masked_*` kernels,
+//! where a step loads in about half the lanes).
 //!
 //! ```sh
 //! cargo run --release --example load_paths -- [N_LOG2] [STEPS]
@@ -131,6 +133,44 @@ fn storage_word_small(@builtin(global_invocation_id) gid: vec3<u32>) {{
     var i = start(gid, false) & 16383u;
     var acc = 0u;
     for (var s = 0u; s < STEPS; s++) {{ i = words[i] & 16383u; acc += i; }}
+    done(gid, acc);
+}}
+
+// Whether a lane loads at step s: a hash of (s, lane), true for about half
+// the lanes of a group, in a pattern that changes every step.
+fn coin(s: u32, gid: vec3<u32>) -> bool {{
+    var h = s * 747796405u + gid.x * 2891336453u + gid.y * 277803737u;
+    h = (h ^ (h >> 16u)) * 2246822519u;
+    h = h ^ (h >> 13u);
+    return (h & 1u) != 0u;
+}}
+
+// The masked kernels' shape with every lane loading at every step: the coin
+// is computed and the condition holds anyway (acc never takes that value
+// here), so the load sits under a mask that is always full.
+@compute @workgroup_size(8, 8, 1)
+fn masked_none(@builtin(global_invocation_id) gid: vec3<u32>) {{
+    var i = start(gid, false);
+    var acc = 0u;
+    for (var s = 0u; s < STEPS; s++) {{ if (coin(s, gid) || acc != 0xdeadbeefu) {{ i = words[i]; }} acc += i; }}
+    done(gid, acc);
+}}
+
+// Half the lanes load at each step, a different half every step.
+@compute @workgroup_size(8, 8, 1)
+fn masked_half(@builtin(global_invocation_id) gid: vec3<u32>) {{
+    var i = start(gid, false);
+    var acc = 0u;
+    for (var s = 0u; s < STEPS; s++) {{ if (coin(s, gid)) {{ i = words[i]; }} acc += i; }}
+    done(gid, acc);
+}}
+
+// Half the lanes load at each step, the same half every step.
+@compute @workgroup_size(8, 8, 1)
+fn masked_fixed_half(@builtin(global_invocation_id) gid: vec3<u32>) {{
+    var i = start(gid, false);
+    var acc = 0u;
+    for (var s = 0u; s < STEPS; s++) {{ if ((gid.x & 1u) == 0u || acc == 0xdeadbeefu) {{ i = words[i]; }} acc += i; }}
     done(gid, acc);
 }}
 "#
@@ -331,9 +371,12 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         "texture_quad",
         "uniform_word",
         "storage_word_small",
+        "masked_none",
+        "masked_half",
+        "masked_fixed_half",
     ];
     println!(
-        "{n} words, {steps} loads per invocation, {WIDTH}x{HEIGHT} invocations; ns per load per invocation, three runs"
+        "{n} words, {steps} loads per invocation, {WIDTH}x{HEIGHT} invocations; ns per step per invocation, three runs"
     );
     for name in kernels {
         let pipeline = device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {

@@ -6,6 +6,7 @@ and kdray's ratio to it in OUT/summary.md (a "vs Embree" column per scene).
 
     python3 -m venv /tmp/peers && /tmp/peers/bin/pip install embreex numpy
     kdray bench --suite --build all --traversal all --out OUT   # writes OUT/scenes/*.json
+    kdray bench --scene S.json --write-scenes --out OUT         # any scene: the same
     /tmp/peers/bin/python scripts/peers/bench_embree.py OUT [--repeat 3] [--kdray target/release/kdray]
 
 Run it straight after the bench, in the same session: the ratio is only
@@ -77,7 +78,7 @@ def main():
             results.append(entry)
             continue
         if not s["scene_file"]:
-            entry["unsupported"] = "the bench wrote no scene file (run it with --suite)"
+            entry["unsupported"] = "the bench wrote no scene file (run it with --write-scenes, or --suite)"
             results.append(entry)
             continue
         path = os.path.join(args.out, s["scene_file"])
