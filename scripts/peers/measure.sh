@@ -23,7 +23,7 @@ export DRJIT_LIBLLVM_PATH=${DRJIT_LIBLLVM_PATH:-/usr/lib/x86_64-linux-gnu/libLLV
 here=scripts/peers
 
 mkdir -p "$out"
-rm -f "$out"/*.jsonl "$out"/*.json "$out"/summary.md
+rm -rf "$out"/*.jsonl "$out"/*.json "$out"/summary.md "$out"/kdray-bench "$out"/kdray-bench-1thread
 # kdray follows a path up to max_depth hits: at 1 it traces primary and
 # shadow rays only, which is what the peers trace.
 direct="$out/direct.json"
@@ -36,14 +36,16 @@ python3 "$here/direct_variant.py" "$scene" "$direct"
     echo "kdray: $kdray, built $(date -u -r "$kdray" '+%Y-%m-%d %H:%M UTC'); checkout at $(git rev-parse --short HEAD)"
 } > "$out/machine.txt"
 
+# kdray's frames are timed by `kdray bench`: a warm-up frame that counts the
+# walk's work, then REPEAT frames of the kernel a plain `kdray render` runs,
+# which counts nothing (`render --stats` would time the counting kernel,
+# 1 - 3% slower: docs/design.md, "Counting only when asked").
 echo "kdray (lavapipe, all cores)..." >&2
-for _ in $(seq "$repeat"); do
-    "$kdray" render "$direct" --stats -o "$out/kdray.png" >> "$out/kdray.jsonl"
-done
+"$kdray" render "$direct" -o "$out/kdray.png"
+"$kdray" bench --scene "$direct" --accel kdtree --repeat "$repeat" --out "$out/kdray-bench" >/dev/null
 echo "kdray (lavapipe, LP_NUM_THREADS=1, taskset -c 0)..." >&2
-for _ in $(seq "$repeat"); do
-    LP_NUM_THREADS=1 taskset -c 0 "$kdray" render "$direct" --stats -o "$out/kdray-1.png" >> "$out/kdray_1thread.jsonl"
-done
+LP_NUM_THREADS=1 taskset -c 0 "$kdray" bench --scene "$direct" --accel kdtree --repeat "$repeat" \
+    --out "$out/kdray-bench-1thread" >/dev/null
 echo "Embree (taskset -c 0)..." >&2
 taskset -c 0 "$py" "$here/embree_rays.py" "$direct" --repeat "$repeat" > "$out/embree.json" || true
 echo "Mitsuba 3 (1 thread, taskset -c 0)..." >&2

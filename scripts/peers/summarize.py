@@ -18,7 +18,32 @@ def lines(path):
 def main():
     out = sys.argv[1]
     rows = []
+    for folder, threads in [("kdray-bench", "all (lavapipe)"), ("kdray-bench-1thread", "1 (LP_NUM_THREADS=1)")]:
+        path = os.path.join(out, folder, "bench.json")
+        if not os.path.exists(path):
+            continue
+        bench = json.load(open(path))
+        (r,) = [x for x in bench["runs"] if x["accel"] == "kdtree"]
+        assert r["reflection_rays"] == 0, "kdray traced reflections: max_depth is not 1"
+        rays = r["primary_rays"] + r["shadow_rays"]
+        seconds = r["gpu_ms"] / 1e3  # the median of the timed frames
+        rows.append(
+            {
+                "renderer": f"kdray ({bench['machine']['adapter']}, {bench['machine']['backend']})",
+                "threads": threads,
+                "primary": r["primary_rays"],
+                "shadow": r["shadow_rays"],
+                "seconds": seconds,
+                "mrays": rays / seconds / 1e6,
+                "setup": f"tree {r['build_ms']:.0f} ms, upload {r['upload_ms']:.0f} ms; "
+                f"frames {min(r['gpu_ms_samples']):.0f} - {max(r['gpu_ms_samples']):.0f} ms",
+                "runs": len(r["gpu_ms_samples"]),
+            }
+        )
+    # Runs recorded before 2026-11-26 timed `kdray render --stats` instead.
     for name, threads in [("kdray.jsonl", "all (lavapipe)"), ("kdray_1thread.jsonl", "1 (LP_NUM_THREADS=1)")]:
+        if not os.path.exists(os.path.join(out, name)):
+            continue
         runs = lines(os.path.join(out, name))
         if not runs:
             continue
