@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
-# The study measured (issue 9 §5): every build x walk on the bench suite's
-# four scenes, then Embree on the same scenes in the same session, and the
-# summary with kdray's ratio to Embree (docs/benchmarks.md, "The matrix").
+# The study measured: every build x walk on the bench suite's four scenes,
+# then Embree on the same scenes straight after, and the summary with kdray's
+# ratio to Embree (docs/benchmarks.md, "Every build and walk").
 #
 #   python3 -m venv /tmp/peers && /tmp/peers/bin/pip install embreex numpy
 #   cargo build --release --locked

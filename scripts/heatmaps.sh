@@ -1,5 +1,5 @@
 #!/bin/sh
-# The cost heatmaps of docs/benchmarks.md ("Where the walk spends its time"):
+# The cost heatmaps of docs/benchmarks.md ("Where a walk spends its work"):
 # the bunny (scenes/peers/bunny.toml, 480x270; needs `apt-get install
 # glmark2-data`) and 10,000 random spheres (`kdray generate`, 480x360), with
 # the restart and ropes walks, each on a fixed scale so that runs compare.
@@ -18,8 +18,8 @@ kdray=./target/release/kdray
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
 $kdray generate --kind spheres --count 10000 -o "$work/spheres.toml" 2>/dev/null
-# Fixed scales, so that walks and builds compare: chosen on 2026-11-23 so
-# that the restart walk's hot regions saturate (its largest pixels reach
+# Fixed scales, so that walks and builds compare: chosen so that the
+# restart walk's hot regions saturate (its largest pixels reach
 # about 1,400 and 1,600; a scale that high leaves most of the picture dark).
 for walk in restart ropes; do
     $kdray render scenes/peers/bunny.toml --width 480 --height 270 --traversal "$walk" \

@@ -9,7 +9,7 @@ and kdray's ratio to it in OUT/summary.md (a "vs Embree" column per scene).
     kdray bench --scene S.json --write-scenes --out OUT         # any scene: the same
     /tmp/peers/bin/python scripts/peers/bench_embree.py OUT [--repeat 3] [--kdray target/release/kdray]
 
-Run it straight after the bench, in the same session: the ratio is only
+Run it straight after the bench, on the same machine: the ratio is only
 meaningful between runs on the same machine under the same load (uptime is
 recorded before and after). Each scene is traced by embree_rays.py under
 `taskset -c 0` (one core: embreex traces one ray at a time, and the pinning

@@ -19,7 +19,8 @@ colour), lights are Mitsuba point lights (which fall off with distance; kdray's
 do not: their intensity is scaled to agree at the camera's look-at point), and Mitsuba jitters its sample inside the pixel. Triangles are flat
 (no vertex normals), as in kdray; spheres are Mitsuba spheres.
 
-`--threads` sets Dr.Jit's thread pool (default: one per core). The frame time
+`--variant cuda_ad_rgb` renders the same frame on an NVIDIA GPU (Dr.Jit's
+CUDA backend). `--threads` sets Dr.Jit's thread pool (default: one per core). The frame time
 is `mi.render` plus the wait for its result, after one untimed warm-up
 render that compiles and caches the kernels. The ray count: primary rays are
 the samples; shadow rays are the primary hits (counted with
@@ -127,6 +128,11 @@ def main():
     ap.add_argument("scene")
     ap.add_argument("--width", type=int)
     ap.add_argument("--height", type=int)
+    ap.add_argument(
+        "--variant",
+        default="llvm_ad_rgb",
+        help="Mitsuba variant (default llvm_ad_rgb, the CPU; cuda_ad_rgb on an NVIDIA GPU)",
+    )
     ap.add_argument("--threads", type=int, help="Dr.Jit worker threads (default: one per core)")
     ap.add_argument("--repeat", type=int, default=3, help="timed renders (default 3)")
     ap.add_argument("-o", "--output", help="also write the last frame (EXR, or PNG by extension)")
@@ -135,7 +141,7 @@ def main():
     import drjit as dr
     import mitsuba as mi
 
-    mi.set_variant("llvm_ad_rgb")
+    mi.set_variant(args.variant)
     if args.threads:
         dr.set_thread_count(args.threads)
 
@@ -171,7 +177,7 @@ def main():
     print(
         json.dumps(
             {
-                "renderer": f"mitsuba {mi.__version__} llvm_ad_rgb",
+                "renderer": f"mitsuba {mi.__version__} {args.variant}",
                 "scene": args.scene,
                 "width": width,
                 "height": height,

@@ -10,11 +10,6 @@ import statistics
 import sys
 
 
-def lines(path):
-    with open(path) as f:
-        return [json.loads(line) for line in f if line.strip()]
-
-
 def main():
     out = sys.argv[1]
     rows = []
@@ -38,31 +33,6 @@ def main():
                 "setup": f"tree {r['build_ms']:.0f} ms, upload {r['upload_ms']:.0f} ms; "
                 f"frames {min(r['gpu_ms_samples']):.0f} - {max(r['gpu_ms_samples']):.0f} ms",
                 "runs": len(r["gpu_ms_samples"]),
-            }
-        )
-    # Runs recorded before 2026-11-26 timed `kdray render --stats` instead.
-    for name, threads in [("kdray.jsonl", "all (lavapipe)"), ("kdray_1thread.jsonl", "1 (LP_NUM_THREADS=1)")]:
-        if not os.path.exists(os.path.join(out, name)):
-            continue
-        runs = lines(os.path.join(out, name))
-        if not runs:
-            continue
-        r = runs[0]
-        assert all(x["reflection_rays"] == 0 for x in runs), "kdray traced reflections: max_depth is not 1"
-        rays = r["primary_rays"] + r["shadow_rays"]
-        seconds = statistics.median(x["gpu_ms"] for x in runs) / 1e3
-        rows.append(
-            {
-                "renderer": f"kdray ({r['adapter']}, {r['backend']})",
-                "threads": threads,
-                "primary": r["primary_rays"],
-                "shadow": r["shadow_rays"],
-                "seconds": seconds,
-                "mrays": rays / seconds / 1e6,
-                "setup": f"tree {statistics.median(x['build_ms'] for x in runs):.0f} ms, "
-                f"upload {statistics.median(x['upload_ms'] for x in runs):.0f} ms, "
-                f"whole run {statistics.median(x['total_ms'] for x in runs):.0f} ms",
-                "runs": len(runs),
             }
         )
     embree = None
