@@ -404,8 +404,9 @@ fn brute_force_and_kdtree_images_agree() {
     assert!(!dir.join("x.png").exists());
 }
 
-/// Mesh files that cannot be drawn (issue 10, section 5): before, a binary
-/// file read as OBJ gave an empty mesh and a picture without the model.
+/// Mesh files that cannot be drawn (binary data, no faces, a cut or corrupt
+/// glTF, an unknown extension, a buffer outside the folder) are errors that
+/// name the mesh file, never an empty mesh and a picture without the model.
 #[test]
 fn bad_mesh_files_exit_2_with_one_line_and_write_nothing() {
     let dir = TempDir::new("bad-meshes");
@@ -472,11 +473,11 @@ fn bad_mesh_files_exit_2_with_one_line_and_write_nothing() {
 }
 
 /// On a headless machine without `XDG_RUNTIME_DIR` (or with a relative one,
-/// which libwayland calls invalid), Mesa's Vulkan device-selection layer made
-/// libwayland print `error: XDG_RUNTIME_DIR is invalid or not set in the
-/// environment.` twice on every run; kdray now gives Mesa a private runtime
-/// folder first. Runs the binary directly: `run_kdray` sets the variable and
-/// hides that line.
+/// which libwayland calls invalid), Mesa's Vulkan device-selection layer
+/// makes libwayland print `error: XDG_RUNTIME_DIR is invalid or not set in
+/// the environment.` unless kdray gives Mesa a private runtime folder first.
+/// Runs the binary directly: `run_kdray` sets the variable and hides that
+/// line.
 #[test]
 fn render_and_info_print_no_xdg_runtime_dir_error_without_the_variable() {
     let dir = TempDir::new("xdg");
@@ -519,7 +520,7 @@ fn f64_field(stats: &serde_json::Value, key: &str) -> f64 {
 /// plus the bar's rows, not one colour, and `--stats` gains the walk's
 /// counters, consistent with each other and with the rays.
 #[test]
-fn heatmap_and_cost_stats() {
+fn heatmap_writes_the_cost_picture_and_stats_count_the_walk() {
     let dir = TempDir::new("heatmap");
     let mixed = scene_path("mixed.toml");
     let run = kdray(
