@@ -34,7 +34,7 @@ pub fn load_obj_observed(
     on_read: &mut dyn FnMut(&Path),
 ) -> Result<Mesh, SceneError> {
     on_read(path);
-    let bytes = super::read_input_file(path).map_err(|e| {
+    let bytes = super::input_file::read_input_file(path).map_err(|e| {
         SceneError::new(path, None, None, format!("cannot read OBJ file: {e}")).with_source(e)
     })?;
     let mut faces = 0usize;
@@ -269,7 +269,7 @@ pub(super) fn parse_reference(
                         continue;
                     }
                     on_read(&mtl_path);
-                    let mtl_text = super::read_input_file(&mtl_path).map_err(|e| {
+                    let mtl_text = super::input_file::read_input_file(&mtl_path).map_err(|e| {
                         err(format!("cannot read MTL file {}: {e}", mtl_path.display()))
                             .with_source(e)
                     })?;

@@ -298,7 +298,7 @@ impl<'p, 't> MaterialState<'p, 't> {
             }
             (self.files.on_read)(&mtl_path);
             self.reads += 1;
-            let text = super::read_input_file(&mtl_path).ok()?;
+            let text = super::input_file::read_input_file(&mtl_path).ok()?;
             obj::parse_mtl(
                 &String::from_utf8_lossy(&text),
                 &mtl_path,
