@@ -17,7 +17,6 @@ pub mod mesh_file;
 mod mesh_placement;
 mod normals;
 pub mod obj;
-mod obj_chunks;
 mod schema;
 mod source_map;
 mod validate;
