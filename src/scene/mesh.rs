@@ -7,8 +7,7 @@
 //! instead of the 208 that three `DVec3` corners, three optional normals and
 //! the corner ids took, and the scene's placement transforms each shared
 //! vertex once instead of each corner (a closed mesh has about half as many
-//! vertices as triangles, so six times fewer). Measured on the 1.1M-triangle
-//! bunny in docs/benchmarks.md "OBJ load".
+//! vertices as triangles, so six times fewer), for the 1.1M-triangle bunny.
 
 use glam::DVec3;
 

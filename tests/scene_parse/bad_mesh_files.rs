@@ -1,5 +1,6 @@
-//! Mesh files that cannot be read as meshes (binary, truncated, wrong
-//! extension, empty) are refused with an error naming the file.
+//! Mesh files that give no mesh (no faces, binary read as OBJ, unknown
+//! extension, truncated or corrupt glTF, buffers outside readable files,
+//! points and lines) are refused with an error naming the file.
 
 use super::*;
 

@@ -1,5 +1,5 @@
-//! The shipped example scenes, and documents quoted in
-//! docs/scene-format.md, load as documented.
+//! Complete scenes: the documented examples in TOML and JSON give the
+//! documented values, and the same scene in both formats is equal.
 
 use super::*;
 

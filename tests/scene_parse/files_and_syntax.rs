@@ -1,5 +1,6 @@
-//! Reading scene files: missing, unreadable and non-UTF-8 files, TOML and
-//! JSON syntax errors, and the file, line and key every error names.
+//! Scene files and their syntax: a missing file or a folder, TOML and JSON
+//! syntax errors with their line, NaN and infinity in JSON, duplicate keys,
+//! the format picked by extension, and the file every error names.
 
 use super::*;
 

@@ -1,5 +1,6 @@
-//! glTF and GLB meshes through the scene: node transforms, materials,
-//! embedded and external buffers, and their errors.
+//! glTF and GLB meshes through the scene: node hierarchies against the
+//! same OBJ, embedded, external and binary buffers, the PBR material rule,
+//! non-indexed primitives.
 
 use super::*;
 use glam::{DMat3, DMat4, DQuat};

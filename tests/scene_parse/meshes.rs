@@ -1,5 +1,7 @@
-//! `[[meshes]]` entries with OBJ files: placement, materials from MTL files
-//! or the scene, mesh paths relative to the scene file, and errors in them.
+//! `[[meshes]]` entries with OBJ files: the transform (scale, then rotate
+//! in degrees about x, y, z, then translate), paths relative to the scene
+//! file, materials from MTL files or the scene's override, and OBJ and MTL
+//! errors named by their file and line.
 
 use super::*;
 

@@ -1,5 +1,5 @@
-//! Numbers: non-finite values, overflow, and coordinates beyond the range
-//! the GPU computes in.
+//! Numbers: NaN, infinity and out-of-range values are errors anywhere;
+//! integers, exponents and signs are numbers.
 
 use super::*;
 

@@ -1,5 +1,6 @@
-//! Lights, materials, spheres and triangles: their defaults, their rules,
-//! and material names resolved.
+//! Lights, materials, spheres and triangles: their defaults, their rules
+//! (positive radius, triangles with an area, colours >= 0, reflection in
+//! [0, 1]), and materials referred to by name.
 
 use super::*;
 

@@ -165,7 +165,7 @@ impl<'a> Line<'a> {
     /// end, Some(None) for a token that is not a finite number. A plain
     /// decimal is read as the cursor passes over it, each byte looked at
     /// once (the 1.1 M bunny's load 0.180 -> 0.165 s with the corners
-    /// below, docs/benchmarks.md), anything else as a token.
+    /// below, on two threads), anything else as a token.
     fn number(&mut self) -> Option<Option<f64>> {
         self.skip_blanks();
         let bytes = self.text.as_bytes();

@@ -138,8 +138,7 @@ pub(super) fn parse(text: &[u8], threads: usize, materials: Option<MaterialFiles
         }
     };
 
-    let mut triangles: Vec<MeshTriangle> = Vec::with_capacity(room);
-    crate::huge_pages::advise(&mut triangles);
+    let mut triangles: Vec<MeshTriangle> = crate::huge_pages::with_capacity(room);
     let mut parts = Vec::with_capacity(rooms.len());
     let mut rest = &mut triangles.spare_capacity_mut()[..room];
     for &part_room in &rooms {
