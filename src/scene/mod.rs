@@ -1,7 +1,11 @@
 //! Scenes: the validated, world-space description that everything downstream
-//! consumes. Parsing (TOML or JSON), validation and mesh loading (OBJ/MTL,
-//! glTF 2.0) live in the submodules; nothing here knows about the GPU or the
-//! k-d tree.
+//! consumes. This file holds the types; nothing here knows about the GPU or
+//! the k-d tree. A scene file goes `input_file` (bytes) -> `load` (TOML or
+//! JSON into the `schema`, its library errors worded by `document_errors`
+//! with the lines of `source_map`) -> `validate` (every rule, into a
+//! `Scene`) -> `mesh_placement` (each `[[meshes]]` entry read through
+//! `mesh_file` by `obj` or `gltf` into a `mesh::Mesh`, then placed in the
+//! world). `write` turns a `Scene` back into scene file text.
 //!
 //! Units: positions in scene units, angles in degrees in files and radians
 //! nowhere in this module (the camera keeps `vfov_degrees`), colours linear.
