@@ -13,7 +13,7 @@ use super::schema::{
 };
 use super::{Scene, ShadowMode};
 
-/// `scene` as the text of a scene file that [`parse_scene`] reads back as an
+/// `scene` as the text of a scene file that [`parse_scene`](super::parse_scene) reads back as an
 /// equal `Scene`, provided its material names are distinct and sort in index
 /// order (materials are a table keyed by name, read back in name order), and
 /// its triangles are flat: `[[triangles]]` entries carry no normals, and the
