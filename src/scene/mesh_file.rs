@@ -1,6 +1,6 @@
 //! A mesh file read by the reader its extension names: `.obj` (with its
 //! MTL files) by [`obj`](super::obj), `.gltf` and `.glb` by
-//! [`gltf`](super::gltf). Kept apart from [`Mesh`](super::mesh::Mesh), the
+//! [`gltf`](super::gltf). Kept apart from [`Mesh`], the
 //! type both readers produce, so that the type depends on no reader.
 
 use std::path::Path;

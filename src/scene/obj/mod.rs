@@ -6,10 +6,10 @@
 //! Everything else in the formats (texture coordinates, groups, smoothing
 //! groups, maps, ...) is ignored.
 //!
-//! Two parsers, one meaning. [`fast`] parses a file on all cores (one chunk
-//! per core, see [`chunk`]) and handles every ordinary file; on anything
+//! Two parsers, one meaning. `fast` parses a file on all cores (one chunk
+//! per core, see `chunk`) and handles every ordinary file; on anything
 //! else (any error, an index written with ten digits) it declines, and
-//! [`reference`], one line at a time, reads the file instead: it alone
+//! `reference`, one line at a time, reads the file instead: it alone
 //! words the errors (file, 1-based line, statement), so their messages have
 //! one implementation, and the fast path only has to be right on valid
 //! input, which `fast_path_equivalence` checks against the reference bit
