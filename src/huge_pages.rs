@@ -1,12 +1,18 @@
-//! Big vectors backed by 2 MiB pages where the kernel allows it (Linux's
+//! The memory policy for big vectors, in one place: every layer that makes
+//! a vector of many megabytes (the scene's file bytes and triangles, the
+//! geometry's primitives, the tree builder's lists) asks here for its room,
+//! and hands big temporaries here to be freed; no other module calls the
+//! kernel about memory.
+//!
+//! Room is backed by 2 MiB pages where the kernel allows it (Linux's
 //! transparent huge pages, commonly enabled only on request): one page
 //! fault per 2 MiB instead of one per 4 KiB as a fresh vector is first
 //! written. The loader writes several such vectors of a big mesh: the
 //! file's bytes, the parsed faces, the scene's f64 triangles and the f32
 //! primitives (the 1.1 M-triangle bunny's load took 0.29 s before the
 //! first, third and fourth were advised and the last made on all threads,
-//! 0.22 s after; docs/benchmarks.md "OBJ load"). A hint: nothing changes
-//! where it is refused or on other systems.
+//! 0.22 s after). A hint: nothing changes where it is refused or on other
+//! systems.
 
 /// An empty vector with room for `capacity` elements, its room advised.
 pub(crate) fn with_capacity<T>(capacity: usize) -> Vec<T> {
@@ -40,7 +46,7 @@ pub(crate) fn free_in_background<T: Send + 'static>(big: T) {
 /// Asks the kernel to back the whole 2 MiB pages of `v`'s spare capacity
 /// with huge pages. Measured when a triangle took 208 bytes (230 MB for a
 /// million-triangle mesh): the scene's load 0.73 s -> 0.63 s (median of
-/// eight, benchmarks.md "OBJ load").
+/// eight).
 #[cfg(target_os = "linux")]
 pub(crate) fn advise<T>(v: &mut Vec<T>) {
     const HUGE_PAGE: usize = 2 << 20;

@@ -36,12 +36,12 @@ pub fn load_gltf(
     on_read: &mut dyn FnMut(&Path),
 ) -> Result<Mesh, SceneError> {
     on_read(path);
-    let bytes = super::read_input_file(path).map_err(|e| {
+    let bytes = super::input_file::read_input_file(path).map_err(|e| {
         SceneError::new(path, None, None, format!("cannot read glTF file: {e}")).with_source(e)
     })?;
     parse_gltf(&bytes, path, with_materials, &mut |uri_path| {
         on_read(uri_path);
-        super::read_input_file(uri_path)
+        super::input_file::read_input_file(uri_path)
     })
 }
 

@@ -1,19 +1,15 @@
 //! A mesh file in its own coordinates, whatever its format: its shared
 //! vertices and normals, its triangles as index triples into them, and the
-//! materials they use. `load_mesh` picks the reader by the file's extension.
+//! materials they use. The readers are `obj` and `gltf`; `mesh_file` picks
+//! one by the file's extension.
 //!
 //! Indices rather than coordinates per triangle: a triangle is 28 bytes
 //! instead of the 208 that three `DVec3` corners, three optional normals and
 //! the corner ids took, and the scene's placement transforms each shared
 //! vertex once instead of each corner (a closed mesh has about half as many
-//! vertices as triangles, so six times fewer). Measured on the 1.1M-triangle
-//! bunny in docs/benchmarks.md "OBJ load".
-
-use std::path::Path;
+//! vertices as triangles, so six times fewer), for the 1.1M-triangle bunny.
 
 use glam::DVec3;
-
-use super::SceneError;
 
 /// The index that stands for "none": in `MeshTriangle::normals`, a corner
 /// without a file normal; in `MeshTriangle::material`, a triangle of a mesh
@@ -106,50 +102,5 @@ impl Mesh {
     /// The file's normal at corner `k` of `t`, if it gives one.
     pub fn normal(&self, t: &MeshTriangle, k: usize) -> Option<DVec3> {
         self.normals.get(t.normal(k)?).copied()
-    }
-}
-
-/// The mesh formats, by extension (case-insensitive).
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum MeshFormat {
-    Obj,
-    /// `.gltf` (JSON) and `.glb` (binary): the reader tells them apart by content.
-    Gltf,
-}
-
-impl MeshFormat {
-    pub fn of_path(path: &Path) -> Option<Self> {
-        let ext = path.extension()?.to_str()?.to_ascii_lowercase();
-        match ext.as_str() {
-            "obj" => Some(MeshFormat::Obj),
-            "gltf" | "glb" => Some(MeshFormat::Gltf),
-            _ => None,
-        }
-    }
-}
-
-/// Reads a mesh file (and its MTL libraries or glTF buffers), calling
-/// `on_read` with each file just before it is read. With `with_materials`
-/// false (the scene overrides the material) the file's materials are not
-/// read. A file with no triangle at all is an error: it would render nothing.
-pub fn load_mesh(
-    path: &Path,
-    with_materials: bool,
-    on_read: &mut dyn FnMut(&Path),
-) -> Result<Mesh, SceneError> {
-    let Some(format) = MeshFormat::of_path(path) else {
-        on_read(path);
-        let message = match path.extension() {
-            Some(ext) => format!(
-                "unknown mesh file extension \".{}\"; kdray reads .obj, .gltf and .glb",
-                ext.to_string_lossy()
-            ),
-            None => "no mesh file extension; kdray reads .obj, .gltf and .glb".to_string(),
-        };
-        return Err(SceneError::new(path, None, None, message));
-    };
-    match format {
-        MeshFormat::Obj => super::obj::load_obj_observed(path, with_materials, on_read),
-        MeshFormat::Gltf => super::gltf::load_gltf(path, with_materials, on_read),
     }
 }

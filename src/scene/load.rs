@@ -1,0 +1,111 @@
+//! Scene files in: read a TOML or JSON scene file, deserialise it into the
+//! file schema ([`schema`](super::schema)) and validate it into a
+//! [`Scene`](super::Scene) ([`validate`](super::validate)), loading its
+//! meshes on the way. Every error names the file, the line (via the
+//! lazily made [`SourceMap`]) and the key.
+
+use std::cell::{OnceCell, RefCell};
+use std::path::Path;
+
+use super::document_errors::{json_error, toml_error};
+use super::schema::{RawScene, TableOf};
+use super::source_map::SourceMap;
+use super::validate::Validator;
+use super::{Scene, SceneError};
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum SceneFormat {
+    Toml,
+    Json,
+}
+
+impl SceneFormat {
+    /// `.json` files are JSON; everything else is read as TOML.
+    pub fn from_path(path: &Path) -> Self {
+        match path.extension().and_then(|e| e.to_str()) {
+            Some(ext) if ext.eq_ignore_ascii_case("json") => SceneFormat::Json,
+            _ => SceneFormat::Toml,
+        }
+    }
+}
+
+/// Reads and validates a scene file; mesh paths are relative to its folder.
+pub fn load_scene(path: &Path) -> Result<Scene, SceneError> {
+    load_scene_observed(path, &mut |_| {})
+}
+
+/// [`load_scene`], calling `on_read` with every file it reads (the scene
+/// file first, then each mesh and its MTL or buffer files), just before
+/// reading it, and also for a file that then fails: the list of files a
+/// reload must watch, the file that broke included.
+pub fn load_scene_observed(
+    path: &Path,
+    on_read: &mut dyn FnMut(&Path),
+) -> Result<Scene, SceneError> {
+    on_read(path);
+    let bytes = super::input_file::read_input_file(path).map_err(|e| {
+        SceneError::new(path, None, None, format!("cannot read scene file: {e}")).with_source(e)
+    })?;
+    let text = String::from_utf8(bytes).map_err(|e| {
+        SceneError::new(
+            path,
+            None,
+            None,
+            format!("cannot read scene file: not UTF-8 text ({e})"),
+        )
+        .with_source(e)
+    })?;
+    parse_observed(&text, path, SceneFormat::from_path(path), on_read)
+}
+
+/// Parses scene text; `path` names the file in errors and anchors mesh paths.
+pub fn parse_scene(text: &str, path: &Path, format: SceneFormat) -> Result<Scene, SceneError> {
+    parse_observed(text, path, format, &mut |_| {})
+}
+
+fn parse_observed(
+    text: &str,
+    path: &Path,
+    format: SceneFormat,
+    on_read: &mut dyn FnMut(&Path),
+) -> Result<Scene, SceneError> {
+    let map = LazySourceMap {
+        text,
+        format,
+        map: OnceCell::new(),
+    };
+    let raw = match format {
+        SceneFormat::Toml => toml::from_str::<TableOf<RawScene>>(text)
+            .map_err(|e| toml_error(e, text, map.get(), path))?,
+        SceneFormat::Json => serde_json::from_str::<TableOf<RawScene>>(text)
+            .map_err(|e| json_error(e, text, map.get(), path))?,
+    };
+    Validator {
+        file: path,
+        map,
+        on_read: RefCell::new(on_read),
+    }
+    .scene(raw.0)
+}
+
+/// Where each key of the text is, for error messages. Made on the first
+/// error only: a scene that loads never needs it, and for a big scene it
+/// would cost a second parse and an entry per key (100 MB of TOML with a
+/// million spheres: seconds, and gigabytes of memory).
+pub(super) struct LazySourceMap<'a> {
+    text: &'a str,
+    format: SceneFormat,
+    map: OnceCell<Option<SourceMap>>,
+}
+
+impl LazySourceMap<'_> {
+    /// The map; None if the text does not parse as TOML or JSON.
+    pub(super) fn get(&self) -> Option<&SourceMap> {
+        self.map
+            .get_or_init(|| match self.format {
+                SceneFormat::Toml => SourceMap::toml(self.text),
+                SceneFormat::Json => SourceMap::json(self.text),
+            })
+            .as_ref()
+    }
+}

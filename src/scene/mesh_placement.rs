@@ -1,0 +1,297 @@
+//! A scene's `[[meshes]]` entries: each mesh file loaded, its vertices
+//! placed in the world (scale, rotate, translate), its triangles built on
+//! all threads straight into the scene's vectors, shaded flat or with the
+//! file's or computed normals, and its materials added to the scene's.
+
+use std::path::Path;
+
+use glam::{DMat3, DVec3};
+use rayon::prelude::*;
+
+use super::mesh::{Mesh, MeshTriangle};
+use super::mesh_file;
+use super::normals::{self, unit};
+use super::schema::{RawMesh, RawScale};
+use super::validate::{Validator, MAX_COORDINATE};
+use super::{Material, SceneError, Triangle};
+
+impl Validator<'_> {
+    /// Loads mesh `i`, transforms it to world space and appends its triangles
+    /// (and, without an override, its MTL materials).
+    pub(super) fn mesh(
+        &self,
+        i: usize,
+        m: &RawMesh,
+        override_material: Option<u32>,
+        materials: &mut Vec<Material>,
+        triangles: &mut Vec<Triangle>,
+        normals: &mut Vec<[DVec3; 3]>,
+    ) -> Result<(), SceneError> {
+        let key = |k: &str| format!("meshes[{i}].{k}");
+        let scale = match m.scale {
+            RawScale::Uniform(s) => DVec3::splat(self.number(&|| key("scale"), s)?),
+            RawScale::PerAxis(v) => self.vector(&|| key("scale"), v)?,
+        };
+        if scale.abs().min_element() == 0.0 {
+            return Err(self.error(&key("scale"), "must be non-zero on every axis"));
+        }
+        let rotate = self.vector(&|| key("rotate"), m.rotate)?;
+        let translate = self.position(&|| key("translate"), m.translate)?;
+        let transform = mesh_transform(scale, rotate);
+
+        let base = self.file.parent().unwrap_or(Path::new(""));
+        let mesh_path = base.join(&m.path);
+        let mesh = {
+            let mut on_read = self.on_read.borrow_mut();
+            mesh_file::load_mesh(&mesh_path, override_material.is_none(), &mut **on_read)
+        }
+        .map_err(|e| {
+            if e.line.is_some() {
+                return e;
+            }
+            // A mesh file at fault as a whole: also say which entry asked for it.
+            let at = match self.map.get().and_then(|m| m.line_of_path(&key("path"))) {
+                Some(line) => format!("{}:{line}", self.file.display()),
+                None => self.file.display().to_string(),
+            };
+            let message = format!("{} (from {} in {at})", e.message, key("path"));
+            e.reworded(message)
+        })?;
+
+        let first_material = materials.len() as u32;
+        if override_material.is_none() {
+            let file_name = Path::new(&m.path)
+                .file_name()
+                .map_or(m.path.clone(), |f| f.to_string_lossy().into_owned());
+            // The mesh readers check that colours are finite; the scene's
+            // rule that colours are >= 0 holds for them too.
+            for mm in &mesh.materials {
+                let colours = [("Ka", mm.ambient), ("Kd", mm.diffuse), ("Ks", mm.specular)];
+                if let Some((statement, c)) = colours.iter().find(|(_, c)| c.min_element() < 0.0) {
+                    let (kind, what) = match mesh_file::MeshFormat::of_path(&mesh_path) {
+                        Some(mesh_file::MeshFormat::Gltf) => ("glTF", "colour"),
+                        _ => ("MTL", *statement),
+                    };
+                    return Err(self.error(
+                        &key("path"),
+                        format!(
+                            "{kind} material \"{}\" has a negative {what} colour {:?}; colour components must be >= 0",
+                            mm.name,
+                            c.to_array()
+                        ),
+                    ));
+                }
+            }
+            materials.extend(mesh.materials.iter().map(|mm| Material {
+                name: format!("{file_name}:{}", mm.name),
+                ambient: mm.ambient,
+                diffuse: mm.diffuse,
+                specular: mm.specular,
+                shininess: mm.shininess,
+                reflection: mm.reflection,
+            }));
+        }
+        let world = self.place(i, &mesh, transform, translate)?;
+        let shading = MeshNormals::new(m.smooth, &mesh, &world, transform);
+        let material_of = |t: &MeshTriangle| match (override_material, t.material()) {
+            (Some(m), _) => Some(m),
+            (None, Some(local)) => Some(first_material + local as u32),
+            (None, None) => None,
+        };
+        // Usually every triangle is kept (none collapsed, every index in
+        // range): then they are built on all threads, straight into the
+        // scene's vector (rayon writes an indexed iterator in place), which
+        // on two cores also halves the wait for its fresh pages. Built first
+        // and checked on the way (a separate pass of checks took 15 ms of
+        // the 1.1 M-triangle bunny's 0.22 s load); where one is not kept,
+        // they are dropped and built again below.
+        let (first, first_normals) = (triangles.len(), normals.len());
+        let all_kept = std::sync::atomic::AtomicBool::new(true);
+        let kept = |t: &MeshTriangle| {
+            let vertices = t.corners_in(&world).filter(has_area);
+            let kept = vertices.zip(material_of(t));
+            if kept.is_none() {
+                all_kept.store(false, std::sync::atomic::Ordering::Relaxed);
+            }
+            kept.unwrap_or_default()
+        };
+        triangles.reserve(mesh.triangles.len());
+        crate::huge_pages::advise(triangles);
+        if let MeshNormals::Flat = shading {
+            triangles.par_extend(mesh.triangles.par_iter().map(|t| {
+                let (vertices, material) = kept(t);
+                Triangle::flat(vertices, material)
+            }));
+        } else {
+            // Triangle i's normals at `first_normals + i` (left unused,
+            // zero, for the rare triangle shaded flat): so each triangle
+            // knows its index, and both vectors are written in place. (An
+            // index past u32 cannot arise: the tree holds at most 2^30
+            // objects.)
+            normals.reserve(mesh.triangles.len());
+            crate::huge_pages::advise(normals);
+            let pairs = mesh.triangles.par_iter().enumerate().map(|(i, t)| {
+                let (vertices, material) = kept(t);
+                let n = shading.of(t, &vertices);
+                let index = u32::try_from(first_normals + i)
+                    .ok()
+                    .filter(|_| n.is_some());
+                let triangle = Triangle {
+                    vertices,
+                    material,
+                    normals: index.unwrap_or(Triangle::FLAT),
+                };
+                (triangle, n.unwrap_or_default())
+            });
+            let mut both = (std::mem::take(triangles), std::mem::take(normals));
+            both.par_extend(pairs);
+            (*triangles, *normals) = both;
+        }
+        if all_kept.into_inner() {
+            crate::huge_pages::free_in_background((mesh, world, shading));
+            return Ok(());
+        }
+        triangles.truncate(first);
+        normals.truncate(first_normals);
+        // Otherwise one by one: collapsed triangles skipped, the first fault
+        // reported.
+        for t in &mesh.triangles {
+            let Some(vertices) = t.corners_in(&world) else {
+                // The readers write only indices in range.
+                return Err(self.error(&key("path"), "a face has a vertex index out of range"));
+            };
+            if !has_area(&vertices) {
+                continue; // collapsed by an extreme scale: it can never be hit
+            }
+            let Some(material) = material_of(t) else {
+                // The readers guarantee a material when asked for them.
+                return Err(self.error(&key("path"), "a face has no material"));
+            };
+            let mut triangle = Triangle::flat(vertices, material);
+            if let Some(n) = shading.of(t, &vertices) {
+                triangle.normals = u32::try_from(normals.len()).unwrap_or(Triangle::FLAT);
+                normals.push(n);
+            }
+            triangles.push(triangle);
+        }
+        Ok(())
+    }
+
+    /// The mesh's shared vertices in world space, each transformed once.
+    /// A vertex that lands beyond the GPU's range is an error only where a
+    /// triangle uses it (an OBJ file may define vertices no face uses).
+    fn place(
+        &self,
+        i: usize,
+        mesh: &Mesh,
+        transform: DMat3,
+        translate: DVec3,
+    ) -> Result<Vec<DVec3>, SceneError> {
+        let world: Vec<DVec3> = mesh
+            .positions
+            .par_iter()
+            .map(|&v| transform * v + translate)
+            .collect();
+        let in_range = |v: &DVec3| v.is_finite() && v.abs().max_element() <= MAX_COORDINATE;
+        // Usually every vertex is in range, and the triangles need no look.
+        if !world.par_iter().all(in_range) {
+            let uses_one_out_of_range = mesh.triangles.iter().any(|t| {
+                t.corners
+                    .iter()
+                    .any(|&c| world.get(c as usize).is_some_and(|v| !in_range(v)))
+            });
+            if uses_one_out_of_range {
+                return Err(self.error(
+                    &format!("meshes[{i}].scale"),
+                    "the transformed mesh has a non-finite vertex, or one beyond ±1e15 (the GPU computes in f32)",
+                ));
+            }
+        }
+        Ok(world)
+    }
+}
+/// How a mesh entry's triangles are shaded: flat, or with normals from the
+/// file (carried to world space) and/or computed from the faces.
+enum MeshNormals {
+    Flat,
+    /// The file's normals where all three corners of a triangle have one.
+    FromFile {
+        /// Each of the file's normals in world space, of unit length; None
+        /// where it cannot be normalised.
+        file: Vec<Option<DVec3>>,
+    },
+    /// The file's normals where a corner has one, else the angle-weighted
+    /// normal of its shared vertex (computed in world space).
+    Smooth {
+        file: Vec<Option<DVec3>>,
+        computed: Vec<DVec3>,
+    },
+}
+
+impl MeshNormals {
+    /// `world`: the mesh's vertices in world space.
+    fn new(smooth: Option<bool>, mesh: &Mesh, world: &[DVec3], transform: DMat3) -> Self {
+        // Each file normal carried once (not once per corner that names it).
+        let file_normals = || {
+            let normal_matrix = normals::normal_matrix(transform);
+            mesh.normals
+                .iter()
+                .map(|&n| unit(normal_matrix * n))
+                .collect()
+        };
+        match smooth {
+            Some(false) => MeshNormals::Flat,
+            // A file without normals is flat unless asked otherwise.
+            None if mesh.normals.is_empty() => MeshNormals::Flat,
+            None => MeshNormals::FromFile {
+                file: file_normals(),
+            },
+            Some(true) => MeshNormals::Smooth {
+                file: file_normals(),
+                computed: normals::angle_weighted(world, &mesh.triangles, |t| {
+                    t.corners.map(|c| c as usize)
+                }),
+            },
+        }
+    }
+
+    /// The world-space unit normals of `t` (placed at `vertices`), or None
+    /// for flat shading. A normal that cannot be normalised (zero in the
+    /// file, or a vertex whose faces cancel) is the face's own normal.
+    fn of(&self, t: &MeshTriangle, vertices: &[DVec3; 3]) -> Option<[DVec3; 3]> {
+        let face = || unit((vertices[1] - vertices[0]).cross(vertices[2] - vertices[0]));
+        let from_file = |file: &[Option<DVec3>], k: usize| {
+            t.normal(k).and_then(|n| file.get(n).copied().flatten())
+        };
+        match self {
+            MeshNormals::Flat => None,
+            MeshNormals::FromFile { file } => {
+                if (0..3).any(|k| t.normal(k).is_none()) {
+                    return None;
+                }
+                let face = face()?;
+                Some([0, 1, 2].map(|k| from_file(file, k).unwrap_or(face)))
+            }
+            MeshNormals::Smooth { file, computed } => {
+                let face = face()?;
+                Some([0, 1, 2].map(|k| {
+                    from_file(file, k)
+                        .or_else(|| computed.get(t.corners[k] as usize).copied().and_then(unit))
+                        .unwrap_or(face)
+                }))
+            }
+        }
+    }
+}
+/// Rz * Ry * Rx * diag(scale), angles in degrees about the world axes.
+pub(super) fn mesh_transform(scale: DVec3, rotate_degrees: DVec3) -> DMat3 {
+    let r = rotate_degrees * (std::f64::consts::PI / 180.0);
+    DMat3::from_rotation_z(r.z)
+        * DMat3::from_rotation_y(r.y)
+        * DMat3::from_rotation_x(r.x)
+        * DMat3::from_diagonal(scale)
+}
+
+pub(super) fn has_area(v: &[DVec3; 3]) -> bool {
+    (v[1] - v[0]).cross(v[2] - v[0]).length_squared() > 0.0
+}

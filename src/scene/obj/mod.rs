@@ -1,0 +1,140 @@
+//! The Wavefront OBJ + MTL reader.
+//!
+//! Only what a ray tracer of triangles needs is kept: vertex positions,
+//! vertex normals (`vn`, for smooth shading), faces (fan-triangulated) and,
+//! on request, the Phong colours of the MTL materials the faces use.
+//! Everything else in the formats (texture coordinates, groups, smoothing
+//! groups, maps, ...) is ignored.
+//!
+//! Two parsers, one meaning. `fast` parses a file on all cores (one chunk
+//! per core, see `chunk`) and handles every ordinary file; on anything
+//! else (any error, an index written with ten digits) it declines, and
+//! `reference`, one line at a time, reads the file instead: it alone
+//! words the errors (file, 1-based line, statement), so their messages have
+//! one implementation, and the fast path only has to be right on valid
+//! input, which `fast_path_equivalence` checks against the reference bit
+//! for bit on generated files. The reference is part of the product, not
+//! just a test oracle: it is the error path of every malformed file.
+//!
+//! Every fault is a [`SceneError`] naming the file (the OBJ or the MTL), the
+//! 1-based line and the statement at fault. No input makes this module panic.
+
+mod chunk;
+mod fast;
+#[cfg(test)]
+mod fast_path_equivalence;
+mod material_replay;
+mod mtl;
+mod reference;
+
+use std::path::Path;
+
+use super::mesh::Mesh;
+use super::SceneError;
+
+/// Reads an OBJ file. With `with_materials` false (the scene overrides the material) mtllib/usemtl are ignored entirely (an MTL file need not exist).
+/// A file that is not UTF-8 text, or that has no face with an area, is an
+/// error: it would draw nothing (a binary file read as OBJ is all unknown
+/// statements).
+pub fn load_obj(path: &Path, with_materials: bool) -> Result<Mesh, SceneError> {
+    load_obj_observed(path, with_materials, &mut |_| {})
+}
+
+/// [`load_obj`], calling `on_read` with the OBJ and each MTL file just before
+/// reading it.
+pub fn load_obj_observed(
+    path: &Path,
+    with_materials: bool,
+    on_read: &mut dyn FnMut(&Path),
+) -> Result<Mesh, SceneError> {
+    on_read(path);
+    let bytes = super::input_file::read_input_file(path).map_err(|e| {
+        SceneError::new(path, None, None, format!("cannot read OBJ file: {e}")).with_source(e)
+    })?;
+    let mut faces = 0usize;
+    let mesh = parse_obj_bytes(&bytes, path, with_materials, on_read, &mut faces)?;
+    crate::huge_pages::free_in_background(bytes);
+    if mesh.triangles.is_empty() {
+        let message = if faces == 0 {
+            "no faces: the file has no `f` statement, so the mesh would draw nothing".to_string()
+        } else {
+            format!("all {faces} faces have zero area, so the mesh would draw nothing")
+        };
+        return Err(SceneError::new(path, None, None, message));
+    }
+    Ok(mesh)
+}
+
+/// Parses OBJ text already read (for tests and fuzzing); `path` is only used for error messages and to resolve mtllib paths relative to its folder.
+/// Unlike [`load_obj`], a text without faces is an empty mesh.
+pub fn parse_obj(text: &str, path: &Path, with_materials: bool) -> Result<Mesh, SceneError> {
+    parse_obj_counting(text, path, with_materials, &mut |_| {}, &mut 0)
+}
+
+/// The parser of a text; `faces` counts the `f` statements.
+pub(super) fn parse_obj_counting(
+    text: &str,
+    path: &Path,
+    with_materials: bool,
+    on_read: &mut dyn FnMut(&Path),
+    faces: &mut usize,
+) -> Result<Mesh, SceneError> {
+    parse_obj_bytes(text.as_bytes(), path, with_materials, on_read, faces)
+}
+
+/// The parser of a file's bytes; `faces` counts the `f` statements. The
+/// fast path ([`fast`]: one chunk per core, each chunk's UTF-8 checked
+/// on its thread) parses the file; it leaves every error, invalid UTF-8
+/// included, and the forms it does not handle, to the reference parser
+/// below, so messages come from one place.
+fn parse_obj_bytes(
+    bytes: &[u8],
+    path: &Path,
+    with_materials: bool,
+    on_read: &mut dyn FnMut(&Path),
+    faces: &mut usize,
+) -> Result<Mesh, SceneError> {
+    let body = bytes.strip_prefix("\u{feff}".as_bytes()).unwrap_or(bytes);
+    let materials = with_materials.then_some(fast::MaterialFiles {
+        path,
+        on_read: &mut *on_read,
+    });
+    let mtl_reads = match fast::parse(body, fast::threads_for(body.len()), materials) {
+        fast::Outcome::Mesh(mesh, statements) => {
+            *faces = statements;
+            return Ok(mesh);
+        }
+        fast::Outcome::Declined { mtl_reads } => mtl_reads,
+    };
+    // The reference parser reads the same MTL files first: the observer
+    // has been told of them already.
+    let mut told = 0usize;
+    let mut on_read_rest = |p: &Path| {
+        if told < mtl_reads {
+            told += 1;
+        } else {
+            on_read(p);
+        }
+    };
+    let text = utf8_text(bytes, path, "OBJ")?;
+    reference::parse_reference(text, path, with_materials, &mut on_read_rest, faces)
+}
+
+/// The file's `bytes` as UTF-8 text. Not UTF-8 is an error naming the line
+/// of the first bad byte: it is how a binary file (a `.glb` misnamed
+/// `.obj`, an image) shows, and reading it as text would silently give an
+/// empty mesh.
+fn utf8_text<'b>(bytes: &'b [u8], path: &Path, what: &str) -> Result<&'b str, SceneError> {
+    std::str::from_utf8(bytes).map_err(|e| {
+        let valid = &bytes[..e.valid_up_to()];
+        let line = valid.iter().filter(|&&b| b == b'\n').count() + 1;
+        let offset = valid.len();
+        SceneError::new(
+            path,
+            Some(line),
+            None,
+            format!("not a text {what} file: invalid UTF-8 at byte {offset} (a binary file? kdray reads binary glTF as .glb)"),
+        )
+        .with_source(e)
+    })
+}

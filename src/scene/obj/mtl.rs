@@ -1,0 +1,107 @@
+//! MTL material libraries: `newmtl` and the Phong colours kdray uses
+//! (`Ka`, `Kd`, `Ks`, `Ns`); every other statement is ignored.
+
+use std::collections::HashMap;
+use std::path::Path;
+
+use glam::DVec3;
+
+use super::reference::{parse_number, rest_of_line, strip_comment};
+use crate::scene::mesh::MeshMaterial;
+use crate::scene::SceneError;
+
+/// Parses an MTL file into `library`. A material already in `library`
+/// (defined by an earlier MTL file, or earlier in this one) keeps its first
+/// definition.
+pub(super) fn parse_mtl(
+    text: &str,
+    path: &Path,
+    library: &mut HashMap<String, MeshMaterial>,
+) -> Result<(), SceneError> {
+    // The material being defined; added to the library when the next one
+    // starts or the file ends.
+    let mut current: Option<MeshMaterial> = None;
+    fn finish(material: Option<MeshMaterial>, library: &mut HashMap<String, MeshMaterial>) {
+        if let Some(material) = material {
+            library.entry(material.name.clone()).or_insert(material);
+        }
+    }
+
+    let text = text.strip_prefix('\u{feff}').unwrap_or(text);
+    for (number, raw) in text.split('\n').enumerate() {
+        let line_no = number + 1;
+        let line = strip_comment(raw);
+        let mut tokens = line.split_ascii_whitespace();
+        let Some(keyword) = tokens.next() else {
+            continue;
+        };
+        let err = |message: String| {
+            SceneError::new(path, Some(line_no), Some(keyword.to_string()), message)
+        };
+
+        if keyword.eq_ignore_ascii_case("newmtl") {
+            let name = rest_of_line(line, keyword);
+            if name.is_empty() {
+                return Err(err("expected a material name".to_string()));
+            }
+            finish(current.take(), library);
+            current = Some(MeshMaterial {
+                name: name.to_string(),
+                ambient: DVec3::ZERO,
+                diffuse: DVec3::ZERO,
+                specular: DVec3::ZERO,
+                shininess: 0.0,
+                reflection: 0.0,
+            });
+            continue;
+        }
+
+        let is_colour = ["Ka", "Kd", "Ks"]
+            .iter()
+            .any(|k| keyword.eq_ignore_ascii_case(k));
+        let is_shininess = keyword.eq_ignore_ascii_case("Ns");
+        if !is_colour && !is_shininess {
+            continue; // d, Tr, illum, Ni, Ke, map_*, ...
+        }
+        let Some(material) = current.as_mut() else {
+            return Err(err("comes before any newmtl statement".to_string()));
+        };
+
+        let mut values = [0.0f64; 3];
+        let mut count = 0usize;
+        for token in tokens {
+            let value = parse_number(token).map_err(err)?;
+            if count < 3 {
+                values[count] = value;
+            }
+            count += 1;
+        }
+
+        if is_shininess {
+            if count != 1 {
+                return Err(err(format!("expected 1 number, found {count}")));
+            }
+            if values[0] < 0.0 {
+                return Err(err(format!("shininess must be >= 0, found {}", values[0])));
+            }
+            material.shininess = values[0];
+        } else {
+            let colour = match count {
+                1 => DVec3::splat(values[0]),
+                3 => DVec3::from_array(values),
+                _ => {
+                    return Err(err(format!(
+                        "expected 3 numbers (r g b) or 1 (grey), found {count}"
+                    )))
+                }
+            };
+            match keyword.as_bytes()[1].to_ascii_lowercase() {
+                b'a' => material.ambient = colour,
+                b'd' => material.diffuse = colour,
+                _ => material.specular = colour,
+            }
+        }
+    }
+    finish(current.take(), library);
+    Ok(())
+}

@@ -1,0 +1,288 @@
+//! The reference OBJ parser, one line at a time: the meaning of every
+//! statement and every error message. The fast path ([`fast`](super::fast))
+//! hands it every file it declines, and tests compare the two.
+
+use std::collections::HashMap;
+use std::path::{Path, PathBuf};
+
+use glam::DVec3;
+
+use super::mtl::parse_mtl;
+use crate::scene::mesh::{mesh_index, Mesh, MeshMaterial, MeshTriangle, NO_INDEX};
+use crate::scene::SceneError;
+
+/// The reference parser, one line at a time: the meaning of every statement
+/// and every error message. `faces` counts the `f` statements.
+pub(in crate::scene) fn parse_reference(
+    text: &str,
+    path: &Path,
+    with_materials: bool,
+    on_read: &mut dyn FnMut(&Path),
+    faces: &mut usize,
+) -> Result<Mesh, SceneError> {
+    let mut mesh = Mesh::default();
+    // Reused for every face so that faces allocate nothing: (v, vn) indices,
+    // the normal's NO_INDEX where the corner names none.
+    let mut face: Vec<(u32, u32)> = Vec::with_capacity(8);
+
+    // Materials state (only touched when `with_materials`).
+    let mut library: HashMap<String, MeshMaterial> = HashMap::new();
+    let mut loaded_libraries: Vec<PathBuf> = Vec::new();
+    let mut used: HashMap<String, usize> = HashMap::new();
+    // The name and line of the last usemtl, and its index into
+    // `mesh.materials` once a face has resolved it.
+    let mut current: Option<(&str, usize)> = None;
+    let mut current_index: Option<usize> = None;
+
+    let text = text.strip_prefix('\u{feff}').unwrap_or(text);
+    for (number, raw) in text.split('\n').enumerate() {
+        let line_no = number + 1;
+        let line = strip_comment(raw);
+        let mut tokens = line.split_ascii_whitespace();
+        let Some(keyword) = tokens.next() else {
+            continue;
+        };
+        let err = |message: String| {
+            SceneError::new(path, Some(line_no), Some(keyword.to_string()), message)
+        };
+
+        match keyword {
+            "v" => {
+                let mut xyz = [0.0f64; 3];
+                let mut count = 0usize;
+                for token in tokens {
+                    // x y z [w]; anything past x y z (w, or the vertex colours
+                    // some exporters write) must be numbers too but is unused.
+                    let value = parse_number(token).map_err(err)?;
+                    if count < 3 {
+                        xyz[count] = value;
+                    }
+                    count += 1;
+                }
+                if count < 3 {
+                    return Err(err(format!(
+                        "expected 3 coordinates (x y z [w]), found {count}"
+                    )));
+                }
+                mesh.positions.push(DVec3::from_array(xyz));
+            }
+            "vn" => {
+                let mut xyz = [0.0f64; 3];
+                let mut count = 0usize;
+                for token in tokens {
+                    let value = parse_number(token).map_err(err)?;
+                    if count < 3 {
+                        xyz[count] = value;
+                    }
+                    count += 1;
+                }
+                if count != 3 {
+                    return Err(err(format!("expected 3 numbers (x y z), found {count}")));
+                }
+                mesh.normals.push(DVec3::from_array(xyz));
+            }
+            "f" => {
+                *faces += 1;
+                face.clear();
+                for token in tokens {
+                    let index = resolve_index(token, mesh.positions.len()).map_err(err)?;
+                    let normal = resolve_normal(token, mesh.normals.len()).map_err(err)?;
+                    face.push((
+                        as_mesh_index(index, token, "vertex").map_err(err)?,
+                        match normal {
+                            Some(n) => as_mesh_index(n, token, "normal").map_err(err)?,
+                            None => NO_INDEX,
+                        },
+                    ));
+                }
+                if face.len() < 3 {
+                    return Err(err(format!(
+                        "a face needs at least 3 vertices, found {}",
+                        face.len()
+                    )));
+                }
+
+                let material = if with_materials {
+                    if current_index.is_none() {
+                        let Some((name, usemtl_line)) = current else {
+                            return Err(SceneError::new(
+                                path,
+                                Some(line_no),
+                                Some("usemtl".to_string()),
+                                "face has no material: no usemtl statement before it",
+                            ));
+                        };
+                        let Some(found) = library.get(name) else {
+                            let message = if loaded_libraries.is_empty() {
+                                format!("material '{name}' is not defined: no mtllib statement loaded an MTL file")
+                            } else {
+                                format!(
+                                    "material '{name}' is not defined in {}",
+                                    loaded_libraries
+                                        .iter()
+                                        .map(|p| p.display().to_string())
+                                        .collect::<Vec<_>>()
+                                        .join(", ")
+                                )
+                            };
+                            return Err(SceneError::new(
+                                path,
+                                Some(usemtl_line),
+                                Some("usemtl".to_string()),
+                                message,
+                            ));
+                        };
+                        let index = *used.entry(name.to_string()).or_insert_with(|| {
+                            mesh.materials.push(found.clone());
+                            mesh.materials.len() - 1
+                        });
+                        current_index = Some(index);
+                    }
+                    current_index
+                } else {
+                    None
+                };
+                let material = match material {
+                    Some(m) => as_mesh_index(m, "usemtl", "material").map_err(err)?,
+                    None => NO_INDEX,
+                };
+
+                let first = face[0];
+                for pair in face[1..].windows(2) {
+                    let corners = [first, pair[0], pair[1]];
+                    let [a, b, c] = corners.map(|(v, _)| mesh.positions[v as usize]);
+                    // Skip zero-area triangles: they cannot be hit and have no
+                    // normal. "Zero" is the cross product's f64 length, so a
+                    // cross product so small that its squared length underflows
+                    // counts as zero too (it could not be normalised).
+                    if (b - a).cross(c - a).length() == 0.0 {
+                        continue;
+                    }
+                    mesh.triangles.push(MeshTriangle {
+                        corners: corners.map(|(v, _)| v),
+                        normals: corners.map(|(_, n)| n),
+                        material,
+                    });
+                }
+            }
+            "mtllib" if with_materials => {
+                let mut any = false;
+                for name in tokens {
+                    any = true;
+                    let mtl_path = path.parent().unwrap_or_else(|| Path::new("")).join(name);
+                    if loaded_libraries.contains(&mtl_path) {
+                        continue;
+                    }
+                    on_read(&mtl_path);
+                    let mtl_text =
+                        crate::scene::input_file::read_input_file(&mtl_path).map_err(|e| {
+                            err(format!("cannot read MTL file {}: {e}", mtl_path.display()))
+                                .with_source(e)
+                        })?;
+                    parse_mtl(&String::from_utf8_lossy(&mtl_text), &mtl_path, &mut library)?;
+                    loaded_libraries.push(mtl_path);
+                }
+                if !any {
+                    return Err(err("expected the name of at least one MTL file".to_string()));
+                }
+                // A material that was undefined before may be defined now.
+                current_index = None;
+            }
+            "usemtl" if with_materials => {
+                let name = rest_of_line(line, keyword);
+                if name.is_empty() {
+                    return Err(err("expected a material name".to_string()));
+                }
+                current = Some((name, line_no));
+                current_index = None;
+            }
+            // vt, vp, o, g, s, l, p, mtllib/usemtl without materials, and
+            // anything unknown.
+            _ => {}
+        }
+    }
+
+    Ok(mesh)
+}
+
+/// The line without its `\r` and anything from `#` on.
+pub(super) fn strip_comment(line: &str) -> &str {
+    let line = line.strip_suffix('\r').unwrap_or(line);
+    match line.find('#') {
+        Some(at) => &line[..at],
+        None => line,
+    }
+}
+
+/// Everything after the keyword (the line's first token), trimmed: names may
+/// contain spaces.
+pub(super) fn rest_of_line<'a>(line: &'a str, keyword: &str) -> &'a str {
+    let line = line.trim_start_matches(|c: char| c.is_ascii_whitespace());
+    line.get(keyword.len()..).unwrap_or("").trim()
+}
+
+/// A finite f64.
+pub(super) fn parse_number(token: &str) -> Result<f64, String> {
+    match token.parse::<f64>() {
+        Ok(value) if value.is_finite() => Ok(value),
+        Ok(_) => Err(format!("'{token}' is not a finite number")),
+        Err(_) => Err(format!("'{token}' is not a number")),
+    }
+}
+
+/// The 0-based vertex index of a face token `v`, `v/vt`, `v//vn` or
+/// `v/vt/vn`, given the number of vertices defined so far.
+fn resolve_index(token: &str, defined: usize) -> Result<usize, String> {
+    let v = token.split('/').next().unwrap_or("");
+    resolve(v, token, "vertex", defined)
+}
+
+/// The 0-based normal index of a face token (`v//vn` or `v/vt/vn`), None
+/// for `v` and `v/vt`, given the number of normals defined so far.
+fn resolve_normal(token: &str, defined: usize) -> Result<Option<usize>, String> {
+    match token.split('/').nth(2) {
+        None | Some("") => Ok(None),
+        Some(vn) => resolve(vn, token, "normal", defined).map(Some),
+    }
+}
+
+/// A resolved 0-based index as a mesh's u32 index; an error past what a
+/// mesh can index (over four billion vertices, normals or materials: never
+/// in a file that fits in memory, but never a panic either).
+fn as_mesh_index(index: usize, token: &str, what: &str) -> Result<u32, String> {
+    mesh_index(index).ok_or_else(|| {
+        format!(
+            "{what} index {} in '{token}' is beyond the {NO_INDEX} a mesh can index",
+            index + 1
+        )
+    })
+}
+
+/// An OBJ index (1-based, or negative: -1 is the last defined so far).
+fn resolve(text: &str, token: &str, what: &str, defined: usize) -> Result<usize, String> {
+    let Ok(index) = text.parse::<i64>() else {
+        return Err(format!("'{token}' is not a {what} index"));
+    };
+    let resolved = if index > 0 {
+        usize::try_from(index - 1).ok().filter(|&i| i < defined)
+    } else if index < 0 {
+        // -1 is the last vertex defined so far.
+        usize::try_from(index.unsigned_abs())
+            .ok()
+            .and_then(|back| defined.checked_sub(back))
+    } else {
+        return Err(format!(
+            "{what} index 0 in '{token}': OBJ indices start at 1"
+        ));
+    };
+    resolved.ok_or_else(|| {
+        let plural = if what == "vertex" {
+            "vertices"
+        } else {
+            "normals"
+        };
+        format!(
+            "{what} index {index} in '{token}' is out of range: {defined} {plural} defined so far"
+        )
+    })
+}

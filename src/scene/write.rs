@@ -1,0 +1,109 @@
+//! A [`Scene`] back to scene file text (TOML or JSON), through the same
+//! serde schema the reader uses: the tests and benchmarks write generated
+//! scenes with it.
+
+use std::collections::BTreeMap;
+
+use glam::DVec3;
+
+use super::load::SceneFormat;
+use super::schema::{
+    Exact, RawCamera, RawLight, RawMaterial, RawRender, RawScene, RawShadowMode, RawSphere,
+    RawTriangle, TableOf,
+};
+use super::{Scene, ShadowMode};
+
+/// `scene` as the text of a scene file that [`parse_scene`](super::parse_scene) reads back as an
+/// equal `Scene`, provided its material names are distinct and sort in index
+/// order (materials are a table keyed by name, read back in name order), and
+/// its triangles are flat: `[[triangles]]` entries carry no normals, and the
+/// mesh files a scene was loaded from are not named (their triangles are
+/// written out). Written through the same serde types the reader uses.
+pub fn scene_text(scene: &Scene, format: SceneFormat) -> Result<String, String> {
+    let v = |d: DVec3| Exact(d.to_array());
+    let mut materials = BTreeMap::new();
+    for m in &scene.materials {
+        let raw = RawMaterial {
+            ambient: v(m.ambient),
+            diffuse: v(m.diffuse),
+            specular: v(m.specular),
+            shininess: m.shininess,
+            reflection: m.reflection,
+        };
+        if materials.insert(m.name.clone(), TableOf(raw)).is_some() {
+            return Err(format!("two materials are named \"{}\"", m.name));
+        }
+    }
+    let name = |i: u32| {
+        scene
+            .materials
+            .get(i as usize)
+            .map(|m| m.name.clone())
+            .ok_or_else(|| format!("material index {i} is out of range"))
+    };
+    let r = &scene.render;
+    let raw = RawScene {
+        camera: TableOf(RawCamera {
+            position: v(scene.camera.position),
+            look_at: v(scene.camera.look_at),
+            up: Some(v(scene.camera.up)),
+            vfov: scene.camera.vfov_degrees,
+        }),
+        render: TableOf(RawRender {
+            width: Some(r.width),
+            height: Some(r.height),
+            min_intensity: Some(r.min_intensity),
+            max_depth: Some(r.max_depth),
+            background: Some(v(r.background)),
+            shadow_mode: Some(match r.shadow_mode {
+                ShadowMode::Ambient => RawShadowMode::Ambient,
+                ShadowMode::Seed => RawShadowMode::Seed,
+            }),
+            samples: Some(r.samples),
+        }),
+        lights: scene
+            .lights
+            .iter()
+            .map(|l| {
+                TableOf(RawLight {
+                    position: v(l.position),
+                    ambient: v(l.ambient),
+                    diffuse: v(l.diffuse),
+                    specular: v(l.specular),
+                })
+            })
+            .collect(),
+        materials,
+        spheres: scene
+            .spheres
+            .iter()
+            .map(|s| {
+                Ok(TableOf(RawSphere {
+                    center: v(s.center),
+                    radius: s.radius,
+                    material: name(s.material)?,
+                }))
+            })
+            .collect::<Result<_, String>>()?,
+        triangles: scene
+            .triangles
+            .iter()
+            .map(|t| {
+                Ok(TableOf(RawTriangle {
+                    vertices: Exact(t.vertices.map(v)),
+                    material: name(t.material)?,
+                }))
+            })
+            .collect::<Result<_, String>>()?,
+        meshes: Vec::new(),
+    };
+    match format {
+        SceneFormat::Toml => toml::to_string(&raw).map_err(|e| e.to_string()),
+        SceneFormat::Json => serde_json::to_string(&raw)
+            .map(|mut text| {
+                text.push('\n');
+                text
+            })
+            .map_err(|e| e.to_string()),
+    }
+}
