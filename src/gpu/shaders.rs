@@ -108,8 +108,8 @@ pub(crate) use tests::parse_and_validate;
 mod tests {
     use super::*;
     use bindings::{
-        Access, Binding, SharedValue, ENTRY_POINTS, MAX_CHUNKS, PRESENT_BINDINGS,
-        SHARED_CONSTANTS, SPLIT_ARRAY_COUNT, UNSPLIT,
+        Access, Binding, SharedValue, ENTRY_POINTS, MAX_CHUNKS, PRESENT_BINDINGS, SHARED_CONSTANTS,
+        SPLIT_ARRAY_COUNT, UNSPLIT,
     };
     use naga::valid::{Capabilities, ValidationFlags, Validator};
 
@@ -133,7 +133,11 @@ mod tests {
                 .iter()
                 .find(|e| e.name == contract.name)
                 .unwrap_or_else(|| panic!("the kernel lacks {}", contract.name));
-            assert_eq!(entry.workgroup_size, contract.workgroup, "{}", contract.name);
+            assert_eq!(
+                entry.workgroup_size, contract.workgroup,
+                "{}",
+                contract.name
+            );
         }
         assert_eq!(module.entry_points.len(), ENTRY_POINTS.len());
     }

@@ -57,22 +57,23 @@ impl TracePipelines {
         scene: &SceneBuffers,
         outputs: &[&wgpu::Buffer],
     ) -> wgpu::BindGroup {
-        assert_eq!(outputs.len(), self.entry.outputs.len(), "{}", self.entry.name);
+        assert_eq!(
+            outputs.len(),
+            self.entry.outputs.len(),
+            "{}",
+            self.entry.name
+        );
         let mut entries = vec![wgpu::BindGroupEntry {
             binding: bindings::PARAMS.index,
             resource: params.as_entire_binding(),
         }];
         entries.extend(scene.bind_entries());
-        entries.extend(
-            self.entry
-                .outputs
-                .iter()
-                .zip(outputs)
-                .map(|(b, buffer)| wgpu::BindGroupEntry {
-                    binding: b.index,
-                    resource: buffer.as_entire_binding(),
-                }),
-        );
+        entries.extend(self.entry.outputs.iter().zip(outputs).map(|(b, buffer)| {
+            wgpu::BindGroupEntry {
+                binding: b.index,
+                resource: buffer.as_entire_binding(),
+            }
+        }));
         device.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some(self.entry.name),
             layout: &self.layout,

@@ -14,10 +14,10 @@ use winit::event::{ElementState, KeyEvent, WindowEvent};
 use winit::event_loop::{ActiveEventLoop, ControlFlow, EventLoop, OwnedDisplayHandle};
 use winit::window::{Window, WindowId};
 
+use super::camera_controller::Bounds;
 use super::camera_controller::{CameraController, Input};
 use super::frame_stats::{FrameStats, ReportContext};
 use super::input::{controller_input, key_action, Action, HELP};
-use super::camera_controller::Bounds;
 use super::refinement::{FrameKind, FramePlan, Pass, Refinement};
 use super::reload::{self, LatestJob, SceneWatcher, WatchList};
 use super::surface::{Acquired, WindowSurface};

@@ -93,13 +93,14 @@ impl Viewer {
     ) -> Result<Self> {
         let accumulation = Accumulation::new(ctx, scene, pixels)?;
         ctx.checked("creating the window's present pass", |device| {
-            let present_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-                label: Some("present"),
-                entries: &bindings::layout_entries(
-                    &bindings::PRESENT_BINDINGS,
-                    wgpu::ShaderStages::FRAGMENT,
-                ),
-            });
+            let present_layout =
+                device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+                    label: Some("present"),
+                    entries: &bindings::layout_entries(
+                        &bindings::PRESENT_BINDINGS,
+                        wgpu::ShaderStages::FRAGMENT,
+                    ),
+                });
             let present_pipeline_layout =
                 device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
                     label: Some("present"),
@@ -113,8 +114,7 @@ impl Viewer {
                 usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
                 mapped_at_creation: false,
             });
-            let groups =
-                present_groups(device, &present_layout, &present_params, &accumulation);
+            let groups = present_groups(device, &present_layout, &present_params, &accumulation);
             Viewer {
                 present: present_pipeline(
                     device,
