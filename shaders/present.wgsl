@@ -1,6 +1,7 @@
 // The interactive window's present pass: a fullscreen triangle whose
 // fragments show the accumulation buffer that trace.wgsl's accumulate_tile
-// fills. Compiled on its own (gpu::STANDALONE_SHADERS).
+// fills. Compiled on its own, after the bindings gpu/bindings.rs generates
+// (PRESENT_BINDINGS: `present`, `accumulation`, `preview`).
 //
 // Each pixel is quantised exactly as render_tile quantises the headless
 // image, floor(255 * clamp(sum / count, 0, 1) + 0.5), and written as that
@@ -20,11 +21,6 @@ struct PresentParams {
     show_image: u32,
     _pad: u32,
 }
-
-@group(0) @binding(0) var<uniform> present: PresentParams;
-// Per pixel: the sum of its clamped samples (rgb) and their number (w).
-@group(0) @binding(1) var<storage, read> accumulation: array<vec4<f32>>;
-@group(0) @binding(2) var<storage, read> preview: array<vec4<f32>>;
 
 // One triangle covering the target: (-1, -1), (3, -1), (-1, 3).
 @vertex

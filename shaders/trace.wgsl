@@ -64,11 +64,11 @@ fn trace_sample(pixel: vec2<u32>, sx: u32, sy: u32, k: u32) -> vec3<f32> {
     return clamp(trace_path(camera_ray(u, v)), vec3<f32>(0.0), vec3<f32>(1.0));
 }
 
-// Adds this invocation's walk cost to pixel `i` of `pixel_costs` (three
-// words each), if the pipeline counts and the buffer has room: a one-word
+// Adds this invocation's walk cost to pixel `i` of `pixel_costs`
+// (COST_WORDS = 3 words each), if the pipeline counts and the buffer has room: a one-word
 // buffer means "not asked for".
 fn add_pixel_cost(i: u32) {
-    let at = 3u * i;
+    let at = COST_WORDS * i;
     if (COUNT_COSTS && at + 2u < arrayLength(&pixel_costs)) {
         pixel_costs[at] += walk_cost.x;
         pixel_costs[at + 1u] += walk_cost.y;
@@ -85,7 +85,7 @@ fn add_ray_counts() {
     }
 }
 
-@compute @workgroup_size(8, 8, 1)
+@compute @workgroup_size(TRACE_WORKGROUP_X, TRACE_WORKGROUP_Y, 1)
 fn render_tile(@builtin(global_invocation_id) gid: vec3<u32>) {
     read_params();
     if (gid.x >= params.tile_size.x || gid.y >= params.tile_size.y) {
@@ -107,7 +107,7 @@ fn render_tile(@builtin(global_invocation_id) gid: vec3<u32>) {
     add_pixel_cost(i); // the host clears the buffer per tile
 }
 
-@compute @workgroup_size(8, 8, 1)
+@compute @workgroup_size(TRACE_WORKGROUP_X, TRACE_WORKGROUP_Y, 1)
 fn accumulate_tile(@builtin(global_invocation_id) gid: vec3<u32>) {
     read_params();
     if (gid.x >= params.tile_size.x || gid.y >= params.tile_size.y) {

@@ -39,7 +39,7 @@ impl KdNode {
 /// an inner node's plane (its f32 bits) or a leaf's first entry in the
 /// leaf-object list. A descent step loads two words instead of four:
 /// measured on lavapipe, 11% off the bunny's frame and 12% off the gears'
-/// (docs/benchmarks.md, 2026-11-24 01:10 UTC). Unpacked by `unpack_kd_node` in
+/// (docs/benchmarks.md). Unpacked by `unpack_kd_node` in
 /// shaders/chunks.wgsl, which [`GpuKdNode::unpack`] mirrors.
 #[repr(C)]
 #[derive(Debug, Clone, Copy, PartialEq, Pod, Zeroable)]
@@ -621,7 +621,7 @@ mod tests {
         layout_of!(&module, "QueryHit", GpuQueryHit, [t, object]);
 
         let (present, _) =
-            crate::gpu::shaders::parse_and_validate(crate::gpu::shaders::PRESENT_SOURCE);
+            crate::gpu::shaders::parse_and_validate(&crate::gpu::shaders::present_source());
         layout_of!(
             &present,
             "PresentParams",

@@ -1,5 +1,6 @@
-//! One frame end to end: scene -> primitives and k-d tree -> GPU buffers ->
-//! tiled dispatch -> 8-bit image, with the figures `--stats` reports.
+//! One frame end to end: scene -> primitives and k-d tree
+//! ([`PreparedScene`]) -> GPU buffers ([`GpuScene`]) -> tiled dispatch ->
+//! 8-bit image, with the figures `--stats` reports.
 
 use std::time::Instant;
 
@@ -7,8 +8,8 @@ use serde::Serialize;
 
 use crate::error::Result;
 use crate::gpu::{
-    Accel, CostTotals, GpuContext, GpuTimeSource, PreparedScene, RenderedImage, Renderer, RowBand,
-    TilePlan,
+    Accel, CostTotals, GpuContext, GpuScene, GpuTimeSource, PreparedScene, RenderSummary,
+    RenderedImage, Renderer, RowBand, SceneBuffers, TilePlan,
 };
 use crate::kdtree::Traversal;
 use crate::scene::Scene;
@@ -130,11 +131,10 @@ pub fn render_scene(
 ) -> Result<(RenderedImage, RenderStats)> {
     let r = &scene.render;
     let mut rgb = Vec::with_capacity(r.width as usize * r.height as usize * 3);
-    let prepared = PreparedScene::new(scene.clone(), accel);
-    let (stats, summary) = render_scene_streaming(
+    let uploaded = GpuScene::upload(ctx, PreparedScene::new(scene.clone(), accel))?;
+    let (stats, summary) = render_streaming(
         ctx,
-        &prepared,
-        accel,
+        &uploaded,
         Traversal::default(),
         max_tile_pixels,
         true,
@@ -154,11 +154,33 @@ pub fn render_scene(
     Ok((image, stats))
 }
 
-/// Renders a prepared scene on `ctx` with `accel` (which the scene must
-/// have been prepared for) and, for the k-d tree, the walk `traversal`,
-/// handing bands of rows to `sink` top to bottom as they are read back (for
-/// images too big to hold, and progress bars). With `with_cost`, the bands
-/// carry each pixel's walk cost and the stats their totals.
+/// Renders `scene` on `ctx` with the search it was prepared for and, for
+/// the k-d tree, the walk `traversal`, handing bands of rows to `sink` top
+/// to bottom as they are read back (for images too big to hold, and
+/// progress bars). With `with_cost`, the bands carry each pixel's walk cost
+/// and the stats their totals.
+pub fn render_streaming(
+    ctx: &GpuContext,
+    scene: &GpuScene,
+    traversal: Traversal,
+    max_tile_pixels: u64,
+    with_cost: bool,
+    sink: &mut dyn FnMut(RowBand<'_>) -> Result<()>,
+) -> Result<(RenderStats, RenderSummary)> {
+    let uploaded = Uploaded {
+        prepared: scene.prepared(),
+        buffers: scene.buffers(),
+        accel: scene.accel(),
+        upload_ms: scene.upload_ms(),
+    };
+    render_uploaded(ctx, uploaded, traversal, max_tile_pixels, with_cost, sink)
+}
+
+/// [`render_streaming`] for a scene not yet uploaded, searching with
+/// `accel` (which the scene must have been prepared for): it is uploaded
+/// first, and the upload counted in the stats. For callers that hold a
+/// [`PreparedScene`]; [`GpuScene::upload`] and [`render_streaming`] do the
+/// same in two steps.
 pub fn render_scene_streaming(
     ctx: &GpuContext,
     prepared: &PreparedScene,
@@ -167,17 +189,50 @@ pub fn render_scene_streaming(
     max_tile_pixels: u64,
     with_cost: bool,
     sink: &mut dyn FnMut(RowBand<'_>) -> Result<()>,
-) -> Result<(RenderStats, crate::gpu::RenderSummary)> {
-    let total = Instant::now();
-    let scene = &prepared.scene;
-
+) -> Result<(RenderStats, RenderSummary)> {
     let upload = Instant::now();
     let buffers = prepared.upload(ctx)?;
+    let uploaded = Uploaded {
+        prepared,
+        buffers: &buffers,
+        accel,
+        upload_ms: ms_since(upload),
+    };
+    render_uploaded(ctx, uploaded, traversal, max_tile_pixels, with_cost, sink)
+}
+
+/// A prepared scene with its buffers, and what its upload took.
+struct Uploaded<'a> {
+    prepared: &'a PreparedScene,
+    buffers: &'a SceneBuffers,
+    accel: Accel,
+    upload_ms: f64,
+}
+
+fn render_uploaded(
+    ctx: &GpuContext,
+    uploaded: Uploaded<'_>,
+    traversal: Traversal,
+    max_tile_pixels: u64,
+    with_cost: bool,
+    sink: &mut dyn FnMut(RowBand<'_>) -> Result<()>,
+) -> Result<(RenderStats, RenderSummary)> {
+    let total = Instant::now();
+    let Uploaded {
+        prepared,
+        buffers,
+        accel,
+        upload_ms,
+    } = uploaded;
+    let scene = &prepared.scene;
+
     let renderer = Renderer::new(ctx)?;
-    let upload_ms = prepared.flatten_ms + ms_since(upload);
+    // Flattening and the pipelines' creation count as upload.
+    let transfer_ms = upload_ms;
+    let upload_ms = prepared.flatten_ms + transfer_ms + ms_since(total);
 
     let params = prepared
-        .frame_params(&buffers, accel)
+        .frame_params(buffers, accel)
         .with_traversal(traversal);
     let max_binding = crate::gpu::max_binding_bytes(&ctx.device.limits());
     let plan = TilePlan::new(
@@ -186,8 +241,7 @@ pub fn render_scene_streaming(
         max_tile_pixels,
         max_binding,
     );
-    let summary = renderer.render_bands_with_cost(ctx, &buffers, params, plan, with_cost, sink)?;
-
+    let summary = renderer.render_bands_with_cost(ctx, buffers, params, plan, with_cost, sink)?;
     let tree_stats = prepared.tree.stats();
     let primary_rays =
         scene.render.width as u64 * scene.render.height as u64 * scene.render.samples as u64;
@@ -210,8 +264,8 @@ pub fn render_scene_streaming(
         upload_ms,
         gpu_ms: summary.gpu_ms,
         gpu_time_source: summary.gpu_time_source,
-        // From the start of the build, as before the scene was prepared apart.
-        total_ms: prepared.build_ms + prepared.flatten_ms + ms_since(total),
+        // From the start of the build.
+        total_ms: prepared.build_ms + prepared.flatten_ms + transfer_ms + ms_since(total),
         primary_rays,
         shadow_rays: summary.rays.shadow,
         reflection_rays: summary.rays.reflection,

@@ -5,7 +5,9 @@
 mod common;
 
 use common::*;
-use kdray::gpu::{Accel, KernelVariant, PreparedScene, RenderedImage, Renderer, TilePlan};
+use kdray::gpu::{
+    Accel, GpuScene, KernelVariant, PreparedScene, RenderedImage, Renderer, TilePlan,
+};
 use kdray::kdtree::Traversal;
 use kdray::scene::Scene;
 
@@ -14,11 +16,9 @@ use kdray::scene::Scene;
 fn render_walk(scene: &Scene, traversal: Traversal, max_tile_pixels: u64) -> RenderedImage {
     let ctx = gpu();
     let prepared = PreparedScene::new(scene.clone(), Accel::Kdtree);
-    let buffers = prepared.upload(ctx).unwrap_or_else(|e| panic!("{e}"));
+    let uploaded = GpuScene::upload(ctx, prepared).unwrap_or_else(|e| panic!("{e}"));
     let renderer = Renderer::new(ctx).unwrap_or_else(|e| panic!("{e}"));
-    let params = prepared
-        .frame_params(&buffers, Accel::Kdtree)
-        .with_traversal(traversal);
+    let params = uploaded.frame_params().with_traversal(traversal);
     let (w, h) = (scene.render.width, scene.render.height);
     let plan = TilePlan::new(
         w,
@@ -27,7 +27,7 @@ fn render_walk(scene: &Scene, traversal: Traversal, max_tile_pixels: u64) -> Ren
         kdray::gpu::max_binding_bytes(&ctx.device.limits()),
     );
     renderer
-        .render(ctx, &buffers, params, plan)
+        .render(ctx, uploaded.buffers(), params, plan)
         .unwrap_or_else(|e| panic!("{e}"))
 }
 
@@ -346,17 +346,18 @@ fn specialised_pipelines_render_what_the_general_kernel_renders() {
         }
         for (accel, traversal) in frames {
             let prepared = PreparedScene::new(scene.clone(), accel);
-            let buffers = prepared.upload(ctx).unwrap_or_else(|e| panic!("{e}"));
-            let mut params = prepared.frame_params(&buffers, accel);
+            let uploaded = GpuScene::upload(ctx, prepared).unwrap_or_else(|e| panic!("{e}"));
+            let buffers = uploaded.buffers();
+            let mut params = uploaded.frame_params();
             if let Some(t) = traversal {
                 params = params.with_traversal(t);
             }
-            let variant = specialised.variant_for(&buffers, &params, false);
+            let variant = specialised.variant_for(buffers, &params, false);
             assert_ne!(variant, KernelVariant::GENERAL);
             assert!(!variant.count_costs);
-            assert!(specialised.variant_for(&buffers, &params, true).count_costs);
+            assert!(specialised.variant_for(buffers, &params, true).count_costs);
             assert_eq!(
-                general.variant_for(&buffers, &params, false),
+                general.variant_for(buffers, &params, false),
                 KernelVariant::GENERAL
             );
             kinds_seen.insert((variant.spheres, variant.triangles, variant.smooth_triangles));
@@ -367,10 +368,10 @@ fn specialised_pipelines_render_what_the_general_kernel_renders() {
                 kdray::gpu::max_binding_bytes(&ctx.device.limits()),
             );
             let a = specialised
-                .render(ctx, &buffers, params, plan)
+                .render(ctx, buffers, params, plan)
                 .unwrap_or_else(|e| panic!("{e}"));
             let b = general
-                .render(ctx, &buffers, params, plan)
+                .render(ctx, buffers, params, plan)
                 .unwrap_or_else(|e| panic!("{e}"));
             let what = format!("{} ({accel:?}, {traversal:?}, {variant:?})", path.display());
             let d = compare(&a.rgb, &b.rgb, a.width, a.height, 0);
@@ -379,7 +380,7 @@ fn specialised_pipelines_render_what_the_general_kernel_renders() {
             let counted = |renderer: &Renderer| {
                 let mut costs = Vec::new();
                 let summary = renderer
-                    .render_bands_with_cost(ctx, &buffers, params, plan, true, &mut |band| {
+                    .render_bands_with_cost(ctx, buffers, params, plan, true, &mut |band| {
                         costs.extend_from_slice(band.costs.expect("costs asked for"));
                         Ok(())
                     })

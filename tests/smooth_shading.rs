@@ -1,4 +1,4 @@
-//! Smooth shading (issue 10 §1): triangles with vertex normals are shaded
+//! Smooth shading: triangles with vertex normals are shaded
 //! with the normal interpolated at the hit, on the GPU as in the CPU
 //! reference, and a finely tessellated sphere with exact vertex normals
 //! renders like the exact sphere. The shadow terminator of coarse meshes is

@@ -1,4 +1,4 @@
-//! Meshes past one storage binding (issue 10 §3): the triangles, the k-d
+//! Meshes past one storage binding: the triangles, the k-d
 //! nodes, the leaf object lists, the leaf ropes, the rope index and the
 //! vertex normals may each spread over several bindings
 //! (shaders/chunks.wgsl). Small chunk sizes force the split path on small

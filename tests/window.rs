@@ -41,10 +41,10 @@ struct Xvfb {
 
 /// How long one Xvfb may take to make its socket before it is stopped
 /// and another display tried. It takes well under a second alone; 20 s
-/// was once too short with the suite's other tests on both cores
-/// (2026-11-24), and once, on a machine whose Xvfb had never run, one of
-/// two servers started together made no socket in 90 s while the other
-/// was up at once (2026-11-25): a hung server is replaced, not waited on.
+/// was once too short with the suite's other tests on both cores, and
+/// once, on a machine whose Xvfb had never run, one of two servers started
+/// together made no socket in 90 s while the other was up at once: a hung
+/// server is replaced, not waited on.
 const XVFB_START: Duration = Duration::from_secs(30);
 /// Servers that may hang before the test gives up.
 const XVFB_HUNG_TRIES: usize = 3;
@@ -521,6 +521,41 @@ fn window_flags_are_checked() {
         stderr.starts_with("kdray: ") && stderr.contains("broken.toml"),
         "{stderr}"
     );
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+/// Without `XDG_RUNTIME_DIR` (or with a relative one, which libwayland
+/// calls invalid), Mesa's Vulkan device-selection layer makes libwayland
+/// print `error: XDG_RUNTIME_DIR is invalid or not set in the environment.`
+/// when the window's instance lists devices; the window gives Mesa a
+/// private runtime folder first, as the headless path does.
+#[test]
+fn the_window_prints_no_xdg_runtime_dir_error_without_the_variable() {
+    let x = Xvfb::start();
+    let dir = temp_dir("xdg");
+    let scene = repo_path("scenes/seed.toml");
+    for value in [None, Some("relative/runtime")] {
+        let shot = dir.join("shot.png");
+        let mut command = kdray(&dir);
+        command
+            .env("DISPLAY", &x.display)
+            .env_remove("WAYLAND_DISPLAY")
+            .env_remove("XDG_RUNTIME_DIR")
+            // The private folder goes here, not in the shared /tmp.
+            .env("TMPDIR", &dir)
+            .args(window_args(&scene, &shot))
+            .args(["--frames", "1"]);
+        if let Some(value) = value {
+            command.env("XDG_RUNTIME_DIR", value);
+        }
+        let (status, _, stderr) = run(command);
+        assert!(status.success(), "XDG_RUNTIME_DIR={value:?}: {stderr}");
+        assert!(
+            !stderr.contains("XDG_RUNTIME_DIR"),
+            "XDG_RUNTIME_DIR={value:?}: the window printed\n{stderr}"
+        );
+        assert!(shot.exists(), "XDG_RUNTIME_DIR={value:?}: no screenshot");
+    }
     std::fs::remove_dir_all(&dir).unwrap();
 }
 

@@ -1,14 +1,16 @@
 //! The host-shader contract in one place: every binding of the trace kernel
-//! (number, WGSL name, type, access) and every constant both sides use.
+//! and of the window's present pass (number, WGSL name, type, access), each
+//! entry point's name, outputs and workgroup size, and every constant both
+//! sides use.
 //!
-//! The WGSL side is generated from here ([`wgsl_contract`]) and prepended to
-//! the kernel (`gpu::shaders::trace_source`), so a binding number or a
-//! constant is written once. The bind group layouts of the headless renderer
-//! and of the window are built from the same table ([`layout_entries`]).
-//! Tests check the generated declarations against naga's reading of the
-//! kernel: binding numbers and access by name, constants by value.
+//! The WGSL side is generated from here ([`wgsl_contract`],
+//! [`wgsl_present_contract`]) and prepended to the shaders by
+//! `gpu::shaders`, so a binding number, a size or a constant is written
+//! once. Every bind group layout is built from the same table
+//! ([`layout_entries`]). This module depends on no other part of `gpu`; the
+//! tests in gpu/shaders.rs hold the assembled shaders to it through naga:
+//! binding numbers and access by name, constants by value, workgroup sizes.
 
-use super::kernel_variant::KernelVariant;
 use crate::geometry::{HIT_BOX_MARGIN, IN_PLANE_MARGIN, PARALLEL_EPSILON, T_INFINITY};
 use crate::layout::{
     GpuTriangle, KdNode, LeafRopes, ACCEL_BRUTE, ACCEL_KDTREE, SHADOW_AMBIENT, SHADOW_SEED,
@@ -262,6 +264,59 @@ pub const ACCUMULATE_OUTPUTS: [Binding; 2] = [ACCUMULATION, PIXEL_COSTS];
 /// `trace_rays`'s own buffers.
 pub const QUERY_OUTPUTS: [Binding; 3] = [QUERY_RAYS, QUERY_HITS, QUERY_COSTS];
 
+/// Workgroup size of `render_tile` and `accumulate_tile` (pixels in x, y).
+pub const TRACE_WORKGROUP: (u32, u32) = (8, 8);
+/// Workgroup size of `trace_rays` (rays per workgroup).
+pub const QUERY_WORKGROUP: u32 = 64;
+
+/// One compute entry point of the trace kernel: its bindings are the frame
+/// parameters, the scene, then `outputs`, in one bind group.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct EntryPoint {
+    pub name: &'static str,
+    /// Its own buffers (outputs, and for queries the rays), in the order
+    /// `gpu::TracePipelines::bind_group` takes them.
+    pub outputs: &'static [Binding],
+    /// `@workgroup_size` (x, y, z), generated into the kernel.
+    pub workgroup: [u32; 3],
+}
+
+/// Renders a tile to 8-bit colour (all samples of each pixel).
+pub const RENDER_TILE: EntryPoint = EntryPoint {
+    name: "render_tile",
+    outputs: &RENDER_OUTPUTS,
+    workgroup: [TRACE_WORKGROUP.0, TRACE_WORKGROUP.1, 1],
+};
+/// Adds one stratified sample per pixel to the accumulation buffer, for the
+/// window's progressive refinement.
+pub const ACCUMULATE_TILE: EntryPoint = EntryPoint {
+    name: "accumulate_tile",
+    outputs: &ACCUMULATE_OUTPUTS,
+    workgroup: [TRACE_WORKGROUP.0, TRACE_WORKGROUP.1, 1],
+};
+/// Traces given rays and writes their hits (tests, debugging).
+pub const TRACE_RAYS: EntryPoint = EntryPoint {
+    name: "trace_rays",
+    outputs: &QUERY_OUTPUTS,
+    workgroup: [QUERY_WORKGROUP, 1, 1],
+};
+/// Every entry point of the trace kernel.
+pub const ENTRY_POINTS: [EntryPoint; 3] = [RENDER_TILE, ACCUMULATE_TILE, TRACE_RAYS];
+
+/// The window's present pass (shaders/present.wgsl, a module of its own):
+/// what it shows ([`crate::layout::PresentParams`]), and the two
+/// accumulation buffers `accumulate_tile` fills, read by its fragment stage.
+pub const PRESENT_PARAMS: Binding = binding(0, "present", "PresentParams", Uniform);
+/// Per pixel: the sum of its clamped samples (rgb) and their number (w).
+pub const PRESENT_IMAGE: Binding = binding(1, "accumulation", "array<vec4<f32>>", StorageRead);
+/// The preview, traced at a reduced resolution while the camera moves.
+pub const PRESENT_PREVIEW: Binding = binding(2, "preview", "array<vec4<f32>>", StorageRead);
+/// The present pass's bindings.
+pub const PRESENT_BINDINGS: [Binding; 3] = [PRESENT_PARAMS, PRESENT_IMAGE, PRESENT_PREVIEW];
+/// Its entry points.
+pub const PRESENT_VERTEX_ENTRY_POINT: &str = "vs_main";
+pub const PRESENT_FRAGMENT_ENTRY_POINT: &str = "fs_main";
+
 /// How many bindings each split array gets on a device with `limits`: the
 /// storage buffers per stage left by the whole arrays and the entry point
 /// with the most buffers of its own, shared out one at a time to the array
@@ -273,14 +328,11 @@ pub const QUERY_OUTPUTS: [Binding; 3] = [QUERY_RAYS, QUERY_HITS, QUERY_COSTS];
 pub fn scene_chunks(limits: &wgpu::Limits) -> SceneChunks {
     let per_stage = limits.max_storage_buffers_per_shader_stage as usize;
     let whole_arrays = scene(UNSPLIT).len() - SPLIT_ARRAYS.len();
-    let own = [
-        RENDER_OUTPUTS.len(),
-        ACCUMULATE_OUTPUTS.len(),
-        QUERY_OUTPUTS.len(),
-    ]
-    .into_iter()
-    .max()
-    .unwrap_or(0);
+    let own = ENTRY_POINTS
+        .iter()
+        .map(|e| e.outputs.len())
+        .max()
+        .unwrap_or(0);
     let mut left = per_stage
         .saturating_sub(whole_arrays + own)
         .saturating_sub(SPLIT_ARRAYS.len());
@@ -302,10 +354,10 @@ pub fn scene_chunks(limits: &wgpu::Limits) -> SceneChunks {
 /// Every binding the kernel declares with `chunks` bindings per split
 /// array: the parameters, the scene, and each entry point's own buffers.
 pub fn all(chunks: SceneChunks) -> Vec<Binding> {
-    let mut all = entry_point_bindings(chunks, &RENDER_OUTPUTS);
-    for b in ACCUMULATE_OUTPUTS.into_iter().chain(QUERY_OUTPUTS) {
-        if !all.contains(&b) {
-            all.push(b);
+    let mut all = entry_point_bindings(chunks, &[]);
+    for b in ENTRY_POINTS.iter().flat_map(|e| e.outputs) {
+        if !all.contains(b) {
+            all.push(*b);
         }
     }
     all
@@ -328,7 +380,7 @@ pub enum SharedValue {
 }
 
 /// Every constant the kernel and the host must agree on, by WGSL name.
-pub const SHARED_CONSTANTS: [(&str, SharedValue); 18] = [
+pub const SHARED_CONSTANTS: [(&str, SharedValue); 21] = [
     ("KD_LEAF", SharedValue::U32(KdNode::LEAF)),
     ("ACCEL_KDTREE", SharedValue::U32(ACCEL_KDTREE)),
     ("ACCEL_BRUTE", SharedValue::U32(ACCEL_BRUTE)),
@@ -350,10 +402,7 @@ pub const SHARED_CONSTANTS: [(&str, SharedValue); 18] = [
     // loop-limited (half llvmpipe's 65,535; see RayCounters::loop_limited).
     ("LOOP_LIMIT_WARNING", SharedValue::U32(LOOP_LIMIT_WARNING)),
     // Rays per workgroup of `trace_rays`.
-    (
-        "QUERY_WORKGROUP",
-        SharedValue::U32(crate::gpu::shaders::QUERY_WORKGROUP),
-    ),
+    ("QUERY_WORKGROUP", SharedValue::U32(QUERY_WORKGROUP)),
     // `FrameParams::traversal`: which k-d walk the kernel runs.
     ("TRAVERSAL_RESTART", SharedValue::U32(TRAVERSAL_RESTART)),
     ("TRAVERSAL_ROPES", SharedValue::U32(TRAVERSAL_ROPES)),
@@ -366,11 +415,17 @@ pub const SHARED_CONSTANTS: [(&str, SharedValue); 18] = [
     // `Triangle::normals` of a flat-shaded triangle.
     ("FLAT_TRIANGLE", SharedValue::U32(GpuTriangle::FLAT)),
     // An override (variant.wgsl) that leaves its choice to `params`.
-    (
-        "FROM_PARAMS",
-        SharedValue::U32(crate::gpu::kernel_variant::FROM_PARAMS),
-    ),
+    ("FROM_PARAMS", SharedValue::U32(FROM_PARAMS)),
+    // Words per pixel (or per query) in `pixel_costs` and `query_costs`.
+    ("COST_WORDS", SharedValue::U32(COST_WORDS as u32)),
+    // `@workgroup_size` of `render_tile` and `accumulate_tile`.
+    ("TRACE_WORKGROUP_X", SharedValue::U32(TRACE_WORKGROUP.0)),
+    ("TRACE_WORKGROUP_Y", SharedValue::U32(TRACE_WORKGROUP.1)),
 ];
+
+/// An override's value (`gpu::kernel_variant`) meaning "read it from
+/// `FrameParams` at run time".
+pub const FROM_PARAMS: u32 = u32::MAX;
 
 /// The object id of a miss.
 pub const NO_OBJECT: u32 = u32::MAX;
@@ -415,20 +470,35 @@ pub fn wgsl_contract(chunks: SceneChunks) -> String {
             value.wgsl_literal()
         );
     }
-    for b in all(chunks) {
-        text += &format!(
-            "@group(0) @binding({}) var<{}> {}: {};\n",
-            b.index,
-            address_space(b.access),
-            b.name,
-            b.wgsl_type
-        );
-    }
+    text += &declarations(&all(chunks));
     for (array, chunks) in SPLIT_ARRAYS.into_iter().zip(chunks) {
         text += &format!("const {}: u32 = {chunks}u;\n", array.count_constant);
         text += &chunk_reader(array, chunks);
     }
     text
+}
+
+/// The present pass's generated declarations (the struct they name is in
+/// shaders/present.wgsl).
+pub fn wgsl_present_contract() -> String {
+    String::from("// Generated from src/gpu/bindings.rs: edit it there.\n")
+        + &declarations(&PRESENT_BINDINGS)
+}
+
+/// `@group(0) @binding(index) var<...> name: type;` for each of `bindings`.
+fn declarations(bindings: &[Binding]) -> String {
+    bindings
+        .iter()
+        .map(|b| {
+            format!(
+                "@group(0) @binding({}) var<{}> {}: {};\n",
+                b.index,
+                address_space(b.access),
+                b.name,
+                b.wgsl_type
+            )
+        })
+        .collect()
 }
 
 /// `array`'s reader: `array.read` of element `j` of chunk `k` (chunks past
@@ -450,13 +520,16 @@ fn chunk_reader(array: &SplitArray, chunks: usize) -> String {
     text
 }
 
-/// Layout entries for `bindings`, all visible to the compute stage.
-pub fn layout_entries(bindings: &[Binding]) -> Vec<wgpu::BindGroupLayoutEntry> {
+/// Layout entries for `bindings`, all visible to `stages`.
+pub fn layout_entries(
+    bindings: &[Binding],
+    stages: wgpu::ShaderStages,
+) -> Vec<wgpu::BindGroupLayoutEntry> {
     bindings
         .iter()
         .map(|b| wgpu::BindGroupLayoutEntry {
             binding: b.index,
-            visibility: wgpu::ShaderStages::COMPUTE,
+            visibility: stages,
             ty: wgpu::BindingType::Buffer {
                 ty: match b.access {
                     Access::Uniform => wgpu::BufferBindingType::Uniform,
@@ -473,133 +546,9 @@ pub fn layout_entries(bindings: &[Binding]) -> Vec<wgpu::BindGroupLayoutEntry> {
         .collect()
 }
 
-/// A compute pipeline for `entry_point` of the trace kernel, with an
-/// explicit layout of `bindings` (so bind groups built from the same table
-/// fit it, whatever the entry point happens to use). It is the general
-/// variant: any scene, every choice read from the frame's uniforms.
-pub fn trace_pipeline(
-    device: &wgpu::Device,
-    module: &wgpu::ShaderModule,
-    entry_point: &str,
-    bindings: &[Binding],
-) -> (wgpu::ComputePipeline, wgpu::BindGroupLayout) {
-    let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-        label: Some(entry_point),
-        entries: &layout_entries(bindings),
-    });
-    let pipeline = trace_pipeline_on(device, module, entry_point, &layout, KernelVariant::GENERAL);
-    (pipeline, layout)
-}
-
-/// A compute pipeline for `entry_point` with bind group layout `layout`,
-/// specialised as `variant` says (`gpu::kernel_variant`).
-pub fn trace_pipeline_on(
-    device: &wgpu::Device,
-    module: &wgpu::ShaderModule,
-    entry_point: &str,
-    layout: &wgpu::BindGroupLayout,
-    variant: KernelVariant,
-) -> wgpu::ComputePipeline {
-    let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
-        label: Some(entry_point),
-        bind_group_layouts: &[Some(layout)],
-        immediate_size: 0,
-    });
-    device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
-        label: Some(entry_point),
-        layout: Some(&pipeline_layout),
-        module,
-        entry_point: Some(entry_point),
-        compilation_options: wgpu::PipelineCompilationOptions {
-            constants: &variant.constants(),
-            ..Default::default()
-        },
-        cache: None,
-    })
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    fn kernel(chunks: SceneChunks) -> naga::Module {
-        crate::gpu::shaders::parse_and_validate(&crate::gpu::shaders::trace_source(chunks)).0
-    }
-
-    /// Each global of the kernel is a binding of this table, at its number
-    /// and with its access, and each binding of the table is declared, for
-    /// every number of chunks.
-    #[test]
-    fn kernel_bindings_are_the_contract() {
-        for chunks in [UNSPLIT, [2, 3, 1, 8, 1, 2], [MAX_CHUNKS; SPLIT_ARRAY_COUNT]] {
-            kernel_bindings_are_the_contract_with(chunks);
-        }
-    }
-
-    fn kernel_bindings_are_the_contract_with(chunks: SceneChunks) {
-        let table = all(chunks);
-        let module = kernel(chunks);
-        let mut seen = Vec::new();
-        for (_, global) in module.global_variables.iter() {
-            let Some(res) = &global.binding else { continue };
-            let name = global.name.as_deref().unwrap_or("");
-            let b = table
-                .iter()
-                .find(|b| b.name == name)
-                .unwrap_or_else(|| panic!("the kernel binds `{name}`, which bindings.rs lacks"));
-            assert_eq!((res.group, res.binding), (0, b.index), "binding of {name}");
-            let access = match global.space {
-                naga::AddressSpace::Uniform => Access::Uniform,
-                naga::AddressSpace::Storage { access }
-                    if access.contains(naga::StorageAccess::STORE) =>
-                {
-                    Access::StorageReadWrite
-                }
-                naga::AddressSpace::Storage { .. } => Access::StorageRead,
-                other => panic!("{name} is in {other:?}"),
-            };
-            assert_eq!(access, b.access, "access of {name}");
-            seen.push(name.to_string());
-        }
-        for b in &table {
-            assert!(
-                seen.iter().any(|s| s == b.name),
-                "{} is not declared",
-                b.name
-            );
-        }
-        let mut indices: Vec<u32> = table.iter().map(|b| b.index).collect();
-        indices.sort_unstable();
-        indices.dedup();
-        assert_eq!(indices.len(), table.len(), "two bindings share a number");
-    }
-
-    /// Each shared constant, as naga evaluates the kernel's declaration, has
-    /// exactly the host's value (bit for bit for floats).
-    #[test]
-    fn kernel_constants_equal_the_hosts() {
-        let module = kernel([MAX_CHUNKS; SPLIT_ARRAY_COUNT]);
-        for (name, value) in SHARED_CONSTANTS {
-            let (_, constant) = module
-                .constants
-                .iter()
-                .find(|(_, c)| c.name.as_deref() == Some(name))
-                .unwrap_or_else(|| panic!("the kernel lacks const {name}"));
-            let naga::Expression::Literal(literal) = module.global_expressions[constant.init]
-            else {
-                panic!("{name} is not a literal");
-            };
-            match (value, literal) {
-                (SharedValue::U32(host), naga::Literal::U32(kernel)) => {
-                    assert_eq!(host, kernel, "{name}")
-                }
-                (SharedValue::F32(host), naga::Literal::F32(kernel)) => {
-                    assert_eq!(host.to_bits(), kernel.to_bits(), "{name}")
-                }
-                (host, kernel) => panic!("{name}: host {host:?}, kernel {kernel:?}"),
-            }
-        }
-    }
 
     /// The chunk counts fit the adapter: every entry point's bindings with
     /// them stay within the storage buffers per stage, and one more binding
@@ -635,26 +584,6 @@ mod tests {
                     chunks[i] == MAX_CHUNKS || most(more) > per_stage as usize,
                     "{per_stage} per stage: {chunks:?} leaves room"
                 );
-            }
-        }
-    }
-
-    /// No shader file declares a binding or a shared constant by hand.
-    #[test]
-    fn shader_files_leave_the_contract_to_the_generator() {
-        for (file, text) in crate::gpu::shaders::TRACE_PARTS {
-            for line in text.lines() {
-                let code = line.split("//").next().unwrap_or("");
-                assert!(
-                    !code.contains("@binding("),
-                    "{file} declares a binding: {line}"
-                );
-                for (name, _) in SHARED_CONSTANTS {
-                    assert!(
-                        !code.trim_start().starts_with(&format!("const {name}:")),
-                        "{file} declares {name}: {line}"
-                    );
-                }
             }
         }
     }

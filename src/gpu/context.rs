@@ -44,12 +44,13 @@ fn instance(backends: wgpu::Backends) -> wgpu::Instance {
 /// private folder the connection fails quietly (no socket there), and devices
 /// are listed as before. A valid value is never touched.
 ///
-/// Runs once, before the first instance: in the CLI that is before any other
-/// thread exists (setting a variable races with C code reading the
+/// Runs once, before the first instance (the window calls it before its
+/// event loop, since it makes its own instances): in the CLI that is before
+/// any other thread exists (setting a variable races with C code reading the
 /// environment on other threads). The folder is `kdray-runtime-UID` in the
 /// temporary folder, mode 0700, and is used only if it is a real folder owned
 /// by this user that nobody else can open; otherwise nothing is set.
-fn give_mesa_a_runtime_dir() {
+pub(crate) fn give_mesa_a_runtime_dir() {
     #[cfg(all(unix, not(target_os = "macos")))]
     {
         static ONCE: std::sync::Once = std::sync::Once::new();

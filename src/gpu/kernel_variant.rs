@@ -9,21 +9,19 @@
 //! outside a loop runs for every group whatever the condition, and every
 //! loop body runs at least once. A kernel that chose its walk from the
 //! frame's uniforms ran all four walks (and the sphere and the triangle test
-//! for every object) on every ray. Measured 2026-11-25 on the bunny at
-//! 1920 x 1080, primary + shadow (docs/benchmarks.md, "One pipeline per walk
-//! and scene"): from 1,403 - 1,557 ms to about 800 ms, the same image.
+//! for every object) on every ray. Measured on the bunny at 1920 x 1080,
+//! primary + shadow: from 1,403 - 1,557 ms to about 800 ms a frame, the
+//! same image.
 //!
 //! The general variant ([`KernelVariant::GENERAL`]) reads every choice from
 //! the frame's uniforms at run time; the ray-query kernel uses it, so the
 //! tests hold both forms of the kernel to the CPU.
 
+pub use super::bindings::FROM_PARAMS;
 use super::frame_params::{accel_value, traversal_value};
 use super::{Accel, SceneBuffers};
 use crate::kdtree::Traversal;
 use crate::layout::FrameParams;
-
-/// An override's value meaning "read it from `FrameParams` at run time".
-pub const FROM_PARAMS: u32 = u32::MAX;
 
 /// The walk a pipeline is made for.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
@@ -152,7 +150,7 @@ mod tests {
     /// an override the host forgot would keep its general default, silently.
     #[test]
     fn every_override_of_the_kernel_is_set_by_the_host() {
-        let source = super::super::shaders::trace_source(super::super::bindings::UNSPLIT);
+        let source = crate::gpu::shaders::trace_source(crate::gpu::bindings::UNSPLIT);
         let module = naga::front::wgsl::parse_str(&source).expect("the kernel parses");
         let mut declared: Vec<String> = module
             .overrides
@@ -175,7 +173,7 @@ mod tests {
     /// pipeline made without constants is the general one.
     #[test]
     fn the_general_variant_is_the_kernels_default() {
-        let source = super::super::shaders::trace_source(super::super::bindings::UNSPLIT);
+        let source = crate::gpu::shaders::trace_source(crate::gpu::bindings::UNSPLIT);
         let module = naga::front::wgsl::parse_str(&source).expect("the kernel parses");
         for (name, value) in KernelVariant::GENERAL.constants() {
             let (_, o) = module

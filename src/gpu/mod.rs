@@ -1,11 +1,24 @@
-//! Everything that talks to wgpu: the adapter and device ([`context`]), the
-//! scene's storage buffers ([`scene_buffers`]), the shaders ([`shaders`]),
-//! the trace kernel's specialised pipelines ([`kernel_variant`]) and the
-//! tiled trace dispatch with readback ([`renderer`]).
+//! Everything that talks to wgpu:
+//!
+//! - [`bindings`]: the host-shader contract (bindings, entry points,
+//!   shared constants) and the WGSL it generates.
+//! - [`shaders`]: the WGSL sources assembled with that generated text.
+//! - [`context`]: the adapter and device.
+//! - [`scene_buffers`]: the scene's arrays in the GPU layout, uploaded.
+//! - `prepared_scene` and `gpu_scene`: a scene prepared on the CPU
+//!   ([`PreparedScene`]), and the same uploaded ([`GpuScene`]).
+//! - `frame_params`: the kernel's per-frame uniform.
+//! - [`kernel_variant`]: the override-specialised kernel variants.
+//! - `trace_pipelines`: the one place a compute pipeline is assembled
+//!   (module, layout from the contract, bind groups, a pipeline per variant).
+//! - [`renderer`]: the tiled trace dispatch with readback; `accumulate`:
+//!   the window's progressive accumulation; `ray_query`: rays in, hits out.
 
+pub mod accumulate;
 pub mod bindings;
 pub mod context;
 mod frame_params;
+mod gpu_scene;
 pub mod kernel_variant;
 mod prepared_scene;
 mod ray_query;
@@ -14,8 +27,10 @@ pub mod scene_buffers;
 pub mod shaders;
 mod trace_pipelines;
 
+pub use accumulate::{Accumulation, Target};
 pub use context::{max_binding_bytes, GpuContext};
 pub use frame_params::Accel;
+pub use gpu_scene::GpuScene;
 pub use kernel_variant::KernelVariant;
 pub use prepared_scene::PreparedScene;
 pub use ray_query::{RayQueries, RayQuery};
@@ -24,7 +39,3 @@ pub use renderer::{
 };
 pub use scene_buffers::{SceneArrays, SceneBuffers};
 pub use trace_pipelines::TracePipelines;
-
-/// Shaders compiled on their own (not part of the trace kernel), validated
-/// by the same test.
-pub const STANDALONE_SHADERS: [(&str, &str); 1] = [("present.wgsl", shaders::PRESENT_SOURCE)];

@@ -1,8 +1,8 @@
 //! "This scene, prepared": everything the CPU does before a frame (the f32
 //! primitives, the k-d tree, the arrays in the GPU layout), in one value
 //! that can be made on any thread (the window's hot reload makes it on a
-//! worker) and uploads itself. `render`, `bench` and the window all start
-//! from it.
+//! worker). Uploaded, it becomes a [`super::GpuScene`], which `render` and
+//! the window trace.
 
 use std::time::Instant;
 
@@ -15,6 +15,9 @@ use crate::scene::Scene;
 /// A scene with its tree and GPU arrays, ready to upload.
 pub struct PreparedScene {
     pub scene: Scene,
+    /// The search it was prepared for, which its frames run unless told
+    /// otherwise.
+    pub accel: Accel,
     /// The tree the kernel is given. For [`Accel::Brute`] a single leaf of
     /// every object: the kernel's brute-force loop ignores it, and any walk
     /// of it would search like brute force.
@@ -53,18 +56,26 @@ impl PreparedScene {
             Accel::Kdtree => started.elapsed().as_secs_f64() * 1e3,
             Accel::Brute => 0.0,
         };
-        Self::assemble(scene, &prims, tree, strategy, build_ms)
+        Self::assemble(scene, accel, &prims, tree, strategy, build_ms)
     }
 
     /// `scene` with a tree built elsewhere over its objects (property
-    /// tests choose the build's parameters).
+    /// tests choose the build's parameters), for [`Accel::Kdtree`].
     pub fn with_tree(scene: Scene, tree: KdTree) -> PreparedScene {
         let prims = Primitives::from_scene(&scene);
-        Self::assemble(scene, &prims, tree, BuildStrategy::default(), 0.0)
+        Self::assemble(
+            scene,
+            Accel::Kdtree,
+            &prims,
+            tree,
+            BuildStrategy::default(),
+            0.0,
+        )
     }
 
     fn assemble(
         scene: Scene,
+        accel: Accel,
         prims: &Primitives,
         tree: KdTree,
         strategy: BuildStrategy,
@@ -85,6 +96,7 @@ impl PreparedScene {
         let arrays = SceneArrays::new(&scene, prims, &tree);
         PreparedScene {
             scene,
+            accel,
             tree,
             arrays,
             strategy,
@@ -98,13 +110,16 @@ impl PreparedScene {
         self.scene
     }
 
-    /// Uploads the arrays (refused with one line if a buffer exceeds the
-    /// adapter's binding limit or the device runs out of memory).
+    /// Uploads the arrays alone (refused with one line if a buffer exceeds
+    /// the adapter's binding limit or the device runs out of memory).
+    /// [`super::GpuScene::upload`] keeps them with the scene.
     pub fn upload(&self, ctx: &GpuContext) -> crate::Result<SceneBuffers> {
         SceneBuffers::upload(ctx, &self.arrays)
     }
 
-    /// The kernel's parameters for the scene's own camera and settings.
+    /// The kernel's parameters for the scene's own camera and settings,
+    /// searching with `accel`, over `buffers` uploaded from it.
+    /// [`super::GpuScene::frame_params`] needs neither argument.
     pub fn frame_params(&self, buffers: &SceneBuffers, accel: Accel) -> FrameParams {
         FrameParams::new(
             &self.scene.camera.basis(),

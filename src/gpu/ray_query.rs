@@ -4,7 +4,7 @@
 //! the same random scenes and rays as the CPU property tests.
 
 use super::bindings;
-use super::{Accel, GpuContext, SceneBuffers};
+use super::{Accel, GpuContext, KernelVariant, SceneBuffers, TracePipelines};
 use crate::error::Result;
 use crate::geometry::Ray;
 use crate::kdtree::traverse::{Hit, WalkCost};
@@ -21,10 +21,12 @@ pub struct RayQuery {
     pub any_hit: bool,
 }
 
-/// The `trace_rays` pipeline.
+/// The `trace_rays` pipeline: the general variant, which reads every choice
+/// from the frame's uniforms, so the tests hold that form of the kernel to
+/// the CPU (the renderer's tests hold the specialised ones to it).
 pub struct RayQueries {
+    pipelines: TracePipelines,
     pipeline: wgpu::ComputePipeline,
-    layout: wgpu::BindGroupLayout,
 }
 
 /// Most workgroups in one dimension of a dispatch (WebGPU's default limit).
@@ -32,18 +34,11 @@ const MAX_GROUPS_PER_DIMENSION: u32 = 65_535;
 
 impl RayQueries {
     pub fn new(ctx: &GpuContext) -> Result<Self> {
-        ctx.checked("creating the ray query pipeline", |device| {
-            let module = super::shaders::trace_module(device);
-            let (pipeline, layout) = bindings::trace_pipeline(
-                device,
-                &module,
-                super::shaders::QUERY_ENTRY_POINT,
-                &bindings::entry_point_bindings(
-                    bindings::scene_chunks(&device.limits()),
-                    &bindings::QUERY_OUTPUTS,
-                ),
-            );
-            RayQueries { pipeline, layout }
+        let pipelines = TracePipelines::new(ctx, bindings::TRACE_RAYS)?;
+        let pipeline = pipelines.get(ctx, KernelVariant::GENERAL)?;
+        Ok(RayQueries {
+            pipelines,
+            pipeline,
         })
     }
 
@@ -144,32 +139,14 @@ impl RayQueries {
                     usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
                     mapped_at_creation: false,
                 });
-                let mut entries = vec![wgpu::BindGroupEntry {
-                    binding: bindings::PARAMS.index,
-                    resource: params.as_entire_binding(),
-                }];
-                entries.extend(scene.bind_entries());
-                entries.push(wgpu::BindGroupEntry {
-                    binding: bindings::QUERY_RAYS.index,
-                    resource: rays.as_entire_binding(),
-                });
-                entries.push(wgpu::BindGroupEntry {
-                    binding: bindings::QUERY_HITS.index,
-                    resource: hits.as_entire_binding(),
-                });
-                entries.push(wgpu::BindGroupEntry {
-                    binding: bindings::QUERY_COSTS.index,
-                    resource: costs.as_entire_binding(),
-                });
-                let bind_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
-                    label: Some("trace_rays"),
-                    layout: &self.layout,
-                    entries: &entries,
-                });
+                // QUERY_OUTPUTS: the rays, their hits, their costs.
+                let bind_group =
+                    self.pipelines
+                        .bind_group(device, &params, scene, &[&rays, &hits, &costs]);
                 (bind_group, hits, costs, readback)
             })?;
 
-        let groups = (queries.len() as u32).div_ceil(super::shaders::QUERY_WORKGROUP);
+        let (groups, _) = self.pipelines.workgroups(queries.len() as u32, 1);
         let (gx, gy) = if groups <= MAX_GROUPS_PER_DIMENSION {
             (groups, 1)
         } else {

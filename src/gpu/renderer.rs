@@ -6,7 +6,6 @@ use std::time::Instant;
 use super::bindings;
 use super::context::GpuContext;
 use super::scene_buffers::SceneBuffers;
-use super::shaders;
 use super::{KernelVariant, TracePipelines};
 use crate::error::{Error, Result};
 use crate::kdtree::traverse::WalkCost;
@@ -173,32 +172,22 @@ pub struct Renderer {
     params_buffer: wgpu::Buffer,
 }
 
-/// The bindings `render_tile` is given on `device`.
-fn render_bindings(device: &wgpu::Device) -> Vec<bindings::Binding> {
-    let chunks = bindings::scene_chunks(&device.limits());
-    bindings::entry_point_bindings(chunks, &bindings::RENDER_OUTPUTS)
-}
-
 impl Renderer {
     /// Each frame runs a pipeline specialised for its scene and walk.
     pub fn new(ctx: &GpuContext) -> Result<Self> {
-        ctx.checked("creating the trace pipeline", |device| {
-            let module = shaders::trace_module(device);
-            let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-                label: Some(shaders::TRACE_ENTRY_POINT),
-                entries: &bindings::layout_entries(&render_bindings(device)),
-            });
-            let params_buffer = device.create_buffer(&wgpu::BufferDescriptor {
+        let pipelines = TracePipelines::new(ctx, bindings::RENDER_TILE)?;
+        let params_buffer = ctx.checked("creating the frame parameters", |device| {
+            device.create_buffer(&wgpu::BufferDescriptor {
                 label: Some("frame params"),
                 size: std::mem::size_of::<FrameParams>() as u64,
                 usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
                 mapped_at_creation: false,
-            });
-            Renderer {
-                pipelines: TracePipelines::new(module, layout, shaders::TRACE_ENTRY_POINT),
-                general: false,
-                params_buffer,
-            }
+            })
+        })?;
+        Ok(Renderer {
+            pipelines,
+            general: false,
+            params_buffer,
         })
     }
 
@@ -238,7 +227,7 @@ impl Renderer {
         params: FrameParams,
         with_cost: bool,
     ) -> Result<()> {
-        let (w, h) = shaders::TRACE_WORKGROUP;
+        let (w, h) = bindings::TRACE_WORKGROUP;
         let params = FrameParams {
             width: w.min(params.width),
             height: h.min(params.height),
@@ -338,24 +327,10 @@ impl Renderer {
                 usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
                 mapped_at_creation: false,
             });
-            let mut entries = vec![wgpu::BindGroupEntry {
-                binding: bindings::PARAMS.index,
-                resource: self.params_buffer.as_entire_binding(),
-            }];
-            entries.extend(scene.bind_entries());
-            entries.push(wgpu::BindGroupEntry {
-                binding: bindings::TILE_OUTPUT.index,
-                resource: output.as_entire_binding(),
-            });
-            entries.push(wgpu::BindGroupEntry {
-                binding: bindings::PIXEL_COSTS.index,
-                resource: costs.as_entire_binding(),
-            });
-            let bind_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
-                label: Some("trace"),
-                layout: self.pipelines.layout(),
-                entries: &entries,
-            });
+            // RENDER_OUTPUTS: the tile's output, then its costs.
+            let bind_group =
+                self.pipelines
+                    .bind_group(device, &self.params_buffer, scene, &[&output, &costs]);
             (output, costs, readback, bind_group)
         })?;
         let timer = match ctx.has_timestamps {
@@ -410,8 +385,8 @@ impl Renderer {
                     });
                     pass.set_pipeline(&pipeline);
                     pass.set_bind_group(0, &bind_group, &[]);
-                    let (gx, gy) = shaders::TRACE_WORKGROUP;
-                    pass.dispatch_workgroups(w.div_ceil(gx), h.div_ceil(gy), 1);
+                    let (gx, gy) = self.pipelines.workgroups(w, h);
+                    pass.dispatch_workgroups(gx, gy, 1);
                 }
                 let used = OUTPUT_HEADER_BYTES + w as u64 * h as u64 * 4;
                 encoder.copy_buffer_to_buffer(&output, 0, &readback, 0, used);

@@ -1,8 +1,14 @@
-//! The WGSL sources. WGSL has no includes, so the trace kernel is the
-//! concatenation of its parts, in dependency order.
+//! The WGSL sources, each assembled with the declarations that
+//! gpu/bindings.rs generates. WGSL has no includes, so the trace kernel is
+//! the generated contract followed by its files, in dependency order, and the
+//! present pass is its generated bindings followed by shaders/present.wgsl.
+//! The tests here read the assembled shaders with naga and hold them to the
+//! contract.
+
+use super::bindings::{self, SceneChunks};
 
 /// Files of the trace kernel, in the order they are concatenated (after the
-/// declarations generated from [`super::bindings`]).
+/// declarations generated from [`bindings`]).
 pub const TRACE_PARTS: [(&str, &str); 11] = [
     ("types.wgsl", include_str!("../../shaders/types.wgsl")),
     (
@@ -29,24 +35,13 @@ pub const TRACE_PARTS: [(&str, &str); 11] = [
     ("query.wgsl", include_str!("../../shaders/query.wgsl")),
 ];
 
-/// Entry point that renders a tile to 8-bit colour (all samples of each pixel).
-pub const TRACE_ENTRY_POINT: &str = "render_tile";
-/// Entry point that adds one stratified sample per pixel to the accumulation
-/// buffer (binding 9), for progressive refinement.
-pub const ACCUMULATE_ENTRY_POINT: &str = "accumulate_tile";
-/// Workgroup size of both entry points (see `@workgroup_size` in trace.wgsl).
-pub const TRACE_WORKGROUP: (u32, u32) = (8, 8);
-/// Entry point that traces given rays and writes their hits (tests, debugging).
-pub const QUERY_ENTRY_POINT: &str = "trace_rays";
-/// Its workgroup size (rays per workgroup, see query.wgsl).
-pub const QUERY_WORKGROUP: u32 = 64;
+/// The window's present pass (fullscreen triangle over the accumulation
+/// buffers), a module of its own, without its generated bindings.
+const PRESENT_FILE: &str = include_str!("../../shaders/present.wgsl");
 
-/// The interactive window's present pass (fullscreen triangle over the
-/// accumulation buffer), a module of its own.
-pub const PRESENT_SOURCE: &str = include_str!("../../shaders/present.wgsl");
-/// Its entry points.
-pub const PRESENT_VERTEX_ENTRY_POINT: &str = "vs_main";
-pub const PRESENT_FRAGMENT_ENTRY_POINT: &str = "fs_main";
+/// Shader files compiled as modules of their own (not part of the trace
+/// kernel), validated by the same tests.
+pub const STANDALONE_SHADERS: [(&str, &str); 1] = [("present.wgsl", PRESENT_FILE)];
 
 /// The trace kernel as a shader module on `device`.
 ///
@@ -67,7 +62,7 @@ pub fn trace_module(device: &wgpu::Device) -> wgpu::ShaderModule {
     let desc = wgpu::ShaderModuleDescriptor {
         label: Some("trace"),
         source: wgpu::ShaderSource::Wgsl(
-            trace_source(super::bindings::scene_chunks(&device.limits())).into(),
+            trace_source(bindings::scene_chunks(&device.limits())).into(),
         ),
     };
     let checks = wgpu::ShaderRuntimeChecks {
@@ -82,15 +77,28 @@ pub fn trace_module(device: &wgpu::Device) -> wgpu::ShaderModule {
 
 /// The whole trace kernel as one WGSL module, with `chunks` bindings per
 /// split array: the generated contract, then the files.
-pub fn trace_source(chunks: super::bindings::SceneChunks) -> String {
-    let mut source = format!(
-        "// ---- bindings.rs\n{}\n",
-        super::bindings::wgsl_contract(chunks)
-    );
+pub fn trace_source(chunks: SceneChunks) -> String {
+    let mut source = format!("// ---- bindings.rs\n{}\n", bindings::wgsl_contract(chunks));
     for (name, text) in TRACE_PARTS {
         source += &format!("// ---- {name}\n{text}\n");
     }
     source
+}
+
+/// The present pass: its generated bindings, then shaders/present.wgsl.
+pub fn present_source() -> String {
+    format!(
+        "// ---- bindings.rs\n{}\n// ---- present.wgsl\n{PRESENT_FILE}\n",
+        bindings::wgsl_present_contract()
+    )
+}
+
+/// The present pass as a shader module on `device`.
+pub fn present_module(device: &wgpu::Device) -> wgpu::ShaderModule {
+    device.create_shader_module(wgpu::ShaderModuleDescriptor {
+        label: Some("present"),
+        source: wgpu::ShaderSource::Wgsl(present_source().into()),
+    })
 }
 
 #[cfg(test)]
@@ -99,6 +107,10 @@ pub(crate) use tests::parse_and_validate;
 #[cfg(test)]
 mod tests {
     use super::*;
+    use bindings::{
+        Access, Binding, SharedValue, ENTRY_POINTS, MAX_CHUNKS, PRESENT_BINDINGS, SHARED_CONSTANTS,
+        SPLIT_ARRAY_COUNT, UNSPLIT,
+    };
     use naga::valid::{Capabilities, ValidationFlags, Validator};
 
     pub(crate) fn parse_and_validate(source: &str) -> (naga::Module, naga::valid::ModuleInfo) {
@@ -110,26 +122,24 @@ mod tests {
         (module, info)
     }
 
+    /// The kernel validates, and each entry point of the contract is in it
+    /// with the contract's workgroup size.
     #[test]
     fn trace_kernel_parses_and_validates() {
-        let (module, _) = parse_and_validate(&trace_source(
-            [super::super::bindings::MAX_CHUNKS; super::super::bindings::SPLIT_ARRAY_COUNT],
-        ));
-        let entry = module
-            .entry_points
-            .iter()
-            .find(|e| e.name == TRACE_ENTRY_POINT)
-            .expect("entry point");
-        assert_eq!(
-            entry.workgroup_size,
-            [TRACE_WORKGROUP.0, TRACE_WORKGROUP.1, 1]
-        );
-        let query = module
-            .entry_points
-            .iter()
-            .find(|e| e.name == QUERY_ENTRY_POINT)
-            .expect("query entry point");
-        assert_eq!(query.workgroup_size, [QUERY_WORKGROUP, 1, 1]);
+        let (module, _) = parse_and_validate(&trace_source([MAX_CHUNKS; SPLIT_ARRAY_COUNT]));
+        for contract in ENTRY_POINTS {
+            let entry = module
+                .entry_points
+                .iter()
+                .find(|e| e.name == contract.name)
+                .unwrap_or_else(|| panic!("the kernel lacks {}", contract.name));
+            assert_eq!(
+                entry.workgroup_size, contract.workgroup,
+                "{}",
+                contract.name
+            );
+        }
+        assert_eq!(module.entry_points.len(), ENTRY_POINTS.len());
     }
 
     /// Each entry point copies the frame's parameters into the private
@@ -138,9 +148,7 @@ mod tests {
     /// uniform there costs llvmpipe a load per lane.
     #[test]
     fn every_entry_point_reads_the_frame_params_first() {
-        let (module, _) = parse_and_validate(&trace_source(
-            [super::super::bindings::MAX_CHUNKS; super::super::bindings::SPLIT_ARRAY_COUNT],
-        ));
+        let (module, _) = parse_and_validate(&trace_source([MAX_CHUNKS; SPLIT_ARRAY_COUNT]));
         assert!(module.entry_points.len() >= 3);
         for entry in &module.entry_points {
             let first = entry
@@ -163,10 +171,8 @@ mod tests {
     fn every_shader_file_is_validated() {
         let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("shaders");
         let mut validated: Vec<&str> = TRACE_PARTS.iter().map(|(name, _)| *name).collect();
-        validated.extend(crate::gpu::STANDALONE_SHADERS.iter().map(|(name, _)| *name));
-        for (_, source) in crate::gpu::STANDALONE_SHADERS {
-            parse_and_validate(source);
-        }
+        validated.extend(STANDALONE_SHADERS.iter().map(|(name, _)| *name));
+        parse_and_validate(&present_source());
         for entry in std::fs::read_dir(&dir).unwrap() {
             let name = entry.unwrap().file_name().into_string().unwrap();
             if name.ends_with(".wgsl") {
@@ -174,6 +180,111 @@ mod tests {
                     validated.contains(&name.as_str()),
                     "{name} is not validated by any test"
                 );
+            }
+        }
+    }
+
+    fn kernel(chunks: SceneChunks) -> naga::Module {
+        parse_and_validate(&trace_source(chunks)).0
+    }
+
+    /// Each global of `module` with a binding is one of `table`, at its
+    /// number and with its access, and each of `table` is declared.
+    fn globals_are(module: &naga::Module, table: &[Binding]) {
+        let mut seen = Vec::new();
+        for (_, global) in module.global_variables.iter() {
+            let Some(res) = &global.binding else { continue };
+            let name = global.name.as_deref().unwrap_or("");
+            let b = table
+                .iter()
+                .find(|b| b.name == name)
+                .unwrap_or_else(|| panic!("the shader binds `{name}`, which bindings.rs lacks"));
+            assert_eq!((res.group, res.binding), (0, b.index), "binding of {name}");
+            let access = match global.space {
+                naga::AddressSpace::Uniform => Access::Uniform,
+                naga::AddressSpace::Storage { access }
+                    if access.contains(naga::StorageAccess::STORE) =>
+                {
+                    Access::StorageReadWrite
+                }
+                naga::AddressSpace::Storage { .. } => Access::StorageRead,
+                other => panic!("{name} is in {other:?}"),
+            };
+            assert_eq!(access, b.access, "access of {name}");
+            seen.push(name.to_string());
+        }
+        for b in table {
+            assert!(
+                seen.iter().any(|s| s == b.name),
+                "{} is not declared",
+                b.name
+            );
+        }
+        let mut indices: Vec<u32> = table.iter().map(|b| b.index).collect();
+        indices.sort_unstable();
+        indices.dedup();
+        assert_eq!(indices.len(), table.len(), "two bindings share a number");
+    }
+
+    /// Each global of the kernel is a binding of the contract, at its
+    /// number and with its access, and each binding of the contract is
+    /// declared, for every number of chunks.
+    #[test]
+    fn kernel_bindings_are_the_contract() {
+        for chunks in [UNSPLIT, [2, 3, 1, 8, 1, 2], [MAX_CHUNKS; SPLIT_ARRAY_COUNT]] {
+            globals_are(&kernel(chunks), &bindings::all(chunks));
+        }
+    }
+
+    /// The same for the present pass and its bindings.
+    #[test]
+    fn present_bindings_are_the_contract() {
+        globals_are(&parse_and_validate(&present_source()).0, &PRESENT_BINDINGS);
+    }
+
+    /// Each shared constant, as naga evaluates the kernel's declaration, has
+    /// exactly the host's value (bit for bit for floats).
+    #[test]
+    fn kernel_constants_equal_the_hosts() {
+        let module = kernel([MAX_CHUNKS; SPLIT_ARRAY_COUNT]);
+        for (name, value) in SHARED_CONSTANTS {
+            let (_, constant) = module
+                .constants
+                .iter()
+                .find(|(_, c)| c.name.as_deref() == Some(name))
+                .unwrap_or_else(|| panic!("the kernel lacks const {name}"));
+            let naga::Expression::Literal(literal) = module.global_expressions[constant.init]
+            else {
+                panic!("{name} is not a literal");
+            };
+            match (value, literal) {
+                (SharedValue::U32(host), naga::Literal::U32(kernel)) => {
+                    assert_eq!(host, kernel, "{name}")
+                }
+                (SharedValue::F32(host), naga::Literal::F32(kernel)) => {
+                    assert_eq!(host.to_bits(), kernel.to_bits(), "{name}")
+                }
+                (host, kernel) => panic!("{name}: host {host:?}, kernel {kernel:?}"),
+            }
+        }
+    }
+
+    /// No shader file declares a binding or a shared constant by hand.
+    #[test]
+    fn shader_files_leave_the_contract_to_the_generator() {
+        for (file, text) in TRACE_PARTS.into_iter().chain(STANDALONE_SHADERS) {
+            for line in text.lines() {
+                let code = line.split("//").next().unwrap_or("");
+                assert!(
+                    !code.contains("@binding("),
+                    "{file} declares a binding: {line}"
+                );
+                for (name, _) in SHARED_CONSTANTS {
+                    assert!(
+                        !code.trim_start().starts_with(&format!("const {name}:")),
+                        "{file} declares {name}: {line}"
+                    );
+                }
             }
         }
     }

@@ -1,7 +1,7 @@
 //! The winit application behind `kdray render SCENE --window`: the event
 //! handler, and the wiring of the window's parts. Each frame is one
-//! submission and one present: [`Refinement`] plans it, [`GpuScene`] turns
-//! its pass into the shader's parameters, [`Viewer`] records it,
+//! submission and one present: [`Refinement`] plans it, `pass_params` turns
+//! its pass over the [`GpuScene`] into the shader's parameters, [`Viewer`] records it,
 //! [`WindowSurface`] shows it and [`FrameStats`] counts it.
 
 use std::path::{Path, PathBuf};
@@ -14,21 +14,21 @@ use winit::event::{ElementState, KeyEvent, WindowEvent};
 use winit::event_loop::{ActiveEventLoop, ControlFlow, EventLoop, OwnedDisplayHandle};
 use winit::window::{Window, WindowId};
 
+use super::camera_controller::Bounds;
 use super::camera_controller::{CameraController, Input};
 use super::frame_stats::{FrameStats, ReportContext};
-use super::gpu_scene::{self, GpuScene};
 use super::input::{controller_input, key_action, Action, HELP};
-use super::refinement::{FrameKind, FramePlan, Refinement};
-use super::reload::{LatestJob, SceneWatcher, WatchList};
+use super::refinement::{FrameKind, FramePlan, Pass, Refinement};
+use super::reload::{self, LatestJob, SceneWatcher, WatchList};
 use super::surface::{Acquired, WindowSurface};
 use super::title::{Progress, TitleBar, TitleFacts};
 use super::view::{FrameWork, PresentParams, Target, Viewer};
 use super::{signals, WindowOptions, DEFAULT_WINDOW_SAMPLES};
 use crate::error::{Error, Result};
-use crate::gpu::PreparedScene;
-use crate::gpu::{Accel, GpuContext};
+use crate::gpu::{Accel, GpuContext, GpuScene, PreparedScene};
 use crate::kdtree::Traversal;
-use crate::scene::{RenderSettings, Scene};
+use crate::layout::FrameParams;
+use crate::scene::{Camera, RenderSettings, Scene};
 
 /// Default window: the scene's aspect ratio fitted into this (logical pixels).
 const DEFAULT_WINDOW: (f64, f64) = (960.0, 720.0);
@@ -52,7 +52,7 @@ pub fn run(options: WindowOptions) -> Result<()> {
     };
     // Watch first, so a change made while the scene loads is not missed.
     let (files, scene) =
-        WatchList::record(|seen| gpu_scene::load(&options.scene, options.build, seen));
+        WatchList::record(|seen| reload::load(&options.scene, options.build, seen));
     let watcher = SceneWatcher::new(files);
     let scene = scene?;
     let event_loop = EventLoop::new().map_err(|e| {
@@ -133,7 +133,7 @@ impl App {
         let build = self.options.build;
         // The mesh list may have changed: the job also lists what to watch.
         self.reloads
-            .request(move || WatchList::record(|seen| gpu_scene::load(&path, build, seen)));
+            .request(move || WatchList::record(|seen| reload::load(&path, build, seen)));
         if let Some(session) = &mut self.session {
             session.title.reloading = true;
             session.update_title(&self.name, true);
@@ -422,6 +422,41 @@ fn window_samples_per_axis(options: &WindowOptions, scene: &Scene) -> u32 {
     .samples_per_axis()
 }
 
+/// The scene's box, for the camera controls.
+fn bounds(scene: &GpuScene) -> Bounds {
+    let b = scene.bounds();
+    Bounds {
+        min: b.min.as_dvec3(),
+        max: b.max.as_dvec3(),
+    }
+}
+
+/// The kernel's parameters for `pass` of `scene` seen from `camera` in a
+/// `w` x `h` window.
+fn pass_params(
+    scene: &GpuScene,
+    camera: &Camera,
+    max_depth: u32,
+    accel: Accel,
+    pass: &Pass,
+    (w, h): (u32, u32),
+) -> FrameParams {
+    let (iw, ih) = pass.image;
+    let render = RenderSettings {
+        width: iw,
+        height: ih,
+        max_depth,
+        ..scene.scene().render
+    };
+    let mut p = scene.view_params(camera, &render, accel);
+    p.aspect = (w as f64 / h as f64) as f32;
+    p.samples_per_axis = pass.samples_per_axis;
+    p.sample_index = pass.sample_index;
+    p.tile_origin = [0, pass.first_row];
+    p.tile_size = [iw, pass.rows];
+    p
+}
+
 /// `<scene stem>-NNN.png` in the current folder, the first that does not exist.
 fn next_screenshot_path(scene: &Path) -> PathBuf {
     let stem = scene
@@ -454,9 +489,9 @@ impl Session {
         let max_pixels = Viewer::max_pixels(&ctx);
         let (width, height) = surface.size();
         let pixels = (width as u64 * height as u64).min(max_pixels);
-        let viewer = Viewer::new(&ctx, &scene.buffers, surface.view_format(), pixels)?;
+        let viewer = Viewer::new(&ctx, scene.buffers(), surface.view_format(), pixels)?;
         let home = scene.scene().camera;
-        let controller = CameraController::new(home, scene.bounds(), width, height);
+        let controller = CameraController::new(home, bounds(&scene), width, height);
         let file_max_depth = scene.scene().render.max_depth;
         let k = window_samples_per_axis(options, scene.scene());
         let now = Instant::now();
@@ -482,9 +517,9 @@ impl Session {
     /// Shows `prepared` from now on (a reload).
     fn set_scene(&mut self, prepared: PreparedScene, options: &WindowOptions) -> Result<()> {
         let scene = GpuScene::upload(&self.ctx, prepared)?;
-        self.viewer.set_scene(&self.ctx, &scene.buffers)?;
+        self.viewer.set_scene(&self.ctx, scene.buffers())?;
         self.controller
-            .set_scene(scene.scene().camera, scene.bounds());
+            .set_scene(scene.scene().camera, bounds(&scene));
         let max_depth = scene.scene().render.max_depth;
         if max_depth != self.file_max_depth {
             self.file_max_depth = max_depth;
@@ -507,7 +542,7 @@ impl Session {
         }
         let (iw, ih) = self.refinement.image_size(self.surface.size());
         self.viewer
-            .reserve(&self.ctx, &self.scene.buffers, iw as u64 * ih as u64)?;
+            .reserve(&self.ctx, self.scene.buffers(), iw as u64 * ih as u64)?;
         self.refinement.invalidate();
         Ok(())
     }
@@ -563,8 +598,7 @@ impl Session {
     fn frame_work(&mut self, plan: &FramePlan, window: (u32, u32)) -> FrameWork {
         let camera = self.controller.camera();
         let pass = plan.pass.map(|p| {
-            self.scene
-                .pass_params(camera, self.max_depth, self.accel, &p, window)
+            pass_params(&self.scene, &camera, self.max_depth, self.accel, &p, window)
                 .with_traversal(self.traversal)
         });
         let (target, show_image) = match plan.kind {

@@ -17,7 +17,7 @@ use crate::output::heatmap::colour;
 pub fn heatmap_texels(costs: &[u32], accumulation: &[[f32; 4]]) -> (Vec<[f32; 4]>, u32) {
     let work: Vec<Option<f64>> = accumulation
         .iter()
-        .zip(costs.chunks_exact(3))
+        .zip(costs.chunks_exact(crate::gpu::bindings::COST_WORDS))
         .map(|(a, c)| (a[3] > 0.0).then(|| (c[0] as f64 + c[2] as f64) / a[3] as f64))
         .collect();
     let max = work

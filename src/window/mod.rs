@@ -10,17 +10,16 @@
 //! - `frame_stats`: frame figures and the exit report (pure, unit-tested).
 //! - `heatmap_view`: the cost heatmap's texels (pure, unit-tested).
 //! - `title`: what the title bar says, and how often (pure, unit-tested).
-//! - [`reload`]: polling the scene file and its OBJ/MTL files.
-//! - `gpu_scene`: the scene prepared, uploaded and turned into the
-//!   shader's parameters.
+//! - [`reload`]: loading the scene, and polling its file and the files it
+//!   reads.
 //! - `surface`: the window's surface: device, format, resizing, present.
-//! - [`view`]: the accumulation pass, the present pass and screenshots.
+//! - [`view`]: the present pass over the accumulation
+//!   ([`crate::gpu::Accumulation`]), the heatmap and screenshots.
 //! - `app`: the winit event handler that ties them together.
 
 mod app;
 pub mod camera_controller;
 mod frame_stats;
-mod gpu_scene;
 mod heatmap_view;
 mod input;
 mod refinement;
@@ -77,6 +76,9 @@ impl WindowOptions {
 /// an error (exit code 2); later reload errors are only reported.
 pub fn run(options: WindowOptions) -> Result<()> {
     options.validate()?;
+    // Before the event loop and any other thread: Mesa's Vulkan layers read
+    // it when the window's instance lists devices (gpu/context.rs).
+    crate::gpu::context::give_mesa_a_runtime_dir();
     app::run(options)
 }
 

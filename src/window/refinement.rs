@@ -212,7 +212,7 @@ impl Refinement {
     /// multiple of the workgroup's height) sized so that the pass's frames
     /// share it evenly within [`STILL_BUDGET_MS`].
     fn rows_per_frame(&self, (iw, ih): (u32, u32)) -> u32 {
-        let step = crate::gpu::shaders::TRACE_WORKGROUP.1;
+        let step = crate::gpu::bindings::TRACE_WORKGROUP.1;
         let band = if self.band_rows == 0 {
             FIRST_BAND_PIXELS / iw.max(1)
         } else {
@@ -334,7 +334,7 @@ impl Refinement {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::gpu::shaders::TRACE_WORKGROUP;
+    use crate::gpu::bindings::TRACE_WORKGROUP;
 
     const MS: Duration = Duration::from_millis(1);
 

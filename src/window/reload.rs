@@ -8,10 +8,28 @@
 //! one fails, and the completed write is picked up by the next poll). The
 //! reload itself (parsing, the tree build) runs on a worker thread through
 //! [`LatestJob`], so the window keeps drawing while a big scene loads.
+//! [`load`] is what it runs.
 
 use std::path::{Path, PathBuf};
 use std::thread::JoinHandle;
 use std::time::{Duration, Instant, SystemTime};
+
+/// Loads `path` and prepares it with the k-d tree built by `strategy`: the
+/// window switches between the tree and brute force per frame (brute force
+/// only changes a flag the kernel reads), so the tree is always built.
+/// `seen` is told of every file read (the files to watch for hot reload).
+pub fn load(
+    path: &Path,
+    strategy: crate::kdtree::BuildStrategy,
+    seen: &mut dyn FnMut(&Path),
+) -> crate::Result<crate::gpu::PreparedScene> {
+    let scene = crate::scene::load_scene_observed(path, seen)?;
+    Ok(crate::gpu::PreparedScene::built_by(
+        scene,
+        crate::gpu::Accel::Kdtree,
+        strategy,
+    ))
+}
 
 /// Time between two polls of the files.
 pub const POLL_INTERVAL: Duration = Duration::from_millis(100);

@@ -1,24 +1,15 @@
-//! The window's GPU side: the progressive accumulation pass (the trace
-//! kernel's `accumulate_tile` entry point), the present pass
-//! (shaders/present.wgsl) and screenshots of what the present pass shows.
+//! The window's GPU side, around the progressive accumulation
+//! ([`crate::gpu::Accumulation`]): the present pass (shaders/present.wgsl)
+//! that shows the image or the preview, the cost heatmap shown instead of
+//! them, and screenshots of what the present pass shows.
 
 use crate::error::{Error, Result};
-use crate::gpu::{bindings, shaders, GpuContext, KernelVariant, SceneBuffers, TracePipelines};
+use crate::gpu::accumulate::ACCUMULATION_TEXEL;
+use crate::gpu::{bindings, shaders, Accumulation, GpuContext, SceneBuffers};
 use crate::layout::FrameParams;
 
+pub use crate::gpu::Target;
 pub use crate::layout::PresentParams;
-
-/// Bytes per pixel of the accumulation buffers (a vec4<f32>).
-const ACCUMULATION_TEXEL: u64 = 16;
-
-/// The two accumulation buffers: the image refined while the camera is
-/// still, and the reduced-resolution preview traced while it moves (which
-/// the present pass shows where the image has no sample yet).
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum Target {
-    Image,
-    Preview,
-}
 
 /// What one frame does on the GPU, in order.
 #[derive(Debug, Clone, Copy)]
@@ -33,162 +24,29 @@ pub struct FrameWork {
     pub present: PresentParams,
 }
 
-/// The layouts and uniforms that bind groups are made from.
-struct Layouts {
-    trace: wgpu::BindGroupLayout,
-    present: wgpu::BindGroupLayout,
-    params: wgpu::Buffer,
-    present_params: wgpu::Buffer,
-}
-
-/// Bytes per pixel of the cost buffers (`bindings::PIXEL_COSTS`).
-const COST_TEXEL: u64 = bindings::COST_WORDS as u64 * 4;
-
-/// Buffers and bind groups that depend on the image size and the scene.
-struct Bindings {
-    image: wgpu::Buffer,
-    preview: wgpu::Buffer,
-    /// Each pixel's walk cost, summed over passes like the colour.
-    image_costs: wgpu::Buffer,
-    preview_costs: wgpu::Buffer,
+/// What the present pass reads, for accumulation buffers of one size.
+struct PresentGroups {
     /// The heatmap's texels (`heatmap_view`), shown instead of the image
     /// and the preview while the heatmap is on.
     heat_image: wgpu::Buffer,
     heat_preview: wgpu::Buffer,
-    heat_present_group: wgpu::BindGroup,
-    /// Pixels each buffer holds.
-    capacity: u64,
-    image_group: wgpu::BindGroup,
-    preview_group: wgpu::BindGroup,
-    present_group: wgpu::BindGroup,
-}
-
-impl Layouts {
-    fn trace_group(
-        &self,
-        device: &wgpu::Device,
-        scene: &SceneBuffers,
-        target: &wgpu::Buffer,
-        costs: &wgpu::Buffer,
-    ) -> wgpu::BindGroup {
-        let mut entries = vec![wgpu::BindGroupEntry {
-            binding: bindings::PARAMS.index,
-            resource: self.params.as_entire_binding(),
-        }];
-        entries.extend(scene.bind_entries());
-        entries.push(wgpu::BindGroupEntry {
-            binding: bindings::ACCUMULATION.index,
-            resource: target.as_entire_binding(),
-        });
-        entries.push(wgpu::BindGroupEntry {
-            binding: bindings::PIXEL_COSTS.index,
-            resource: costs.as_entire_binding(),
-        });
-        device.create_bind_group(&wgpu::BindGroupDescriptor {
-            label: Some("accumulate"),
-            layout: &self.trace,
-            entries: &entries,
-        })
-    }
-
-    fn bindings(&self, device: &wgpu::Device, scene: &SceneBuffers, pixels: u64) -> Bindings {
-        let pixels = pixels.max(1);
-        let buffer = |label, texel| {
-            device.create_buffer(&wgpu::BufferDescriptor {
-                label: Some(label),
-                size: pixels * texel,
-                usage: wgpu::BufferUsages::STORAGE
-                    | wgpu::BufferUsages::COPY_DST
-                    | wgpu::BufferUsages::COPY_SRC,
-                mapped_at_creation: false,
-            })
-        };
-        let image = buffer("accumulation", ACCUMULATION_TEXEL);
-        let preview = buffer("preview", ACCUMULATION_TEXEL);
-        let image_costs = buffer("accumulation costs", COST_TEXEL);
-        let preview_costs = buffer("preview costs", COST_TEXEL);
-        let heat_image = buffer("heatmap", ACCUMULATION_TEXEL);
-        let heat_preview = buffer("preview heatmap", ACCUMULATION_TEXEL);
-        let present_group = |label, image: &wgpu::Buffer, preview: &wgpu::Buffer| {
-            device.create_bind_group(&wgpu::BindGroupDescriptor {
-                label: Some(label),
-                layout: &self.present,
-                entries: &[
-                    wgpu::BindGroupEntry {
-                        binding: 0,
-                        resource: self.present_params.as_entire_binding(),
-                    },
-                    wgpu::BindGroupEntry {
-                        binding: 1,
-                        resource: image.as_entire_binding(),
-                    },
-                    wgpu::BindGroupEntry {
-                        binding: 2,
-                        resource: preview.as_entire_binding(),
-                    },
-                ],
-            })
-        };
-        Bindings {
-            image_group: self.trace_group(device, scene, &image, &image_costs),
-            preview_group: self.trace_group(device, scene, &preview, &preview_costs),
-            present_group: present_group("present", &image, &preview),
-            heat_present_group: present_group("present heatmap", &heat_image, &heat_preview),
-            image,
-            preview,
-            image_costs,
-            preview_costs,
-            heat_image,
-            heat_preview,
-            capacity: pixels,
-        }
-    }
+    /// The image and the preview.
+    colours: wgpu::BindGroup,
+    heatmap: wgpu::BindGroup,
 }
 
 pub struct Viewer {
-    /// `accumulate_tile`, one pipeline per kernel variant.
-    accumulate: TracePipelines,
-    /// The kernel variant of the scene shown, its walk left to each frame.
-    scene_variant: KernelVariant,
+    accumulation: Accumulation,
+    present_layout: wgpu::BindGroupLayout,
     present_pipeline_layout: wgpu::PipelineLayout,
     present_module: wgpu::ShaderModule,
     present: wgpu::RenderPipeline,
+    present_params: wgpu::Buffer,
     /// The format `present` draws to (the surface's view format).
     target_format: wgpu::TextureFormat,
-    layouts: Layouts,
-    bindings: Bindings,
+    groups: PresentGroups,
     /// While the cost heatmap is shown: its scale's top (work per sample).
     heatmap: Option<u32>,
-}
-
-fn storage(
-    binding: u32,
-    read_only: bool,
-    visibility: wgpu::ShaderStages,
-) -> wgpu::BindGroupLayoutEntry {
-    wgpu::BindGroupLayoutEntry {
-        binding,
-        visibility,
-        ty: wgpu::BindingType::Buffer {
-            ty: wgpu::BufferBindingType::Storage { read_only },
-            has_dynamic_offset: false,
-            min_binding_size: None,
-        },
-        count: None,
-    }
-}
-
-fn uniform(binding: u32, visibility: wgpu::ShaderStages) -> wgpu::BindGroupLayoutEntry {
-    wgpu::BindGroupLayoutEntry {
-        binding,
-        visibility,
-        ty: wgpu::BindingType::Buffer {
-            ty: wgpu::BufferBindingType::Uniform,
-            has_dynamic_offset: false,
-            min_binding_size: None,
-        },
-        count: None,
-    }
 }
 
 fn present_pipeline(
@@ -202,7 +60,7 @@ fn present_pipeline(
         layout: Some(layout),
         vertex: wgpu::VertexState {
             module,
-            entry_point: Some(shaders::PRESENT_VERTEX_ENTRY_POINT),
+            entry_point: Some(bindings::PRESENT_VERTEX_ENTRY_POINT),
             compilation_options: Default::default(),
             buffers: &[],
         },
@@ -211,7 +69,7 @@ fn present_pipeline(
         multisample: wgpu::MultisampleState::default(),
         fragment: Some(wgpu::FragmentState {
             module,
-            entry_point: Some(shaders::PRESENT_FRAGMENT_ENTRY_POINT),
+            entry_point: Some(bindings::PRESENT_FRAGMENT_ENTRY_POINT),
             compilation_options: Default::default(),
             targets: &[Some(wgpu::ColorTargetState {
                 format,
@@ -233,72 +91,44 @@ impl Viewer {
         target_format: wgpu::TextureFormat,
         pixels: u64,
     ) -> Result<Self> {
-        ctx.checked("creating the window's pipelines", |device| {
-            let module = shaders::trace_module(device);
-            let trace = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-                label: Some(shaders::ACCUMULATE_ENTRY_POINT),
-                entries: &bindings::layout_entries(&bindings::entry_point_bindings(
-                    bindings::scene_chunks(&device.limits()),
-                    &bindings::ACCUMULATE_OUTPUTS,
-                )),
-            });
-            let fragment = wgpu::ShaderStages::FRAGMENT;
-            let present = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-                label: Some("present"),
-                entries: &[
-                    uniform(0, fragment),
-                    storage(1, true, fragment),
-                    storage(2, true, fragment),
-                ],
-            });
+        let accumulation = Accumulation::new(ctx, scene, pixels)?;
+        ctx.checked("creating the window's present pass", |device| {
+            let present_layout =
+                device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+                    label: Some("present"),
+                    entries: &bindings::layout_entries(
+                        &bindings::PRESENT_BINDINGS,
+                        wgpu::ShaderStages::FRAGMENT,
+                    ),
+                });
             let present_pipeline_layout =
                 device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
                     label: Some("present"),
-                    bind_group_layouts: &[Some(&present)],
+                    bind_group_layouts: &[Some(&present_layout)],
                     immediate_size: 0,
                 });
-            let present_module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
-                label: Some("present"),
-                source: wgpu::ShaderSource::Wgsl(shaders::PRESENT_SOURCE.into()),
+            let present_module = shaders::present_module(device);
+            let present_params = device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some("present params"),
+                size: std::mem::size_of::<PresentParams>() as u64,
+                usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+                mapped_at_creation: false,
             });
-            let uniform_buffer = |label, size| {
-                device.create_buffer(&wgpu::BufferDescriptor {
-                    label: Some(label),
-                    size,
-                    usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
-                    mapped_at_creation: false,
-                })
-            };
-            let layouts = Layouts {
-                trace,
-                present,
-                params: uniform_buffer(
-                    "window frame params",
-                    std::mem::size_of::<FrameParams>() as u64,
-                ),
-                present_params: uniform_buffer(
-                    "present params",
-                    std::mem::size_of::<PresentParams>() as u64,
-                ),
-            };
+            let groups = present_groups(device, &present_layout, &present_params, &accumulation);
             Viewer {
-                accumulate: TracePipelines::new(
-                    module,
-                    layouts.trace.clone(),
-                    shaders::ACCUMULATE_ENTRY_POINT,
-                ),
-                scene_variant: KernelVariant::for_scene(scene),
                 present: present_pipeline(
                     device,
                     &present_pipeline_layout,
                     &present_module,
                     target_format,
                 ),
+                accumulation,
+                present_layout,
                 present_pipeline_layout,
                 present_module,
+                present_params,
                 target_format,
-                bindings: layouts.bindings(device, scene, pixels),
-                layouts,
+                groups,
                 heatmap: None,
             }
         })
@@ -306,37 +136,28 @@ impl Viewer {
 
     /// Traces `scene` from now on.
     pub fn set_scene(&mut self, ctx: &GpuContext, scene: &SceneBuffers) -> Result<()> {
-        self.scene_variant = KernelVariant::for_scene(scene);
-        let b = &self.bindings;
-        let (image_group, preview_group) = ctx.checked("binding the scene", |device| {
-            (
-                self.layouts
-                    .trace_group(device, scene, &b.image, &b.image_costs),
-                self.layouts
-                    .trace_group(device, scene, &b.preview, &b.preview_costs),
-            )
-        })?;
-        self.bindings.image_group = image_group;
-        self.bindings.preview_group = preview_group;
-        Ok(())
+        self.accumulation.set_scene(ctx, scene)
     }
 
     /// Makes room for images of `pixels` pixels (the contents are lost if
     /// the buffers grow).
     pub fn reserve(&mut self, ctx: &GpuContext, scene: &SceneBuffers, pixels: u64) -> Result<()> {
-        if pixels <= self.bindings.capacity {
-            return Ok(());
+        if self.accumulation.reserve(ctx, scene, pixels)? {
+            self.groups = ctx.checked("allocating the heatmap buffers", |device| {
+                present_groups(
+                    device,
+                    &self.present_layout,
+                    &self.present_params,
+                    &self.accumulation,
+                )
+            })?;
         }
-        self.bindings = ctx.checked("allocating the accumulation buffers", |device| {
-            self.layouts.bindings(device, scene, pixels)
-        })?;
         Ok(())
     }
 
     /// Largest image an accumulation buffer may hold on this device.
     pub fn max_pixels(ctx: &GpuContext) -> u64 {
-        // The accumulation texel is the largest of the buffers' texels.
-        crate::gpu::max_binding_bytes(&ctx.device.limits()) / ACCUMULATION_TEXEL
+        Accumulation::max_pixels(ctx)
     }
 
     /// Runs `work` and draws to `target`: with `heatmap`, the cost heatmap
@@ -354,8 +175,14 @@ impl Viewer {
             .create_command_encoder(&wgpu::CommandEncoderDescriptor {
                 label: Some("frame"),
             });
+        self.accumulation.encode(
+            ctx,
+            &mut encoder,
+            work.target,
+            work.clear_pixels,
+            work.pass.as_ref(),
+        )?;
         if heatmap {
-            self.encode_trace(ctx, &mut encoder, work)?;
             ctx.queue.submit([encoder.finish()]);
             self.heatmap = Some(self.update_heatmap(ctx, &work.present)?);
             encoder = ctx
@@ -365,13 +192,9 @@ impl Viewer {
                 });
         } else {
             self.heatmap = None;
-            self.encode_trace(ctx, &mut encoder, work)?;
         }
-        ctx.queue.write_buffer(
-            &self.layouts.present_params,
-            0,
-            bytemuck::bytes_of(&work.present),
-        );
+        ctx.queue
+            .write_buffer(&self.present_params, 0, bytemuck::bytes_of(&work.present));
         self.draw(&mut encoder, &self.present, target);
         ctx.queue.submit([encoder.finish()]);
         Ok(())
@@ -386,94 +209,32 @@ impl Viewer {
     /// `present` shows, and writes their heatmap texels; returns the
     /// scale's top (the image's, or the preview's when only it is shown).
     fn update_heatmap(&self, ctx: &GpuContext, present: &PresentParams) -> Result<u32> {
-        let b = &self.bindings;
-        let pixels = |size: [u32; 2]| (size[0] as u64 * size[1] as u64).min(b.capacity);
+        let capacity = self.accumulation.capacity();
+        let pixels = |size: [u32; 2]| (size[0] as u64 * size[1] as u64).min(capacity);
         let sources = [
             (
-                &b.image,
-                &b.image_costs,
-                &b.heat_image,
+                Target::Image,
+                &self.groups.heat_image,
                 pixels(present.image_size) * present.show_image.min(1) as u64,
             ),
             (
-                &b.preview,
-                &b.preview_costs,
-                &b.heat_preview,
+                Target::Preview,
+                &self.groups.heat_preview,
                 pixels(present.preview_size),
             ),
         ];
         let mut scale = None;
-        for (colours, costs, heat, n) in sources {
+        for (target, heat, n) in sources {
             if n == 0 {
                 continue;
             }
-            let (colour_bytes, cost_bytes) = (n * ACCUMULATION_TEXEL, n * COST_TEXEL);
-            let readback = ctx.checked("reading back the heatmap's costs", |device| {
-                let readback = device.create_buffer(&wgpu::BufferDescriptor {
-                    label: Some("heatmap readback"),
-                    size: colour_bytes + cost_bytes,
-                    usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
-                    mapped_at_creation: false,
-                });
-                let mut encoder = device.create_command_encoder(&Default::default());
-                encoder.copy_buffer_to_buffer(colours, 0, &readback, 0, colour_bytes);
-                encoder.copy_buffer_to_buffer(costs, 0, &readback, colour_bytes, cost_bytes);
-                ctx.queue.submit([encoder.finish()]);
-                readback
-            })?;
-            let bytes = ctx.read_buffer(&readback, colour_bytes + cost_bytes)?;
-            let (colour_bytes, cost_bytes) = bytes.split_at(colour_bytes as usize);
-            let (texels, max) = super::heatmap_view::heatmap_texels(
-                bytemuck::cast_slice(cost_bytes),
-                bytemuck::cast_slice(colour_bytes),
-            );
+            let (colours, costs) = self.accumulation.read_back(ctx, target, n)?;
+            let (texels, max) = super::heatmap_view::heatmap_texels(&costs, &colours);
             ctx.queue
                 .write_buffer(heat, 0, bytemuck::cast_slice(&texels));
             scale.get_or_insert(max);
         }
         Ok(scale.unwrap_or(1))
-    }
-
-    /// Records `work`'s clear and pass into `encoder`. The uniforms are
-    /// written now; submit before the next call. The pass's pipeline is the
-    /// scene's variant with the pass's walk, made the first time it is
-    /// needed (a new scene, or a walk chosen by key).
-    fn encode_trace(
-        &self,
-        ctx: &GpuContext,
-        encoder: &mut wgpu::CommandEncoder,
-        work: &FrameWork,
-    ) -> Result<()> {
-        let b = &self.bindings;
-        let (buffer, costs, group) = match work.target {
-            Target::Image => (&b.image, &b.image_costs, &b.image_group),
-            Target::Preview => (&b.preview, &b.preview_costs, &b.preview_group),
-        };
-        if let Some(pixels) = work.clear_pixels {
-            let pixels = pixels.clamp(1, b.capacity);
-            encoder.clear_buffer(buffer, 0, Some(pixels * ACCUMULATION_TEXEL));
-            encoder.clear_buffer(costs, 0, Some(pixels * COST_TEXEL));
-        }
-        if let Some(params) = &work.pass {
-            let pipeline = self
-                .accumulate
-                .get(ctx, self.scene_variant.with_walk_of(params))?;
-            ctx.queue
-                .write_buffer(&self.layouts.params, 0, bytemuck::bytes_of(params));
-            let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
-                label: Some("accumulate"),
-                timestamp_writes: None,
-            });
-            pass.set_pipeline(&pipeline);
-            pass.set_bind_group(0, group, &[]);
-            let (gx, gy) = shaders::TRACE_WORKGROUP;
-            pass.dispatch_workgroups(
-                params.tile_size[0].div_ceil(gx),
-                params.tile_size[1].div_ceil(gy),
-                1,
-            );
-        }
-        Ok(())
     }
 
     fn draw(
@@ -500,8 +261,8 @@ impl Viewer {
         });
         pass.set_pipeline(pipeline);
         let group = match self.heatmap {
-            Some(_) => &self.bindings.heat_present_group,
-            None => &self.bindings.present_group,
+            Some(_) => &self.groups.heatmap,
+            None => &self.groups.colours,
         };
         pass.set_bind_group(0, group, &[]);
         pass.draw(0..3, 0..1);
@@ -600,6 +361,52 @@ impl Viewer {
     }
 }
 
+/// The present pass's bind groups over `accumulation`'s buffers, and the
+/// heatmap's texel buffers of the same size with theirs.
+fn present_groups(
+    device: &wgpu::Device,
+    layout: &wgpu::BindGroupLayout,
+    params: &wgpu::Buffer,
+    accumulation: &Accumulation,
+) -> PresentGroups {
+    let heat = |label| {
+        device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some(label),
+            size: accumulation.capacity() * ACCUMULATION_TEXEL,
+            usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        })
+    };
+    let group = |label, image: &wgpu::Buffer, preview: &wgpu::Buffer| {
+        // PRESENT_BINDINGS: the parameters, the image, the preview.
+        let buffers = [params, image, preview];
+        let entries: Vec<wgpu::BindGroupEntry> = bindings::PRESENT_BINDINGS
+            .iter()
+            .zip(buffers)
+            .map(|(b, buffer)| wgpu::BindGroupEntry {
+                binding: b.index,
+                resource: buffer.as_entire_binding(),
+            })
+            .collect();
+        device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some(label),
+            layout,
+            entries: &entries,
+        })
+    };
+    let (heat_image, heat_preview) = (heat("heatmap"), heat("preview heatmap"));
+    PresentGroups {
+        colours: group(
+            "present",
+            accumulation.colours(Target::Image),
+            accumulation.colours(Target::Preview),
+        ),
+        heatmap: group("present heatmap", &heat_image, &heat_preview),
+        heat_image,
+        heat_preview,
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -681,24 +488,24 @@ mod tests {
         let format = wgpu::TextureFormat::Rgba8Unorm;
 
         let mut viewer = Viewer::new(&ctx, &whole, format, pixels).unwrap();
-        assert!(!viewer.scene_variant.split_scene);
+        assert!(!viewer.accumulation.scene_variant().split_scene);
         let expected = picture(&ctx, &mut viewer, &prepared, &whole);
         assert!(
             expected.chunks(3).any(|p| p != &expected[..3]),
             "the picture is blank"
         );
         viewer.set_scene(&ctx, &split).unwrap();
-        assert!(viewer.scene_variant.split_scene);
+        assert!(viewer.accumulation.scene_variant().split_scene);
         assert!(picture(&ctx, &mut viewer, &prepared, &split) == expected);
-        let made = viewer.accumulate.variants();
+        let made = viewer.accumulation.variants();
         assert!(made.iter().any(|v| v.split_scene) && made.iter().any(|v| !v.split_scene));
         viewer.set_scene(&ctx, &whole).unwrap();
-        assert!(!viewer.scene_variant.split_scene);
+        assert!(!viewer.accumulation.scene_variant().split_scene);
         assert!(picture(&ctx, &mut viewer, &prepared, &whole) == expected);
 
         let mut viewer = Viewer::new(&ctx, &split, format, pixels).unwrap();
-        assert!(viewer.scene_variant.split_scene);
+        assert!(viewer.accumulation.scene_variant().split_scene);
         assert!(picture(&ctx, &mut viewer, &prepared, &split) == expected);
-        assert!(viewer.accumulate.variants().iter().all(|v| v.split_scene));
+        assert!(viewer.accumulation.variants().iter().all(|v| v.split_scene));
     }
 }

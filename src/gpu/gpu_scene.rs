@@ -1,0 +1,93 @@
+//! The scene on the device: a [`PreparedScene`] (which records the search
+//! it was prepared for) with its uploaded buffers, and the kernel's
+//! parameters for frames of it. `render` and the window trace a `GpuScene`.
+
+use std::time::Instant;
+
+use super::{Accel, GpuContext, PreparedScene, SceneBuffers};
+use crate::error::Result;
+use crate::geometry::Aabb;
+use crate::kdtree::BuildStrategy;
+use crate::layout::FrameParams;
+use crate::scene::{Camera, RenderSettings, Scene};
+
+/// A prepared scene and its buffers on one device.
+pub struct GpuScene {
+    prepared: PreparedScene,
+    buffers: SceneBuffers,
+    /// Wall time of the upload, in milliseconds.
+    upload_ms: f64,
+}
+
+impl GpuScene {
+    /// Uploads `prepared`'s arrays (refused with one line if a buffer
+    /// exceeds the adapter's binding limit or the device runs out of
+    /// memory).
+    pub fn upload(ctx: &GpuContext, prepared: PreparedScene) -> Result<Self> {
+        let started = Instant::now();
+        let buffers = SceneBuffers::upload(ctx, &prepared.arrays)?;
+        Ok(GpuScene {
+            prepared,
+            buffers,
+            upload_ms: started.elapsed().as_secs_f64() * 1e3,
+        })
+    }
+
+    /// The scene with its tree and arrays, as prepared on the CPU.
+    pub fn prepared(&self) -> &PreparedScene {
+        &self.prepared
+    }
+
+    /// The scene as loaded.
+    pub fn scene(&self) -> &Scene {
+        &self.prepared.scene
+    }
+
+    /// The buffers the kernel binds.
+    pub fn buffers(&self) -> &SceneBuffers {
+        &self.buffers
+    }
+
+    /// The search it was prepared for.
+    pub fn accel(&self) -> Accel {
+        self.prepared.accel
+    }
+
+    /// How its k-d tree was built.
+    pub fn strategy(&self) -> BuildStrategy {
+        self.prepared.strategy
+    }
+
+    /// Wall time of the upload, in milliseconds.
+    pub fn upload_ms(&self) -> f64 {
+        self.upload_ms
+    }
+
+    /// The root cell of its tree: the objects' box, widened by the build's
+    /// tolerance.
+    pub fn bounds(&self) -> Aabb {
+        self.prepared.tree.bounds
+    }
+
+    /// The kernel's parameters for the scene's own camera and settings, with
+    /// the search it was prepared for: the whole image as one tile, sample 0.
+    pub fn frame_params(&self) -> FrameParams {
+        self.view_params(
+            &self.prepared.scene.camera,
+            &self.prepared.scene.render,
+            self.accel(),
+        )
+    }
+
+    /// The kernel's parameters for a frame seen from `camera` with `render`'s
+    /// settings, searching with `accel` (brute force needs no tree; a k-d
+    /// walk over a scene prepared for brute force walks its single leaf).
+    pub fn view_params(
+        &self,
+        camera: &Camera,
+        render: &RenderSettings,
+        accel: Accel,
+    ) -> FrameParams {
+        FrameParams::new(&camera.basis(), render, &self.buffers, accel)
+    }
+}
