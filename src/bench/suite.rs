@@ -1,6 +1,6 @@
-//! `kdray bench --suite`: the four scenes of the study's measurement of
-//! every build and walk, with the sizes chosen so the whole matrix (3 builds x 3
-//! walks + brute force) runs in about 10-15 minutes in release on the
+//! `kdray bench --suite`: the four scenes on which every build and walk is
+//! measured, with the sizes chosen so the whole matrix (3 builds x 3 walks,
+//! and brute force) runs in about 10-15 minutes in release on the
 //! project's 2-core machine under lavapipe:
 //!
 //! | scene | objects | image | max_depth |
