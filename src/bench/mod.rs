@@ -19,7 +19,7 @@
 //!
 //! The files, in the order a run uses them:
 //! - [`options`]: [`BenchConfig`], the one options type, its defaults and checks;
-//! - [`cases`]: the scenes a configuration measures;
+//! - [`cases`](mod@cases): the scenes a configuration measures;
 //! - `run`: the sweep over cases, cells and brute force;
 //! - `measure`: one run's warm-up and timed frames;
 //! - `budget`: when brute force is skipped;
@@ -27,7 +27,7 @@
 //! - [`report`]: the whole run as `bench.json`; [`host`]: the machine and the date;
 //! - [`fit`]: least-squares fits; [`csv`], [`summary`], [`numbers`]: the text outputs;
 //! - [`plots`], [`matrix_plot`]: the pictures; [`outputs`]: the output folder and `--replot`;
-//! - [`random_scene`], [`generate`]: the random scenes and `kdray generate`;
+//! - [`random_scene`](mod@random_scene), [`generate`]: the random scenes and `kdray generate`;
 //! - [`suite`]: the four scenes of `--suite`; [`named`]: choices in JSON by name.
 
 mod budget;
