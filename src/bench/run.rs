@@ -99,8 +99,9 @@ impl<'a> Sweep<'a> {
         })
     }
 
-    /// Every run of one case: the k-d cells, then brute force, in the
-    /// configuration's order of accelerations.
+    /// Every run of one case: the k-d cells and brute force, in the
+    /// configuration's order of accelerations (brute force compares its
+    /// image with the cells measured before it).
     fn measure_case(&mut self, case: &BenchCase) -> Result<()> {
         let (loaded, mut scene) = self.load(case)?;
         // Each k-d cell's image and its record's index, for brute force.
