@@ -1,8 +1,10 @@
 //! Named choices: the enums that the command line, `--stats`, the bench's
 //! JSON and its reports spell by name (`kdtree`, `brute`, `spheres`, ...).
-//! The library lists each choice's names and help here; the command line
-//! (src/bin/kdray) turns them into its flags without the library knowing
-//! about the command line.
+//! Each choice lists its names and help beside its own type (`Accel` in
+//! gpu/frame_params.rs, `BuildStrategy` in kdtree/build.rs, `Traversal` in
+//! kdtree/traversal.rs, `SceneKind` in bench/random_scene.rs); the command
+//! line (src/bin/kdray) turns them into its flags without the library
+//! knowing about the command line.
 
 /// An enum whose values are chosen by name.
 pub trait Choice: Copy + PartialEq + Send + Sync + 'static {
@@ -20,56 +22,46 @@ pub trait Choice: Copy + PartialEq + Send + Sync + 'static {
     }
 }
 
-impl Choice for crate::gpu::Accel {
-    const ALL: &'static [Self] = &[Self::Kdtree, Self::Brute];
-
-    fn name(self) -> &'static str {
-        match self {
-            Self::Kdtree => "kdtree",
-            Self::Brute => "brute",
-        }
+/// Asserts that every value of `T` is found by its name and has help, and
+/// that an unknown name finds none: each implementation's own tests call it.
+#[cfg(test)]
+pub(crate) fn assert_names_round_trip<T: Choice + std::fmt::Debug>() {
+    for &c in T::ALL {
+        assert_eq!(T::from_name(c.name()), Some(c));
+        assert!(!c.help().is_empty());
     }
-
-    fn help(self) -> &'static str {
-        match self {
-            Self::Kdtree => "the stackless k-d tree walk",
-            Self::Brute => "the seed's loop over every object",
-        }
-    }
-}
-
-impl Choice for crate::bench::SceneKind {
-    const ALL: &'static [Self] = &[Self::Spheres, Self::Triangles, Self::Mixed, Self::Gears];
-
-    fn name(self) -> &'static str {
-        self.name()
-    }
-
-    fn help(self) -> &'static str {
-        match self {
-            Self::Spheres => "spheres only",
-            Self::Triangles => "triangles only",
-            Self::Mixed => "half spheres (rounded up), half triangles",
-            Self::Gears => "gear wheels of long thin triangles (144-vertex faces, fanned)",
-        }
-    }
+    assert_eq!(T::from_name("no-such-choice"), None);
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
 
-    fn names_round_trip<T: Choice + std::fmt::Debug>() {
-        for &c in T::ALL {
-            assert_eq!(T::from_name(c.name()), Some(c));
-            assert!(!c.help().is_empty());
+    #[derive(Debug, Clone, Copy, PartialEq)]
+    enum Shape {
+        Round,
+        Flat,
+    }
+
+    impl Choice for Shape {
+        const ALL: &'static [Self] = &[Self::Round, Self::Flat];
+
+        fn name(self) -> &'static str {
+            match self {
+                Self::Round => "round",
+                Self::Flat => "flat",
+            }
         }
-        assert_eq!(T::from_name("no-such-choice"), None);
+
+        fn help(self) -> &'static str {
+            "a test shape"
+        }
     }
 
     #[test]
     fn every_choice_is_found_by_its_name() {
-        names_round_trip::<crate::gpu::Accel>();
-        names_round_trip::<crate::bench::SceneKind>();
+        assert_names_round_trip::<Shape>();
+        assert_eq!(Shape::from_name("flat"), Some(Shape::Flat));
+        assert_eq!(Shape::from_name("Flat"), None, "names are matched exactly");
     }
 }

@@ -7,8 +7,9 @@
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
+use super::cases::scene_slug;
+use super::record::RunRecord;
 use super::report::BenchReport;
-use super::{scene_slug, RunRecord};
 use crate::error::Result;
 use crate::gpu::Accel;
 use crate::kdtree::BuildStrategy;
@@ -87,7 +88,7 @@ pub fn scene_svg(report: &BenchReport, scene: &str, n: usize) -> String {
         .map(|r| {
             let label = match (r.build, r.traversal) {
                 (Some(b), Some(t)) => {
-                    format!("{} / {}", crate::choice::Choice::name(b), t.name())
+                    format!("{} / {}", b.name(), t.name())
                 }
                 _ => "brute force".into(),
             };
@@ -139,7 +140,7 @@ pub fn scene_svg(report: &BenchReport, scene: &str, n: usize) -> String {
         WIDTH / 2.0,
         xml(&format!(
             "Rays per second: {scene}, N = {}{}",
-            super::report::count(n as u64),
+            super::numbers::count(n as u64),
             first.map_or(String::new(), |r| format!(
                 ", {}x{}, max_depth {}",
                 r.width, r.height, r.max_depth

@@ -13,8 +13,8 @@ use std::path::{Path, PathBuf};
 use plotters::element::DashedPathElement;
 use plotters::prelude::*;
 
+use super::record::RunStatus;
 use super::report::BenchReport;
-use super::RunStatus;
 use crate::error::{Error, Result};
 use crate::gpu::Accel;
 
@@ -348,13 +348,6 @@ pub fn write_plots(report: &BenchReport, out: &Path) -> Result<Vec<PathBuf>> {
     }];
     if let (Some(first), Some(last)) = (speedup.first(), speedup.last()) {
         let (lo, hi) = (first.0.min(last.0), first.0.max(last.0).max(first.0 * 10.0));
-        series.push(Series {
-            label: "300x (the target at N = 10,000)".into(),
-            points: vec![(lo, 300.0), (hi, 300.0)],
-            colour: FIT_COLOUR,
-            dashed: true,
-            marker: Marker::None,
-        });
         series.push(Series {
             label: "1x (break-even)".into(),
             points: vec![(lo, 1.0), (hi, 1.0)],

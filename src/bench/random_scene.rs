@@ -46,6 +46,23 @@ impl SceneKind {
     }
 }
 
+impl crate::choice::Choice for SceneKind {
+    const ALL: &'static [Self] = &[Self::Spheres, Self::Triangles, Self::Mixed, Self::Gears];
+
+    fn name(self) -> &'static str {
+        SceneKind::name(self)
+    }
+
+    fn help(self) -> &'static str {
+        match self {
+            Self::Spheres => "spheres only",
+            Self::Triangles => "triangles only",
+            Self::Mixed => "half spheres (rounded up), half triangles",
+            Self::Gears => "gear wheels of long thin triangles (144-vertex faces, fanned)",
+        }
+    }
+}
+
 /// The default seed of `kdray bench` and `kdray generate`.
 pub const DEFAULT_SEED: u64 = 20_261_121;
 /// Half the side of the box the objects' centres are drawn in.
@@ -285,18 +302,18 @@ const fn gear_triangle_count(v: usize) -> usize {
     4 * v - 4
 }
 
-/// The gear-like scene of issue 9: gear wheels whose flat faces are
+/// The gears scene: gear wheels whose flat faces are
 /// 144-vertex polygons, fan-triangulated from their first vertex as an OBJ
 /// reader does an n-gon (142 triangles per face, most of them long and
 /// thin, all sharing one vertex), and whose rims are quads, placed at random
 /// centres and orientations; plus a floor, a regular polygon fanned the same
-/// way. Exactly `count` triangles: 4,578 gives the issue's scene, 8 gears of
-/// 572 triangles on a floor quad.
+/// way. Exactly `count` triangles: 4,578 gives the gears benchmark scene, 8
+/// gears of 572 triangles on a floor quad.
 ///
 /// The outline's teeth make it non-convex, so a fan from one of its
 /// vertices also covers part of the gaps between the teeth on the far side
-/// (it is a triangulation only of a convex polygon); the issue's OBJ gears
-/// were fanned the same way, and the bench needs the triangles' shapes, not
+/// (it is a triangulation only of a convex polygon); the OBJ gears this
+/// scene stands for were fanned the same way, and the bench needs the triangles' shapes, not
 /// a faithful gear.
 ///
 /// Sizes: the floor takes 2 triangles (up to 17, absorbing what the gears
@@ -437,6 +454,11 @@ mod tests {
     use super::*;
 
     #[test]
+    fn every_scene_kind_is_found_by_its_name() {
+        crate::choice::assert_names_round_trip::<SceneKind>();
+    }
+
+    #[test]
     fn splitmix64_matches_the_reference_sequence() {
         // First outputs for seed 1234567 of the reference C implementation
         // (Vigna's splitmix64.c).
@@ -518,12 +540,12 @@ mod tests {
         }
     }
 
-    /// 4,578 triangles are the issue's scene: 8 gears of 572 triangles (two
+    /// 4,578 triangles are the gears benchmark scene: 8 gears of 572 triangles (two
     /// faces fanned from their first vertex into 142 triangles each, and a
     /// rim of 144 quads), then a floor quad. Most face triangles are long and
     /// thin.
     #[test]
-    fn the_issues_gear_scene() {
+    fn gears_scene_of_4578_triangles_is_eight_gears_and_a_floor() {
         let s = random_scene(&RandomSceneSpec::new(SceneKind::Gears, 4578));
         let gear = gear_triangle_count(GEAR_OUTLINE_VERTICES);
         assert_eq!(gear, 572);

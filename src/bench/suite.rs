@@ -1,6 +1,6 @@
-//! `kdray bench --suite`: the four scenes of the study's measurement
-//! (issue 9 §5), with the sizes chosen so the whole matrix (3 builds x 3
-//! walks + brute force) runs in about 10-15 minutes in release on the
+//! `kdray bench --suite`: the four scenes on which every build and walk is
+//! measured, with the sizes chosen so the whole matrix (3 builds x 3 walks,
+//! and brute force) runs in about 10-15 minutes in release on the
 //! project's 2-core machine under lavapipe:
 //!
 //! | scene | objects | image | max_depth |
@@ -23,11 +23,13 @@ use std::path::{Path, PathBuf};
 
 use glam::DVec3;
 
-use super::{BenchCase, CaseSource, RandomSceneSpec, SceneKind};
+use super::cases::{BenchCase, CaseSource};
+use super::random_scene::{RandomSceneSpec, SceneKind};
 use crate::error::{Error, Result};
 use crate::scene::{Scene, SceneFormat, Triangle};
 
-/// Random spheres of the suite: the issue's 10,000-sphere target.
+/// Random spheres of the suite: the 10,000 spheres at which the k-d tree
+/// and brute force are compared.
 pub const SUITE_SPHERES: usize = 10_000;
 /// Random triangles of the suite.
 pub const SUITE_TRIANGLES: usize = 100_000;

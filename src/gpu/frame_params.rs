@@ -21,6 +21,24 @@ pub enum Accel {
     Brute,
 }
 
+impl crate::choice::Choice for Accel {
+    const ALL: &'static [Self] = &[Self::Kdtree, Self::Brute];
+
+    fn name(self) -> &'static str {
+        match self {
+            Self::Kdtree => "kdtree",
+            Self::Brute => "brute",
+        }
+    }
+
+    fn help(self) -> &'static str {
+        match self {
+            Self::Kdtree => "the stackless k-d tree walk",
+            Self::Brute => "the seed's loop over every object",
+        }
+    }
+}
+
 impl FrameParams {
     /// What `trace_rays` reads: the scene's counts and box, and the accel
     /// (no camera, image or tile).
@@ -100,5 +118,13 @@ pub(super) fn accel_value(accel: Accel) -> u32 {
     match accel {
         Accel::Kdtree => ACCEL_KDTREE,
         Accel::Brute => ACCEL_BRUTE,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    #[test]
+    fn every_accel_is_found_by_its_name() {
+        crate::choice::assert_names_round_trip::<super::Accel>();
     }
 }

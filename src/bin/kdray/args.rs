@@ -1,12 +1,19 @@
-//! The command line's own types: clap's view of the flags, mapped onto the
-//! library's options. The library knows nothing of clap; its named choices
-//! ([`kdray::choice::Choice`]) give the flags their values and help.
+//! The command line's own types: clap's view of the flags, each mapped onto
+//! the library's options in one place ([`BenchArgs::config`],
+//! [`GenerateArgs::spec`]). The library knows nothing of clap; its named
+//! choices ([`kdray::choice::Choice`]) give the flags their values and help,
+//! and its defaults the flags' defaults.
 
 use std::path::PathBuf;
 
 use clap::builder::{PossibleValue, PossibleValuesParser, TypedValueParser};
 use clap::{Parser, Subcommand};
-use kdray::bench::{BenchOptions, GenerateOptions, SceneKind, DEFAULT_SEED};
+use kdray::bench::options::{
+    BenchConfig, BenchMode, DEFAULT_ACCELS, DEFAULT_BUDGET_S, DEFAULT_OUT, DEFAULT_REPEAT,
+    DEFAULT_SIZES,
+};
+use kdray::bench::random_scene::{DEFAULT_HEIGHT, DEFAULT_WIDTH};
+use kdray::bench::{RandomSceneSpec, SceneKind, DEFAULT_SEED};
 use kdray::choice::Choice;
 use kdray::gpu::Accel;
 use kdray::kdtree::{BuildStrategy, Traversal};
@@ -131,10 +138,16 @@ pub struct RenderArgs {
     pub screenshot: Option<PathBuf>,
 }
 
+/// The library's default sizes as `--sizes` writes them (comma separated).
+fn default_sizes() -> &'static str {
+    static TEXT: std::sync::OnceLock<String> = std::sync::OnceLock::new();
+    TEXT.get_or_init(|| DEFAULT_SIZES.map(|n| n.to_string()).join(","))
+}
+
 #[derive(clap::Args)]
 pub struct BenchArgs {
     /// Object counts of the random scenes, comma separated.
-    #[arg(long, value_delimiter = ',', default_value = kdray::bench::DEFAULT_SIZES)]
+    #[arg(long, value_delimiter = ',', default_value = default_sizes())]
     pub sizes: Vec<usize>,
     /// What the random scenes are made of.
     #[arg(long, value_parser = choice::<SceneKind>(), default_value = "spheres")]
@@ -156,14 +169,14 @@ pub struct BenchArgs {
     #[arg(long)]
     pub max_depth: Option<u32>,
     /// Timed frames per run, after one warm-up frame; the median is reported.
-    #[arg(long, default_value_t = 3)]
+    #[arg(long, default_value_t = DEFAULT_REPEAT)]
     pub repeat: u32,
     /// Per-frame budget for brute force, in seconds: a size whose predicted
     /// brute-force frame exceeds it is skipped (and reported as skipped).
-    #[arg(long, default_value_t = 30.0)]
+    #[arg(long, default_value_t = DEFAULT_BUDGET_S)]
     pub budget_s: f64,
     /// Which accelerations to run.
-    #[arg(long, value_parser = choice::<Accel>(), value_delimiter = ',', default_values = ["kdtree", "brute"])]
+    #[arg(long, value_parser = choice::<Accel>(), value_delimiter = ',', default_values = DEFAULT_ACCELS.map(Choice::name))]
     pub accel: Vec<Accel>,
     /// The k-d tree's builds, comma separated, or `all`: each build is made
     /// and uploaded once and measured with every --traversal [default: sah].
@@ -183,37 +196,45 @@ pub struct BenchArgs {
     #[arg(long)]
     pub write_scenes: bool,
     /// Output folder (created if missing).
-    #[arg(long, default_value = "bench-results")]
+    #[arg(long, default_value = DEFAULT_OUT)]
     pub out: PathBuf,
     /// Also save the k-d tree's image of every run as render-*.png in the output folder.
     #[arg(long)]
     pub save_images: bool,
     /// Measure nothing: read DIR/bench.json from an earlier run and rewrite
-    /// its summary, fits, targets and plots in DIR.
+    /// its summary, fits and plots in DIR.
     #[arg(long, value_name = "DIR", conflicts_with_all = ["scenes", "save_images", "suite", "write_scenes"])]
     pub replot: Option<PathBuf>,
 }
 
-impl From<BenchArgs> for BenchOptions {
-    fn from(a: BenchArgs) -> Self {
-        BenchOptions {
-            sizes: a.sizes,
-            kind: a.kind,
-            seed: a.seed,
-            scenes: a.scenes,
-            width: a.width,
-            height: a.height,
-            max_depth: a.max_depth,
-            repeat: a.repeat,
-            budget_s: a.budget_s,
-            accel: a.accel,
-            builds: expand(&a.build),
-            traversals: expand(&a.traversal),
-            suite: a.suite,
-            write_scenes: a.write_scenes,
-            out: a.out,
-            save_images: a.save_images,
-            replot: a.replot,
+impl BenchArgs {
+    /// The library's options for these flags (but `--replot`, which
+    /// measures nothing); `command` is the command line, for the report.
+    pub fn config(&self, command: String) -> BenchConfig {
+        BenchConfig {
+            mode: if self.suite {
+                BenchMode::Suite
+            } else if self.scenes.is_empty() {
+                BenchMode::Random
+            } else {
+                BenchMode::Scenes
+            },
+            kind: Some(self.kind),
+            sizes: self.sizes.clone(),
+            seed: self.seed,
+            scenes: self.scenes.clone(),
+            width: self.width,
+            height: self.height,
+            max_depth: self.max_depth,
+            repeat: self.repeat,
+            budget_s: self.budget_s,
+            accels: self.accel.clone(),
+            builds: expand(&self.build),
+            traversals: expand(&self.traversal),
+            out: self.out.clone(),
+            save_images: self.save_images,
+            write_scenes: self.write_scenes,
+            command,
         }
     }
 }
@@ -230,25 +251,25 @@ pub struct GenerateArgs {
     #[arg(long, default_value_t = DEFAULT_SEED)]
     pub seed: u64,
     /// Image width written into [render].
-    #[arg(long, default_value_t = kdray::bench::random_scene::DEFAULT_WIDTH)]
+    #[arg(long, default_value_t = DEFAULT_WIDTH)]
     pub width: u32,
     /// Image height written into [render].
-    #[arg(long, default_value_t = kdray::bench::random_scene::DEFAULT_HEIGHT)]
+    #[arg(long, default_value_t = DEFAULT_HEIGHT)]
     pub height: u32,
     /// The scene file to write: .json for JSON, anything else TOML.
     #[arg(short, long)]
     pub output: PathBuf,
 }
 
-impl From<GenerateArgs> for GenerateOptions {
-    fn from(a: GenerateArgs) -> Self {
-        GenerateOptions {
-            kind: a.kind,
-            count: a.count,
-            seed: a.seed,
-            width: a.width,
-            height: a.height,
-            output: a.output,
+impl GenerateArgs {
+    /// The random scene these flags ask for.
+    pub fn spec(&self) -> RandomSceneSpec {
+        RandomSceneSpec {
+            kind: self.kind,
+            count: self.count,
+            seed: self.seed,
+            width: self.width,
+            height: self.height,
         }
     }
 }

@@ -2,6 +2,7 @@
 //! `bench` and `generate`.
 
 mod args;
+mod bench;
 
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
@@ -41,8 +42,8 @@ fn main() -> ExitCode {
         }),
         Command::Render(args) => render(args),
         Command::Info => info(),
-        Command::Bench(args) => kdray::bench::bench_cli(&args.into()),
-        Command::Generate(args) => kdray::bench::generate_cli(&args.into()),
+        Command::Bench(args) => bench::bench(args),
+        Command::Generate(args) => bench::generate(args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,
