@@ -7,9 +7,8 @@ use std::time::Instant;
 use super::progress::Progress;
 use super::record::RunRecord;
 use crate::error::Result;
-use crate::gpu::{Accel, GpuContext, RenderSummary, Renderer, SceneBuffers, TilePlan};
+use crate::gpu::{Accel, GpuContext, GpuScene, RenderSummary, Renderer, SceneBuffers, TilePlan};
 use crate::layout::FrameParams;
-use crate::scene::Scene;
 
 /// What every run of a sweep is timed with: the GPU, the renderer and the
 /// configuration's repeats and brute-force budget.
@@ -29,8 +28,7 @@ impl FrameTimer<'_> {
     /// fills `record` and returns the image.
     pub fn measure(
         &self,
-        scene: &Scene,
-        buffers: &SceneBuffers,
+        gpu: &GpuScene,
         params: FrameParams,
         plan: TilePlan,
         progress: &Progress,
@@ -39,6 +37,7 @@ impl FrameTimer<'_> {
         let what = format!("{} N={} {}", record.scene, record.n, record.cell_name());
         progress.message(format!("{what}: warm-up frame"));
         let t = Instant::now();
+        let buffers = gpu.buffers();
         let (rgb, first) = self.counted_frame(buffers, params, plan)?;
         let warmup_wall = ms_since(t);
         if let Some(cost) = first.cost {
@@ -92,7 +91,7 @@ impl FrameTimer<'_> {
                 });
             }
         }
-        let r = &scene.render;
+        let r = &gpu.scene().render;
         let primary = r.width as u64 * r.height as u64 * r.samples as u64;
         let per_us = (gpu_ms * 1e3).max(1e-9);
         record.primary_rays = Some(primary);

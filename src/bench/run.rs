@@ -17,7 +17,7 @@ use super::record::{RunRecord, RunStatus};
 use super::report::BenchReport;
 use super::suite;
 use crate::error::{Error, Result};
-use crate::gpu::{Accel, GpuContext, PreparedScene, Renderer, TilePlan};
+use crate::gpu::{Accel, GpuContext, GpuScene, PreparedScene, Renderer, TilePlan};
 use crate::kdtree::{BuildStrategy, Traversal};
 use crate::scene::Scene;
 
@@ -184,9 +184,12 @@ impl<'a> Sweep<'a> {
                 .message(format!("{label} N={n}: building ({})", build.name()));
             let prepared = PreparedScene::built_by(scene, accel, build);
             self.progress.message(format!("{label} N={n}: uploading"));
-            let t = Instant::now();
-            let buffers = prepared.upload(self.timer.ctx);
-            let upload_ms = prepared.flatten_ms + ms_since(t);
+            let flatten_ms = prepared.flatten_ms;
+            let uploaded = GpuScene::try_upload(self.timer.ctx, prepared);
+            let (prepared, upload_ms) = match &uploaded {
+                Ok(gpu) => (gpu.prepared(), flatten_ms + gpu.upload_ms()),
+                Err(failed) => (&failed.prepared, flatten_ms),
+            };
             let stats = prepared.tree.stats();
             for &traversal in &self.config.traversals {
                 let mut record = RunRecord {
@@ -201,18 +204,15 @@ impl<'a> Sweep<'a> {
                     gpu_scene_bytes: Some(prepared.arrays.byte_size()),
                     ..case.record(&prepared.scene, accel)
                 };
-                let result = match &buffers {
-                    Ok(buffers) => self.timer.measure(
-                        &prepared.scene,
-                        buffers,
-                        prepared
-                            .frame_params(buffers, accel)
-                            .with_traversal(traversal),
+                let result = match &uploaded {
+                    Ok(gpu) => self.timer.measure(
+                        gpu,
+                        gpu.frame_params().with_traversal(traversal),
                         case.plan,
                         &self.progress,
                         &mut record,
                     ),
-                    Err(e) => Err(Error::Output(e.to_string())),
+                    Err(failed) => Err(Error::Output(failed.error.to_string())),
                 };
                 match result {
                     Ok(rgb) => {
@@ -229,8 +229,11 @@ impl<'a> Sweep<'a> {
                 record.peak_host_mib = peak_host_mib();
                 self.finish_run(record)?;
             }
-            drop(buffers);
-            scene = prepared.into_scene();
+            scene = match uploaded {
+                Ok(gpu) => gpu.into_prepared(),
+                Err(failed) => failed.prepared,
+            }
+            .into_scene();
         }
         Ok(scene)
     }
@@ -282,18 +285,22 @@ impl<'a> Sweep<'a> {
         self.progress
             .message(format!("{} N={} brute: preparing", case.label, case.n));
         let prepared = PreparedScene::new(scene, accel);
-        let result = prepared.upload(self.timer.ctx).and_then(|buffers| {
-            self.timer.measure(
-                &prepared.scene,
-                &buffers,
-                prepared.frame_params(&buffers, accel),
-                case.plan,
-                &self.progress,
-                &mut record,
-            )
-        });
-        record.upload_ms = Some(prepared.flatten_ms);
+        let flatten_ms = prepared.flatten_ms;
         record.gpu_scene_bytes = Some(prepared.arrays.byte_size());
+        let (result, prepared) = match GpuScene::try_upload(self.timer.ctx, prepared) {
+            Ok(gpu) => {
+                let result = self.timer.measure(
+                    &gpu,
+                    gpu.frame_params(),
+                    case.plan,
+                    &self.progress,
+                    &mut record,
+                );
+                (result, gpu.into_prepared())
+            }
+            Err(failed) => (Err(failed.error), failed.prepared),
+        };
+        record.upload_ms = Some(flatten_ms);
         let scene = prepared.into_scene();
         match result {
             Ok(rgb) => {

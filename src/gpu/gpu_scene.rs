@@ -11,6 +11,12 @@ use crate::kdtree::BuildStrategy;
 use crate::layout::FrameParams;
 use crate::scene::{Camera, RenderSettings, Scene};
 
+/// An upload that failed, and the prepared scene it was given.
+pub struct UploadFailed {
+    pub error: crate::Error,
+    pub prepared: PreparedScene,
+}
+
 /// A prepared scene and its buffers on one device.
 pub struct GpuScene {
     prepared: PreparedScene,
@@ -24,13 +30,29 @@ impl GpuScene {
     /// exceeds the adapter's binding limit or the device runs out of
     /// memory).
     pub fn upload(ctx: &GpuContext, prepared: PreparedScene) -> Result<Self> {
+        Self::try_upload(ctx, prepared).map_err(|failed| failed.error)
+    }
+
+    /// [`GpuScene::upload`], handing the prepared scene back when the upload
+    /// fails (a benchmark goes on with the next build of the same scene).
+    pub fn try_upload(
+        ctx: &GpuContext,
+        prepared: PreparedScene,
+    ) -> std::result::Result<Self, UploadFailed> {
         let started = Instant::now();
-        let buffers = SceneBuffers::upload(ctx, &prepared.arrays)?;
-        Ok(GpuScene {
-            prepared,
-            buffers,
-            upload_ms: started.elapsed().as_secs_f64() * 1e3,
-        })
+        match SceneBuffers::upload(ctx, &prepared.arrays) {
+            Ok(buffers) => Ok(GpuScene {
+                prepared,
+                buffers,
+                upload_ms: started.elapsed().as_secs_f64() * 1e3,
+            }),
+            Err(error) => Err(UploadFailed { error, prepared }),
+        }
+    }
+
+    /// The prepared scene back, its buffers freed.
+    pub fn into_prepared(self) -> PreparedScene {
+        self.prepared
     }
 
     /// The scene with its tree and arrays, as prepared on the CPU.

@@ -30,7 +30,7 @@ mod trace_pipelines;
 pub use accumulate::{Accumulation, Target};
 pub use context::{max_binding_bytes, GpuContext};
 pub use frame_params::Accel;
-pub use gpu_scene::GpuScene;
+pub use gpu_scene::{GpuScene, UploadFailed};
 pub use kernel_variant::KernelVariant;
 pub use prepared_scene::PreparedScene;
 pub use ray_query::{RayQueries, RayQuery};

@@ -108,14 +108,16 @@ fn render(args: RenderArgs) -> Result<()> {
         .progress_chars("=> "),
     );
     let (width, height) = (scene.render.width, scene.render.height);
-    let prepared = kdray::gpu::PreparedScene::built_by(scene, accel, build);
+    let uploaded = kdray::gpu::GpuScene::upload(
+        &ctx,
+        kdray::gpu::PreparedScene::built_by(scene, accel, build),
+    )?;
     // The heatmap's scale needs every pixel: its costs are kept whole (4
     // bytes per pixel), unlike the image.
     let mut work: Vec<u32> = Vec::new();
-    let (figures, _) = kdray::render::render_scene_streaming(
+    let (figures, _) = kdray::render::render_streaming(
         &ctx,
-        &prepared,
-        accel,
+        &uploaded,
         traversal,
         TilePlan::DEFAULT_MAX_TILE_PIXELS,
         stats || heatmap.is_some(),
