@@ -11,6 +11,8 @@
 
 use glam::DVec3;
 
+use super::Warning;
+
 /// The index that stands for "none": in `MeshTriangle::normals`, a corner
 /// without a file normal; in `MeshTriangle::material`, a triangle of a mesh
 /// read without materials. No vertex, normal or material has this index
@@ -32,6 +34,23 @@ pub struct MeshMaterial {
     pub specular: DVec3,
     pub shininess: f64,
     pub reflection: f64,
+}
+
+impl MeshMaterial {
+    /// The material of an OBJ face that names none that kdray can find (no
+    /// `usemtl`, an undefined name, an unreadable MTL file): a plain matte
+    /// grey, diffuse 0.7 and ambient a tenth of that (the glTF rule's
+    /// fraction), so the model reads as clay under any light.
+    pub fn default_grey() -> Self {
+        MeshMaterial {
+            name: "(default grey)".to_string(),
+            ambient: DVec3::splat(0.07),
+            diffuse: DVec3::splat(0.7),
+            specular: DVec3::ZERO,
+            shininess: 0.0,
+            reflection: 0.0,
+        }
+    }
 }
 
 /// One triangle: indices into its mesh's arrays (28 bytes).
@@ -90,6 +109,9 @@ pub struct Mesh {
     /// Deduplicated, in order of first use by a triangle; only materials some
     /// triangle uses are here.
     pub materials: Vec<MeshMaterial>,
+    /// What the file asked for that the reader ignored or filled in, in
+    /// file order; the caller decides where they go.
+    pub warnings: Vec<Warning>,
 }
 
 impl Mesh {

@@ -46,7 +46,8 @@ impl Validator<'_> {
             mesh_file::load_mesh(&mesh_path, override_material.is_none(), &mut **on_read)
         }
         .map_err(|e| {
-            if e.line.is_some() {
+            // A model opened on its own has no scene file to point at.
+            if e.line.is_some() || mesh_path == self.file {
                 return e;
             }
             // A mesh file at fault as a whole: also say which entry asked for it.
@@ -57,6 +58,11 @@ impl Validator<'_> {
             let message = format!("{} (from {} in {at})", e.message, key("path"));
             e.reworded(message)
         })?;
+
+        let mut mesh = mesh;
+        for warning in std::mem::take(&mut mesh.warnings) {
+            (self.warn.borrow_mut())(warning);
+        }
 
         let first_material = materials.len() as u32;
         if override_material.is_none() {

@@ -23,14 +23,20 @@ mod normals;
 pub mod obj;
 mod schema;
 mod source_map;
+mod model_scene;
 mod validate;
+mod warning;
 mod write;
 
 pub use camera_basis::CameraBasis;
 pub use error::SceneError;
 pub use input_file::MAX_INPUT_BYTES;
-pub use load::{load_scene, load_scene_observed, parse_scene, SceneFormat};
+pub use load::{
+    load_scene, load_scene_observed, load_scene_with, parse_scene, parse_scene_with, SceneFormat,
+};
+pub use model_scene::{model_scene, model_scene_with};
 pub use validate::{check_samples, MAX_IMAGE_SIDE};
+pub use warning::{print_warning, Warning};
 pub use write::scene_text;
 
 use glam::DVec3;

@@ -31,6 +31,8 @@ pub(super) struct Validator<'a> {
     pub(super) map: LazySourceMap<'a>,
     /// Told of each file just before it is read.
     pub(super) on_read: RefCell<&'a mut dyn FnMut(&Path)>,
+    /// Given each warning of the mesh files.
+    pub(super) warn: RefCell<&'a mut dyn FnMut(super::Warning)>,
 }
 
 /// The path of a key, made only when an error names it: made for every

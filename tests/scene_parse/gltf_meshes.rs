@@ -1,6 +1,7 @@
 //! glTF and GLB meshes through the scene: node hierarchies against the
 //! same OBJ, embedded, external and binary buffers, the PBR material rule,
-//! non-indexed primitives.
+//! non-indexed primitives, sparse accessors, the warnings for extensions and
+//! textures, and glTF 1.0 named.
 
 use super::*;
 use glam::{DMat3, DMat4, DQuat};
@@ -187,5 +188,65 @@ fn a_non_indexed_primitive_without_normals_is_flat() {
     let face = (b - a).cross(c - a).normalize();
     for n in scene.normals_of(&scene.triangles[1]).unwrap() {
         assert!((n - face).abs().max_element() < 1e-12, "{n} vs {face}");
+    }
+}
+
+/// A model of tests/models read by the glTF reader alone.
+fn read_model(name: &str, with_materials: bool) -> Result<kdray::scene::mesh::Mesh, SceneError> {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/models").join(name);
+    kdray::scene::gltf::load_gltf(&path, with_materials, &mut |_| {})
+}
+
+#[test]
+fn a_sparse_accessor_moves_a_vertex_and_its_normal_as_the_dense_file_does() {
+    let dir = TempDir::new("sparse");
+    for name in ["sparse.gltf", "sparse_dense.gltf", "tetra_embedded.gltf"] {
+        copy_model(&dir, name);
+    }
+    let sparse = mesh_triangles(&dir, "sparse.gltf", &ENTRY);
+    assert_eq!(sparse, mesh_triangles(&dir, "sparse_dense.gltf", &ENTRY));
+    // The sparse part changed something: the plain tetrahedron differs.
+    assert_ne!(sparse, mesh_triangles(&dir, "tetra_embedded.gltf", &ENTRY));
+    // In the file's own coordinates: vertex 3 is at (0, 0, 2) before the
+    // node transforms, so it lies where the transforms take that point.
+    let mesh = read_model("sparse.gltf", false).unwrap();
+    let moved = node_matrix().transform_point3(DVec3::new(0.0, 0.0, 2.0));
+    assert!(mesh.positions.iter().any(|p| (*p - moved).length() < 1e-6), "{:?}", mesh.positions);
+}
+
+#[test]
+fn extensions_and_texture_slots_each_get_one_warning() {
+    let mesh = read_model("wild.gltf", true).unwrap();
+    let shown: Vec<String> = mesh.warnings.iter().map(|w| w.to_string()).collect();
+    assert_eq!(shown.len(), 2, "{shown:?}");
+    for w in &mesh.warnings {
+        assert!(w.file.ends_with("wild.gltf") && w.line.is_none(), "{w}");
+    }
+    for word in [
+        "KHR_materials_emissive_strength",
+        "KHR_texture_transform",
+        "required: KHR_texture_transform",
+    ] {
+        assert!(shown[0].contains(word), "{} lacks {word}", shown[0]);
+    }
+    for word in ["baseColorTexture", "normalTexture", "1 material "] {
+        assert!(shown[1].contains(word), "{} lacks {word}", shown[1]);
+    }
+    // With the scene's material instead, the textures do not matter.
+    let mesh = read_model("wild.gltf", false).unwrap();
+    assert_eq!(mesh.warnings.len(), 1, "{:?}", mesh.warnings);
+    // A plain file has nothing to warn about.
+    assert!(read_model("tetra_embedded.gltf", true).unwrap().warnings.is_empty());
+}
+
+#[test]
+fn a_gltf_1_file_is_named_as_such() {
+    for name in ["gltf1.gltf", "gltf1_no_asset.gltf"] {
+        let e = read_model(name, true).unwrap_err();
+        assert!(
+            e.message.starts_with("glTF 1.0 is not supported; convert it to 2.0"),
+            "{name}: {e}"
+        );
+        assert!(e.file.ends_with(name), "{e}");
     }
 }

@@ -1,9 +1,12 @@
 //! `[[meshes]]` entries with OBJ files: the transform (scale, then rotate
 //! in degrees about x, y, z, then translate), paths relative to the scene
-//! file, materials from MTL files or the scene's override, and OBJ and MTL
+//! file, materials from MTL files or the scene's override (the default grey,
+//! with a warning, where the file names none it defines), and OBJ and MTL
 //! errors named by their file and line.
 
 use super::*;
+use kdray::scene::mesh::MeshMaterial;
+use kdray::scene::{load_scene_with, Warning};
 
 /// Writes `scene.toml` in `dir` (the base scene plus `[[meshes]]` with the
 /// given keys, in the given order) and returns its path.
@@ -364,48 +367,74 @@ fn a_bad_obj_line_names_the_obj_line_and_statement() {
     }
 }
 
+/// A scene loaded with its warnings collected instead of printed.
+fn load_with_warnings(path: &Path) -> (Scene, Vec<Warning>) {
+    let mut warnings = Vec::new();
+    let scene = load_scene_with(path, &mut |_| {}, &mut |w| warnings.push(w))
+        .unwrap_or_else(|e| panic!("expected {} to load, got: {e}", path.display()));
+    (scene, warnings)
+}
+
 #[test]
-fn a_face_without_material_is_an_error_unless_overridden() {
+fn a_face_without_a_material_gets_the_default_grey_and_one_warning_naming_file_and_line() {
     let dir = TempDir::new("nomat");
     dir.write("m.mtl", "newmtl a\nKd 1 0 0\n");
-    // (OBJ text, line, statement, words)
-    let cases: &[(&str, usize, &str, &[&str])] = &[
+    // (OBJ text, line of the warning, words in it)
+    let cases: &[(&str, usize, &[&str])] = &[
         // No usemtl before the face: at the face.
         (
             "mtllib m.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n",
             5,
-            "usemtl",
-            &["no material"],
+            &["no material", "default grey"],
         ),
         // No mtllib/usemtl at all.
         (
             "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n",
             4,
-            "usemtl",
-            &["no material"],
+            &["no material", "default grey"],
         ),
         // A usemtl naming a material the MTL does not define: at the usemtl.
         (
             "mtllib m.mtl\nusemtl b\nv 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n",
             2,
-            "usemtl",
-            &["'b'", "not defined"],
+            &["'b'", "not defined", "default grey"],
         ),
-        // An MTL file that is not there: at the mtllib.
+        // An MTL file that is not there: at the mtllib, and only there.
         (
             "mtllib gone.mtl\nusemtl a\nv 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n",
             1,
-            "mtllib",
-            &["cannot read mtl file", "gone.mtl"],
+            &["cannot read mtl file", "gone.mtl", "default grey"],
         ),
     ];
-    for &(text, line, key, words) in cases {
+    for &(text, line, words) in cases {
         let obj = dir.write("m.obj", text);
         let scene_path = mesh_scene(&dir, &[("path", "\"m.obj\"")]);
-        assert_error(&load_err(&scene_path), &obj, Some(line), Some(key), words);
-        // With a `material` override the same OBJ is fine.
+        let (scene, warnings) = load_with_warnings(&scene_path);
+        assert_eq!(warnings.len(), 1, "{text:?}: {warnings:?}");
+        let w = &warnings[0];
+        assert_eq!((w.file.as_path(), w.line), (obj.as_path(), Some(line)), "{w}");
+        let shown = w.to_string();
+        assert!(
+            shown.starts_with(&format!("{}:{line}: warning: ", obj.display())),
+            "{shown}"
+        );
+        assert!(!shown.contains('\n'), "{shown}");
+        for word in words {
+            assert!(shown.to_lowercase().contains(word), "{shown:?} lacks {word:?}");
+        }
+        // The mesh's triangle (the last; the base scene has one) is grey.
+        let grey = MeshMaterial::default_grey();
+        let mesh_triangles = &scene.triangles[scene.triangles.len() - 1..];
+        for t in mesh_triangles {
+            let m = &scene.materials[t.material as usize];
+            assert_eq!((m.ambient, m.diffuse), (grey.ambient, grey.diffuse), "{m:?}");
+            assert!(m.name.ends_with(&grey.name), "{m:?}");
+        }
+        // With a `material` override the same OBJ is fine, with no warning.
         let scene_path = mesh_scene(&dir, &[("path", "\"m.obj\""), ("material", "\"red\"")]);
-        assert_eq!(load_ok(&scene_path).triangles.len(), 2);
+        let (scene, warnings) = load_with_warnings(&scene_path);
+        assert_eq!(scene.triangles.len(), 2);
+        assert!(warnings.is_empty(), "{warnings:?}");
     }
 }
 

@@ -33,6 +33,17 @@ fn assert_err(e: &SceneError, file: &Path, line: usize, key: &str) {
     assert!(!e.to_string().contains('\n'));
 }
 
+/// `mesh` has exactly one warning, at `file`:`line`, containing `words`.
+#[track_caller]
+fn assert_warning(mesh: &Mesh, file: &Path, line: usize, words: &[&str]) {
+    assert_eq!(mesh.warnings.len(), 1, "{:?}", mesh.warnings);
+    let w = &mesh.warnings[0];
+    assert_eq!((w.file.as_path(), w.line), (file, Some(line)), "{w}");
+    for word in words {
+        assert!(w.message.contains(word), "{w} lacks {word:?}");
+    }
+}
+
 fn d(x: f64, y: f64, z: f64) -> DVec3 {
     DVec3::new(x, y, z)
 }
@@ -216,7 +227,7 @@ fn empty_input_is_an_empty_mesh() {
 }
 
 #[test]
-fn missing_mtl_is_fine_without_materials() {
+fn a_missing_mtl_is_ignored_without_materials_and_warned_about_with_them() {
     let dir = temp_dir("nomtl");
     let obj = dir.join("m.obj");
     std::fs::write(
@@ -228,10 +239,13 @@ fn missing_mtl_is_fine_without_materials() {
     assert_eq!(mesh.triangles.len(), 1);
     assert_eq!(mesh.triangles[0].material(), None);
     assert!(mesh.materials.is_empty());
-    // With materials the missing file is an error at the mtllib line.
-    let e = load_obj(&obj, true).unwrap_err();
-    assert_err(&e, &obj, 1, "mtllib");
-    assert!(e.message.contains("missing.mtl"), "{e}");
+    assert!(mesh.warnings.is_empty(), "{:?}", mesh.warnings);
+    // With materials the missing file is one warning at the mtllib line,
+    // and the face gets the default grey.
+    let mesh = load_obj(&obj, true).unwrap();
+    assert_warning(&mesh, &obj, 1, &["missing.mtl", "default grey"]);
+    assert_eq!(mesh.materials, [MeshMaterial::default_grey()]);
+    assert_eq!(mesh.triangles[0].material(), Some(0));
     let _ = std::fs::remove_dir_all(&dir);
 }
 
@@ -326,32 +340,38 @@ fn mtl_errors_name_the_mtl_file_and_line() {
 }
 
 #[test]
-fn material_errors() {
+fn faces_without_a_defined_material_get_the_default_grey_and_statements_without_names_are_errors() {
     let dir = temp_dir("usemtl");
     let obj = dir.join("m.obj");
     std::fs::write(dir.join("m.mtl"), "newmtl a\nKd 1 0 0\n").unwrap();
     let tri = "v 0 0 0\nv 1 0 0\nv 0 1 0\n";
+    let grey = MeshMaterial::default_grey();
 
-    // A face before any usemtl: reported at the face.
-    std::fs::write(&obj, format!("mtllib m.mtl\n{tri}f 1 2 3\n")).unwrap();
-    let e = load_obj(&obj, true).unwrap_err();
-    assert_err(&e, &obj, 5, "usemtl");
+    // A face before any usemtl: warned at the face, once for all such faces.
+    std::fs::write(&obj, format!("mtllib m.mtl\n{tri}f 1 2 3\nf 1 2 3\n")).unwrap();
+    let mesh = load_obj(&obj, true).unwrap();
+    assert_warning(&mesh, &obj, 5, &["no usemtl"]);
+    assert_eq!(mesh.materials, [grey.clone()]);
 
-    // An unknown material: reported at the usemtl line, naming it.
+    // An unknown material: warned at the usemtl line, naming it; the
+    // known one keeps its colour.
     std::fs::write(
         &obj,
-        format!("mtllib m.mtl\n{tri}usemtl a\nf 1 2 3\nusemtl nope\nf 1 2 3\n"),
+        format!("mtllib m.mtl\n{tri}usemtl a\nf 1 2 3\nusemtl nope\nf 1 2 3\nf 1 2 3\n"),
     )
     .unwrap();
-    let e = load_obj(&obj, true).unwrap_err();
-    assert_err(&e, &obj, 7, "usemtl");
-    assert!(e.message.contains("nope"), "{e}");
+    let mesh = load_obj(&obj, true).unwrap();
+    assert_warning(&mesh, &obj, 7, &["'nope'", "m.mtl"]);
+    assert_eq!(mesh.materials.len(), 2);
+    assert_eq!(mesh.materials[0].diffuse, d(1., 0., 0.));
+    assert_eq!(mesh.materials[1], grey);
+    let used: Vec<_> = mesh.triangles.iter().map(|t| t.material()).collect();
+    assert_eq!(used, [Some(0), Some(1), Some(1)]);
 
     // No mtllib at all.
     std::fs::write(&obj, format!("{tri}usemtl a\nf 1 2 3\n")).unwrap();
-    let e = load_obj(&obj, true).unwrap_err();
-    assert_err(&e, &obj, 4, "usemtl");
-    assert!(e.message.contains('a'), "{e}");
+    let mesh = load_obj(&obj, true).unwrap();
+    assert_warning(&mesh, &obj, 4, &["'a'", "no mtllib"]);
 
     // An mtllib with no file name.
     std::fs::write(&obj, format!("mtllib\n{tri}")).unwrap();
@@ -526,4 +546,26 @@ fn shipped_torus_model() {
         assert!(n.dot(centroid - on_ring) > 0.0);
     }
     assert!(std::fs::metadata(&obj).unwrap().len() < 200 * 1024);
+}
+
+#[test]
+fn mtl_texture_statements_are_ignored_with_one_warning_per_file() {
+    let dir = temp_dir("maps");
+    let obj = dir.join("m.obj");
+    let mtl = dir.join("m.mtl");
+    std::fs::write(
+        &mtl,
+        "newmtl a\nKd 0.5 0.25 1\nmap_Kd wood.png\nmap_Bump -bm 1 n.png\nbump n.png\n",
+    )
+    .unwrap();
+    std::fs::write(
+        &obj,
+        "mtllib m.mtl\nusemtl a\nv 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n",
+    )
+    .unwrap();
+    let mesh = load_obj(&obj, true).unwrap();
+    assert_warning(&mesh, &mtl, 3, &["map_Kd", "2 more", "no textures"]);
+    assert_eq!(mesh.materials[0].diffuse, d(0.5, 0.25, 1.0));
+    // Without materials the MTL file is not read, so nothing to warn about.
+    assert!(load_obj(&obj, false).unwrap().warnings.is_empty());
 }

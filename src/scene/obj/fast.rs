@@ -192,6 +192,7 @@ pub(super) fn parse(text: &[u8], threads: usize, materials: Option<MaterialFiles
         normals,
         triangles,
         materials,
+        warnings: Vec::new(),
     };
     let parsed: Vec<_> = chunks
         .into_iter()

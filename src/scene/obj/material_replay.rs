@@ -47,7 +47,9 @@ impl<'p, 't> MaterialState<'p, 't> {
     }
 
     /// Per chunk, the runs of its faces' material: (first face, material).
-    /// None where the reference parser refuses a statement.
+    /// None where the reference parser refuses a statement or warns (a face
+    /// with no material, an undefined material, an MTL file unread or with
+    /// textures): it words both, with lines.
     pub(super) fn runs(&mut self, chunks: &[Chunk<'t>]) -> Option<Vec<MaterialRuns>> {
         let mut all = Vec::with_capacity(chunks.len());
         for chunk in chunks {
@@ -106,12 +108,18 @@ impl<'p, 't> MaterialState<'p, 't> {
             (self.files.on_read)(&mtl_path);
             self.reads += 1;
             let text = crate::scene::input_file::read_input_file(&mtl_path).ok()?;
+            let mut warnings = Vec::new();
             parse_mtl(
                 &String::from_utf8_lossy(&text),
                 &mtl_path,
                 &mut self.library,
+                &mut warnings,
             )
             .ok()?;
+            // Warnings carry lines, which only the reference parser counts.
+            if !warnings.is_empty() {
+                return None;
+            }
             self.loaded.push(mtl_path);
         }
         // A material that was undefined before may be defined now.

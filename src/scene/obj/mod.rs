@@ -17,7 +17,15 @@
 //! just a test oracle: it is the error path of every malformed file.
 //!
 //! Every fault is a [`SceneError`] naming the file (the OBJ or the MTL), the
-//! 1-based line and the statement at fault. No input makes this module panic.
+//! 1-based line and the statement at fault: a malformed number, an index out
+//! of range, a non-finite value, a file with no faces. What a model from the
+//! wild often lacks is not a fault: a face with no material (no `usemtl`, an
+//! undefined name, an MTL file that cannot be read) gets
+//! [`MeshMaterial::default_grey`](super::mesh::MeshMaterial::default_grey)
+//! and MTL texture statements are ignored, each cause with one
+//! [`Warning`](super::Warning) on [`Mesh::warnings`] naming the file and
+//! line. Only the reference parser words warnings; the fast path declines
+//! any file that would have one. No input makes this module panic.
 
 mod chunk;
 mod fast;
@@ -32,7 +40,10 @@ use std::path::Path;
 use super::mesh::Mesh;
 use super::SceneError;
 
-/// Reads an OBJ file. With `with_materials` false (the scene overrides the material) mtllib/usemtl are ignored entirely (an MTL file need not exist).
+/// Reads an OBJ file. With `with_materials` false (the scene overrides the
+/// material) mtllib/usemtl are ignored entirely (an MTL file need not
+/// exist); with it, every triangle has a material (the default grey where
+/// the file gives none, with a warning).
 /// A file that is not UTF-8 text, or that has no face with an area, is an
 /// error: it would draw nothing (a binary file read as OBJ is all unknown
 /// statements).

@@ -1,5 +1,8 @@
 //! MTL material libraries: `newmtl` and the Phong colours kdray uses
-//! (`Ka`, `Kd`, `Ks`, `Ns`); every other statement is ignored.
+//! (`Ka`, `Kd`, `Ks`, `Ns`); every other statement is ignored, and the
+//! texture statements (`map_*`, `bump`, `disp`, `decal`, `refl`, `norm`)
+//! with one warning per file: kdray has no textures, and a textured model
+//! that renders in flat colours should say why.
 
 use std::collections::HashMap;
 use std::path::Path;
@@ -8,16 +11,20 @@ use glam::DVec3;
 
 use super::reference::{parse_number, rest_of_line, strip_comment};
 use crate::scene::mesh::MeshMaterial;
-use crate::scene::SceneError;
+use crate::scene::{SceneError, Warning};
 
 /// Parses an MTL file into `library`. A material already in `library`
 /// (defined by an earlier MTL file, or earlier in this one) keeps its first
-/// definition.
+/// definition. Texture statements add one warning to `warnings`.
 pub(super) fn parse_mtl(
     text: &str,
     path: &Path,
     library: &mut HashMap<String, MeshMaterial>,
+    warnings: &mut Vec<Warning>,
 ) -> Result<(), SceneError> {
+    // The first texture statement's line and keyword, and how many there are.
+    let mut first_texture: Option<(usize, String)> = None;
+    let mut textures = 0usize;
     // The material being defined; added to the library when the next one
     // starts or the file ends.
     let mut current: Option<MeshMaterial> = None;
@@ -60,8 +67,13 @@ pub(super) fn parse_mtl(
             .iter()
             .any(|k| keyword.eq_ignore_ascii_case(k));
         let is_shininess = keyword.eq_ignore_ascii_case("Ns");
+        if is_texture_statement(keyword) {
+            textures += 1;
+            first_texture.get_or_insert((line_no, keyword.to_string()));
+            continue;
+        }
         if !is_colour && !is_shininess {
-            continue; // d, Tr, illum, Ni, Ke, map_*, ...
+            continue; // d, Tr, illum, Ni, Ke, ...
         }
         let Some(material) = current.as_mut() else {
             return Err(err("comes before any newmtl statement".to_string()));
@@ -103,5 +115,23 @@ pub(super) fn parse_mtl(
         }
     }
     finish(current.take(), library);
+    if let Some((line, keyword)) = first_texture {
+        let more = match textures - 1 {
+            0 => String::new(),
+            1 => " (and 1 more texture statement)".to_string(),
+            n => format!(" (and {n} more texture statements)"),
+        };
+        warnings.push(Warning::new(
+            path,
+            Some(line),
+            format!("{keyword}{more} ignored: kdray has no textures; faces use the flat colours Ka, Kd, Ks"),
+        ));
+    }
     Ok(())
+}
+
+/// An MTL statement that names a texture image.
+fn is_texture_statement(keyword: &str) -> bool {
+    let lower = keyword.to_ascii_lowercase();
+    lower.starts_with("map_") || ["bump", "disp", "decal", "refl", "norm"].contains(&lower.as_str())
 }

@@ -9,7 +9,7 @@ use glam::DVec3;
 
 use super::mtl::parse_mtl;
 use crate::scene::mesh::{mesh_index, Mesh, MeshMaterial, MeshTriangle, NO_INDEX};
-use crate::scene::SceneError;
+use crate::scene::{SceneError, Warning};
 
 /// The reference parser, one line at a time: the meaning of every statement
 /// and every error message. `faces` counts the `f` statements.
@@ -27,8 +27,7 @@ pub(in crate::scene) fn parse_reference(
 
     // Materials state (only touched when `with_materials`).
     let mut library: HashMap<String, MeshMaterial> = HashMap::new();
-    let mut loaded_libraries: Vec<PathBuf> = Vec::new();
-    let mut used: HashMap<String, usize> = HashMap::new();
+    let mut materials = UsedMaterials::default();
     // The name and line of the last usemtl, and its index into
     // `mesh.materials` once a face has resolved it.
     let mut current: Option<(&str, usize)> = None;
@@ -104,39 +103,14 @@ pub(in crate::scene) fn parse_reference(
 
                 let material = if with_materials {
                     if current_index.is_none() {
-                        let Some((name, usemtl_line)) = current else {
-                            return Err(SceneError::new(
-                                path,
-                                Some(line_no),
-                                Some("usemtl".to_string()),
-                                "face has no material: no usemtl statement before it",
-                            ));
-                        };
-                        let Some(found) = library.get(name) else {
-                            let message = if loaded_libraries.is_empty() {
-                                format!("material '{name}' is not defined: no mtllib statement loaded an MTL file")
-                            } else {
-                                format!(
-                                    "material '{name}' is not defined in {}",
-                                    loaded_libraries
-                                        .iter()
-                                        .map(|p| p.display().to_string())
-                                        .collect::<Vec<_>>()
-                                        .join(", ")
-                                )
-                            };
-                            return Err(SceneError::new(
-                                path,
-                                Some(usemtl_line),
-                                Some("usemtl".to_string()),
-                                message,
-                            ));
-                        };
-                        let index = *used.entry(name.to_string()).or_insert_with(|| {
-                            mesh.materials.push(found.clone());
-                            mesh.materials.len() - 1
-                        });
-                        current_index = Some(index);
+                        current_index = Some(face_material(
+                            current,
+                            &library,
+                            &mut materials,
+                            &mut mesh,
+                            path,
+                            line_no,
+                        ));
                     }
                     current_index
                 } else {
@@ -170,17 +144,34 @@ pub(in crate::scene) fn parse_reference(
                 for name in tokens {
                     any = true;
                     let mtl_path = path.parent().unwrap_or_else(|| Path::new("")).join(name);
-                    if loaded_libraries.contains(&mtl_path) {
+                    if materials.loaded.contains(&mtl_path)
+                        || materials.unreadable.contains(&mtl_path)
+                    {
                         continue;
                     }
                     on_read(&mtl_path);
-                    let mtl_text =
-                        crate::scene::input_file::read_input_file(&mtl_path).map_err(|e| {
-                            err(format!("cannot read MTL file {}: {e}", mtl_path.display()))
-                                .with_source(e)
-                        })?;
-                    parse_mtl(&String::from_utf8_lossy(&mtl_text), &mtl_path, &mut library)?;
-                    loaded_libraries.push(mtl_path);
+                    match crate::scene::input_file::read_input_file(&mtl_path) {
+                        Ok(mtl_text) => {
+                            parse_mtl(
+                                &String::from_utf8_lossy(&mtl_text),
+                                &mtl_path,
+                                &mut library,
+                                &mut mesh.warnings,
+                            )?;
+                            materials.loaded.push(mtl_path);
+                        }
+                        Err(e) => {
+                            mesh.warnings.push(Warning::new(
+                                path,
+                                Some(line_no),
+                                format!(
+                                    "cannot read MTL file {}: {e}; faces using its materials get the default grey material",
+                                    mtl_path.display()
+                                ),
+                            ));
+                            materials.unreadable.push(mtl_path);
+                        }
+                    }
                 }
                 if !any {
                     return Err(err("expected the name of at least one MTL file".to_string()));
@@ -203,6 +194,83 @@ pub(in crate::scene) fn parse_reference(
     }
 
     Ok(mesh)
+}
+
+/// What the reference parser knows of the materials its faces use.
+#[derive(Default)]
+struct UsedMaterials {
+    /// MTL files read, and those that could not be.
+    loaded: Vec<PathBuf>,
+    unreadable: Vec<PathBuf>,
+    /// Index in `Mesh::materials` of each material used so far, by name.
+    used: HashMap<String, usize>,
+    /// Index in `Mesh::materials` of the default grey, once a face uses it.
+    default_grey: Option<usize>,
+    /// A face without any usemtl has been warned about.
+    warned_no_usemtl: bool,
+    /// Undefined material names warned about.
+    warned_undefined: Vec<String>,
+}
+
+/// The index in `mesh.materials` of the material of a face on line
+/// `line_no` after the usemtl `current` (name, line): the MTL material it
+/// names, added at its first use, or the default grey with one warning per
+/// cause (no usemtl at all; each undefined name, unless an MTL file could
+/// not be read, which was warned about already).
+fn face_material(
+    current: Option<(&str, usize)>,
+    library: &HashMap<String, MeshMaterial>,
+    materials: &mut UsedMaterials,
+    mesh: &mut Mesh,
+    path: &Path,
+    line_no: usize,
+) -> usize {
+    match current {
+        None => {
+            if !std::mem::replace(&mut materials.warned_no_usemtl, true) {
+                mesh.warnings.push(Warning::new(
+                    path,
+                    Some(line_no),
+                    "face has no material (no usemtl statement before it); it gets the default grey material",
+                ));
+            }
+        }
+        Some((name, usemtl_line)) => {
+            if let Some(found) = library.get(name) {
+                return *materials.used.entry(name.to_string()).or_insert_with(|| {
+                    mesh.materials.push(found.clone());
+                    mesh.materials.len() - 1
+                });
+            }
+            let warned = materials.warned_undefined.iter().any(|w| w == name);
+            if !warned && materials.unreadable.is_empty() {
+                let defined_in = if materials.loaded.is_empty() {
+                    "no mtllib statement loaded an MTL file".to_string()
+                } else {
+                    let files: Vec<String> = materials
+                        .loaded
+                        .iter()
+                        .map(|p| p.display().to_string())
+                        .collect();
+                    format!("not in {}", files.join(", "))
+                };
+                mesh.warnings.push(Warning::new(
+                    path,
+                    Some(usemtl_line),
+                    format!(
+                        "material '{name}' is not defined ({defined_in}); its faces get the default grey material"
+                    ),
+                ));
+            }
+            if !warned {
+                materials.warned_undefined.push(name.to_string());
+            }
+        }
+    }
+    *materials.default_grey.get_or_insert_with(|| {
+        mesh.materials.push(MeshMaterial::default_grey());
+        mesh.materials.len() - 1
+    })
 }
 
 /// The line without its `\r` and anything from `#` on.

@@ -8,7 +8,11 @@
 //! transforms; and each material's PBR factors mapped to kdray's model
 //! ([`pbr_material`]). Textures, cameras, lights, skins, morph targets and
 //! animations are ignored; points and lines are an error (they are not
-//! surfaces, and a file of them would draw nothing).
+//! surfaces, and a file of them would draw nothing). Sparse accessors are
+//! read wherever accessors are. What a file asks for that kdray ignores (an
+//! extension, a texture) gets one [`Warning`](crate::scene::Warning) each on
+//! [`Mesh::warnings`](super::mesh::Mesh::warnings); a glTF 1.0 file is
+//! named as such.
 //!
 //! The crate parses and validates the document; kdray reads the buffers
 //! itself (regular files named by a path, relative to the glTF file's
@@ -18,14 +22,20 @@
 //! truncated or hostile file is an error and never a panic.
 
 use std::collections::HashMap;
-use std::path::{Path, PathBuf};
+use std::path::Path;
 
 use glam::{DMat3, DMat4, DVec3};
 use gltf::accessor::{DataType, Dimensions};
 use gltf::mesh::Mode;
 
-use super::mesh::{mesh_index, Mesh, MeshMaterial, MeshTriangle, NO_INDEX};
-use super::SceneError;
+use crate::scene::mesh::{mesh_index, Mesh, MeshMaterial, MeshTriangle, NO_INDEX};
+use crate::scene::SceneError;
+
+mod buffers;
+mod unsupported;
+
+use buffers::load_buffers;
+use unsupported::{extensions_warning, is_gltf_1, textures_warning, GLTF_1_UNSUPPORTED};
 
 /// Reads a `.gltf` or `.glb` file (told apart by content: a GLB starts with
 /// `glTF`), calling `on_read` with it and each external buffer file just
@@ -36,12 +46,12 @@ pub fn load_gltf(
     on_read: &mut dyn FnMut(&Path),
 ) -> Result<Mesh, SceneError> {
     on_read(path);
-    let bytes = super::input_file::read_input_file(path).map_err(|e| {
+    let bytes = crate::scene::input_file::read_input_file(path).map_err(|e| {
         SceneError::new(path, None, None, format!("cannot read glTF file: {e}")).with_source(e)
     })?;
     parse_gltf(&bytes, path, with_materials, &mut |uri_path| {
         on_read(uri_path);
-        super::input_file::read_input_file(uri_path)
+        crate::scene::input_file::read_input_file(uri_path)
     })
 }
 
@@ -57,6 +67,9 @@ pub fn parse_gltf(
     let err = |message: String| SceneError::new(path, None, None, message);
     check_glb_header(bytes).map_err(err)?;
     let invalid = |e: gltf::Error| {
+        if is_gltf_1(bytes) {
+            return err(GLTF_1_UNSUPPORTED.to_string());
+        }
         err(format!(
             "not a valid glTF 2.0 file: {}",
             gltf_error_text(&e)
@@ -67,9 +80,21 @@ pub fn parse_gltf(
     // validate (gltf-json 1.4 panics on a POSITION accessor index out of
     // range, found by tests/fuzz_regressions.rs's bit flips).
     let gltf = gltf::Gltf::from_slice_without_validation(bytes).map_err(invalid)?;
-    check_attribute_indices(gltf.document.as_json()).map_err(err)?;
+    let mut root = gltf.document.into_json();
+    if root.asset.version.starts_with('1') {
+        return Err(err(GLTF_1_UNSUPPORTED.to_string()));
+    }
+    check_attribute_indices(&root).map_err(err)?;
+    let mut warnings = Vec::new();
+    // Extensions are read by none of kdray: say so, and let a required one
+    // through validation, which would refuse it (a required extension that
+    // changes the geometry shows as an error further on).
+    if let Some(warning) = extensions_warning(&root, path) {
+        warnings.push(warning);
+    }
+    root.extensions_required.clear();
     let gltf = gltf::Gltf {
-        document: gltf::Document::from_json(gltf.document.into_json()).map_err(invalid)?,
+        document: gltf::Document::from_json(root).map_err(invalid)?,
         blob: gltf.blob,
     };
     let document = &gltf.document;
@@ -131,9 +156,12 @@ pub fn parse_gltf(
             )
         }));
     }
-    if !with_materials {
+    if with_materials {
+        warnings.extend(textures_warning(document, path));
+    } else {
         mesh.materials.clear();
     }
+    mesh.warnings = warnings;
     Ok(mesh)
 }
 
@@ -201,141 +229,6 @@ fn gltf_error_text(e: &gltf::Error) -> String {
     }
 }
 
-/// Every buffer's bytes, checked to be at least its declared `byteLength`.
-fn load_buffers(
-    document: &gltf::Document,
-    blob: Option<&[u8]>,
-    path: &Path,
-    read_buffer: &mut dyn FnMut(&Path) -> std::io::Result<Vec<u8>>,
-) -> Result<Vec<Vec<u8>>, SceneError> {
-    let base = path.parent().unwrap_or(Path::new(""));
-    let mut out = Vec::new();
-    for buffer in document.buffers() {
-        let i = buffer.index();
-        let err = |message: String| SceneError::new(path, None, None, message);
-        let data = match buffer.source() {
-            gltf::buffer::Source::Bin => blob
-                .ok_or_else(|| {
-                    err(format!(
-                        "buffer {i} refers to the GLB binary chunk, which the file does not have"
-                    ))
-                })?
-                .to_vec(),
-            gltf::buffer::Source::Uri(uri) => {
-                let shown: String = uri.chars().take(60).collect();
-                if let Some(data) = uri.strip_prefix("data:") {
-                    decode_data_uri(data)
-                        .map_err(|m| err(format!("buffer {i}: data URI \"{shown}...\": {m}")))?
-                } else {
-                    let file = buffer_path(base, uri)
-                        .map_err(|m| err(format!("buffer {i}: URI \"{shown}\": {m}")))?;
-                    read_buffer(&file).map_err(|e| {
-                        err(format!(
-                            "buffer {i}: cannot read {} (URI \"{shown}\"): {e}",
-                            file.display()
-                        ))
-                        .with_source(e)
-                    })?
-                }
-            }
-        };
-        if data.len() < buffer.length() {
-            return Err(err(format!(
-                "buffer {i} is truncated: byteLength {} but {} bytes present",
-                buffer.length(),
-                data.len()
-            )));
-        }
-        out.push(data);
-    }
-    Ok(out)
-}
-
-/// A buffer URI that is a relative (or absolute) file path, percent-decoded,
-/// against the glTF file's folder. URIs with a scheme (http:, file:, ...)
-/// are refused: kdray reads only local files named by path.
-fn buffer_path(base: &Path, uri: &str) -> Result<PathBuf, String> {
-    let scheme = uri.split_once(':').map(|(s, _)| s);
-    if let Some(s) = scheme {
-        let is_scheme = s.len() > 1
-            && s.starts_with(|c: char| c.is_ascii_alphabetic())
-            && s.chars()
-                .all(|c| c.is_ascii_alphanumeric() || "+-.".contains(c));
-        if is_scheme {
-            return Err(format!(
-                "a \"{s}:\" URI; kdray reads buffers only from files named by a relative path, or from data: URIs"
-            ));
-        }
-    }
-    let decoded = percent_decode(uri)?;
-    if decoded.is_empty() {
-        return Err("an empty URI".to_string());
-    }
-    Ok(base.join(decoded))
-}
-
-fn percent_decode(uri: &str) -> Result<String, String> {
-    let bytes = uri.as_bytes();
-    let mut out = Vec::with_capacity(bytes.len());
-    let mut i = 0;
-    while i < bytes.len() {
-        if bytes[i] == b'%' {
-            let hex = bytes
-                .get(i + 1..i + 3)
-                .and_then(|h| std::str::from_utf8(h).ok())
-                .and_then(|h| u8::from_str_radix(h, 16).ok())
-                .ok_or_else(|| "a % not followed by two hex digits".to_string())?;
-            out.push(hex);
-            i += 3;
-        } else {
-            out.push(bytes[i]);
-            i += 1;
-        }
-    }
-    String::from_utf8(out).map_err(|_| "not UTF-8 once percent-decoded".to_string())
-}
-
-/// The bytes of a `data:` URI (what follows `data:`): only base64 payloads,
-/// as glTF writers produce.
-fn decode_data_uri(data: &str) -> Result<Vec<u8>, String> {
-    let Some((header, payload)) = data.split_once(',') else {
-        return Err("no comma before the data".to_string());
-    };
-    if !header.ends_with(";base64") {
-        return Err("not base64 (only base64 data URIs are read)".to_string());
-    }
-    decode_base64(payload)
-}
-
-/// Standard base64 (RFC 4648), `=` padding optional.
-fn decode_base64(text: &str) -> Result<Vec<u8>, String> {
-    let text = text.trim_end_matches('=');
-    let mut out = Vec::with_capacity(text.len() / 4 * 3 + 3);
-    let mut bits = 0u32;
-    let mut held = 0u32;
-    for (at, c) in text.bytes().enumerate() {
-        let value = match c {
-            b'A'..=b'Z' => c - b'A',
-            b'a'..=b'z' => c - b'a' + 26,
-            b'0'..=b'9' => c - b'0' + 52,
-            b'+' => 62,
-            b'/' => 63,
-            _ => return Err(format!("invalid base64 character at offset {at}")),
-        };
-        bits = (bits << 6) | u32::from(value);
-        held += 6;
-        if held >= 8 {
-            held -= 8;
-            out.push((bits >> held) as u8);
-            bits &= (1 << held) - 1;
-        }
-    }
-    if held >= 6 {
-        return Err("truncated base64 (one character too many)".to_string());
-    }
-    Ok(out)
-}
-
 /// The walk's state: the triangles and materials gathered so far.
 struct Reader<'a> {
     buffers: &'a [Vec<u8>],
@@ -350,7 +243,7 @@ struct Reader<'a> {
 impl Reader<'_> {
     /// Appends the triangles of `mesh` placed by `world`.
     fn mesh(&mut self, mesh: &gltf::Mesh, world: DMat4) -> Result<(), String> {
-        let normal_matrix = super::normals::normal_matrix(DMat3::from_mat4(world));
+        let normal_matrix = crate::scene::normals::normal_matrix(DMat3::from_mat4(world));
         for primitive in mesh.primitives() {
             let at = format!("mesh {} primitive {}", mesh.index(), primitive.index());
             let mode = primitive.mode();
@@ -463,23 +356,8 @@ impl Reader<'_> {
         Ok(())
     }
 
-    /// Where an accessor's elements are, every element checked to lie
-    /// inside its buffer view and the view inside its buffer. None for an
-    /// accessor without a view (all zeros).
-    fn elements(
-        &self,
-        accessor: &gltf::Accessor,
-        size: usize,
-    ) -> Result<Option<Elements<'_>>, String> {
-        if accessor.sparse().is_some() {
-            return Err("is a sparse accessor, which kdray does not read".to_string());
-        }
-        if accessor.count() == 0 {
-            return Err("has no elements".to_string());
-        }
-        let Some(view) = accessor.view() else {
-            return Ok(None);
-        };
+    /// The bytes of a buffer view, checked to lie inside its buffer.
+    fn view_bytes(&self, view: &gltf::buffer::View) -> Result<&[u8], String> {
         let buffer = &self.buffers[view.buffer().index()];
         let view_end = view
             .offset()
@@ -494,7 +372,24 @@ impl Reader<'_> {
                     buffer.len()
                 )
             })?;
-        let view_bytes = &buffer[view.offset()..view_end];
+        Ok(&buffer[view.offset()..view_end])
+    }
+
+    /// Where an accessor's dense elements are, every element checked to lie
+    /// inside its buffer view and the view inside its buffer. None for an
+    /// accessor without a view (all zeros, or what its sparse part sets).
+    fn elements(
+        &self,
+        accessor: &gltf::Accessor,
+        size: usize,
+    ) -> Result<Option<Elements<'_>>, String> {
+        if accessor.count() == 0 {
+            return Err("has no elements".to_string());
+        }
+        let Some(view) = accessor.view() else {
+            return Ok(None);
+        };
+        let view_bytes = self.view_bytes(&view)?;
         let stride = view.stride().unwrap_or(size);
         if stride < size {
             return Err(format!(
@@ -521,6 +416,87 @@ impl Reader<'_> {
         }))
     }
 
+    /// The elements a sparse accessor replaces: (element index, its new
+    /// `size` bytes), every index and value checked to lie in its view and
+    /// every index below the accessor's count. Empty for a dense accessor.
+    fn sparse_elements(
+        &self,
+        accessor: &gltf::Accessor,
+        size: usize,
+    ) -> Result<Vec<(usize, &[u8])>, String> {
+        let Some(sparse) = accessor.sparse() else {
+            return Ok(Vec::new());
+        };
+        let count = sparse.count();
+        let indices = sparse.indices();
+        let index_size = match indices.index_type() {
+            gltf::accessor::sparse::IndexType::U8 => 1,
+            gltf::accessor::sparse::IndexType::U16 => 2,
+            gltf::accessor::sparse::IndexType::U32 => 4,
+        };
+        let values = sparse.values();
+        let fits = |bytes: &[u8], offset: usize, element: usize, what: &str| {
+            let end = count
+                .checked_mul(element)
+                .and_then(|x| x.checked_add(offset));
+            if end.is_none_or(|end| end > bytes.len()) {
+                return Err(format!(
+                    "sparse {what}: {count} elements of {element} bytes (offset {offset}) do not fit in their buffer view of {} bytes",
+                    bytes.len()
+                ));
+            }
+            Ok(())
+        };
+        let index_view = self.view_bytes(&indices.view())?;
+        fits(index_view, indices.offset(), index_size, "indices")?;
+        let index_bytes = &index_view[indices.offset()..];
+        let value_view = self.view_bytes(&values.view())?;
+        fits(value_view, values.offset(), size, "values")?;
+        let value_bytes = &value_view[values.offset()..];
+        (0..count)
+            .map(|k| {
+                let b = &index_bytes[k * index_size..];
+                let index = match index_size {
+                    1 => b[0] as usize,
+                    2 => u16::from_le_bytes([b[0], b[1]]) as usize,
+                    _ => u32::from_le_bytes([b[0], b[1], b[2], b[3]]) as usize,
+                };
+                if index >= accessor.count() {
+                    return Err(format!(
+                        "sparse index {index} is out of range: {} elements",
+                        accessor.count()
+                    ));
+                }
+                Ok((index, &value_bytes[k * size..k * size + size]))
+            })
+            .collect()
+    }
+
+    /// Every element of an accessor of `size`-byte elements, decoded: the
+    /// dense elements (zeros without a view), then the sparse ones in place.
+    fn read_elements<T: Clone>(
+        &self,
+        accessor: &gltf::Accessor,
+        size: usize,
+        zero: T,
+        decode: impl Fn(&[u8]) -> T,
+    ) -> Result<Vec<T>, String> {
+        let mut out = match self.elements(accessor, size)? {
+            Some(Elements {
+                bytes,
+                offset,
+                stride,
+            }) => (0..accessor.count())
+                .map(|i| decode(&bytes[offset + i * stride..]))
+                .collect(),
+            None => vec![zero; accessor.count()],
+        };
+        for (index, bytes) in self.sparse_elements(accessor, size)? {
+            out[index] = decode(bytes);
+        }
+        Ok(out)
+    }
+
     /// A VEC3 of 32-bit floats per element, every value finite.
     fn read_vec3(&self, accessor: &gltf::Accessor) -> Result<Vec<DVec3>, String> {
         if accessor.data_type() != DataType::F32 || accessor.dimensions() != Dimensions::Vec3 {
@@ -530,30 +506,12 @@ impl Reader<'_> {
                 accessor.data_type()
             ));
         }
-        let Some(Elements {
-            bytes,
-            offset,
-            stride,
-        }) = self.elements(accessor, 12)?
-        else {
-            return Ok(vec![DVec3::ZERO; accessor.count()]);
-        };
-        let float = |at: usize| {
-            f64::from(f32::from_le_bytes([
-                bytes[at],
-                bytes[at + 1],
-                bytes[at + 2],
-                bytes[at + 3],
-            ]))
-        };
-        let mut out = Vec::with_capacity(accessor.count());
-        for i in 0..accessor.count() {
-            let at = offset + i * stride;
-            let v = DVec3::new(float(at), float(at + 4), float(at + 8));
-            if !v.is_finite() {
-                return Err(format!("element {i} is not finite: {v}"));
-            }
-            out.push(v);
+        let float = |b: &[u8]| f64::from(f32::from_le_bytes([b[0], b[1], b[2], b[3]]));
+        let out = self.read_elements(accessor, 12, DVec3::ZERO, |b| {
+            DVec3::new(float(b), float(&b[4..]), float(&b[8..]))
+        })?;
+        if let Some((i, v)) = out.iter().enumerate().find(|(_, v)| !v.is_finite()) {
+            return Err(format!("element {i} is not finite: {v}"));
         }
         Ok(out)
     }
@@ -569,24 +527,11 @@ impl Reader<'_> {
         if accessor.dimensions() != Dimensions::Scalar {
             return Err(format!("must be SCALAR, are {:?}", accessor.dimensions()));
         }
-        let Some(Elements {
-            bytes,
-            offset,
-            stride,
-        }) = self.elements(accessor, size)?
-        else {
-            return Ok(vec![0; accessor.count()]);
-        };
-        Ok((0..accessor.count())
-            .map(|i| {
-                let b = &bytes[offset + i * stride..];
-                match size {
-                    1 => b[0] as usize,
-                    2 => u16::from_le_bytes([b[0], b[1]]) as usize,
-                    _ => u32::from_le_bytes([b[0], b[1], b[2], b[3]]) as usize,
-                }
-            })
-            .collect())
+        self.read_elements(accessor, size, 0, |b| match size {
+            1 => b[0] as usize,
+            2 => u16::from_le_bytes([b[0], b[1]]) as usize,
+            _ => u32::from_le_bytes([b[0], b[1], b[2], b[3]]) as usize,
+        })
     }
 }
 
@@ -675,40 +620,6 @@ mod tests {
     use super::*;
 
     #[test]
-    fn base64_decodes_with_and_without_padding() {
-        assert_eq!(decode_base64("").unwrap(), b"");
-        assert_eq!(decode_base64("TQ==").unwrap(), b"M");
-        assert_eq!(decode_base64("TWE=").unwrap(), b"Ma");
-        assert_eq!(decode_base64("TWFu").unwrap(), b"Man");
-        assert_eq!(decode_base64("TWE").unwrap(), b"Ma");
-        assert_eq!(decode_base64("/+9A").unwrap(), [0xff, 0xef, 0x40]);
-        assert!(decode_base64("T").is_err());
-        assert!(decode_base64("TW#u").is_err());
-    }
-
-    #[test]
-    fn data_uris_and_paths() {
-        assert_eq!(
-            decode_data_uri("application/octet-stream;base64,TWFu").unwrap(),
-            b"Man"
-        );
-        assert!(decode_data_uri("text/plain,Man").is_err());
-        assert!(decode_data_uri("application/octet-stream;base64").is_err());
-        let base = Path::new("models");
-        assert_eq!(
-            buffer_path(base, "my%20mesh.bin").unwrap(),
-            Path::new("models/my mesh.bin")
-        );
-        assert_eq!(
-            buffer_path(base, "sub/a.bin").unwrap(),
-            Path::new("models/sub/a.bin")
-        );
-        for bad in ["http://example.com/a.bin", "file:///a.bin", "", "a%2.bin"] {
-            assert!(buffer_path(base, bad).is_err(), "{bad}");
-        }
-    }
-
-    #[test]
     fn strips_and_fans_make_consistently_wound_triangles() {
         let strip = triangle_corners(Mode::TriangleStrip, &[0, 1, 2, 3, 4]).unwrap();
         assert_eq!(strip, [[0, 1, 2], [1, 3, 2], [2, 3, 4]]);
@@ -728,3 +639,4 @@ mod tests {
         assert!(check_glb_header(b"{\"asset\": {}}").is_ok());
     }
 }
+
