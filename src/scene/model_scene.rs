@@ -105,6 +105,7 @@ pub fn model_scene_with(
             samples: 1,
         },
         lights: light_rig(min, max),
+        animation: None,
         materials,
         spheres: Vec::new(),
         triangles,
