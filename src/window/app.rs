@@ -18,6 +18,7 @@ use super::camera_controller::Bounds;
 use super::camera_controller::{CameraController, Input};
 use super::frame_stats::{FrameStats, ReportContext};
 use super::input::{controller_input, key_action, Action, HELP};
+use super::playback::Playback;
 use super::refinement::{FrameKind, FramePlan, Pass, Refinement};
 use super::reload::{self, LatestJob, SceneWatcher, WatchList};
 use super::surface::{Acquired, WindowSurface};
@@ -28,7 +29,7 @@ use crate::error::{Error, Result};
 use crate::gpu::{Accel, GpuContext, GpuScene, PreparedScene};
 use crate::kdtree::Traversal;
 use crate::layout::FrameParams;
-use crate::scene::{Camera, RenderSettings, Scene};
+use crate::scene::{Camera, CameraPath, RenderSettings, Scene};
 
 /// Default window: the scene's aspect ratio fitted into this (logical pixels).
 const DEFAULT_WINDOW: (f64, f64) = (960.0, 720.0);
@@ -262,6 +263,13 @@ impl App {
                 session.refinement.invalidate();
                 session.update_title(&self.name, true);
             }
+            Action::TogglePlay => {
+                if !session.playback.is_animated() {
+                    eprintln!("kdray: the scene has no [animation] to play");
+                }
+                session.playback.toggle(Instant::now());
+                session.update_title(&self.name, true);
+            }
             Action::Help => eprintln!("{HELP}"),
         }
     }
@@ -388,6 +396,10 @@ struct Session {
     heatmap: bool,
     max_depth: u32,
     refinement: Refinement,
+    /// The scene's animation: the frame shown, played by Space.
+    playback: Playback,
+    /// The scene's camera at every frame of its animation.
+    path: CameraPath,
     /// When the camera's fly keys were last applied.
     last_update: Instant,
     stats: FrameStats,
@@ -420,6 +432,11 @@ fn window_samples_per_axis(options: &WindowOptions, scene: &Scene) -> u32 {
         ..scene.render
     }
     .samples_per_axis()
+}
+
+/// The frame rate the window plays `scene`'s animation at.
+fn animation_fps(scene: &Scene) -> f64 {
+    scene.animation.as_ref().map_or(24.0, |a| a.fps)
 }
 
 /// The scene's box, for the camera controls.
@@ -490,7 +507,9 @@ impl Session {
         let (width, height) = surface.size();
         let pixels = (width as u64 * height as u64).min(max_pixels);
         let viewer = Viewer::new(&ctx, scene.buffers(), surface.view_format(), pixels)?;
-        let home = scene.scene().camera;
+        let playback = Playback::new(scene.scene().frame_count(), animation_fps(scene.scene()));
+        let path = scene.scene().camera_path();
+        let home = path.camera_at(playback.frame());
         let controller = CameraController::new(home, bounds(&scene), width, height);
         let file_max_depth = scene.scene().render.max_depth;
         let k = window_samples_per_axis(options, scene.scene());
@@ -508,6 +527,8 @@ impl Session {
             heatmap: false,
             max_depth: file_max_depth,
             refinement: Refinement::new(k, max_pixels),
+            playback,
+            path,
             last_update: now,
             stats: FrameStats::new(now),
             title: TitleBar::new(now),
@@ -518,8 +539,14 @@ impl Session {
     fn set_scene(&mut self, prepared: PreparedScene, options: &WindowOptions) -> Result<()> {
         let scene = GpuScene::upload(&self.ctx, prepared)?;
         self.viewer.set_scene(&self.ctx, scene.buffers())?;
+        self.playback.set_animation(
+            scene.scene().frame_count(),
+            animation_fps(scene.scene()),
+            Instant::now(),
+        );
+        self.path = scene.scene().camera_path();
         self.controller
-            .set_scene(scene.scene().camera, bounds(&scene));
+            .set_scene(self.path.camera_at(self.playback.frame()), bounds(&scene));
         let max_depth = scene.scene().render.max_depth;
         if max_depth != self.file_max_depth {
             self.file_max_depth = max_depth;
@@ -530,6 +557,15 @@ impl Session {
         self.scene = scene;
         self.refinement.invalidate();
         Ok(())
+    }
+
+    /// Moves the camera to the animation's shown frame (the frame's camera
+    /// becomes the home that R returns to).
+    fn show_frame(&mut self, now: Instant) {
+        let home = self.path.camera_at(self.playback.frame());
+        self.controller.set_scene(home, bounds(&self.scene));
+        self.camera_moved(now);
+        self.refinement.invalidate();
     }
 
     fn camera_moved(&mut self, now: Instant) {
@@ -552,7 +588,7 @@ impl Session {
         if !self.surface.can_draw(now, &self.window) {
             return false;
         }
-        let camera = self.controller.is_flying() || auto_orbit != 0.0;
+        let camera = self.controller.is_flying() || auto_orbit != 0.0 || self.playback.is_playing();
         let counted = frames.is_some_and(|n| self.stats.presented() < n);
         self.refinement.has_work(now) || camera || counted
     }
@@ -569,6 +605,9 @@ impl Session {
         }
         if auto_orbit != 0.0 && self.controller.orbit(auto_orbit, 0.0) {
             self.camera_moved(now);
+        }
+        if self.playback.advance(now) {
+            self.show_frame(now);
         }
         let frame = match self.surface.acquire(&self.ctx, now)? {
             Acquired::Frame(frame) => frame,
@@ -646,6 +685,13 @@ impl Session {
             build: self.scene.strategy(),
             max_depth: self.max_depth,
             heatmap: self.viewer.heatmap_scale(),
+            animation: self.playback.is_animated().then(|| {
+                (
+                    self.playback.frame(),
+                    self.playback.frames(),
+                    self.playback.is_playing(),
+                )
+            }),
         });
         self.window.set_title(&text);
     }

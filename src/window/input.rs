@@ -21,6 +21,7 @@ kdray window controls:
   K                  cycle the k-d build: sah, median (rebuilds the tree)
   C                  toggle the cost heatmap (work per sample, false colour)
   [ ]                max_depth down / up
+  Space              play / pause the scene's animation
   H                  this help
   Esc                quit";
 
@@ -41,6 +42,8 @@ pub enum Action {
     ToggleHeatmap,
     DepthDown,
     DepthUp,
+    /// Space: play or pause the scene's animation.
+    TogglePlay,
     Help,
     Quit,
 }
@@ -85,6 +88,7 @@ pub fn key_action(physical: PhysicalKey, logical: &Key) -> Option<Action> {
     }
     let typed = match logical {
         Key::Named(NamedKey::Escape) => return Some(Action::Quit),
+        Key::Named(NamedKey::Space) => return Some(Action::TogglePlay),
         Key::Character(c) => c.to_lowercase(),
         _ => return None,
     };

@@ -22,6 +22,7 @@ pub mod camera_controller;
 mod frame_stats;
 mod heatmap_view;
 mod input;
+mod playback;
 mod refinement;
 pub mod reload;
 mod surface;

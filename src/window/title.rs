@@ -34,6 +34,9 @@ pub struct TitleFacts<'a> {
     pub max_depth: u32,
     /// The cost heatmap is shown, with this top of scale (work per sample).
     pub heatmap: Option<u32>,
+    /// An animation's shown frame (0-based), its frame count, and whether
+    /// it plays.
+    pub animation: Option<(u32, u32, bool)>,
 }
 
 /// The title bar's state: when it may change next, and the reload status
@@ -90,6 +93,10 @@ impl TitleBar {
             "{} - {progress} - {:.1} ms - {:.2} Mrays/s - {accel} - depth {}",
             facts.name, facts.frame_ms, facts.mrays, facts.max_depth
         );
+        if let Some((frame, frames, playing)) = facts.animation {
+            let state = if playing { "playing" } else { "paused" };
+            title.push_str(&format!(" - frame {frame}/{frames} {state}"));
+        }
         if let Some(max) = facts.heatmap {
             title.push_str(&format!(
                 " - HEATMAP: nodes + objects per sample, 0 to {max}"
@@ -126,6 +133,7 @@ mod tests {
             build: BuildStrategy::Sah,
             max_depth: 5,
             heatmap: None,
+            animation: None,
         };
         assert_eq!(
             bar.text(&facts),
@@ -140,6 +148,13 @@ mod tests {
              - HEATMAP: nodes + objects per sample, 0 to 120"
         );
         facts.heatmap = None;
+        facts.animation = Some((12, 48, true));
+        assert_eq!(
+            bar.text(&facts),
+            "seed.toml - 3/16 spp - 12.3 ms - 1.50 Mrays/s - kdtree median short-stack - depth 5 \
+             - frame 12/48 playing"
+        );
+        facts.animation = None;
         facts.progress = Progress::Moving { scale: 4 };
         facts.accel = Accel::Brute;
         bar.reloading = true;
