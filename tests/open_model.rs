@@ -38,9 +38,17 @@ fn rendering_a_model_file_frames_it_in_the_middle_on_a_ground_plane() {
     );
     assert_eq!(run.code, 0, "{run:#?}");
     // The one warning: its faces have no material.
-    let warnings: Vec<&String> = run.stderr.iter().filter(|l| l.contains("warning:")).collect();
+    let warnings: Vec<&String> = run
+        .stderr
+        .iter()
+        .filter(|l| l.contains("warning:"))
+        .collect();
     assert_eq!(warnings.len(), 1, "{run:#?}");
-    assert!(warnings[0].starts_with(&format!("{BUNNY}:")), "{}", warnings[0]);
+    assert!(
+        warnings[0].starts_with(&format!("{BUNNY}:")),
+        "{}",
+        warnings[0]
+    );
     assert!(warnings[0].contains("default grey"), "{}", warnings[0]);
 
     let (w, h, rgb) = read_png_rgb(&dir.path.join("bunny.png")).unwrap();
@@ -67,7 +75,10 @@ fn rendering_a_model_file_frames_it_in_the_middle_on_a_ground_plane() {
     // Not blank: the bunny covers a good part of the image.
     let area = width * height;
     assert!(count > area / 20, "only {count} model pixels of {area}");
-    assert!(count < area * 3 / 4, "{count} model pixels of {area}: not a model");
+    assert!(
+        count < area * 3 / 4,
+        "{count} model pixels of {area}: not a model"
+    );
     // Centred: the model pixels' centroid lies near the middle.
     let (cx, cy) = (sum_x as f64 / count as f64, sum_y as f64 / count as f64);
     let (mx, my) = (width as f64 / 2.0, height as f64 / 2.0);
@@ -81,5 +92,9 @@ fn rendering_a_model_file_frames_it_in_the_middle_on_a_ground_plane() {
         .map(|(x, y)| pixel(x, y))
         .collect();
     let ground = bottom.iter().filter(|&&p| ground_like(p)).count();
-    assert!(ground > bottom.len() / 2, "{ground} of {} bottom pixels are ground", bottom.len());
+    assert!(
+        ground > bottom.len() / 2,
+        "{ground} of {} bottom pixels are ground",
+        bottom.len()
+    );
 }

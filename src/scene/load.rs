@@ -11,9 +11,9 @@ use std::cell::{OnceCell, RefCell};
 use std::path::Path;
 
 use super::document_errors::{json_error, toml_error};
+use super::mesh_file::MeshFormat;
 use super::schema::{RawScene, TableOf};
 use super::source_map::SourceMap;
-use super::mesh_file::MeshFormat;
 use super::validate::Validator;
 use super::{print_warning, Scene, SceneError, Warning};
 

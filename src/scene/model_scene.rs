@@ -118,7 +118,9 @@ fn bounds(triangles: &[Triangle]) -> (DVec3, DVec3) {
     triangles
         .iter()
         .flat_map(|t| t.vertices)
-        .fold((DVec3::MAX, DVec3::MIN), |(lo, hi), v| (lo.min(v), hi.max(v)))
+        .fold((DVec3::MAX, DVec3::MIN), |(lo, hi), v| {
+            (lo.min(v), hi.max(v))
+        })
 }
 
 /// The centre and bounding-sphere radius of a box (the radius never zero: a
@@ -131,10 +133,7 @@ fn sphere(min: DVec3, max: DVec3) -> (DVec3, f64) {
 
 /// The unit direction from the model's centre towards the camera.
 fn view_direction() -> DVec3 {
-    let (azimuth, elevation) = (
-        AZIMUTH_DEGREES.to_radians(),
-        ELEVATION_DEGREES.to_radians(),
-    );
+    let (azimuth, elevation) = (AZIMUTH_DEGREES.to_radians(), ELEVATION_DEGREES.to_radians());
     DVec3::new(
         azimuth.sin() * elevation.cos(),
         elevation.sin(),
@@ -172,8 +171,18 @@ pub(super) fn light_rig(min: DVec3, max: DVec3) -> Vec<Light> {
         specular: DVec3::splat(specular),
     };
     vec![
-        light(3.0 * toward_camera + 2.0 * right + 4.0 * DVec3::Y, 0.25, 0.8, 0.8),
-        light(3.0 * toward_camera - 3.0 * right + 1.0 * DVec3::Y, 0.0, 0.3, 0.0),
+        light(
+            3.0 * toward_camera + 2.0 * right + 4.0 * DVec3::Y,
+            0.25,
+            0.8,
+            0.8,
+        ),
+        light(
+            3.0 * toward_camera - 3.0 * right + 1.0 * DVec3::Y,
+            0.0,
+            0.3,
+            0.0,
+        ),
         light(-4.0 * toward_camera + 4.0 * DVec3::Y, 0.0, 0.4, 0.3),
     ]
 }
@@ -197,12 +206,7 @@ pub(super) fn ground_triangles(min: DVec3, max: DVec3, material: u32) -> [Triang
     let y = min.y - GROUND_GAP * radius;
     let h = GROUND_HALF_WIDTH * radius;
     let corner = |dx: f64, dz: f64| DVec3::new(centre.x + dx, y, centre.z + dz);
-    let (a, b, c, d) = (
-        corner(-h, -h),
-        corner(h, -h),
-        corner(h, h),
-        corner(-h, h),
-    );
+    let (a, b, c, d) = (corner(-h, -h), corner(h, -h), corner(h, h), corner(-h, h));
     [
         Triangle::flat([a, c, b], material),
         Triangle::flat([a, d, c], material),
@@ -251,9 +255,15 @@ mod tests {
         let boxes = [
             (DVec3::splat(-1.0), DVec3::splat(1.0)),
             // The bunny's bounds, a flat slab, a tall pole, far from the origin.
-            (DVec3::new(-1.0, -0.991, -0.775), DVec3::new(1.0, 1.0, 0.775)),
+            (
+                DVec3::new(-1.0, -0.991, -0.775),
+                DVec3::new(1.0, 1.0, 0.775),
+            ),
             (DVec3::new(0.0, 0.0, 0.0), DVec3::new(100.0, 0.01, 50.0)),
-            (DVec3::new(5e3, -2.0, 7e3), DVec3::new(5e3 + 0.1, 40.0, 7e3 + 0.1)),
+            (
+                DVec3::new(5e3, -2.0, 7e3),
+                DVec3::new(5e3 + 0.1, 40.0, 7e3 + 0.1),
+            ),
         ];
         for (min, max) in boxes {
             let camera = framing_camera(min, max);

@@ -193,7 +193,9 @@ fn a_non_indexed_primitive_without_normals_is_flat() {
 
 /// A model of tests/models read by the glTF reader alone.
 fn read_model(name: &str, with_materials: bool) -> Result<kdray::scene::mesh::Mesh, SceneError> {
-    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/models").join(name);
+    let path = Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("tests/models")
+        .join(name);
     kdray::scene::gltf::load_gltf(&path, with_materials, &mut |_| {})
 }
 
@@ -211,7 +213,11 @@ fn a_sparse_accessor_moves_a_vertex_and_its_normal_as_the_dense_file_does() {
     // node transforms, so it lies where the transforms take that point.
     let mesh = read_model("sparse.gltf", false).unwrap();
     let moved = node_matrix().transform_point3(DVec3::new(0.0, 0.0, 2.0));
-    assert!(mesh.positions.iter().any(|p| (*p - moved).length() < 1e-6), "{:?}", mesh.positions);
+    assert!(
+        mesh.positions.iter().any(|p| (*p - moved).length() < 1e-6),
+        "{:?}",
+        mesh.positions
+    );
 }
 
 #[test]
@@ -236,7 +242,10 @@ fn extensions_and_texture_slots_each_get_one_warning() {
     let mesh = read_model("wild.gltf", false).unwrap();
     assert_eq!(mesh.warnings.len(), 1, "{:?}", mesh.warnings);
     // A plain file has nothing to warn about.
-    assert!(read_model("tetra_embedded.gltf", true).unwrap().warnings.is_empty());
+    assert!(read_model("tetra_embedded.gltf", true)
+        .unwrap()
+        .warnings
+        .is_empty());
 }
 
 #[test]
@@ -244,7 +253,8 @@ fn a_gltf_1_file_is_named_as_such() {
     for name in ["gltf1.gltf", "gltf1_no_asset.gltf"] {
         let e = read_model(name, true).unwrap_err();
         assert!(
-            e.message.starts_with("glTF 1.0 is not supported; convert it to 2.0"),
+            e.message
+                .starts_with("glTF 1.0 is not supported; convert it to 2.0"),
             "{name}: {e}"
         );
         assert!(e.file.ends_with(name), "{e}");

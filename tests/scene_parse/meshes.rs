@@ -412,7 +412,11 @@ fn a_face_without_a_material_gets_the_default_grey_and_one_warning_naming_file_a
         let (scene, warnings) = load_with_warnings(&scene_path);
         assert_eq!(warnings.len(), 1, "{text:?}: {warnings:?}");
         let w = &warnings[0];
-        assert_eq!((w.file.as_path(), w.line), (obj.as_path(), Some(line)), "{w}");
+        assert_eq!(
+            (w.file.as_path(), w.line),
+            (obj.as_path(), Some(line)),
+            "{w}"
+        );
         let shown = w.to_string();
         assert!(
             shown.starts_with(&format!("{}:{line}: warning: ", obj.display())),
@@ -420,14 +424,21 @@ fn a_face_without_a_material_gets_the_default_grey_and_one_warning_naming_file_a
         );
         assert!(!shown.contains('\n'), "{shown}");
         for word in words {
-            assert!(shown.to_lowercase().contains(word), "{shown:?} lacks {word:?}");
+            assert!(
+                shown.to_lowercase().contains(word),
+                "{shown:?} lacks {word:?}"
+            );
         }
         // The mesh's triangle (the last; the base scene has one) is grey.
         let grey = MeshMaterial::default_grey();
         let mesh_triangles = &scene.triangles[scene.triangles.len() - 1..];
         for t in mesh_triangles {
             let m = &scene.materials[t.material as usize];
-            assert_eq!((m.ambient, m.diffuse), (grey.ambient, grey.diffuse), "{m:?}");
+            assert_eq!(
+                (m.ambient, m.diffuse),
+                (grey.ambient, grey.diffuse),
+                "{m:?}"
+            );
             assert!(m.name.ends_with(&grey.name), "{m:?}");
         }
         // With a `material` override the same OBJ is fine, with no warning.

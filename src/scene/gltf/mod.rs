@@ -639,4 +639,3 @@ mod tests {
         assert!(check_glb_header(b"{\"asset\": {}}").is_ok());
     }
 }
-

@@ -104,4 +104,3 @@ pub(super) fn textures_warning(document: &gltf::Document, path: &Path) -> Option
         ),
     ))
 }
-
