@@ -1,5 +1,5 @@
 //! The `kdray` command line: `render` (to a PNG, or `--window`), `info`,
-//! `bench` and `generate`.
+//! `bench`, `generate` and `web`.
 
 mod args;
 
@@ -43,6 +43,7 @@ fn main() -> ExitCode {
         Command::Info => info(),
         Command::Bench(args) => kdray::bench::bench_cli(&args.into()),
         Command::Generate(args) => kdray::bench::generate_cli(&args.into()),
+        Command::Web(args) => kdray::web::export_site(&args.scene, &args.output),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,
