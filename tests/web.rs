@@ -36,7 +36,14 @@ impl Server {
             .unwrap()
             .port();
         let child = Command::new("python3")
-            .args(["-m", "http.server", &port.to_string(), "--bind", "127.0.0.1", "-d"])
+            .args([
+                "-m",
+                "http.server",
+                &port.to_string(),
+                "--bind",
+                "127.0.0.1",
+                "-d",
+            ])
             .arg(root)
             .stdout(Stdio::null())
             .stderr(Stdio::null())
@@ -120,7 +127,11 @@ fn pages_trace_every_scene_as_the_native_renderer_does_and_show_their_errors() {
     newer[8..12].copy_from_slice(&(kdray::web::bundle::FORMAT_VERSION + 1).to_le_bytes());
     let broken = [
         ("bad-magic.kdray", bad_magic, "bad magic"),
-        ("truncated.kdray", good[..good.len() - 5].to_vec(), "truncated bundle"),
+        (
+            "truncated.kdray",
+            good[..good.len() - 5].to_vec(),
+            "truncated bundle",
+        ),
         ("newer.kdray", newer, "is newer than this page reads"),
     ];
     for (file, bytes, _) in &broken {
@@ -148,10 +159,15 @@ fn pages_trace_every_scene_as_the_native_renderer_does_and_show_their_errors() {
         let budget = (w * h) as usize * MAX_PIXELS_OVER_PER_MILLE / 1000;
         eprintln!("{name}: page vs native {d:?}");
         if d.mean_flip > MAX_MEAN_FLIP || d.pixels_over > budget {
-            failures.push(format!("{name}: page vs native {d:?} (budget FLIP {MAX_MEAN_FLIP}, {budget} pixels)"));
+            failures.push(format!(
+                "{name}: page vs native {d:?} (budget FLIP {MAX_MEAN_FLIP}, {budget} pixels)"
+            ));
         }
         let overlay = r["overlay"].as_str().unwrap_or("");
-        assert!(overlay.contains("adapter google swiftshader"), "{name}: overlay {overlay}");
+        assert!(
+            overlay.contains("adapter google swiftshader"),
+            "{name}: overlay {overlay}"
+        );
     }
     assert!(failures.is_empty(), "{}", failures.join("\n"));
 
@@ -163,14 +179,30 @@ fn pages_trace_every_scene_as_the_native_renderer_does_and_show_their_errors() {
     let samples = scenes[seed_index].1.render.samples;
     assert!(
         seed["after_drag_sample"].as_u64().unwrap() < samples as u64
-            || !seed["after_drag_title"].as_str().unwrap().starts_with("kdray: done"),
+            || !seed["after_drag_title"]
+                .as_str()
+                .unwrap()
+                .starts_with("kdray: done"),
         "the drag did not restart refinement: {seed}"
     );
-    assert!(seed["drag_title"].as_str().unwrap().starts_with("kdray: done"), "{seed}");
+    assert!(
+        seed["drag_title"]
+            .as_str()
+            .unwrap()
+            .starts_with("kdray: done"),
+        "{seed}"
+    );
     let (_, _, before) = read_png_rgb(&out.join("seed.page.png")).unwrap();
     let (_, _, after) = read_png_rgb(&out.join("seed.dragged.png")).unwrap();
-    let changed = before.chunks(3).zip(after.chunks(3)).filter(|(a, b)| a != b).count();
-    assert!(changed > before.len() / 3 / 10, "the drag changed only {changed} pixels");
+    let changed = before
+        .chunks(3)
+        .zip(after.chunks(3))
+        .filter(|(a, b)| a != b)
+        .count();
+    assert!(
+        changed > before.len() / 3 / 10,
+        "the drag changed only {changed} pixels"
+    );
 
     // Broken bundles: each shows its own error in the page.
     for ((file, _, expected), r) in broken.iter().zip(&results[scenes.len()..]) {

@@ -11,13 +11,27 @@ fn an_existing_folder_that_is_not_a_site_is_refused_untouched() {
     let dir = TempDir::new("web-refuse");
     dir.write("mine/notes.txt", "keep me");
     let seed = repo_path("scenes/seed.toml");
-    let run = run_kdray(&dir.path, &["web", seed.to_str().unwrap(), "-o", "mine"], &[]);
+    let run = run_kdray(
+        &dir.path,
+        &["web", seed.to_str().unwrap(), "-o", "mine"],
+        &[],
+    );
     assert_eq!(run.code, 2, "{}", run.stderr_text());
-    assert!(run.one_error_line().contains("is not a kdray site"), "{run:?}");
-    let names: Vec<_> = std::fs::read_dir(dir.join("mine")).unwrap().map(|e| e.unwrap().file_name()).collect();
+    assert!(
+        run.one_error_line().contains("is not a kdray site"),
+        "{run:?}"
+    );
+    let names: Vec<_> = std::fs::read_dir(dir.join("mine"))
+        .unwrap()
+        .map(|e| e.unwrap().file_name())
+        .collect();
     assert_eq!(names, ["notes.txt"], "nothing written");
     dir.write("file", "x");
-    let run = run_kdray(&dir.path, &["web", seed.to_str().unwrap(), "-o", "file"], &[]);
+    let run = run_kdray(
+        &dir.path,
+        &["web", seed.to_str().unwrap(), "-o", "file"],
+        &[],
+    );
     assert_eq!(run.code, 2);
     assert_eq!(std::fs::read_to_string(dir.join("file")).unwrap(), "x");
 }
@@ -27,7 +41,11 @@ fn a_site_is_written_and_written_again() {
     let dir = TempDir::new("web-site");
     let seed = repo_path("scenes/seed.toml");
     for _ in 0..2 {
-        let run = run_kdray(&dir.path, &["web", seed.to_str().unwrap(), "-o", "site"], &[]);
+        let run = run_kdray(
+            &dir.path,
+            &["web", seed.to_str().unwrap(), "-o", "site"],
+            &[],
+        );
         assert_eq!(run.code, 0, "{}", run.stderr_text());
     }
     let site = dir.join("site");
@@ -35,7 +53,10 @@ fn a_site_is_written_and_written_again() {
         assert!(site.join(name).is_file(), "{name}");
     }
     let kernel = std::fs::read_to_string(site.join("kernel.wgsl")).unwrap();
-    assert_eq!(kernel, kdray::gpu::shaders::trace_source(kdray::gpu::bindings::UNSPLIT));
+    assert_eq!(
+        kernel,
+        kdray::gpu::shaders::trace_source(kdray::gpu::bindings::UNSPLIT)
+    );
     let leftovers: Vec<_> = std::fs::read_dir(&site)
         .unwrap()
         .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
@@ -49,13 +70,19 @@ fn a_site_is_written_and_written_again() {
         serde_json::from_slice(&std::fs::read(site.join("contract.json")).unwrap()).unwrap();
     let mut expected = vec!["scene".to_string(), "frame_params".to_string()];
     expected.extend(
-        contract["bundle"]["scene_arrays"].as_array().unwrap().iter().map(|v| v.as_str().unwrap().to_string()),
+        contract["bundle"]["scene_arrays"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(|v| v.as_str().unwrap().to_string()),
     );
     let names: Vec<String> = sections.iter().map(|(n, _)| n.clone()).collect();
     assert_eq!(names, expected);
     let scene = kdray::scene::load_scene(&seed).unwrap();
     let prepared = kdray::gpu::PreparedScene::new(scene, Accel::Kdtree);
-    for ((name, got), (want_name, want)) in sections[2..].iter().zip(prepared.arrays.whole_buffers()) {
+    for ((name, got), (want_name, want)) in
+        sections[2..].iter().zip(prepared.arrays.whole_buffers())
+    {
         assert_eq!(name, want_name);
         assert_eq!(*got, want, "{name}");
     }

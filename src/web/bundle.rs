@@ -77,8 +77,9 @@ pub struct CameraInfo {
 pub fn encode(prepared: &PreparedScene, name: &str) -> Vec<u8> {
     let scene = &prepared.scene;
     let arrays = &prepared.arrays;
-    let params = FrameParams::for_arrays(&scene.camera.basis(), &scene.render, arrays, Accel::Kdtree)
-        .with_traversal(Traversal::default());
+    let params =
+        FrameParams::for_arrays(&scene.camera.basis(), &scene.render, arrays, Accel::Kdtree)
+            .with_traversal(Traversal::default());
     let spheres = arrays.spheres.len() as u32;
     let triangles = arrays.triangles.len() as u32;
     let mut needs = Vec::new();
@@ -134,7 +135,10 @@ pub fn write_sections(sections: &[(&str, &[u8])]) -> Vec<u8> {
     let mut offset = table_end.next_multiple_of(SECTION_ALIGN);
     let mut placed = Vec::new();
     for (name, bytes) in sections {
-        assert!(name.len() <= SECTION_NAME_BYTES && name.is_ascii(), "{name}");
+        assert!(
+            name.len() <= SECTION_NAME_BYTES && name.is_ascii(),
+            "{name}"
+        );
         let mut field = [0u8; SECTION_NAME_BYTES];
         field[..name.len()].copy_from_slice(name.as_bytes());
         out.extend_from_slice(&field);
@@ -178,10 +182,14 @@ pub fn read_sections(bytes: &[u8]) -> Result<Vec<(String, &[u8])>, String> {
                 .map(|&b| b as char)
                 .collect();
             let (offset, size) = (u64_at(at + 16), u64_at(at + 24));
-            let end = offset.checked_add(size).filter(|&e| e <= bytes.len() as u64);
+            let end = offset
+                .checked_add(size)
+                .filter(|&e| e <= bytes.len() as u64);
             match end {
                 Some(end) => Ok((name, &bytes[offset as usize..end as usize])),
-                None => Err(format!("truncated bundle: section {name} runs past the end")),
+                None => Err(format!(
+                    "truncated bundle: section {name} runs past the end"
+                )),
             }
         })
         .collect()

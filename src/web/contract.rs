@@ -76,10 +76,30 @@ fn frame_params_fields() -> Vec<Field> {
 fn present_params_fields() -> Vec<Field> {
     use std::mem::offset_of;
     vec![
-        ("image_size", offset_of!(PresentParams, image_size), "u32", 2),
-        ("target_size", offset_of!(PresentParams, target_size), "u32", 2),
-        ("preview_size", offset_of!(PresentParams, preview_size), "u32", 2),
-        ("show_image", offset_of!(PresentParams, show_image), "u32", 1),
+        (
+            "image_size",
+            offset_of!(PresentParams, image_size),
+            "u32",
+            2,
+        ),
+        (
+            "target_size",
+            offset_of!(PresentParams, target_size),
+            "u32",
+            2,
+        ),
+        (
+            "preview_size",
+            offset_of!(PresentParams, preview_size),
+            "u32",
+            2,
+        ),
+        (
+            "show_image",
+            offset_of!(PresentParams, show_image),
+            "u32",
+            1,
+        ),
     ]
 }
 
@@ -87,7 +107,10 @@ fn struct_json(size: usize, fields: &[Field]) -> Value {
     let fields: serde_json::Map<String, Value> = fields
         .iter()
         .map(|&(name, offset, ty, count)| {
-            (name.to_string(), json!({"offset": offset, "type": ty, "count": count}))
+            (
+                name.to_string(),
+                json!({"offset": offset, "type": ty, "count": count}),
+            )
         })
         .collect();
     json!({"size": size, "fields": fields})
@@ -155,7 +178,10 @@ mod tests {
     fn uniform_fields_tile_their_structs() {
         for (fields, size) in [
             (frame_params_fields(), std::mem::size_of::<FrameParams>()),
-            (present_params_fields(), std::mem::size_of::<PresentParams>() - 4),
+            (
+                present_params_fields(),
+                std::mem::size_of::<PresentParams>() - 4,
+            ),
         ] {
             let mut at = 0;
             for (name, offset, _, count) in fields {
