@@ -21,6 +21,9 @@ packages=(
     # scenes/bunny.toml's mesh, /usr/share/glmark2/models/bunny.obj (the
     # Stanford bunny), which the image tests render.
     glmark2-data
+    # tests/web.rs traces the exported site in headless Chromium (WebGPU on
+    # its SwiftShader), driven from node by tests/web's npm packages.
+    chromium nodejs npm python3
 )
 
 missing=()
@@ -46,6 +49,11 @@ if [ ${#missing[@]} -gt 0 ]; then
     export DEBIAN_FRONTEND=noninteractive
     "${sudo[@]}" apt-get update -qq
     "${sudo[@]}" apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null
+fi
+
+# tests/web's driver (playwright-core), exactly as its lockfile says.
+if [ ! -d tests/web/node_modules/playwright-core ]; then
+    npm ci --prefix tests/web --no-audit --no-fund >/dev/null
 fi
 
 exec cargo test --locked "$@"

@@ -4,7 +4,8 @@
 // up to TRIANGLES_CHUNKS, KD_NODES_CHUNKS, ... bindings each (the adapter
 // decides how many: bindings::scene_chunks), every one but the last full.
 // The first binding's length is the chunk length (a scene that fits has one
-// chunk, and every index is below it). Every walk, the shading and the query
+// chunk, and every index is below it); `<array>_length()`, generated with
+// the declaration, gives it. Every walk, the shading and the query
 // kernel read these six arrays through the functions below, never directly.
 // The bindings, the counts and the `<array>_chunk(k, j)` readers are
 // generated (src/gpu/bindings.rs); the host cuts the arrays in
@@ -46,7 +47,7 @@ fn triangle(i: u32) -> Triangle {
     if (!SPLIT_SCENE) {
         return unpack_triangle(triangles[i]);
     }
-    let at = chunk_index(i, arrayLength(&triangles), TRIANGLES_CHUNKS);
+    let at = chunk_index(i, triangles_length(), TRIANGLES_CHUNKS);
     return unpack_triangle(triangles_chunk(at.chunk, at.index));
 }
 
@@ -64,7 +65,7 @@ fn kd_node(i: u32) -> KdNode {
     if (!SPLIT_SCENE) {
         return unpack_kd_node(kd_nodes[i]);
     }
-    let at = chunk_index(i, arrayLength(&kd_nodes), KD_NODES_CHUNKS);
+    let at = chunk_index(i, kd_nodes_length(), KD_NODES_CHUNKS);
     return unpack_kd_node(kd_nodes_chunk(at.chunk, at.index));
 }
 
@@ -73,7 +74,7 @@ fn leaf_object(i: u32) -> u32 {
     if (!SPLIT_SCENE) {
         return leaf_objects[i];
     }
-    let at = chunk_index(i, arrayLength(&leaf_objects), LEAF_OBJECTS_CHUNKS);
+    let at = chunk_index(i, leaf_objects_length(), LEAF_OBJECTS_CHUNKS);
     return leaf_objects_chunk(at.chunk, at.index);
 }
 
@@ -84,7 +85,7 @@ fn rope_plane(r: u32, face: u32) -> f32 {
     if (!SPLIT_SCENE) {
         return leaf_ropes[r].faces[face];
     }
-    let at = chunk_index(r, arrayLength(&leaf_ropes), LEAF_ROPES_CHUNKS);
+    let at = chunk_index(r, leaf_ropes_length(), LEAF_ROPES_CHUNKS);
     return bitcast<f32>(leaf_ropes_chunk(at.chunk, at.index, face, false));
 }
 
@@ -92,7 +93,7 @@ fn rope_target(r: u32, face: u32) -> u32 {
     if (!SPLIT_SCENE) {
         return leaf_ropes[r].ropes[face];
     }
-    let at = chunk_index(r, arrayLength(&leaf_ropes), LEAF_ROPES_CHUNKS);
+    let at = chunk_index(r, leaf_ropes_length(), LEAF_ROPES_CHUNKS);
     return leaf_ropes_chunk(at.chunk, at.index, face, true);
 }
 
@@ -101,7 +102,7 @@ fn leaf_rope_record(i: u32) -> u32 {
     if (!SPLIT_SCENE) {
         return leaf_rope_index[i];
     }
-    let at = chunk_index(i, arrayLength(&leaf_rope_index), LEAF_ROPE_INDEX_CHUNKS);
+    let at = chunk_index(i, leaf_rope_index_length(), LEAF_ROPE_INDEX_CHUNKS);
     return leaf_rope_index_chunk(at.chunk, at.index);
 }
 
@@ -110,6 +111,6 @@ fn triangle_normals_record(i: u32) -> TriangleNormals {
     if (!SPLIT_SCENE) {
         return triangle_normals[i];
     }
-    let at = chunk_index(i, arrayLength(&triangle_normals), TRIANGLE_NORMALS_CHUNKS);
+    let at = chunk_index(i, triangle_normals_length(), TRIANGLE_NORMALS_CHUNKS);
     return triangle_normals_chunk(at.chunk, at.index);
 }

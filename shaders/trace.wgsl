@@ -69,7 +69,7 @@ fn trace_sample(pixel: vec2<u32>, sx: u32, sy: u32, k: u32) -> vec3<f32> {
 // buffer means "not asked for".
 fn add_pixel_cost(i: u32) {
     let at = COST_WORDS * i;
-    if (COUNT_COSTS && at + 2u < arrayLength(&pixel_costs)) {
+    if (COUNT_COSTS && at + 2u < pixel_costs_length()) {
         pixel_costs[at] += walk_cost.x;
         pixel_costs[at + 1u] += walk_cost.y;
         pixel_costs[at + 2u] += walk_cost.z;

@@ -4,7 +4,8 @@
 //! Data flows one way: [`scene`] (parse, validate, OBJ) -> [`kdtree`] (SAH
 //! build, flat GPU layout, CPU mirror of the traversal) -> [`gpu`] (adapter,
 //! buffers, pipeline, tiled dispatch, readback) -> [`output`] (PNG).
-//! [`render`] strings them together for one frame.
+//! [`render`] strings them together for one frame; [`web`] exports a
+//! prepared scene as a site that traces it in a browser.
 
 pub mod bench;
 pub mod choice;
@@ -19,6 +20,7 @@ pub mod output;
 pub mod reference;
 pub mod render;
 pub mod scene;
+pub mod web;
 pub mod window;
 
 pub use error::{Error, Result};

@@ -458,10 +458,78 @@ fn address_space(access: Access) -> &'static str {
     }
 }
 
+/// What makes a binding of the kernel needed: a kernel whose frames never
+/// read it may declare it as a private one-element placeholder instead
+/// ([`wgsl_contract_without`]), which binds nothing. WebGPU grants 8 storage
+/// buffers per stage by default and SwiftShader 10, and `accumulate_tile`
+/// with every binding has 12.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Need {
+    /// The scene has spheres (`SPHERES`).
+    Spheres,
+    /// The scene has triangles (`TRIANGLES`).
+    Triangles,
+    /// Some triangle has vertex normals (`SMOOTH_TRIANGLES`).
+    SmoothTriangles,
+    /// The walk is a k-d walk, not brute force.
+    KdWalk,
+    /// The walk is the rope walk.
+    RopeWalk,
+    /// The pass counts the walks' work (`COUNT_COSTS`).
+    Costs,
+}
+
+impl Need {
+    /// Its name in the exported contract.
+    pub fn name(self) -> &'static str {
+        match self {
+            Need::Spheres => "spheres",
+            Need::Triangles => "triangles",
+            Need::SmoothTriangles => "smooth_triangles",
+            Need::KdWalk => "kd_walk",
+            Need::RopeWalk => "rope_walk",
+            Need::Costs => "costs",
+        }
+    }
+}
+
+/// The bindings a kernel may leave out, each with what needs it (with one
+/// binding per split array; every other binding of `accumulate_tile` is
+/// always read).
+pub const OPTIONAL_BINDINGS: [(Binding, Need); 8] = [
+    (SPHERES, Need::Spheres),
+    (TRIANGLES, Need::Triangles),
+    (TRIANGLE_NORMALS, Need::SmoothTriangles),
+    (KD_NODES, Need::KdWalk),
+    (LEAF_OBJECTS, Need::KdWalk),
+    (LEAF_ROPES, Need::RopeWalk),
+    (LEAF_ROPE_INDEX, Need::RopeWalk),
+    (PIXEL_COSTS, Need::Costs),
+];
+
+/// Bindings whose length the kernel asks (`fn <name>_length() -> u32`,
+/// generated beside the declaration; a placeholder's is 1).
+const MEASURED: [Binding; 7] = [
+    TRIANGLES,
+    KD_NODES,
+    LEAF_OBJECTS,
+    LEAF_ROPES,
+    LEAF_ROPE_INDEX,
+    TRIANGLE_NORMALS,
+    PIXEL_COSTS,
+];
+
 /// The WGSL text generated from this module for `chunks` bindings per split
 /// array: the shared constants, the binding declarations (the struct types
 /// they name are in shaders/types.wgsl) and each split array's chunk reader.
 pub fn wgsl_contract(chunks: SceneChunks) -> String {
+    wgsl_contract_without(chunks, &[])
+}
+
+/// [`wgsl_contract`] with each of `omitted` (of [`OPTIONAL_BINDINGS`])
+/// declared as a private one-element array, not a binding: for a kernel
+/// whose frames never read them.
+pub fn wgsl_contract_without(chunks: SceneChunks, omitted: &[Binding]) -> String {
     let mut text = String::from("// Generated from src/gpu/bindings.rs: edit it there.\n");
     for (name, value) in SHARED_CONSTANTS {
         text += &format!(
@@ -470,7 +538,9 @@ pub fn wgsl_contract(chunks: SceneChunks) -> String {
             value.wgsl_literal()
         );
     }
-    text += &declarations(&all(chunks));
+    for b in all(chunks) {
+        text += &declaration(&b, !omitted.contains(&b));
+    }
     for (array, chunks) in SPLIT_ARRAYS.into_iter().zip(chunks) {
         text += &format!("const {}: u32 = {chunks}u;\n", array.count_constant);
         text += &chunk_reader(array, chunks);
@@ -487,18 +557,40 @@ pub fn wgsl_present_contract() -> String {
 
 /// `@group(0) @binding(index) var<...> name: type;` for each of `bindings`.
 fn declarations(bindings: &[Binding]) -> String {
-    bindings
-        .iter()
-        .map(|b| {
-            format!(
-                "@group(0) @binding({}) var<{}> {}: {};\n",
-                b.index,
-                address_space(b.access),
-                b.name,
-                b.wgsl_type
-            )
-        })
-        .collect()
+    bindings.iter().map(|b| declaration(b, true)).collect()
+}
+
+/// `b`'s declaration: bound, `@group(0) @binding(index) var<...> name:
+/// type;`, else a private `array<element, 1>` of the same name; then, for a
+/// binding the kernel measures, `fn <name>_length() -> u32` (its
+/// `arrayLength`, or 1 for the placeholder). The export hands both forms to
+/// the page, which swaps one for the other (src/web).
+pub fn declaration(b: &Binding, bound: bool) -> String {
+    let mut text = if bound {
+        format!(
+            "@group(0) @binding({}) var<{}> {}: {};\n",
+            b.index,
+            address_space(b.access),
+            b.name,
+            b.wgsl_type
+        )
+    } else {
+        let element = b
+            .wgsl_type
+            .strip_prefix("array<")
+            .and_then(|t| t.strip_suffix('>'))
+            .unwrap_or_else(|| panic!("{} is not a runtime-sized array", b.name));
+        format!("var<private> {}: array<{element}, 1>;\n", b.name)
+    };
+    if MEASURED.contains(b) {
+        let length = if bound {
+            format!("arrayLength(&{})", b.name)
+        } else {
+            "1u".to_string()
+        };
+        text += &format!("fn {}_length() -> u32 {{ return {length}; }}\n", b.name);
+    }
+    text
 }
 
 /// `array`'s reader: `array.read` of element `j` of chunk `k` (chunks past

@@ -3,7 +3,8 @@
 //! filled in per dispatch by the renderer, `sample_index` per pass by the
 //! window.
 
-use super::SceneBuffers;
+use super::{SceneArrays, SceneBuffers};
+use crate::geometry::Aabb;
 use crate::kdtree::Traversal;
 use crate::layout::{
     FrameParams, ACCEL_BRUTE, ACCEL_KDTREE, SHADOW_AMBIENT, SHADOW_SEED, TRAVERSAL_RESTART,
@@ -62,6 +63,40 @@ impl FrameParams {
         scene: &SceneBuffers,
         accel: Accel,
     ) -> FrameParams {
+        let counts = SceneCounts {
+            bounds: scene.bounds,
+            sphere_count: scene.sphere_count,
+            object_count: scene.object_count,
+            light_count: scene.light_count,
+            node_count: scene.node_count,
+        };
+        Self::with_counts(camera, render, &counts, accel)
+    }
+
+    /// [`FrameParams::new`] for arrays not uploaded (the web export writes
+    /// them into its bundle): the same counts, read from the host copies.
+    pub fn for_arrays(
+        camera: &CameraBasis,
+        render: &RenderSettings,
+        arrays: &SceneArrays,
+        accel: Accel,
+    ) -> FrameParams {
+        let counts = SceneCounts {
+            bounds: arrays.bounds,
+            sphere_count: arrays.spheres.len() as u32,
+            object_count: arrays.objects.len() as u32,
+            light_count: arrays.lights.len() as u32,
+            node_count: arrays.nodes.len() as u32,
+        };
+        Self::with_counts(camera, render, &counts, accel)
+    }
+
+    fn with_counts(
+        camera: &CameraBasis,
+        render: &RenderSettings,
+        scene: &SceneCounts,
+        accel: Accel,
+    ) -> FrameParams {
         let f = |v: glam::DVec3| v.as_vec3().to_array();
         FrameParams {
             camera_position: f(camera.position),
@@ -102,6 +137,15 @@ impl FrameParams {
             ..self
         }
     }
+}
+
+/// What the kernel's parameters say of the scene's arrays.
+struct SceneCounts {
+    bounds: Aabb,
+    sphere_count: u32,
+    object_count: u32,
+    light_count: u32,
+    node_count: u32,
 }
 
 /// `FrameParams::traversal` for `traversal`.

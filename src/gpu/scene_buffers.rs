@@ -215,6 +215,13 @@ impl SceneArrays {
         Ok(names.iter().map(|b| b.name).zip(bytes).collect())
     }
 
+    /// (binding name, bytes) of every storage buffer, each array in one
+    /// binding, in the order of [`bindings::scene`] (the web export's
+    /// bundle holds them so).
+    pub fn whole_buffers(&self) -> Vec<(&'static str, &[u8])> {
+        self.buffers(WHOLE, bindings::UNSPLIT).unwrap_or_default()
+    }
+
     /// Total bytes the scene needs on the GPU (storage buffers only).
     pub fn byte_size(&self) -> u64 {
         self.buffers(WHOLE, bindings::UNSPLIT)

@@ -78,7 +78,18 @@ pub fn trace_module(device: &wgpu::Device) -> wgpu::ShaderModule {
 /// The whole trace kernel as one WGSL module, with `chunks` bindings per
 /// split array: the generated contract, then the files.
 pub fn trace_source(chunks: SceneChunks) -> String {
-    let mut source = format!("// ---- bindings.rs\n{}\n", bindings::wgsl_contract(chunks));
+    trace_source_without(chunks, &[])
+}
+
+/// [`trace_source`] with each of `omitted` (of
+/// [`bindings::OPTIONAL_BINDINGS`]) a private placeholder, not a binding
+/// ([`bindings::wgsl_contract_without`]): the kernel for frames that never
+/// read them, on an adapter with fewer storage buffers per stage.
+pub fn trace_source_without(chunks: SceneChunks, omitted: &[bindings::Binding]) -> String {
+    let mut source = format!(
+        "// ---- bindings.rs\n{}\n",
+        bindings::wgsl_contract_without(chunks, omitted)
+    );
     for (name, text) in TRACE_PARTS {
         source += &format!("// ---- {name}\n{text}\n");
     }
@@ -265,6 +276,45 @@ mod tests {
                     assert_eq!(host.to_bits(), kernel.to_bits(), "{name}")
                 }
                 (host, kernel) => panic!("{name}: host {host:?}, kernel {kernel:?}"),
+            }
+        }
+    }
+
+    /// With any of the optional bindings left out, the kernel still
+    /// validates, and the text the page swaps (each optional binding's bound
+    /// declaration for its placeholder) is in the full kernel exactly once,
+    /// so that swapping it there gives the kernel generated without it.
+    #[test]
+    fn kernels_without_optional_bindings_validate_and_match_the_swap() {
+        use bindings::{declaration, OPTIONAL_BINDINGS};
+        let full = trace_source(UNSPLIT);
+        let optional: Vec<Binding> = OPTIONAL_BINDINGS.iter().map(|(b, _)| *b).collect();
+        for mask in [
+            0u32, 0b1, 0b10, 0b100, 0b11000, 0b1100000, 0b10000000, 0b11111111, 0b10111001,
+        ] {
+            let omitted: Vec<Binding> = optional
+                .iter()
+                .enumerate()
+                .filter(|(i, _)| mask & (1 << i) != 0)
+                .map(|(_, b)| *b)
+                .collect();
+            let generated = trace_source_without(UNSPLIT, &omitted);
+            let (module, _) = parse_and_validate(&generated);
+            let mut swapped = full.clone();
+            for b in &omitted {
+                let bound = declaration(b, true);
+                assert_eq!(swapped.matches(&bound).count(), 1, "{}", b.name);
+                swapped = swapped.replacen(&bound, &declaration(b, false), 1);
+            }
+            assert_eq!(swapped, generated, "omitting {mask:#b}");
+            let bound: Vec<&str> = module
+                .global_variables
+                .iter()
+                .filter(|(_, g)| g.binding.is_some())
+                .filter_map(|(_, g)| g.name.as_deref())
+                .collect();
+            for b in &omitted {
+                assert!(!bound.contains(&b.name), "{} is still bound", b.name);
             }
         }
     }

@@ -40,6 +40,17 @@ pub enum Command {
     Bench(BenchArgs),
     /// Write one of the bench's random scenes as a scene file.
     Generate(GenerateArgs),
+    /// Write a static site that traces the scene in a browser with WebGPU.
+    Web(WebArgs),
+}
+
+#[derive(clap::Args)]
+pub struct WebArgs {
+    /// The scene file.
+    pub scene: PathBuf,
+    /// The site's folder: new, empty, or a site written before.
+    #[arg(short, long)]
+    pub output: PathBuf,
 }
 
 /// A flag whose values are a library [`Choice`]: clap lists the names and

@@ -1,5 +1,5 @@
 //! The `kdray` command line: `render` (to a PNG, or `--window`), `info`,
-//! `bench` and `generate`.
+//! `bench`, `generate` and `web`.
 
 mod args;
 mod bench;
@@ -44,6 +44,7 @@ fn main() -> ExitCode {
         Command::Info => info(),
         Command::Bench(args) => bench::bench(args),
         Command::Generate(args) => bench::generate(args),
+        Command::Web(args) => kdray::web::export_site(&args.scene, &args.output),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

@@ -1,0 +1,228 @@
+//! The bundle: one little-endian binary file with everything the page needs
+//! of a prepared scene (docs/web.md has the format).
+//!
+//! ```text
+//! offset  size     field
+//! 0       8        magic, the bytes "KDRAYWEB"
+//! 8       4        format version (u32), FORMAT_VERSION
+//! 12      4        section count N (u32)
+//! 16      32 * N   section table: name (16 bytes, ASCII, NUL-padded),
+//!                  offset (u64, from the file's start), size (u64, bytes)
+//! ...              the sections, each at a multiple of 16 bytes
+//! ```
+//!
+//! Sections: `scene` (UTF-8 JSON: camera, render settings, counts and the
+//! bindings the scene needs), `frame_params` (the kernel's `FrameParams` for
+//! the scene's own view), then every scene array by its binding name
+//! (`spheres`, `triangles`, `objects`, ... in the order of
+//! `gpu::bindings::scene`), each in the GPU layout. A reader refuses a file
+//! with another magic, a newer version, or a section past its end.
+
+use serde::Serialize;
+
+use crate::gpu::{Accel, PreparedScene};
+use crate::kdtree::Traversal;
+use crate::layout::FrameParams;
+
+/// The first 8 bytes of every bundle.
+pub const MAGIC: &[u8; 8] = b"KDRAYWEB";
+/// The bundle format this kdray writes (and the newest the page reads).
+pub const FORMAT_VERSION: u32 = 1;
+/// Bytes of the header before the section table.
+pub const HEADER_BYTES: usize = 16;
+/// Bytes of one entry of the section table.
+pub const SECTION_ENTRY_BYTES: usize = 32;
+/// Bytes of a section's name in the table.
+pub const SECTION_NAME_BYTES: usize = 16;
+/// Sections start at multiples of this.
+pub const SECTION_ALIGN: usize = 16;
+
+/// What the page reads of the scene besides its arrays (the `scene` section).
+#[derive(Debug, Serialize)]
+pub struct SceneInfo {
+    /// The scene file's name, shown in the overlay.
+    pub name: String,
+    pub camera: CameraInfo,
+    pub width: u32,
+    pub height: u32,
+    /// Samples per pixel, a perfect square.
+    pub samples: u32,
+    pub max_depth: u32,
+    /// The tree's root cell, `[min, max]`: where the page frames the view.
+    pub bounds: [[f32; 3]; 2],
+    pub spheres: u32,
+    pub triangles: u32,
+    pub smooth_triangles: u32,
+    pub lights: u32,
+    pub kd_nodes: u32,
+    pub leaf_references: u32,
+    /// The storage buffers the scene's kernel reads: `gpu::bindings::Need`
+    /// names of the scene's objects (spheres, triangles, smooth_triangles).
+    pub needs: Vec<&'static str>,
+    /// The walk `frame_params` holds (`render`'s default).
+    pub traversal: &'static str,
+}
+
+/// The scene's camera as written (the page orbits around `look_at`).
+#[derive(Debug, Serialize)]
+pub struct CameraInfo {
+    pub position: [f64; 3],
+    pub look_at: [f64; 3],
+    pub up: [f64; 3],
+    pub vfov_degrees: f64,
+}
+
+/// The bundle of `prepared` (a scene prepared for the k-d walk), its frame
+/// parameters those of `render` with the default walk.
+pub fn encode(prepared: &PreparedScene, name: &str) -> Vec<u8> {
+    let scene = &prepared.scene;
+    let arrays = &prepared.arrays;
+    let params =
+        FrameParams::for_arrays(&scene.camera.basis(), &scene.render, arrays, Accel::Kdtree)
+            .with_traversal(Traversal::default());
+    let spheres = arrays.spheres.len() as u32;
+    let triangles = arrays.triangles.len() as u32;
+    let mut needs = Vec::new();
+    // As `KernelVariant::for_scene`: a scene with neither may have either.
+    if spheres > 0 || triangles == 0 {
+        needs.push(crate::gpu::bindings::Need::Spheres.name());
+    }
+    if triangles > 0 || spheres == 0 {
+        needs.push(crate::gpu::bindings::Need::Triangles.name());
+    }
+    if !arrays.triangle_normals.is_empty() {
+        needs.push(crate::gpu::bindings::Need::SmoothTriangles.name());
+    }
+    let c = &scene.camera;
+    let info = SceneInfo {
+        name: name.to_string(),
+        camera: CameraInfo {
+            position: c.position.to_array(),
+            look_at: c.look_at.to_array(),
+            up: c.up.to_array(),
+            vfov_degrees: c.vfov_degrees,
+        },
+        width: scene.render.width,
+        height: scene.render.height,
+        samples: scene.render.samples,
+        max_depth: scene.render.max_depth,
+        bounds: [arrays.bounds.min.to_array(), arrays.bounds.max.to_array()],
+        spheres,
+        triangles,
+        smooth_triangles: arrays.triangle_normals.len() as u32,
+        lights: arrays.lights.len() as u32,
+        kd_nodes: arrays.nodes.len() as u32,
+        leaf_references: arrays.leaf_objects.len() as u32,
+        needs,
+        traversal: crate::choice::Choice::name(Traversal::default()),
+    };
+    let info = serde_json::to_vec(&info).expect("the scene's figures serialise");
+    let mut sections: Vec<(&str, &[u8])> = vec![
+        ("scene", &info),
+        ("frame_params", bytemuck::bytes_of(&params)),
+    ];
+    sections.extend(arrays.whole_buffers());
+    write_sections(&sections)
+}
+
+/// The header, the table and `sections`, each aligned.
+pub fn write_sections(sections: &[(&str, &[u8])]) -> Vec<u8> {
+    let table_end = HEADER_BYTES + SECTION_ENTRY_BYTES * sections.len();
+    let mut out = Vec::with_capacity(table_end);
+    out.extend_from_slice(MAGIC);
+    out.extend_from_slice(&FORMAT_VERSION.to_le_bytes());
+    out.extend_from_slice(&(sections.len() as u32).to_le_bytes());
+    let mut offset = table_end.next_multiple_of(SECTION_ALIGN);
+    let mut placed = Vec::new();
+    for (name, bytes) in sections {
+        assert!(
+            name.len() <= SECTION_NAME_BYTES && name.is_ascii(),
+            "{name}"
+        );
+        let mut field = [0u8; SECTION_NAME_BYTES];
+        field[..name.len()].copy_from_slice(name.as_bytes());
+        out.extend_from_slice(&field);
+        out.extend_from_slice(&(offset as u64).to_le_bytes());
+        out.extend_from_slice(&(bytes.len() as u64).to_le_bytes());
+        placed.push(offset);
+        offset = (offset + bytes.len()).next_multiple_of(SECTION_ALIGN);
+    }
+    for ((_, bytes), at) in sections.iter().zip(placed) {
+        out.resize(at, 0);
+        out.extend_from_slice(bytes);
+    }
+    out
+}
+
+/// A bundle's sections by name, checked as the page checks them: the
+/// magic, a version this kdray reads, and every section inside the file.
+pub fn read_sections(bytes: &[u8]) -> Result<Vec<(String, &[u8])>, String> {
+    if bytes.len() < HEADER_BYTES || &bytes[..8] != MAGIC {
+        return Err("not a kdray bundle (bad magic)".into());
+    }
+    let u32_at = |at: usize| u32::from_le_bytes(bytes[at..at + 4].try_into().unwrap());
+    let u64_at = |at: usize| u64::from_le_bytes(bytes[at..at + 8].try_into().unwrap());
+    let version = u32_at(8);
+    if version > FORMAT_VERSION {
+        return Err(format!(
+            "bundle format version {version} is newer than this reader's {FORMAT_VERSION}"
+        ));
+    }
+    let count = u32_at(12) as usize;
+    if HEADER_BYTES + SECTION_ENTRY_BYTES * count > bytes.len() {
+        return Err("truncated bundle: the section table runs past the end".into());
+    }
+    (0..count)
+        .map(|i| {
+            let at = HEADER_BYTES + SECTION_ENTRY_BYTES * i;
+            let name = &bytes[at..at + SECTION_NAME_BYTES];
+            let name: String = name
+                .iter()
+                .take_while(|&&b| b != 0)
+                .map(|&b| b as char)
+                .collect();
+            let (offset, size) = (u64_at(at + 16), u64_at(at + 24));
+            let end = offset
+                .checked_add(size)
+                .filter(|&e| e <= bytes.len() as u64);
+            match end {
+                Some(end) => Ok((name, &bytes[offset as usize..end as usize])),
+                None => Err(format!(
+                    "truncated bundle: section {name} runs past the end"
+                )),
+            }
+        })
+        .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn sections_read_back_aligned_and_in_order() {
+        let bundle = write_sections(&[("a", b"xyz"), ("bb", &[1, 2, 3, 4, 5]), ("empty", b"")]);
+        let sections = read_sections(&bundle).unwrap();
+        let names: Vec<&str> = sections.iter().map(|(n, _)| n.as_str()).collect();
+        assert_eq!(names, ["a", "bb", "empty"]);
+        assert_eq!(sections[1].1, &[1, 2, 3, 4, 5]);
+        for (_, bytes) in &sections {
+            let offset = bytes.as_ptr() as usize - bundle.as_ptr() as usize;
+            assert_eq!(offset % SECTION_ALIGN, 0);
+        }
+    }
+
+    #[test]
+    fn bad_magic_newer_versions_and_truncation_are_refused() {
+        let bundle = write_sections(&[("a", &[7; 40])]);
+        let mut bad = bundle.clone();
+        bad[0] = b'X';
+        assert!(read_sections(&bad).unwrap_err().contains("magic"));
+        let mut newer = bundle.clone();
+        newer[8..12].copy_from_slice(&(FORMAT_VERSION + 1).to_le_bytes());
+        assert!(read_sections(&newer).unwrap_err().contains("newer"));
+        let cut = &bundle[..bundle.len() - 1];
+        assert!(read_sections(cut).unwrap_err().contains("section a"));
+        assert!(read_sections(&bundle[..20]).unwrap_err().contains("table"));
+    }
+}

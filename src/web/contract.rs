@@ -1,0 +1,203 @@
+//! The host-shader contract as JSON (`contract.json` in the site), made
+//! from `gpu::bindings` and `layout`: what the page's script binds, its
+//! entry points and workgroup sizes, the shared constants, the overrides,
+//! the byte layout of the uniforms it writes, the optional bindings with the
+//! text that swaps each for its placeholder, and the bundle's format. The
+//! script reads every layout and number from here; none is kept in it.
+
+use serde_json::{json, Value};
+
+use crate::gpu::bindings::{
+    self, Access, Binding, SharedValue, ACCUMULATE_TILE, OPTIONAL_BINDINGS, PRESENT_BINDINGS,
+    SHARED_CONSTANTS, UNSPLIT,
+};
+use crate::gpu::kernel_variant::OVERRIDES;
+use crate::layout::{FrameParams, PresentParams};
+
+use super::bundle;
+
+/// File names of the site that the contract names.
+pub const KERNEL_FILE: &str = "kernel.wgsl";
+pub const PRESENT_FILE: &str = "present.wgsl";
+pub const BUNDLE_FILE: &str = "scene.kdray";
+
+fn binding_json(b: &Binding) -> Value {
+    json!({
+        "name": b.name,
+        "index": b.index,
+        "type": b.wgsl_type,
+        "access": match b.access {
+            Access::Uniform => "uniform",
+            Access::StorageRead => "read-only-storage",
+            Access::StorageReadWrite => "storage",
+        },
+    })
+}
+
+/// One field of a uniform: its name, byte offset, scalar type and count.
+type Field = (&'static str, usize, &'static str, usize);
+
+/// `FrameParams`'s fields, by offset (the tests check they tile it).
+fn frame_params_fields() -> Vec<Field> {
+    use std::mem::offset_of;
+    macro_rules! f {
+        ($name:ident, $ty:literal, $n:literal) => {
+            (stringify!($name), offset_of!(FrameParams, $name), $ty, $n)
+        };
+    }
+    vec![
+        f!(camera_position, "f32", 3),
+        f!(tan_half_vfov, "f32", 1),
+        f!(camera_forward, "f32", 3),
+        f!(aspect, "f32", 1),
+        f!(camera_right, "f32", 3),
+        f!(min_intensity, "f32", 1),
+        f!(camera_up, "f32", 3),
+        f!(max_depth, "u32", 1),
+        f!(background, "f32", 3),
+        f!(shadow_mode, "u32", 1),
+        f!(scene_min, "f32", 3),
+        f!(sphere_count, "u32", 1),
+        f!(scene_max, "f32", 3),
+        f!(object_count, "u32", 1),
+        f!(width, "u32", 1),
+        f!(height, "u32", 1),
+        f!(samples_per_axis, "u32", 1),
+        f!(light_count, "u32", 1),
+        f!(tile_origin, "u32", 2),
+        f!(tile_size, "u32", 2),
+        f!(accel, "u32", 1),
+        f!(node_count, "u32", 1),
+        f!(sample_index, "u32", 1),
+        f!(traversal, "u32", 1),
+    ]
+}
+
+fn present_params_fields() -> Vec<Field> {
+    use std::mem::offset_of;
+    vec![
+        (
+            "image_size",
+            offset_of!(PresentParams, image_size),
+            "u32",
+            2,
+        ),
+        (
+            "target_size",
+            offset_of!(PresentParams, target_size),
+            "u32",
+            2,
+        ),
+        (
+            "preview_size",
+            offset_of!(PresentParams, preview_size),
+            "u32",
+            2,
+        ),
+        (
+            "show_image",
+            offset_of!(PresentParams, show_image),
+            "u32",
+            1,
+        ),
+    ]
+}
+
+fn struct_json(size: usize, fields: &[Field]) -> Value {
+    let fields: serde_json::Map<String, Value> = fields
+        .iter()
+        .map(|&(name, offset, ty, count)| {
+            (
+                name.to_string(),
+                json!({"offset": offset, "type": ty, "count": count}),
+            )
+        })
+        .collect();
+    json!({"size": size, "fields": fields})
+}
+
+/// The contract as the page reads it.
+pub fn contract_json() -> Value {
+    let constants: serde_json::Map<String, Value> = SHARED_CONSTANTS
+        .iter()
+        .map(|&(name, value)| {
+            let v = match value {
+                SharedValue::U32(v) => json!(v),
+                SharedValue::F32(v) => json!(v),
+            };
+            (name.to_string(), v)
+        })
+        .collect();
+    let accumulate = bindings::entry_point_bindings(UNSPLIT, ACCUMULATE_TILE.outputs);
+    json!({
+        "generator": format!("kdray {}", env!("CARGO_PKG_VERSION")),
+        "files": {"kernel": KERNEL_FILE, "present": PRESENT_FILE, "bundle": BUNDLE_FILE},
+        "bundle": {
+            "magic": std::str::from_utf8(bundle::MAGIC).expect("ASCII"),
+            "version": bundle::FORMAT_VERSION,
+            "header_bytes": bundle::HEADER_BYTES,
+            "section_entry_bytes": bundle::SECTION_ENTRY_BYTES,
+            "section_name_bytes": bundle::SECTION_NAME_BYTES,
+            "scene_arrays": bindings::scene(UNSPLIT).iter().map(|b| b.name).collect::<Vec<_>>(),
+        },
+        "accumulate": {
+            "entry_point": ACCUMULATE_TILE.name,
+            "workgroup": ACCUMULATE_TILE.workgroup,
+            "bindings": accumulate.iter().map(binding_json).collect::<Vec<_>>(),
+            "params": bindings::PARAMS.name,
+            "outputs": ACCUMULATE_TILE.outputs.iter().map(|b| b.name).collect::<Vec<_>>(),
+            "texel_bytes": crate::gpu::accumulate::ACCUMULATION_TEXEL,
+            "cost_words": bindings::COST_WORDS,
+        },
+        "optional_bindings": OPTIONAL_BINDINGS.iter().map(|(b, need)| json!({
+            "name": b.name,
+            "need": need.name(),
+            "declaration": bindings::declaration(b, true),
+            "placeholder": bindings::declaration(b, false),
+        })).collect::<Vec<_>>(),
+        "overrides": OVERRIDES,
+        "constants": constants,
+        "frame_params": struct_json(std::mem::size_of::<FrameParams>(), &frame_params_fields()),
+        "present": {
+            "vertex": bindings::PRESENT_VERTEX_ENTRY_POINT,
+            "fragment": bindings::PRESENT_FRAGMENT_ENTRY_POINT,
+            "bindings": PRESENT_BINDINGS.iter().map(binding_json).collect::<Vec<_>>(),
+            "params": struct_json(std::mem::size_of::<PresentParams>(), &present_params_fields()),
+        },
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The fields listed for each uniform tile it: in order, no gap, no
+    /// overlap, up to its size (the last padding word of PresentParams
+    /// aside), so the page writes every field where the kernel reads it.
+    #[test]
+    fn uniform_fields_tile_their_structs() {
+        for (fields, size) in [
+            (frame_params_fields(), std::mem::size_of::<FrameParams>()),
+            (
+                present_params_fields(),
+                std::mem::size_of::<PresentParams>() - 4,
+            ),
+        ] {
+            let mut at = 0;
+            for (name, offset, _, count) in fields {
+                assert_eq!(offset, at, "{name}");
+                at += 4 * count;
+            }
+            assert_eq!(at, size);
+        }
+    }
+
+    /// Every optional binding is one of accumulate_tile's.
+    #[test]
+    fn optional_bindings_are_accumulate_bindings() {
+        let all = bindings::entry_point_bindings(UNSPLIT, ACCUMULATE_TILE.outputs);
+        for (b, _) in OPTIONAL_BINDINGS {
+            assert!(all.contains(&b), "{}", b.name);
+        }
+    }
+}

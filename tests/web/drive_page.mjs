@@ -1,0 +1,65 @@
+// Drives the kdray page in headless Chromium (WebGPU on SwiftShader) for
+// tests/web.rs. Usage: node drive_page.mjs JOBS.json; prints one JSON
+// object of results on stdout. Each job: { url, png (a path to write the
+// page's PNG to, or null), drag (bool), screenshot (a path, or null) }.
+// The page's contract (docs/web.md): document.title starts with
+// "kdray: done" or "kdray: error"; window.kdray.png() is a PNG data URL.
+
+import { readFileSync, writeFileSync } from 'node:fs';
+import { chromium } from 'playwright-core';
+
+// Measured: without --enable-unsafe-webgpu there is no adapter; without the
+// Vulkan and ANGLE SwiftShader flags a WebGPU canvas crashes the GPU process.
+const FLAGS = ['--headless=new', '--no-sandbox', '--enable-unsafe-webgpu', '--enable-features=Vulkan',
+  '--use-vulkan=swiftshader', '--use-angle=swiftshader'];
+const TIMEOUT_MS = 120000;
+
+const jobs = JSON.parse(readFileSync(process.argv[2], 'utf8'));
+const browser = await chromium.launch({
+  executablePath: process.env.KDRAY_CHROMIUM ?? '/usr/bin/chromium', headless: false, args: FLAGS,
+});
+
+const finished = (page) => page.waitForFunction(
+  () => /^kdray: (done|error)/.test(document.title), null, { timeout: TIMEOUT_MS, polling: 50 });
+const savePng = async (page, path) => {
+  const url = await page.evaluate(() => window.kdray.png());
+  writeFileSync(path, Buffer.from(url.slice(url.indexOf(',') + 1), 'base64'));
+};
+
+const results = [];
+for (const job of jobs) {
+  const page = await browser.newPage({ viewport: { width: 800, height: 500 } });
+  const result = { url: job.url };
+  try {
+    await page.goto(job.url);
+    await finished(page);
+    result.title = await page.title();
+    result.message = await page.evaluate(() => {
+      const m = document.getElementById('message');
+      return m.hidden ? null : m.textContent;
+    });
+    result.overlay = await page.evaluate(() => document.getElementById('overlay').textContent);
+    if (job.png && result.title.startsWith('kdray: done')) await savePng(page, job.png);
+    if (job.screenshot) await page.screenshot({ path: job.screenshot });
+    if (job.drag && result.title.startsWith('kdray: done')) {
+      const box = await page.locator('#view').boundingBox();
+      const [x, y] = [box.x + box.width / 2, box.y + box.height / 2];
+      await page.mouse.move(x, y);
+      await page.mouse.down();
+      await page.mouse.move(x + box.width / 4, y + box.height / 8, { steps: 5 });
+      await page.mouse.up();
+      result.after_drag_title = await page.title();
+      result.after_drag_sample = await page.evaluate(() => window.kdray.state.sample);
+      await finished(page);
+      result.drag_title = await page.title();
+      await savePng(page, job.drag);
+    }
+  } catch (e) {
+    result.failure = String(e);
+    result.title = await page.title().catch(() => null);
+  }
+  results.push(result);
+  await page.close();
+}
+await browser.close();
+console.log(JSON.stringify(results));

@@ -1,0 +1,273 @@
+// The WebGPU side: the adapter and device (with the adapter's own limits),
+// the scene's buffers, the trace kernel's accumulate entry point (one
+// stratified sample per pixel per pass, as the native window) with only the
+// bindings the scene and walk read, the present pass, and the readback of
+// the traced image. Every binding, layout and constant comes from
+// contract.json; the WGSL is the site's kernel.wgsl and present.wgsl.
+
+export class PageError extends Error {}
+
+export const NO_WEBGPU =
+  'This browser has no WebGPU, which kdray needs to trace in the page. It is on by default in ' +
+  'Chrome and Edge 113+ (Windows, macOS, ChromeOS; on Linux start Chrome with ' +
+  '--enable-unsafe-webgpu --enable-features=Vulkan), Safari 26+ and Firefox 141+ (Windows); ' +
+  'in Firefox elsewhere set dom.webgpu.enabled in about:config.';
+
+// The adapter and a device with its storage limits.
+export async function openGpu() {
+  if (!navigator.gpu) throw new PageError(NO_WEBGPU);
+  const adapter = await navigator.gpu.requestAdapter();
+  if (!adapter) throw new PageError(`${NO_WEBGPU} (navigator.gpu gave no adapter)`);
+  const wanted = ['maxStorageBuffersPerShaderStage', 'maxStorageBufferBindingSize', 'maxBufferSize'];
+  const requiredLimits = Object.fromEntries(wanted.map((k) => [k, adapter.limits[k]]));
+  const device = await adapter.requestDevice({ requiredLimits });
+  const info = adapter.info || {};
+  const name = [info.vendor, info.architecture, info.description].filter((s) => s).join(' ') || 'WebGPU adapter';
+  return { adapter, device, name };
+}
+
+const MiB = (n) => `${(n / 1048576).toFixed(1)} MiB`;
+
+// Writes `values` into the struct field `name` of a uniform's bytes.
+export function setField(layout, bytes, name, values) {
+  const field = layout.fields[name];
+  const view = new DataView(bytes);
+  [].concat(values).forEach((v, i) => {
+    const at = field.offset + 4 * i;
+    if (field.type === 'f32') view.setFloat32(at, v, true);
+    else view.setUint32(at, v, true);
+  });
+}
+
+export function getField(layout, bytes, name) {
+  const field = layout.fields[name];
+  const view = new DataView(bytes);
+  const values = [];
+  for (let i = 0; i < field.count; i++) {
+    const at = field.offset + 4 * i;
+    values.push(field.type === 'f32' ? view.getFloat32(at, true) : view.getUint32(at, true));
+  }
+  return field.count === 1 ? values[0] : values;
+}
+
+export class Tracer {
+  constructor(gpu, contract, kernelSource, presentSource, canvas) {
+    this.gpu = gpu;
+    this.device = gpu.device;
+    this.contract = contract;
+    this.kernelSource = kernelSource;
+    this.canvas = canvas;
+    this.context = canvas.getContext('webgpu');
+    this.format = navigator.gpu.getPreferredCanvasFormat();
+    this.context.configure({ device: this.device, format: this.format, alphaMode: 'opaque' });
+    this.modules = new Map();
+    this.pipelines = new Map();
+    const present = contract.present;
+    const module = this.device.createShaderModule({ label: 'present', code: presentSource });
+    this.presentLayout = this.device.createBindGroupLayout({
+      entries: present.bindings.map((b) => ({
+        binding: b.index, visibility: GPUShaderStage.FRAGMENT, buffer: { type: b.access },
+      })),
+    });
+    this.presentPipeline = this.device.createRenderPipeline({
+      layout: this.device.createPipelineLayout({ bindGroupLayouts: [this.presentLayout] }),
+      vertex: { module, entryPoint: present.vertex },
+      fragment: { module, entryPoint: present.fragment, targets: [{ format: this.format }] },
+      primitive: { topology: 'triangle-list' },
+    });
+    this.presentParams = this.device.createBuffer({
+      size: present.params.size, usage: GPUBufferUsage.UNIFORM | GPUBufferUsage.COPY_DST,
+    });
+    this.frameParams = this.device.createBuffer({
+      size: contract.frame_params.size, usage: GPUBufferUsage.UNIFORM | GPUBufferUsage.COPY_DST,
+    });
+  }
+
+  // Uploads `bundle`'s arrays (refused with the limit named when one is
+  // past what the adapter binds).
+  load(bundle) {
+    const limit = this.device.limits.maxStorageBufferBindingSize;
+    for (const [name, bytes] of bundle.arrays) {
+      if (bytes.length > limit) {
+        throw new PageError(
+          `the scene is too large for this browser: its ${name} buffer needs ${MiB(bytes.length)} but ` +
+          `the adapter binds at most ${MiB(limit)} per storage buffer (maxStorageBufferBindingSize)`);
+      }
+    }
+    for (const b of this.sceneBuffers?.values() ?? []) b.destroy();
+    this.sceneBuffers = new Map();
+    for (const [name, bytes] of bundle.arrays) {
+      // An empty array gets one zeroed element, as the native host does (64 bytes).
+      const size = Math.max(64, Math.ceil(bytes.length / 4) * 4);
+      const buffer = this.device.createBuffer({ label: name, size, usage: GPUBufferUsage.STORAGE | GPUBufferUsage.COPY_DST });
+      if (bytes.length) this.device.queue.writeBuffer(buffer, 0, bytes, 0, bytes.length & ~3);
+      this.sceneBuffers.set(name, buffer);
+    }
+    this.needs = new Set(bundle.info.needs);
+    this.groups = new Map();
+  }
+
+  // The accumulate bindings for `walk` ('brute', 'restart', 'ropes',
+  // 'short-stack'): every one of the contract's but the optional ones the
+  // scene and walk do not need.
+  bindingsFor(walk) {
+    const needs = new Set(this.needs);
+    if (walk !== 'brute') needs.add('kd_walk');
+    if (walk === 'ropes') needs.add('rope_walk');
+    const omitted = this.contract.optional_bindings.filter((o) => !needs.has(o.need));
+    const names = new Set(omitted.map((o) => o.name));
+    const bindings = this.contract.accumulate.bindings.filter((b) => !names.has(b.name));
+    const storage = bindings.filter((b) => b.access !== 'uniform').length;
+    const most = this.device.limits.maxStorageBuffersPerShaderStage;
+    if (storage > most) {
+      throw new PageError(
+        `this scene's kernel binds ${storage} storage buffers per shader stage but the adapter allows ` +
+        `${most} (maxStorageBuffersPerShaderStage)`);
+    }
+    return { omitted, bindings, key: [...names].sort().join(',') };
+  }
+
+  // The kernel with `omitted` swapped for their placeholders, as
+  // src/gpu/bindings.rs generates it.
+  moduleFor(omitted, key) {
+    if (!this.modules.has(key)) {
+      let code = this.kernelSource;
+      for (const o of omitted) {
+        if (code.split(o.declaration).length !== 2) {
+          throw new PageError(`kernel.wgsl does not hold ${o.name}'s declaration once: it and contract.json disagree`);
+        }
+        code = code.replace(o.declaration, o.placeholder);
+      }
+      this.modules.set(key, this.device.createShaderModule({ label: `trace ${key}`, code }));
+    }
+    return this.modules.get(key);
+  }
+
+  // The pipeline and its layout for `walk` on the loaded scene.
+  pipelineFor(walk) {
+    const { omitted, bindings, key } = this.bindingsFor(walk);
+    const id = `${walk}|${key}`;
+    if (!this.pipelines.has(id)) {
+      const c = this.contract.constants;
+      const traversal = { restart: c.TRAVERSAL_RESTART, ropes: c.TRAVERSAL_ROPES, 'short-stack': c.TRAVERSAL_SHORT_STACK };
+      const constants = {
+        SPLIT_SCENE: 0,
+        ACCEL: walk === 'brute' ? c.ACCEL_BRUTE : c.ACCEL_KDTREE,
+        TRAVERSAL: walk === 'brute' ? c.TRAVERSAL_RESTART : traversal[walk],
+        SPHERES: this.needs.has('spheres') ? 1 : 0,
+        TRIANGLES: this.needs.has('triangles') ? 1 : 0,
+        SMOOTH_TRIANGLES: this.needs.has('smooth_triangles') ? 1 : 0,
+        COUNT_COSTS: 0,
+      };
+      for (const name of this.contract.overrides) {
+        if (!(name in constants)) throw new PageError(`the kernel has an override ${name} this page does not set`);
+      }
+      const layout = this.device.createBindGroupLayout({
+        entries: bindings.map((b) => ({ binding: b.index, visibility: GPUShaderStage.COMPUTE, buffer: { type: b.access } })),
+      });
+      const pipeline = this.device.createComputePipeline({
+        layout: this.device.createPipelineLayout({ bindGroupLayouts: [layout] }),
+        compute: { module: this.moduleFor(omitted, key), entryPoint: this.contract.accumulate.entry_point, constants },
+      });
+      this.pipelines.set(id, { pipeline, layout, bindings, key });
+    }
+    return this.pipelines.get(id);
+  }
+
+  // Makes room for an image of width x height and a preview of pw x ph.
+  resize(width, height, pw, ph) {
+    const texel = this.contract.accumulate.texel_bytes;
+    const make = (label, pixels) => this.device.createBuffer({
+      label, size: Math.max(1, pixels) * texel,
+      usage: GPUBufferUsage.STORAGE | GPUBufferUsage.COPY_SRC | GPUBufferUsage.COPY_DST,
+    });
+    this.image?.destroy(); this.preview?.destroy();
+    this.image = make('accumulation', width * height);
+    this.preview = make('preview', pw * ph);
+    this.size = { width, height, pw, ph };
+    this.canvas.width = width; this.canvas.height = height;
+    this.groups = new Map();
+    this.presentGroup = this.device.createBindGroup({
+      layout: this.presentLayout,
+      entries: [this.presentParams, this.image, this.preview].map((buffer, i) => ({
+        binding: this.contract.present.bindings[i].index, resource: { buffer },
+      })),
+    });
+  }
+
+  bindGroup(p, target) {
+    const id = `${p.key}|${target}`;
+    if (!this.groups.has(id)) {
+      const outputs = { [this.contract.accumulate.outputs[0]]: target === 'image' ? this.image : this.preview };
+      const entries = p.bindings.map((b) => ({
+        binding: b.index,
+        resource: { buffer: b.name === this.contract.accumulate.params ? this.frameParams
+          : this.sceneBuffers.get(b.name) ?? outputs[b.name] },
+      }));
+      this.groups.set(id, this.device.createBindGroup({ layout: p.layout, entries }));
+    }
+    return this.groups.get(id);
+  }
+
+  // One pass: clears `target` first if `clear`, adds one sample with
+  // `params` (the frame's uniform bytes), then presents.
+  pass(target, params, walk, clear, showImage) {
+    const p = this.pipelineFor(walk);
+    this.device.queue.writeBuffer(this.frameParams, 0, params);
+    const pp = new ArrayBuffer(this.contract.present.params.size);
+    const layout = this.contract.present.params;
+    setField(layout, pp, 'image_size', [this.size.width, this.size.height]);
+    setField(layout, pp, 'target_size', [this.canvas.width, this.canvas.height]);
+    setField(layout, pp, 'preview_size', [this.size.pw, this.size.ph]);
+    setField(layout, pp, 'show_image', showImage ? 1 : 0);
+    this.device.queue.writeBuffer(this.presentParams, 0, pp);
+    const encoder = this.device.createCommandEncoder();
+    const buffer = target === 'image' ? this.image : this.preview;
+    if (clear) encoder.clearBuffer(buffer);
+    const [wx, wy] = this.contract.accumulate.workgroup;
+    const tile = getField(this.contract.frame_params, params, 'tile_size');
+    const compute = encoder.beginComputePass();
+    compute.setPipeline(p.pipeline);
+    compute.setBindGroup(0, this.bindGroup(p, target));
+    compute.dispatchWorkgroups(Math.ceil(tile[0] / wx), Math.ceil(tile[1] / wy));
+    compute.end();
+    this.encodePresent(encoder);
+    this.device.queue.submit([encoder.finish()]);
+    return this.device.queue.onSubmittedWorkDone();
+  }
+
+  encodePresent(encoder) {
+    const render = encoder.beginRenderPass({
+      colorAttachments: [{ view: this.context.getCurrentTexture().createView(), loadOp: 'clear', storeOp: 'store', clearValue: [0, 0, 0, 1] }],
+    });
+    render.setPipeline(this.presentPipeline);
+    render.setBindGroup(0, this.presentGroup);
+    render.draw(3);
+    render.end();
+  }
+
+  // The image's pixels read back from the GPU as RGBA8, quantised as the
+  // present pass and render_tile quantise: floor(255 * clamp(sum / n) + 0.5).
+  async readImage() {
+    const { width, height } = this.size;
+    const bytes = width * height * this.contract.accumulate.texel_bytes;
+    const readback = this.device.createBuffer({ size: bytes, usage: GPUBufferUsage.MAP_READ | GPUBufferUsage.COPY_DST });
+    const encoder = this.device.createCommandEncoder();
+    encoder.copyBufferToBuffer(this.image, 0, readback, 0, bytes);
+    this.device.queue.submit([encoder.finish()]);
+    await readback.mapAsync(GPUMapMode.READ);
+    const sums = new Float32Array(readback.getMappedRange().slice(0));
+    readback.destroy();
+    const rgba = new Uint8ClampedArray(width * height * 4);
+    const f = Math.fround;
+    for (let i = 0; i < width * height; i++) {
+      const n = sums[4 * i + 3];
+      for (let c = 0; c < 3; c++) {
+        const v = n > 0 ? Math.min(Math.max(f(sums[4 * i + c] / n), 0), 1) : 0;
+        rgba[4 * i + c] = Math.floor(f(f(255 * v) + 0.5));
+      }
+      rgba[4 * i + 3] = 255;
+    }
+    return rgba;
+  }
+}
