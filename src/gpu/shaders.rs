@@ -3,7 +3,7 @@
 
 /// Files of the trace kernel, in the order they are concatenated (after the
 /// declarations generated from [`super::bindings`]).
-pub const TRACE_PARTS: [(&str, &str); 11] = [
+pub const TRACE_PARTS: [(&str, &str); 12] = [
     ("types.wgsl", include_str!("../../shaders/types.wgsl")),
     (
         "frame_params.wgsl",
@@ -14,6 +14,10 @@ pub const TRACE_PARTS: [(&str, &str); 11] = [
     (
         "intersect.wgsl",
         include_str!("../../shaders/intersect.wgsl"),
+    ),
+    (
+        "walk_step.wgsl",
+        include_str!("../../shaders/walk_step.wgsl"),
     ),
     ("traverse.wgsl", include_str!("../../shaders/traverse.wgsl")),
     (
