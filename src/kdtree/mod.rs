@@ -83,7 +83,7 @@ impl KdTree {
     /// the surface area heuristic summed over the nodes with `params`'
     /// costs (traversal per inner node, intersection per leaf reference,
     /// each weighted by its cell's share of the root's area). A measure of
-    /// tree quality free of the machine's noise (`examples/build_time.rs`).
+    /// tree quality free of the machine's noise.
     pub fn sah_cost(&self, params: &BuildParams) -> f64 {
         let root_area = self.bounds.surface_area() as f64;
         let mut total = 0.0;
