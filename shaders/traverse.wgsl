@@ -3,12 +3,9 @@
 // the walks. Mirrors src/kdtree/traverse.rs; the steps the walks share are
 // in walk_step.wgsl.
 
-// any_hit: return the first hit with t < t_limit; else the nearest hit with t <= t_limit.
-fn trace_kdtree(ray: Ray, t_limit: f32, any_hit: bool) -> Hit {
-    let segment = scene_segment(ray, t_limit);
-    if (segment.x > segment.y) {
-        return miss();
-    }
+// any_hit: return the first hit with t < t_limit; else the nearest hit with
+// t <= t_limit. `segment`: the non-empty part of the ray to search (scene_segment).
+fn trace_kdtree(ray: Ray, t_limit: f32, any_hit: bool, segment: vec2<f32>) -> Hit {
     var t_min = segment.x;
     let t_far = segment.y;
     // The nearest hit so far, over every leaf visited: one beyond its leaf's
@@ -75,12 +72,16 @@ fn trace_ray(ray: Ray, t_limit: f32, any_hit: bool) -> Hit {
     if (frame_accel() == ACCEL_BRUTE) {
         return trace_brute(ray, t_limit, any_hit);
     }
+    let segment = scene_segment(ray, t_limit);
+    if (segment.x > segment.y) {
+        return miss();
+    }
     let traversal = frame_traversal();
     if (traversal == TRAVERSAL_ROPES) {
-        return trace_kdtree_ropes(ray, t_limit, any_hit);
+        return trace_kdtree_ropes(ray, t_limit, any_hit, segment);
     }
     if (traversal == TRAVERSAL_SHORT_STACK) {
-        return trace_kdtree_short_stack(ray, t_limit, any_hit);
+        return trace_kdtree_short_stack(ray, t_limit, any_hit, segment);
     }
-    return trace_kdtree(ray, t_limit, any_hit);
+    return trace_kdtree(ray, t_limit, any_hit, segment);
 }

@@ -29,12 +29,9 @@ fn rope_exit_on_axis(r: u32, a: u32, ray: Ray, exit: RopeExit) -> RopeExit {
     return exit;
 }
 
-// any_hit: return the first hit with t < t_limit; else the nearest hit with t <= t_limit.
-fn trace_kdtree_ropes(ray: Ray, t_limit: f32, any_hit: bool) -> Hit {
-    let segment = scene_segment(ray, t_limit);
-    if (segment.x > segment.y) {
-        return miss();
-    }
+// any_hit: return the first hit with t < t_limit; else the nearest hit with
+// t <= t_limit. `segment`: the non-empty part of the ray to search (scene_segment).
+fn trace_kdtree_ropes(ray: Ray, t_limit: f32, any_hit: bool, segment: vec2<f32>) -> Hit {
     var t_min = segment.x;
     let t_far = segment.y;
     var best = miss();

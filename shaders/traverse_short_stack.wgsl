@@ -15,12 +15,9 @@
 // variable assigned in the loop and read after it, Mesa 22.3 tested the
 // wrong node for lanes that had left the loop early.
 
-// any_hit: return the first hit with t < t_limit; else the nearest hit with t <= t_limit.
-fn trace_kdtree_short_stack(ray: Ray, t_limit: f32, any_hit: bool) -> Hit {
-    let segment = scene_segment(ray, t_limit);
-    if (segment.x > segment.y) {
-        return miss();
-    }
+// any_hit: return the first hit with t < t_limit; else the nearest hit with
+// t <= t_limit. `segment`: the non-empty part of the ray to search (scene_segment).
+fn trace_kdtree_short_stack(ray: Ray, t_limit: f32, any_hit: bool, segment: vec2<f32>) -> Hit {
     var t_min = segment.x;
     let t_far = segment.y;
     var best = miss();

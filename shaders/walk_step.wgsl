@@ -49,7 +49,7 @@ fn count_object() {
 
 // The part of the ray a walk searches: inside the scene's box, after the
 // origin and up to t_limit. x = t_min, y = t_far; empty (x > y) when there
-// is nothing to search.
+// is nothing to search. trace_ray clips once, for whichever walk it runs.
 fn scene_segment(ray: Ray, t_limit: f32) -> vec2<f32> {
     let empty = vec2<f32>(1.0, 0.0);
     if (params.object_count == 0u) {

@@ -37,41 +37,8 @@ use super::walk_step::{
 };
 use super::KdTree;
 
-/// Nearest hit with 0 < t <= t_limit, by the rope walk.
-pub fn closest_hit(
-    tree: &KdTree,
-    ropes: &Ropes,
-    prims: &Primitives,
-    ray: &Ray,
-    t_limit: f32,
-) -> Option<Hit> {
-    walk(
-        tree,
-        ropes,
-        prims,
-        ray,
-        t_limit,
-        false,
-        &mut WalkCost::default(),
-    )
-}
-
-/// Whether anything is hit with 0 < t < t_limit, by the rope walk.
-pub fn any_hit(tree: &KdTree, ropes: &Ropes, prims: &Primitives, ray: &Ray, t_limit: f32) -> bool {
-    walk(
-        tree,
-        ropes,
-        prims,
-        ray,
-        t_limit,
-        true,
-        &mut WalkCost::default(),
-    )
-    .is_some()
-}
-
 /// The nearest hit (`any` false) or any hit (`any` true) by the rope walk,
-/// and the work it did.
+/// and the work it did (`Traversal::closest_hit` and `any_hit` call it).
 pub fn walk_counted(
     tree: &KdTree,
     ropes: &Ropes,
