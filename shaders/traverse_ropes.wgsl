@@ -29,20 +29,11 @@ fn rope_exit_on_axis(r: u32, a: u32, ray: Ray, exit: RopeExit) -> RopeExit {
     return exit;
 }
 
-// any_hit: return the first hit with t < t_limit; else the nearest hit with t <= t_limit.
-fn trace_kdtree_ropes(ray: Ray, t_limit: f32, any_hit: bool) -> Hit {
-    if (params.object_count == 0u) {
-        return miss();
-    }
-    let span = box_interval(params.scene_min, params.scene_max, ray);
-    if (span.x > span.y) {
-        return miss();
-    }
-    var t_min = max(span.x, 0.0);
-    let t_far = min(span.y, t_limit);
-    if (t_min > t_far) {
-        return miss();
-    }
+// any_hit: return the first hit with t < t_limit; else the nearest hit with
+// t <= t_limit. `segment`: the non-empty part of the ray to search (scene_segment).
+fn trace_kdtree_ropes(ray: Ray, t_limit: f32, any_hit: bool, segment: vec2<f32>) -> Hit {
+    var t_min = segment.x;
+    let t_far = segment.y;
     var best = miss();
     // Where the next descent starts: the root, or the rope of the face the
     // ray left the last leaf through.
@@ -57,19 +48,9 @@ fn trace_kdtree_ropes(ray: Ray, t_limit: f32, any_hit: bool) -> Hit {
         count_node();
         while (node.kind != KD_LEAF) {
             loop_iterations += 1u;
-            let a = node.kind;
-            let o = ray.origin[a];
-            let d = ray.dir[a];
-            // Parallel rays stay on the origin's side; in the plane, below.
-            var go_below = o <= node.split;
-            if (abs(d) >= PARALLEL_EPSILON) {
-                let below_first = o < node.split || (o == node.split && d < 0.0);
-                let t_split = (node.split - o) / d;
-                // Crossed at or before t_min: the ray is past the plane.
-                let crossed = t_split > 0.0 && t_split <= t_min;
-                go_below = below_first != crossed;
-            }
-            node_index = select(node.index, node_index + 1u, go_below);
+            // Only the side matters: planes crossed at or before t_min are
+            // behind the ray, every other one ahead (t_far bounds nothing).
+            node_index = descent_step(node, node_index, ray, t_min, t_far).near;
             node = kd_node(node_index);
             count_node();
         }
@@ -88,11 +69,7 @@ fn trace_kdtree_ropes(ray: Ray, t_limit: f32, any_hit: bool) -> Hit {
             continue;
         }
         best = test_leaf(node, ray, t_limit, any_hit, best);
-        if (any_hit && best.object != NO_OBJECT) {
-            return best;
-        }
-        // Every leaf still to visit lies beyond t_max.
-        if (best.t <= t_max || t_max >= t_far) {
+        if (walk_done(best, any_hit, t_max, t_far)) {
             return best;
         }
         // t_max < t_far, so a face was met: load its rope, the one rope

@@ -1,9 +1,10 @@
 // kd-restart with a short stack (Horn, Sugerman, Houston, Hanrahan 2007).
-// Mirrors src/kdtree/traverse_short_stack.rs: the restart walk's descent,
+// Mirrors the short stack of src/kdtree/traverse.rs: the restart walk's descent,
 // which also remembers the far child (and the segment's end there) where it
 // crosses both; after a leaf it resumes from the last one remembered, and
 // restarts (with push-down) when none is left. The entries are named
-// variables, not an array: lavapipe keeps private arrays in memory.
+// variables, not an array: lavapipe keeps private arrays in memory; there
+// are SHORT_STACK_DEPTH (3, from the host's contract) of them.
 //
 // The loops are shaped for llvmpipe, which runs a loop body at least once
 // for a whole SIMD group even when no lane needs it: a leaf without objects
@@ -14,22 +15,11 @@
 // variable assigned in the loop and read after it, Mesa 22.3 tested the
 // wrong node for lanes that had left the loop early.
 
-const SHORT_STACK_DEPTH: u32 = 3u;
-
-// any_hit: return the first hit with t < t_limit; else the nearest hit with t <= t_limit.
-fn trace_kdtree_short_stack(ray: Ray, t_limit: f32, any_hit: bool) -> Hit {
-    if (params.object_count == 0u) {
-        return miss();
-    }
-    let span = box_interval(params.scene_min, params.scene_max, ray);
-    if (span.x > span.y) {
-        return miss();
-    }
-    var t_min = max(span.x, 0.0);
-    let t_far = min(span.y, t_limit);
-    if (t_min > t_far) {
-        return miss();
-    }
+// any_hit: return the first hit with t < t_limit; else the nearest hit with
+// t <= t_limit. `segment`: the non-empty part of the ray to search (scene_segment).
+fn trace_kdtree_short_stack(ray: Ray, t_limit: f32, any_hit: bool, segment: vec2<f32>) -> Hit {
+    var t_min = segment.x;
+    let t_far = segment.y;
     var best = miss();
     var restart_node = 0u;
     // The stack, top first; `depth` entries are live. An entry is a far
@@ -81,46 +71,30 @@ fn trace_kdtree_short_stack(ray: Ray, t_limit: f32, any_hit: bool) -> Hit {
                     leaf_count = node.count;
                     break;
                 }
-                // Nothing to test: every leaf still to visit lies beyond t_max.
-                if (best.t <= t_max || t_max >= t_far) {
+                // Nothing to test: leave it as a tested leaf is left (below).
+                if (walk_done(best, any_hit, t_max, t_far) || leaves >= params.node_count) {
                     return best;
                 }
                 t_min = t_max;
                 leaves += 1u;
-                if (leaves > params.node_count) {
-                    return best;
-                }
                 resume = true;
             } else {
-                let a = node.kind;
-                let o = ray.origin[a];
-                let d = ray.dir[a];
-                // Parallel rays stay on the origin's side; in the plane, below.
-                var go_below = o <= node.split;
-                if (abs(d) >= PARALLEL_EPSILON) {
-                    let below_first = o < node.split || (o == node.split && d < 0.0);
-                    let t_split = (node.split - o) / d;
-                    if (t_split > t_max || t_split <= 0.0) {
-                        go_below = below_first;
-                    } else if (t_split <= t_min) {
-                        go_below = !below_first;
-                    } else {
-                        go_below = below_first;
-                        if (t_split < t_max) {
-                            // Remember the far side; a full stack forgets its oldest.
-                            stack2_node = stack1_node;
-                            stack2_t_max = stack1_t_max;
-                            stack1_node = stack0_node;
-                            stack1_t_max = stack0_t_max;
-                            stack0_node = select(node_index + 1u, node.index, below_first);
-                            stack0_t_max = t_max;
-                            depth = min(depth + 1u, SHORT_STACK_DEPTH);
-                        }
-                        t_max = t_split;
-                        push_down = false;
+                let step = descent_step(node, node_index, ray, t_min, t_max);
+                if (step.crosses) {
+                    if (step.t_split < t_max) {
+                        // Remember the far side; a full stack forgets its oldest.
+                        stack2_node = stack1_node;
+                        stack2_t_max = stack1_t_max;
+                        stack1_node = stack0_node;
+                        stack1_t_max = stack0_t_max;
+                        stack0_node = step.far;
+                        stack0_t_max = t_max;
+                        depth = min(depth + 1u, SHORT_STACK_DEPTH);
                     }
+                    t_max = step.t_split;
+                    push_down = false;
                 }
-                node_index = select(node.index, node_index + 1u, go_below);
+                node_index = step.near;
                 if (push_down) {
                     restart_node = node_index;
                 }
@@ -130,18 +104,11 @@ fn trace_kdtree_short_stack(ray: Ray, t_limit: f32, any_hit: bool) -> Hit {
         // copy, run from the descent loop after the test, measured 4 - 7%
         // slower on the meshes (an extra masked pass through that loop).
         best = test_leaf(KdNode(KD_LEAF, 0.0, leaf_first, leaf_count), ray, t_limit, any_hit, best);
-        if (any_hit && best.object != NO_OBJECT) {
-            return best;
-        }
-        // Every leaf still to visit lies beyond t_max.
-        if (best.t <= t_max || t_max >= t_far) {
+        if (walk_done(best, any_hit, t_max, t_far) || leaves >= params.node_count) {
             return best;
         }
         t_min = t_max;
         leaves += 1u;
-        if (leaves > params.node_count) {
-            return best;
-        }
         resume = true;
     }
     return best;

@@ -1,5 +1,5 @@
 //! Out of GPU memory, for real: lavapipe is given a small device memory by
-//! tests/support/device_memory_budget.c (an LD_PRELOAD library; see its
+//! tests/common/device_memory_budget.c (an LD_PRELOAD library; see its
 //! comment for what it assumes), so that its vkAllocateMemory fails as a
 //! real GPU's does when the scene or the image does not fit. kdray must then
 //! say so in one line, exit 1, and leave the output file as it was.
@@ -23,7 +23,7 @@ const SMALL_GPU_BYTES: u64 = 4 << 20;
 fn budget_library() -> &'static Path {
     static LIBRARY: OnceLock<PathBuf> = OnceLock::new();
     LIBRARY.get_or_init(|| {
-        let source = repo_path("tests/support/device_memory_budget.c");
+        let source = repo_path("tests/common/device_memory_budget.c");
         let library =
             Path::new(env!("CARGO_TARGET_TMPDIR")).join("libkdray_device_memory_budget.so");
         let status = Command::new("cc")

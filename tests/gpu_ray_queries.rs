@@ -1,6 +1,6 @@
 //! Property tests of the GPU kernel's walks, ray by ray, through its debug
 //! entry point `trace_rays` (src/gpu/ray_query.rs): on the same random
-//! scenes, trees and rays as the CPU mirror's tests (tests/support/
+//! scenes, trees and rays as the CPU mirror's tests (tests/common/
 //! strategies.rs), the kernel's k-d walk finds what the kernel's brute-force
 //! loop finds. Both run the same intersection code on the same device, so
 //! this isolates the walk; the image tests compare the kernel with the CPU.
@@ -8,18 +8,16 @@
 //! held against the CPU mirror's count, ray by ray.
 
 mod common;
-#[path = "support/strategies.rs"]
-mod strategies;
 
 use std::sync::OnceLock;
 
+use common::strategies::{direction, ray_for, scene, traversal_cost, tree_for, vec3};
 use kdray::geometry::{Primitives, Ray, T_INFINITY};
 use kdray::gpu::{Accel, PreparedScene, RayQueries, RayQuery};
 use kdray::kdtree::traverse::{self, Hit, WalkCost};
 use kdray::kdtree::{KdTree, Ropes, Traversal};
 use kdray::scene::{Scene, Sphere, Triangle};
 use proptest::prelude::*;
-use strategies::{direction, ray_for, scene, traversal_cost, tree_for, vec3};
 
 fn queries() -> &'static RayQueries {
     static QUERIES: OnceLock<RayQueries> = OnceLock::new();

@@ -380,7 +380,7 @@ pub enum SharedValue {
 }
 
 /// Every constant the kernel and the host must agree on, by WGSL name.
-pub const SHARED_CONSTANTS: [(&str, SharedValue); 21] = [
+pub const SHARED_CONSTANTS: [(&str, SharedValue); 22] = [
     ("KD_LEAF", SharedValue::U32(KdNode::LEAF)),
     ("ACCEL_KDTREE", SharedValue::U32(ACCEL_KDTREE)),
     ("ACCEL_BRUTE", SharedValue::U32(ACCEL_BRUTE)),
@@ -409,6 +409,12 @@ pub const SHARED_CONSTANTS: [(&str, SharedValue); 21] = [
     (
         "TRAVERSAL_SHORT_STACK",
         SharedValue::U32(TRAVERSAL_SHORT_STACK),
+    ),
+    // Entries of the short-stack walk's stack (three named variables in
+    // traverse_short_stack.wgsl).
+    (
+        "SHORT_STACK_DEPTH",
+        SharedValue::U32(crate::kdtree::traverse::SHORT_STACK_DEPTH as u32),
     ),
     // A face on the scene's boundary has no rope.
     ("NO_ROPE", SharedValue::U32(LeafRopes::NONE)),

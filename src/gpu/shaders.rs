@@ -9,7 +9,7 @@ use super::bindings::{self, SceneChunks};
 
 /// Files of the trace kernel, in the order they are concatenated (after the
 /// declarations generated from [`bindings`]).
-pub const TRACE_PARTS: [(&str, &str); 11] = [
+pub const TRACE_PARTS: [(&str, &str); 12] = [
     ("types.wgsl", include_str!("../../shaders/types.wgsl")),
     (
         "frame_params.wgsl",
@@ -20,6 +20,10 @@ pub const TRACE_PARTS: [(&str, &str); 11] = [
     (
         "intersect.wgsl",
         include_str!("../../shaders/intersect.wgsl"),
+    ),
+    (
+        "walk_step.wgsl",
+        include_str!("../../shaders/walk_step.wgsl"),
     ),
     ("traverse.wgsl", include_str!("../../shaders/traverse.wgsl")),
     (
@@ -53,7 +57,7 @@ pub const STANDALONE_SHADERS: [(&str, &str); 1] = [("present.wgsl", PRESENT_FILE
 /// which it may leave inside its descent loop) are capped at `node_count +
 /// 1`; each descent step moves to a higher node index (children follow their
 /// parent in the flat layout, `flat_layout_is_what_the_kernel_assumes` in
-/// tests/kdtree_props.rs), and an index past the end is clamped to the last
+/// tests/kdtree_props/), and an index past the end is clamped to the last
 /// node, a leaf; leaf, brute-force, light, sample and chunk (chunks.wgsl)
 /// loops run over counts;
 /// the reflection loop over `max_depth`. The counters cost 6-10% of the

@@ -228,7 +228,7 @@ impl Bins {
 /// 0), with the float clamped first in four lanes. The line of the three
 /// casts was 4.7% of the profile of the 1.1 M bunny's binned build; the
 /// lanes took 1.7% off its CPU time, and converting through i32 2.5% more
-/// (`build_time`, three rounds alternating, 2026-11-24).
+/// (three rounds alternating).
 #[inline(always)]
 fn bins_of(x: glam::Vec3, lo: Vec3A, scale: Vec3A) -> [usize; 3] {
     let last = Vec3A::splat((BINS - 1) as f32);

@@ -154,7 +154,7 @@ pub const LARGE_SCENE_OBJECTS: usize = 1 << 19;
 
 /// The factor (< 1) on the cost of a split that leaves one child empty:
 /// 0.95, where Wald & Havran 2006 took 0.8. Measured on lavapipe (docs/
-/// design.md "Costs", 2026-11-24): the gears' frame 11% faster (502 - 505
+/// design.md "Costs"): the gears' frame 11% faster (502 - 505
 /// against 562 - 599 ms), the 1.1 M bunny built 4% faster with 13% fewer
 /// nodes, the bunny, the torus and random spheres within 1%, a random
 /// triangle soup 3% slower. With the weaker bonus the gears' tree spends
@@ -219,14 +219,14 @@ impl BuildParams {
 /// With [`BuildStrategy::Binned`], nodes of more objects than this are
 /// split by binning (see [`BuildParams::exact_below`]). Measured on the
 /// bunny subdivided to 1.1 M triangles, one thread, CPU time under load 3
-/// (`examples/build_time.rs`, two runs each): 8 built in 4.8-4.9 s but with
+/// (two runs each): 8 built in 4.8-4.9 s but with
 /// 8% more references, 32 in 5.0-5.4 s, 128 and 512 in 6.1-7.4 s, the
 /// exact sweep everywhere in 7.3-7.8 s; 32 is the compromise. With snapped
-/// bins (20:41 UTC, `EXACT_BELOW=N build_time ... 1 binned`), 12 and 6 gave
+/// bins, 12 and 6 gave
 /// 2% and 4% more nodes and built no faster than 32. With leaves of about
 /// 7 triangles (`LARGE_SCENE_TRIANGLE_COST`) and the search without sorting
 /// up to 16 objects, 16 builds the 1.1 M bunny in 1.69 s of one thread
-/// against 1.77 s at 32 (three rounds each, 06:30 UTC), with 1% more
+/// against 1.77 s at 32 (three rounds each), with 1% more
 /// references, the same heuristic cost (200.5), the same image, nodes
 /// visited (12.87 a ray against 12.86) and objects tested (8.51) and a
 /// frame within the noise; on smaller scenes 0.2 - 1% more references
@@ -236,7 +236,7 @@ pub const BINNED_EXACT_BELOW: usize = 16;
 /// The default build ([`BuildStrategy::Sah`]) bins the big nodes of scenes
 /// of more objects than this ([`BuildParams::bin_past_objects`]): the size
 /// past which a triangle's cost is the build's price, not a test's
-/// ([`LARGE_SCENE_OBJECTS`]). Measured past it (2026-11-24, two threads,
+/// ([`LARGE_SCENE_OBJECTS`]). Measured past it (two threads,
 /// docs/benchmarks.md): the exact sweep built the 1.1 M bunny in 3.2 s
 /// against 1.5 s binned and two 278 k bunnies in 1.64 s against 0.72 s,
 /// for trees within 1% by the heuristic; the 1.1 M bunny's image was the
@@ -632,7 +632,7 @@ mod tests {
     /// strategy. The test also checks that subtrees were taken, so that the
     /// appending path ran. Whether an idle thread takes one depends on the
     /// scheduler: in a release build beside the other tests on two cores
-    /// a whole round sometimes ran on one thread (2026-11-24), so rounds
+    /// a whole round sometimes ran on one thread, so rounds
     /// repeat, each checked, until some subtree was taken (at most 50).
     #[test]
     fn subtrees_taken_by_other_threads_give_the_same_tree() {

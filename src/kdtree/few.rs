@@ -21,11 +21,11 @@ use super::sah::{inverse_area, AxisCost, Split, FEW, GAP_ROUNDING_MARGIN};
 /// Nodes of at most this many objects are searched here, bigger ones by the
 /// sorted sweep: this search is O(n^2) where the sort is O(n log n).
 /// Measured on the 1.1 M-triangle bunny, binned build on one thread, CPU
-/// time (`examples/build_time.rs`, three rounds, 2026-11-24): 3.90-3.94 s
+/// time (three rounds): 3.90-3.94 s
 /// with the sorted sweep for every node, 3.58-3.62 s with this search up
 /// to 10, 12 or 14 objects, 3.93 s up to 16 and 4.04 s up to 20 (and once
 /// the counts were integers, up to 16 took the time of up to 12). With
-/// leaves of about 7 triangles (`LARGE_SCENE_TRIANGLE_COST`, 06:30 UTC,
+/// leaves of about 7 triangles (`LARGE_SCENE_TRIANGLE_COST`,
 /// three rounds): up to 16 1.76 - 1.78 s, 24 1.77 - 1.78 s, 32 1.81 s, 12 1.79 -
 /// 1.81 s.
 pub(super) const MAX_OBJECTS: usize = 16;

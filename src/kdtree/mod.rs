@@ -1,8 +1,9 @@
 //! The k-d tree: built on the CPU ([`build`]: the surface area heuristic
 //! with perfect splits, or the seed's median split), flattened into the GPU
 //! layout ([`crate::layout::KdNode`] + a leaf-object list), and walked by CPU
-//! mirrors of the shader's stackless walks ([`Traversal`]: [`traverse`],
-//! [`traverse_ropes`] over [`Ropes`], [`traverse_short_stack`]) that the
+//! mirrors of the shader's stackless walks ([`Traversal`]: [`traverse`], the
+//! restart walk, plain or with a short stack; [`traverse_ropes`] over
+//! [`Ropes`]), built from the steps they share ([`walk_step`]), that the
 //! tests check against brute force.
 
 mod binned;
@@ -16,7 +17,7 @@ mod sah;
 pub mod traversal;
 pub mod traverse;
 pub mod traverse_ropes;
-pub mod traverse_short_stack;
+pub mod walk_step;
 
 pub use build::{
     build, build_primitives, build_with_threads, triangle_test_cost, BuildParams, BuildStrategy,
@@ -82,7 +83,7 @@ impl KdTree {
     /// the surface area heuristic summed over the nodes with `params`'
     /// costs (traversal per inner node, intersection per leaf reference,
     /// each weighted by its cell's share of the root's area). A measure of
-    /// tree quality free of the machine's noise (`examples/build_time.rs`).
+    /// tree quality free of the machine's noise.
     pub fn sah_cost(&self, params: &BuildParams) -> f64 {
         let root_area = self.bounds.surface_area() as f64;
         let mut total = 0.0;

@@ -1,9 +1,9 @@
 //! The surface area heuristic with perfect splits in O(N log N) (Wald &
 //! Havran 2006): each node holds, per axis, the sorted events of its
-//! objects' clipped boxes. The best plane is one sweep over the three lists;
-//! the children's lists are the parent's, split in linear time, plus the
-//! re-clipped boxes of the objects that straddle the plane, whose few new
-//! events are sorted and merged in. The only full sort is at the root.
+//! objects' clipped boxes ([`super::events::EventLists`], which also splits
+//! them between the children). The best plane is one sweep over the three
+//! lists; big nodes are split by binning first ([`super::binned`]), small
+//! ones from their boxes ([`super::few`]).
 //!
 //! Classification is [`super::clip::sides`]: against a plane at `p`, an
 //! object goes below when its clipped `min <= p + ε`, above when
@@ -14,118 +14,9 @@ use crate::geometry::Aabb;
 
 use super::binned::{self, ClippedBox};
 use super::build::{BuildParams, Decision, Strategy};
-use super::clip::{clear_above, clear_below, sides, Shapes};
-use super::events::{self, END, PLANAR, START};
+use super::clip::{clear_above, clear_below, Shapes};
+use super::events::{self, EventLists, END, PLANAR};
 use super::few;
-
-/// One node's objects: the events of their clipped boxes, sorted, per axis.
-#[derive(Debug)]
-pub struct EventLists {
-    axes: [Vec<u64>; 3],
-    count: usize,
-}
-
-/// Sorts the root's three lists, one thread per list when `threads > 1`.
-/// (With two threads one of them sorts two lists. Splitting the third list
-/// between them and merging its halves was no faster: 2.45 - 2.47 s against
-/// 2.43 s for the 1.1 M bunny's exact build, the copies costing what the
-/// balance saved.)
-fn sort_lists(lists: &mut [Vec<u64>; 3], threads: usize) {
-    if threads < 2 || lists[0].len() < 1 << 16 {
-        lists.iter_mut().for_each(|l| l.sort_unstable());
-        return;
-    }
-    let [x, y, z] = lists;
-    std::thread::scope(|scope| {
-        let z_sort = scope.spawn(|| z.sort_unstable());
-        if threads > 2 {
-            let y_sort = scope.spawn(|| y.sort_unstable());
-            x.sort_unstable();
-            join(y_sort);
-        } else {
-            x.sort_unstable();
-            y.sort_unstable();
-        }
-        join(z_sort);
-    });
-}
-
-fn join(handle: std::thread::ScopedJoinHandle<'_, ()>) {
-    if let Err(payload) = handle.join() {
-        std::panic::resume_unwind(payload);
-    }
-}
-
-impl EventLists {
-    /// The root's lists: every object by its box (the root cell is the union
-    /// of the boxes, so there is nothing to clip).
-    pub fn root(shapes: &Shapes<'_>, threads: usize) -> Self {
-        let n = shapes.len();
-        assert!(n <= events::MAX_OBJECTS, "{n} objects: at most 2^30");
-        let mut axes = [(); 3].map(|_| Vec::with_capacity(2 * n));
-        for id in 0..n as u32 {
-            events::push_box(&mut axes, id, &shapes.bounds(id));
-        }
-        sort_lists(&mut axes, threads);
-        EventLists { axes, count: n }
-    }
-
-    /// The lists of a node's clipped boxes, sorted here.
-    fn from_boxes(boxes: &[ClippedBox]) -> Self {
-        let mut axes = [(); 3].map(|_| Vec::with_capacity(2 * boxes.len()));
-        for b in boxes {
-            events::push_box(&mut axes, b.id, &b.bounds);
-        }
-        axes.iter_mut().for_each(|l| l.sort_unstable());
-        EventLists {
-            axes,
-            count: boxes.len(),
-        }
-    }
-
-    /// The objects' clipped boxes, by ascending id, read back from the
-    /// events (a `-0.0` bound comes back as `0.0`, which classifies alike).
-    fn into_boxes(self) -> Vec<ClippedBox> {
-        let ids = self.ids();
-        let mut boxes: Vec<ClippedBox> = ids
-            .iter()
-            .map(|&id| ClippedBox {
-                id,
-                bounds: Aabb::EMPTY,
-            })
-            .collect();
-        for (a, list) in self.axes.iter().enumerate() {
-            for &e in list {
-                let Ok(slot) = ids.binary_search(&events::id(e)) else {
-                    continue; // an END without its START: none are made
-                };
-                let x = events::value(events::position_key(e));
-                let b = &mut boxes[slot].bounds;
-                match events::kind(e) {
-                    START => b.min[a] = x,
-                    END => b.max[a] = x,
-                    _ => (b.min[a], b.max[a]) = (x, x),
-                }
-            }
-        }
-        boxes
-    }
-
-    /// The object ids, ascending.
-    fn ids(&self) -> Vec<u32> {
-        let mut ids: Vec<u32> = self.unsorted_ids().collect();
-        ids.sort_unstable();
-        ids
-    }
-
-    /// The object ids, in the order of the x axis's events.
-    fn unsorted_ids(&self) -> impl Iterator<Item = u32> + '_ {
-        self.axes[0]
-            .iter()
-            .filter(|&&e| events::kind(e) != END)
-            .map(|&e| events::id(e))
-    }
-}
 
 /// The best plane found, and the heuristic's counts for it.
 #[derive(Debug, Clone, Copy)]
@@ -261,11 +152,7 @@ pub(super) const FEW: usize = 32;
 /// bunny took 81 ms to partition on one thread, while the other waited.
 const PARALLEL_PARTITION_OBJECTS: usize = 1 << 16;
 
-/// Where each object of the node goes; indexed by object id.
-const BELOW: u8 = 1;
-const ABOVE: u8 = 2;
-const BOTH: u8 = 3;
-
+/// The SAH build's strategy over a scene's shapes.
 pub struct Sah<'a> {
     shapes: Shapes<'a>,
     params: BuildParams,
@@ -389,129 +276,6 @@ impl Sah<'_> {
         }
         best
     }
-
-    /// Splits the node's lists at `split`: objects wholly on one side keep
-    /// their events; those on both sides are clipped again to each child's
-    /// cell (and dropped from a child they turn out not to reach).
-    fn partition(
-        &self,
-        lists: EventLists,
-        split: &Split,
-        cell: &Aabb,
-        parallel: bool,
-        side: &mut Vec<u8>,
-    ) -> (EventLists, EventLists) {
-        let (a, p, eps) = (split.axis, split.position, self.shapes.tolerance());
-        if side.len() < self.shapes.len() {
-            side.resize(self.shapes.len(), 0);
-        }
-        let on_axis = &lists.axes[a];
-        // One pass sets each object's side: its start (or planar) event
-        // comes before its end event in the sorted list.
-        for &e in on_axis {
-            let x = events::value(events::position_key(e));
-            let id = events::id(e) as usize;
-            match events::kind(e) {
-                START => {
-                    let (below, _) = sides(x, f32::INFINITY, p, eps);
-                    side[id] = if below { BOTH } else { ABOVE };
-                }
-                END => {
-                    let (_, above) = sides(f32::NEG_INFINITY, x, p, eps);
-                    if !above {
-                        side[id] &= BELOW;
-                    }
-                }
-                _ => {
-                    side[id] = match sides(x, x, p, eps) {
-                        (true, true) => BOTH,
-                        (true, false) => BELOW,
-                        _ => ABOVE,
-                    };
-                }
-            }
-        }
-        let (mut only_below, mut only_above) = (0, 0);
-        let mut straddling: Vec<u32> = Vec::new();
-        for &e in on_axis {
-            if events::kind(e) == END {
-                continue;
-            }
-            match side[events::id(e) as usize] {
-                BELOW => only_below += 1,
-                ABOVE => only_above += 1,
-                _ => straddling.push(events::id(e)),
-            }
-        }
-
-        let mut below_cell = *cell;
-        below_cell.max[a] = split.position;
-        let mut above_cell = *cell;
-        above_cell.min[a] = split.position;
-        let mut new_below: [Vec<u64>; 3] = Default::default();
-        let mut new_above: [Vec<u64>; 3] = Default::default();
-        let (mut n_below, mut n_above) = (0, 0);
-        let below_reach = self.shapes.reach(&below_cell);
-        let above_reach = self.shapes.reach(&above_cell);
-        for &id in &straddling {
-            let (below, above) = self.shapes.clip_across(id, a, &below_reach, &above_reach);
-            if let Some(b) = below {
-                events::push_box(&mut new_below, id, &b);
-                n_below += 1;
-            }
-            if let Some(b) = above {
-                events::push_box(&mut new_above, id, &b);
-                n_above += 1;
-            }
-        }
-        // Each axis's list splits apart from the others: its events of
-        // objects on one side, merged with the straddlers' new events.
-        let side: &[u8] = side;
-        let split_list = |list: Vec<u64>, mut new_below: Vec<u64>, mut new_above: Vec<u64>| {
-            let mut below = Vec::with_capacity(2 * only_below + new_below.len());
-            let mut above = Vec::with_capacity(2 * only_above + new_above.len());
-            for &e in &list {
-                match side[events::id(e) as usize] {
-                    BELOW => below.push(e),
-                    ABOVE => above.push(e),
-                    _ => {}
-                }
-            }
-            drop(list);
-            new_below.sort_unstable();
-            new_above.sort_unstable();
-            (
-                events::merge(below, new_below),
-                events::merge(above, new_above),
-            )
-        };
-        let [lx, ly, lz] = lists.axes;
-        let [bx, by, bz] = new_below;
-        let [ax, ay, az] = new_above;
-        let ((x, y), z) = if parallel {
-            rayon::join(
-                || rayon::join(|| split_list(lx, bx, ax), || split_list(ly, by, ay)),
-                || split_list(lz, bz, az),
-            )
-        } else {
-            (
-                (split_list(lx, bx, ax), split_list(ly, by, ay)),
-                split_list(lz, bz, az),
-            )
-        };
-        let below_axes = [x.0, y.0, z.0];
-        let above_axes = [x.1, y.1, z.1];
-        (
-            EventLists {
-                axes: below_axes,
-                count: only_below + n_below,
-            },
-            EventLists {
-                axes: above_axes,
-                count: only_above + n_above,
-            },
-        )
-    }
 }
 
 /// A node's objects: their clipped boxes while the node is split by
@@ -581,7 +345,8 @@ impl Sah<'_> {
         match self.best_split(axes, n, cell) {
             Some(s) if s.cost < leaf_cost && !(s.below == n && s.above == n) => {
                 let parallel = parallel && n >= PARALLEL_PARTITION_OBJECTS;
-                let (below, above) = self.partition(lists, &s, cell, parallel, side);
+                let (below, above) =
+                    lists.partition(&self.shapes, (s.axis, s.position), cell, parallel, side);
                 if below.count == n && above.count == n {
                     // Everything came within ε of the plane: no progress.
                     return Decision::Leaf(SahObjects::Events(below));
@@ -765,27 +530,6 @@ mod tests {
     use crate::geometry::Aabb;
     use glam::Vec3;
 
-    /// The root's lists come out sorted on one, two and three threads.
-    #[test]
-    fn root_lists_sort_alike_on_any_thread_count() {
-        let mut state = 0x9e37_79b9_7f4a_7c15u64;
-        let mut next = move || {
-            state = state
-                .wrapping_mul(6_364_136_223_846_793_005)
-                .wrapping_add(1_442_695_040_888_963_407);
-            state >> 48 // 16 bits: many repeats
-        };
-        let lists: [Vec<u64>; 3] =
-            [70_001, 70_000, 65_537].map(|n| (0..n).map(|_| next()).collect());
-        let mut expected = lists.clone();
-        expected.iter_mut().for_each(|l| l.sort_unstable());
-        for threads in [1, 2, 3] {
-            let mut got = lists.clone();
-            super::sort_lists(&mut got, threads);
-            assert!(got == expected, "{threads} threads");
-        }
-    }
-
     /// Two boxes apart on x: the plane goes in the gap between them, where
     /// it touches neither, so each is referenced once. A plane at either
     /// box's face touches that box and files it in both children (the sweep
@@ -816,243 +560,5 @@ mod tests {
     }
 }
 
-/// The shortcuts of the sweep against the full sweep: the stack path for
-/// few objects and the leaf bound must decide as the event lists do.
 #[cfg(test)]
-mod shortcut_tests {
-    use super::*;
-    use crate::kdtree::build::BuildParams;
-    use glam::Vec3;
-    use proptest::prelude::{prop, prop_assert, prop_assert_eq, proptest};
-    use proptest::strategy::Strategy as _;
-
-    /// Boxes on a coarse grid, so that faces coincide and objects touch,
-    /// some flat on an axis.
-    fn boxes(max: usize) -> impl proptest::strategy::Strategy<Value = Vec<Aabb>> {
-        let corner = || {
-            (0i32..8, 0i32..8, 0i32..8)
-                .prop_map(|(x, y, z)| Vec3::new(x as f32, y as f32, z as f32))
-        };
-        let size = || {
-            (0i32..4, 0i32..4, 0i32..4)
-                .prop_map(|(x, y, z)| Vec3::new(x as f32, y as f32, z as f32))
-        };
-        prop::collection::vec((corner(), size()), 1..=max).prop_map(|v| {
-            v.into_iter()
-                .map(|(min, s)| Aabb { min, max: min + s })
-                .collect()
-        })
-    }
-
-    /// Boxes of any finite coordinates around the origin, three in four
-    /// flat on one axis, some starting on x where the one before ends.
-    fn float_boxes(max: usize) -> impl proptest::strategy::Strategy<Value = Vec<Aabb>> {
-        let corner = || (-4.0f32..4.0, -4.0f32..4.0, -4.0f32..4.0).prop_map(Vec3::from);
-        let size = || {
-            (0.0f32..2.0, 0.0f32..2.0, 0.0f32..2.0, 0usize..4).prop_map(|(x, y, z, flat)| {
-                let mut s = Vec3::new(x, y, z);
-                if flat < 3 {
-                    s[flat] = 0.0;
-                }
-                s
-            })
-        };
-        prop::collection::vec((corner(), size(), proptest::bool::ANY), 1..=max).prop_map(|v| {
-            let mut out: Vec<Aabb> = Vec::with_capacity(v.len());
-            for (min, s, touch) in v {
-                let mut b = Aabb { min, max: min + s };
-                if let (true, Some(last)) = (touch, out.last()) {
-                    (b.min.x, b.max.x) = (last.max.x, last.max.x + s.x);
-                }
-                out.push(b);
-            }
-            out
-        })
-    }
-
-    /// [`float_boxes`] scaled by 2^-60 to 2^60 and moved by up to 2^20 of
-    /// their size: cells whose coordinates round coarsely against their
-    /// width, and costs of any magnitude.
-    fn far_float_boxes(max: usize) -> impl proptest::strategy::Strategy<Value = Vec<Aabb>> {
-        (float_boxes(max), -60i32..60, -1.0e6f32..1.0e6).prop_map(|(all, exp, shift)| {
-            let scale = 2f32.powi(exp);
-            all.into_iter()
-                .map(|b| Aabb {
-                    min: (b.min + shift) * scale,
-                    max: (b.max + shift) * scale,
-                })
-                .collect()
-        })
-    }
-
-    /// A node of up to `max` boxes of every kind above, the margin of its
-    /// cell around them, and the build's costs.
-    fn nodes(
-        max: usize,
-    ) -> impl proptest::strategy::Strategy<Value = (Vec<Aabb>, f32, BuildParams)> {
-        (
-            proptest::prop_oneof![boxes(max), float_boxes(max), far_float_boxes(max)],
-            0.0f32..2.0,
-            prop::sample::select(vec![1.0f32, 10.0, 40.0]),
-            prop::sample::select(vec![0.8f32, 0.95, 1.0]),
-        )
-            .prop_map(|(all, margin, traversal_cost, empty_bonus)| {
-                let params = BuildParams {
-                    empty_bonus,
-                    ..params(traversal_cost)
-                };
-                (all, margin, params)
-            })
-    }
-
-    /// The cell of a node of [`nodes`] and the build over its boxes.
-    fn node(all: &[Aabb], margin: f32, params: BuildParams) -> (Aabb, Sah<'_>) {
-        let cell = cell_around(all, margin);
-        (cell, Sah::new(Shapes::Boxes(all), params, &cell))
-    }
-
-    /// Each box as the clipped box of the object of its index.
-    fn as_clipped(all: &[Aabb]) -> Vec<ClippedBox> {
-        all.iter()
-            .enumerate()
-            .map(|(id, &bounds)| ClippedBox {
-                id: id as u32,
-                bounds,
-            })
-            .collect()
-    }
-
-    /// A split with its position and cost as bits, to compare exactly.
-    fn exact_plane(s: Split) -> (usize, u32, u32, usize, usize) {
-        (
-            s.axis,
-            s.position.to_bits(),
-            s.cost.to_bits(),
-            s.below,
-            s.above,
-        )
-    }
-
-    /// The cell: the boxes' union, grown by `margin` on every side.
-    fn cell_around(all: &[Aabb], margin: f32) -> Aabb {
-        let u = all.iter().copied().fold(Aabb::EMPTY, Aabb::union);
-        Aabb {
-            min: u.min - margin,
-            max: u.max + margin,
-        }
-    }
-
-    /// A node's object ids, ascending.
-    fn ids(objects: SahObjects) -> Vec<u32> {
-        let mut out = Vec::new();
-        Sah::leaf_ids(objects, &mut out);
-        out
-    }
-
-    /// A decision as the plane and each child's ids, ascending.
-    fn summary(d: Decision<SahObjects>) -> (Option<(usize, u32)>, Vec<u32>, Vec<u32>) {
-        match d {
-            Decision::Leaf(o) => (None, ids(o), vec![]),
-            Decision::Split {
-                axis,
-                position,
-                below,
-                above,
-            } => (Some((axis, position.to_bits())), ids(below), ids(above)),
-        }
-    }
-
-    fn params(traversal_cost: f32) -> BuildParams {
-        BuildParams {
-            traversal_cost,
-            ..BuildParams::for_object_count(FEW)
-        }
-    }
-
-    proptest! {
-        /// `split_few` takes the plane and children the event lists give.
-        #[test]
-        fn few_objects_split_as_the_event_lists_do(
-            all in boxes(FEW), margin in 0.0f32..2.0, traversal_cost in prop::sample::select(vec![1.0f32, 10.0, 40.0])
-        ) {
-            let cell = cell_around(&all, margin);
-            let sah = Sah::new(Shapes::Boxes(&all), params(traversal_cost), &cell);
-            let clipped = as_clipped(&all);
-            let few = summary(sah.split_few(clipped.clone(), &cell));
-            let lists = sah.split_events(EventLists::from_boxes(&clipped), &cell, false, &mut Vec::new());
-            prop_assert_eq!(few, summary(lists));
-        }
-
-        /// The sweep that passes over gaps which cannot beat the best finds
-        /// the full sweep's plane, for nodes of up to 200 boxes (so sorted
-        /// lists of hundreds of events) of every kind the tests make.
-        #[test]
-        fn passing_over_gaps_keeps_the_sweeps_plane((all, margin, params) in nodes(200)) {
-            let (cell, sah) = node(&all, margin, params);
-            let clipped = as_clipped(&all);
-            let lists = EventLists::from_boxes(&clipped);
-            let axes = [0, 1, 2].map(|a| lists.axes[a].as_slice());
-            prop_assert_eq!(
-                sah.best_split(axes, all.len(), &cell).map(exact_plane),
-                sah.full_sweep(&clipped, &cell).map(exact_plane)
-            );
-        }
-
-        /// The search without sorting ([`few`]) finds the full sweep's
-        /// plane whenever that plane costs less than a leaf, at every node
-        /// size up to [`FEW`]: on grid boxes (ties, touching faces, flat
-        /// boxes, zeros of both signs) and on boxes of any coordinates, near
-        /// the origin or scaled and moved far from it.
-        #[test]
-        fn the_search_without_sorting_finds_the_sweeps_plane((all, margin, params) in nodes(FEW)) {
-            let (cell, sah) = node(&all, margin, params);
-            let clipped = as_clipped(&all);
-            let leaf_cost = params.intersection_cost * all.len() as f32;
-            let sorted = sah
-                .full_sweep(&clipped, &cell)
-                .filter(|s| s.cost < leaf_cost)
-                .map(exact_plane);
-            let unsorted = few::cheapest_paying_split(&clipped, &cell, &params, sah.gap).map(exact_plane);
-            prop_assert_eq!(unsorted, sorted);
-        }
-
-        /// When the bound says no plane can pay, the sweep finds none that
-        /// does.
-        #[test]
-        fn the_leaf_bound_never_hides_a_paying_plane(
-            all in boxes(6), margin in 0.0f32..2.0, traversal_cost in prop::sample::select(vec![1.0f32, 10.0, 40.0])
-        ) {
-            let cell = cell_around(&all, margin);
-            let sah = Sah::new(Shapes::Boxes(&all), params(traversal_cost), &cell);
-            let n = all.len();
-            if sah.no_plane_can_pay(n, &cell) {
-                let lists = EventLists::root(&Shapes::Boxes(&all), 1);
-                let axes = [0, 1, 2].map(|a| lists.axes[a].as_slice());
-                let best = sah.best_split(axes, n, &cell);
-                let leaf_cost = sah.params.intersection_cost * n as f32;
-                prop_assert!(best.is_none_or(|s| s.cost >= leaf_cost), "{best:?} against {leaf_cost}");
-            }
-        }
-
-        /// Boxes read back from a node's event lists are the boxes.
-        #[test]
-        fn event_lists_give_their_boxes_back(all in boxes(FEW)) {
-            let clipped = as_clipped(&all);
-            prop_assert_eq!(EventLists::from_boxes(&clipped).into_boxes(), clipped);
-        }
-    }
-
-    /// The bound is not vacuous: two objects in a cube never pay for a
-    /// plane at the default costs (T = 2 I), twenty do.
-    #[test]
-    fn the_leaf_bound_decides_small_nodes() {
-        let cube = Aabb {
-            min: Vec3::ZERO,
-            max: Vec3::ONE,
-        };
-        let all = [cube; 20];
-        let sah = Sah::new(Shapes::Boxes(&all), params(40.0), &cube);
-        assert!(sah.no_plane_can_pay(2, &cube));
-        assert!(!sah.no_plane_can_pay(20, &cube));
-    }
-}
+mod shortcut_tests;

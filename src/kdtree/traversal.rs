@@ -5,8 +5,9 @@
 use crate::geometry::{Primitives, Ray};
 
 use super::ropes::Ropes;
-use super::traverse::{Hit, WalkCost};
-use super::{traverse, traverse_ropes, traverse_short_stack, KdTree};
+use super::traverse::SHORT_STACK_DEPTH;
+use super::walk_step::{Hit, WalkCost};
+use super::{traverse, traverse_ropes, KdTree};
 
 /// Which stackless walk the shader (and its CPU mirror) runs.
 #[derive(
@@ -50,11 +51,7 @@ impl Traversal {
         ray: &Ray,
         t_limit: f32,
     ) -> Option<Hit> {
-        match self {
-            Traversal::Restart => traverse::closest_hit(tree, prims, ray, t_limit),
-            Traversal::Ropes => traverse_ropes::closest_hit(tree, ropes, prims, ray, t_limit),
-            Traversal::ShortStack => traverse_short_stack::closest_hit(tree, prims, ray, t_limit),
-        }
+        self.walk_counted(tree, ropes, prims, ray, t_limit, false).0
     }
 
     /// Whether anything is hit with 0 < t < t_limit (shadow rays).
@@ -66,11 +63,9 @@ impl Traversal {
         ray: &Ray,
         t_limit: f32,
     ) -> bool {
-        match self {
-            Traversal::Restart => traverse::any_hit(tree, prims, ray, t_limit),
-            Traversal::Ropes => traverse_ropes::any_hit(tree, ropes, prims, ray, t_limit),
-            Traversal::ShortStack => traverse_short_stack::any_hit(tree, prims, ray, t_limit),
-        }
+        self.walk_counted(tree, ropes, prims, ray, t_limit, true)
+            .0
+            .is_some()
     }
 
     /// The nearest hit (`any` false) or any hit (`any` true), and the work
@@ -85,10 +80,10 @@ impl Traversal {
         any: bool,
     ) -> (Option<Hit>, WalkCost) {
         match self {
-            Traversal::Restart => traverse::walk_counted(tree, prims, ray, t_limit, any),
+            Traversal::Restart => traverse::walk_counted(tree, prims, ray, t_limit, any, 0),
             Traversal::Ropes => traverse_ropes::walk_counted(tree, ropes, prims, ray, t_limit, any),
             Traversal::ShortStack => {
-                traverse_short_stack::walk_counted(tree, prims, ray, t_limit, any)
+                traverse::walk_counted(tree, prims, ray, t_limit, any, SHORT_STACK_DEPTH)
             }
         }
     }

@@ -1,6 +1,9 @@
-//! The CPU mirror of shaders/traverse.wgsl: kd-restart with push-down
-//! (Foley & Sugerman 2005; Horn et al. 2007), a stackless walk over the
-//! flattened tree, plus the brute-force loops it is tested against.
+//! The CPU mirror of shaders/traverse.wgsl and traverse_short_stack.wgsl:
+//! kd-restart with push-down (Foley & Sugerman 2005; Horn et al. 2007),
+//! plain or with a short stack (Horn, Sugerman, Houston, Hanrahan 2007),
+//! stackless walks over the flattened tree; plus the brute-force loops they
+//! are tested against. The steps they share with the rope walk are in
+//! [`super::walk_step`].
 //!
 //! The walk keeps the ray segment [t_min, t_max] still to search. From the
 //! restart node it descends to the leaf the segment enters first, tests that
@@ -10,87 +13,75 @@
 //! restart node is pushed down while the descent never had to choose between
 //! two children, so restarts skip the part of the tree the rest of the ray
 //! cannot leave. No stack, no per-ray arrays.
+//!
+//! The short stack: where the descent crosses both children of a node, it
+//! also remembers the far child and the segment's end there, in a stack of
+//! [`SHORT_STACK_DEPTH`] entries that drops its oldest entry when full.
+//! After a leaf the walk resumes from the top entry; when the stack is empty
+//! (never filled, or emptied after dropping entries) it restarts from the
+//! restart node, with push-down, exactly as the plain walk does; the plain
+//! walk is the short stack of depth 0. An entry needs no start: the far
+//! child's segment starts where the near child's last leaf ends, the `t_min`
+//! the walk has when it pops. A far child is remembered only when its
+//! segment is not empty (`t_split < t_max`), the one the plain walk would
+//! visit; so both see the same leaves with the same intervals and return
+//! the same hit.
+//!
+//! The short-stack shader runs these steps in another loop shape: it leaves
+//! a leaf without objects inside its descent loop, so that llvmpipe runs the
+//! leaf loop only for leaves with objects (docs/design.md, "Short stack").
+//! The leaves, intervals, hits and counted costs are these, which the
+//! ray-query tests compare.
 
-use crate::geometry::{Primitives, Ray, PARALLEL_EPSILON, T_INFINITY};
+use crate::geometry::{Primitives, Ray};
 
+use super::walk_step::{descent_step, max_restarts, scene_segment, test_leaf, walk_done};
+pub use super::walk_step::{Hit, WalkCost};
 use super::KdTree;
 
-/// A hit: which object and where along the ray.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct Hit {
-    pub object: u32,
-    pub t: f32,
-}
+/// Entries of the short stack. The shader keeps them in named variables
+/// (lavapipe keeps private arrays in memory), and reads this value from the
+/// host's contract (`gpu::bindings`). 3, the depth of the earlier
+/// short-stack experiment (docs/design.md); the walk is correct for any
+/// depth >= 1.
+pub const SHORT_STACK_DEPTH: usize = 3;
 
-/// The work one query did, counted the same way by every walk, its shader
-/// and the brute-force loops (`walk_cost` in shaders/traverse.wgsl):
-/// - `nodes_visited`: every k-d node whose record the walk read: the inner
-///   nodes of each descent (from the root, a restart node, a popped stack
-///   entry or a rope) and the leaf it ends in;
-/// - `leaves_visited`: the leaves reached (a rope walk's skipped leaf
-///   included), so never more than `nodes_visited`;
-/// - `objects_tested`: object intersection tests (brute force: all of them,
-///   or up to the first hit of an any-hit query).
-#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, serde::Serialize)]
-pub struct WalkCost {
-    pub nodes_visited: u32,
-    pub leaves_visited: u32,
-    pub objects_tested: u32,
-}
-
-impl WalkCost {
-    /// From the kernel's three words (nodes, leaves, objects).
-    pub fn from_words(words: &[u32]) -> WalkCost {
-        WalkCost {
-            nodes_visited: words[0],
-            leaves_visited: words[1],
-            objects_tested: words[2],
-        }
-    }
-
-    /// What the heatmap shows: nodes visited plus objects tested.
-    pub fn work(&self) -> u32 {
-        self.nodes_visited.saturating_add(self.objects_tested)
-    }
-}
-
-impl std::ops::AddAssign for WalkCost {
-    fn add_assign(&mut self, other: WalkCost) {
-        self.nodes_visited += other.nodes_visited;
-        self.leaves_visited += other.leaves_visited;
-        self.objects_tested += other.objects_tested;
-    }
-}
-
-/// Safety net for the restart loop: each iteration moves t_min past one
-/// split plane's crossing, so a valid tree never needs more than its node
-/// count; this bound only stops a corrupt tree from hanging a GPU.
-pub fn max_restarts(node_count: usize) -> u32 {
-    node_count.min(u32::MAX as usize) as u32 + 1
-}
-
-/// Nearest hit with 0 < t <= t_limit over the tree.
+/// Nearest hit with 0 < t <= t_limit over the tree, by the plain restart walk.
 pub fn closest_hit(tree: &KdTree, prims: &Primitives, ray: &Ray, t_limit: f32) -> Option<Hit> {
-    walk(tree, prims, ray, t_limit, false, &mut WalkCost::default())
+    walk_counted(tree, prims, ray, t_limit, false, 0).0
 }
 
-/// Whether anything is hit with 0 < t < t_limit (shadow rays).
+/// Whether anything is hit with 0 < t < t_limit (shadow rays), by the plain
+/// restart walk.
 pub fn any_hit(tree: &KdTree, prims: &Primitives, ray: &Ray, t_limit: f32) -> bool {
-    walk(tree, prims, ray, t_limit, true, &mut WalkCost::default()).is_some()
+    walk_counted(tree, prims, ray, t_limit, true, 0).0.is_some()
 }
 
 /// The nearest hit (`any` false) or any hit (`any` true), and the work the
-/// walk did for it.
+/// walk did for it, with a short stack of `stack_depth` entries (0: the
+/// plain restart walk; at most [`SHORT_STACK_DEPTH`]).
 pub fn walk_counted(
     tree: &KdTree,
     prims: &Primitives,
     ray: &Ray,
     t_limit: f32,
     any: bool,
+    stack_depth: usize,
 ) -> (Option<Hit>, WalkCost) {
+    assert!(
+        stack_depth <= SHORT_STACK_DEPTH,
+        "stack depth {stack_depth}"
+    );
     let mut cost = WalkCost::default();
-    let hit = walk(tree, prims, ray, t_limit, any, &mut cost);
+    let hit = walk(tree, prims, ray, t_limit, any, stack_depth, &mut cost);
     (hit, cost)
+}
+
+/// A remembered far child and the end of the segment in it.
+#[derive(Clone, Copy)]
+struct Entry {
+    node: usize,
+    t_max: f32,
 }
 
 fn walk(
@@ -99,51 +90,51 @@ fn walk(
     ray: &Ray,
     t_limit: f32,
     any: bool,
+    stack_depth: usize,
     cost: &mut WalkCost,
 ) -> Option<Hit> {
-    if prims.is_empty() {
-        return None;
-    }
-    let (t_enter, t_exit) = tree.bounds.ray_interval(ray)?;
-    let mut t_min = t_enter.max(0.0);
-    let t_far = t_exit.min(t_limit);
-    if t_min > t_far {
-        return None;
-    }
+    let (mut t_min, t_far) = scene_segment(tree, prims, ray, t_limit)?;
     let nodes = &tree.nodes;
-    // The nearest hit so far, over every leaf visited: one found beyond its
-    // leaf's exit (an object reaching into the next cells) may still lose to
-    // one in a later leaf, so it waits until the walk has passed its t.
     let mut best: Option<Hit> = None;
     let mut restart_node = 0usize;
+    // stack[0] is the top; `depth` entries are live.
+    let mut stack = [Entry {
+        node: 0,
+        t_max: 0.0,
+    }; SHORT_STACK_DEPTH];
+    let mut depth = 0usize;
     for _ in 0..max_restarts(nodes.len()) {
-        let mut node = restart_node;
-        let mut t_max = t_far;
-        let mut push_down = true;
+        let mut node;
+        let mut t_max;
+        let mut push_down;
+        if depth > 0 {
+            node = stack[0].node;
+            t_max = stack[0].t_max;
+            stack.copy_within(1.., 0);
+            depth -= 1;
+            push_down = false; // the rest of the ray may leave this node
+        } else {
+            node = restart_node;
+            t_max = t_far;
+            push_down = true;
+        }
         cost.nodes_visited += 1;
         while !nodes[node].is_leaf() {
-            let n = nodes[node];
-            let a = n.kind as usize;
-            let (o, d) = (ray.origin[a], ray.dir[a]);
-            let left = node + 1;
-            let right = n.index as usize;
-            // Rays parallel to the plane stay on the origin's side; one lying
-            // in the plane goes below, where objects touching it are.
-            let mut go_below = o <= n.split;
-            if d.abs() >= PARALLEL_EPSILON {
-                let below_first = o < n.split || (o == n.split && d < 0.0);
-                let t_split = (n.split - o) / d;
-                if t_split > t_max || t_split <= 0.0 {
-                    go_below = below_first; // the segment stays on the first side
-                } else if t_split <= t_min {
-                    go_below = !below_first; // the segment already crossed
-                } else {
-                    go_below = below_first; // both: first side up to the plane
-                    t_max = t_split;
-                    push_down = false;
+            let step = descent_step(nodes[node], node, ray, t_min, t_max);
+            if step.crosses {
+                if stack_depth > 0 && step.t_split < t_max {
+                    // Remember the far side; a full stack forgets its oldest.
+                    stack.copy_within(..stack_depth - 1, 1);
+                    stack[0] = Entry {
+                        node: step.far,
+                        t_max,
+                    };
+                    depth = (depth + 1).min(stack_depth);
                 }
+                t_max = step.t_split;
+                push_down = false;
             }
-            node = if go_below { left } else { right };
+            node = step.near;
             if push_down {
                 restart_node = node;
             }
@@ -151,50 +142,12 @@ fn walk(
         }
         cost.leaves_visited += 1;
         best = test_leaf(tree, prims, node, ray, t_limit, any, best, cost);
-        if any && best.is_some() {
-            return best;
-        }
-        // Every leaf still to visit lies beyond t_max.
-        if best.is_some_and(|hit| hit.t <= t_max) || t_max >= t_far {
+        if walk_done(best, any, t_max, t_far) {
             return best;
         }
         t_min = t_max;
     }
-    best
-}
-
-/// Tests the objects of leaf `node`, the step every walk shares. Nearest
-/// hit (`any` false): `best` improved by any hit with t <= t_limit, and at
-/// an equal t by the lower id, which is the hit brute force's loop keeps
-/// (two objects met at one point may lie in different leaves). Any hit:
-/// the first hit with t < t_limit (the caller returns it at once), else
-/// `best` (None). Counts each object it tests. Mirrors `test_leaf` in
-/// shaders/traverse.wgsl.
-#[allow(clippy::too_many_arguments)] // the shader's parameters, plus the cost
-pub(super) fn test_leaf(
-    tree: &KdTree,
-    prims: &Primitives,
-    node: usize,
-    ray: &Ray,
-    t_limit: f32,
-    any: bool,
-    mut best: Option<Hit>,
-    cost: &mut WalkCost,
-) -> Option<Hit> {
-    let leaf = tree.nodes[node];
-    let ids = &tree.leaf_objects[leaf.index as usize..(leaf.index + leaf.count) as usize];
-    for &id in ids {
-        cost.objects_tested += 1;
-        if let Some(t) = prims.intersect(id, ray) {
-            if any {
-                if t < t_limit {
-                    return Some(Hit { object: id, t });
-                }
-            } else if t <= t_limit && best.is_none_or(|b| t < b.t || (t == b.t && id < b.object)) {
-                best = Some(Hit { object: id, t });
-            }
-        }
-    }
+    debug_assert!(false, "the restart walk ran out of steps: {ray:?}");
     best
 }
 
@@ -233,6 +186,3 @@ pub fn brute_counted(
     }
     (best, cost)
 }
-
-/// `T_INFINITY`, re-exported for callers that want an unbounded ray.
-pub const UNBOUNDED: f32 = T_INFINITY;

@@ -4,8 +4,9 @@
 //! ray reaches first and descends from that face's rope to the next leaf.
 //!
 //! Everything is a comparison of `t` values or of the origin with a plane,
-//! as in the restart walk (`traverse`), so that both walks see the same
-//! leaves with the same intervals and return the same hit:
+//! made by the steps every walk shares (`walk_step`), so that the rope and
+//! restart walks see the same leaves with the same intervals and return the
+//! same hit:
 //! - the descent classifies planes by the ray's `t`: one crossed at or
 //!   before `t_min` (`0 < t_split <= t_min`) is behind, the ray is on its
 //!   far side; any other plane is ahead or never crossed, the ray is on its
@@ -31,44 +32,13 @@ use crate::geometry::{Primitives, Ray, PARALLEL_EPSILON};
 use crate::layout::{KdNode, LeafRopes};
 
 use super::ropes::Ropes;
-use super::traverse::{max_restarts, test_leaf, Hit, WalkCost};
+use super::walk_step::{
+    descent_step, max_restarts, scene_segment, test_leaf, walk_done, Hit, WalkCost,
+};
 use super::KdTree;
 
-/// Nearest hit with 0 < t <= t_limit, by the rope walk.
-pub fn closest_hit(
-    tree: &KdTree,
-    ropes: &Ropes,
-    prims: &Primitives,
-    ray: &Ray,
-    t_limit: f32,
-) -> Option<Hit> {
-    walk(
-        tree,
-        ropes,
-        prims,
-        ray,
-        t_limit,
-        false,
-        &mut WalkCost::default(),
-    )
-}
-
-/// Whether anything is hit with 0 < t < t_limit, by the rope walk.
-pub fn any_hit(tree: &KdTree, ropes: &Ropes, prims: &Primitives, ray: &Ray, t_limit: f32) -> bool {
-    walk(
-        tree,
-        ropes,
-        prims,
-        ray,
-        t_limit,
-        true,
-        &mut WalkCost::default(),
-    )
-    .is_some()
-}
-
 /// The nearest hit (`any` false) or any hit (`any` true) by the rope walk,
-/// and the work it did.
+/// and the work it did (`Traversal::closest_hit` and `any_hit` call it).
 pub fn walk_counted(
     tree: &KdTree,
     ropes: &Ropes,
@@ -83,23 +53,19 @@ pub fn walk_counted(
 }
 
 /// From `node` down to the leaf the ray is in just after `t_min`, counting
-/// the nodes read (`node` and the leaf included) and the leaf.
-fn descend(nodes: &[KdNode], mut node: usize, ray: &Ray, t_min: f32, cost: &mut WalkCost) -> usize {
+/// the nodes read (`node` and the leaf included) and the leaf. Only the side
+/// of each plane matters: one crossed at or before `t_min` is behind the
+/// ray, any other ahead (`t_far` bounds nothing, the segment ends there).
+fn descend(
+    nodes: &[KdNode],
+    mut node: usize,
+    ray: &Ray,
+    (t_min, t_far): (f32, f32),
+    cost: &mut WalkCost,
+) -> usize {
     cost.nodes_visited += 1;
     while !nodes[node].is_leaf() {
-        let n = nodes[node];
-        let a = n.kind as usize;
-        let (o, d) = (ray.origin[a], ray.dir[a]);
-        // Parallel rays stay on the origin's side; in the plane, below.
-        let mut go_below = o <= n.split;
-        if d.abs() >= PARALLEL_EPSILON {
-            let below_first = o < n.split || (o == n.split && d < 0.0);
-            let t_split = (n.split - o) / d;
-            // Crossed at or before t_min: the ray is past the plane.
-            let crossed = t_split > 0.0 && t_split <= t_min;
-            go_below = below_first != crossed;
-        }
-        node = if go_below { node + 1 } else { n.index as usize };
+        node = descent_step(nodes[node], node, ray, t_min, t_far).near;
         cost.nodes_visited += 1;
     }
     cost.leaves_visited += 1;
@@ -140,15 +106,7 @@ fn walk(
     any: bool,
     cost: &mut WalkCost,
 ) -> Option<Hit> {
-    if prims.is_empty() {
-        return None;
-    }
-    let (t_enter, t_exit) = tree.bounds.ray_interval(ray)?;
-    let mut t_min = t_enter.max(0.0);
-    let t_far = t_exit.min(t_limit);
-    if t_min > t_far {
-        return None;
-    }
+    let (mut t_min, t_far) = scene_segment(tree, prims, ray, t_limit)?;
     let nodes = &tree.nodes;
     let mut best: Option<Hit> = None;
     // Where the next descent starts: the root, or the rope of the face the
@@ -159,7 +117,7 @@ fn walk(
     // skipped is followed by a tested one, so node_count + 1 steps suffice
     // (see docs/design.md).
     for _ in 0..max_restarts(nodes.len()) {
-        let node = descend(nodes, start, ray, t_min, cost);
+        let node = descend(nodes, start, ray, (t_min, t_far), cost);
         let leaf = ropes.leaf(node);
         // The exit: the first face ahead, else t_far.
         let mut exit = RopeExit {
@@ -178,11 +136,7 @@ fn walk(
             continue;
         }
         best = test_leaf(tree, prims, node, ray, t_limit, any, best, cost);
-        if any && best.is_some() {
-            return best;
-        }
-        // Every leaf still to visit lies beyond t_max.
-        if best.is_some_and(|hit| hit.t <= t_max) || t_max >= t_far {
+        if walk_done(best, any, t_max, t_far) {
             return best;
         }
         // t_max < t_far, so a face was met: its rope is the one the walk needs.

@@ -1,6 +1,10 @@
-//! Shared helpers of the GPU tests: one device for the whole test binary,
-//! rendering scene text or files at a small size, and image comparison.
+//! Shared helpers of the tests: one device for the whole test binary,
+//! rendering scene text or files at a small size, image comparison, running
+//! the binary; and ([`strategies`]) the random scenes, rays and trees of the
+//! k-d tree's property tests. Every test file includes it as `mod common;`.
 #![allow(dead_code)]
+
+pub mod strategies;
 
 use std::path::{Path, PathBuf};
 use std::process::Command;

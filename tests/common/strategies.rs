@@ -1,5 +1,5 @@
 //! Random scenes, rays and trees for the property tests of the k-d walks:
-//! shared by the CPU mirror's tests (tests/kdtree_props.rs) and the GPU
+//! shared by the CPU mirror's tests (tests/kdtree_props/) and the GPU
 //! kernel's (tests/gpu_ray_queries.rs), so both meet the same cases: tiny,
 //! huge, coincident and axis-aligned objects; random, axis-parallel and
 //! plane-parallel rays; origins on split planes.

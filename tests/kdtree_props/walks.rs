@@ -1,109 +1,24 @@
-//! Property tests: the CPU mirrors of the shader's stackless k-d walks
-//! (every `Traversal`: restart, ropes, short stack) agree with brute force
-//! on random scenes and rays, including the cases the seed's tree gets wrong
-//! (straddling objects, nearer hits in the far child) and the numerically
-//! awkward ones (axis-parallel rays, rays on and in split planes, through
-//! leaf edges and corners, coincident, tiny and huge objects). Every
-//! property runs every walk on the same generated cases, so the replayed
-//! seeds of kdtree_props.proptest-regressions cover them all.
+//! The walks' family of cases: random scenes and rays
+//! (`common::strategies`, the cases the GPU query tests meet too), including
+//! the cases the median tree got wrong (straddling objects, nearer hits in
+//! the far child) and the numerically awkward ones (axis-parallel rays, rays
+//! on and in split planes, through leaf edges and corners, coincident, tiny
+//! and huge objects). Every property runs every walk on the same generated
+//! cases, so the replayed seeds of walks.proptest-regressions cover them all.
 
 use std::path::Path;
 
-#[path = "support/strategies.rs"]
-mod strategies;
-
 use glam::Vec3;
 use kdray::geometry::{Primitives, Ray, SphereF32, TriangleF32, T_INFINITY};
-use kdray::kdtree::traverse::{any_hit_brute, closest_hit_brute, Hit};
-use kdray::kdtree::{KdTree, Ropes, Traversal};
+use kdray::kdtree::traverse::{any_hit_brute, closest_hit_brute};
+use kdray::kdtree::{KdTree, Traversal};
 use proptest::prelude::*;
-use strategies::{direction, ray_for, scene, traversal_cost, vec3, Object};
 
-/// A tree and its ropes: what every walk needs.
-struct Walks {
-    tree: KdTree,
-    ropes: Ropes,
-}
-
-impl Walks {
-    fn new(tree: KdTree) -> Self {
-        let ropes = Ropes::build(&tree);
-        Walks { tree, ropes }
-    }
-
-    fn closest_hit(
-        &self,
-        walk: Traversal,
-        prims: &Primitives,
-        ray: &Ray,
-        t_limit: f32,
-    ) -> Option<Hit> {
-        walk.closest_hit(&self.tree, &self.ropes, prims, ray, t_limit)
-    }
-
-    fn any_hit(&self, walk: Traversal, prims: &Primitives, ray: &Ray, t_limit: f32) -> bool {
-        walk.any_hit(&self.tree, &self.ropes, prims, ray, t_limit)
-    }
-}
+use super::common::strategies::{self, direction, ray_for, scene, traversal_cost, vec3, Object};
+use super::{check_any, check_closest, check_flat_layout, Walks};
 
 fn tree_for(prims: &Primitives, traversal_cost: f32) -> Walks {
     Walks::new(strategies::tree_for(prims, traversal_cost))
-}
-
-/// Every walk's nearest hit against brute force. The walks also agree with
-/// each other exactly (same object, same t): they visit the same leaves with
-/// the same intervals (see `kdray::kdtree::traversal`).
-fn check_closest(walks: &Walks, prims: &Primitives, ray: &Ray) -> Result<(), TestCaseError> {
-    let brute = closest_hit_brute(prims, ray, T_INFINITY);
-    let restart = walks.closest_hit(Traversal::Restart, prims, ray, T_INFINITY);
-    for walk in Traversal::ALL {
-        let kd = walks.closest_hit(walk, prims, ray, T_INFINITY);
-        match (kd, brute) {
-            (None, None) => {}
-            (Some(k), Some(b)) => {
-                let tol = 1e-4 * b.t.max(1.0);
-                prop_assert!(
-                    (k.t - b.t).abs() <= tol,
-                    "{}: t differs: kd {:?} brute {:?} ray {:?}",
-                    walk,
-                    k,
-                    b,
-                    ray
-                );
-                // A different object is fine only for a tie (coincident objects).
-            }
-            (k, b) => prop_assert!(false, "{}: kd {:?} brute {:?} ray {:?}", walk, k, b, ray),
-        }
-        prop_assert_eq!(
-            kd,
-            restart,
-            "{} differs from the restart walk, ray {:?}",
-            walk,
-            ray
-        );
-    }
-    Ok(())
-}
-
-/// Every walk's any-hit answer on the segment [0, length] against brute force.
-fn check_any(
-    walks: &Walks,
-    prims: &Primitives,
-    ray: &Ray,
-    length: f32,
-) -> Result<(), TestCaseError> {
-    let brute = any_hit_brute(prims, ray, length);
-    for walk in Traversal::ALL {
-        prop_assert_eq!(
-            walks.any_hit(walk, prims, ray, length),
-            brute,
-            "{}: ray {:?} length {}",
-            walk,
-            ray,
-            length
-        );
-    }
-    Ok(())
 }
 
 proptest! {
@@ -154,17 +69,10 @@ proptest! {
         }
     }
 
-    /// The flat layout the kernel relies on for bounds and termination
-    /// (shaders/traverse.wgsl; naga's forced loop bounds are off, see
-    /// `gpu::shaders::trace_module`): the root at 0; an interior node's
-    /// children after it (below at i + 1, above past the whole below
-    /// subtree), so a descent only moves forward; every node reached once;
-    /// leaf ranges inside `leaf_objects`, naming real objects.
+    /// The layout the kernel relies on (`check_flat_layout`).
     #[test]
     fn flat_layout_is_what_the_kernel_assumes(prims in scene(), cost in traversal_cost()) {
-        let tree = tree_for(&prims, cost).tree;
-        let error = strategies::flat_layout_error(&tree, prims.len());
-        prop_assert!(error.is_none(), "{}", error.unwrap_or_default());
+        check_flat_layout(&tree_for(&prims, cost).tree, prims.len())?;
     }
 
     /// Every object is referenced by the leaf containing any point of its box.
@@ -191,7 +99,7 @@ proptest! {
 proptest! {
     // The old walk's mistake showed in one fresh run of 512 cases in three
     // and in two of 2,048 cases in three (a few seconds); the cases it found
-    // are kept in kdtree_props.proptest-regressions and replayed first.
+    // are kept in walks.proptest-regressions and replayed first.
     #![proptest_config(ProptestConfig { cases: 2048, .. ProptestConfig::default() })]
 
     /// Rays that graze a split plane: starting just off it and nearly
@@ -539,35 +447,6 @@ fn straddling_sphere_scene_matches_brute_force() {
             closest_hit_brute(&prims, &ray, T_INFINITY).unwrap(),
             "{walk}"
         );
-    }
-}
-
-/// The tree does not depend on how many threads build it (subtrees built
-/// apart are appended in single-thread order), on scenes big enough for the
-/// parallel path.
-#[test]
-fn threads_do_not_change_the_tree() {
-    use kdray::bench::{random_scene, RandomSceneSpec, SceneKind};
-    for (kind, count) in [(SceneKind::Spheres, 20_000), (SceneKind::Mixed, 9_000)] {
-        let scene = random_scene(&RandomSceneSpec {
-            kind,
-            count,
-            seed: 7,
-            width: 8,
-            height: 8,
-        });
-        let prims = Primitives::from_scene(&scene);
-        let bounds: Vec<_> = (0..prims.len() as u32).map(|id| prims.bounds(id)).collect();
-        let params = kdray::kdtree::BuildParams::for_object_count(bounds.len());
-        let serial = kdray::kdtree::build_with_threads(&bounds, params, 1);
-        assert!(serial.nodes.len() > 1000, "{kind:?}: a deep tree");
-        for threads in [2, 3, 8] {
-            let parallel = kdray::kdtree::build_with_threads(&bounds, params, threads);
-            assert!(
-                parallel == serial,
-                "{kind:?}: {threads} threads built another tree"
-            );
-        }
     }
 }
 

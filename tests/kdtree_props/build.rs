@@ -1,21 +1,18 @@
-//! Property tests of the k-d tree build over a scene's primitives: the SAH
-//! build with perfect splits (triangles clipped to the cells as polygons),
-//! the binned one and the seed's median build. Every point of a triangle (vertices, edges,
-//! points exactly on split planes) lies in a leaf that references it; the
-//! CPU traversal finds what brute force finds, on scenes made to stress the
-//! clipping (long thin triangles, fans sharing a vertex, triangles lying in
-//! and snapped to candidate planes, coincident copies); the flat layout is
-//! what the kernel assumes; the thread count does not change the tree.
+//! The build's family of cases: scenes made to stress the clipping of the
+//! SAH build with perfect splits (triangles clipped to the cells as
+//! polygons), the binned one and the median build: long thin triangles, fans
+//! sharing a vertex, triangles lying in and snapped to candidate planes,
+//! coincident copies. Every point of a triangle (vertices, edges, points
+//! exactly on split planes) lies in a leaf that references it.
 
 use glam::{DVec3, Vec3};
 use kdray::geometry::{Aabb, Primitives, Ray, SphereF32, TriangleF32, T_INFINITY};
-use kdray::kdtree::traverse::{any_hit, any_hit_brute, closest_hit, closest_hit_brute};
+use kdray::kdtree::traverse::{closest_hit, closest_hit_brute};
 use kdray::kdtree::{build_primitives, BuildParams, BuildStrategy, KdTree};
 use proptest::prelude::*;
 
-#[path = "support/strategies.rs"]
-mod strategies;
-use strategies::{direction, unit, vec3};
+use super::common::strategies::{direction, traversal_cost, unit, vec3};
+use super::{check_any, check_closest, check_flat_layout, Walks};
 
 /// Coordinates on a half-unit grid: many objects then share planes, and
 /// edges and faces lie in the planes the build cuts at.
@@ -132,7 +129,7 @@ fn scene() -> impl Strategy<Value = Primitives> {
 /// Build parameters: any strategy; traversal costs 1 (deep trees, many
 /// planes), 15 and 40 (the default's). The binned build bins every node of
 /// three objects or more, so that these small scenes exercise it.
-fn params(prims: &Primitives, strategy: BuildStrategy, cost: f32) -> BuildParams {
+pub(super) fn params(prims: &Primitives, strategy: BuildStrategy, cost: f32) -> BuildParams {
     BuildParams {
         traversal_cost: cost,
         strategy,
@@ -143,10 +140,6 @@ fn params(prims: &Primitives, strategy: BuildStrategy, cost: f32) -> BuildParams
 
 fn strategy() -> impl Strategy<Value = BuildStrategy> {
     prop::sample::select(BuildStrategy::ALL.to_vec())
-}
-
-fn cost() -> impl Strategy<Value = f32> {
-    prop_oneof![Just(1.0f32), Just(15.0), Just(40.0)]
 }
 
 fn tree_for(prims: &Primitives, strategy: BuildStrategy, cost: f32) -> KdTree {
@@ -225,26 +218,6 @@ fn on_plane(t: &TriangleF32, axis: usize, c: f32, fractions: &[f64]) -> Vec<Vec3
     points
 }
 
-fn check_closest(tree: &KdTree, prims: &Primitives, ray: &Ray) -> Result<(), TestCaseError> {
-    let kd = closest_hit(tree, prims, ray, T_INFINITY);
-    let brute = closest_hit_brute(prims, ray, T_INFINITY);
-    match (kd, brute) {
-        (None, None) => {}
-        (Some(k), Some(b)) => {
-            // A different object is fine only for a tie (coincident objects).
-            prop_assert!(
-                (k.t - b.t).abs() <= 1e-4 * b.t.max(1.0),
-                "t differs: kd {:?} brute {:?} ray {:?}",
-                k,
-                b,
-                ray
-            );
-        }
-        (k, b) => prop_assert!(false, "kd {:?} brute {:?} ray {:?}", k, b, ray),
-    }
-    Ok(())
-}
-
 fn inner_planes(tree: &KdTree) -> Vec<(usize, f32)> {
     tree.nodes
         .iter()
@@ -310,7 +283,7 @@ proptest! {
     fn every_point_of_a_triangle_is_in_a_leaf_that_references_it(
         prims in scene(),
         strategy in strategy(),
-        cost in cost(),
+        cost in traversal_cost(),
         samples in prop::collection::vec((0.0f64..=1.0, 0.0f64..=1.0, any::<usize>()), 8),
     ) {
         let tree = tree_for(&prims, strategy, cost);
@@ -351,13 +324,13 @@ proptest! {
     fn closest_hit_matches_brute_force(
         prims in scene(),
         strategy in strategy(),
-        cost in cost(),
+        cost in traversal_cost(),
         rays in prop::collection::vec(ray_seed(), 1..40),
     ) {
-        let tree = tree_for(&prims, strategy, cost);
+        let walks = Walks::new(tree_for(&prims, strategy, cost));
         for seed in rays {
-            if let Some(ray) = ray_for(&tree, &prims, seed) {
-                check_closest(&tree, &prims, &ray)?;
+            if let Some(ray) = ray_for(&walks.tree, &prims, seed) {
+                check_closest(&walks, &prims, &ray)?;
             }
         }
     }
@@ -366,30 +339,26 @@ proptest! {
     fn any_hit_matches_brute_force_on_segments(
         prims in scene(),
         strategy in strategy(),
-        cost in cost(),
+        cost in traversal_cost(),
         rays in prop::collection::vec((ray_seed(), 0.01f32..40.0), 1..40),
     ) {
-        let tree = tree_for(&prims, strategy, cost);
+        let walks = Walks::new(tree_for(&prims, strategy, cost));
         for (seed, length) in rays {
-            let Some(ray) = ray_for(&tree, &prims, seed) else { continue };
+            let Some(ray) = ray_for(&walks.tree, &prims, seed) else { continue };
             // Segments ending exactly at a hit are ties; step back from them.
             let brute_t = closest_hit_brute(&prims, &ray, T_INFINITY).map(|h| h.t);
             if brute_t.is_some_and(|t| (t - length).abs() <= 1e-4 * length.max(1.0)) {
                 continue;
             }
-            prop_assert_eq!(any_hit(&tree, &prims, &ray, length), any_hit_brute(&prims, &ray, length), "ray {:?} length {}", ray, length);
+            check_any(&walks, &prims, &ray, length)?;
         }
     }
 
-    /// The layout the kernel relies on (see `flat_layout_is_what_the_kernel_assumes`
-    /// in kdtree_props.rs), for both strategies over primitives: children
-    /// after their parent, every node reached once, leaf ranges in bounds,
-    /// each leaf's ids ascending and distinct.
+    /// The layout the kernel relies on (`check_flat_layout`), for every
+    /// strategy over primitives.
     #[test]
-    fn flat_layout_is_what_the_kernel_assumes(prims in scene(), strategy in strategy(), cost in cost()) {
-        let tree = tree_for(&prims, strategy, cost);
-        let error = strategies::flat_layout_error(&tree, prims.len());
-        prop_assert!(error.is_none(), "{}", error.unwrap_or_default());
+    fn flat_layout_is_what_the_kernel_assumes(prims in scene(), strategy in strategy(), cost in traversal_cost()) {
+        check_flat_layout(&tree_for(&prims, strategy, cost), prims.len())?;
     }
 }
 
@@ -481,35 +450,7 @@ fn the_median_build_halves_by_centres_down_to_single_objects() {
     assert_eq!(tree.max_depth, 6);
 }
 
-/// The tree does not depend on how many threads build it, with clipping:
-/// the gear scene and a larger one (subtrees of 4,096 objects or
-/// more go to threads), mixed spheres and triangles, both strategies.
-#[test]
-fn threads_do_not_change_the_tree() {
-    use kdray::bench::{random_scene, RandomSceneSpec, SceneKind};
-    for (kind, count) in [
-        (SceneKind::Gears, 4_578),
-        (SceneKind::Gears, 8_000),
-        (SceneKind::Mixed, 9_000),
-    ] {
-        let scene = random_scene(&RandomSceneSpec::new(kind, count));
-        let prims = Primitives::from_scene(&scene);
-        for strategy in BuildStrategy::ALL {
-            let params = params(&prims, strategy, 40.0);
-            let serial = build_primitives(&prims, params, 1);
-            assert!(serial.nodes.len() > 1000, "{kind:?} {count}: a deep tree");
-            for threads in [2, 3, 8] {
-                let parallel = build_primitives(&prims, params, threads);
-                assert!(
-                    parallel == serial,
-                    "{kind:?} {count} {strategy}: {threads} threads built another tree"
-                );
-            }
-        }
-    }
-}
-
-/// Rays through the gear scene against brute force, both builds:
+/// Rays through the gear scene against brute force, both builds:
 /// long thin fan triangles meeting at 16 shared vertices.
 #[test]
 fn gear_scene_rays_match_brute_force() {
