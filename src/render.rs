@@ -9,7 +9,7 @@ use serde::Serialize;
 use crate::error::Result;
 use crate::gpu::{
     Accel, CostTotals, GpuContext, GpuScene, GpuTimeSource, PreparedScene, RenderSummary,
-    RenderedImage, Renderer, RowBand, SceneBuffers, TilePlan,
+    RenderedImage, Renderer, RowBand, TilePlan,
 };
 use crate::kdtree::Traversal;
 use crate::scene::Scene;
@@ -167,63 +167,20 @@ pub fn render_streaming(
     with_cost: bool,
     sink: &mut dyn FnMut(RowBand<'_>) -> Result<()>,
 ) -> Result<(RenderStats, RenderSummary)> {
-    let uploaded = Uploaded {
-        prepared: scene.prepared(),
-        buffers: scene.buffers(),
-        accel: scene.accel(),
-        upload_ms: scene.upload_ms(),
-    };
-    render_uploaded(ctx, uploaded, traversal, max_tile_pixels, with_cost, sink)
-}
-
-/// [`render_streaming`] for a scene not yet uploaded, searching with
-/// `accel` (which the scene must have been prepared for): it is uploaded
-/// first, and the upload counted in the stats. For callers that hold a
-/// [`PreparedScene`]; [`GpuScene::upload`] and [`render_streaming`] do the
-/// same in two steps.
-pub fn render_scene_streaming(
-    ctx: &GpuContext,
-    prepared: &PreparedScene,
-    accel: Accel,
-    traversal: Traversal,
-    max_tile_pixels: u64,
-    with_cost: bool,
-    sink: &mut dyn FnMut(RowBand<'_>) -> Result<()>,
-) -> Result<(RenderStats, RenderSummary)> {
-    let upload = Instant::now();
-    let buffers = prepared.upload(ctx)?;
-    let uploaded = Uploaded {
-        prepared,
-        buffers: &buffers,
-        accel,
-        upload_ms: ms_since(upload),
-    };
-    render_uploaded(ctx, uploaded, traversal, max_tile_pixels, with_cost, sink)
-}
-
-/// A prepared scene with its buffers, and what its upload took.
-struct Uploaded<'a> {
-    prepared: &'a PreparedScene,
-    buffers: &'a SceneBuffers,
-    accel: Accel,
-    upload_ms: f64,
+    render_uploaded(ctx, scene, traversal, max_tile_pixels, with_cost, sink)
 }
 
 fn render_uploaded(
     ctx: &GpuContext,
-    uploaded: Uploaded<'_>,
+    uploaded: &GpuScene,
     traversal: Traversal,
     max_tile_pixels: u64,
     with_cost: bool,
     sink: &mut dyn FnMut(RowBand<'_>) -> Result<()>,
 ) -> Result<(RenderStats, RenderSummary)> {
     let total = Instant::now();
-    let Uploaded {
-        prepared,
-        buffers,
-        accel,
-        upload_ms,
-    } = uploaded;
+    let (prepared, buffers) = (uploaded.prepared(), uploaded.buffers());
+    let (accel, upload_ms) = (uploaded.accel(), uploaded.upload_ms());
     let scene = &prepared.scene;
 
     let renderer = Renderer::new(ctx)?;
@@ -231,9 +188,7 @@ fn render_uploaded(
     let transfer_ms = upload_ms;
     let upload_ms = prepared.flatten_ms + transfer_ms + ms_since(total);
 
-    let params = prepared
-        .frame_params(buffers, accel)
-        .with_traversal(traversal);
+    let params = uploaded.frame_params().with_traversal(traversal);
     let max_binding = crate::gpu::max_binding_bytes(&ctx.device.limits());
     let plan = TilePlan::new(
         scene.render.width,

@@ -13,7 +13,7 @@ use std::sync::OnceLock;
 
 use common::strategies::{direction, ray_for, scene, traversal_cost, tree_for, vec3};
 use kdray::geometry::{Primitives, Ray, T_INFINITY};
-use kdray::gpu::{Accel, PreparedScene, RayQueries, RayQuery};
+use kdray::gpu::{Accel, GpuScene, PreparedScene, RayQueries, RayQuery};
 use kdray::kdtree::traverse::{self, Hit, WalkCost};
 use kdray::kdtree::{KdTree, Ropes, Traversal};
 use kdray::scene::{Scene, Sphere, Triangle};
@@ -60,10 +60,11 @@ fn trace_both(
         "the GPU walks the tree built here"
     );
     let ctx = common::gpu();
-    let buffers = prepared.upload(ctx).unwrap_or_else(|e| panic!("{e}"));
+    let uploaded = GpuScene::upload(ctx, prepared).unwrap_or_else(|e| panic!("{e}"));
+    let (buffers, prepared) = (uploaded.buffers(), uploaded.prepared());
     let trace = |accel, walk| {
         queries()
-            .trace_walk(ctx, &buffers, &prepared.arrays.scene_ids, accel, walk, rays)
+            .trace_walk(ctx, buffers, &prepared.arrays.scene_ids, accel, walk, rays)
             .unwrap_or_else(|e| panic!("{e}"))
     };
     let brute = trace(Accel::Brute, Traversal::Restart);
@@ -112,13 +113,14 @@ fn nearest(ray: Ray) -> RayQuery {
 fn check_costs(prims: &Primitives, tree: &KdTree, rays: &[RayQuery]) -> Result<(), TestCaseError> {
     let prepared = PreparedScene::with_tree(scene_of(prims), tree.clone());
     let ctx = common::gpu();
-    let buffers = prepared.upload(ctx).unwrap_or_else(|e| panic!("{e}"));
+    let uploaded = GpuScene::upload(ctx, prepared).unwrap_or_else(|e| panic!("{e}"));
+    let (buffers, prepared) = (uploaded.buffers(), uploaded.prepared());
     let ids = &prepared.arrays.scene_ids;
     let tree = &prepared.tree;
     let ropes = Ropes::build(tree);
     let gpu = |accel, walk| {
         queries()
-            .trace_counted(ctx, &buffers, ids, accel, walk, rays)
+            .trace_counted(ctx, buffers, ids, accel, walk, rays)
             .unwrap_or_else(|e| panic!("{e}"))
     };
     for walk in Traversal::ALL {
@@ -429,12 +431,10 @@ fn pixel_costs(
     max_tile_pixels: u64,
 ) -> (Vec<WalkCost>, kdray::gpu::CostTotals) {
     let ctx = common::gpu();
-    let prepared = PreparedScene::new(scene.clone(), Accel::Kdtree);
-    let buffers = prepared.upload(ctx).unwrap_or_else(|e| panic!("{e}"));
+    let uploaded = GpuScene::upload(ctx, PreparedScene::new(scene.clone(), Accel::Kdtree))
+        .unwrap_or_else(|e| panic!("{e}"));
     let renderer = kdray::gpu::Renderer::new(ctx).unwrap_or_else(|e| panic!("{e}"));
-    let params = prepared
-        .frame_params(&buffers, Accel::Kdtree)
-        .with_traversal(traversal);
+    let params = uploaded.frame_params().with_traversal(traversal);
     let (w, h) = (scene.render.width, scene.render.height);
     let plan = kdray::gpu::TilePlan::new(
         w,
@@ -444,7 +444,7 @@ fn pixel_costs(
     );
     let mut costs = Vec::new();
     let summary = renderer
-        .render_bands_with_cost(ctx, &buffers, params, plan, true, &mut |band| {
+        .render_bands_with_cost(ctx, uploaded.buffers(), params, plan, true, &mut |band| {
             costs.extend_from_slice(band.costs.expect("asked for costs"));
             Ok(())
         })

@@ -131,18 +131,18 @@ fn rays_exactly_along_split_planes() {
 /// scene id.
 #[test]
 fn every_build_breaks_ties_as_brute_force_does() {
-    use kdray::gpu::{PreparedScene, TilePlan};
+    use kdray::gpu::{GpuScene, PreparedScene, TilePlan};
     use kdray::kdtree::{BuildStrategy, Traversal};
     let scene = load("rays_on_split_planes");
     let brute = render(&scene, Accel::Brute);
     for strategy in BuildStrategy::ALL {
         let prepared = PreparedScene::built_by(scene.clone(), Accel::Kdtree, strategy);
+        let uploaded = GpuScene::upload(gpu(), prepared).unwrap_or_else(|e| panic!("{e}"));
         for traversal in Traversal::ALL {
             let mut rgb = Vec::new();
-            kdray::render::render_scene_streaming(
+            kdray::render::render_streaming(
                 gpu(),
-                &prepared,
-                Accel::Kdtree,
+                &uploaded,
                 traversal,
                 TilePlan::DEFAULT_MAX_TILE_PIXELS,
                 false,

@@ -32,9 +32,7 @@ fn render_with_chunks(
     let ctx = gpu();
     let buffers = upload(prepared, chunk_bytes);
     let renderer = Renderer::new(ctx).unwrap_or_else(|e| panic!("{e}"));
-    let params = prepared
-        .frame_params(&buffers, Accel::Kdtree)
-        .with_traversal(walk);
+    let params = prepared.frame_params(&buffers).with_traversal(walk);
     let scene = &prepared.scene;
     let plan = TilePlan::new(
         scene.render.width,

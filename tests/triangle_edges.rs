@@ -25,7 +25,7 @@ use std::collections::HashMap;
 
 use glam::{DQuat, DVec3, Vec3};
 use kdray::geometry::{Primitives, Ray, TriangleF32, T_INFINITY};
-use kdray::gpu::{Accel, PreparedScene, RayQueries, RayQuery};
+use kdray::gpu::{Accel, GpuScene, PreparedScene, RayQueries, RayQuery};
 use kdray::kdtree::traverse::closest_hit_brute;
 use kdray::scene::{Scene, Triangle};
 use proptest::prelude::*;
@@ -705,13 +705,14 @@ proptest! {
         prop_assume!(!rays.is_empty());
         let prepared = PreparedScene::new(scene_of(&mesh), Accel::Brute);
         let ctx = common::gpu();
-        let buffers = prepared.upload(ctx).unwrap_or_else(|e| panic!("{e}"));
+        let uploaded = GpuScene::upload(ctx, prepared).unwrap_or_else(|e| panic!("{e}"));
+        let (buffers, prepared) = (uploaded.buffers(), uploaded.prepared());
         let queries_in: Vec<RayQuery> = rays
             .iter()
             .map(|(ray, _)| RayQuery { ray: *ray, t_limit: T_INFINITY, any_hit: false })
             .collect();
         let hits = queries()
-            .trace(ctx, &buffers, &prepared.arrays.scene_ids, Accel::Brute, &queries_in)
+            .trace(ctx, buffers, &prepared.arrays.scene_ids, Accel::Brute, &queries_in)
             .unwrap_or_else(|e| panic!("{e}"));
         let prims = mesh.primitives();
         for ((ray, truth), gpu) in rays.iter().zip(&hits) {

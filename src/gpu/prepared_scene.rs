@@ -6,7 +6,7 @@
 
 use std::time::Instant;
 
-use super::{Accel, GpuContext, SceneArrays, SceneBuffers};
+use super::{Accel, SceneArrays, SceneBuffers};
 use crate::geometry::Primitives;
 use crate::kdtree::{BuildParams, BuildStrategy, KdTree};
 use crate::layout::FrameParams;
@@ -110,22 +110,16 @@ impl PreparedScene {
         self.scene
     }
 
-    /// Uploads the arrays alone (refused with one line if a buffer exceeds
-    /// the adapter's binding limit or the device runs out of memory).
-    /// [`super::GpuScene::upload`] keeps them with the scene.
-    pub fn upload(&self, ctx: &GpuContext) -> crate::Result<SceneBuffers> {
-        SceneBuffers::upload(ctx, &self.arrays)
-    }
-
     /// The kernel's parameters for the scene's own camera and settings,
-    /// searching with `accel`, over `buffers` uploaded from it.
-    /// [`super::GpuScene::frame_params`] needs neither argument.
-    pub fn frame_params(&self, buffers: &SceneBuffers, accel: Accel) -> FrameParams {
+    /// searching with the accel it was prepared for, over `buffers`
+    /// uploaded from it ([`super::GpuScene::frame_params`] for a scene
+    /// uploaded whole; this for buffers uploaded another way).
+    pub fn frame_params(&self, buffers: &SceneBuffers) -> FrameParams {
         FrameParams::new(
             &self.scene.camera.basis(),
             &self.scene.render,
             buffers,
-            accel,
+            self.accel,
         )
     }
 }
