@@ -14,7 +14,7 @@ packages=(
     # (tests/gpu_faults.rs compares the two).
     mesa-vulkan-drivers libvulkan1 libegl1 libegl-mesa0 libgl1-mesa-dri
     # g++ builds nv-flip's C++ core (the golden-image tests); gcc (cc) builds
-    # tests/support/device_memory_budget.c for tests/gpu_memory.rs.
+    # tests/common/device_memory_budget.c for tests/gpu_memory.rs.
     g++ gcc
     # tests/window.rs runs the window under Xvfb; winit loads these at run time.
     xvfb xauth libxkbcommon-x11-0 libx11-xcb1 libxcursor1 libxi6 libxrandr2
