@@ -10,7 +10,7 @@ use super::{GpuContext, KernelVariant, SceneBuffers, TracePipelines};
 use crate::error::Result;
 use crate::layout::FrameParams;
 
-/// Bytes per pixel of the accumulation buffers (a vec4<f32>: the sum of the
+/// Bytes per pixel of the accumulation buffers (a `vec4<f32>`: the sum of the
 /// clamped samples and their count).
 pub const ACCUMULATION_TEXEL: u64 = 16;
 /// Bytes per pixel of the cost buffers (`bindings::PIXEL_COSTS`).
@@ -197,7 +197,7 @@ impl Accumulation {
     }
 
     /// The first `pixels` pixels of `target` read back: their colours (a
-    /// vec4<f32> each) and their costs ([`bindings::COST_WORDS`] words each).
+    /// `vec4<f32>` each) and their costs ([`bindings::COST_WORDS`] words each).
     pub fn read_back(
         &self,
         ctx: &GpuContext,

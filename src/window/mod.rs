@@ -25,6 +25,7 @@ mod input;
 mod playback;
 mod refinement;
 pub mod reload;
+mod session;
 mod surface;
 mod title;
 pub mod view;
