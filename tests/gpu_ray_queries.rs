@@ -15,7 +15,7 @@ use common::strategies::{direction, ray_for, scene, traversal_cost, tree_for, ve
 use kdray::geometry::{Primitives, Ray, T_INFINITY};
 use kdray::gpu::{Accel, GpuScene, PreparedScene, RayQueries, RayQuery};
 use kdray::kdtree::traverse::{self, Hit, WalkCost};
-use kdray::kdtree::{KdTree, Ropes, Traversal};
+use kdray::kdtree::{KdTree, Ropes, Traversal, WalkQuery, WalkScene};
 use kdray::scene::{Scene, Sphere, Triangle};
 use proptest::prelude::*;
 
@@ -125,8 +125,10 @@ fn check_costs(prims: &Primitives, tree: &KdTree, rays: &[RayQuery]) -> Result<(
     };
     for walk in Traversal::ALL {
         for ((hit, cost), q) in gpu(Accel::Kdtree, walk).into_iter().zip(rays) {
-            let (cpu_hit, cpu_cost) =
-                walk.walk_counted(tree, &ropes, prims, &q.ray, q.t_limit, q.any_hit);
+            let (cpu_hit, cpu_cost) = walk.walk_counted(
+                walk_scene(tree, &ropes, prims),
+                query(&q.ray, q.t_limit, q.any_hit),
+            );
             // The kernel may round a hit's t an ulp off the CPU's (fused
             // multiply-adds in the watertight test); the walk's "is the hit
             // before this leaf's exit" then may decide otherwise, and the
@@ -219,11 +221,11 @@ proptest! {
             let brute = traverse::brute_counted(&prims, &ray, T_INFINITY, false).1;
             prop_assert_eq!(brute, WalkCost { objects_tested: prims.len() as u32, ..WalkCost::default() });
             for walk in Traversal::ALL {
-                let (_, c) = walk.walk_counted(&tree, &ropes, &prims, &ray, T_INFINITY, false);
+                let (_, c) = walk.walk_counted(walk_scene(&tree, &ropes, &prims), query(&ray, T_INFINITY, false));
                 prop_assert!(c.leaves_visited <= c.nodes_visited, "{}: {:?}", walk, c);
                 prop_assert!(c.objects_tested <= c.leaves_visited * max_leaf, "{}: {:?}", walk, c);
                 prop_assert_eq!(c.nodes_visited == 0, c.leaves_visited == 0, "{}: {:?}", walk, c);
-                let (_, c) = walk.walk_counted(&one_leaf, &one_leaf_ropes, &prims, &ray, T_INFINITY, false);
+                let (_, c) = walk.walk_counted(walk_scene(&one_leaf, &one_leaf_ropes, &prims), query(&ray, T_INFINITY, false));
                 let expected = match enters {
                     true => WalkCost { nodes_visited: 1, leaves_visited: 1, objects_tested: prims.len() as u32 },
                     false => WalkCost::default(),
@@ -413,7 +415,10 @@ fn an_empty_scene_costs_nothing() {
     };
     for walk in Traversal::ALL {
         for any in [false, true] {
-            let (hit, cost) = walk.walk_counted(&tree, &ropes, &prims, &ray, T_INFINITY, any);
+            let (hit, cost) = walk.walk_counted(
+                walk_scene(&tree, &ropes, &prims),
+                query(&ray, T_INFINITY, any),
+            );
             assert_eq!((hit, cost), (None, WalkCost::default()), "{walk}");
         }
     }
@@ -479,4 +484,14 @@ fn per_pixel_costs_do_not_depend_on_tiling_and_sum_to_the_totals() {
             "{walk}: no work"
         );
     }
+}
+
+/// What the CPU walks search: `tree`, its `ropes` and `prims`.
+fn walk_scene<'a>(tree: &'a KdTree, ropes: &'a Ropes, prims: &'a Primitives) -> WalkScene<'a> {
+    WalkScene { tree, ropes, prims }
+}
+
+/// A CPU walk's query.
+fn query(ray: &Ray, t_limit: f32, any: bool) -> WalkQuery<'_> {
+    WalkQuery { ray, t_limit, any }
 }

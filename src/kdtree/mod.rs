@@ -26,6 +26,7 @@ pub use build::{
 };
 pub use ropes::Ropes;
 pub use traversal::Traversal;
+pub use walk_step::{WalkQuery, WalkScene};
 
 use crate::geometry::{Aabb, Primitives};
 use crate::layout::KdNode;

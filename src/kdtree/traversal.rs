@@ -2,12 +2,11 @@
 //! the same leaves with the same intervals (see each module), so they return
 //! the same hits; they differ in how they reach the next leaf.
 
-use crate::geometry::{Primitives, Ray};
+use crate::geometry::Ray;
 
-use super::ropes::Ropes;
 use super::traverse::SHORT_STACK_DEPTH;
-use super::walk_step::{Hit, WalkCost};
-use super::{traverse, traverse_ropes, KdTree};
+use super::walk_step::{Hit, WalkCost, WalkQuery, WalkScene};
+use super::{traverse, traverse_ropes};
 
 /// Which stackless walk the shader (and its CPU mirror) runs.
 #[derive(
@@ -41,50 +40,28 @@ impl Traversal {
         }
     }
 
-    /// Nearest hit with 0 < t <= t_limit. `ropes` (built from `tree`) is
-    /// read by the rope walk only.
-    pub fn closest_hit(
-        self,
-        tree: &KdTree,
-        ropes: &Ropes,
-        prims: &Primitives,
-        ray: &Ray,
-        t_limit: f32,
-    ) -> Option<Hit> {
-        self.walk_counted(tree, ropes, prims, ray, t_limit, false).0
+    /// Nearest hit with 0 < t <= t_limit.
+    pub fn closest_hit(self, scene: WalkScene, ray: &Ray, t_limit: f32) -> Option<Hit> {
+        let any = false;
+        self.walk_counted(scene, WalkQuery { ray, t_limit, any }).0
     }
 
     /// Whether anything is hit with 0 < t < t_limit (shadow rays).
-    pub fn any_hit(
-        self,
-        tree: &KdTree,
-        ropes: &Ropes,
-        prims: &Primitives,
-        ray: &Ray,
-        t_limit: f32,
-    ) -> bool {
-        self.walk_counted(tree, ropes, prims, ray, t_limit, true)
+    pub fn any_hit(self, scene: WalkScene, ray: &Ray, t_limit: f32) -> bool {
+        let any = true;
+        self.walk_counted(scene, WalkQuery { ray, t_limit, any })
             .0
             .is_some()
     }
 
-    /// The nearest hit (`any` false) or any hit (`any` true), and the work
-    /// the walk did (as its shader counts it).
-    pub fn walk_counted(
-        self,
-        tree: &KdTree,
-        ropes: &Ropes,
-        prims: &Primitives,
-        ray: &Ray,
-        t_limit: f32,
-        any: bool,
-    ) -> (Option<Hit>, WalkCost) {
+    /// The hit `query` asks for, and the work the walk did (as its shader
+    /// counts it).
+    pub fn walk_counted(self, scene: WalkScene, query: WalkQuery) -> (Option<Hit>, WalkCost) {
+        let WalkScene { tree, prims, .. } = scene;
         match self {
-            Traversal::Restart => traverse::walk_counted(tree, prims, ray, t_limit, any, 0),
-            Traversal::Ropes => traverse_ropes::walk_counted(tree, ropes, prims, ray, t_limit, any),
-            Traversal::ShortStack => {
-                traverse::walk_counted(tree, prims, ray, t_limit, any, SHORT_STACK_DEPTH)
-            }
+            Traversal::Restart => traverse::walk_counted(tree, prims, query, 0),
+            Traversal::Ropes => traverse_ropes::walk_counted(scene, query),
+            Traversal::ShortStack => traverse::walk_counted(tree, prims, query, SHORT_STACK_DEPTH),
         }
     }
 

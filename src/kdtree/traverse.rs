@@ -36,7 +36,7 @@
 use crate::geometry::{Primitives, Ray};
 
 use super::walk_step::{descent_step, max_restarts, scene_segment, test_leaf, walk_done};
-pub use super::walk_step::{Hit, WalkCost};
+pub use super::walk_step::{Hit, WalkCost, WalkQuery};
 use super::KdTree;
 
 /// Entries of the short stack. The shader keeps them in named variables
@@ -48,13 +48,23 @@ pub const SHORT_STACK_DEPTH: usize = 3;
 
 /// Nearest hit with 0 < t <= t_limit over the tree, by the plain restart walk.
 pub fn closest_hit(tree: &KdTree, prims: &Primitives, ray: &Ray, t_limit: f32) -> Option<Hit> {
-    walk_counted(tree, prims, ray, t_limit, false, 0).0
+    let query = WalkQuery {
+        ray,
+        t_limit,
+        any: false,
+    };
+    walk_counted(tree, prims, query, 0).0
 }
 
 /// Whether anything is hit with 0 < t < t_limit (shadow rays), by the plain
 /// restart walk.
 pub fn any_hit(tree: &KdTree, prims: &Primitives, ray: &Ray, t_limit: f32) -> bool {
-    walk_counted(tree, prims, ray, t_limit, true, 0).0.is_some()
+    let query = WalkQuery {
+        ray,
+        t_limit,
+        any: true,
+    };
+    walk_counted(tree, prims, query, 0).0.is_some()
 }
 
 /// The nearest hit (`any` false) or any hit (`any` true), and the work the
@@ -63,9 +73,7 @@ pub fn any_hit(tree: &KdTree, prims: &Primitives, ray: &Ray, t_limit: f32) -> bo
 pub fn walk_counted(
     tree: &KdTree,
     prims: &Primitives,
-    ray: &Ray,
-    t_limit: f32,
-    any: bool,
+    query: WalkQuery,
     stack_depth: usize,
 ) -> (Option<Hit>, WalkCost) {
     assert!(
@@ -73,7 +81,7 @@ pub fn walk_counted(
         "stack depth {stack_depth}"
     );
     let mut cost = WalkCost::default();
-    let hit = walk(tree, prims, ray, t_limit, any, stack_depth, &mut cost);
+    let hit = walk(tree, prims, query, stack_depth, &mut cost);
     (hit, cost)
 }
 
@@ -87,12 +95,11 @@ struct Entry {
 fn walk(
     tree: &KdTree,
     prims: &Primitives,
-    ray: &Ray,
-    t_limit: f32,
-    any: bool,
+    query: WalkQuery,
     stack_depth: usize,
     cost: &mut WalkCost,
 ) -> Option<Hit> {
+    let WalkQuery { ray, t_limit, any } = query;
     let (mut t_min, t_far) = scene_segment(tree, prims, ray, t_limit)?;
     let nodes = &tree.nodes;
     let mut best: Option<Hit> = None;

@@ -28,27 +28,19 @@
 //! Hits count as in the restart walk: the nearest over all visited leaves,
 //! returned once it lies before the current leaf's exit.
 
-use crate::geometry::{Primitives, Ray, PARALLEL_EPSILON};
+use crate::geometry::{Ray, PARALLEL_EPSILON};
 use crate::layout::{KdNode, LeafRopes};
 
-use super::ropes::Ropes;
 use super::walk_step::{
-    descent_step, max_restarts, scene_segment, test_leaf, walk_done, Hit, WalkCost,
+    descent_step, max_restarts, scene_segment, test_leaf, walk_done, Hit, WalkCost, WalkQuery,
+    WalkScene,
 };
-use super::KdTree;
 
 /// The nearest hit (`any` false) or any hit (`any` true) by the rope walk,
 /// and the work it did (`Traversal::closest_hit` and `any_hit` call it).
-pub fn walk_counted(
-    tree: &KdTree,
-    ropes: &Ropes,
-    prims: &Primitives,
-    ray: &Ray,
-    t_limit: f32,
-    any: bool,
-) -> (Option<Hit>, WalkCost) {
+pub fn walk_counted(scene: WalkScene, query: WalkQuery) -> (Option<Hit>, WalkCost) {
     let mut cost = WalkCost::default();
-    let hit = walk(tree, ropes, prims, ray, t_limit, any, &mut cost);
+    let hit = walk(scene, query, &mut cost);
     (hit, cost)
 }
 
@@ -97,15 +89,9 @@ fn rope_exit_on_axis(leaf: &LeafRopes, a: usize, ray: &Ray, exit: RopeExit) -> R
     exit
 }
 
-fn walk(
-    tree: &KdTree,
-    ropes: &Ropes,
-    prims: &Primitives,
-    ray: &Ray,
-    t_limit: f32,
-    any: bool,
-    cost: &mut WalkCost,
-) -> Option<Hit> {
+fn walk(scene: WalkScene, query: WalkQuery, cost: &mut WalkCost) -> Option<Hit> {
+    let WalkScene { tree, ropes, prims } = scene;
+    let WalkQuery { ray, t_limit, any } = query;
     let (mut t_min, t_far) = scene_segment(tree, prims, ray, t_limit)?;
     let nodes = &tree.nodes;
     let mut best: Option<Hit> = None;

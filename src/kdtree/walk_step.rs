@@ -11,7 +11,26 @@
 use crate::geometry::{Primitives, Ray, PARALLEL_EPSILON};
 use crate::layout::KdNode;
 
-use super::KdTree;
+use super::{KdTree, Ropes};
+
+/// What every walk searches: the tree, its ropes (read by the rope walk
+/// only) and the objects.
+#[derive(Clone, Copy)]
+pub struct WalkScene<'a> {
+    pub tree: &'a KdTree,
+    pub ropes: &'a Ropes,
+    pub prims: &'a Primitives,
+}
+
+/// What a walk is asked: the ray, how far it reaches (0 < t <= t_limit for
+/// the nearest hit, 0 < t < t_limit for any hit), and whether any hit will
+/// do (shadow rays) or the nearest is wanted.
+#[derive(Debug, Clone, Copy)]
+pub struct WalkQuery<'a> {
+    pub ray: &'a Ray,
+    pub t_limit: f32,
+    pub any: bool,
+}
 
 /// A hit: which object and where along the ray.
 #[derive(Debug, Clone, Copy, PartialEq)]

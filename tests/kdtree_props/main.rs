@@ -17,7 +17,7 @@ mod walks;
 
 use kdray::geometry::{Primitives, Ray, T_INFINITY};
 use kdray::kdtree::traverse::{any_hit_brute, closest_hit_brute, Hit};
-use kdray::kdtree::{build_primitives, BuildStrategy, KdTree, Ropes, Traversal};
+use kdray::kdtree::{build_primitives, BuildStrategy, KdTree, Ropes, Traversal, WalkScene};
 use proptest::prelude::*;
 
 /// A tree and its ropes: what every walk needs.
@@ -39,11 +39,19 @@ impl Walks {
         ray: &Ray,
         t_limit: f32,
     ) -> Option<Hit> {
-        walk.closest_hit(&self.tree, &self.ropes, prims, ray, t_limit)
+        walk.closest_hit(self.scene(prims), ray, t_limit)
     }
 
     fn any_hit(&self, walk: Traversal, prims: &Primitives, ray: &Ray, t_limit: f32) -> bool {
-        walk.any_hit(&self.tree, &self.ropes, prims, ray, t_limit)
+        walk.any_hit(self.scene(prims), ray, t_limit)
+    }
+
+    fn scene<'a>(&'a self, prims: &'a Primitives) -> WalkScene<'a> {
+        WalkScene {
+            tree: &self.tree,
+            ropes: &self.ropes,
+            prims,
+        }
     }
 }
 
