@@ -21,6 +21,9 @@ packages=(
     # scenes/bunny.toml's mesh, /usr/share/glmark2/models/bunny.obj (the
     # Stanford bunny), which the image tests render.
     glmark2-data
+    # tests/farm.rs runs `kdray farm` on a one-node Slurm cluster that
+    # scripts/slurm_cluster.sh starts on this machine (as root, no systemd).
+    slurmctld slurmd slurm-client munge
 )
 
 missing=()

@@ -40,11 +40,21 @@ pub enum Command {
     Bench(BenchArgs),
     /// Write one of the bench's random scenes as a scene file.
     Generate(GenerateArgs),
+    /// Render on a cluster: write a Slurm job array and a finishing job into
+    /// --out (a still in bands of rows, or an animation's frames), and
+    /// optionally submit them and wait.
+    Farm(crate::farm::FarmArgs),
+    /// Run one task of a farm (what its batch script runs).
+    #[command(hide = true)]
+    FarmTask(crate::farm::FarmTaskArgs),
+    /// Finish a farm: bands into one PNG, or frames checked and encoded.
+    #[command(hide = true)]
+    FarmFinish(crate::farm::FarmFinishArgs),
 }
 
 /// A flag whose values are a library [`Choice`]: clap lists the names and
 /// their help, and an unknown name is a usage error (exit 2) naming them.
-fn choice<T: Choice + Clone>() -> impl TypedValueParser<Value = T> {
+pub fn choice<T: Choice + Clone>() -> impl TypedValueParser<Value = T> {
     PossibleValuesParser::new(
         T::ALL
             .iter()

@@ -1,8 +1,10 @@
 //! The `kdray` command line: `render` (to a PNG, or `--window`), `info`,
-//! `bench` and `generate`.
+//! `bench`, `generate` and `farm` (with its hidden `farm-task` and
+//! `farm-finish`).
 
 mod args;
 mod bench;
+mod farm;
 
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
@@ -44,6 +46,9 @@ fn main() -> ExitCode {
         Command::Info => info(),
         Command::Bench(args) => bench::bench(args),
         Command::Generate(args) => bench::generate(args),
+        Command::Farm(args) => farm::farm(args),
+        Command::FarmTask(args) => farm::farm_task(args),
+        Command::FarmFinish(args) => farm::farm_finish(args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,
