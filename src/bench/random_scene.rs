@@ -266,6 +266,7 @@ pub fn random_scene(spec: &RandomSceneSpec) -> Scene {
         spheres,
         triangles,
         triangle_normals: Vec::new(),
+        animation: None,
     }
 }
 

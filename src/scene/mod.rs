@@ -5,11 +5,13 @@
 //! with the lines of `source_map`) -> `validate` (every rule, into a
 //! `Scene`) -> `mesh_placement` (each `[[meshes]]` entry read through
 //! `mesh_file` by `obj` or `gltf` into a `mesh::Mesh`, then placed in the
-//! world). `write` turns a `Scene` back into scene file text.
+//! world). `write` turns a `Scene` back into scene file text, and
+//! `animation` gives the camera at each frame of an `[animation]`.
 //!
 //! Units: positions in scene units, angles in degrees in files and radians
 //! nowhere in this module (the camera keeps `vfov_degrees`), colours linear.
 
+mod animation;
 mod camera_basis;
 mod document_errors;
 mod error;
@@ -26,6 +28,7 @@ mod source_map;
 mod validate;
 mod write;
 
+pub use animation::{Animation, CameraKey, CameraPath, MAX_FRAMES};
 pub use camera_basis::CameraBasis;
 pub use error::SceneError;
 pub use input_file::MAX_INPUT_BYTES;
@@ -48,6 +51,10 @@ pub struct Scene {
     /// The vertex normals of the smooth-shaded triangles, which
     /// [`Triangle::normals`] indexes ([`Scene::normals_of`]).
     pub triangle_normals: Vec<[DVec3; 3]>,
+    /// The `[animation]`, if any: how the camera moves from frame to frame
+    /// ([`Scene::camera_at`]); `camera` is its frame 0 unless a key says
+    /// otherwise.
+    pub animation: Option<Animation>,
 }
 
 #[derive(Debug, Clone, Copy, PartialEq)]

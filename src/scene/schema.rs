@@ -75,7 +75,7 @@ pub(super) trait Described {
 }
 
 impl Described for RawScene {
-    const WHAT: &'static str = "a scene (a table of [camera], [render], [[lights]], [materials], [[spheres]], [[triangles]], [[meshes]])";
+    const WHAT: &'static str = "a scene (a table of [camera], [render], [[lights]], [materials], [[spheres]], [[triangles]], [[meshes]], [animation])";
 }
 impl Described for RawCamera {
     const WHAT: &'static str = "a [camera] table";
@@ -97,6 +97,12 @@ impl Described for RawTriangle {
 }
 impl Described for RawMesh {
     const WHAT: &'static str = "a [[meshes]] table";
+}
+impl Described for RawAnimation {
+    const WHAT: &'static str = "an [animation] table";
+}
+impl Described for RawCameraKey {
+    const WHAT: &'static str = "an [[animation.keys]] table";
 }
 
 impl<T: Serialize> Serialize for TableOf<T> {
@@ -148,6 +154,8 @@ pub(super) struct RawScene {
     pub(super) triangles: Vec<TableOf<RawTriangle>>,
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub(super) meshes: Vec<TableOf<RawMesh>>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub(super) animation: Option<TableOf<RawAnimation>>,
 }
 
 #[derive(Deserialize, Serialize)]
@@ -282,6 +290,39 @@ pub(super) struct RawMesh {
     pub(super) rotate: Vec3,
     #[serde(default)]
     pub(super) translate: Vec3,
+}
+
+/// `[animation]`: the frames, and how the camera moves over them.
+#[derive(Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub(super) struct RawAnimation {
+    pub(super) frames: u32,
+    #[serde(default = "default_fps")]
+    pub(super) fps: f64,
+    /// Degrees; 0: no orbit.
+    #[serde(default)]
+    pub(super) orbit: f64,
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub(super) keys: Vec<TableOf<RawCameraKey>>,
+}
+
+fn default_fps() -> f64 {
+    super::animation::DEFAULT_FPS
+}
+
+/// `[[animation.keys]]`: a frame and any of the camera's fields.
+#[derive(Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub(super) struct RawCameraKey {
+    pub(super) frame: u32,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub(super) position: Option<Vec3>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub(super) look_at: Option<Vec3>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub(super) up: Option<Vec3>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub(super) vfov: Option<f64>,
 }
 
 /// `scale = 2` or `scale = [x, y, z]`. Written by hand rather than as an

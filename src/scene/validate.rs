@@ -2,7 +2,9 @@
 //! ([`schema`](super::schema)) checked value by value and turned into the
 //! world-space [`Scene`]. Each error names its key and, through the source
 //! map, its line. Meshes are loaded and placed by
-//! [`mesh_placement`](super::mesh_placement).
+//! [`mesh_placement`](super::mesh_placement); an `[animation]` is checked
+//! key by key and then frame by frame (the camera of every frame must be
+//! as valid as `[camera]`).
 
 use std::cell::RefCell;
 use std::collections::BTreeMap;
@@ -10,10 +12,13 @@ use std::path::Path;
 
 use glam::DVec3;
 
+use super::animation::{Animation, CameraKey, CameraPath, MAX_FRAMES};
 use super::load::LazySourceMap;
 use super::mesh_placement::has_area;
 use super::normals::unit;
-use super::schema::{RawCamera, RawRender, RawScene, RawShadowMode, Vec3, DEFAULT_UP};
+use super::schema::{
+    RawAnimation, RawCamera, RawRender, RawScene, RawShadowMode, Vec3, DEFAULT_UP,
+};
 use super::{
     Camera, Light, Material, RenderSettings, Scene, SceneError, ShadowMode, Sphere, Triangle,
 };
@@ -101,6 +106,10 @@ impl Validator<'_> {
     pub(super) fn scene(&self, raw: RawScene) -> Result<Scene, SceneError> {
         let camera = self.camera(&raw.camera)?;
         let render = self.render(&raw.render)?;
+        let animation = match &raw.animation {
+            Some(a) => Some(self.animation(a, &camera)?),
+            None => None,
+        };
 
         if raw.lights.is_empty() {
             // Names the line of `lights = []` when there is one.
@@ -226,6 +235,7 @@ impl Validator<'_> {
             spheres,
             triangles,
             triangle_normals,
+            animation,
         })
     }
 
@@ -250,7 +260,7 @@ impl Validator<'_> {
         let Some(forward) = unit(forward) else {
             return Err(self.error("camera.look_at", "must differ from camera.position"));
         };
-        if unit(up).is_none_or(|up| forward.cross(up).length() < 1e-9) {
+        if up_is_parallel(forward, up) {
             return Err(self.error(
                 "camera.up",
                 format!(
@@ -266,6 +276,115 @@ impl Validator<'_> {
             up,
             vfov_degrees,
         })
+    }
+
+    /// `[animation]`: its keys one by one, then the camera of every frame
+    /// (`camera` is the validated `[camera]`).
+    fn animation(&self, a: &RawAnimation, camera: &Camera) -> Result<Animation, SceneError> {
+        let frames = a.frames;
+        if !(1..=MAX_FRAMES).contains(&frames) {
+            return Err(self.error(
+                "animation.frames",
+                format!("must be in 1..={MAX_FRAMES}, got {frames}"),
+            ));
+        }
+        let fps = self.number(&|| "animation.fps".into(), a.fps)?;
+        if fps <= 0.0 {
+            return Err(self.error("animation.fps", format!("must be > 0, got {fps:?}")));
+        }
+        let orbit_degrees = self.number(&|| "animation.orbit".into(), a.orbit)?;
+        let mut keys: Vec<CameraKey> = Vec::with_capacity(a.keys.len());
+        for (i, k) in a.keys.iter().enumerate() {
+            let key = |field: &str| format!("animation.keys[{i}].{field}");
+            if k.frame >= frames {
+                return Err(self.error(
+                    &key("frame"),
+                    format!(
+                        "must be in 0..{frames} (animation.frames = {frames}), got {}",
+                        k.frame
+                    ),
+                ));
+            }
+            if let Some(previous) = keys.last() {
+                if k.frame <= previous.frame {
+                    let message = if k.frame == previous.frame {
+                        format!(
+                            "frame {} is keyed twice (animation.keys[{}] is at frame {} too)",
+                            k.frame,
+                            i - 1,
+                            previous.frame
+                        )
+                    } else {
+                        format!(
+                            "keys must be in increasing frame order: animation.keys[{}] is at frame {}, this one at {}",
+                            i - 1,
+                            previous.frame,
+                            k.frame
+                        )
+                    };
+                    return Err(self.error(&key("frame"), message));
+                }
+            }
+            let vfov_degrees = match k.vfov {
+                Some(v) => {
+                    let v = self.number(&|| key("vfov"), v)?;
+                    if !(v > 0.0 && v < 180.0) {
+                        return Err(self.error(
+                            &key("vfov"),
+                            format!("must be in (0, 180) degrees, got {v:?}"),
+                        ));
+                    }
+                    Some(v)
+                }
+                None => None,
+            };
+            let camera_key = CameraKey {
+                frame: k.frame,
+                position: k
+                    .position
+                    .map(|p| self.position(&|| key("position"), p))
+                    .transpose()?,
+                look_at: k
+                    .look_at
+                    .map(|p| self.position(&|| key("look_at"), p))
+                    .transpose()?,
+                up: k.up.map(|u| self.vector(&|| key("up"), u)).transpose()?,
+                vfov_degrees,
+            };
+            if camera_key.position.is_none()
+                && camera_key.look_at.is_none()
+                && camera_key.up.is_none()
+                && camera_key.vfov_degrees.is_none()
+            {
+                return Err(self.error(
+                    &format!("animation.keys[{i}]"),
+                    "sets none of position, look_at, up, vfov",
+                ));
+            }
+            keys.push(camera_key);
+        }
+        let animation = Animation {
+            frames,
+            fps,
+            orbit_degrees,
+            keys,
+        };
+        let path = CameraPath::new(camera, Some(&animation));
+        for frame in 0..frames {
+            if let Some(message) = camera_fault(&path.camera_at(frame)) {
+                // Blame the key whose segment holds the frame (the first key
+                // before it), or the orbit when there are no keys.
+                let keys = &animation.keys;
+                let key = if keys.is_empty() {
+                    "animation.orbit".to_string()
+                } else {
+                    let i = keys.partition_point(|k| k.frame <= frame).max(1) - 1;
+                    format!("animation.keys[{i}]")
+                };
+                return Err(self.error(&key, format!("at frame {frame} {message}")));
+            }
+        }
+        Ok(animation)
     }
 
     fn render(&self, r: &RawRender) -> Result<RenderSettings, SceneError> {
@@ -311,6 +430,39 @@ impl Validator<'_> {
             samples,
         })
     }
+}
+
+/// Whether `up` is zero or parallel to the unit view direction `forward`:
+/// then the camera has no "right".
+fn up_is_parallel(forward: DVec3, up: DVec3) -> bool {
+    unit(up).is_none_or(|up| forward.cross(up).length() < 1e-9)
+}
+
+/// What is wrong with an animated frame's camera, if anything: the rules
+/// of `[camera]` (vfov needs no check: it lies between valid ones).
+fn camera_fault(c: &Camera) -> Option<String> {
+    for (name, p) in [("position", c.position), ("look_at", c.look_at)] {
+        if !(p.is_finite() && p.abs().max_element() <= MAX_COORDINATE) {
+            return Some(format!(
+                "the camera's {name} {:?} is not within ±{MAX_COORDINATE:e} (the GPU computes in f32)",
+                p.to_array()
+            ));
+        }
+    }
+    let Some(forward) = unit(c.look_at - c.position) else {
+        return Some(format!(
+            "the camera's look_at equals its position {:?}",
+            c.position.to_array()
+        ));
+    };
+    if up_is_parallel(forward, c.up) {
+        return Some(format!(
+            "the camera's up {:?} is zero or parallel to its view direction (look_at - position = {:?})",
+            c.up.to_array(),
+            (c.look_at - c.position).to_array()
+        ));
+    }
+    None
 }
 
 /// `samples` must be a perfect square k * k with k >= 1.

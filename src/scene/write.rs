@@ -1,6 +1,6 @@
 //! A [`Scene`] back to scene file text (TOML or JSON), through the same
 //! serde schema the reader uses: the tests and benchmarks write generated
-//! scenes with it.
+//! scenes with it. An `[animation]` is written back key for key.
 
 use std::collections::BTreeMap;
 
@@ -8,8 +8,8 @@ use glam::DVec3;
 
 use super::load::SceneFormat;
 use super::schema::{
-    Exact, RawCamera, RawLight, RawMaterial, RawRender, RawScene, RawShadowMode, RawSphere,
-    RawTriangle, TableOf,
+    Exact, RawAnimation, RawCamera, RawCameraKey, RawLight, RawMaterial, RawRender, RawScene,
+    RawShadowMode, RawSphere, RawTriangle, TableOf,
 };
 use super::{Scene, ShadowMode};
 
@@ -96,6 +96,26 @@ pub fn scene_text(scene: &Scene, format: SceneFormat) -> Result<String, String> 
             })
             .collect::<Result<_, String>>()?,
         meshes: Vec::new(),
+        animation: scene.animation.as_ref().map(|a| {
+            TableOf(RawAnimation {
+                frames: a.frames,
+                fps: a.fps,
+                orbit: a.orbit_degrees,
+                keys: a
+                    .keys
+                    .iter()
+                    .map(|k| {
+                        TableOf(RawCameraKey {
+                            frame: k.frame,
+                            position: k.position.map(v),
+                            look_at: k.look_at.map(v),
+                            up: k.up.map(v),
+                            vfov: k.vfov_degrees,
+                        })
+                    })
+                    .collect(),
+            })
+        }),
     };
     match format {
         SceneFormat::Toml => toml::to_string(&raw).map_err(|e| e.to_string()),

@@ -14,6 +14,7 @@
 mod common;
 mod doc;
 
+mod animation;
 mod bad_mesh_files;
 mod camera;
 mod examples;
