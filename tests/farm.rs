@@ -372,3 +372,100 @@ fn without_sbatch_the_scripts_run_by_hand_and_make_the_same_image() {
         single_render(&tmp, &scene, &[])
     );
 }
+
+#[test]
+fn an_orbit_of_eight_frames_in_three_tasks_equals_render_frame_by_frame() {
+    let cluster = cluster();
+    let tmp = TempDir::new("farm-frames");
+    let out = tmp.join("out");
+    let text = std::fs::read_to_string(repo("scenes/orbit.toml")).unwrap();
+    let eight = text.replace("frames = 48", "frames = 8");
+    assert_ne!(eight, text, "scenes/orbit.toml's frames line");
+    let scene = tmp.write("orbit.toml", &eight);
+    let scene = scene.to_str().unwrap();
+    let run = farm(
+        &tmp.path,
+        &cluster,
+        scene,
+        &out,
+        &["--tasks", "3", "--submit", "--wait"],
+    );
+    assert_eq!(run.code, 0, "{run:#?}");
+    assert!(
+        run.stdout.contains("8 frames of 64x48, 3 tasks"),
+        "{run:#?}"
+    );
+    assert!(run.stdout.contains("(tasks 0-2)"), "{run:#?}");
+    let frames: Vec<String> = (0..8).map(|k| format!("{k:04}.png")).collect();
+    assert_eq!(top_level_pngs(&out), frames);
+    let mut seen = Vec::new();
+    for (k, name) in frames.iter().enumerate() {
+        let image = read_png_rgb(&out.join(name)).unwrap();
+        let k = k.to_string();
+        assert_eq!(
+            image,
+            single_render(&tmp, scene, &["--frame", &k]),
+            "frame {k}"
+        );
+        assert!(!seen.contains(&image), "frame {k} repeats an earlier frame");
+        seen.push(image);
+    }
+    // Shares of 2, 3 and 3 frames, each task's frames in its log.
+    let log = std::fs::read_to_string(out.join("parts/logs/task-2.log")).unwrap();
+    assert!(log.contains("\"rendered\":[5,6,7]"), "{log}");
+    let finish = std::fs::read_to_string(out.join("parts/logs/finish.log")).unwrap();
+    assert!(finish.contains("8 frames checked"), "{finish}");
+    match kdray::farm::find_on_path("ffmpeg") {
+        Some(_) => assert!(out.join("orbit.mp4").is_file()),
+        None => assert!(finish.contains("ffmpeg -y"), "{finish}"),
+    }
+}
+
+#[test]
+fn a_still_of_one_frame_of_an_animation_equals_render_frame_and_bad_frames_exit_2() {
+    let tmp = TempDir::new("farm-one-frame");
+    let out = tmp.join("out");
+    let scene = repo("scenes/orbit.toml");
+    let mut args = vec!["farm", &scene, "--out", out.to_str().unwrap()];
+    args.extend(SIZE);
+    args.extend(["--frame", "30", "--tiles", "2"]);
+    let run = run_kdray(&tmp.path, &args, &[]);
+    assert_eq!(run.code, 0, "{run:#?}");
+    for i in ["0", "1"] {
+        let task = Command::new("sh")
+            .arg(out.join("render.sbatch"))
+            .arg(i)
+            .output()
+            .unwrap();
+        assert!(task.status.success(), "{task:?}");
+    }
+    let finish = Command::new("sh")
+        .arg(out.join("finish.sbatch"))
+        .output()
+        .unwrap();
+    assert!(finish.status.success(), "{finish:?}");
+    assert_eq!(top_level_pngs(&out), ["orbit.png"]);
+    let frame_30 = single_render(&tmp, &scene, &["--frame", "30"]);
+    assert_eq!(read_png_rgb(&out.join("orbit.png")).unwrap(), frame_30);
+    assert_ne!(
+        frame_30,
+        single_render(&tmp, &scene, &[]),
+        "frame 0 differs"
+    );
+
+    let render = run_kdray(&tmp.path, &["render", &scene, "--frame", "48"], &[]);
+    assert_eq!(render.code, 2, "{render:#?}");
+    assert!(render.one_error_line().contains("--frame"), "{render:#?}");
+    let mut args = vec![
+        "farm",
+        &scene,
+        "--out",
+        out.to_str().unwrap(),
+        "--frame",
+        "48",
+    ];
+    args.extend(SIZE);
+    let farm = run_kdray(&tmp.path, &args, &[]);
+    assert_eq!(farm.code, 2, "{farm:#?}");
+    assert!(farm.one_error_line().contains("--frame"), "{farm:#?}");
+}

@@ -166,8 +166,8 @@ fn work_for(scene: &Scene, request: &FarmRequest) -> Result<Work> {
 }
 
 /// The scene's animation as (frames, frames per second), if it has one.
-fn animation_of(_scene: &Scene) -> Option<(u32, f64)> {
-    None
+fn animation_of(scene: &Scene) -> Option<(u32, f64)> {
+    scene.animation.as_ref().map(|a| (a.frames, a.fps))
 }
 
 /// Removes what an earlier plan rendered into DIR: its parts folder (bands,

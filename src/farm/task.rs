@@ -81,11 +81,6 @@ pub fn load_planned_scene(plan: &FarmPlan, dir: &Path) -> Result<Scene> {
     Ok(scene)
 }
 
-/// The camera of frame `k` (the scene's own camera without an animation).
-pub fn camera_at(scene: &Scene, _frame: u32) -> Camera {
-    scene.camera
-}
-
 /// Renders task `task`'s share of DIR's plan: every item of it not yet
 /// written, each written atomically (a killed task leaves no half file).
 pub fn run_task(dir: &Path, task: u32) -> Result<TaskReport> {
@@ -130,9 +125,11 @@ pub fn run_task(dir: &Path, task: u32) -> Result<TaskReport> {
         Work::Still { frame, .. } => Some(frame),
         Work::Frames { .. } => None,
     };
+    // Only the camera moves between frames: one tree serves them all.
+    let path = scene.camera_path();
     let cameras: Vec<Camera> = todo
         .iter()
-        .map(|&i| camera_at(&scene, still_frame.unwrap_or(i)))
+        .map(|&i| path.camera_at(still_frame.unwrap_or(i)))
         .collect();
     let uploaded = GpuScene::upload(
         &ctx,

@@ -137,6 +137,9 @@ pub struct RenderArgs {
     /// fix it to compare runs.
     #[arg(long, value_name = "N", requires = "heatmap", value_parser = clap::value_parser!(u32).range(1..))]
     pub heatmap_max: Option<u32>,
+    /// Render this frame of the scene's animation (0-based) [default: 0].
+    #[arg(long, value_name = "N", conflicts_with = "window")]
+    pub frame: Option<u32>,
     /// Open an interactive window instead of writing a PNG (see the README's controls).
     #[arg(long, conflicts_with = "output")]
     pub window: bool,

@@ -72,6 +72,7 @@ fn render(args: RenderArgs) -> Result<()> {
         stats,
         heatmap,
         heatmap_max,
+        frame,
         ..
     } = args;
     let scene_path = scene_path.as_path();
@@ -81,6 +82,14 @@ fn render(args: RenderArgs) -> Result<()> {
     scene.render.samples = samples.unwrap_or(scene.render.samples);
     scene.render.width = width.unwrap_or(scene.render.width);
     scene.render.height = height.unwrap_or(scene.render.height);
+    let frame = frame.unwrap_or(0);
+    if frame >= scene.frame_count() {
+        return Err(Error::Usage(format!(
+            "--frame: the scene has frames 0..{}, got {frame}",
+            scene.frame_count()
+        )));
+    }
+    scene.camera = scene.camera_at(frame);
     let output = output.unwrap_or_else(|| {
         let stem = scene_path
             .file_stem()
