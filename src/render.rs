@@ -201,7 +201,7 @@ impl FramePart {
     /// Every row of the scene's frame from its own camera.
     pub fn whole(scene: &Scene) -> Self {
         FramePart {
-            camera: scene.camera.clone(),
+            camera: scene.camera,
             rows: (0, scene.render.height),
         }
     }

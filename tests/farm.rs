@@ -345,7 +345,8 @@ fn without_sbatch_the_scripts_run_by_hand_and_make_the_same_image() {
     // Each task takes its index from an argument, Slurm's variable or
     // Kubernetes' (Indexed Jobs).
     let script = out.join("render.sbatch");
-    let tasks: [(&[&str], &[(&str, &str)]); 3] = [
+    type Index<'a> = (&'a [&'a str], &'a [(&'a str, &'a str)]);
+    let tasks: [Index; 3] = [
         (&["0"], &[]),
         (&[], &[("SLURM_ARRAY_TASK_ID", "1")]),
         (&[], &[("JOB_COMPLETION_INDEX", "2")]),
