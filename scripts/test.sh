@@ -24,6 +24,9 @@ packages=(
     # tests/web.rs traces the exported site in headless Chromium (WebGPU on
     # its SwiftShader), driven from node by tests/web's npm packages.
     chromium nodejs npm python3
+    # tests/farm.rs runs `kdray farm` on a one-node Slurm cluster that
+    # scripts/slurm_cluster.sh starts on this machine (as root, no systemd).
+    slurmctld slurmd slurm-client munge
 )
 
 missing=()

@@ -10,6 +10,7 @@
 pub mod bench;
 pub mod choice;
 pub mod error;
+pub mod farm;
 pub mod fuzz_support;
 pub mod geometry;
 pub mod gpu;

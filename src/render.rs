@@ -1,6 +1,8 @@
 //! One frame end to end: scene -> primitives and k-d tree
 //! ([`PreparedScene`]) -> GPU buffers ([`GpuScene`]) -> tiled dispatch ->
-//! 8-bit image, with the figures `--stats` reports.
+//! 8-bit image, with the figures `--stats` reports; or one part of a
+//! frame ([`FramePart`]: some of its rows, from another camera), as a farm
+//! task renders it.
 
 use std::time::Instant;
 
@@ -12,7 +14,7 @@ use crate::gpu::{
     RenderedImage, Renderer, RowBand, TilePlan,
 };
 use crate::kdtree::Traversal;
-use crate::scene::Scene;
+use crate::scene::{Camera, Scene};
 
 /// What `kdray render --stats` prints, as one JSON object.
 #[derive(Debug, Clone, Serialize)]
@@ -167,12 +169,67 @@ pub fn render_streaming(
     with_cost: bool,
     sink: &mut dyn FnMut(RowBand<'_>) -> Result<()>,
 ) -> Result<(RenderStats, RenderSummary)> {
-    render_uploaded(ctx, scene, traversal, max_tile_pixels, with_cost, sink)
+    render_uploaded(
+        ctx,
+        scene,
+        None,
+        traversal,
+        max_tile_pixels,
+        with_cost,
+        sink,
+    )
 }
 
+/// Which part of a frame a render covers: rows `rows.0..rows.1` of the
+/// image (clamped to its height), seen from `camera` with the scene's
+/// `[render]` settings. Its pixels are those of the whole frame's render
+/// from that camera: a pixel's colour depends on its place in the image,
+/// never on the band or tile it was traced in.
+#[derive(Debug, Clone, PartialEq)]
+pub struct FramePart {
+    pub camera: Camera,
+    pub rows: (u32, u32),
+}
+
+impl FramePart {
+    /// Every row of the scene's frame from its own camera.
+    pub fn whole(scene: &Scene) -> Self {
+        FramePart {
+            camera: scene.camera,
+            rows: (0, scene.render.height),
+        }
+    }
+}
+
+/// [`render_streaming`] for one part of a frame (a farm task's band of
+/// rows, or an animation's frame without rebuilding the tree): bands go to
+/// `sink` with their rows numbered in the whole image, and the stats count
+/// the rays of the part's rows.
+pub fn render_part_streaming(
+    ctx: &GpuContext,
+    scene: &GpuScene,
+    part: &FramePart,
+    traversal: Traversal,
+    max_tile_pixels: u64,
+    sink: &mut dyn FnMut(RowBand<'_>) -> Result<()>,
+) -> Result<(RenderStats, RenderSummary)> {
+    render_uploaded(
+        ctx,
+        scene,
+        Some(part),
+        traversal,
+        max_tile_pixels,
+        false,
+        sink,
+    )
+}
+
+/// Renders `part` of the frame (the scene's own camera, every row, when
+/// `None`).
 fn render_uploaded(
     ctx: &GpuContext,
     uploaded: &GpuScene,
+    part: Option<&FramePart>,
     traversal: Traversal,
     max_tile_pixels: u64,
     with_cost: bool,
@@ -188,18 +245,25 @@ fn render_uploaded(
     let transfer_ms = upload_ms;
     let upload_ms = prepared.flatten_ms + transfer_ms + ms_since(total);
 
-    let params = uploaded.frame_params().with_traversal(traversal);
+    let camera = part.map_or(&scene.camera, |p| &p.camera);
+    let params = uploaded
+        .view_params(camera, &scene.render, accel)
+        .with_traversal(traversal);
+    let (first_row, end_row) = part.map_or((0, scene.render.height), |p| {
+        (p.rows.0, p.rows.1.min(scene.render.height))
+    });
     let max_binding = crate::gpu::max_binding_bytes(&ctx.device.limits());
     let plan = TilePlan::new(
         scene.render.width,
         scene.render.height,
         max_tile_pixels,
         max_binding,
-    );
+    )
+    .with_rows(first_row, end_row);
     let summary = renderer.render_bands_with_cost(ctx, buffers, params, plan, with_cost, sink)?;
     let tree_stats = prepared.tree.stats();
-    let primary_rays =
-        scene.render.width as u64 * scene.render.height as u64 * scene.render.samples as u64;
+    let rows = end_row.saturating_sub(first_row) as u64;
+    let primary_rays = scene.render.width as u64 * rows * scene.render.samples as u64;
     let stats = RenderStats {
         adapter: ctx.info.name.clone(),
         backend: format!("{:?}", ctx.info.backend),

@@ -15,12 +15,15 @@ use crate::layout::{FrameParams, RayCounters};
 /// or more tiles of at most `tile_width` x `max_rows` pixels. Band heights
 /// adapt so that one dispatch takes about `target_dispatch_ms` (real GPUs
 /// reset dispatches that run for seconds); buffers never exceed the
-/// adapter's storage binding size.
+/// adapter's storage binding size. `rows` (all by default) limits the
+/// render to rows `rows.0..rows.1` of the image, whose pixels are those of
+/// the whole image's render (a farm task's band).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct TilePlan {
     pub tile_width: u32,
     pub max_rows: u32,
     pub target_dispatch_ms: f64,
+    pub rows: (u32, u32),
 }
 
 impl TilePlan {
@@ -43,6 +46,15 @@ impl TilePlan {
             tile_width,
             max_rows,
             target_dispatch_ms: Self::DEFAULT_TARGET_DISPATCH_MS,
+            rows: (0, u32::MAX),
+        }
+    }
+
+    /// This plan for rows `first..end` of the image only.
+    pub fn with_rows(self, first: u32, end: u32) -> Self {
+        TilePlan {
+            rows: (first, end),
+            ..self
         }
     }
 
@@ -349,10 +361,10 @@ impl Renderer {
             rays: RayTotals::default(),
             cost: with_cost.then(CostTotals::default),
         };
-        let mut y = 0;
+        let (mut y, end) = (plan.rows.0, plan.rows.1.min(height));
         let mut rows = plan.first_band_rows(width);
-        while y < height {
-            let h = rows.min(height - y);
+        while y < end {
+            let h = rows.min(end - y);
             band_rgb.clear();
             band_rgb.resize(width as usize * h as usize * 3, 0);
             if with_cost {

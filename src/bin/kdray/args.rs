@@ -42,6 +42,16 @@ pub enum Command {
     Generate(GenerateArgs),
     /// Write a static site that traces the scene in a browser with WebGPU.
     Web(WebArgs),
+    /// Render on a cluster: write a Slurm job array and a finishing job into
+    /// --out (a still in bands of rows, or an animation's frames), and
+    /// optionally submit them and wait.
+    Farm(crate::farm::FarmArgs),
+    /// Run one task of a farm (what its batch script runs).
+    #[command(hide = true)]
+    FarmTask(crate::farm::FarmTaskArgs),
+    /// Finish a farm: bands into one PNG, or frames checked and encoded.
+    #[command(hide = true)]
+    FarmFinish(crate::farm::FarmFinishArgs),
 }
 
 #[derive(clap::Args)]
@@ -55,7 +65,7 @@ pub struct WebArgs {
 
 /// A flag whose values are a library [`Choice`]: clap lists the names and
 /// their help, and an unknown name is a usage error (exit 2) naming them.
-fn choice<T: Choice + Clone>() -> impl TypedValueParser<Value = T> {
+pub fn choice<T: Choice + Clone>() -> impl TypedValueParser<Value = T> {
     PossibleValuesParser::new(
         T::ALL
             .iter()
@@ -138,6 +148,9 @@ pub struct RenderArgs {
     /// fix it to compare runs.
     #[arg(long, value_name = "N", requires = "heatmap", value_parser = clap::value_parser!(u32).range(1..))]
     pub heatmap_max: Option<u32>,
+    /// Render this frame of the scene's animation (0-based) [default: 0].
+    #[arg(long, value_name = "N", conflicts_with = "window")]
+    pub frame: Option<u32>,
     /// Open an interactive window instead of writing a PNG (see the README's controls).
     #[arg(long, conflicts_with = "output")]
     pub window: bool,

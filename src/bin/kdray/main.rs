@@ -1,8 +1,10 @@
 //! The `kdray` command line: `render` (to a PNG, or `--window`), `info`,
-//! `bench`, `generate` and `web`.
+//! `bench`, `generate`, `web` and `farm` (with its hidden `farm-task` and
+//! `farm-finish`).
 
 mod args;
 mod bench;
+mod farm;
 
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
@@ -45,6 +47,9 @@ fn main() -> ExitCode {
         Command::Bench(args) => bench::bench(args),
         Command::Generate(args) => bench::generate(args),
         Command::Web(args) => kdray::web::export_site(&args.scene, &args.output),
+        Command::Farm(args) => farm::farm(args),
+        Command::FarmTask(args) => farm::farm_task(args),
+        Command::FarmFinish(args) => farm::farm_finish(args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,
@@ -68,6 +73,7 @@ fn render(args: RenderArgs) -> Result<()> {
         stats,
         heatmap,
         heatmap_max,
+        frame,
         ..
     } = args;
     let scene_path = scene_path.as_path();
@@ -77,6 +83,14 @@ fn render(args: RenderArgs) -> Result<()> {
     scene.render.samples = samples.unwrap_or(scene.render.samples);
     scene.render.width = width.unwrap_or(scene.render.width);
     scene.render.height = height.unwrap_or(scene.render.height);
+    let frame = frame.unwrap_or(0);
+    if frame >= scene.frame_count() {
+        return Err(Error::Usage(format!(
+            "--frame: the scene has frames 0..{}, got {frame}",
+            scene.frame_count()
+        )));
+    }
+    scene.camera = scene.camera_at(frame);
     let output = output.unwrap_or_else(|| {
         let stem = scene_path
             .file_stem()

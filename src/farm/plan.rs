@@ -1,0 +1,289 @@
+//! The farm's plan, recorded as DIR/farm.json: what is rendered (a still
+//! in bands of rows, or an animation's frames), with which flags, from
+//! which input files (their hashes), how the work is shared among the
+//! array's tasks, and where each file of DIR lives.
+
+use std::ops::Range;
+use std::path::{Path, PathBuf};
+
+use serde::{Deserialize, Serialize};
+
+use super::fingerprint::InputFile;
+use crate::error::{Error, Result};
+use crate::gpu::Accel;
+use crate::kdtree::{BuildStrategy, Traversal};
+use crate::scene::Scene;
+
+/// The plan's file in DIR.
+pub const PLAN_FILE: &str = "farm.json";
+/// The array job's batch script in DIR.
+pub const ARRAY_SCRIPT: &str = "render.sbatch";
+/// The finishing job's batch script in DIR.
+pub const FINISH_SCRIPT: &str = "finish.sbatch";
+/// The subfolder of DIR for bands, logs and the finishing job's marker.
+pub const PARTS_DIR: &str = "parts";
+
+/// The render flags a farm passes on to every task: the same overrides of
+/// the scene's `[render]` as `kdray render`, and the same search.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct RenderFlags {
+    pub width: Option<u32>,
+    pub height: Option<u32>,
+    pub samples: Option<u32>,
+    #[serde(with = "by_name")]
+    pub accel: Accel,
+    #[serde(with = "by_name")]
+    pub traversal: Traversal,
+    #[serde(with = "by_name")]
+    pub build: BuildStrategy,
+}
+
+impl RenderFlags {
+    /// Checks the overrides as `kdray render` does (errors name the flag).
+    pub fn check(&self) -> Result<()> {
+        crate::render::check_render_flags(self.width, self.height, self.samples)
+    }
+
+    /// Applies the overrides to `scene`'s `[render]`.
+    pub fn apply(&self, scene: &mut Scene) {
+        let r = &mut scene.render;
+        r.samples = self.samples.unwrap_or(r.samples);
+        r.width = self.width.unwrap_or(r.width);
+        r.height = self.height.unwrap_or(r.height);
+    }
+}
+
+/// A [`Choice`] written by its name in farm.json.
+mod by_name {
+    use crate::choice::Choice;
+    use serde::{Deserialize, Deserializer, Serializer};
+
+    pub fn serialize<T: Choice, S: Serializer>(value: &T, s: S) -> Result<S::Ok, S::Error> {
+        s.serialize_str(value.name())
+    }
+
+    pub fn deserialize<'de, T: Choice, D: Deserializer<'de>>(d: D) -> Result<T, D::Error> {
+        let name = String::deserialize(d)?;
+        T::from_name(&name).ok_or_else(|| serde::de::Error::custom(format!("unknown name {name}")))
+    }
+}
+
+/// What the farm renders: its work items are a still's bands of rows or
+/// an animation's frames.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(tag = "kind", rename_all = "snake_case")]
+pub enum Work {
+    /// One image (frame `frame` of the scene's animation, frame 0 without
+    /// one) in `tiles` bands of rows, band `t` being rows
+    /// `t * height / tiles .. (t + 1) * height / tiles`.
+    Still { frame: u32, tiles: u32 },
+    /// Every frame of the scene's animation, frame `k` written as
+    /// DIR/`k`.png (zero-padded to at least four digits).
+    Frames { frames: u32, fps: f64 },
+}
+
+/// Everything a task or the finishing job needs to know, and what a re-run
+/// compares against.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct FarmPlan {
+    /// The scene file, absolute.
+    pub scene: PathBuf,
+    /// The kdray binary the scripts run, absolute: every task the same.
+    pub kdray: PathBuf,
+    pub flags: RenderFlags,
+    /// The image size after the flags' overrides.
+    pub width: u32,
+    pub height: u32,
+    pub work: Work,
+    /// The array's tasks; task `i` renders items [`FarmPlan::task_items`].
+    pub tasks: u32,
+    /// The scene file and every file it loads, with their hashes.
+    pub inputs: Vec<InputFile>,
+    /// Options passed through to sbatch (`#SBATCH` lines of both scripts).
+    pub sbatch: Vec<String>,
+}
+
+impl FarmPlan {
+    /// Work items: bands of the still, or frames.
+    pub fn items(&self) -> u32 {
+        match self.work {
+            Work::Still { tiles, .. } => tiles,
+            Work::Frames { frames, .. } => frames,
+        }
+    }
+
+    /// The items of task `task`: a contiguous share, the shares' sizes
+    /// differing by one at most ([`share`]).
+    pub fn task_items(&self, task: u32) -> Range<u32> {
+        share(self.items(), self.tasks, task)
+    }
+
+    /// The task that renders `item`.
+    pub fn task_of(&self, item: u32) -> u32 {
+        (0..self.tasks)
+            .find(|&t| self.task_items(t).contains(&item))
+            .unwrap_or(0)
+    }
+
+    /// Rows `first..end` of band `band` of a still (the whole image for a
+    /// frame of an animation).
+    pub fn band_rows(&self, band: u32) -> (u32, u32) {
+        match self.work {
+            Work::Still { tiles, .. } => {
+                let rows = share(self.height, tiles, band);
+                (rows.start, rows.end)
+            }
+            Work::Frames { .. } => (0, self.height),
+        }
+    }
+
+    /// Where item `item` is written: a band in the parts folder, or a
+    /// frame at DIR's top level.
+    pub fn item_path(&self, dir: &Path, item: u32) -> PathBuf {
+        match self.work {
+            Work::Still { .. } => parts_dir(dir).join(format!("band-{item:04}.png")),
+            Work::Frames { frames, .. } => dir.join(frame_file_name(item, frames)),
+        }
+    }
+
+    /// What the finishing job makes: the still's one PNG at DIR's top
+    /// level, or the animation's MP4 (when ffmpeg is installed).
+    pub fn final_path(&self, dir: &Path) -> PathBuf {
+        let ext = match self.work {
+            Work::Still { .. } => "png",
+            Work::Frames { .. } => "mp4",
+        };
+        dir.join(format!("{}.{ext}", self.stem()))
+    }
+
+    /// The scene file's name without its extension.
+    pub fn stem(&self) -> String {
+        self.scene
+            .file_stem()
+            .map_or("out".into(), |s| s.to_string_lossy().into_owned())
+    }
+
+    /// The first difference between the renders of two plans (flags, image
+    /// size, work, input files), or `None` when they make the same images;
+    /// tasks and sbatch options may differ.
+    pub fn render_difference(&self, other: &FarmPlan) -> Option<String> {
+        if self.scene != other.scene {
+            return Some(format!(
+                "the scene was {}, now {}",
+                self.scene.display(),
+                other.scene.display()
+            ));
+        }
+        if self.flags != other.flags || (self.width, self.height) != (other.width, other.height) {
+            return Some("the render flags changed".into());
+        }
+        if self.work != other.work {
+            return Some("the work (--tiles, --frame or the animation) changed".into());
+        }
+        super::fingerprint::difference(&self.inputs, &other.inputs)
+    }
+}
+
+/// `items` shared out among `tasks`: part `i` is `i * items / tasks ..
+/// (i + 1) * items / tasks` (sizes differ by one at most).
+pub fn share(items: u32, tasks: u32, i: u32) -> Range<u32> {
+    let at = |i: u32| (i as u64 * items as u64 / tasks.max(1) as u64) as u32;
+    at(i)..at(i + 1)
+}
+
+/// Frame `k`'s file name: at least four digits, more when the animation
+/// has 10,000 frames or more, so that names sort in frame order.
+pub fn frame_file_name(k: u32, frames: u32) -> String {
+    format!("{k:0width$}.png", width = frame_digits(frames))
+}
+
+/// The digits of frame numbers: four, or those of the last frame.
+pub fn frame_digits(frames: u32) -> usize {
+    frames.saturating_sub(1).to_string().len().max(4)
+}
+
+/// DIR/parts: bands, logs, the finishing job's marker.
+pub fn parts_dir(dir: &Path) -> PathBuf {
+    dir.join(PARTS_DIR)
+}
+
+/// DIR/parts/logs: each task's and the finishing job's stdout and stderr.
+pub fn logs_dir(dir: &Path) -> PathBuf {
+    parts_dir(dir).join("logs")
+}
+
+/// Task `task`'s log (the array script's `--output`, `%a` the index).
+pub fn task_log(dir: &Path, task: u32) -> PathBuf {
+    logs_dir(dir).join(format!("task-{task}.log"))
+}
+
+/// The finishing job's log.
+pub fn finish_log(dir: &Path) -> PathBuf {
+    logs_dir(dir).join("finish.log")
+}
+
+/// Written by the finishing job once everything is there: what `--wait`
+/// looks for (there is no accounting database to ask).
+pub fn finished_marker(dir: &Path) -> PathBuf {
+    parts_dir(dir).join("finished")
+}
+
+/// Reads DIR/farm.json, `None` when there is none.
+pub fn read_plan(dir: &Path) -> Result<Option<FarmPlan>> {
+    let path = dir.join(PLAN_FILE);
+    let text = match std::fs::read_to_string(&path) {
+        Ok(text) => text,
+        Err(e) if e.kind() == std::io::ErrorKind::NotFound => return Ok(None),
+        Err(source) => {
+            return Err(Error::File {
+                path,
+                what: "cannot read the farm's plan",
+                source,
+            })
+        }
+    };
+    serde_json::from_str(&text).map(Some).map_err(|e| {
+        Error::Output(format!(
+            "{}: not a kdray farm plan ({e}); remove it or pick another --out",
+            path.display()
+        ))
+    })
+}
+
+/// Writes DIR/farm.json atomically.
+pub fn write_plan(dir: &Path, plan: &FarmPlan) -> Result<()> {
+    let mut text = serde_json::to_string_pretty(plan)?;
+    text.push('\n');
+    crate::output::write_file_atomic(&dir.join(PLAN_FILE), text.as_bytes())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn shares_cover_every_item_once_in_order() {
+        for items in 1..40 {
+            for tasks in 1..=items {
+                let parts: Vec<Range<u32>> = (0..tasks).map(|i| share(items, tasks, i)).collect();
+                assert_eq!(parts[0].start, 0);
+                assert_eq!(parts.last().unwrap().end, items);
+                for w in parts.windows(2) {
+                    assert_eq!(w[0].end, w[1].start);
+                }
+                let (min, max) = parts.iter().fold((u32::MAX, 0), |(a, b), p| {
+                    (a.min(p.len() as u32), b.max(p.len() as u32))
+                });
+                assert!(max - min <= 1, "{items} items in {tasks} tasks: {parts:?}");
+            }
+        }
+    }
+
+    #[test]
+    fn frame_names_have_four_digits_or_those_of_the_last_frame() {
+        assert_eq!(frame_file_name(7, 48), "0007.png");
+        assert_eq!(frame_file_name(0, 10_000), "0000.png");
+        assert_eq!(frame_file_name(12, 10_001), "00012.png");
+        assert_eq!(frame_file_name(99_999, 100_000), "99999.png");
+    }
+}

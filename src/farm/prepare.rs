@@ -1,0 +1,207 @@
+//! `kdray farm`'s first step: the scene is loaded and its input files
+//! hashed, the plan and both scripts written into DIR, and what is still
+//! missing worked out. A DIR planned for another render (a changed scene,
+//! file it loads, or flag) is refused unless `force`, which discards that
+//! render's images first.
+
+use std::path::{Path, PathBuf};
+
+use super::plan::{self, FarmPlan, RenderFlags, Work};
+use crate::error::{Error, Result};
+use crate::scene::Scene;
+
+/// Frames per task when `--tasks` is not given: enough that a task's fixed
+/// cost (start-up, adapter, tree build and upload) is small beside its
+/// frames (docs/farm.md), few enough that a lost task costs little.
+pub const DEFAULT_FRAMES_PER_TASK: u32 = 50;
+
+/// What `kdray farm` was asked for.
+#[derive(Debug, Clone)]
+pub struct FarmRequest {
+    pub scene: PathBuf,
+    pub out: PathBuf,
+    pub flags: RenderFlags,
+    /// A still of this frame of the scene's animation.
+    pub frame: Option<u32>,
+    /// A still in this many bands of rows (one task each by default).
+    pub tiles: Option<u32>,
+    /// The array's tasks [default: one per band for a still; one per
+    /// [`DEFAULT_FRAMES_PER_TASK`] frames for an animation].
+    pub tasks: Option<u32>,
+    /// Options for both scripts' `#SBATCH` lines.
+    pub sbatch: Vec<String>,
+    /// Discard the images of another render planned in DIR.
+    pub force: bool,
+    /// The kdray binary the scripts run (this one).
+    pub kdray: PathBuf,
+}
+
+/// DIR ready to submit.
+#[derive(Debug, Clone)]
+pub struct Prepared {
+    /// DIR, absolute.
+    pub dir: PathBuf,
+    pub plan: FarmPlan,
+    /// The tasks with parts still missing, in order.
+    pub pending_tasks: Vec<u32>,
+    /// Every part and the finishing job's result are there: nothing to do.
+    pub complete: bool,
+    /// What `force` discarded: the earlier render's difference.
+    pub discarded: Option<String>,
+}
+
+/// Loads the scene, writes DIR's plan and scripts, and says what is left.
+pub fn prepare(request: &FarmRequest) -> Result<Prepared> {
+    request.flags.check()?;
+    let scene_path = absolute(&request.scene)?;
+    let (mut scene, inputs) = super::fingerprint::load_and_fingerprint(&scene_path)?;
+    request.flags.apply(&mut scene);
+    let work = work_for(&scene, request)?;
+    let items = match work {
+        Work::Still { tiles, .. } => tiles,
+        Work::Frames { frames, .. } => frames,
+    };
+    let tasks = match (request.tasks, &work) {
+        (Some(t), _) => t,
+        (None, Work::Still { tiles, .. }) => *tiles,
+        (None, Work::Frames { frames, .. }) => frames.div_ceil(DEFAULT_FRAMES_PER_TASK),
+    };
+    if !(1..=items).contains(&tasks) {
+        return Err(Error::Usage(format!(
+            "--tasks: must be in 1..={items} (one {} at least per task), got {tasks}",
+            match work {
+                Work::Still { .. } => "band",
+                Work::Frames { .. } => "frame",
+            }
+        )));
+    }
+    let dir = absolute(&request.out)?;
+    let plan = FarmPlan {
+        scene: scene_path,
+        kdray: request.kdray.clone(),
+        flags: request.flags.clone(),
+        width: scene.render.width,
+        height: scene.render.height,
+        work,
+        tasks,
+        inputs,
+        sbatch: request.sbatch.clone(),
+    };
+    // The scripts are checked (DIR's path, the options) before DIR is touched.
+    super::scripts::array_script(&plan, &dir)?;
+    super::scripts::finish_script(&plan, &dir)?;
+
+    let mut discarded = None;
+    if let Some(old) = plan::read_plan(&dir)? {
+        if let Some(difference) = old.render_difference(&plan) {
+            if !request.force {
+                return Err(Error::Usage(format!(
+                    "{}: planned for another render ({difference}): its images would not match; \
+                     pass --force to discard them and start again, or pick another --out",
+                    dir.display()
+                )));
+            }
+            discard(&old, &dir)?;
+            discarded = Some(difference);
+        }
+    }
+    let logs = plan::logs_dir(&dir);
+    std::fs::create_dir_all(&logs).map_err(|source| Error::File {
+        path: logs,
+        what: "cannot create the folder",
+        source,
+    })?;
+    plan::write_plan(&dir, &plan)?;
+    super::scripts::write_scripts(&plan, &dir)?;
+
+    let pending_tasks: Vec<u32> = (0..plan.tasks)
+        .filter(|&t| {
+            plan.task_items(t)
+                .any(|i| !plan.item_path(&dir, i).is_file())
+        })
+        .collect();
+    let result_there = match plan.work {
+        Work::Still { .. } => plan.final_path(&dir).is_file(),
+        Work::Frames { .. } => true,
+    };
+    let complete =
+        pending_tasks.is_empty() && result_there && plan::finished_marker(&dir).is_file();
+    Ok(Prepared {
+        dir,
+        plan,
+        pending_tasks,
+        complete,
+        discarded,
+    })
+}
+
+/// A still (of `--frame`, in `--tiles` bands) or, for a scene with an
+/// animation and neither flag, its frames.
+fn work_for(scene: &Scene, request: &FarmRequest) -> Result<Work> {
+    let animation = animation_of(scene);
+    if let Some(frame) = request.frame {
+        let frames = animation.map_or(1, |(frames, _)| frames);
+        if frame >= frames {
+            return Err(Error::Usage(format!(
+                "--frame: the scene has frames 0..{frames}, got {frame}"
+            )));
+        }
+    }
+    match (animation, request.frame, request.tiles) {
+        (Some((frames, fps)), None, None) => Ok(Work::Frames { frames, fps }),
+        (_, frame, tiles) => {
+            let tiles = tiles.unwrap_or(1);
+            let height = scene.render.height;
+            if !(1..=height).contains(&tiles) {
+                return Err(Error::Usage(format!(
+                    "--tiles: must be in 1..={height} (one row at least per band), got {tiles}"
+                )));
+            }
+            Ok(Work::Still {
+                frame: frame.unwrap_or(0),
+                tiles,
+            })
+        }
+    }
+}
+
+/// The scene's animation as (frames, frames per second), if it has one.
+fn animation_of(scene: &Scene) -> Option<(u32, f64)> {
+    scene.animation.as_ref().map(|a| (a.frames, a.fps))
+}
+
+/// Removes what an earlier plan rendered into DIR: its parts folder (bands,
+/// logs, marker), its frames and its result.
+fn discard(old: &FarmPlan, dir: &Path) -> Result<()> {
+    let remove = |path: &Path| match std::fs::remove_file(path) {
+        Err(e) if e.kind() != std::io::ErrorKind::NotFound => Err(Error::File {
+            path: path.to_path_buf(),
+            what: "cannot remove",
+            source: e,
+        }),
+        _ => Ok(()),
+    };
+    if let Work::Frames { frames, .. } = old.work {
+        for k in 0..frames {
+            remove(&old.item_path(dir, k))?;
+        }
+    }
+    remove(&old.final_path(dir))?;
+    let parts = plan::parts_dir(dir);
+    match std::fs::remove_dir_all(&parts) {
+        Err(e) if e.kind() != std::io::ErrorKind::NotFound => Err(Error::File {
+            path: parts,
+            what: "cannot remove",
+            source: e,
+        }),
+        _ => Ok(()),
+    }
+}
+
+fn absolute(path: &Path) -> Result<PathBuf> {
+    std::path::absolute(path).map_err(|source| Error::File {
+        path: path.to_path_buf(),
+        what: "cannot make the path absolute",
+        source,
+    })
+}
