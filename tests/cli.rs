@@ -662,3 +662,53 @@ fn bad_heatmap_flags_exit_2_and_write_nothing() {
     assert!(!dir.join("out.png").exists());
     assert!(dir.temp_files().is_empty(), "{:?}", dir.temp_files());
 }
+
+/// `render --all-frames -o DIR` writes every frame of the animation, each
+/// the image `render --frame k` writes, and one frame past the last is
+/// refused.
+#[test]
+fn all_frames_writes_each_frame_as_render_frame_k_does() {
+    let dir = TempDir::new("all-frames");
+    let seed = std::fs::read_to_string(scene_path("seed.toml")).expect("seed scene");
+    let scene = dir.path.join("turn.toml");
+    std::fs::write(
+        &scene,
+        format!("{seed}\n[animation]\nframes = 3\norbit = 90\n"),
+    )
+    .expect("write scene");
+    let scene = scene.to_str().expect("utf-8 path");
+    let run = kdray(
+        &dir.path,
+        &render_args(scene, &["--all-frames", "-o", "frames"]),
+    );
+    assert_eq!(run.code, 0, "{run:#?}");
+    let mut names: Vec<String> = std::fs::read_dir(dir.path.join("frames"))
+        .expect("frames folder")
+        .map(|e| e.expect("entry").file_name().to_string_lossy().into_owned())
+        .collect();
+    names.sort();
+    assert_eq!(names, ["0000.png", "0001.png", "0002.png"]);
+    let mut images = Vec::new();
+    for k in 0..3 {
+        let one = format!("frame{k}.png");
+        let run = kdray(
+            &dir.path,
+            &render_args(scene, &["--frame", &k.to_string(), "-o", &one]),
+        );
+        assert_eq!(run.code, 0, "{run:#?}");
+        let single = std::fs::read(dir.path.join(&one)).expect("single frame");
+        let from_all = std::fs::read(dir.path.join("frames").join(&names[k])).expect("frame");
+        assert!(
+            single == from_all,
+            "frame {k} differs from render --frame {k}"
+        );
+        images.push(single);
+    }
+    assert!(images[0] != images[1], "the orbit moves the camera");
+    let run = kdray(
+        &dir.path,
+        &render_args(scene, &["--frame", "3", "-o", "x.png"]),
+    );
+    assert_eq!(run.code, 2, "{run:#?}");
+    assert!(!dir.path.join("x.png").exists());
+}

@@ -151,6 +151,10 @@ pub struct RenderArgs {
     /// Render this frame of the scene's animation (0-based) [default: 0].
     #[arg(long, value_name = "N", conflicts_with = "window")]
     pub frame: Option<u32>,
+    /// Render every frame of the scene's animation into the folder --output
+    /// names (0000.png, 0001.png, ...), building the tree once.
+    #[arg(long, requires = "output", conflicts_with_all = ["window", "frame", "heatmap"])]
+    pub all_frames: bool,
     /// Open an interactive window instead of writing a PNG (see the README's controls).
     #[arg(long, conflicts_with = "output")]
     pub window: bool,

@@ -74,6 +74,7 @@ fn render(args: RenderArgs) -> Result<()> {
         heatmap,
         heatmap_max,
         frame,
+        all_frames,
         ..
     } = args;
     let scene_path = scene_path.as_path();
@@ -83,6 +84,10 @@ fn render(args: RenderArgs) -> Result<()> {
     scene.render.samples = samples.unwrap_or(scene.render.samples);
     scene.render.width = width.unwrap_or(scene.render.width);
     scene.render.height = height.unwrap_or(scene.render.height);
+    if all_frames {
+        let dir = output.expect("clap requires --output with --all-frames");
+        return render_all_frames(scene, &dir, accel, build, traversal, stats);
+    }
     let frame = frame.unwrap_or(0);
     if frame >= scene.frame_count() {
         return Err(Error::Usage(format!(
@@ -111,17 +116,7 @@ fn render(args: RenderArgs) -> Result<()> {
     let mut png =
         kdray::output::PngStream::create(&output, scene.render.width, scene.render.height)?;
     let ctx = GpuContext::new()?;
-    let progress = indicatif::ProgressBar::with_draw_target(
-        Some(scene.render.height as u64),
-        indicatif::ProgressDrawTarget::stderr(),
-    )
-    .with_style(
-        indicatif::ProgressStyle::with_template(
-            "{spinner} rendering {pos}/{len} rows [{bar:40}] {elapsed} (eta {eta})",
-        )
-        .map_err(|e| Error::Output(e.to_string()))?
-        .progress_chars("=> "),
-    );
+    let progress = progress_bar(scene.render.height as u64, "rendering {pos}/{len} rows")?;
     let (width, height) = (scene.render.width, scene.render.height);
     let uploaded = kdray::gpu::GpuScene::upload(
         &ctx,
@@ -156,6 +151,79 @@ fn render(args: RenderArgs) -> Result<()> {
         println!("{}", serde_json::to_string(&figures)?);
     }
     Ok(())
+}
+
+/// Every frame of `scene`'s animation into `dir` (created if missing) as
+/// [`kdray::farm::plan::frame_file_name`]s, from one tree and one upload;
+/// one progress bar counts the rows of all frames.
+fn render_all_frames(
+    scene: kdray::scene::Scene,
+    dir: &Path,
+    accel: kdray::gpu::Accel,
+    build: kdray::kdtree::BuildStrategy,
+    traversal: kdray::kdtree::Traversal,
+    stats: bool,
+) -> Result<()> {
+    let frames = scene.frame_count();
+    std::fs::create_dir_all(dir)
+        .map_err(|e| Error::Output(format!("{}: cannot create the folder: {e}", dir.display())))?;
+    let path = scene.camera_path();
+    let (width, height) = (scene.render.width, scene.render.height);
+    let ctx = GpuContext::new()?;
+    let progress = progress_bar(
+        frames as u64 * height as u64,
+        "rendering {pos}/{len} rows of all frames",
+    )?;
+    let uploaded = kdray::gpu::GpuScene::upload(
+        &ctx,
+        kdray::gpu::PreparedScene::built_by(scene, accel, build),
+    )?;
+    for k in 0..frames {
+        let file = dir.join(kdray::farm::plan::frame_file_name(k, frames));
+        let mut png = kdray::output::PngStream::create(&file, width, height)?;
+        let part = kdray::render::FramePart {
+            camera: path.camera_at(k),
+            rows: (0, height),
+        };
+        let (figures, _) = kdray::render::render_part_streaming(
+            &ctx,
+            &uploaded,
+            &part,
+            traversal,
+            TilePlan::DEFAULT_MAX_TILE_PIXELS,
+            &mut |band| {
+                progress.inc(band.rows as u64);
+                png.write_rows(band.rgb)
+            },
+        )?;
+        png.finish()?;
+        if let Some(warning) = figures.loop_limit_warning() {
+            eprintln!("kdray: frame {k}: {warning}");
+        }
+        if stats {
+            println!("{}", serde_json::to_string(&figures)?);
+        }
+    }
+    progress.finish_and_clear();
+    Ok(())
+}
+
+/// A progress bar on stderr over `len` steps, described by `what` (an
+/// indicatif template of `{pos}` and `{len}`).
+fn progress_bar(len: u64, what: &str) -> Result<indicatif::ProgressBar> {
+    Ok(
+        indicatif::ProgressBar::with_draw_target(
+            Some(len),
+            indicatif::ProgressDrawTarget::stderr(),
+        )
+        .with_style(
+            indicatif::ProgressStyle::with_template(&format!(
+                "{{spinner}} {what} [{{bar:40}}] {{elapsed}} (eta {{eta}})"
+            ))
+            .map_err(|e| Error::Output(e.to_string()))?
+            .progress_chars("=> "),
+        ),
+    )
 }
 
 /// Whether two paths name the same file (the same path, or both existing
