@@ -1,7 +1,7 @@
 //! One scene a bench measures ([`BenchCase`]) and where it comes from
 //! ([`CaseSource`]): the data that the configuration's list
-//! ([`cases`](super::cases)) and the suite ([`suite`](super::suite)) both
-//! make; loading a case is in [`cases`](super::cases).
+//! ([`cases`](mod@super::cases)) and the suite ([`suite`](super::suite)) both
+//! make; loading a case is in [`cases`](mod@super::cases).
 
 use std::path::PathBuf;
 

@@ -1,4 +1,4 @@
-//! The contract between the build's frame ([`super::build`]) and the
+//! The contract between the build's frame ([`build`](mod@super::build)) and the
 //! strategies that decide each node ([`super::sah`], [`super::median`]).
 
 use crate::geometry::Aabb;
