@@ -1,41 +1,17 @@
-//! The scenes a bench measures ([`BenchCase`]): where each comes from (a
+//! The scenes a bench measures: each [`BenchCase`] (defined in
+//! [`bench_case`](super::bench_case)) loaded from where it comes from (a
 //! random scene, a scene file, the suite's compiled-in files or its
-//! generated mesh), the image size and depth it is measured at, and the
+//! generated mesh) at the image size and depth it is measured at, and the
 //! list of them a configuration asks for ([`cases`]).
 
-use std::path::{Path, PathBuf};
+use std::path::Path;
 
+use super::bench_case::{BenchCase, CaseSource};
 use super::options::{BenchConfig, BenchMode};
 use super::random_scene::{self, random_scene, RandomSceneSpec, SceneKind};
 use super::suite;
 use crate::error::Result;
 use crate::scene::Scene;
-
-/// Where a measured scene comes from.
-#[derive(Debug, Clone)]
-pub enum CaseSource {
-    Random(RandomSceneSpec),
-    File(PathBuf),
-    /// A scene file compiled into the binary (the suite's), read as if
-    /// from `path`.
-    Text {
-        label: String,
-        path: PathBuf,
-        text: &'static str,
-    },
-    /// The suite's stand-in for the bunny ([`suite::generated_mesh_scene`]).
-    GeneratedMesh,
-}
-
-/// One scene to measure, with the image size and depth it is measured at
-/// (None: the scene's own).
-#[derive(Debug, Clone)]
-pub struct BenchCase {
-    pub source: CaseSource,
-    pub width: Option<u32>,
-    pub height: Option<u32>,
-    pub max_depth: Option<u32>,
-}
 
 impl BenchCase {
     /// What the progress line says while the scene is made.

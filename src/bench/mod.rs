@@ -19,7 +19,8 @@
 //!
 //! The files, in the order a run uses them:
 //! - [`options`]: [`BenchConfig`], the one options type, its defaults and checks;
-//! - [`cases`](mod@cases): the scenes a configuration measures;
+//! - [`bench_case`]: one scene to measure and where it comes from;
+//! - [`cases`](mod@cases): loading a case, and the scenes a configuration measures;
 //! - `run`: the sweep over cases, cells and brute force;
 //! - `measure`: one run's warm-up and timed frames;
 //! - `budget`: when brute force is skipped;
@@ -30,6 +31,7 @@
 //! - [`random_scene`](mod@random_scene), [`generate`]: the random scenes and `kdray generate`;
 //! - [`suite`]: the four scenes of `--suite`; [`named`]: choices in JSON by name.
 
+pub mod bench_case;
 mod budget;
 pub mod cases;
 pub mod csv;
@@ -51,7 +53,8 @@ mod run;
 pub mod suite;
 pub mod summary;
 
-pub use cases::{cases, scene_slug, BenchCase, CaseSource};
+pub use bench_case::{BenchCase, CaseSource};
+pub use cases::{cases, scene_slug};
 pub use generate::write_random_scene;
 pub use options::{BenchConfig, BenchMode, MAX_OBJECTS};
 pub use outputs::{output_files, replot, BenchOutcome};

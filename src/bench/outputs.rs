@@ -6,11 +6,12 @@
 
 use std::path::{Path, PathBuf};
 
-use super::csv::CSV_FILE;
+use super::csv::{csv_text, CSV_FILE};
 use super::report::{BenchReport, EMBREE_FILE, JSON_FILE};
-use super::summary::SUMMARY_FILE;
+use super::summary::{markdown_summary, SUMMARY_FILE};
 use super::{cases, matrix_plot, plots, random_scene};
 use crate::error::{Error, Result};
+use crate::output::write_file_atomic;
 use crate::scene::Scene;
 
 /// Folder (in the output folder) of the scenes written for peers.
@@ -33,6 +34,20 @@ pub fn output_files(out: &Path) -> [PathBuf; 6] {
         out.join(plots::SPEEDUP_PLOT),
         out.join(plots::BUILD_PLOT),
     ]
+}
+
+impl BenchReport {
+    /// Writes bench.csv, bench.json and summary.md; returns their paths.
+    pub fn write_data(&self, out: &Path) -> Result<Vec<PathBuf>> {
+        let csv = out.join(CSV_FILE);
+        write_file_atomic(&csv, csv_text(&self.runs).as_bytes())?;
+        let json = out.join(JSON_FILE);
+        let text = serde_json::to_string_pretty(self)?;
+        write_file_atomic(&json, (text + "\n").as_bytes())?;
+        let md = out.join(SUMMARY_FILE);
+        write_file_atomic(&md, markdown_summary(self).as_bytes())?;
+        Ok(vec![csv, json, md])
+    }
 }
 
 /// Writes the data files and every plot of `report` into `out`; returns

@@ -1,25 +1,23 @@
 //! The bench's report, [`BenchReport`]: the configuration, the machine,
 //! every run, the fits, and Embree's figures for the same scenes when
 //! measured beside it. It is written as `bench.json`, `bench.csv` and
-//! `summary.md` ([`BenchReport::write_data`]) atomically, and rewritten
-//! after every run so that an interrupted sweep keeps what it measured;
+//! `summary.md` atomically ([`BenchReport::write_data`], in
+//! [`outputs`](super::outputs)), and rewritten after every run so that an
+//! interrupted sweep keeps what it measured;
 //! `--replot` reads it back ([`BenchReport::read`]), taking in
 //! `embree.json` (scripts/peers/bench_embree.py).
 
-use std::path::{Path, PathBuf};
+use std::path::Path;
 
 use serde::{Deserialize, Serialize};
 
-use super::csv::{csv_text, CSV_FILE};
 use super::fit::{fit, Fit};
 use super::host::{load_average, utc_now_iso, Machine};
 use super::options::BenchConfig;
 use super::record::RunRecord;
-use super::summary::{markdown_summary, SUMMARY_FILE};
 use crate::error::{Error, Result};
 use crate::gpu::{Accel, GpuContext};
 use crate::kdtree::{BuildStrategy, Traversal};
-use crate::output::write_file_atomic;
 
 pub const JSON_FILE: &str = "bench.json";
 /// Embree's results for the same scenes (scripts/peers/bench_embree.py).
@@ -152,18 +150,6 @@ impl BenchReport {
         self.elapsed_s = self.started.map_or(0.0, |t| t.elapsed().as_secs_f64());
         self.machine.load_average_end = load_average();
         self.refresh();
-    }
-
-    /// Writes bench.csv, bench.json and summary.md; returns their paths.
-    pub fn write_data(&self, out: &Path) -> Result<Vec<PathBuf>> {
-        let csv = out.join(CSV_FILE);
-        write_file_atomic(&csv, csv_text(&self.runs).as_bytes())?;
-        let json = out.join(JSON_FILE);
-        let text = serde_json::to_string_pretty(self)?;
-        write_file_atomic(&json, (text + "\n").as_bytes())?;
-        let md = out.join(SUMMARY_FILE);
-        write_file_atomic(&md, markdown_summary(self).as_bytes())?;
-        Ok(vec![csv, json, md])
     }
 
     /// Embree's result for a scene, if measured.

@@ -6,8 +6,9 @@
 
 use std::time::Instant;
 
+use super::bench_case::BenchCase;
 use super::budget::brute_skip_reason;
-use super::cases::{cases, scene_slug, BenchCase};
+use super::cases::{cases, scene_slug};
 use super::host::{peak_host_mib, reset_peak_host_memory};
 use super::measure::{ms_since, FrameTimer};
 use super::options::{BenchConfig, BenchMode};

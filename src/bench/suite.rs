@@ -23,7 +23,7 @@ use std::path::{Path, PathBuf};
 
 use glam::DVec3;
 
-use super::cases::{BenchCase, CaseSource};
+use super::bench_case::{BenchCase, CaseSource};
 use super::random_scene::{RandomSceneSpec, SceneKind};
 use crate::error::{Error, Result};
 use crate::scene::{Scene, SceneFormat, Triangle};

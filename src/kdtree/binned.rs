@@ -17,7 +17,7 @@ use glam::Vec3A;
 use crate::geometry::Aabb;
 
 use super::clip::{clear_above, clear_below, sides, Shapes};
-use super::sah::{inverse_area, AxisCost, Split};
+use super::split::{inverse_area, AxisCost, Split};
 use super::BuildParams;
 
 /// Bins per axis.
@@ -263,7 +263,7 @@ pub fn partition(
     }
 }
 
-/// Nodes of at most this many objects ([`super::sah::FEW`] and some more)
+/// Nodes of at most this many objects ([`super::few::FEW`] and some more)
 /// give their vector to the lower child: one allocation fewer per split,
 /// where most splits are (the bunny's binned build, one thread: 1.5% less
 /// CPU). A bigger node's child would keep the parent's capacity.

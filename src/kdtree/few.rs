@@ -14,9 +14,9 @@
 use crate::geometry::Aabb;
 
 use super::binned::ClippedBox;
-use super::build::BuildParams;
+use super::build_params::BuildParams;
 use super::clip::{clear_above, clear_below};
-use super::sah::{inverse_area, AxisCost, Split, FEW, GAP_ROUNDING_MARGIN};
+use super::split::{inverse_area, AxisCost, Split, GAP_ROUNDING_MARGIN};
 
 /// Nodes of at most this many objects are searched here, bigger ones by the
 /// sorted sweep: this search is O(n^2) where the sort is O(n log n).
@@ -29,6 +29,13 @@ use super::sah::{inverse_area, AxisCost, Split, FEW, GAP_ROUNDING_MARGIN};
 /// three rounds): up to 16 1.76 - 1.78 s, 24 1.77 - 1.78 s, 32 1.81 s, 12 1.79 -
 /// 1.81 s.
 pub(super) const MAX_OBJECTS: usize = 16;
+
+/// Nodes of at most this many objects are split by
+/// [`Sah::split_few`](super::sah::Sah::split_few), from their clipped boxes
+/// with the events sorted on the stack, rather than by keeping sorted event
+/// lists (whose split, merge and allocations cost more than sorting a few
+/// events afresh). Both find the same plane.
+pub(super) const FEW: usize = 32;
 
 /// Candidates are compared in groups of this many (two SSE registers).
 const LANES: usize = 8;

@@ -19,8 +19,9 @@
 
 use crate::geometry::Aabb;
 
-use super::build::{BuildParams, Decision, Strategy};
+use super::build_params::BuildParams;
 use super::clip::{sides, Shapes};
+use super::strategy::{Decision, Strategy};
 
 pub struct Median<'a> {
     pub shapes: Shapes<'a>,

@@ -8,21 +8,24 @@
 
 mod binned;
 mod build;
+mod build_params;
 mod clip;
 mod events;
 mod few;
 mod median;
 pub mod ropes;
 mod sah;
+mod split;
+mod strategy;
 pub mod traversal;
 pub mod traverse;
 pub mod traverse_ropes;
 pub mod walk_step;
 
-pub use build::{
-    build, build_primitives, build_with_threads, triangle_test_cost, BuildParams, BuildStrategy,
-    KdTree, BINNED_PAST_OBJECTS, EMPTY_BONUS, LARGE_SCENE_OBJECTS, LARGE_SCENE_TRIANGLE_COST,
-    SMALL_SCENE_OBJECTS, SPHERE_TEST_COST,
+pub use build::{build, build_primitives, build_with_threads, KdTree};
+pub use build_params::{
+    triangle_test_cost, BuildParams, BuildStrategy, BINNED_PAST_OBJECTS, EMPTY_BONUS,
+    LARGE_SCENE_OBJECTS, LARGE_SCENE_TRIANGLE_COST, SMALL_SCENE_OBJECTS, SPHERE_TEST_COST,
 };
 pub use ropes::Ropes;
 pub use traversal::Traversal;

@@ -2,36 +2,22 @@
 //! file schema ([`schema`](super::schema)) and validate it into a
 //! [`Scene`](super::Scene) ([`validate`](super::validate)), loading its
 //! meshes on the way. Every error names the file, the line (via the
-//! lazily made [`SourceMap`]) and the key. A path to a model file (`.obj`,
-//! `.gltf`, `.glb`) instead of a scene file is opened as a scene of its own
-//! ([`model_scene`](super::model_scene)). Warnings go to the caller's sink
-//! (the `_with` functions) or, from the plain ones, to stderr.
+//! lazily made [`SourceMap`](super::source_map::SourceMap)) and the key. A
+//! path to a model file (`.obj`, `.gltf`, `.glb`) instead of a scene file
+//! is opened as a scene of its own ([`model_scene`](super::model_scene)).
+//! Warnings go to the caller's sink (the `_with` functions) or, from the
+//! plain ones, to stderr.
 
 use std::cell::{OnceCell, RefCell};
 use std::path::Path;
 
 use super::document_errors::{json_error, toml_error};
 use super::mesh_file::MeshFormat;
+use super::scene_format::SceneFormat;
 use super::schema::{RawScene, TableOf};
-use super::source_map::SourceMap;
+use super::source_map::LazySourceMap;
 use super::validate::Validator;
 use super::{print_warning, Scene, SceneError, Warning};
-
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum SceneFormat {
-    Toml,
-    Json,
-}
-
-impl SceneFormat {
-    /// `.json` files are JSON; everything else is read as TOML.
-    pub fn from_path(path: &Path) -> Self {
-        match path.extension().and_then(|e| e.to_str()) {
-            Some(ext) if ext.eq_ignore_ascii_case("json") => SceneFormat::Json,
-            _ => SceneFormat::Toml,
-        }
-    }
-}
 
 /// Reads and validates a scene file; mesh paths are relative to its folder.
 /// A model file (`.obj`, `.gltf`, `.glb`) becomes the scene of
@@ -118,35 +104,4 @@ fn parse_observed(
         warn: RefCell::new(warn),
     }
     .scene(raw.0)
-}
-
-/// Where each key of the text is, for error messages. Made on the first
-/// error only: a scene that loads never needs it, and for a big scene it
-/// would cost a second parse and an entry per key (100 MB of TOML with a
-/// million spheres: seconds, and gigabytes of memory).
-pub(super) struct LazySourceMap<'a> {
-    text: &'a str,
-    format: SceneFormat,
-    map: OnceCell<Option<SourceMap>>,
-}
-
-impl LazySourceMap<'_> {
-    /// The map of no text, for a scene made without a scene file.
-    pub(super) fn empty(format: SceneFormat) -> Self {
-        LazySourceMap {
-            text: "",
-            format,
-            map: OnceCell::new(),
-        }
-    }
-
-    /// The map; None if the text does not parse as TOML or JSON.
-    pub(super) fn get(&self) -> Option<&SourceMap> {
-        self.map
-            .get_or_init(|| match self.format {
-                SceneFormat::Toml => SourceMap::toml(self.text),
-                SceneFormat::Json => SourceMap::json(self.text),
-            })
-            .as_ref()
-    }
 }

@@ -91,6 +91,11 @@ impl MeshTriangle {
     }
 }
 
+/// Whether three corners span a triangle of nonzero area.
+pub(super) fn has_area(v: &[DVec3; 3]) -> bool {
+    (v[1] - v[0]).cross(v[2] - v[0]).length_squared() > 0.0
+}
+
 /// The vertices, normals and triangles of a mesh file and the materials
 /// they use.
 #[derive(Debug, Clone, PartialEq, Default)]

@@ -8,7 +8,7 @@ use std::path::Path;
 use glam::{DMat3, DVec3};
 use rayon::prelude::*;
 
-use super::mesh::{Mesh, MeshTriangle};
+use super::mesh::{has_area, Mesh, MeshTriangle};
 use super::mesh_file;
 use super::normals::{self, unit};
 use super::schema::{RawMesh, RawScale};
@@ -296,8 +296,4 @@ pub(super) fn mesh_transform(scale: DVec3, rotate_degrees: DVec3) -> DMat3 {
         * DMat3::from_rotation_y(r.y)
         * DMat3::from_rotation_x(r.x)
         * DMat3::from_diagonal(scale)
-}
-
-pub(super) fn has_area(v: &[DVec3; 3]) -> bool {
-    (v[1] - v[0]).cross(v[2] - v[0]).length_squared() > 0.0
 }

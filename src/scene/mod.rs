@@ -24,6 +24,7 @@ mod mesh_placement;
 mod model_scene;
 mod normals;
 pub mod obj;
+mod scene_format;
 mod schema;
 mod source_map;
 mod validate;
@@ -34,10 +35,9 @@ pub use animation::{Animation, CameraKey, CameraPath, MAX_FRAMES};
 pub use camera_basis::CameraBasis;
 pub use error::SceneError;
 pub use input_file::MAX_INPUT_BYTES;
-pub use load::{
-    load_scene, load_scene_observed, load_scene_with, parse_scene, parse_scene_with, SceneFormat,
-};
+pub use load::{load_scene, load_scene_observed, load_scene_with, parse_scene, parse_scene_with};
 pub use model_scene::{model_scene, model_scene_with};
+pub use scene_format::SceneFormat;
 pub use validate::{check_samples, MAX_IMAGE_SIDE};
 pub use warning::{print_warning, Warning};
 pub use write::scene_text;

@@ -14,8 +14,9 @@ use std::path::Path;
 
 use glam::DVec3;
 
-use super::load::{LazySourceMap, SceneFormat};
+use super::scene_format::SceneFormat;
 use super::schema::{RawMesh, RawScale};
+use super::source_map::LazySourceMap;
 use super::validate::Validator;
 use super::{
     print_warning, Camera, Light, Material, RenderSettings, Scene, SceneError, ShadowMode,

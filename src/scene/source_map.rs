@@ -3,9 +3,13 @@
 //! name their line, and errors reported by byte offset can name their key.
 //!
 //! Paths look like `camera.position`, `spheres[2].radius`,
-//! `materials.red.diffuse`: the same for TOML and JSON.
+//! `materials.red.diffuse`: the same for TOML and JSON. A loader holds a
+//! [`LazySourceMap`], which makes the map on the first error only.
 
+use std::cell::OnceCell;
 use std::ops::Range;
+
+use super::scene_format::SceneFormat;
 
 struct Entry {
     path: String,
@@ -237,6 +241,37 @@ impl JsonScanner<'_> {
             map.push(path, start..self.pos);
         }
         Some(())
+    }
+}
+
+/// Where each key of the text is, for error messages. Made on the first
+/// error only: a scene that loads never needs it, and for a big scene it
+/// would cost a second parse and an entry per key (100 MB of TOML with a
+/// million spheres: seconds, and gigabytes of memory).
+pub(super) struct LazySourceMap<'a> {
+    pub(super) text: &'a str,
+    pub(super) format: SceneFormat,
+    pub(super) map: OnceCell<Option<SourceMap>>,
+}
+
+impl LazySourceMap<'_> {
+    /// The map of no text, for a scene made without a scene file.
+    pub(super) fn empty(format: SceneFormat) -> Self {
+        LazySourceMap {
+            text: "",
+            format,
+            map: OnceCell::new(),
+        }
+    }
+
+    /// The map; None if the text does not parse as TOML or JSON.
+    pub(super) fn get(&self) -> Option<&SourceMap> {
+        self.map
+            .get_or_init(|| match self.format {
+                SceneFormat::Toml => SourceMap::toml(self.text),
+                SceneFormat::Json => SourceMap::json(self.text),
+            })
+            .as_ref()
     }
 }
 

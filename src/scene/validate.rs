@@ -13,12 +13,12 @@ use std::path::Path;
 use glam::DVec3;
 
 use super::animation::{Animation, CameraKey, CameraPath, MAX_FRAMES};
-use super::load::LazySourceMap;
-use super::mesh_placement::has_area;
+use super::mesh::has_area;
 use super::normals::unit;
 use super::schema::{
     RawAnimation, RawCamera, RawRender, RawScene, RawShadowMode, Vec3, DEFAULT_UP,
 };
+use super::source_map::LazySourceMap;
 use super::{
     Camera, Light, Material, RenderSettings, Scene, SceneError, ShadowMode, Sphere, Triangle,
 };

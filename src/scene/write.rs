@@ -6,7 +6,7 @@ use std::collections::BTreeMap;
 
 use glam::DVec3;
 
-use super::load::SceneFormat;
+use super::scene_format::SceneFormat;
 use super::schema::{
     Exact, RawAnimation, RawCamera, RawCameraKey, RawLight, RawMaterial, RawRender, RawScene,
     RawShadowMode, RawSphere, RawTriangle, TableOf,

@@ -3,7 +3,7 @@
 //! lists do.
 
 use super::*;
-use crate::kdtree::build::BuildParams;
+use crate::kdtree::build_params::BuildParams;
 use glam::Vec3;
 use proptest::prelude::{prop, prop_assert, prop_assert_eq, proptest};
 use proptest::strategy::Strategy as _;

@@ -6,7 +6,7 @@
 
 use glam::DVec3;
 
-use super::reference::strip_comment;
+use super::tokens::strip_comment;
 use crate::scene::mesh::{mesh_index, MeshTriangle, NO_INDEX};
 
 /// One face corner as written: the 1-based or negative vertex index, and the

@@ -18,10 +18,9 @@
 //! raw OBJ indices and the chunk's own vertex and normal counts at the face.
 
 use std::mem::MaybeUninit;
-use std::path::Path;
 
 use super::chunk::{Chunk, Resolved};
-use super::material_replay::MaterialState;
+use super::material_replay::{MaterialFiles, MaterialState};
 use crate::scene::mesh::{Mesh, MeshTriangle};
 
 /// Smallest chunk worth a thread: below this a thread's start and the merge
@@ -34,14 +33,6 @@ const MIN_CHUNK_BYTES: usize = 1 << 20;
 pub(super) fn threads_for(len: usize) -> usize {
     let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
     cores.min(len / MIN_CHUNK_BYTES).max(1)
-}
-
-/// Where the materials of a file come from: the OBJ's path (MTL files are
-/// relative to its folder) and the observer told of each MTL file just
-/// before it is read.
-pub(super) struct MaterialFiles<'p> {
-    pub path: &'p Path,
-    pub on_read: &'p mut dyn FnMut(&Path),
 }
 
 /// What the fast path made of a file.

@@ -3,7 +3,8 @@
 //! bit or the fast path declines; and the chunks cover the text.
 
 use super::chunk::number;
-use super::fast::{parse, split_at_lines, MaterialFiles, Outcome};
+use super::fast::{parse, split_at_lines, Outcome};
+use super::material_replay::MaterialFiles;
 use super::reference::parse_reference;
 use super::{parse_obj, parse_obj_counting};
 use crate::scene::mesh::Mesh;

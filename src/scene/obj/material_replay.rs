@@ -6,10 +6,17 @@ use std::collections::HashMap;
 use std::path::{Path, PathBuf};
 
 use super::chunk::{Chunk, Event};
-use super::fast::MaterialFiles;
 use super::mtl::parse_mtl;
-use super::reference::rest_of_line;
+use super::tokens::rest_of_line;
 use crate::scene::mesh::MeshMaterial;
+
+/// Where the materials of a file come from: the OBJ's path (MTL files are
+/// relative to its folder) and the observer told of each MTL file just
+/// before it is read.
+pub(super) struct MaterialFiles<'p> {
+    pub path: &'p Path,
+    pub on_read: &'p mut dyn FnMut(&Path),
+}
 
 /// The materials of a chunk's faces: (first face, material) for each run of
 /// faces with one material, the first run at face 0.

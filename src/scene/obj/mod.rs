@@ -34,6 +34,7 @@ mod fast_path_equivalence;
 mod material_replay;
 mod mtl;
 mod reference;
+mod tokens;
 
 use std::path::Path;
 
@@ -106,7 +107,7 @@ fn parse_obj_bytes(
     faces: &mut usize,
 ) -> Result<Mesh, SceneError> {
     let body = bytes.strip_prefix("\u{feff}".as_bytes()).unwrap_or(bytes);
-    let materials = with_materials.then_some(fast::MaterialFiles {
+    let materials = with_materials.then_some(material_replay::MaterialFiles {
         path,
         on_read: &mut *on_read,
     });

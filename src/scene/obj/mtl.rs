@@ -9,7 +9,7 @@ use std::path::Path;
 
 use glam::DVec3;
 
-use super::reference::{parse_number, rest_of_line, strip_comment};
+use super::tokens::{parse_number, rest_of_line, strip_comment};
 use crate::scene::mesh::MeshMaterial;
 use crate::scene::{SceneError, Warning};
 

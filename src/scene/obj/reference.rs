@@ -8,6 +8,7 @@ use std::path::{Path, PathBuf};
 use glam::DVec3;
 
 use super::mtl::parse_mtl;
+use super::tokens::{parse_number, rest_of_line, strip_comment};
 use crate::scene::mesh::{mesh_index, Mesh, MeshMaterial, MeshTriangle, NO_INDEX};
 use crate::scene::{SceneError, Warning};
 
@@ -271,31 +272,6 @@ fn face_material(
         mesh.materials.push(MeshMaterial::default_grey());
         mesh.materials.len() - 1
     })
-}
-
-/// The line without its `\r` and anything from `#` on.
-pub(super) fn strip_comment(line: &str) -> &str {
-    let line = line.strip_suffix('\r').unwrap_or(line);
-    match line.find('#') {
-        Some(at) => &line[..at],
-        None => line,
-    }
-}
-
-/// Everything after the keyword (the line's first token), trimmed: names may
-/// contain spaces.
-pub(super) fn rest_of_line<'a>(line: &'a str, keyword: &str) -> &'a str {
-    let line = line.trim_start_matches(|c: char| c.is_ascii_whitespace());
-    line.get(keyword.len()..).unwrap_or("").trim()
-}
-
-/// A finite f64.
-pub(super) fn parse_number(token: &str) -> Result<f64, String> {
-    match token.parse::<f64>() {
-        Ok(value) if value.is_finite() => Ok(value),
-        Ok(_) => Err(format!("'{token}' is not a finite number")),
-        Err(_) => Err(format!("'{token}' is not a number")),
-    }
 }
 
 /// The 0-based vertex index of a face token `v`, `v/vt`, `v//vn` or
