@@ -26,10 +26,11 @@ pub mod video;
 
 use std::path::{Path, PathBuf};
 
+pub use plan::Finished;
 pub use plan::{FarmPlan, RenderFlags, Work};
 pub use prepare::{prepare, FarmRequest, Prepared};
 pub use slurm::Submission;
-pub use task::{finish, run_task, task_index, Finished, TaskReport};
+pub use task::{finish, run_task, task_index, TaskReport};
 
 /// The executable `name` in the PATH's folders, if any.
 pub fn find_on_path(name: &str) -> Option<PathBuf> {

@@ -257,6 +257,20 @@ pub fn write_plan(dir: &Path, plan: &FarmPlan) -> Result<()> {
     crate::output::write_file_atomic(&dir.join(PLAN_FILE), text.as_bytes())
 }
 
+/// What the finishing job made.
+#[derive(Debug, Clone)]
+pub enum Finished {
+    /// The still's PNG.
+    Image(PathBuf),
+    /// Every frame checked; the MP4 when ffmpeg encoded it, else the
+    /// command that would.
+    Frames {
+        frames: u32,
+        video: Option<PathBuf>,
+        ffmpeg_command: String,
+    },
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -3,12 +3,12 @@
 //! uploaded once) and the finishing job ([`finish`]: the still's bands
 //! streamed into one PNG, or every frame checked and the MP4 encoded).
 
-use std::path::{Path, PathBuf};
+use std::path::Path;
 use std::time::Instant;
 
 use serde::Serialize;
 
-use super::plan::{self, FarmPlan, Work};
+use super::plan::{self, FarmPlan, Finished, Work};
 use super::scripts::INDEX_VARIABLES;
 use crate::error::{Error, Result};
 use crate::gpu::{GpuContext, GpuScene, PreparedScene, TilePlan};
@@ -156,20 +156,6 @@ pub fn run_task(dir: &Path, task: u32) -> Result<TaskReport> {
     }
     report.render_ms = ms_since(t);
     Ok(report)
-}
-
-/// What the finishing job made.
-#[derive(Debug, Clone)]
-pub enum Finished {
-    /// The still's PNG.
-    Image(PathBuf),
-    /// Every frame checked; the MP4 when ffmpeg encoded it, else the
-    /// command that would.
-    Frames {
-        frames: u32,
-        video: Option<PathBuf>,
-        ffmpeg_command: String,
-    },
 }
 
 /// The finishing job: checks that every item is there (naming the missing

@@ -4,8 +4,7 @@
 use std::path::Path;
 use std::process::Command;
 
-use super::plan::{frame_digits, FarmPlan};
-use super::task::Finished;
+use super::plan::{frame_digits, FarmPlan, Finished};
 use crate::error::{Error, Result};
 
 /// ffmpeg's arguments for DIR's frames into `output` at `fps`: H.264 where

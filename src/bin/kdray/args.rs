@@ -45,13 +45,13 @@ pub enum Command {
     /// Render on a cluster: write a Slurm job array and a finishing job into
     /// --out (a still in bands of rows, or an animation's frames), and
     /// optionally submit them and wait.
-    Farm(crate::farm::FarmArgs),
+    Farm(FarmArgs),
     /// Run one task of a farm (what its batch script runs).
     #[command(hide = true)]
-    FarmTask(crate::farm::FarmTaskArgs),
+    FarmTask(FarmTaskArgs),
     /// Finish a farm: bands into one PNG, or frames checked and encoded.
     #[command(hide = true)]
-    FarmFinish(crate::farm::FarmFinishArgs),
+    FarmFinish(FarmFinishArgs),
 }
 
 #[derive(clap::Args)]
@@ -300,4 +300,70 @@ impl GenerateArgs {
             height: self.height,
         }
     }
+}
+
+#[derive(clap::Args)]
+pub struct FarmArgs {
+    /// The scene file.
+    pub scene: PathBuf,
+    /// The farm's folder: plan, batch scripts, the result, and parts/ (bands, logs).
+    #[arg(long)]
+    pub out: PathBuf,
+    /// Image width in pixels (overrides the scene's [render] width).
+    #[arg(long)]
+    pub width: Option<u32>,
+    /// Image height in pixels (overrides the scene's [render] height).
+    #[arg(long)]
+    pub height: Option<u32>,
+    /// Samples per pixel, a perfect square (overrides the scene's [render] samples).
+    #[arg(long)]
+    pub samples: Option<u32>,
+    /// Nearest-hit search in the shader.
+    #[arg(long, value_parser = choice::<Accel>(), default_value = "kdtree")]
+    pub accel: Accel,
+    /// The kernel's k-d walk (with --accel kdtree).
+    #[arg(long, value_parser = choice::<Traversal>(), default_value = "short-stack")]
+    pub traversal: Traversal,
+    /// How the k-d tree is built (with --accel kdtree).
+    #[arg(long, value_parser = choice::<BuildStrategy>(), default_value = "sah")]
+    pub build: BuildStrategy,
+    /// Render a still of this frame of the scene's animation (0-based)
+    /// instead of every frame.
+    #[arg(long, value_name = "N")]
+    pub frame: Option<u32>,
+    /// Cut the still into N bands of rows, one array task each [default: 1].
+    #[arg(long, value_name = "N")]
+    pub tiles: Option<u32>,
+    /// The job array's tasks, each rendering a contiguous share of the bands
+    /// or frames [default: one per band; one per 50 frames].
+    #[arg(long, value_name = "K")]
+    pub tasks: Option<u32>,
+    /// An sbatch option for both scripts, one per flag, e.g.
+    /// --sbatch=--gres=gpu:1 --sbatch=--time=01:00:00 --sbatch=--partition=gpu.
+    #[arg(long, value_name = "ARG", allow_hyphen_values = true)]
+    pub sbatch: Vec<String>,
+    /// Submit the array and the finishing job with sbatch and print their ids.
+    #[arg(long)]
+    pub submit: bool,
+    /// With --submit: return when both jobs are done; exit 0 when everything
+    /// is there, else name the failed tasks and their logs.
+    #[arg(long, requires = "submit")]
+    pub wait: bool,
+    /// Discard the images of another render planned in --out and start again.
+    #[arg(long)]
+    pub force: bool,
+}
+
+#[derive(clap::Args)]
+pub struct FarmTaskArgs {
+    /// The farm's folder.
+    pub dir: PathBuf,
+    /// The task's index [default: $SLURM_ARRAY_TASK_ID, else $JOB_COMPLETION_INDEX].
+    pub index: Option<u32>,
+}
+
+#[derive(clap::Args)]
+pub struct FarmFinishArgs {
+    /// The farm's folder.
+    pub dir: PathBuf,
 }
