@@ -6,14 +6,14 @@
 
 use std::time::Instant;
 
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
 
 use crate::error::Result;
 use crate::gpu::{
     Accel, CostTotals, GpuContext, GpuScene, GpuTimeSource, PreparedScene, RenderSummary,
     RenderedImage, Renderer, RowBand, TilePlan,
 };
-use crate::kdtree::Traversal;
+use crate::kdtree::{BuildStrategy, Traversal};
 use crate::scene::{Camera, Scene};
 
 /// What `kdray render --stats` prints, as one JSON object.
@@ -94,6 +94,52 @@ impl RenderStats {
                 self.loop_limited_pixels
             )
         })
+    }
+}
+
+/// The flags of a render: overrides of the scene's `[render]` size and
+/// samples, and the search (accel, walk, build). `kdray render` and every
+/// farm task take the same (a farm records them in its plan).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct RenderFlags {
+    pub width: Option<u32>,
+    pub height: Option<u32>,
+    pub samples: Option<u32>,
+    #[serde(with = "by_name")]
+    pub accel: Accel,
+    #[serde(with = "by_name")]
+    pub traversal: Traversal,
+    #[serde(with = "by_name")]
+    pub build: BuildStrategy,
+}
+
+impl RenderFlags {
+    /// Checks the overrides as `kdray render` does (errors name the flag).
+    pub fn check(&self) -> Result<()> {
+        check_render_flags(self.width, self.height, self.samples)
+    }
+
+    /// Applies the overrides to `scene`'s `[render]`.
+    pub fn apply(&self, scene: &mut Scene) {
+        let r = &mut scene.render;
+        r.samples = self.samples.unwrap_or(r.samples);
+        r.width = self.width.unwrap_or(r.width);
+        r.height = self.height.unwrap_or(r.height);
+    }
+}
+
+/// A [`Choice`](crate::choice::Choice) written by its name (farm.json).
+mod by_name {
+    use crate::choice::Choice;
+    use serde::{Deserialize, Deserializer, Serializer};
+
+    pub fn serialize<T: Choice, S: Serializer>(value: &T, s: S) -> Result<S::Ok, S::Error> {
+        s.serialize_str(value.name())
+    }
+
+    pub fn deserialize<'de, T: Choice, D: Deserializer<'de>>(d: D) -> Result<T, D::Error> {
+        let name = String::deserialize(d)?;
+        T::from_name(&name).ok_or_else(|| serde::de::Error::custom(format!("unknown name {name}")))
     }
 }
 

@@ -10,9 +10,7 @@ use serde::{Deserialize, Serialize};
 
 use super::fingerprint::InputFile;
 use crate::error::{Error, Result};
-use crate::gpu::Accel;
-use crate::kdtree::{BuildStrategy, Traversal};
-use crate::scene::Scene;
+pub use crate::render::RenderFlags;
 
 /// The plan's file in DIR.
 pub const PLAN_FILE: &str = "farm.json";
@@ -22,51 +20,6 @@ pub const ARRAY_SCRIPT: &str = "render.sbatch";
 pub const FINISH_SCRIPT: &str = "finish.sbatch";
 /// The subfolder of DIR for bands, logs and the finishing job's marker.
 pub const PARTS_DIR: &str = "parts";
-
-/// The render flags a farm passes on to every task: the same overrides of
-/// the scene's `[render]` as `kdray render`, and the same search.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-pub struct RenderFlags {
-    pub width: Option<u32>,
-    pub height: Option<u32>,
-    pub samples: Option<u32>,
-    #[serde(with = "by_name")]
-    pub accel: Accel,
-    #[serde(with = "by_name")]
-    pub traversal: Traversal,
-    #[serde(with = "by_name")]
-    pub build: BuildStrategy,
-}
-
-impl RenderFlags {
-    /// Checks the overrides as `kdray render` does (errors name the flag).
-    pub fn check(&self) -> Result<()> {
-        crate::render::check_render_flags(self.width, self.height, self.samples)
-    }
-
-    /// Applies the overrides to `scene`'s `[render]`.
-    pub fn apply(&self, scene: &mut Scene) {
-        let r = &mut scene.render;
-        r.samples = self.samples.unwrap_or(r.samples);
-        r.width = self.width.unwrap_or(r.width);
-        r.height = self.height.unwrap_or(r.height);
-    }
-}
-
-/// A [`Choice`] written by its name in farm.json.
-mod by_name {
-    use crate::choice::Choice;
-    use serde::{Deserialize, Deserializer, Serializer};
-
-    pub fn serialize<T: Choice, S: Serializer>(value: &T, s: S) -> Result<S::Ok, S::Error> {
-        s.serialize_str(value.name())
-    }
-
-    pub fn deserialize<'de, T: Choice, D: Deserializer<'de>>(d: D) -> Result<T, D::Error> {
-        let name = String::deserialize(d)?;
-        T::from_name(&name).ok_or_else(|| serde::de::Error::custom(format!("unknown name {name}")))
-    }
-}
 
 /// What the farm renders: its work items are a still's bands of rows or
 /// an animation's frames.

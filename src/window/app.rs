@@ -38,7 +38,7 @@ pub fn run(options: WindowOptions) -> Result<()> {
     };
     // Watch first, so a change made while the scene loads is not missed.
     let (files, scene) =
-        WatchList::record(|seen| reload::load(&options.scene, options.build, seen));
+        WatchList::record(|seen| reload::load(&options.scene, options.flags.build, seen));
     let watcher = SceneWatcher::new(files);
     let scene = scene?;
     let event_loop = EventLoop::new().map_err(|e| {
@@ -116,7 +116,7 @@ impl App {
     /// drawing the current one meanwhile.
     fn start_reload(&mut self) {
         let path = self.options.scene.clone();
-        let build = self.options.build;
+        let build = self.options.flags.build;
         // The mesh list may have changed: the job also lists what to watch.
         self.reloads
             .request(move || WatchList::record(|seen| reload::load(&path, build, seen)));
@@ -226,8 +226,8 @@ impl App {
             Action::CycleBuild => {
                 // A new tree: prepared on the worker like a reload, shown
                 // when ready (the title says "reloading" meanwhile).
-                self.options.build = self.options.build.next();
-                eprintln!("kdray: building the {} tree", self.options.build);
+                self.options.flags.build = self.options.flags.build.next();
+                eprintln!("kdray: building the {} tree", self.options.flags.build);
                 self.start_reload();
             }
             Action::ToggleHeatmap => {

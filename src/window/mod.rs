@@ -33,7 +33,7 @@ pub mod view;
 use std::path::PathBuf;
 
 use crate::error::{Error, Result};
-use crate::gpu::Accel;
+use crate::render::RenderFlags;
 
 /// Samples per pixel the window refines to when neither the scene nor
 /// `--samples` asks for more.
@@ -43,18 +43,12 @@ pub const DEFAULT_WINDOW_SAMPLES: u32 = 16;
 #[derive(Debug, Clone)]
 pub struct WindowOptions {
     pub scene: PathBuf,
-    /// Window size in physical pixels (default: the scene's aspect ratio,
-    /// fitted into 960 x 720 logical pixels).
-    pub width: Option<u32>,
-    pub height: Option<u32>,
-    /// Samples per pixel to refine to (default: the scene's, at least
-    /// [`DEFAULT_WINDOW_SAMPLES`]).
-    pub samples: Option<u32>,
-    pub accel: Accel,
-    /// The k-d walk to start with (T cycles them).
-    pub traversal: crate::kdtree::Traversal,
-    /// The k-d build to start with (K cycles them, rebuilding the tree).
-    pub build: crate::kdtree::BuildStrategy,
+    /// As for a render, but: `width` and `height` are the window's size in
+    /// physical pixels (default: the scene's aspect ratio, fitted into 960 x
+    /// 720 logical pixels); `samples` the samples per pixel to refine to
+    /// (default: the scene's, at least [`DEFAULT_WINDOW_SAMPLES`]); the
+    /// walk and build are those to start with (T and K cycle them).
+    pub flags: RenderFlags,
     /// Present this many frames, then exit.
     pub frames: Option<u32>,
     /// On exit, save the last presented frame here.
@@ -65,7 +59,7 @@ pub struct WindowOptions {
 
 impl WindowOptions {
     fn validate(&self) -> Result<()> {
-        crate::render::check_render_flags(self.width, self.height, self.samples)?;
+        self.flags.check()?;
         if self.frames == Some(0) {
             return Err(Error::Usage("--frames: must be at least 1, got 0".into()));
         }

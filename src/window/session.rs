@@ -64,7 +64,7 @@ pub(super) struct Session {
 fn window_size(options: &WindowOptions, scene: &Scene) -> Size {
     let (sw, sh) = (scene.render.width as f64, scene.render.height as f64);
     let side = |v: f64| (v.round() as u32).clamp(1, crate::scene::MAX_IMAGE_SIDE);
-    match (options.width, options.height) {
+    match (options.flags.width, options.flags.height) {
         (Some(w), Some(h)) => PhysicalSize::new(w, h).into(),
         (Some(w), None) => PhysicalSize::new(w, side(w as f64 * sh / sw)).into(),
         (None, Some(h)) => PhysicalSize::new(side(h as f64 * sw / sh), h).into(),
@@ -78,6 +78,7 @@ fn window_size(options: &WindowOptions, scene: &Scene) -> Size {
 /// k of the k x k samples per pixel the window refines to.
 fn window_samples_per_axis(options: &WindowOptions, scene: &Scene) -> u32 {
     let samples = options
+        .flags
         .samples
         .unwrap_or_else(|| scene.render.samples.max(DEFAULT_WINDOW_SAMPLES));
     RenderSettings {
@@ -175,8 +176,8 @@ impl Session {
             scene,
             file_max_depth,
             controller,
-            accel: options.accel,
-            traversal: options.traversal,
+            accel: options.flags.accel,
+            traversal: options.flags.traversal,
             heatmap: false,
             max_depth: file_max_depth,
             refinement: Refinement::new(k, max_pixels),

@@ -17,6 +17,7 @@ use kdray::bench::{RandomSceneSpec, SceneKind, DEFAULT_SEED};
 use kdray::choice::Choice;
 use kdray::gpu::Accel;
 use kdray::kdtree::{BuildStrategy, Traversal};
+use kdray::render::RenderFlags;
 
 #[derive(Parser)]
 #[command(
@@ -119,24 +120,8 @@ pub struct RenderArgs {
     /// Output PNG [default: the scene's file name with .png, in the current folder].
     #[arg(short, long)]
     pub output: Option<PathBuf>,
-    /// Image width in pixels (overrides the scene's [render] width).
-    #[arg(long)]
-    pub width: Option<u32>,
-    /// Image height in pixels (overrides the scene's [render] height).
-    #[arg(long)]
-    pub height: Option<u32>,
-    /// Samples per pixel, a perfect square (overrides the scene's [render] samples).
-    #[arg(long)]
-    pub samples: Option<u32>,
-    /// Nearest-hit search in the shader.
-    #[arg(long, value_parser = choice::<Accel>(), default_value = "kdtree")]
-    pub accel: Accel,
-    /// The kernel's k-d walk (with --accel kdtree; the window starts with it, T cycles them).
-    #[arg(long, value_parser = choice::<Traversal>(), default_value = "short-stack")]
-    pub traversal: Traversal,
-    /// How the k-d tree is built (with --accel kdtree; the window starts with it, K cycles them).
-    #[arg(long, value_parser = choice::<BuildStrategy>(), default_value = "sah")]
-    pub build: BuildStrategy,
+    #[command(flatten)]
+    pub image: ImageFlags,
     /// Print one JSON object of figures on stdout (with --window: frame rates, on exit).
     #[arg(long)]
     pub stats: bool,
@@ -164,6 +149,51 @@ pub struct RenderArgs {
     /// With --window: on exit, save the last presented frame as a PNG here.
     #[arg(long, requires = "window")]
     pub screenshot: Option<PathBuf>,
+}
+
+/// The flags `render` and `farm` share: the scene's `[render]` overrides
+/// and the search, as the library's [`RenderFlags`].
+#[derive(clap::Args)]
+pub struct ImageFlags {
+    /// Image width in pixels (overrides the scene's [render] width).
+    #[arg(long)]
+    pub width: Option<u32>,
+    /// Image height in pixels (overrides the scene's [render] height).
+    #[arg(long)]
+    pub height: Option<u32>,
+    /// Samples per pixel, a perfect square (overrides the scene's [render] samples).
+    #[arg(long)]
+    pub samples: Option<u32>,
+    /// Nearest-hit search in the shader.
+    #[arg(long, value_parser = choice::<Accel>(), default_value = "kdtree")]
+    pub accel: Accel,
+    /// The kernel's k-d walk (with --accel kdtree; the window starts with it, T cycles them).
+    #[arg(long, value_parser = choice::<Traversal>(), default_value = "short-stack")]
+    pub traversal: Traversal,
+    /// How the k-d tree is built (with --accel kdtree; the window starts with it, K cycles them).
+    #[arg(long, value_parser = choice::<BuildStrategy>(), default_value = "sah")]
+    pub build: BuildStrategy,
+}
+
+impl From<ImageFlags> for RenderFlags {
+    fn from(f: ImageFlags) -> RenderFlags {
+        let ImageFlags {
+            width,
+            height,
+            samples,
+            accel,
+            traversal,
+            build,
+        } = f;
+        RenderFlags {
+            width,
+            height,
+            samples,
+            accel,
+            traversal,
+            build,
+        }
+    }
 }
 
 /// The library's default sizes as `--sizes` writes them (comma separated).
@@ -309,24 +339,8 @@ pub struct FarmArgs {
     /// The farm's folder: plan, batch scripts, the result, and parts/ (bands, logs).
     #[arg(long)]
     pub out: PathBuf,
-    /// Image width in pixels (overrides the scene's [render] width).
-    #[arg(long)]
-    pub width: Option<u32>,
-    /// Image height in pixels (overrides the scene's [render] height).
-    #[arg(long)]
-    pub height: Option<u32>,
-    /// Samples per pixel, a perfect square (overrides the scene's [render] samples).
-    #[arg(long)]
-    pub samples: Option<u32>,
-    /// Nearest-hit search in the shader.
-    #[arg(long, value_parser = choice::<Accel>(), default_value = "kdtree")]
-    pub accel: Accel,
-    /// The kernel's k-d walk (with --accel kdtree).
-    #[arg(long, value_parser = choice::<Traversal>(), default_value = "short-stack")]
-    pub traversal: Traversal,
-    /// How the k-d tree is built (with --accel kdtree).
-    #[arg(long, value_parser = choice::<BuildStrategy>(), default_value = "sah")]
-    pub build: BuildStrategy,
+    #[command(flatten)]
+    pub image: ImageFlags,
     /// Render a still of this frame of the scene's animation (0-based)
     /// instead of every frame.
     #[arg(long, value_name = "N")]

@@ -2,7 +2,7 @@
 //! the two hidden commands the scripts run on the cluster: `farm-task`
 //! (one array task) and `farm-finish` (the finishing job).
 
-use kdray::farm::{self, plan, FarmRequest, Finished, RenderFlags, Work};
+use kdray::farm::{self, plan, FarmRequest, Finished, Work};
 use kdray::{Error, Result};
 
 use crate::args::{FarmArgs, FarmFinishArgs, FarmTaskArgs};
@@ -13,14 +13,7 @@ pub fn farm(args: FarmArgs) -> Result<()> {
     let request = FarmRequest {
         scene: args.scene,
         out: args.out,
-        flags: RenderFlags {
-            width: args.width,
-            height: args.height,
-            samples: args.samples,
-            accel: args.accel,
-            traversal: args.traversal,
-            build: args.build,
-        },
+        flags: args.image.into(),
         frame: args.frame,
         tiles: args.tiles,
         tasks: args.tasks,

@@ -19,12 +19,7 @@ fn main() -> ExitCode {
     let result = match cli.command {
         Command::Render(RenderArgs {
             scene,
-            width,
-            height,
-            samples,
-            accel,
-            traversal,
-            build,
+            image,
             stats,
             window: true,
             frames,
@@ -32,12 +27,7 @@ fn main() -> ExitCode {
             ..
         }) => kdray::window::run(kdray::window::WindowOptions {
             scene,
-            width,
-            height,
-            samples,
-            accel,
-            traversal,
-            build,
+            flags: image.into(),
             frames,
             screenshot,
             stats,
@@ -64,12 +54,7 @@ fn render(args: RenderArgs) -> Result<()> {
     let RenderArgs {
         scene: scene_path,
         output,
-        width,
-        height,
-        samples,
-        accel,
-        traversal,
-        build,
+        image,
         stats,
         heatmap,
         heatmap_max,
@@ -80,13 +65,12 @@ fn render(args: RenderArgs) -> Result<()> {
     let scene_path = scene_path.as_path();
     let heatmap = heatmap.map(|path| (path, heatmap_max));
     let mut scene = kdray::scene::load_scene(scene_path)?;
-    kdray::render::check_render_flags(width, height, samples)?;
-    scene.render.samples = samples.unwrap_or(scene.render.samples);
-    scene.render.width = width.unwrap_or(scene.render.width);
-    scene.render.height = height.unwrap_or(scene.render.height);
+    let flags: kdray::render::RenderFlags = image.into();
+    flags.check()?;
+    flags.apply(&mut scene);
     if all_frames {
         let dir = output.expect("clap requires --output with --all-frames");
-        return render_all_frames(scene, &dir, accel, build, traversal, stats);
+        return render_all_frames(scene, &dir, &flags, stats);
     }
     let frame = frame.unwrap_or(0);
     if frame >= scene.frame_count() {
@@ -120,7 +104,7 @@ fn render(args: RenderArgs) -> Result<()> {
     let (width, height) = (scene.render.width, scene.render.height);
     let uploaded = kdray::gpu::GpuScene::upload(
         &ctx,
-        kdray::gpu::PreparedScene::built_by(scene, accel, build),
+        kdray::gpu::PreparedScene::built_by(scene, flags.accel, flags.build),
     )?;
     // The heatmap's scale needs every pixel: its costs are kept whole (4
     // bytes per pixel), unlike the image.
@@ -128,7 +112,7 @@ fn render(args: RenderArgs) -> Result<()> {
     let (figures, _) = kdray::render::render_streaming(
         &ctx,
         &uploaded,
-        traversal,
+        flags.traversal,
         TilePlan::DEFAULT_MAX_TILE_PIXELS,
         stats || heatmap.is_some(),
         &mut |band| {
@@ -159,9 +143,7 @@ fn render(args: RenderArgs) -> Result<()> {
 fn render_all_frames(
     scene: kdray::scene::Scene,
     dir: &Path,
-    accel: kdray::gpu::Accel,
-    build: kdray::kdtree::BuildStrategy,
-    traversal: kdray::kdtree::Traversal,
+    flags: &kdray::render::RenderFlags,
     stats: bool,
 ) -> Result<()> {
     let frames = scene.frame_count();
@@ -176,7 +158,7 @@ fn render_all_frames(
     )?;
     let uploaded = kdray::gpu::GpuScene::upload(
         &ctx,
-        kdray::gpu::PreparedScene::built_by(scene, accel, build),
+        kdray::gpu::PreparedScene::built_by(scene, flags.accel, flags.build),
     )?;
     for k in 0..frames {
         let file = dir.join(kdray::farm::plan::frame_file_name(k, frames));
@@ -189,7 +171,7 @@ fn render_all_frames(
             &ctx,
             &uploaded,
             &part,
-            traversal,
+            flags.traversal,
             TilePlan::DEFAULT_MAX_TILE_PIXELS,
             &mut |band| {
                 progress.inc(band.rows as u64);
