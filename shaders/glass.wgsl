@@ -45,21 +45,24 @@ fn refraction_at(d: vec3<f32>, s: Surface, eta_i: f32, eta_t: f32) -> Refraction
 // How much of a light a shadow ray from `ray.origin`, `length` long, lets
 // through: 1 unblocked, 0 blocked by an opaque object; each transmissive
 // surface on the way multiplies it by its transmission (no caustics).
+// The any-hit walk first: it settles every ray that meets nothing or an
+// opaque object at the cost it has without glass (the general kernel's walk
+// costs equal the specialised ones'); only one that meets glass is walked
+// again, surface by surface (the result is the same either way).
 fn shadow_transmittance(ray: Ray, length: f32) -> f32 {
-    if (!GLASS) {
-        if (trace_ray(ray, length, true).object != NO_OBJECT) {
-            return 0.0;
-        }
+    let first = trace_ray(ray, length, true).object;
+    if (first == NO_OBJECT) {
         return 1.0;
+    }
+    if (!GLASS || materials[objects[first].x].transmission == 0.0) {
+        return 0.0;
     }
     var through = 1.0;
     var origin = ray.origin;
     var remaining = length;
     for (var crossing = 0u; crossing <= SHADOW_CROSSINGS; crossing++) {
         loop_iterations += 1u;
-        if (crossing > 0u) {
-            ray_counts.y += 1u; // the caller counted the first segment
-        }
+        ray_counts.y += 1u; // the caller counted the any-hit ray
         let hit = trace_ray(Ray(origin, ray.dir), remaining, false);
         if (hit.object == NO_OBJECT || hit.t >= remaining) {
             return through;
