@@ -1,4 +1,5 @@
-// Blinn-Phong shading at a hit, with shadow rays to every light.
+// Blinn-Phong shading at a hit, with shadow rays to every light (through
+// glass: shadow_transmittance in glass.wgsl).
 
 struct Shading {
     color: vec3<f32>,      // ambient_term + direct_term
@@ -38,17 +39,23 @@ fn shade(m: Material, p: vec3<f32>, n: vec3<f32>, v: vec3<f32>, origin: vec3<f32
         }
         let to_light_from_origin = light.position - origin;
         let shadow_length = length(to_light_from_origin);
+        var through = 1.0;
         if (shadow_length > 0.0) {
             let shadow_ray = Ray(origin, to_light_from_origin / shadow_length);
             ray_counts.y += 1u;
-            if (trace_ray(shadow_ray, shadow_length, true).object != NO_OBJECT) {
+            through = shadow_transmittance(shadow_ray, shadow_length);
+            if (through == 0.0) {
                 continue;
             }
         }
         visible_any = true;
         let h = normalize(l + v);
-        direct += m.diffuse * light.diffuse * l_dot_n
+        var light_term = m.diffuse * light.diffuse * l_dot_n
             + m.specular * light.specular * specular_power(dot(n, h), m.shininess * 0.25);
+        if (GLASS) {
+            light_term *= through; // 1 without glass on the way
+        }
+        direct += light_term;
     }
     return Shading(ambient + direct, visible_any);
 }

@@ -15,7 +15,11 @@ fn camera_ray(u: f32, v: f32) -> Ray {
 }
 
 // The seed's loop: colour += (1 - reflection) * weight * local; weight *= reflection.
+// A scene with glass follows trace_path_glass (glass.wgsl) instead.
 fn trace_path(primary: Ray) -> vec3<f32> {
+    if (GLASS) {
+        return trace_path_glass(primary);
+    }
     var ray = primary;
     var color = vec3<f32>(0.0);
     var weight = 1.0;

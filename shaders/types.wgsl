@@ -50,6 +50,8 @@ struct Material {
     diffuse: vec3<f32>,
     reflection: f32,
     specular: vec3<f32>,
+    transmission: f32,   // 0 opaque .. 1 clear (glass.wgsl)
+    ior: f32,            // index of refraction inside; outside is 1
 }
 
 struct Light {

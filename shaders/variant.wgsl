@@ -18,6 +18,9 @@ override SPHERES: bool = true;
 override TRIANGLES: bool = true;
 // Whether a triangle may have vertex normals.
 override SMOOTH_TRIANGLES: bool = true;
+// Whether a material may transmit (glass.wgsl): without it the path is the
+// opaque one, so scenes without glass pay nothing for it.
+override GLASS: bool = true;
 // Whether the walks count their work (walk_cost in traverse.wgsl): frames
 // that report it (--stats, the heatmap, bench's counted frame, the window)
 // and the ray-query kernel. Counting is private register adds, yet without

@@ -209,7 +209,11 @@ pub struct GpuMaterial {
     pub diffuse: [f32; 3],
     pub reflection: f32,
     pub specular: [f32; 3],
-    pub _pad: f32,
+    /// 0 opaque .. 1 clear; read only by the glass variant of the kernel.
+    pub transmission: f32,
+    /// Index of refraction of the inside (the outside is 1).
+    pub ior: f32,
+    pub _pad: [f32; 3],
 }
 
 #[repr(C)]
@@ -232,6 +236,12 @@ pub const ACCEL_BRUTE: u32 = 1;
 pub const TRAVERSAL_RESTART: u32 = 0;
 pub const TRAVERSAL_ROPES: u32 = 1;
 pub const TRAVERSAL_SHORT_STACK: u32 = 2;
+/// The glass path's stack: at most this many rays wait while a sample
+/// follows another (shaders/glass.wgsl; docs/scene-format.md says how).
+pub const GLASS_STACK_DEPTH: u32 = 4;
+/// A shadow ray through glass passes at most this many transmissive
+/// surfaces; one that would pass more counts as blocked.
+pub const SHADOW_CROSSINGS: u32 = 8;
 /// `FrameParams::shadow_mode` values.
 pub const SHADOW_AMBIENT: u32 = 0;
 pub const SHADOW_SEED: u32 = 1;
@@ -548,7 +558,7 @@ mod tests {
             &module,
             "Material",
             GpuMaterial,
-            [ambient, shininess, diffuse, reflection, specular]
+            [ambient, shininess, diffuse, reflection, specular, transmission, ior]
         );
         layout_of!(
             &module,

@@ -1,14 +1,16 @@
-//! A CPU reference of shaders/trace.wgsl + shade.wgsl: the same path loop,
-//! shading and f32 arithmetic over the CPU mirror of the traversal, so GPU
-//! images can be checked pixel by pixel and a single path can be inspected.
-//! Slow (one thread); for tests and debugging only.
+//! A CPU reference of shaders/trace.wgsl + shade.wgsl + glass.wgsl: the
+//! same path loop (with glass: refraction, Fresnel, the stack of pending
+//! rays, shadow rays through glass), shading and f32 arithmetic over the CPU
+//! mirror of the traversal, so GPU images can be checked pixel by pixel and
+//! a single path can be inspected. Slow (one thread); for tests and
+//! debugging only.
 
 use glam::Vec3;
 
 use crate::geometry::{spawn_offset, Primitives, Ray, T_INFINITY};
 use crate::kdtree::traverse::{any_hit, any_hit_brute, closest_hit, closest_hit_brute, Hit};
 use crate::kdtree::KdTree;
-use crate::layout::GpuTriangleNormals;
+use crate::layout::{GpuTriangleNormals, GLASS_STACK_DEPTH, SHADOW_CROSSINGS};
 use crate::scene::{Scene, ShadowMode};
 
 /// Where a path meets a surface, seen from the incoming ray: mirror of
@@ -84,6 +86,69 @@ pub fn reflection_dir(dir: Vec3, s: &Surface) -> Vec3 {
     }
 }
 
+/// The refracted direction and the Fresnel reflectance at one interface:
+/// mirror of `Refraction` in shaders/glass.wgsl.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Refraction {
+    /// Unit; the incoming direction where `fresnel == 1`.
+    pub dir: Vec3,
+    /// Exact dielectric reflectance (unpolarised: the mean of the s and p
+    /// reflectances); 1 at total internal reflection.
+    pub fresnel: f32,
+}
+
+/// Snell's law and the exact dielectric Fresnel reflectance for unit `d`
+/// arriving at unit `n` (facing the incoming ray) from index `eta_i` into
+/// `eta_t`: mirror of `refract_fresnel` in shaders/glass.wgsl. Equal indices
+/// bend nothing and reflect nothing, exactly.
+pub fn refract_fresnel(d: Vec3, n: Vec3, eta_i: f32, eta_t: f32) -> Refraction {
+    if eta_i == eta_t {
+        return Refraction { dir: d, fresnel: 0.0 };
+    }
+    let cos_i = (-d.dot(n)).clamp(0.0, 1.0);
+    let eta = eta_i / eta_t;
+    let sin2_t = eta * eta * (1.0 - cos_i * cos_i);
+    if sin2_t >= 1.0 {
+        return Refraction { dir: d, fresnel: 1.0 };
+    }
+    let cos_t = (1.0 - sin2_t).sqrt();
+    let rs = (eta_i * cos_i - eta_t * cos_t) / (eta_i * cos_i + eta_t * cos_t);
+    let rp = (eta_t * cos_i - eta_i * cos_t) / (eta_t * cos_i + eta_i * cos_t);
+    Refraction {
+        dir: (eta * d + (eta * cos_i - cos_t) * n).normalize(),
+        fresnel: 0.5 * (rs * rs + rp * rp),
+    }
+}
+
+/// Mirror of `refraction_at` in shaders/glass.wgsl.
+pub fn refraction_at(d: Vec3, s: &Surface, eta_i: f32, eta_t: f32) -> Refraction {
+    let r = refract_fresnel(d, s.shading, eta_i, eta_t);
+    if r.fresnel == 1.0 || r.dir.dot(s.geometric) < 0.0 {
+        return r;
+    }
+    refract_fresnel(d, s.geometric, eta_i, eta_t)
+}
+
+/// A ray a sample follows on the glass path: mirror of `PathRay` in
+/// shaders/glass.wgsl.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct PathRay {
+    pub ray: Ray,
+    /// Its share of the sample's colour.
+    pub weight: f32,
+    /// Hits on its path before this ray.
+    pub hits: u32,
+    /// Whether it runs inside glass.
+    pub inside: bool,
+}
+
+/// One ray the glass path traced, in order, and what it hit.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct PathStep {
+    pub ray: PathRay,
+    pub hit: Option<Hit>,
+}
+
 /// The scene prepared for CPU tracing.
 pub struct ReferenceTracer<'a> {
     scene: &'a Scene,
@@ -91,6 +156,8 @@ pub struct ReferenceTracer<'a> {
     /// Per triangle, its vertex normals as the kernel decodes them (None: flat).
     normals: Vec<Option<[Vec3; 3]>>,
     tree: Option<KdTree>,
+    /// Whether some material transmits: the kernel's GLASS variant.
+    glass: bool,
     forward: Vec3,
     right: Vec3,
     up: Vec3,
@@ -118,6 +185,7 @@ impl<'a> ReferenceTracer<'a> {
             prims,
             normals,
             tree,
+            glass: scene.materials.iter().any(|m| m.transmission as f32 > 0.0),
             forward: basis.forward.as_vec3(),
             right: basis.right.as_vec3(),
             up: basis.up.as_vec3(),
@@ -138,6 +206,37 @@ impl<'a> ReferenceTracer<'a> {
             Some(tree) => any_hit(tree, &self.prims, ray, t_limit),
             None => any_hit_brute(&self.prims, ray, t_limit),
         }
+    }
+
+    /// Mirror of `shadow_transmittance` in shaders/glass.wgsl.
+    fn shadow_transmittance(&self, ray: &Ray, length: f32) -> f32 {
+        if !self.glass {
+            return if self.blocked(ray, length) { 0.0 } else { 1.0 };
+        }
+        let mut through = 1.0f32;
+        let mut origin = ray.origin;
+        let mut remaining = length;
+        for crossing in 0..=SHADOW_CROSSINGS {
+            let hit = match &self.tree {
+                Some(tree) => closest_hit(tree, &self.prims, &Ray { origin, dir: ray.dir }, remaining),
+                None => closest_hit_brute(&self.prims, &Ray { origin, dir: ray.dir }, remaining),
+            };
+            let Some(hit) = hit.filter(|h| h.t < remaining) else {
+                return through;
+            };
+            through *= self.material(hit.object).transmission as f32;
+            if through == 0.0 || crossing == SHADOW_CROSSINGS {
+                return 0.0;
+            }
+            let p = origin + hit.t * ray.dir;
+            let step = spawn_offset(p, self.prims.magnitude(hit.object));
+            origin = p + step * ray.dir;
+            remaining -= hit.t + step;
+            if remaining <= 0.0 {
+                return through;
+            }
+        }
+        0.0
     }
 
     pub fn camera_ray(&self, u: f32, v: f32) -> Ray {
@@ -181,8 +280,14 @@ impl<'a> ReferenceTracer<'a> {
         &self.scene.materials[index as usize]
     }
 
-    /// The colour of one path (unclamped), and the hits along it.
+    /// The colour of one path (unclamped), and the hits along it (with
+    /// glass: of every ray the sample traced, in order).
     pub fn trace_path(&self, primary: Ray) -> (Vec3, Vec<Hit>) {
+        if self.glass {
+            let mut steps = Vec::new();
+            let color = self.trace_path_glass(primary, &mut steps);
+            return (color, steps.iter().filter_map(|s| s.hit).collect());
+        }
         let r = &self.scene.render;
         let mut ray = primary;
         let mut color = Vec3::ZERO;
@@ -217,6 +322,122 @@ impl<'a> ReferenceTracer<'a> {
         (color, hits)
     }
 
+    /// The rays one sample traces on the glass path, in order (for a scene
+    /// with glass; see [`Self::trace_path_glass`]).
+    pub fn path_steps(&self, primary: Ray) -> (Vec3, Vec<PathStep>) {
+        let mut steps = Vec::new();
+        let color = self.trace_path_glass(primary, &mut steps);
+        (color, steps)
+    }
+
+    /// Mirror of `trace_path_glass` in shaders/glass.wgsl: each hit adds
+    /// `local_share * weight * local` and splits the rest of the weight into
+    /// the mirror ray and the refracted ray; the sample follows the
+    /// refracted ray and pushes the mirror ray on a stack of at most
+    /// [`GLASS_STACK_DEPTH`] (if it would be traced and there is room), and
+    /// resumes from the stack's top when a path ends.
+    fn trace_path_glass(&self, primary: Ray, steps: &mut Vec<PathStep>) -> Vec3 {
+        let r = &self.scene.render;
+        let min_intensity = r.min_intensity as f32;
+        let traced = |p: &PathRay| p.weight >= min_intensity && p.hits < r.max_depth;
+        let mut pending: Vec<PathRay> = Vec::new();
+        let mut path = PathRay {
+            ray: primary,
+            weight: 1.0,
+            hits: 0,
+            inside: false,
+        };
+        let mut color = Vec3::ZERO;
+        loop {
+            let next = if traced(&path) {
+                self.glass_step(&mut path, &mut pending, &mut color, steps)
+            } else {
+                false
+            };
+            if !next {
+                match pending.pop() {
+                    Some(p) => path = p,
+                    None => return color,
+                }
+            }
+        }
+    }
+
+    /// One traced ray of [`Self::trace_path_glass`]: false when its path ends.
+    fn glass_step(
+        &self,
+        path: &mut PathRay,
+        pending: &mut Vec<PathRay>,
+        color: &mut Vec3,
+        steps: &mut Vec<PathStep>,
+    ) -> bool {
+        let r = &self.scene.render;
+        let ray = path.ray;
+        let hit = self.closest(&ray);
+        steps.push(PathStep { ray: *path, hit });
+        let Some(hit) = hit else {
+            *color += path.weight * r.background.as_vec3();
+            return false;
+        };
+        path.hits += 1;
+        let p = ray.origin + hit.t * ray.dir;
+        let surface = self.surface(hit.object, p, ray.dir);
+        let offset = spawn_offset(p, self.prims.magnitude(hit.object));
+        let origin = surface.spawn_point + offset * surface.geometric;
+        let m = self.material(hit.object);
+        let (reflection, transmission) = (m.reflection as f32, m.transmission as f32);
+        let local_share = (1.0 - reflection) * (1.0 - transmission);
+        let opaque = transmission == 0.0;
+        if local_share > 0.0 || opaque {
+            let (local, any_visible) = self.shade(m, p, surface.shading, -ray.dir, origin);
+            if opaque && r.shadow_mode == ShadowMode::Seed && !any_visible {
+                return false;
+            }
+            *color += local_share * path.weight * local;
+        }
+        let mut reflect_share = reflection;
+        let mut transmit_share = 0.0f32;
+        let mut refracted = ray.dir;
+        if transmission > 0.0 {
+            let dielectric = (1.0 - reflection) * transmission;
+            let ior = m.ior as f32;
+            let (eta_i, eta_t) = if path.inside { (ior, 1.0) } else { (1.0, ior) };
+            let refraction = refraction_at(ray.dir, &surface, eta_i, eta_t);
+            reflect_share = reflection + dielectric * refraction.fresnel;
+            transmit_share = dielectric * (1.0 - refraction.fresnel);
+            refracted = refraction.dir;
+        }
+        let reflected = PathRay {
+            ray: Ray {
+                origin,
+                dir: reflection_dir(ray.dir, &surface),
+            },
+            weight: path.weight * reflect_share,
+            hits: path.hits,
+            inside: path.inside,
+        };
+        if transmit_share > 0.0 {
+            let traced = reflect_share > 0.0
+                && reflected.weight >= r.min_intensity as f32
+                && reflected.hits < r.max_depth;
+            if traced && pending.len() < GLASS_STACK_DEPTH as usize {
+                pending.push(reflected);
+            }
+            *path = PathRay {
+                ray: Ray {
+                    origin: p - offset * surface.geometric,
+                    dir: refracted,
+                },
+                weight: path.weight * transmit_share,
+                hits: path.hits,
+                inside: !path.inside,
+            };
+        } else {
+            *path = reflected;
+        }
+        path.weight != 0.0
+    }
+
     fn shade(
         &self,
         m: &crate::scene::Material,
@@ -243,16 +464,16 @@ impl<'a> ReferenceTracer<'a> {
             }
             let from_origin = lp - origin;
             let shadow_length = from_origin.length();
-            if shadow_length > 0.0
-                && self.blocked(
-                    &Ray {
-                        origin,
-                        dir: from_origin / shadow_length,
-                    },
-                    shadow_length,
-                )
-            {
-                continue;
+            let mut through = 1.0f32;
+            if shadow_length > 0.0 {
+                let shadow_ray = Ray {
+                    origin,
+                    dir: from_origin / shadow_length,
+                };
+                through = self.shadow_transmittance(&shadow_ray, shadow_length);
+                if through == 0.0 {
+                    continue;
+                }
             }
             any_visible = true;
             let h = (l + v).normalize();
@@ -264,8 +485,12 @@ impl<'a> ReferenceTracer<'a> {
             } else {
                 n.dot(h).powf(e)
             };
-            direct += m.diffuse.as_vec3() * light.diffuse.as_vec3() * l_dot_n
+            let mut light_term = m.diffuse.as_vec3() * light.diffuse.as_vec3() * l_dot_n
                 + m.specular.as_vec3() * light.specular.as_vec3() * spec;
+            if self.glass {
+                light_term *= through;
+            }
+            direct += light_term;
         }
         (ambient + direct, any_visible)
     }

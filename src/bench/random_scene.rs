@@ -189,6 +189,8 @@ fn materials() -> Vec<Material> {
                 specular: DVec3::splat(if shiny { 0.8 } else { 0.2 }),
                 shininess: if shiny { 200.0 } else { 20.0 },
                 reflection: if shiny { 0.4 } else { 0.0 },
+                transmission: 0.0,
+                ior: Material::DEFAULT_IOR,
             });
         }
     }

@@ -13,7 +13,7 @@
 
 use crate::geometry::{HIT_BOX_MARGIN, IN_PLANE_MARGIN, PARALLEL_EPSILON, T_INFINITY};
 use crate::layout::{
-    GpuTriangle, KdNode, LeafRopes, ACCEL_BRUTE, ACCEL_KDTREE, SHADOW_AMBIENT, SHADOW_SEED,
+    GpuTriangle, KdNode, LeafRopes, ACCEL_BRUTE, ACCEL_KDTREE, GLASS_STACK_DEPTH, SHADOW_CROSSINGS, SHADOW_AMBIENT, SHADOW_SEED,
     TRAVERSAL_RESTART, TRAVERSAL_ROPES, TRAVERSAL_SHORT_STACK,
 };
 
@@ -380,12 +380,16 @@ pub enum SharedValue {
 }
 
 /// Every constant the kernel and the host must agree on, by WGSL name.
-pub const SHARED_CONSTANTS: [(&str, SharedValue); 22] = [
+pub const SHARED_CONSTANTS: [(&str, SharedValue); 24] = [
     ("KD_LEAF", SharedValue::U32(KdNode::LEAF)),
     ("ACCEL_KDTREE", SharedValue::U32(ACCEL_KDTREE)),
     ("ACCEL_BRUTE", SharedValue::U32(ACCEL_BRUTE)),
     ("SHADOW_AMBIENT", SharedValue::U32(SHADOW_AMBIENT)),
     ("SHADOW_SEED", SharedValue::U32(SHADOW_SEED)),
+    // The glass path's stack of pending rays (glass.wgsl).
+    ("GLASS_STACK_DEPTH", SharedValue::U32(GLASS_STACK_DEPTH)),
+    // Most transmissive surfaces a shadow ray passes before it is blocked.
+    ("SHADOW_CROSSINGS", SharedValue::U32(SHADOW_CROSSINGS)),
     // Stand-in for infinity: implementations may assume there is no inf or NaN.
     ("T_INFINITY", SharedValue::F32(T_INFINITY)),
     // Direction components below this count as parallel to an axis plane.

@@ -1,5 +1,5 @@
 //! What one trace pipeline is specialised for: the scene's layout and kinds
-//! of object, the accel and the k-d walk, and whether the frame counts the
+//! of object and material (glass or none), the accel and the k-d walk, and whether the frame counts the
 //! walks' work, set as the kernel's
 //! pipeline-overridable constants (shaders/variant.wgsl), so that each
 //! pipeline holds only the code its frames can reach.
@@ -48,6 +48,10 @@ pub struct KernelVariant {
     pub triangles: bool,
     /// Whether a triangle may have vertex normals (smooth shading).
     pub smooth_triangles: bool,
+    /// Whether a material may transmit: the path with refraction, a stack
+    /// of pending rays and shadow rays through glass (shaders/glass.wgsl).
+    /// Without it the kernel is the opaque one, instruction for instruction.
+    pub glass: bool,
     /// Whether the walks count their work (nodes, leaves, objects) for the
     /// frame's cost buffer. Without, the counters are compiled out.
     pub count_costs: bool,
@@ -61,6 +65,7 @@ impl KernelVariant {
         spheres: true,
         triangles: true,
         smooth_triangles: true,
+        glass: true,
         count_costs: true,
     };
 
@@ -88,6 +93,7 @@ impl KernelVariant {
             spheres: spheres || !triangles,
             triangles: triangles || !spheres,
             smooth_triangles: scene.smooth_triangles,
+            glass: scene.glass,
             count_costs: true,
         }
     }
@@ -107,7 +113,7 @@ impl KernelVariant {
 
     /// The pipeline constants that make this variant, by WGSL name
     /// (shaders/variant.wgsl declares each of [`OVERRIDES`]).
-    pub fn constants(&self) -> [(&'static str, f64); 7] {
+    pub fn constants(&self) -> [(&'static str, f64); 8] {
         let flag = |b: bool| if b { 1.0 } else { 0.0 };
         let (accel, traversal) = match self.walk {
             Walk::FromParams => (FROM_PARAMS, FROM_PARAMS),
@@ -125,6 +131,7 @@ impl KernelVariant {
             ("SPHERES", flag(self.spheres)),
             ("TRIANGLES", flag(self.triangles)),
             ("SMOOTH_TRIANGLES", flag(self.smooth_triangles)),
+            ("GLASS", flag(self.glass)),
             ("COUNT_COSTS", flag(self.count_costs)),
         ]
     }
@@ -132,13 +139,14 @@ impl KernelVariant {
 
 /// The names of the kernel's pipeline-overridable constants, all of which
 /// [`KernelVariant::constants`] sets.
-pub const OVERRIDES: [&str; 7] = [
+pub const OVERRIDES: [&str; 8] = [
     "SPLIT_SCENE",
     "ACCEL",
     "TRAVERSAL",
     "SPHERES",
     "TRIANGLES",
     "SMOOTH_TRIANGLES",
+    "GLASS",
     "COUNT_COSTS",
 ];
 

@@ -138,7 +138,9 @@ impl SceneArrays {
                     diffuse: f32x3(m.diffuse),
                     reflection: m.reflection as f32,
                     specular: f32x3(m.specular),
-                    _pad: 0.0,
+                    transmission: m.transmission as f32,
+                    ior: m.ior as f32,
+                    _pad: [0.0; 3],
                 })
                 .collect(),
             lights: scene
@@ -367,6 +369,8 @@ pub struct SceneBuffers {
     pub split: bool,
     /// Whether some triangle has vertex normals (smooth shading).
     pub smooth_triangles: bool,
+    /// Whether some material transmits (the kernel's glass path).
+    pub glass: bool,
 }
 
 impl SceneBuffers {
@@ -463,6 +467,7 @@ impl SceneBuffers {
             node_count: arrays.nodes.len() as u32,
             split,
             smooth_triangles: !arrays.triangle_normals.is_empty(),
+            glass: arrays.materials.iter().any(|m| m.transmission > 0.0),
         }
     }
 }

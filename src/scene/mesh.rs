@@ -34,6 +34,9 @@ pub struct MeshMaterial {
     pub specular: DVec3,
     pub shininess: f64,
     pub reflection: f64,
+    /// As [`Material::transmission`](super::Material::transmission).
+    pub transmission: f64,
+    pub ior: f64,
 }
 
 impl MeshMaterial {
@@ -49,6 +52,8 @@ impl MeshMaterial {
             specular: DVec3::ZERO,
             shininess: 0.0,
             reflection: 0.0,
+            transmission: 0.0,
+            ior: super::Material::DEFAULT_IOR,
         }
     }
 }

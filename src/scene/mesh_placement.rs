@@ -95,6 +95,8 @@ impl Validator<'_> {
                 specular: mm.specular,
                 shininess: mm.shininess,
                 reflection: mm.reflection,
+                transmission: mm.transmission,
+                ior: mm.ior,
             }));
         }
         let world = self.place(i, &mesh, transform, translate)?;

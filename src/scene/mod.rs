@@ -121,6 +121,16 @@ pub struct Material {
     pub shininess: f64,
     /// 0 = opaque .. 1 = perfect mirror.
     pub reflection: f64,
+    /// 0 = opaque .. 1 = clear: the share of the light that is not mirrored
+    /// which passes through the surface (refracted, with Fresnel reflection).
+    pub transmission: f64,
+    /// Index of refraction, > 0, of the object's inside (outside is 1).
+    pub ior: f64,
+}
+
+impl Material {
+    /// `ior` where a file gives none: common glass.
+    pub const DEFAULT_IOR: f64 = 1.5;
 }
 
 #[derive(Debug, Clone, Copy, PartialEq)]

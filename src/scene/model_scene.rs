@@ -198,6 +198,8 @@ fn ground() -> Material {
         specular: DVec3::ZERO,
         shininess: 0.0,
         reflection: 0.0,
+        transmission: 0.0,
+        ior: Material::DEFAULT_IOR,
     }
 }
 

@@ -257,6 +257,22 @@ pub(super) struct RawMaterial {
     pub(super) shininess: f64,
     #[serde(default)]
     pub(super) reflection: f64,
+    #[serde(default, skip_serializing_if = "is_zero")]
+    pub(super) transmission: f64,
+    #[serde(default = "default_ior", skip_serializing_if = "is_default_ior")]
+    pub(super) ior: f64,
+}
+
+fn is_zero(x: &f64) -> bool {
+    *x == 0.0
+}
+
+fn default_ior() -> f64 {
+    super::Material::DEFAULT_IOR
+}
+
+fn is_default_ior(x: &f64) -> bool {
+    *x == super::Material::DEFAULT_IOR
 }
 
 #[derive(Deserialize, Serialize)]

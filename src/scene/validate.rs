@@ -150,6 +150,17 @@ impl Validator<'_> {
                     format!("must be in [0, 1], got {reflection:?}"),
                 ));
             }
+            let transmission = self.number(&|| key("transmission"), m.transmission)?;
+            if !(0.0..=1.0).contains(&transmission) {
+                return Err(self.error(
+                    &key("transmission"),
+                    format!("must be in [0, 1], got {transmission:?}"),
+                ));
+            }
+            let ior = self.number(&|| key("ior"), m.ior)?;
+            if ior <= 0.0 {
+                return Err(self.error(&key("ior"), format!("must be > 0, got {ior:?}")));
+            }
             material_index.insert(name.clone(), materials.len() as u32);
             materials.push(Material {
                 name: name.clone(),
@@ -158,6 +169,8 @@ impl Validator<'_> {
                 specular: self.colour(&|| key("specular"), m.specular)?,
                 shininess,
                 reflection,
+                transmission,
+                ior,
             });
         }
         let lookup = |key: KeyPath, name: &str| {

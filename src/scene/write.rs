@@ -29,6 +29,8 @@ pub fn scene_text(scene: &Scene, format: SceneFormat) -> Result<String, String> 
             specular: v(m.specular),
             shininess: m.shininess,
             reflection: m.reflection,
+            transmission: m.transmission,
+            ior: m.ior,
         };
         if materials.insert(m.name.clone(), TableOf(raw)).is_some() {
             return Err(format!("two materials are named \"{}\"", m.name));

@@ -124,6 +124,8 @@ fn the_contract_example_has_every_value() {
             specular: DVec3::ONE,
             shininess: 100.0,
             reflection: 0.5,
+            transmission: 0.0,
+            ior: 1.5,
         }]
     );
     assert_eq!(

@@ -242,6 +242,8 @@ fn without_an_override_faces_use_their_mtl_materials() {
             specular: DVec3::new(0.60, 0.55, 0.40),
             shininess: 128.0,
             reflection: 0.0,
+            transmission: 0.0,
+            ior: 1.5,
         }
     );
     assert_eq!(
@@ -253,6 +255,8 @@ fn without_an_override_faces_use_their_mtl_materials() {
             specular: DVec3::new(0.30, 0.30, 0.30),
             shininess: 64.0,
             reflection: 0.0,
+            transmission: 0.0,
+            ior: 1.5,
         }
     );
     // Face for face, the same triangles and materials as the OBJ loader gives.

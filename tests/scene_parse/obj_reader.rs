@@ -282,6 +282,8 @@ fn mtllib_is_relative_to_the_obj_folder() {
             specular: DVec3::ZERO,
             shininess: 0.0,
             reflection: 0.0,
+            transmission: 0.0,
+            ior: 1.5,
         }
     );
     assert_eq!(
@@ -293,6 +295,8 @@ fn mtllib_is_relative_to_the_obj_folder() {
             specular: d(0.6, 0.55, 0.4),
             shininess: 128.0,
             reflection: 0.0,
+            transmission: 0.0,
+            ior: 1.5,
         }
     );
     let used: Vec<_> = mesh.triangles.iter().map(|t| t.material()).collect();

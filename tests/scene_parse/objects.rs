@@ -54,6 +54,8 @@ fn material_defaults_and_values() {
             specular: DVec3::ONE,
             shininess: 100.0,
             reflection: 0.5,
+            transmission: 0.0,
+            ior: 1.5,
         }
     );
     assert_eq!(
@@ -65,6 +67,8 @@ fn material_defaults_and_values() {
             specular: DVec3::ZERO,
             shininess: 0.0,
             reflection: 0.0,
+            transmission: 0.0,
+            ior: 1.5,
         }
     );
     assert_eq!(scene.materials.len(), 2);

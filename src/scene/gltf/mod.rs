@@ -587,7 +587,12 @@ pub const PBR_MAX_SHININESS: f64 = 4.0 * 4096.0;
 ///   exponent whose lobe matches the GGX width (kdray's exponent is
 ///   shininess / 4), at most [`PBR_MAX_SHININESS`].
 ///
-/// Textures, emission and transparency are ignored.
+/// - transmission = `KHR_materials_transmission`'s transmissionFactor (0
+///   without the extension), ior = `KHR_materials_ior`'s ior (1.5, glTF's
+///   default, without it; glTF's ior 0 would mean "no refraction" there, and
+///   is read as 1, an index that bends nothing).
+///
+/// Textures, emission and alpha are ignored.
 pub fn pbr_material(material: &gltf::Material) -> MeshMaterial {
     let pbr = material.pbr_metallic_roughness();
     let [r, g, b, _alpha] = pbr.base_color_factor().map(f64::from);
@@ -612,6 +617,14 @@ pub fn pbr_material(material: &gltf::Material) -> MeshMaterial {
         specular: DVec3::splat(1.0 - roughness),
         shininess: shininess.max(0.0),
         reflection: metallic * (1.0 - roughness),
+        transmission: material
+            .transmission()
+            .map_or(0.0, |t| f64::from(t.transmission_factor()).clamp(0.0, 1.0)),
+        ior: match material.ior().map(f64::from) {
+            Some(ior) if ior > 0.0 && ior.is_finite() => ior,
+            Some(_) => 1.0,
+            None => crate::scene::Material::DEFAULT_IOR,
+        },
     }
 }
 

@@ -36,28 +36,43 @@ pub(super) fn is_gltf_1(bytes: &[u8]) -> bool {
     }
 }
 
-/// One warning naming every extension the file uses or requires: kdray
-/// implements none, so the model may look other than its author meant.
+/// The glTF extensions kdray reads (onto a material's transmission and ior).
+pub(super) const SUPPORTED_EXTENSIONS: [&str; 2] =
+    ["KHR_materials_transmission", "KHR_materials_ior"];
+
+/// One warning naming every extension the file uses or requires that kdray
+/// does not implement, so the model may look other than its author meant.
 pub(super) fn extensions_warning(root: &gltf::json::Root, path: &Path) -> Option<Warning> {
-    let mut names: Vec<&str> = root.extensions_used.iter().map(String::as_str).collect();
+    let mut names: Vec<&str> = root
+        .extensions_used
+        .iter()
+        .map(String::as_str)
+        .filter(|n| !SUPPORTED_EXTENSIONS.contains(n))
+        .collect();
     for required in &root.extensions_required {
-        if !names.contains(&required.as_str()) {
+        if !names.contains(&required.as_str()) && !SUPPORTED_EXTENSIONS.contains(&required.as_str()) {
             names.push(required);
         }
     }
     if names.is_empty() {
         return None;
     }
-    let required = if root.extensions_required.is_empty() {
+    let required: Vec<&str> = root
+        .extensions_required
+        .iter()
+        .map(String::as_str)
+        .filter(|n| !SUPPORTED_EXTENSIONS.contains(n))
+        .collect();
+    let required = if required.is_empty() {
         String::new()
     } else {
-        format!(" (required: {})", root.extensions_required.join(", "))
+        format!(" (required: {})", required.join(", "))
     };
     Some(Warning::new(
         path,
         None,
         format!(
-            "ignores the glTF extensions {}{required}: kdray implements none, so the model may look different",
+            "ignores the glTF extensions {}{required}: kdray does not implement them, so the model may look different",
             names.join(", ")
         ),
     ))

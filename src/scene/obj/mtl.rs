@@ -1,5 +1,6 @@
-//! MTL material libraries: `newmtl` and the Phong colours kdray uses
-//! (`Ka`, `Kd`, `Ks`, `Ns`); every other statement is ignored, and the
+//! MTL material libraries: `newmtl`, the Phong colours kdray uses
+//! (`Ka`, `Kd`, `Ks`, `Ns`) and glass (`d`, `Tr`, `Ni`); every other
+//! statement is ignored, and the
 //! texture statements (`map_*`, `bump`, `disp`, `decal`, `refl`, `norm`)
 //! with one warning per file: kdray has no textures, and a textured model
 //! that renders in flat colours should say why.
@@ -59,6 +60,8 @@ pub(super) fn parse_mtl(
                 specular: DVec3::ZERO,
                 shininess: 0.0,
                 reflection: 0.0,
+                transmission: 0.0,
+                ior: crate::scene::Material::DEFAULT_IOR,
             });
             continue;
         }
@@ -67,17 +70,31 @@ pub(super) fn parse_mtl(
             .iter()
             .any(|k| keyword.eq_ignore_ascii_case(k));
         let is_shininess = keyword.eq_ignore_ascii_case("Ns");
+        let is_glass = ["d", "Tr", "Ni"]
+            .iter()
+            .any(|k| keyword.eq_ignore_ascii_case(k));
         if is_texture_statement(keyword) {
             textures += 1;
             first_texture.get_or_insert((line_no, keyword.to_string()));
             continue;
         }
-        if !is_colour && !is_shininess {
-            continue; // d, Tr, illum, Ni, Ke, ...
+        if !is_colour && !is_shininess && !is_glass {
+            continue; // illum, Ke, ...
         }
         let Some(material) = current.as_mut() else {
             return Err(err("comes before any newmtl statement".to_string()));
         };
+        if is_glass {
+            // Read leniently, as before these were read at all: `d -halo v`
+            // takes v; anything but one number leaves the statement unread.
+            let words: Vec<&str> = tokens.filter(|w| !w.eq_ignore_ascii_case("-halo")).collect();
+            if let [word] = words[..] {
+                if let Ok(value) = parse_number(word) {
+                    set_glass(material, keyword, value);
+                }
+            }
+            continue;
+        }
 
         let mut values = [0.0f64; 3];
         let mut count = 0usize;
@@ -128,6 +145,22 @@ pub(super) fn parse_mtl(
         ));
     }
     Ok(())
+}
+
+/// `d` (dissolve: 1 opaque), `Tr` (1 - d) and `Ni` (index of refraction)
+/// in kdray's terms: transmission = 1 - d = Tr, clamped into [0, 1]
+/// (exporters write values a little outside); an `Ni` of 0 or less (many
+/// exporters write `Ni 0` for opaque materials) leaves the default index.
+fn set_glass(material: &mut MeshMaterial, keyword: &str, value: f64) {
+    if keyword.eq_ignore_ascii_case("Ni") {
+        if value > 0.0 {
+            material.ior = value;
+        }
+    } else if keyword.eq_ignore_ascii_case("d") {
+        material.transmission = (1.0 - value).clamp(0.0, 1.0);
+    } else {
+        material.transmission = value.clamp(0.0, 1.0);
+    }
 }
 
 /// An MTL statement that names a texture image.
