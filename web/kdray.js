@@ -18,6 +18,10 @@ const state = {
   tracer: null, bundle: null, camera: null, contract: null,
   width: 0, height: 0, samples: 1, walk: 'short-stack', brute: false, maxDepth: 0,
   sample: 0, restart: true, lastMove: -Infinity, frameMs: 0, error: null, done: false,
+  // Each image pass's time (ms) since the refinement began, from its
+  // submission to the GPU's done, present included; the first one also
+  // compiles the pipeline (scripts/web_bench.sh reports the rest).
+  passMs: [],
 };
 
 function showError(e) {
@@ -89,7 +93,7 @@ function frameParams(width, height, k) {
 
 function walkName() { return state.brute ? 'brute' : state.walk; }
 
-function restart() { state.restart = true; state.sample = 0; state.done = false; }
+function restart() { state.restart = true; state.sample = 0; state.done = false; state.passMs = []; }
 
 function moved() { state.lastMove = performance.now(); restart(); }
 
@@ -119,6 +123,7 @@ async function step() {
     await tracer.pass('image', frameParams(width, height, state.sample), walkName(), state.restart, true);
     state.restart = false;
     state.sample += 1;
+    state.passMs.push(performance.now() - started);
   } else {
     return false;
   }

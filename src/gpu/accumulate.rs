@@ -6,6 +6,7 @@
 //! Showing them is the window's present pass (window/view.rs).
 
 use super::bindings::{self, ACCUMULATE_TILE};
+use super::trace_pipelines::TraceBindGroup;
 use super::{GpuContext, KernelVariant, SceneBuffers, TracePipelines};
 use crate::error::Result;
 use crate::layout::FrameParams;
@@ -31,7 +32,7 @@ struct TargetBuffers {
     colours: wgpu::Buffer,
     /// Each pixel's walk cost, summed over passes like the colour.
     costs: wgpu::Buffer,
-    group: wgpu::BindGroup,
+    group: TraceBindGroup,
 }
 
 /// The accumulation pass and its buffers.
@@ -180,14 +181,15 @@ impl Accumulation {
             let pipeline = self
                 .pipelines
                 .get(ctx, self.scene_variant.with_walk_of(params))?;
+            let group = t.group.for_pipeline(ctx, &pipeline)?;
             ctx.queue
                 .write_buffer(&self.params, 0, bytemuck::bytes_of(params));
             let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
                 label: Some("accumulate"),
                 timestamp_writes: None,
             });
-            pass.set_pipeline(&pipeline);
-            pass.set_bind_group(0, &t.group, &[]);
+            pass.set_pipeline(&pipeline.pipeline);
+            pass.set_bind_group(0, &group, &[]);
             let (gx, gy) = self
                 .pipelines
                 .workgroups(params.tile_size[0], params.tile_size[1]);

@@ -16,8 +16,14 @@
 //! The general variant ([`KernelVariant::GENERAL`]) reads every choice from
 //! the frame's uniforms at run time; the ray-query kernel uses it, so the
 //! tests hold both forms of the kernel to the CPU.
+//!
+//! A variant also says which of the kernel's optional bindings its frames
+//! never read ([`KernelVariant::unread_bindings`]): on an adapter with too
+//! few storage buffers per stage for every binding, its pipeline declares
+//! those as private placeholders (gpu/trace_pipelines.rs).
 
 pub use super::bindings::FROM_PARAMS;
+use super::bindings::{Binding, Need, OPTIONAL_BINDINGS};
 use super::frame_params::{accel_value, traversal_value};
 use super::{Accel, SceneBuffers};
 use crate::kdtree::Traversal;
@@ -111,6 +117,31 @@ impl KernelVariant {
         KernelVariant { walk, ..self }
     }
 
+    /// Whether this variant's frames may read the bindings that `need`
+    /// names (shaders/variant.wgsl compiles the other reads out).
+    pub fn reads(&self, need: Need) -> bool {
+        match need {
+            Need::Spheres => self.spheres,
+            Need::Triangles => self.triangles,
+            Need::SmoothTriangles => self.smooth_triangles,
+            Need::KdWalk => self.walk != Walk::Brute,
+            Need::RopeWalk => {
+                matches!(self.walk, Walk::FromParams | Walk::Kdtree(Traversal::Ropes))
+            }
+            Need::Costs => self.count_costs,
+        }
+    }
+
+    /// The optional bindings ([`OPTIONAL_BINDINGS`]) this variant's frames
+    /// never read, in the table's order.
+    pub fn unread_bindings(&self) -> Vec<Binding> {
+        OPTIONAL_BINDINGS
+            .iter()
+            .filter(|(_, need)| !self.reads(*need))
+            .map(|(b, _)| *b)
+            .collect()
+    }
+
     /// The pipeline constants that make this variant, by WGSL name
     /// (shaders/variant.wgsl declares each of [`OVERRIDES`]).
     pub fn constants(&self) -> [(&'static str, f64); 8] {
@@ -153,6 +184,53 @@ pub const OVERRIDES: [&str; 8] = [
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// The general variant reads every optional binding; a brute-force
+    /// frame of a flat triangle mesh without costs reads none of the tree's,
+    /// the spheres', the normals' or the costs'; only the rope walk reads
+    /// the ropes.
+    #[test]
+    fn unread_bindings_follow_the_variant() {
+        use crate::gpu::bindings::{
+            KD_NODES, LEAF_OBJECTS, LEAF_ROPES, LEAF_ROPE_INDEX, PIXEL_COSTS, SPHERES,
+            TRIANGLE_NORMALS,
+        };
+        assert!(KernelVariant::GENERAL.unread_bindings().is_empty());
+        let mesh = KernelVariant {
+            split_scene: false,
+            walk: Walk::Brute,
+            spheres: false,
+            triangles: true,
+            smooth_triangles: false,
+            count_costs: false,
+        };
+        assert_eq!(
+            mesh.unread_bindings(),
+            [
+                SPHERES,
+                TRIANGLE_NORMALS,
+                KD_NODES,
+                LEAF_OBJECTS,
+                LEAF_ROPES,
+                LEAF_ROPE_INDEX,
+                PIXEL_COSTS
+            ]
+        );
+        for (t, ropes) in [
+            (Traversal::Restart, false),
+            (Traversal::Ropes, true),
+            (Traversal::ShortStack, false),
+        ] {
+            let unread = KernelVariant {
+                walk: Walk::Kdtree(t),
+                ..mesh
+            }
+            .unread_bindings();
+            assert!(!unread.contains(&KD_NODES) && !unread.contains(&LEAF_OBJECTS));
+            assert_eq!(!unread.contains(&LEAF_ROPES), ropes, "{t:?}");
+            assert_eq!(!unread.contains(&LEAF_ROPE_INDEX), ropes, "{t:?}");
+        }
+    }
 
     /// Each variant sets every override of the kernel, and no other name:
     /// an override the host forgot would keep its general default, silently.

@@ -38,4 +38,4 @@ pub use renderer::{
     CostTotals, GpuTimeSource, RayTotals, RenderSummary, RenderedImage, Renderer, RowBand, TilePlan,
 };
 pub use scene_buffers::{SceneArrays, SceneBuffers};
-pub use trace_pipelines::TracePipelines;
+pub use trace_pipelines::{TraceBindGroup, TracePipeline, TracePipelines};

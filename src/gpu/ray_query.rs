@@ -4,6 +4,7 @@
 //! the same random scenes and rays as the CPU property tests.
 
 use super::bindings;
+use super::trace_pipelines::TracePipeline;
 use super::{Accel, GpuContext, KernelVariant, SceneBuffers, TracePipelines};
 use crate::error::Result;
 use crate::geometry::Ray;
@@ -26,7 +27,7 @@ pub struct RayQuery {
 /// the CPU (the renderer's tests hold the specialised ones to it).
 pub struct RayQueries {
     pipelines: TracePipelines,
-    pipeline: wgpu::ComputePipeline,
+    pipeline: TracePipeline,
 }
 
 /// Most workgroups in one dimension of a dispatch (WebGPU's default limit).
@@ -145,6 +146,7 @@ impl RayQueries {
                         .bind_group(device, &params, scene, &[&rays, &hits, &costs]);
                 (bind_group, hits, costs, readback)
             })?;
+        let bind_group = bind_group.for_pipeline(ctx, &self.pipeline)?;
 
         let (groups, _) = self.pipelines.workgroups(queries.len() as u32, 1);
         let (gx, gy) = if groups <= MAX_GROUPS_PER_DIMENSION {
@@ -165,7 +167,7 @@ impl RayQueries {
                 label: Some("trace_rays"),
                 timestamp_writes: None,
             });
-            pass.set_pipeline(&self.pipeline);
+            pass.set_pipeline(&self.pipeline.pipeline);
             pass.set_bind_group(0, &bind_group, &[]);
             pass.dispatch_workgroups(gx, gy, 1);
         }

@@ -345,6 +345,7 @@ impl Renderer {
                     .bind_group(device, &self.params_buffer, scene, &[&output, &costs]);
             (output, costs, readback, bind_group)
         })?;
+        let bind_group = bind_group.for_pipeline(ctx, &pipeline)?;
         let timer = match ctx.has_timestamps {
             true => Some(ctx.checked("creating the GPU timer", GpuTimer::new)?),
             false => None,
@@ -395,7 +396,7 @@ impl Renderer {
                         label: Some("trace tile"),
                         timestamp_writes: timer.as_ref().map(|t| t.writes()),
                     });
-                    pass.set_pipeline(&pipeline);
+                    pass.set_pipeline(&pipeline.pipeline);
                     pass.set_bind_group(0, &bind_group, &[]);
                     let (gx, gy) = self.pipelines.workgroups(w, h);
                     pass.dispatch_workgroups(gx, gy, 1);

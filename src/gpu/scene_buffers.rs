@@ -408,15 +408,13 @@ impl SceneBuffers {
         ctx.checked(&what, |device| Self::create(device, arrays, &parts, chunks))
     }
 
-    /// Bind group entries for the scene's bindings.
-    pub fn bind_entries(&self) -> impl Iterator<Item = wgpu::BindGroupEntry<'_>> {
+    /// The scene's binding numbers, each with its buffer (a handle: the
+    /// buffer is shared, not copied).
+    pub fn bound_buffers(&self) -> impl Iterator<Item = (u32, wgpu::Buffer)> + '_ {
         self.bindings
             .iter()
             .zip(&self.buffers)
-            .map(|(b, buffer)| wgpu::BindGroupEntry {
-                binding: b.index,
-                resource: buffer.as_entire_binding(),
-            })
+            .map(|(b, buffer)| (b.index, buffer.clone()))
     }
 
     /// Creates the buffers; errors go to the caller's error scopes.

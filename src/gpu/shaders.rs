@@ -63,12 +63,17 @@ pub const STANDALONE_SHADERS: [(&str, &str); 1] = [("present.wgsl", PRESENT_FILE
 /// loops run over counts;
 /// the reflection loop over `max_depth`. The counters cost 6-10% of the
 /// frame on lavapipe (docs/benchmarks.md).
-pub fn trace_module(device: &wgpu::Device) -> wgpu::ShaderModule {
+///
+/// `chunks` bindings per split array; each of `omitted` a private
+/// placeholder ([`trace_source_without`]; none for the full kernel).
+pub fn trace_module(
+    device: &wgpu::Device,
+    chunks: SceneChunks,
+    omitted: &[bindings::Binding],
+) -> wgpu::ShaderModule {
     let desc = wgpu::ShaderModuleDescriptor {
         label: Some("trace"),
-        source: wgpu::ShaderSource::Wgsl(
-            trace_source(bindings::scene_chunks(&device.limits())).into(),
-        ),
+        source: wgpu::ShaderSource::Wgsl(trace_source_without(chunks, omitted).into()),
     };
     let checks = wgpu::ShaderRuntimeChecks {
         force_loop_bounding: false,

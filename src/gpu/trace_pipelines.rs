@@ -5,80 +5,203 @@
 //! it. The headless renderer (`render_tile`), the window's accumulation
 //! (`accumulate_tile`) and the ray queries (`trace_rays`) all use it.
 //!
+//! Fitting the adapter: an entry point with every binding has up to 13
+//! storage buffers (`trace_rays`; `render_tile` and `accumulate_tile` 12).
+//! Where the device allows that many per shader stage (lavapipe 32), every
+//! variant shares one module and one layout. Where it does not
+//! (SwiftShader's Vulkan allows 10, as a browser's WebGPU may), each
+//! variant binds only what its frames read: the bindings it never reads
+//! ([`KernelVariant::unread_bindings`]) become private placeholders in its
+//! module ([`super::shaders::trace_source_without`], the kernel the page
+//! builds) and are left out of its layout and bind groups. A variant that
+//! still needs more is refused in one line naming the limit.
+//!
 //! llvmpipe compiles a variant at its first dispatch, in about 0.35 s (one
 //! measurement, under load: the 1,000-sphere frame took 475 ms with an empty
 //! shader cache, 126 ms with it filled); Mesa's shader cache keeps it.
 
 use std::collections::HashMap;
-use std::sync::Mutex;
+use std::sync::{Arc, Mutex};
 
-use super::bindings::{self, EntryPoint};
+use super::bindings::{self, Access, Binding, EntryPoint, SceneChunks};
 use super::{GpuContext, KernelVariant, SceneBuffers};
 use crate::error::{Error, Result};
 
 /// One entry point of the trace kernel, ready to bind and dispatch.
 pub struct TracePipelines {
+    entry: EntryPoint,
+    chunks: SceneChunks,
+    /// The device's storage buffers per shader stage.
+    storage_limit: usize,
+    /// Whether the entry point with every binding passes `storage_limit`,
+    /// so that each variant binds only what it reads.
+    slim: bool,
+    /// The module and layout for each set of bindings left out (only the
+    /// empty set unless `slim`), by the left-out binding numbers.
+    kernels: Mutex<HashMap<Vec<u32>, Arc<Kernel>>>,
+    made: Mutex<HashMap<KernelVariant, TracePipeline>>,
+}
+
+/// The kernel's module with some optional bindings left out, and the bind
+/// group layout of the entry point's other bindings.
+struct Kernel {
     module: wgpu::ShaderModule,
     layout: wgpu::BindGroupLayout,
-    entry: EntryPoint,
-    made: Mutex<HashMap<KernelVariant, wgpu::ComputePipeline>>,
+    /// The binding numbers left out (sorted): the key of its bind groups.
+    omitted: Vec<u32>,
+}
+
+/// One variant's compute pipeline, and the kernel (layout) it was made with.
+#[derive(Clone)]
+pub struct TracePipeline {
+    pub pipeline: wgpu::ComputePipeline,
+    kernel: Arc<Kernel>,
+}
+
+/// The buffers of one dispatch (frame parameters, scene, the entry point's
+/// own), bound as each pipeline's layout wants: one bind group per set of
+/// left-out bindings, made the first time a pipeline asks for it (with
+/// every binding: at once, when the buffers are named).
+pub struct TraceBindGroup {
+    label: &'static str,
+    /// Every binding of the entry point and its buffer.
+    buffers: Vec<(u32, wgpu::Buffer)>,
+    /// The groups made so far, by the binding numbers they leave out.
+    groups: Mutex<HashMap<Vec<u32>, wgpu::BindGroup>>,
+}
+
+/// How many of `bindings` are storage buffers.
+fn storage_buffers(bindings: &[Binding]) -> usize {
+    bindings
+        .iter()
+        .filter(|b| b.access != Access::Uniform)
+        .count()
 }
 
 impl TracePipelines {
     /// The kernel's module on `ctx`'s device and the layout of `entry`'s
     /// bindings there (the scene split as the device's limits allow:
-    /// `bindings::scene_chunks`). No pipeline is made yet.
+    /// `bindings::scene_chunks`); on a device with too few storage buffers
+    /// per stage for every binding, nothing until a variant is asked for.
+    /// No pipeline is made yet.
     pub fn new(ctx: &GpuContext, entry: EntryPoint) -> Result<Self> {
-        ctx.checked(&format!("creating the {} pipeline", entry.name), |device| {
-            let chunks = bindings::scene_chunks(&device.limits());
-            let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-                label: Some(entry.name),
-                entries: &bindings::layout_entries(
-                    &bindings::entry_point_bindings(chunks, entry.outputs),
-                    wgpu::ShaderStages::COMPUTE,
-                ),
-            });
-            TracePipelines {
-                module: super::shaders::trace_module(device),
-                layout,
-                entry,
-                made: Mutex::new(HashMap::new()),
-            }
-        })
+        let limits = ctx.device.limits();
+        let chunks = bindings::scene_chunks(&limits);
+        let storage_limit = limits.max_storage_buffers_per_shader_stage as usize;
+        let every = bindings::entry_point_bindings(chunks, entry.outputs);
+        // The optional bindings are those of an unsplit scene
+        // (`bindings::OPTIONAL_BINDINGS`); a device that splits it has room
+        // for every binding anyway (`scene_chunks`).
+        let slim = storage_buffers(&every) > storage_limit && chunks == bindings::UNSPLIT;
+        let pipelines = TracePipelines {
+            entry,
+            chunks,
+            storage_limit,
+            slim,
+            kernels: Mutex::new(HashMap::new()),
+            made: Mutex::new(HashMap::new()),
+        };
+        if !slim {
+            pipelines.kernel(ctx, &[])?;
+        }
+        Ok(pipelines)
     }
 
-    /// The bind group of one dispatch: the frame's parameters, the scene's
+    /// The bindings `variant`'s pipeline leaves out: those it never reads
+    /// where the device is short of storage buffers, else none.
+    fn omitted(&self, variant: KernelVariant) -> Vec<Binding> {
+        match self.slim {
+            true => variant.unread_bindings(),
+            false => Vec::new(),
+        }
+    }
+
+    /// The module and layout with `omitted` left out, made now if it is the
+    /// first call for them; refused in one line if the rest still has more
+    /// storage buffers than the device allows per stage.
+    fn kernel(&self, ctx: &GpuContext, omitted: &[Binding]) -> Result<Arc<Kernel>> {
+        let mut key: Vec<u32> = omitted.iter().map(|b| b.index).collect();
+        key.sort_unstable();
+        let mut kernels = self
+            .kernels
+            .lock()
+            .map_err(|_| Error::Gpu("the trace kernels' lock was poisoned".to_string()))?;
+        if let Some(k) = kernels.get(&key) {
+            return Ok(k.clone());
+        }
+        let bound: Vec<Binding> = bindings::entry_point_bindings(self.chunks, self.entry.outputs)
+            .into_iter()
+            .filter(|b| !omitted.contains(b))
+            .collect();
+        let needed = storage_buffers(&bound);
+        if needed > self.storage_limit {
+            return Err(Error::Gpu(format!(
+                "{} needs {needed} storage buffers for this scene and walk, but {} allows {} per shader stage (max_storage_buffers_per_shader_stage)",
+                self.entry.name, ctx.info.name, self.storage_limit
+            )));
+        }
+        let what = format!("creating the {} pipeline", self.entry.name);
+        let kernel = ctx.checked(&what, |device| {
+            let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+                label: Some(self.entry.name),
+                entries: &bindings::layout_entries(&bound, wgpu::ShaderStages::COMPUTE),
+            });
+            Kernel {
+                module: super::shaders::trace_module(device, self.chunks, omitted),
+                layout,
+                omitted: key.clone(),
+            }
+        })?;
+        let kernel = Arc::new(kernel);
+        kernels.insert(key, kernel.clone());
+        Ok(kernel)
+    }
+
+    /// The buffers of one dispatch: the frame's parameters, the scene's
     /// buffers, then the entry point's own buffers in the order of
-    /// [`EntryPoint::outputs`].
+    /// [`EntryPoint::outputs`]. With every binding in one layout, its bind
+    /// group is made now (in the caller's error scope).
     pub fn bind_group(
         &self,
         device: &wgpu::Device,
         params: &wgpu::Buffer,
         scene: &SceneBuffers,
         outputs: &[&wgpu::Buffer],
-    ) -> wgpu::BindGroup {
+    ) -> TraceBindGroup {
         assert_eq!(
             outputs.len(),
             self.entry.outputs.len(),
             "{}",
             self.entry.name
         );
-        let mut entries = vec![wgpu::BindGroupEntry {
-            binding: bindings::PARAMS.index,
-            resource: params.as_entire_binding(),
-        }];
-        entries.extend(scene.bind_entries());
-        entries.extend(self.entry.outputs.iter().zip(outputs).map(|(b, buffer)| {
-            wgpu::BindGroupEntry {
-                binding: b.index,
-                resource: buffer.as_entire_binding(),
+        let mut buffers = vec![(bindings::PARAMS.index, params.clone())];
+        buffers.extend(scene.bound_buffers());
+        buffers.extend(
+            self.entry
+                .outputs
+                .iter()
+                .zip(outputs)
+                .map(|(b, buffer)| (b.index, (*buffer).clone())),
+        );
+        let group = TraceBindGroup {
+            label: self.entry.name,
+            buffers,
+            groups: Mutex::new(HashMap::new()),
+        };
+        if !self.slim {
+            let full = self
+                .kernels
+                .lock()
+                .ok()
+                .and_then(|k| k.get(&Vec::new()).cloned());
+            if let Some(kernel) = full {
+                let made = group.create(device, &kernel);
+                if let Ok(mut groups) = group.groups.lock() {
+                    groups.insert(Vec::new(), made);
+                }
             }
-        }));
-        device.create_bind_group(&wgpu::BindGroupDescriptor {
-            label: Some(self.entry.name),
-            layout: &self.layout,
-            entries: &entries,
-        })
+        }
+        group
     }
 
     /// Workgroups that cover `width` x `height` invocations.
@@ -88,7 +211,7 @@ impl TracePipelines {
     }
 
     /// The pipeline for `variant`, made now if it is the first call for it.
-    pub fn get(&self, ctx: &GpuContext, variant: KernelVariant) -> Result<wgpu::ComputePipeline> {
+    pub fn get(&self, ctx: &GpuContext, variant: KernelVariant) -> Result<TracePipeline> {
         let mut made = self
             .made
             .lock()
@@ -96,27 +219,34 @@ impl TracePipelines {
         if let Some(p) = made.get(&variant) {
             return Ok(p.clone());
         }
-        let p = ctx.checked("creating a trace pipeline", |device| {
-            self.pipeline(device, variant)
+        let kernel = self.kernel(ctx, &self.omitted(variant))?;
+        let pipeline = ctx.checked("creating a trace pipeline", |device| {
+            self.pipeline(device, &kernel, variant)
         })?;
+        let p = TracePipeline { pipeline, kernel };
         made.insert(variant, p.clone());
         Ok(p)
     }
 
-    /// A compute pipeline for the entry point with the explicit layout (so
-    /// bind groups built from the same table fit it, whatever the entry
-    /// point happens to use), specialised as `variant` says.
-    fn pipeline(&self, device: &wgpu::Device, variant: KernelVariant) -> wgpu::ComputePipeline {
+    /// A compute pipeline for the entry point with `kernel`'s explicit
+    /// layout (so bind groups built from the same table fit it, whatever
+    /// the entry point happens to use), specialised as `variant` says.
+    fn pipeline(
+        &self,
+        device: &wgpu::Device,
+        kernel: &Kernel,
+        variant: KernelVariant,
+    ) -> wgpu::ComputePipeline {
         let name = self.entry.name;
         let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
             label: Some(name),
-            bind_group_layouts: &[Some(&self.layout)],
+            bind_group_layouts: &[Some(&kernel.layout)],
             immediate_size: 0,
         });
         device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
             label: Some(name),
             layout: Some(&pipeline_layout),
-            module: &self.module,
+            module: &kernel.module,
             entry_point: Some(name),
             compilation_options: wgpu::PipelineCompilationOptions {
                 constants: &variant.constants(),
@@ -126,6 +256,12 @@ impl TracePipelines {
         })
     }
 
+    /// Whether each variant binds only what it reads (the device has too
+    /// few storage buffers per stage for every binding).
+    pub fn binds_only_what_is_read(&self) -> bool {
+        self.slim
+    }
+
     /// The variants made so far.
     #[cfg(test)]
     pub fn variants(&self) -> Vec<KernelVariant> {
@@ -133,5 +269,45 @@ impl TracePipelines {
             .lock()
             .map(|m| m.keys().copied().collect())
             .unwrap_or_default()
+    }
+}
+
+impl TraceBindGroup {
+    /// The bind group that fits `pipeline`'s layout, made now (in an error
+    /// scope of its own) if it is the first call for that layout.
+    pub fn for_pipeline(
+        &self,
+        ctx: &GpuContext,
+        pipeline: &TracePipeline,
+    ) -> Result<wgpu::BindGroup> {
+        let kernel = &pipeline.kernel;
+        let mut groups = self
+            .groups
+            .lock()
+            .map_err(|_| Error::Gpu("the bind groups' lock was poisoned".to_string()))?;
+        if let Some(g) = groups.get(&kernel.omitted) {
+            return Ok(g.clone());
+        }
+        let made = ctx.checked("binding the scene", |device| self.create(device, kernel))?;
+        groups.insert(kernel.omitted.clone(), made.clone());
+        Ok(made)
+    }
+
+    /// A bind group of every buffer but those `kernel` leaves out.
+    fn create(&self, device: &wgpu::Device, kernel: &Kernel) -> wgpu::BindGroup {
+        let entries: Vec<wgpu::BindGroupEntry<'_>> = self
+            .buffers
+            .iter()
+            .filter(|(index, _)| !kernel.omitted.contains(index))
+            .map(|(index, buffer)| wgpu::BindGroupEntry {
+                binding: *index,
+                resource: buffer.as_entire_binding(),
+            })
+            .collect();
+        device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some(self.label),
+            layout: &kernel.layout,
+            entries: &entries,
+        })
     }
 }
