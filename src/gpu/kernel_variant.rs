@@ -203,6 +203,7 @@ mod tests {
             triangles: true,
             smooth_triangles: false,
             count_costs: false,
+            glass: false,
         };
         assert_eq!(
             mesh.unread_bindings(),
