@@ -104,6 +104,7 @@ export class Tracer {
       this.sceneBuffers.set(name, buffer);
     }
     this.needs = new Set(bundle.info.needs);
+    this.glass = bundle.info.glass === true;
     this.groups = new Map();
   }
 
@@ -158,6 +159,7 @@ export class Tracer {
         TRIANGLES: this.needs.has('triangles') ? 1 : 0,
         SMOOTH_TRIANGLES: this.needs.has('smooth_triangles') ? 1 : 0,
         COUNT_COSTS: 0,
+        GLASS: this.glass ? 1 : 0,
       };
       for (const name of this.contract.overrides) {
         if (!(name in constants)) throw new PageError(`the kernel has an override ${name} this page does not set`);

@@ -61,6 +61,9 @@ pub struct SceneInfo {
     pub needs: Vec<&'static str>,
     /// The walk `frame_params` holds (`render`'s default).
     pub traversal: &'static str,
+    /// Whether some material transmits: the kernel's glass path (the
+    /// `GLASS` override) is needed.
+    pub glass: bool,
 }
 
 /// The scene's camera as written (the page orbits around `look_at`).
@@ -115,6 +118,7 @@ pub fn encode(prepared: &PreparedScene, name: &str) -> Vec<u8> {
         leaf_references: arrays.leaf_objects.len() as u32,
         needs,
         traversal: crate::choice::Choice::name(Traversal::default()),
+        glass: arrays.materials.iter().any(|m| m.transmission > 0.0),
     };
     let info = serde_json::to_vec(&info).expect("the scene's figures serialise");
     let mut sections: Vec<(&str, &[u8])> = vec![
