@@ -6,7 +6,9 @@
 //! Every scene's page image equals the native render within the golden
 //! budget; bad, truncated and newer-version bundles show their errors; a
 //! drag changes the view and restarts refinement; the overlay names the
-//! adapter.
+//! adapter. An animated scene's `frame=k` page equals the native render of
+//! frame k and Space plays it; C shows the cost heatmap and C again the
+//! image as before.
 
 mod common;
 
@@ -76,8 +78,13 @@ fn browser_ready() -> PathBuf {
     driver
 }
 
+/// One browser at a time: the machine's cores are few and each page traces
+/// on the CPU.
+static BROWSER: std::sync::Mutex<()> = std::sync::Mutex::new(());
+
 /// Runs the driver over `jobs`; its results.
 fn drive(jobs: &serde_json::Value, work: &Path) -> Vec<serde_json::Value> {
+    let _one_browser = BROWSER.lock().unwrap_or_else(|e| e.into_inner());
     let jobs_path = work.join("jobs.json");
     std::fs::write(&jobs_path, jobs.to_string()).unwrap();
     let out = Command::new("node")
@@ -210,4 +217,112 @@ fn pages_trace_every_scene_as_the_native_renderer_does_and_show_their_errors() {
         let message = r["message"].as_str().unwrap_or("");
         assert!(message.contains(expected), "{file}: message {message:?}");
     }
+}
+
+/// Writes the site of `scene` (a path under scenes/) into `out`/`name`.
+fn export(out: &Path, scene: &str, name: &str) {
+    let path = repo_path(scene);
+    let run = run_kdray(out, &["web", path.to_str().unwrap(), "-o", name], &[]);
+    assert_eq!(run.code, 0, "{}", run.stderr_text());
+}
+
+/// Pixels that differ between two RGB images of the same size.
+fn changed_pixels(a: &[u8], b: &[u8]) -> usize {
+    assert_eq!(a.len(), b.len());
+    a.chunks(3).zip(b.chunks(3)).filter(|(x, y)| x != y).count()
+}
+
+#[test]
+fn pages_play_animations_and_show_the_cost_heatmap() {
+    let out = repo_path("target/web-test-play");
+    let _ = std::fs::remove_dir_all(&out);
+    std::fs::create_dir_all(&out).unwrap();
+    export(&out, "scenes/orbit.toml", "orbit");
+    export(&out, "scenes/seed.toml", "seed");
+    const FRAME: u32 = 5;
+    let mut orbit = small_scene(&repo_path("scenes/orbit.toml"));
+    orbit.camera = orbit.camera_at(FRAME);
+    let seed = small_scene(&repo_path("scenes/seed.toml"));
+    let size =
+        |s: &kdray::scene::Scene| format!("width={}&height={}", s.render.width, s.render.height);
+    let server = Server::start(&out);
+    let url = |path: String| format!("http://127.0.0.1:{}{path}", server.port);
+    let jobs = serde_json::json!([
+        {
+            "url": url(format!("/orbit/index.html?{}&frame={FRAME}", size(&orbit))),
+            "png": out.join("orbit.frame.png"),
+            "play": true,
+        },
+        {
+            "url": url(format!("/seed/index.html?{}", size(&seed))),
+            "png": out.join("seed.png"),
+            "heatmap": {"png": out.join("seed.heatmap.png"), "restored": out.join("seed.restored.png")},
+        },
+    ]);
+    let results = drive(&jobs, &out);
+    drop(server);
+    let (orbit_r, seed_r) = (&results[0], &results[1]);
+    for r in &results {
+        assert!(
+            title(r).starts_with("kdray: done") && r["failure"].is_null(),
+            "{r}"
+        );
+    }
+
+    // Frame 5 of the orbit, as `render --frame 5` renders it.
+    let native = render(&orbit, Accel::Kdtree);
+    let (w, h, page) = read_png_rgb(&out.join("orbit.frame.png")).unwrap();
+    assert_eq!((w, h), (native.width, native.height));
+    let d = compare(&native.rgb, &page, w, h, 2);
+    let budget = (w * h) as usize * MAX_PIXELS_OVER_PER_MILLE / 1000;
+    eprintln!("orbit frame {FRAME}: page vs native {d:?}");
+    assert!(
+        d.mean_flip <= MAX_MEAN_FLIP && d.pixels_over <= budget,
+        "orbit frame {FRAME}: page vs native {d:?} (budget FLIP {MAX_MEAN_FLIP}, {budget} pixels)"
+    );
+    // Frame 0 is another view: the page did move the camera.
+    let frame0 = render(&small_scene(&repo_path("scenes/orbit.toml")), Accel::Kdtree);
+    assert!(changed_pixels(&frame0.rgb, &page) > page.len() / 3 / 10);
+
+    // Space played on from frame 5 and paused again.
+    let overlay = |key: &str| orbit_r[key].as_str().unwrap_or("").to_string();
+    let frames = orbit.frame_count();
+    assert!(
+        overlay("before_play_overlay").contains(&format!("frame {FRAME}/{frames} paused")),
+        "{orbit_r}"
+    );
+    let playing = overlay("playing_overlay");
+    // Its line reads "frame k/N playing".
+    let shown: u32 = playing
+        .lines()
+        .find(|l| l.starts_with("frame ") && l.ends_with(" playing"))
+        .and_then(|l| l["frame ".len()..].split('/').next()?.parse().ok())
+        .unwrap_or_else(|| panic!("no playing frame in the overlay: {playing}"));
+    assert_ne!(shown, FRAME, "{playing}");
+    assert!(shown < frames, "{playing}");
+    assert!(overlay("paused_overlay").contains(" paused"), "{orbit_r}");
+
+    // C: the heatmap instead of the image, then the image as before.
+    let (_, _, image) = read_png_rgb(&out.join("seed.png")).unwrap();
+    let (_, _, heatmap) = read_png_rgb(&out.join("seed.heatmap.png")).unwrap();
+    let (_, _, restored) = read_png_rgb(&out.join("seed.restored.png")).unwrap();
+    assert!(
+        changed_pixels(&image, &heatmap) > image.len() / 3 / 2,
+        "the heatmap changed only {} pixels",
+        changed_pixels(&image, &heatmap)
+    );
+    let heat_overlay = seed_r["heatmap_overlay"].as_str().unwrap_or("");
+    assert!(heat_overlay.contains("heatmap"), "{heat_overlay}");
+    assert!(
+        !seed_r["restored_overlay"]
+            .as_str()
+            .unwrap_or("heatmap")
+            .contains("heatmap"),
+        "{seed_r}"
+    );
+    assert_eq!(
+        changed_pixels(&image, &restored),
+        0,
+        "C twice did not restore the image"
+    );
 }

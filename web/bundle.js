@@ -6,7 +6,8 @@
 export class BundleError extends Error {}
 
 // { info (the scene section's JSON), frameParams (ArrayBuffer), arrays
-// (Map of binding name to Uint8Array) } of the bundle in `buffer`.
+// (Map of binding name to Uint8Array), sections (every section by name,
+// the optional `cameras` too) } of the bundle in `buffer`.
 export function parseBundle(buffer, contract) {
   const format = contract.bundle;
   const bytes = new Uint8Array(buffer);
@@ -53,5 +54,5 @@ export function parseBundle(buffer, contract) {
   }
   const info = JSON.parse(new TextDecoder().decode(sections.get('scene')));
   const arrays = new Map(format.scene_arrays.map((name) => [name, sections.get(name)]));
-  return { info, frameParams: params.slice().buffer, arrays };
+  return { info, frameParams: params.slice().buffer, arrays, sections };
 }

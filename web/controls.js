@@ -18,8 +18,15 @@ function rotate(v, k, angle) {
 
 export class Camera {
   constructor(info) {
+    this.scene = info.camera;
     this.initial = info.camera;
     this.bounds = info.bounds;
+    this.reset();
+  }
+
+  // Makes `camera` (as the scene section's) the one R resets to, and goes there.
+  setHome(camera) {
+    this.initial = camera;
     this.reset();
   }
 
@@ -28,8 +35,13 @@ export class Camera {
     this.target = [...this.initial.look_at];
     this.up = normalize(this.initial.up);
     this.vfov = this.initial.vfov_degrees;
-    // The bundle's own frame parameters hold until the camera moves.
-    this.moved = false;
+    // The bundle's own frame parameters hold for the scene's camera until
+    // the camera moves; another home camera (an animation's frame) has its
+    // basis made here.
+    const same = (a, b) => a.every((x, i) => x === b[i]);
+    const s = this.scene, c = this.initial;
+    this.moved = !(same(c.position, s.position) && same(c.look_at, s.look_at) && same(c.up, s.up)
+      && c.vfov_degrees === s.vfov_degrees);
   }
 
   // forward, right, up and tan(vfov / 2), in f64 (the page rounds to f32).

@@ -1,8 +1,9 @@
 // The page: loads contract.json, the kernel and the bundle, checks them,
 // and refines the image progressively (one sample per pixel per pass, a
-// reduced-resolution preview while the camera moves), as the native window.
-// docs/web.md states its contract: URL parameters, document.title,
-// window.kdray.png(), keys.
+// reduced-resolution preview while the camera moves), as the native window;
+// plays an animated scene's frames (Space) from the bundle's cameras and
+// shows the cost heatmap (C). docs/web.md states its contract: URL
+// parameters, document.title, window.kdray.png(), keys.
 
 import { parseBundle } from './bundle.js';
 import { Camera, attachPointer } from './controls.js';
@@ -18,6 +19,11 @@ const state = {
   tracer: null, bundle: null, camera: null, contract: null,
   width: 0, height: 0, samples: 1, walk: 'short-stack', brute: false, maxDepth: 0,
   sample: 0, restart: true, lastMove: -Infinity, frameMs: 0, error: null, done: false,
+  // The shown animation frame of `cameras` (null for a still scene); while
+  // playing, `playing` holds the time (ms) and the frame it started from.
+  cameras: null, frame: 0, playing: null,
+  // Show the cost heatmap instead of the image (C toggles it).
+  heatmap: false,
   // Each image pass's time (ms) since the refinement began, from its
   // submission to the GPU's done, present included; the first one also
   // compiles the pipeline (scripts/web_bench.sh reports the rest).
@@ -48,18 +54,40 @@ function intParam(name, fallback) {
   return n;
 }
 
+// The bundle's `cameras` section: { frames, fps, at(k): the camera of
+// frame k as the scene section's camera }, or null without one.
+function camerasFrom(bundle, format) {
+  const bytes = bundle.sections.get(format.section);
+  if (!bytes) return null;
+  const view = new DataView(bytes.buffer, bytes.byteOffset, bytes.byteLength);
+  const frames = view.getUint32(0, true);
+  const fps = view.getFloat64(8, true);
+  const per = format.values_per_frame;
+  if (frames < 1 || bytes.byteLength !== format.header_bytes + 8 * per * frames) {
+    throw new PageError(`the bundle's ${format.section} section is ${bytes.byteLength} bytes, not ${frames} frames`);
+  }
+  const at = (k) => {
+    const v = (i) => view.getFloat64(format.header_bytes + 8 * (per * k + i), true);
+    return { position: [v(0), v(1), v(2)], look_at: [v(3), v(4), v(5)], up: [v(6), v(7), v(8)], vfov_degrees: v(9) };
+  };
+  return { frames, fps: fps > 0 && Number.isFinite(fps) ? fps : 24, at };
+}
+
 // The scene's settings with the URL's overrides.
 function settingsFrom(info) {
   const width = intParam('width', info.width);
   const height = intParam('height', info.height);
   const samples = intParam('samples', info.samples);
+  const frameText = query.get('frame');
+  const frame = frameText === null ? 0 : Number(frameText);
+  if (!Number.isInteger(frame) || frame < 0) throw new PageError(`URL parameter frame=${frameText} is not a frame number (0, 1, ...)`);
   const k = Math.round(Math.sqrt(samples));
   if (k * k !== samples) throw new PageError(`samples=${samples} is not a perfect square`);
   const traversal = query.get('traversal') ?? info.traversal;
   if (!WALKS.includes(traversal)) throw new PageError(`traversal=${traversal} is not one of ${WALKS.join(', ')}`);
   const accel = query.get('accel') ?? 'kdtree';
   if (!['kdtree', 'brute'].includes(accel)) throw new PageError(`accel=${accel} is not kdtree or brute`);
-  return { width, height, samples, walk: traversal, brute: accel === 'brute' };
+  return { width, height, samples, walk: traversal, brute: accel === 'brute', frame };
 }
 
 // The kernel's uniform for one pass of `width` x `height`, sample `k`.
@@ -97,16 +125,44 @@ function restart() { state.restart = true; state.sample = 0; state.done = false;
 
 function moved() { state.lastMove = performance.now(); restart(); }
 
+// Shows frame `k` of the animation: its camera, refinement restarted.
+function showFrame(k) {
+  state.frame = k;
+  state.camera.setHome(state.cameras.at(k));
+  restart();
+}
+
+// Space: play from the shown frame, or pause on it (a still scene stays).
+function togglePlay() {
+  if (!state.cameras || state.cameras.frames < 2) return;
+  state.playing = state.playing ? null : { since: performance.now(), from: state.frame };
+}
+
+// While playing, moves to the frame the clock says (fps, looping).
+function advanceFrame() {
+  if (!state.playing) return;
+  const { frames, fps } = state.cameras;
+  const elapsed = Math.floor(((performance.now() - state.playing.since) * fps) / 1000);
+  const k = (state.playing.from + elapsed) % frames;
+  if (k !== state.frame) showFrame(k);
+}
+
 function updateOverlay() {
   const { width, height, sample, samples, frameMs } = state;
   const mrays = frameMs > 0 ? (width * height) / (frameMs * 1e3) : 0;
-  overlay.textContent = [
+  const lines = [
     `${state.bundle.info.name}  ${width} x ${height}`,
     `samples ${sample}/${samples}`,
     `frame ${frameMs.toFixed(1)} ms  ${mrays.toFixed(2)} Mrays/s primary`,
     `walk ${walkName()}  max_depth ${state.maxDepth}`,
-    `adapter ${state.tracer.gpu.name}`,
-  ].join('\n');
+  ];
+  if (state.cameras) {
+    lines.push(`frame ${state.frame}/${state.cameras.frames} ${state.playing ? 'playing' : 'paused'}`);
+  }
+  const scale = state.tracer.heatScale;
+  if (state.heatmap && scale !== null) lines.push(`heatmap: nodes + objects per sample, 0 to ${scale}`);
+  lines.push(`adapter ${state.tracer.gpu.name}`);
+  overlay.textContent = lines.join('\n');
 }
 
 const MOVE_SETTLE_MS = 150;
@@ -115,12 +171,13 @@ const MOVE_SETTLE_MS = 150;
 // next sample of the image, else nothing.
 async function step() {
   const { tracer, width, height } = state;
+  advanceFrame();
   const started = performance.now();
   if (started - state.lastMove < MOVE_SETTLE_MS) {
     const { pw, ph } = tracer.size;
-    await tracer.pass('preview', frameParams(pw, ph, 0), walkName(), true, false);
+    await tracer.pass('preview', frameParams(pw, ph, 0), walkName(), true, false, state.heatmap);
   } else if (state.sample < state.samples) {
-    await tracer.pass('image', frameParams(width, height, state.sample), walkName(), state.restart, true);
+    await tracer.pass('image', frameParams(width, height, state.sample), walkName(), state.restart, true, state.heatmap);
     state.restart = false;
     state.sample += 1;
     state.passMs.push(performance.now() - started);
@@ -148,6 +205,7 @@ async function loop() {
     } else if (!state.done) {
       document.title = `kdray: tracing ${state.sample}/${state.samples}`;
     }
+    // Playing, a finished frame waits for the clock's next one.
     await new Promise((resolve) => (worked ? setTimeout(resolve, 0) : requestAnimationFrame(resolve)));
   }
 }
@@ -157,7 +215,13 @@ function loadBundle(bytes) {
   const bundle = parseBundle(bytes, state.contract);
   const settings = settingsFrom(bundle.info);
   state.tracer.load(bundle);
-  Object.assign(state, settings, { bundle, camera: new Camera(bundle.info), maxDepth: bundle.info.max_depth });
+  const cameras = camerasFrom(bundle, state.contract.bundle.cameras);
+  const frames = cameras ? cameras.frames : 1;
+  if (settings.frame >= frames) throw new PageError(`frame=${settings.frame}: the scene has frames 0..${frames}`);
+  Object.assign(state, settings, {
+    bundle, cameras, playing: null, camera: new Camera(bundle.info), maxDepth: bundle.info.max_depth,
+  });
+  if (cameras) state.camera.setHome(cameras.at(state.frame));
   // The preview: a quarter of the width and height (at least 1).
   state.tracer.resize(state.width, state.height, Math.max(1, state.width >> 2), Math.max(1, state.height >> 2));
   state.tracer.pipelineFor(walkName());
@@ -195,6 +259,9 @@ const KEYS = {
   q: () => { state.camera.fly(0, 0, -1); moved(); },
   e: () => { state.camera.fly(0, 0, 1); moved(); },
   h: () => { document.getElementById('help').hidden ^= true; },
+  ' ': () => togglePlay(),
+  // The costs accumulate with the colours: refine again to show the other.
+  c: () => { state.heatmap = !state.heatmap; restart(); },
 };
 
 async function main() {

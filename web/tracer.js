@@ -2,8 +2,12 @@
 // the scene's buffers, the trace kernel's accumulate entry point (one
 // stratified sample per pixel per pass, as the native window) with only the
 // bindings the scene and walk read, the present pass, and the readback of
-// the traced image. Every binding, layout and constant comes from
+// the traced image. With `costs` on, the kernel also counts each pixel's
+// walk work (COUNT_COSTS) and the present pass shows the cost heatmap made
+// from it (heatmap.js). Every binding, layout and constant comes from
 // contract.json; the WGSL is the site's kernel.wgsl and present.wgsl.
+
+import { heatmapTexels } from './heatmap.js';
 
 export class PageError extends Error {}
 
@@ -109,12 +113,13 @@ export class Tracer {
   }
 
   // The accumulate bindings for `walk` ('brute', 'restart', 'ropes',
-  // 'short-stack'): every one of the contract's but the optional ones the
-  // scene and walk do not need.
-  bindingsFor(walk) {
+  // 'short-stack'), counting costs or not: every one of the contract's but
+  // the optional ones the scene, the walk and `costs` do not need.
+  bindingsFor(walk, costs) {
     const needs = new Set(this.needs);
     if (walk !== 'brute') needs.add('kd_walk');
     if (walk === 'ropes') needs.add('rope_walk');
+    if (costs) needs.add('costs');
     const omitted = this.contract.optional_bindings.filter((o) => !needs.has(o.need));
     const names = new Set(omitted.map((o) => o.name));
     const bindings = this.contract.accumulate.bindings.filter((b) => !names.has(b.name));
@@ -144,10 +149,11 @@ export class Tracer {
     return this.modules.get(key);
   }
 
-  // The pipeline and its layout for `walk` on the loaded scene.
-  pipelineFor(walk) {
-    const { omitted, bindings, key } = this.bindingsFor(walk);
-    const id = `${walk}|${key}`;
+  // The pipeline and its layout for `walk` on the loaded scene, counting
+  // the walks' work if `costs`.
+  pipelineFor(walk, costs = false) {
+    const { omitted, bindings, key } = this.bindingsFor(walk, costs);
+    const id = `${walk}|${key}|${costs}`;
     if (!this.pipelines.has(id)) {
       const c = this.contract.constants;
       const traversal = { restart: c.TRAVERSAL_RESTART, ropes: c.TRAVERSAL_ROPES, 'short-stack': c.TRAVERSAL_SHORT_STACK };
@@ -158,7 +164,7 @@ export class Tracer {
         SPHERES: this.needs.has('spheres') ? 1 : 0,
         TRIANGLES: this.needs.has('triangles') ? 1 : 0,
         SMOOTH_TRIANGLES: this.needs.has('smooth_triangles') ? 1 : 0,
-        COUNT_COSTS: 0,
+        COUNT_COSTS: costs ? 1 : 0,
         GLASS: this.glass ? 1 : 0,
       };
       for (const name of this.contract.overrides) {
@@ -176,31 +182,49 @@ export class Tracer {
     return this.pipelines.get(id);
   }
 
-  // Makes room for an image of width x height and a preview of pw x ph.
+  // Makes room for an image of width x height and a preview of pw x ph:
+  // their colour sums, their walk costs and their heatmap texels.
   resize(width, height, pw, ph) {
     const texel = this.contract.accumulate.texel_bytes;
-    const make = (label, pixels) => this.device.createBuffer({
-      label, size: Math.max(1, pixels) * texel,
+    const costTexel = 4 * this.contract.accumulate.cost_words;
+    const make = (label, pixels, bytes) => this.device.createBuffer({
+      label, size: Math.max(1, pixels) * bytes,
       usage: GPUBufferUsage.STORAGE | GPUBufferUsage.COPY_SRC | GPUBufferUsage.COPY_DST,
     });
-    this.image?.destroy(); this.preview?.destroy();
-    this.image = make('accumulation', width * height);
-    this.preview = make('preview', pw * ph);
+    for (const b of Object.values(this.buffers ?? {})) b.destroy();
+    this.buffers = {
+      image: make('accumulation', width * height, texel),
+      preview: make('preview', pw * ph, texel),
+      imageCosts: make('costs', width * height, costTexel),
+      previewCosts: make('preview costs', pw * ph, costTexel),
+      imageHeat: make('heatmap', width * height, texel),
+      previewHeat: make('preview heatmap', pw * ph, texel),
+    };
+    this.image = this.buffers.image;
+    this.preview = this.buffers.preview;
     this.size = { width, height, pw, ph };
     this.canvas.width = width; this.canvas.height = height;
     this.groups = new Map();
-    this.presentGroup = this.device.createBindGroup({
+    const presentGroup = (image, preview) => this.device.createBindGroup({
       layout: this.presentLayout,
-      entries: [this.presentParams, this.image, this.preview].map((buffer, i) => ({
+      entries: [this.presentParams, image, preview].map((buffer, i) => ({
         binding: this.contract.present.bindings[i].index, resource: { buffer },
       })),
     });
+    this.presentGroup = presentGroup(this.image, this.preview);
+    this.heatGroup = presentGroup(this.buffers.imageHeat, this.buffers.previewHeat);
+    // The heatmap's scale's top while it is shown, else null.
+    this.heatScale = null;
   }
 
   bindGroup(p, target) {
     const id = `${p.key}|${target}`;
     if (!this.groups.has(id)) {
-      const outputs = { [this.contract.accumulate.outputs[0]]: target === 'image' ? this.image : this.preview };
+      const [colours, costs] = this.contract.accumulate.outputs;
+      const outputs = {
+        [colours]: target === 'image' ? this.image : this.preview,
+        [costs]: target === 'image' ? this.buffers.imageCosts : this.buffers.previewCosts,
+      };
       const entries = p.bindings.map((b) => ({
         binding: b.index,
         resource: { buffer: b.name === this.contract.accumulate.params ? this.frameParams
@@ -211,10 +235,11 @@ export class Tracer {
     return this.groups.get(id);
   }
 
-  // One pass: clears `target` first if `clear`, adds one sample with
-  // `params` (the frame's uniform bytes), then presents.
-  pass(target, params, walk, clear, showImage) {
-    const p = this.pipelineFor(walk);
+  // One pass: clears `target` (and its costs) first if `clear`, adds one
+  // sample with `params` (the frame's uniform bytes), then presents the
+  // image, or with `costs` the cost heatmap.
+  async pass(target, params, walk, clear, showImage, costs = false) {
+    const p = this.pipelineFor(walk, costs);
     this.device.queue.writeBuffer(this.frameParams, 0, params);
     const pp = new ArrayBuffer(this.contract.present.params.size);
     const layout = this.contract.present.params;
@@ -225,7 +250,10 @@ export class Tracer {
     this.device.queue.writeBuffer(this.presentParams, 0, pp);
     const encoder = this.device.createCommandEncoder();
     const buffer = target === 'image' ? this.image : this.preview;
-    if (clear) encoder.clearBuffer(buffer);
+    if (clear) {
+      encoder.clearBuffer(buffer);
+      encoder.clearBuffer(target === 'image' ? this.buffers.imageCosts : this.buffers.previewCosts);
+    }
     const [wx, wy] = this.contract.accumulate.workgroup;
     const tile = getField(this.contract.frame_params, params, 'tile_size');
     const compute = encoder.beginComputePass();
@@ -233,33 +261,77 @@ export class Tracer {
     compute.setBindGroup(0, this.bindGroup(p, target));
     compute.dispatchWorkgroups(Math.ceil(tile[0] / wx), Math.ceil(tile[1] / wy));
     compute.end();
-    this.encodePresent(encoder);
+    if (!costs) {
+      this.heatScale = null;
+      this.encodePresent(encoder, this.presentGroup);
+      this.device.queue.submit([encoder.finish()]);
+      return this.device.queue.onSubmittedWorkDone();
+    }
     this.device.queue.submit([encoder.finish()]);
+    this.heatScale = await this.updateHeatmap(showImage);
+    const present = this.device.createCommandEncoder();
+    this.encodePresent(present, this.heatGroup);
+    this.device.queue.submit([present.finish()]);
     return this.device.queue.onSubmittedWorkDone();
   }
 
-  encodePresent(encoder) {
+  // Reads back the colours and costs of the image (if `showImage`) and the
+  // preview, and writes their heatmap texels, as the window does
+  // (src/window/view.rs); the scale's top: the image's, or the preview's
+  // when only it is shown.
+  async updateHeatmap(showImage) {
+    const { width, height, pw, ph } = this.size;
+    const sources = [
+      [this.image, this.buffers.imageCosts, this.buffers.imageHeat, showImage ? width * height : 0],
+      [this.preview, this.buffers.previewCosts, this.buffers.previewHeat, pw * ph],
+    ];
+    let scale = null;
+    for (const [colours, costs, heat, n] of sources) {
+      if (n === 0) continue;
+      const [sums, words] = await this.readBuffers([colours, costs],
+        [n * this.contract.accumulate.texel_bytes, n * 4 * this.contract.accumulate.cost_words]);
+      const { texels, max } = heatmapTexels(new Uint32Array(words), new Float32Array(sums),
+        this.contract.accumulate.cost_words, this.contract.heatmap_stops);
+      this.device.queue.writeBuffer(heat, 0, texels);
+      scale ??= max;
+    }
+    return scale ?? 1;
+  }
+
+  // The first `sizes[i]` bytes of each of `buffers`, read back from the GPU.
+  async readBuffers(buffers, sizes) {
+    const total = sizes.reduce((a, b) => a + b, 0);
+    const readback = this.device.createBuffer({ size: total, usage: GPUBufferUsage.MAP_READ | GPUBufferUsage.COPY_DST });
+    const encoder = this.device.createCommandEncoder();
+    let at = 0;
+    buffers.forEach((b, i) => { encoder.copyBufferToBuffer(b, 0, readback, at, sizes[i]); at += sizes[i]; });
+    this.device.queue.submit([encoder.finish()]);
+    await readback.mapAsync(GPUMapMode.READ);
+    const all = readback.getMappedRange().slice(0);
+    readback.destroy();
+    at = 0;
+    return sizes.map((size) => { const part = all.slice(at, at + size); at += size; return part; });
+  }
+
+  encodePresent(encoder, group) {
     const render = encoder.beginRenderPass({
       colorAttachments: [{ view: this.context.getCurrentTexture().createView(), loadOp: 'clear', storeOp: 'store', clearValue: [0, 0, 0, 1] }],
     });
     render.setPipeline(this.presentPipeline);
-    render.setBindGroup(0, this.presentGroup);
+    render.setBindGroup(0, group);
     render.draw(3);
     render.end();
   }
 
-  // The image's pixels read back from the GPU as RGBA8, quantised as the
-  // present pass and render_tile quantise: floor(255 * clamp(sum / n) + 0.5).
+  // The image's pixels (or, while the heatmap is shown, the heatmap's) read
+  // back from the GPU as RGBA8, quantised as the present pass and
+  // render_tile quantise: floor(255 * clamp(sum / n) + 0.5).
   async readImage() {
     const { width, height } = this.size;
     const bytes = width * height * this.contract.accumulate.texel_bytes;
-    const readback = this.device.createBuffer({ size: bytes, usage: GPUBufferUsage.MAP_READ | GPUBufferUsage.COPY_DST });
-    const encoder = this.device.createCommandEncoder();
-    encoder.copyBufferToBuffer(this.image, 0, readback, 0, bytes);
-    this.device.queue.submit([encoder.finish()]);
-    await readback.mapAsync(GPUMapMode.READ);
-    const sums = new Float32Array(readback.getMappedRange().slice(0));
-    readback.destroy();
+    const source = this.heatScale === null ? this.image : this.buffers.imageHeat;
+    const [data] = await this.readBuffers([source], [bytes]);
+    const sums = new Float32Array(data);
     const rgba = new Uint8ClampedArray(width * height * 4);
     const f = Math.fround;
     for (let i = 0; i < width * height; i++) {

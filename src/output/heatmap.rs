@@ -20,7 +20,7 @@ pub const BAR_ROWS: u32 = 40;
 
 /// Control points of the colour map (close to matplotlib's "inferno":
 /// perceptually ordered, dark for no work, bright for the most).
-const STOPS: [(f64, [f64; 3]); 5] = [
+pub const STOPS: [(f64, [f64; 3]); 5] = [
     (0.0, [0.0, 0.0, 4.0]),
     (0.25, [87.0, 16.0, 110.0]),
     (0.5, [188.0, 55.0, 84.0]),

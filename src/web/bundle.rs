@@ -15,8 +15,12 @@
 //! bindings the scene needs), `frame_params` (the kernel's `FrameParams` for
 //! the scene's own view), then every scene array by its binding name
 //! (`spheres`, `triangles`, `objects`, ... in the order of
-//! `gpu::bindings::scene`), each in the GPU layout. A reader refuses a file
-//! with another magic, a newer version, or a section past its end.
+//! `gpu::bindings::scene`), each in the GPU layout, and for an animated
+//! scene `cameras` (every frame's camera, computed here from
+//! `Scene::camera_path`, so the page interpolates nothing). A reader
+//! refuses a file with another magic, a newer version, or a section past
+//! its end; it skips sections it does not know, so `cameras` is optional
+//! and needs no new version.
 
 use serde::Serialize;
 
@@ -36,6 +40,12 @@ pub const SECTION_ENTRY_BYTES: usize = 32;
 pub const SECTION_NAME_BYTES: usize = 16;
 /// Sections start at multiples of this.
 pub const SECTION_ALIGN: usize = 16;
+/// Bytes before the first frame in the `cameras` section: frame count
+/// (u32), a zero word, frames per second (f64).
+pub const CAMERAS_HEADER_BYTES: usize = 16;
+/// f64 values per frame in the `cameras` section: position (3), look_at
+/// (3), up (3), vfov in degrees (1).
+pub const CAMERA_VALUES: usize = 10;
 
 /// What the page reads of the scene besides its arrays (the `scene` section).
 #[derive(Debug, Serialize)]
@@ -126,7 +136,33 @@ pub fn encode(prepared: &PreparedScene, name: &str) -> Vec<u8> {
         ("frame_params", bytemuck::bytes_of(&params)),
     ];
     sections.extend(arrays.whole_buffers());
+    let cameras = scene
+        .animation
+        .as_ref()
+        .map(|a| cameras_section(scene, a.fps));
+    if let Some(cameras) = &cameras {
+        sections.push(("cameras", cameras));
+    }
     write_sections(&sections)
+}
+
+/// The `cameras` section: the frame count, `fps`, then each frame's camera
+/// as `CAMERA_VALUES` f64 (little-endian), frame 0 first.
+pub fn cameras_section(scene: &crate::scene::Scene, fps: f64) -> Vec<u8> {
+    let frames = scene.frame_count();
+    let path = scene.camera_path();
+    let mut out = Vec::with_capacity(CAMERAS_HEADER_BYTES + frames as usize * CAMERA_VALUES * 8);
+    out.extend_from_slice(&frames.to_le_bytes());
+    out.extend_from_slice(&0u32.to_le_bytes());
+    out.extend_from_slice(&fps.to_le_bytes());
+    for frame in 0..frames {
+        let c = path.camera_at(frame);
+        let values = [c.position.to_array(), c.look_at.to_array(), c.up.to_array()];
+        for v in values.iter().flatten().chain([&c.vfov_degrees]) {
+            out.extend_from_slice(&v.to_le_bytes());
+        }
+    }
+    out
 }
 
 /// The header, the table and `sections`, each aligned.
@@ -214,6 +250,55 @@ mod tests {
             let offset = bytes.as_ptr() as usize - bundle.as_ptr() as usize;
             assert_eq!(offset % SECTION_ALIGN, 0);
         }
+    }
+
+    /// An animated scene's bundle holds every frame's camera as
+    /// `Scene::camera_at` gives it; a still scene's has no `cameras`.
+    #[test]
+    fn animated_scenes_carry_every_frame_camera() {
+        let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
+        let orbit = crate::scene::load_scene(&root.join("scenes/orbit.toml")).unwrap();
+        let section = cameras_section(&orbit, 24.0);
+        let frames = orbit.frame_count();
+        assert!(frames > 1);
+        assert_eq!(u32::from_le_bytes(section[..4].try_into().unwrap()), frames);
+        assert_eq!(f64::from_le_bytes(section[8..16].try_into().unwrap()), 24.0);
+        let value = |frame: usize, k: usize| {
+            let at = CAMERAS_HEADER_BYTES + 8 * (CAMERA_VALUES * frame + k);
+            f64::from_le_bytes(section[at..at + 8].try_into().unwrap())
+        };
+        assert_eq!(
+            section.len(),
+            CAMERAS_HEADER_BYTES + 8 * CAMERA_VALUES * frames as usize
+        );
+        for frame in [0, 5, frames - 1] {
+            let c = orbit.camera_at(frame);
+            let f = frame as usize;
+            assert_eq!(
+                [value(f, 0), value(f, 1), value(f, 2)],
+                c.position.to_array()
+            );
+            assert_eq!(
+                [value(f, 3), value(f, 4), value(f, 5)],
+                c.look_at.to_array()
+            );
+            assert_eq!([value(f, 6), value(f, 7), value(f, 8)], c.up.to_array());
+            assert_eq!(value(f, 9), c.vfov_degrees);
+        }
+        assert_ne!(value(5, 0), value(0, 0), "the orbit moves the camera");
+
+        let prepared = PreparedScene::new(orbit, Accel::Kdtree);
+        let bundle = encode(&prepared, "orbit.toml");
+        let sections = read_sections(&bundle).unwrap();
+        assert!(sections
+            .iter()
+            .any(|(n, b)| n == "cameras" && *b == &section[..]));
+        let seed = crate::scene::load_scene(&root.join("scenes/seed.toml")).unwrap();
+        let bundle = encode(&PreparedScene::new(seed, Accel::Kdtree), "seed.toml");
+        assert!(read_sections(&bundle)
+            .unwrap()
+            .iter()
+            .all(|(n, _)| n != "cameras"));
     }
 
     #[test]

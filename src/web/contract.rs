@@ -139,6 +139,11 @@ pub fn contract_json() -> Value {
             "section_entry_bytes": bundle::SECTION_ENTRY_BYTES,
             "section_name_bytes": bundle::SECTION_NAME_BYTES,
             "scene_arrays": bindings::scene(UNSPLIT).iter().map(|b| b.name).collect::<Vec<_>>(),
+            "cameras": {
+                "section": "cameras",
+                "header_bytes": bundle::CAMERAS_HEADER_BYTES,
+                "values_per_frame": bundle::CAMERA_VALUES,
+            },
         },
         "accumulate": {
             "entry_point": ACCUMULATE_TILE.name,
@@ -156,6 +161,8 @@ pub fn contract_json() -> Value {
             "placeholder": bindings::declaration(b, false),
         })).collect::<Vec<_>>(),
         "overrides": OVERRIDES,
+        // The cost heatmap's colour map: [at, [r, g, b]] control points.
+        "heatmap_stops": crate::output::heatmap::STOPS,
         "constants": constants,
         "frame_params": struct_json(std::mem::size_of::<FrameParams>(), &frame_params_fields()),
         "present": {

@@ -15,12 +15,13 @@ use crate::gpu::{Accel, PreparedScene};
 pub const SITE_MARKER: &str = "contract.json";
 
 /// The page's own files (web/), by name.
-pub const PAGE_FILES: [(&str, &str); 5] = [
+pub const PAGE_FILES: [(&str, &str); 6] = [
     ("index.html", include_str!("../../web/index.html")),
     ("kdray.js", include_str!("../../web/kdray.js")),
     ("bundle.js", include_str!("../../web/bundle.js")),
     ("tracer.js", include_str!("../../web/tracer.js")),
     ("controls.js", include_str!("../../web/controls.js")),
+    ("heatmap.js", include_str!("../../web/heatmap.js")),
 ];
 
 /// Loads the scene at `scene_path` (errors as `render`'s), builds its k-d

@@ -1,7 +1,10 @@
 // Drives the kdray page in headless Chromium (WebGPU on SwiftShader) for
 // tests/web.rs. Usage: node drive_page.mjs JOBS.json; prints one JSON
 // object of results on stdout. Each job: { url, png (a path to write the
-// page's PNG to, or null), drag (bool), screenshot (a path, or null) }.
+// page's PNG to, or null), drag (a path for the PNG after a drag, or
+// null), screenshot (a path, or null), play (bool: press Space, wait for
+// the next frame, press Space again), heatmap ({ png, restored }: press C,
+// save the heatmap's PNG, press C again, save the image's) }.
 // The page's contract (docs/web.md): document.title starts with
 // "kdray: done" or "kdray: error"; window.kdray.png() is a PNG data URL.
 
@@ -21,6 +24,11 @@ const browser = await chromium.launch({
 
 const finished = (page) => page.waitForFunction(
   () => /^kdray: (done|error)/.test(document.title), null, { timeout: TIMEOUT_MS, polling: 50 });
+// Refinement finished with the heatmap shown or not.
+const settled = (page, heatmap) => page.waitForFunction(
+  (h) => window.kdray.state.done && window.kdray.state.heatmap === h && (window.kdray.state.tracer.heatScale !== null) === h,
+  heatmap, { timeout: TIMEOUT_MS, polling: 50 });
+const overlayText = (page) => page.evaluate(() => document.getElementById('overlay').textContent);
 const savePng = async (page, path) => {
   const url = await page.evaluate(() => window.kdray.png());
   writeFileSync(path, Buffer.from(url.slice(url.indexOf(',') + 1), 'base64'));
@@ -53,6 +61,30 @@ for (const job of jobs) {
       await finished(page);
       result.drag_title = await page.title();
       await savePng(page, job.drag);
+    }
+    if (job.play && result.title.startsWith('kdray: done')) {
+      result.before_play_overlay = await overlayText(page);
+      const from = await page.evaluate(() => window.kdray.state.frame);
+      await page.keyboard.press(' ');
+      await page.waitForFunction((f) => window.kdray.state.frame !== f, from, { timeout: TIMEOUT_MS, polling: 20 });
+      // The overlay is written after each pass: wait for one with the new frame.
+      await page.waitForFunction((f) => !document.getElementById('overlay').textContent.includes(`frame ${f}/`),
+        from, { timeout: TIMEOUT_MS, polling: 20 });
+      result.playing_overlay = await overlayText(page);
+      await page.keyboard.press(' ');
+      await page.waitForFunction(() => document.getElementById('overlay').textContent.includes(' paused'),
+        null, { timeout: TIMEOUT_MS, polling: 20 });
+      result.paused_overlay = await overlayText(page);
+    }
+    if (job.heatmap && result.title.startsWith('kdray: done')) {
+      await page.keyboard.press('c');
+      await settled(page, true);
+      result.heatmap_overlay = await overlayText(page);
+      await savePng(page, job.heatmap.png);
+      await page.keyboard.press('c');
+      await settled(page, false);
+      result.restored_overlay = await overlayText(page);
+      await savePng(page, job.heatmap.restored);
     }
   } catch (e) {
     result.failure = String(e);
