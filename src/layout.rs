@@ -558,7 +558,15 @@ mod tests {
             &module,
             "Material",
             GpuMaterial,
-            [ambient, shininess, diffuse, reflection, specular, transmission, ior]
+            [
+                ambient,
+                shininess,
+                diffuse,
+                reflection,
+                specular,
+                transmission,
+                ior
+            ]
         );
         layout_of!(
             &module,

@@ -103,13 +103,19 @@ pub struct Refraction {
 /// bend nothing and reflect nothing, exactly.
 pub fn refract_fresnel(d: Vec3, n: Vec3, eta_i: f32, eta_t: f32) -> Refraction {
     if eta_i == eta_t {
-        return Refraction { dir: d, fresnel: 0.0 };
+        return Refraction {
+            dir: d,
+            fresnel: 0.0,
+        };
     }
     let cos_i = (-d.dot(n)).clamp(0.0, 1.0);
     let eta = eta_i / eta_t;
     let sin2_t = eta * eta * (1.0 - cos_i * cos_i);
     if sin2_t >= 1.0 {
-        return Refraction { dir: d, fresnel: 1.0 };
+        return Refraction {
+            dir: d,
+            fresnel: 1.0,
+        };
     }
     let cos_t = (1.0 - sin2_t).sqrt();
     let rs = (eta_i * cos_i - eta_t * cos_t) / (eta_i * cos_i + eta_t * cos_t);
@@ -218,8 +224,23 @@ impl<'a> ReferenceTracer<'a> {
         let mut remaining = length;
         for crossing in 0..=SHADOW_CROSSINGS {
             let hit = match &self.tree {
-                Some(tree) => closest_hit(tree, &self.prims, &Ray { origin, dir: ray.dir }, remaining),
-                None => closest_hit_brute(&self.prims, &Ray { origin, dir: ray.dir }, remaining),
+                Some(tree) => closest_hit(
+                    tree,
+                    &self.prims,
+                    &Ray {
+                        origin,
+                        dir: ray.dir,
+                    },
+                    remaining,
+                ),
+                None => closest_hit_brute(
+                    &self.prims,
+                    &Ray {
+                        origin,
+                        dir: ray.dir,
+                    },
+                    remaining,
+                ),
             };
             let Some(hit) = hit.filter(|h| h.t < remaining) else {
                 return through;

@@ -45,12 +45,18 @@ fn transmission_outside_0_1_and_ior_not_above_0_are_refused_by_key() {
 fn written_scenes_read_back_their_glass() {
     let scene = scene_from_toml(&seed_like("transmission = 0.75\nior = 2.0"));
     let text = kdray::scene::scene_text(&scene, SceneFormat::Toml).unwrap();
-    assert!(text.contains("transmission") && text.contains("ior"), "{text}");
+    assert!(
+        text.contains("transmission") && text.contains("ior"),
+        "{text}"
+    );
     assert_eq!(scene_from_toml(&text).materials, scene.materials);
     // Defaults are left out, so scenes without glass are written as before.
     let plain = scene_from_toml(&seed_like(""));
     let text = kdray::scene::scene_text(&plain, SceneFormat::Toml).unwrap();
-    assert!(!text.contains("transmission") && !text.contains("ior"), "{text}");
+    assert!(
+        !text.contains("transmission") && !text.contains("ior"),
+        "{text}"
+    );
 }
 
 #[test]
@@ -87,9 +93,10 @@ fn mtl_d_tr_and_ni_give_transmission_and_ior() {
 #[test]
 fn gltf_transmission_and_ior_extensions_are_read_without_a_warning() {
     let dir = tempdir("gltf");
-    let mut json: serde_json::Value =
-        serde_json::from_str(&std::fs::read_to_string(repo_path("tests/models/plain.gltf")).unwrap())
-            .unwrap();
+    let mut json: serde_json::Value = serde_json::from_str(
+        &std::fs::read_to_string(repo_path("tests/models/plain.gltf")).unwrap(),
+    )
+    .unwrap();
     json["extensionsUsed"] = serde_json::json!(["KHR_materials_transmission", "KHR_materials_ior"]);
     json["materials"] = serde_json::json!([{
         "pbrMetallicRoughness": {"baseColorFactor": [1, 1, 1, 1], "metallicFactor": 0},
@@ -103,8 +110,10 @@ fn gltf_transmission_and_ior_extensions_are_read_without_a_warning() {
     let mut warnings = Vec::new();
     let scene_path = dir.join("scene.toml");
     std::fs::write(&scene_path, scene_text_with_mesh("glass.gltf")).unwrap();
-    let scene = load_scene_with(&scene_path, &mut |_| {}, &mut |w| warnings.push(w.to_string()))
-        .unwrap_or_else(|e| panic!("{e}"));
+    let scene = load_scene_with(&scene_path, &mut |_| {}, &mut |w| {
+        warnings.push(w.to_string())
+    })
+    .unwrap_or_else(|e| panic!("{e}"));
     let m = scene.materials.last().unwrap();
     assert_eq!((m.transmission, m.ior), (0.8f32 as f64, 1.33f32 as f64));
     assert!(
@@ -134,7 +143,11 @@ fn refraction_follows_snells_law_and_equal_indices_change_nothing() {
         let d = Vec3::new(a.sin(), -a.cos(), 0.0);
         let r = refract_fresnel(d, n, 1.0, 1.5);
         let sin_t = r.dir.x;
-        assert!((a.sin() - 1.5 * sin_t).abs() < 1e-6, "{degrees}: {:?}", r.dir);
+        assert!(
+            (a.sin() - 1.5 * sin_t).abs() < 1e-6,
+            "{degrees}: {:?}",
+            r.dir
+        );
         assert!(r.dir.y < 0.0 && r.fresnel > 0.0 && r.fresnel < 1.0);
         assert_eq!(refract_fresnel(d, n, 1.3, 1.3).dir, d);
         assert_eq!(refract_fresnel(d, n, 1.3, 1.3).fresnel, 0.0);
@@ -149,7 +162,11 @@ fn total_internal_reflection_past_the_critical_angle() {
     assert_eq!(at(critical + 1e-3).fresnel, 1.0);
     assert_eq!(at(1.2).fresnel, 1.0);
     let below = at(critical - 1e-3);
-    assert!(below.fresnel < 1.0 && below.fresnel > 0.5, "{}", below.fresnel);
+    assert!(
+        below.fresnel < 1.0 && below.fresnel > 0.5,
+        "{}",
+        below.fresnel
+    );
     assert!(at(0.3).fresnel < 0.1);
     // From outside there is no critical angle.
     let outside = refract_fresnel(Vec3::new(1.2f32.sin(), -1.2f32.cos(), 0.0), n, 1.0, 1.5);
@@ -192,8 +209,15 @@ fn a_prism_reflects_totally_at_its_hypotenuse() {
     assert!(inside.len() >= 2, "{steps:#?}");
     let (first, second) = (inside[0], inside[1]);
     assert!((first.ray.ray.dir - Vec3::Z).length() < 1e-5);
-    assert!((first.ray.weight - 0.96).abs() < 1e-5, "{}", first.ray.weight);
-    assert!((second.ray.ray.dir - -Vec3::X).length() < 1e-5, "{second:?}");
+    assert!(
+        (first.ray.weight - 0.96).abs() < 1e-5,
+        "{}",
+        first.ray.weight
+    );
+    assert!(
+        (second.ray.ray.dir - -Vec3::X).length() < 1e-5,
+        "{second:?}"
+    );
     assert_eq!(second.ray.weight, first.ray.weight);
     // It then leaves through the x = 0 leg, head on.
     let out = steps
@@ -229,7 +253,11 @@ fn a_glass_slab_shifts_a_ray_sideways_by_the_analytic_amount() {
             .find(|s| s.ray.hits == 2 && !s.ray.inside)
             .unwrap_or_else(|| panic!("{degrees}: no ray out of the slab: {steps:#?}"));
         let exit = out.ray.ray;
-        assert!((exit.dir - dir).length() < 1e-5, "{degrees}: {:?}", exit.dir);
+        assert!(
+            (exit.dir - dir).length() < 1e-5,
+            "{degrees}: {:?}",
+            exit.dir
+        );
         // Distance between the two parallel lines.
         let w = exit.origin - origin;
         let shift = (w - w.dot(dir) * dir).length();
@@ -313,7 +341,11 @@ fn shadow_rays_through_glass_are_attenuated_by_each_surfaces_transmission() {
     for (transmission, expected) in [(1.0f32, 0.8f64), (0.5, 0.2), (0.0, 0.0)] {
         let scene = scene_from_toml(&text(transmission));
         let image = render(&scene, Accel::Kdtree);
-        assert_eq!(pixel(&image, 1, 1), quantize([expected; 3]), "{transmission}");
+        assert_eq!(
+            pixel(&image, 1, 1),
+            quantize([expected; 3]),
+            "{transmission}"
+        );
         assert_eq!(
             ReferenceTracer::new(&scene, true).pixel(1, 1),
             quantize([expected; 3]),

@@ -50,7 +50,8 @@ pub(super) fn extensions_warning(root: &gltf::json::Root, path: &Path) -> Option
         .filter(|n| !SUPPORTED_EXTENSIONS.contains(n))
         .collect();
     for required in &root.extensions_required {
-        if !names.contains(&required.as_str()) && !SUPPORTED_EXTENSIONS.contains(&required.as_str()) {
+        if !names.contains(&required.as_str()) && !SUPPORTED_EXTENSIONS.contains(&required.as_str())
+        {
             names.push(required);
         }
     }

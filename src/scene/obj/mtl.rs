@@ -87,7 +87,9 @@ pub(super) fn parse_mtl(
         if is_glass {
             // Read leniently, as before these were read at all: `d -halo v`
             // takes v; anything but one number leaves the statement unread.
-            let words: Vec<&str> = tokens.filter(|w| !w.eq_ignore_ascii_case("-halo")).collect();
+            let words: Vec<&str> = tokens
+                .filter(|w| !w.eq_ignore_ascii_case("-halo"))
+                .collect();
             if let [word] = words[..] {
                 if let Ok(value) = parse_number(word) {
                     set_glass(material, keyword, value);
