@@ -22,12 +22,18 @@ packages=(
     # Stanford bunny), which the image tests render.
     glmark2-data
     # tests/web.rs traces the exported site in headless Chromium (WebGPU on
-    # its SwiftShader), driven from node by tests/web's npm packages.
-    chromium nodejs npm python3
+    # its SwiftShader), driven from node by tests/web's npm packages (node
+    # and npm below, from Debian unless the machine has its own).
+    chromium python3
     # tests/farm.rs runs `kdray farm` on a one-node Slurm cluster that
     # scripts/slurm_cluster.sh starts on this machine (as root, no systemd).
     slurmctld slurmd slurm-client munge
 )
+
+# Node.js may come from elsewhere (NodeSource's nodejs bundles npm and
+# conflicts with Debian's npm): Debian's packages only where there is none.
+command -v node >/dev/null || packages+=(nodejs)
+command -v npm >/dev/null || packages+=(npm)
 
 missing=()
 if command -v dpkg-query >/dev/null && command -v apt-get >/dev/null; then
