@@ -1,11 +1,14 @@
 //! kdray: a ray tracer whose k-d tree is built on the CPU and walked by a
 //! WGSL compute shader through wgpu.
 //!
-//! Data flows one way: [`scene`] (parse, validate, OBJ) -> [`kdtree`] (SAH
-//! build, flat GPU layout, CPU mirror of the traversal) -> [`gpu`] (adapter,
-//! buffers, pipeline, tiled dispatch, readback) -> [`output`] (PNG).
-//! [`render`] strings them together for one frame; [`web`] exports a
-//! prepared scene as a site that traces it in a browser.
+//! Data flows one way: [`scene`] (parse, validate, OBJ and glTF, animation)
+//! -> [`kdtree`] (build, flat GPU layout, the CPU walks) -> [`gpu`] (the
+//! prepared and uploaded scene, the contract, pipelines, dispatch, readback)
+//! -> [`output`] (PNG). On top: [`render`] strings them together for one
+//! frame; [`window`] traces interactively; [`web`] exports a prepared scene
+//! as a site that traces it in a browser; [`farm`] hands frames or bands to
+//! a Slurm cluster; [`bench`] measures. docs/design.md's Architecture is the
+//! map.
 
 pub mod bench;
 pub mod choice;
