@@ -7,7 +7,7 @@
 //! -> [`output`] (PNG). On top: [`render`] strings them together for one
 //! frame; [`window`] traces interactively; [`web`] exports a prepared scene
 //! as a site that traces it in a browser; [`farm`] hands frames or bands to
-//! a Slurm cluster; [`bench`] measures. docs/design.md's Architecture is the
+//! a Slurm cluster; [`bench`](mod@bench) measures. docs/design.md's Architecture is the
 //! map.
 
 pub mod bench;

@@ -344,7 +344,7 @@ impl<'a> ReferenceTracer<'a> {
     }
 
     /// The rays one sample traces on the glass path, in order (for a scene
-    /// with glass; see [`Self::trace_path_glass`]).
+    /// with glass; see `trace_path_glass`).
     pub fn path_steps(&self, primary: Ray) -> (Vec3, Vec<PathStep>) {
         let mut steps = Vec::new();
         let color = self.trace_path_glass(primary, &mut steps);
