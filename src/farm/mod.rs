@@ -11,7 +11,7 @@
 //!   (and an MP4, [`video`]);
 //! - parts/: the still's bands, every job's log, the finishing job's marker.
 //!
-//! [`prepare`] writes the plan and scripts and works out what is missing;
+//! [`prepare`](mod@prepare) writes the plan and scripts and works out what is missing;
 //! [`slurm`] submits and waits; [`task`] is what runs on the nodes. Every
 //! file is written atomically, so a killed task leaves no half file and a
 //! re-run renders only what is missing.
