@@ -80,6 +80,7 @@ pub fn model_scene_with(
     let mut materials = Vec::new();
     let mut triangles = Vec::new();
     let mut triangle_normals = Vec::new();
+    let mut textured = super::mesh_placement::TexturedParts::default();
     validator.mesh(
         0,
         &raw,
@@ -87,6 +88,7 @@ pub fn model_scene_with(
         &mut materials,
         &mut triangles,
         &mut triangle_normals,
+        &mut textured,
     )?;
 
     let (min, max) = bounds(&triangles);
@@ -111,6 +113,8 @@ pub fn model_scene_with(
         spheres: Vec::new(),
         triangles,
         triangle_normals,
+        triangle_uvs: textured.uvs,
+        textures: textured.textures,
     })
 }
 
@@ -199,6 +203,7 @@ fn ground() -> Material {
         shininess: 0.0,
         reflection: 0.0,
         transmission: 0.0,
+        texture: None,
         ior: Material::DEFAULT_IOR,
     }
 }

@@ -171,6 +171,7 @@ impl Validator<'_> {
                 reflection,
                 transmission,
                 ior,
+                texture: None,
             });
         }
         let lookup = |key: KeyPath, name: &str| {
@@ -227,6 +228,7 @@ impl Validator<'_> {
         }
 
         let mut triangle_normals = Vec::new();
+        let mut textured = super::mesh_placement::TexturedParts::default();
         for (i, m) in raw.meshes.iter().enumerate() {
             let override_material = match &m.material {
                 Some(name) => Some(lookup(&|| format!("meshes[{i}].material"), name)?),
@@ -239,6 +241,7 @@ impl Validator<'_> {
                 &mut materials,
                 &mut triangles,
                 &mut triangle_normals,
+                &mut textured,
             )?;
         }
 
@@ -250,6 +253,8 @@ impl Validator<'_> {
             spheres,
             triangles,
             triangle_normals,
+            triangle_uvs: textured.uvs,
+            textures: textured.textures,
             animation,
         })
     }
