@@ -1,4 +1,6 @@
-//! A glTF material's `baseColorTexture`: its image (in a buffer view, as
+//! A glTF material's `baseColorTexture` and the texture coordinates of
+//! its primitives (TEXCOORD_n, n its texCoord; FLOAT or normalized
+//! UNSIGNED_BYTE/SHORT, sparse too); its image (in a buffer view, as
 //! in a `.glb`; a `data:` URI; or a file named by a relative path) decoded
 //! once per image and sampler, and its sampler in kdray's terms: magFilter
 //! NEAREST is point sampling, LINEAR or unset bilinear (there are no mip
@@ -10,6 +12,8 @@ use std::collections::HashMap;
 use std::path::Path;
 use std::sync::Arc;
 
+use glam::DVec2;
+use gltf::accessor::{DataType, Dimensions};
 use gltf::texture::{MagFilter, WrappingMode};
 
 use super::buffers::{buffer_path, decode_data_uri};
@@ -20,6 +24,76 @@ use crate::scene::{Texture, TextureFilter, TextureWrap, Warning};
 #[derive(Default)]
 pub(super) struct DecodedImages {
     by_source: HashMap<(usize, Option<usize>), Option<Arc<Texture>>>,
+}
+
+/// The texture coordinates, read where the reader walks the primitives.
+impl super::Reader<'_, '_> {
+    /// The texture coordinates of a primitive whose material has a
+    /// base-colour texture that decoded (the TEXCOORD_n its texCoord names),
+    /// one per position; None otherwise. Coordinates that cannot be read
+    /// leave the primitive untextured, with a warning.
+    pub(super) fn texture_coordinates(
+        &mut self,
+        primitive: &gltf::Primitive,
+        count: usize,
+        at: &str,
+    ) -> Option<Vec<DVec2>> {
+        let material = primitive.material();
+        let info = material.pbr_metallic_roughness().base_color_texture()?;
+        let local = *self.material_of.get(&material.index())?;
+        self.mesh.materials.get(local)?.texture.as_ref()?;
+        let set = info.tex_coord();
+        let read = match primitive.get(&gltf::Semantic::TexCoords(set)) {
+            Some(a) => self.read_vec2(&a).and_then(|uvs| {
+                if uvs.len() == count {
+                    Ok(uvs)
+                } else {
+                    Err(format!("{} coordinates for {count} positions", uvs.len()))
+                }
+            }),
+            None => Err("missing".to_string()),
+        };
+        read.map_err(|m| {
+            self.mesh.warnings.push(crate::scene::Warning::new(
+                self.files.path,
+                None,
+                format!("{at}: TEXCOORD_{set} {m}; the primitive is drawn untextured"),
+            ))
+        })
+        .ok()
+    }
+
+    /// A VEC2 of floats, or of normalized unsigned bytes or shorts, per
+    /// element, every value finite.
+    fn read_vec2(&self, accessor: &gltf::Accessor) -> Result<Vec<DVec2>, String> {
+        let (size, scale) = match accessor.data_type() {
+            DataType::F32 => (4, 1.0),
+            DataType::U8 if accessor.normalized() => (1, 255.0),
+            DataType::U16 if accessor.normalized() => (2, 65535.0),
+            other => {
+                return Err(format!(
+                    "must be FLOAT or normalized UNSIGNED_BYTE or UNSIGNED_SHORT, is {other:?}"
+                ))
+            }
+        };
+        if accessor.dimensions() != Dimensions::Vec2 {
+            return Err(format!("must be VEC2, is {:?}", accessor.dimensions()));
+        }
+        let one = move |b: &[u8]| -> f64 {
+            match size {
+                4 => f64::from(f32::from_le_bytes([b[0], b[1], b[2], b[3]])),
+                2 => f64::from(u16::from_le_bytes([b[0], b[1]])) / scale,
+                _ => f64::from(b[0]) / scale,
+            }
+        };
+        let out = self.read_elements(accessor, 2 * size, DVec2::ZERO, |b| {
+            DVec2::new(one(b), one(&b[size..]))
+        })?;
+        if let Some((i, v)) = out.iter().enumerate().find(|(_, v)| !v.is_finite()) {
+            return Err(format!("element {i} is not finite: {v}"));
+        }
+        Ok(out)
+    }
 }
 
 /// What an image is read from: the buffers and the glTF file's reader.
