@@ -35,7 +35,8 @@ pub fn png_bytes(image: &image::RgbaImage) -> Vec<u8> {
 /// Writes `quad.obj`, `quad.mtl` (Kd `kd`, Ka 0.1, `map_Kd` with
 /// `map_options` before the file name) and `tex.png` into `dir`; the
 /// OBJ's path. The OBJ's texture coordinates are OBJ's (v up from the
-/// bottom row): `uv_scale` times the corners'.
+/// bottom row), written so that in the image's convention they are
+/// `uv_scale` times [`IMAGE_UVS`].
 pub fn write_obj_quad(
     dir: &Path,
     image: &image::RgbaImage,
@@ -56,7 +57,7 @@ pub fn write_obj_quad(
         obj += &format!("v {} {} {}\n", c[0], c[1], c[2]);
     }
     for uv in IMAGE_UVS {
-        obj += &format!("vt {} {}\n", uv[0] * uv_scale, (1.0 - uv[1]) * uv_scale);
+        obj += &format!("vt {} {}\n", uv[0] * uv_scale, 1.0 - uv[1] * uv_scale);
     }
     obj += "usemtl t\nf 1/1 2/2 3/3 4/4\n";
     let path = dir.join("quad.obj");
