@@ -207,3 +207,28 @@ fn clamp_on_in_map_kd_clamps_past_the_image() {
     );
     assert_ratio_is_the_texture(&scene, 2.0);
 }
+
+#[test]
+fn texture_bytes_count_in_the_scene_size_and_a_texture_past_the_limit_is_refused_naming_it() {
+    use kdray::gpu::PreparedScene;
+    let dir = TempDir::new("gpu-tex-bytes");
+    let obj = write_obj_quad(&dir.path, &gradient(64, 32), 1.0, "", 1.0);
+    let scene = quad_scene(&dir, &obj);
+    let textured = PreparedScene::new(scene.clone(), Accel::Kdtree);
+    let plain = PreparedScene::new(untextured(&scene), Accel::Kdtree);
+    // The texels, the header and word 0, and two triangles' coordinates.
+    let texture_bytes = 64 * 32 * 4 + (1 + 6) * 4 + 2 * 6 * 4;
+    assert_eq!(
+        textured.arrays.byte_size(),
+        plain.arrays.byte_size() + texture_bytes
+    );
+    let limits = wgpu::Limits {
+        max_storage_buffer_binding_size: 4096,
+        ..wgpu::Limits::default()
+    };
+    let message = textured.arrays.check_fits(&limits).unwrap_err().to_string();
+    for words in ["textures buffer", "8.1 KiB", "4.0 KiB"] {
+        assert!(message.contains(words), "{message} lacks {words}");
+    }
+    assert!(plain.arrays.check_fits(&limits).is_ok());
+}
