@@ -27,9 +27,13 @@ impl Validator<'_> {
         override_material: Option<u32>,
         materials: &mut Vec<Material>,
         triangles: &mut Vec<Triangle>,
-        normals: &mut Vec<[DVec3; 3]>,
-        textured: &mut TexturedParts,
+        parts: &mut TriangleParts,
     ) -> Result<(), SceneError> {
+        let TriangleParts {
+            normals,
+            uvs,
+            textures,
+        } = parts;
         let key = |k: &str| format!("meshes[{i}].{k}");
         let scale = match m.scale {
             RawScale::Uniform(s) => DVec3::splat(self.number(&|| key("scale"), s)?),
@@ -99,8 +103,8 @@ impl Validator<'_> {
                     match added.iter().find(|(k, _)| *k == key) {
                         Some(&(_, index)) => index,
                         None => {
-                            let index = textured.textures.len() as u32;
-                            textured.textures.push(Texture::clone(t));
+                            let index = textures.len() as u32;
+                            textures.push(Texture::clone(t));
                             added.push((key, index));
                             index
                         }
@@ -190,7 +194,7 @@ impl Validator<'_> {
         if all_kept.into_inner() {
             if any_textured {
                 for (triangle, t) in triangles[first..].iter_mut().zip(&mesh.triangles) {
-                    textured.add(triangle, uvs_of(t));
+                    add_uvs(uvs, triangle, uvs_of(t));
                 }
             }
             crate::huge_pages::free_in_background((mesh, world, shading));
@@ -217,7 +221,7 @@ impl Validator<'_> {
                 triangle.normals = u32::try_from(normals.len()).unwrap_or(Triangle::FLAT);
                 normals.push(n);
             }
-            textured.add(&mut triangle, uvs_of(t));
+            add_uvs(uvs, &mut triangle, uvs_of(t));
             triangles.push(triangle);
         }
         Ok(())
@@ -256,21 +260,23 @@ impl Validator<'_> {
         Ok(world)
     }
 }
-/// The scene's textures and its triangles' texture coordinates, as the
-/// meshes add them.
+/// What the scene keeps beside its triangles, as the meshes add them:
+/// [`Scene::triangle_normals`](super::Scene::triangle_normals),
+/// [`Scene::triangle_uvs`](super::Scene::triangle_uvs) and
+/// [`Scene::textures`](super::Scene::textures).
 #[derive(Default)]
-pub(super) struct TexturedParts {
-    pub textures: Vec<Texture>,
+pub(super) struct TriangleParts {
+    pub normals: Vec<[DVec3; 3]>,
     pub uvs: Vec<[DVec2; 3]>,
+    pub textures: Vec<Texture>,
 }
 
-impl TexturedParts {
-    /// Gives `triangle` the texture coordinates `uvs`, if any.
-    fn add(&mut self, triangle: &mut Triangle, uvs: Option<[DVec2; 3]>) {
-        if let (Some(uvs), Ok(index)) = (uvs, u32::try_from(self.uvs.len())) {
-            triangle.uvs = index;
-            self.uvs.push(uvs);
-        }
+/// Gives `triangle` the texture coordinates `corners`, if any, at the end
+/// of `uvs`.
+fn add_uvs(uvs: &mut Vec<[DVec2; 3]>, triangle: &mut Triangle, corners: Option<[DVec2; 3]>) {
+    if let (Some(corners), Ok(index)) = (corners, u32::try_from(uvs.len())) {
+        triangle.uvs = index;
+        uvs.push(corners);
     }
 }
 

@@ -79,17 +79,8 @@ pub fn model_scene_with(
     };
     let mut materials = Vec::new();
     let mut triangles = Vec::new();
-    let mut triangle_normals = Vec::new();
-    let mut textured = super::mesh_placement::TexturedParts::default();
-    validator.mesh(
-        0,
-        &raw,
-        None,
-        &mut materials,
-        &mut triangles,
-        &mut triangle_normals,
-        &mut textured,
-    )?;
+    let mut parts = super::mesh_placement::TriangleParts::default();
+    validator.mesh(0, &raw, None, &mut materials, &mut triangles, &mut parts)?;
 
     let (min, max) = bounds(&triangles);
     let (width, height) = MODEL_IMAGE;
@@ -112,9 +103,9 @@ pub fn model_scene_with(
         materials,
         spheres: Vec::new(),
         triangles,
-        triangle_normals,
-        triangle_uvs: textured.uvs,
-        textures: textured.textures,
+        triangle_normals: parts.normals,
+        triangle_uvs: parts.uvs,
+        textures: parts.textures,
     })
 }
 

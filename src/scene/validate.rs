@@ -227,8 +227,7 @@ impl Validator<'_> {
             ));
         }
 
-        let mut triangle_normals = Vec::new();
-        let mut textured = super::mesh_placement::TexturedParts::default();
+        let mut parts = super::mesh_placement::TriangleParts::default();
         for (i, m) in raw.meshes.iter().enumerate() {
             let override_material = match &m.material {
                 Some(name) => Some(lookup(&|| format!("meshes[{i}].material"), name)?),
@@ -240,8 +239,7 @@ impl Validator<'_> {
                 override_material,
                 &mut materials,
                 &mut triangles,
-                &mut triangle_normals,
-                &mut textured,
+                &mut parts,
             )?;
         }
 
@@ -252,9 +250,9 @@ impl Validator<'_> {
             materials,
             spheres,
             triangles,
-            triangle_normals,
-            triangle_uvs: textured.uvs,
-            textures: textured.textures,
+            triangle_normals: parts.normals,
+            triangle_uvs: parts.uvs,
+            textures: parts.textures,
             animation,
         })
     }

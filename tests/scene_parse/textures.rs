@@ -72,13 +72,9 @@ fn map_kd_clamp_on_clamps_and_a_jpeg_decodes() {
     assert_eq!(texture.wrap, [TextureWrap::ClampToEdge; 2]);
 
     let rgb = image::DynamicImage::ImageRgba8(image.clone()).to_rgb8();
-    rgb.save(&dir.path.join("tex.jpg")).unwrap();
-    let mtl = std::fs::read_to_string(&dir.path.join("quad.mtl")).unwrap();
-    std::fs::write(
-        &dir.path.join("quad.mtl"),
-        mtl.replace("tex.png", "tex.jpg"),
-    )
-    .unwrap();
+    rgb.save(dir.path.join("tex.jpg")).unwrap();
+    let mtl = std::fs::read_to_string(dir.path.join("quad.mtl")).unwrap();
+    std::fs::write(dir.path.join("quad.mtl"), mtl.replace("tex.png", "tex.jpg")).unwrap();
     let mesh = load_obj(&obj, true).unwrap();
     assert!(mesh.warnings.is_empty(), "{:?}", mesh.warnings);
     let texture = mesh.materials[0].texture.as_ref().unwrap();
@@ -89,7 +85,7 @@ fn map_kd_clamp_on_clamps_and_a_jpeg_decodes() {
 fn an_undecodable_map_kd_is_a_warning_and_the_flat_colour() {
     let dir = TempDir::new("tex-bad");
     let obj = write_obj_quad(&dir.path, &gradient(2, 2), 0.5, "", 1.0);
-    std::fs::write(&dir.path.join("tex.png"), b"not an image").unwrap();
+    std::fs::write(dir.path.join("tex.png"), b"not an image").unwrap();
     let mesh = load_obj(&obj, true).unwrap();
     assert_eq!(mesh.warnings.len(), 1, "{:?}", mesh.warnings);
     assert!(
