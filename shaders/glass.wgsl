@@ -122,7 +122,7 @@ fn trace_path_glass(primary: Ray) -> vec3<f32> {
                 let surface = surface_at(hit.object, p, ray.dir);
                 let offset = spawn_offset(p, object_magnitude(hit.object));
                 let origin = surface.spawn_point + offset * surface.geometric;
-                let m = materials[objects[hit.object].x];
+                let m = material_at(hit.object, p);
                 let local_share = (1.0 - m.reflection) * (1.0 - m.transmission);
                 // A surface with no local share and some transmission is
                 // not shaded (no shadow rays); the seed mode's rule ends a

@@ -40,7 +40,7 @@ fn trace_path(primary: Ray) -> vec3<f32> {
         let surface = surface_at(hit.object, p, ray.dir);
         let offset = spawn_offset(p, object_magnitude(hit.object));
         let origin = surface.spawn_point + offset * surface.geometric;
-        let m = materials[objects[hit.object].x];
+        let m = material_at(hit.object, p);
         let s = shade(m, p, surface.shading, -ray.dir, origin);
         if (params.shadow_mode == SHADOW_SEED && !s.any_light_visible) {
             break;

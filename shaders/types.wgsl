@@ -52,6 +52,7 @@ struct Material {
     specular: vec3<f32>,
     transmission: f32,   // 0 opaque .. 1 clear (glass.wgsl)
     ior: f32,            // index of refraction inside; outside is 1
+    texture: u32,        // its base-colour texture (texture.wgsl), or NO_TEXTURE
 }
 
 struct Light {

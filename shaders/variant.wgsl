@@ -21,6 +21,9 @@ override SMOOTH_TRIANGLES: bool = true;
 // Whether a material may transmit (glass.wgsl): without it the path is the
 // opaque one, so scenes without glass pay nothing for it.
 override GLASS: bool = true;
+// Whether a triangle may be textured (texture.wgsl): without it the
+// material is read as it was before textures.
+override TEXTURES: bool = true;
 // Whether the walks count their work (walk_cost in traverse.wgsl): frames
 // that report it (--stats, the heatmap, bench's counted frame, the window)
 // and the ray-query kernel. Counting is private register adds, yet without

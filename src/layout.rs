@@ -125,7 +125,9 @@ pub struct GpuSphere {
 /// the index of its vertex normals in `triangle_normals` (smooth shading),
 /// or [`GpuTriangle::FLAT`]; in the second's, its id in the scene's object
 /// order (as `objects[i][1]`), which the walk's tie-break reads with the
-/// vertices rather than with a load of its own.
+/// vertices rather than with a load of its own; in the third's, its record
+/// of texture coordinates in the `textures` buffer ([`TextureWords`]), or
+/// [`GpuTriangle::UNTEXTURED`] (read only by the TEXTURES kernel).
 #[repr(C)]
 #[derive(Debug, Clone, Copy, PartialEq, Pod, Zeroable)]
 pub struct GpuTriangle {
@@ -134,12 +136,14 @@ pub struct GpuTriangle {
     pub v1: [f32; 3],
     pub scene_id: u32,
     pub v2: [f32; 3],
-    pub _pad2: f32,
+    pub uvs: u32,
 }
 
 impl GpuTriangle {
     /// `normals` of a flat-shaded triangle: it has no vertex normals.
     pub const FLAT: u32 = u32::MAX;
+    /// `uvs` of a triangle without texture coordinates.
+    pub const UNTEXTURED: u32 = u32::MAX;
 }
 
 /// The unit vertex normals of a smooth-shaded triangle, 12 bytes: each
@@ -213,7 +217,76 @@ pub struct GpuMaterial {
     pub transmission: f32,
     /// Index of refraction of the inside (the outside is 1).
     pub ior: f32,
-    pub _pad: [f32; 3],
+    /// Its base-colour texture in the `textures` buffer, or
+    /// [`GpuMaterial::NO_TEXTURE`].
+    pub texture: u32,
+    pub _pad: [f32; 2],
+}
+
+impl GpuMaterial {
+    /// `texture` of a material without one.
+    pub const NO_TEXTURE: u32 = u32::MAX;
+}
+
+/// The `textures` buffer, one array of u32 words (shaders/texture.wgsl):
+/// word 0 the first word of the texture coordinate records; then per
+/// texture a header of [`TextureWords::HEADER_WORDS`] words (first texel
+/// word, width, height, filter, wrap along u, wrap along v); then the
+/// records, six words per textured triangle (u, v of its three corners,
+/// f32 bits); then the texels, RGBA8 a word, row by row from the image's
+/// top row. Built by [`TextureWords::pack`].
+pub struct TextureWords;
+
+impl TextureWords {
+    pub const HEADER_WORDS: u32 = 6;
+    pub const RECORD_WORDS: u32 = 6;
+    pub const FILTER_NEAREST: u32 = 0;
+    pub const FILTER_BILINEAR: u32 = 1;
+    pub const WRAP_REPEAT: u32 = 0;
+    pub const WRAP_CLAMP: u32 = 1;
+    pub const WRAP_MIRROR: u32 = 2;
+
+    /// The buffer for `textures` and the texture coordinate records `uvs`
+    /// (in the order the triangles' `uvs` index them); empty without
+    /// textures.
+    pub fn pack(textures: &[crate::scene::Texture], uvs: &[[glam::Vec2; 3]]) -> Vec<u32> {
+        use crate::scene::{TextureFilter, TextureWrap};
+        if textures.is_empty() {
+            return Vec::new();
+        }
+        let records = 1 + textures.len() as u32 * Self::HEADER_WORDS;
+        let mut texel_start = records + uvs.len() as u32 * Self::RECORD_WORDS;
+        let mut words = vec![records];
+        for t in textures {
+            let wrap = |w: TextureWrap| match w {
+                TextureWrap::Repeat => Self::WRAP_REPEAT,
+                TextureWrap::ClampToEdge => Self::WRAP_CLAMP,
+                TextureWrap::MirroredRepeat => Self::WRAP_MIRROR,
+            };
+            let filter = match t.filter {
+                TextureFilter::Nearest => Self::FILTER_NEAREST,
+                TextureFilter::Bilinear => Self::FILTER_BILINEAR,
+            };
+            words.extend([
+                texel_start,
+                t.width,
+                t.height,
+                filter,
+                wrap(t.wrap[0]),
+                wrap(t.wrap[1]),
+            ]);
+            texel_start = texel_start.wrapping_add(t.texels.len() as u32);
+        }
+        for corners in uvs {
+            for uv in corners {
+                words.extend([uv.x.to_bits(), uv.y.to_bits()]);
+            }
+        }
+        for t in textures {
+            words.extend_from_slice(&t.texels);
+        }
+        words
+    }
 }
 
 #[repr(C)]
@@ -565,7 +638,8 @@ mod tests {
                 reflection,
                 specular,
                 transmission,
-                ior
+                ior,
+                texture
             ]
         );
         layout_of!(

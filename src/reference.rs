@@ -1,6 +1,7 @@
-//! A CPU reference of shaders/trace.wgsl + shade.wgsl + glass.wgsl: the
-//! same path loop (with glass: refraction, Fresnel, the stack of pending
-//! rays, shadow rays through glass), shading and f32 arithmetic over the CPU
+//! A CPU reference of shaders/trace.wgsl + shade.wgsl + glass.wgsl +
+//! texture.wgsl: the same path loop (with glass: refraction, Fresnel, the
+//! stack of pending rays, shadow rays through glass; with textures: the
+//! texel at the hit multiplying diffuse and ambient), shading and f32 arithmetic over the CPU
 //! mirror of the traversal, so GPU images can be checked pixel by pixel and
 //! a single path can be inspected. Slow (one thread); for tests and
 //! debugging only.
@@ -301,6 +302,30 @@ impl<'a> ReferenceTracer<'a> {
         &self.scene.materials[index as usize]
     }
 
+    /// Mirror of `material_at` in shaders/texture.wgsl: the material of
+    /// object `id` at hit point `p`, its diffuse and ambient colours
+    /// multiplied (in f32) by its texture where `id` is a textured triangle.
+    pub fn material_at(&self, id: u32, p: Vec3) -> std::borrow::Cow<'_, crate::scene::Material> {
+        let m = self.material(id);
+        let Some(t) = (id as usize).checked_sub(self.scene.spheres.len()) else {
+            return std::borrow::Cow::Borrowed(m);
+        };
+        let triangle = &self.scene.triangles[t];
+        let (Some(texture), Some(uvs)) = (
+            self.scene.texture_of(triangle.material),
+            self.scene.uvs_of(triangle),
+        ) else {
+            return std::borrow::Cow::Borrowed(m);
+        };
+        let b = barycentrics(&self.prims.triangles[t].v, p);
+        let [uv0, uv1, uv2] = uvs.map(|uv| uv.as_vec2());
+        let c = texture.sample(b.x * uv0 + b.y * uv1 + b.z * uv2);
+        let mut textured = m.clone();
+        textured.diffuse = (m.diffuse.as_vec3() * c).as_dvec3();
+        textured.ambient = (m.ambient.as_vec3() * c).as_dvec3();
+        std::borrow::Cow::Owned(textured)
+    }
+
     /// The colour of one path (unclamped), and the hits along it (with
     /// glass: of every ray the sample traced, in order).
     pub fn trace_path(&self, primary: Ray) -> (Vec3, Vec<Hit>) {
@@ -324,7 +349,8 @@ impl<'a> ReferenceTracer<'a> {
             let surface = self.surface(hit.object, p, ray.dir);
             let offset = spawn_offset(p, self.prims.magnitude(hit.object));
             let origin = surface.spawn_point + offset * surface.geometric;
-            let m = self.material(hit.object);
+            let material = self.material_at(hit.object, p);
+            let m = &*material;
             let (local, any_visible) = self.shade(m, p, surface.shading, -ray.dir, origin);
             if self.scene.render.shadow_mode == ShadowMode::Seed && !any_visible {
                 break;
@@ -405,7 +431,8 @@ impl<'a> ReferenceTracer<'a> {
         let surface = self.surface(hit.object, p, ray.dir);
         let offset = spawn_offset(p, self.prims.magnitude(hit.object));
         let origin = surface.spawn_point + offset * surface.geometric;
-        let m = self.material(hit.object);
+        let material = self.material_at(hit.object, p);
+        let m = &*material;
         let (reflection, transmission) = (m.reflection as f32, m.transmission as f32);
         let local_share = (1.0 - reflection) * (1.0 - transmission);
         let opaque = transmission == 0.0;

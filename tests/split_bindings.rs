@@ -45,7 +45,7 @@ fn render_with_chunks(
         .unwrap_or_else(|e| panic!("{e}"))
 }
 
-/// The bindings of each split array on this adapter (lavapipe: 7, 3, 3, 8,
+/// The bindings of each split array on this adapter (lavapipe: 6, 3, 3, 8,
 /// 2, 2).
 fn chunks() -> [u64; SPLIT_ARRAY_COUNT] {
     bindings::scene_chunks(&gpu().device.limits()).map(|k| k as u64)

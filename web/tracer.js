@@ -166,6 +166,7 @@ export class Tracer {
         SMOOTH_TRIANGLES: this.needs.has('smooth_triangles') ? 1 : 0,
         COUNT_COSTS: costs ? 1 : 0,
         GLASS: this.glass ? 1 : 0,
+        TEXTURES: this.needs.has('textures') ? 1 : 0,
       };
       for (const name of this.contract.overrides) {
         if (!(name in constants)) throw new PageError(`the kernel has an override ${name} this page does not set`);

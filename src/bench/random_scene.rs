@@ -191,6 +191,7 @@ fn materials() -> Vec<Material> {
                 reflection: if shiny { 0.4 } else { 0.0 },
                 transmission: 0.0,
                 ior: Material::DEFAULT_IOR,
+                texture: None,
             });
         }
     }
@@ -268,6 +269,8 @@ pub fn random_scene(spec: &RandomSceneSpec) -> Scene {
         spheres,
         triangles,
         triangle_normals: Vec::new(),
+        triangle_uvs: Vec::new(),
+        textures: Vec::new(),
         animation: None,
     }
 }

@@ -13,8 +13,9 @@
 
 use crate::geometry::{HIT_BOX_MARGIN, IN_PLANE_MARGIN, PARALLEL_EPSILON, T_INFINITY};
 use crate::layout::{
-    GpuTriangle, KdNode, LeafRopes, ACCEL_BRUTE, ACCEL_KDTREE, GLASS_STACK_DEPTH, SHADOW_AMBIENT,
-    SHADOW_CROSSINGS, SHADOW_SEED, TRAVERSAL_RESTART, TRAVERSAL_ROPES, TRAVERSAL_SHORT_STACK,
+    GpuMaterial, GpuTriangle, KdNode, LeafRopes, TextureWords, ACCEL_BRUTE, ACCEL_KDTREE,
+    GLASS_STACK_DEPTH, SHADOW_AMBIENT, SHADOW_CROSSINGS, SHADOW_SEED, TRAVERSAL_RESTART,
+    TRAVERSAL_ROPES, TRAVERSAL_SHORT_STACK,
 };
 
 /// How a kernel reads or writes a binding.
@@ -84,6 +85,10 @@ pub const TRIANGLE_NORMALS: Binding = binding(
     "array<TriangleNormals>",
     StorageRead,
 );
+/// The base-colour textures, their headers and the textured triangles'
+/// texture coordinates, in one array of words
+/// ([`crate::layout::TextureWords`]; shaders/texture.wgsl).
+pub const TEXTURES: Binding = binding(16, "textures", "array<u32>", StorageRead);
 /// The most bindings one split array may spread over (shaders/chunks.wgsl);
 /// the adapter's storage buffers per stage decide how many each gets
 /// ([`scene_chunks`]). Eight x 128 MiB holds 22 million triangles.
@@ -254,6 +259,7 @@ pub fn scene(chunks: SceneChunks) -> Vec<Binding> {
     scene.extend(split(3));
     scene.extend(split(4));
     scene.extend(split(5));
+    scene.push(TEXTURES);
     scene
 }
 
@@ -322,9 +328,12 @@ pub const PRESENT_FRAGMENT_ENTRY_POINT: &str = "fs_main";
 /// with the most buffers of its own, shared out one at a time to the array
 /// with the most bytes per triangle per binding so far
 /// ([`SplitArray::bytes_per_triangle`]), at least 1 and at most
-/// [`MAX_CHUNKS`] each. Lavapipe (Vulkan, 32 per stage, 25 left):
-/// triangles 7, nodes 3, leaf references 3, leaf ropes 8, rope index 2,
-/// normals 2; llvmpipe's GL (16 per stage, 9 left): 2, 1, 1, 3, 1, 1.
+/// [`MAX_CHUNKS`] each. Lavapipe (Vulkan, 32 per stage, 24 left):
+/// triangles 6, nodes 3, leaf references 3, leaf ropes 8, rope index 2,
+/// normals 2; llvmpipe's GL (16 per stage, 8 left): 2, 1, 1, 2, 1, 1. (The
+/// optional `textures` binding takes one: triangles had 7 on lavapipe, but
+/// `objects`, whole, already caps a scene at 16.7 million objects, which 6
+/// triangle bindings hold.)
 pub fn scene_chunks(limits: &wgpu::Limits) -> SceneChunks {
     let per_stage = limits.max_storage_buffers_per_shader_stage as usize;
     let whole_arrays = scene(UNSPLIT).len() - SPLIT_ARRAYS.len();
@@ -380,7 +389,7 @@ pub enum SharedValue {
 }
 
 /// Every constant the kernel and the host must agree on, by WGSL name.
-pub const SHARED_CONSTANTS: [(&str, SharedValue); 24] = [
+pub const SHARED_CONSTANTS: [(&str, SharedValue); 32] = [
     ("KD_LEAF", SharedValue::U32(KdNode::LEAF)),
     ("ACCEL_KDTREE", SharedValue::U32(ACCEL_KDTREE)),
     ("ACCEL_BRUTE", SharedValue::U32(ACCEL_BRUTE)),
@@ -424,6 +433,32 @@ pub const SHARED_CONSTANTS: [(&str, SharedValue); 24] = [
     ("NO_ROPE", SharedValue::U32(LeafRopes::NONE)),
     // `Triangle::normals` of a flat-shaded triangle.
     ("FLAT_TRIANGLE", SharedValue::U32(GpuTriangle::FLAT)),
+    // `textures` (texture.wgsl): a triangle without texture coordinates, a
+    // material without a texture, and the words of the buffer's records.
+    ("UNTEXTURED", SharedValue::U32(GpuTriangle::UNTEXTURED)),
+    ("NO_TEXTURE", SharedValue::U32(GpuMaterial::NO_TEXTURE)),
+    (
+        "TEXTURE_HEADER_WORDS",
+        SharedValue::U32(TextureWords::HEADER_WORDS),
+    ),
+    (
+        "TEXTURE_RECORD_WORDS",
+        SharedValue::U32(TextureWords::RECORD_WORDS),
+    ),
+    (
+        "TEXTURE_NEAREST",
+        SharedValue::U32(TextureWords::FILTER_NEAREST),
+    ),
+    ("TEXTURE_CLAMP", SharedValue::U32(TextureWords::WRAP_CLAMP)),
+    (
+        "TEXTURE_MIRROR",
+        SharedValue::U32(TextureWords::WRAP_MIRROR),
+    ),
+    // Texel coordinates are clamped into ±this before they become integers.
+    (
+        "TEXEL_COORDINATE_LIMIT",
+        SharedValue::F32(crate::scene::texture::TEXEL_COORDINATE_LIMIT),
+    ),
     // An override (variant.wgsl) that leaves its choice to `params`.
     ("FROM_PARAMS", SharedValue::U32(FROM_PARAMS)),
     // Words per pixel (or per query) in `pixel_costs` and `query_costs`.
@@ -487,6 +522,9 @@ pub enum Need {
     RopeWalk,
     /// The pass counts the walks' work (`COUNT_COSTS`).
     Costs,
+    /// Some material has a texture and some triangle texture coordinates
+    /// (`TEXTURES`).
+    Textures,
 }
 
 impl Need {
@@ -499,6 +537,7 @@ impl Need {
             Need::KdWalk => "kd_walk",
             Need::RopeWalk => "rope_walk",
             Need::Costs => "costs",
+            Need::Textures => "textures",
         }
     }
 }
@@ -506,7 +545,7 @@ impl Need {
 /// The bindings a kernel may leave out, each with what needs it (with one
 /// binding per split array; every other binding of `accumulate_tile` is
 /// always read).
-pub const OPTIONAL_BINDINGS: [(Binding, Need); 8] = [
+pub const OPTIONAL_BINDINGS: [(Binding, Need); 9] = [
     (SPHERES, Need::Spheres),
     (TRIANGLES, Need::Triangles),
     (TRIANGLE_NORMALS, Need::SmoothTriangles),
@@ -515,6 +554,7 @@ pub const OPTIONAL_BINDINGS: [(Binding, Need); 8] = [
     (LEAF_ROPES, Need::RopeWalk),
     (LEAF_ROPE_INDEX, Need::RopeWalk),
     (PIXEL_COSTS, Need::Costs),
+    (TEXTURES, Need::Textures),
 ];
 
 /// Bindings whose length the kernel asks (`fn <name>_length() -> u32`,
@@ -665,8 +705,8 @@ mod tests {
                 ..wgpu::Limits::default()
             })
         };
-        assert_eq!(with(32), [7, 3, 3, 8, 2, 2]);
-        assert_eq!(with(16), [2, 1, 1, 3, 1, 1]);
+        assert_eq!(with(32), [6, 3, 3, 8, 2, 2]);
+        assert_eq!(with(16), [2, 1, 1, 2, 1, 1]);
         assert_eq!(with(8), UNSPLIT, "WebGPU's default: no split");
         assert_eq!(with(1000), [MAX_CHUNKS; SPLIT_ARRAY_COUNT]);
         let most = |chunks| {
@@ -676,7 +716,9 @@ mod tests {
                 .max()
                 .unwrap()
         };
-        for per_stage in 13..64u32 {
+        // From 14, the most any entry point binds with one binding per array
+        // (every scene array, the textures included, and three of its own).
+        for per_stage in 14..64u32 {
             let chunks = with(per_stage);
             assert!(most(chunks) <= per_stage as usize, "{per_stage} per stage");
             for i in 0..chunks.len() {

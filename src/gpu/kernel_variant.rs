@@ -1,5 +1,5 @@
 //! What one trace pipeline is specialised for: the scene's layout and kinds
-//! of object and material (glass or none), the accel and the k-d walk, and whether the frame counts the
+//! of object and material (glass or none, textured or not), the accel and the k-d walk, and whether the frame counts the
 //! walks' work, set as the kernel's
 //! pipeline-overridable constants (shaders/variant.wgsl), so that each
 //! pipeline holds only the code its frames can reach.
@@ -58,6 +58,10 @@ pub struct KernelVariant {
     /// of pending rays and shadow rays through glass (shaders/glass.wgsl).
     /// Without it the kernel is the opaque one, instruction for instruction.
     pub glass: bool,
+    /// Whether a triangle may be textured: the base-colour texture sampled
+    /// at its hits (shaders/texture.wgsl). Without it the material is read
+    /// as it was before textures, instruction for instruction.
+    pub textures: bool,
     /// Whether the walks count their work (nodes, leaves, objects) for the
     /// frame's cost buffer. Without, the counters are compiled out.
     pub count_costs: bool,
@@ -72,6 +76,7 @@ impl KernelVariant {
         triangles: true,
         smooth_triangles: true,
         glass: true,
+        textures: true,
         count_costs: true,
     };
 
@@ -100,6 +105,7 @@ impl KernelVariant {
             triangles: triangles || !spheres,
             smooth_triangles: scene.smooth_triangles,
             glass: scene.glass,
+            textures: scene.textures,
             count_costs: true,
         }
     }
@@ -129,6 +135,7 @@ impl KernelVariant {
                 matches!(self.walk, Walk::FromParams | Walk::Kdtree(Traversal::Ropes))
             }
             Need::Costs => self.count_costs,
+            Need::Textures => self.textures,
         }
     }
 
@@ -144,7 +151,7 @@ impl KernelVariant {
 
     /// The pipeline constants that make this variant, by WGSL name
     /// (shaders/variant.wgsl declares each of [`OVERRIDES`]).
-    pub fn constants(&self) -> [(&'static str, f64); 8] {
+    pub fn constants(&self) -> [(&'static str, f64); 9] {
         let flag = |b: bool| if b { 1.0 } else { 0.0 };
         let (accel, traversal) = match self.walk {
             Walk::FromParams => (FROM_PARAMS, FROM_PARAMS),
@@ -163,6 +170,7 @@ impl KernelVariant {
             ("TRIANGLES", flag(self.triangles)),
             ("SMOOTH_TRIANGLES", flag(self.smooth_triangles)),
             ("GLASS", flag(self.glass)),
+            ("TEXTURES", flag(self.textures)),
             ("COUNT_COSTS", flag(self.count_costs)),
         ]
     }
@@ -170,7 +178,7 @@ impl KernelVariant {
 
 /// The names of the kernel's pipeline-overridable constants, all of which
 /// [`KernelVariant::constants`] sets.
-pub const OVERRIDES: [&str; 8] = [
+pub const OVERRIDES: [&str; 9] = [
     "SPLIT_SCENE",
     "ACCEL",
     "TRAVERSAL",
@@ -178,6 +186,7 @@ pub const OVERRIDES: [&str; 8] = [
     "TRIANGLES",
     "SMOOTH_TRIANGLES",
     "GLASS",
+    "TEXTURES",
     "COUNT_COSTS",
 ];
 
@@ -192,7 +201,7 @@ mod tests {
     #[test]
     fn unread_bindings_follow_the_variant() {
         use crate::gpu::bindings::{
-            KD_NODES, LEAF_OBJECTS, LEAF_ROPES, LEAF_ROPE_INDEX, PIXEL_COSTS, SPHERES,
+            KD_NODES, LEAF_OBJECTS, LEAF_ROPES, LEAF_ROPE_INDEX, PIXEL_COSTS, SPHERES, TEXTURES,
             TRIANGLE_NORMALS,
         };
         assert!(KernelVariant::GENERAL.unread_bindings().is_empty());
@@ -204,6 +213,7 @@ mod tests {
             smooth_triangles: false,
             count_costs: false,
             glass: false,
+            textures: false,
         };
         assert_eq!(
             mesh.unread_bindings(),
@@ -214,7 +224,8 @@ mod tests {
                 LEAF_OBJECTS,
                 LEAF_ROPES,
                 LEAF_ROPE_INDEX,
-                PIXEL_COSTS
+                PIXEL_COSTS,
+                TEXTURES
             ]
         );
         for (t, ropes) in [

@@ -7,6 +7,7 @@ use crate::geometry::{Aabb, Primitives};
 use crate::kdtree::{KdTree, Ropes};
 use crate::layout::{
     GpuKdNode, GpuLight, GpuMaterial, GpuSphere, GpuTriangle, GpuTriangleNormals, LeafRopes,
+    TextureWords,
 };
 use crate::scene::Scene;
 
@@ -29,6 +30,10 @@ pub struct SceneArrays {
     /// `triangles` (`GpuTriangle::normals` indexes it): 12 bytes per smooth
     /// triangle, none per flat one.
     pub triangle_normals: Vec<GpuTriangleNormals>,
+    /// The textures and the textured triangles' texture coordinates
+    /// ([`TextureWords`]), in the order of `triangles`; empty without
+    /// textures.
+    pub textures: Vec<u32>,
     /// The box the walk clips rays to: the tree's root cell.
     pub bounds: Aabb,
     /// `scene_ids[gpu_id]` is the scene's object id (spheres first, then
@@ -102,6 +107,19 @@ impl SceneArrays {
                 }
                 None => GpuTriangle::FLAT,
             };
+        // Texture coordinates only where the triangle's material has a
+        // texture (the kernel reads them only there).
+        let mut uv_records = Vec::new();
+        let mut uvs_of = |id: u32| {
+            let t = &scene.triangles[id as usize - sphere_count];
+            match scene.texture_of(t.material).and(scene.uvs_of(t)) {
+                Some(uvs) => {
+                    uv_records.push(uvs.map(|uv| uv.as_vec2()));
+                    uv_records.len() as u32 - 1
+                }
+                None => GpuTriangle::UNTEXTURED,
+            }
+        };
         let triangles = order[sphere_count..]
             .iter()
             .map(|&id| {
@@ -112,10 +130,18 @@ impl SceneArrays {
                     v1: t.v[1].to_array(),
                     scene_id: id,
                     v2: t.v[2].to_array(),
-                    ..bytemuck::Zeroable::zeroed()
+                    uvs: if scene.textures.is_empty() {
+                        0
+                    } else {
+                        uvs_of(id)
+                    },
                 }
             })
             .collect();
+        let textures = match uv_records.is_empty() {
+            true => Vec::new(),
+            false => TextureWords::pack(&scene.textures, &uv_records),
+        };
         SceneArrays {
             spheres: order[..sphere_count]
                 .iter()
@@ -140,7 +166,11 @@ impl SceneArrays {
                     specular: f32x3(m.specular),
                     transmission: m.transmission as f32,
                     ior: m.ior as f32,
-                    _pad: [0.0; 3],
+                    texture: match (m.texture, textures.is_empty()) {
+                        (Some(t), false) => t,
+                        _ => GpuMaterial::NO_TEXTURE,
+                    },
+                    _pad: [0.0; 2],
                 })
                 .collect(),
             lights: scene
@@ -163,6 +193,7 @@ impl SceneArrays {
             leaf_ropes: Vec::new(),
             leaf_rope_index: Vec::new(),
             triangle_normals,
+            textures,
             bounds: tree.bounds,
             scene_ids: order,
         }
@@ -211,6 +242,7 @@ impl SceneArrays {
             .chain(ropes)
             .chain(rope_index)
             .chain(normals)
+            .chain([bytemuck::cast_slice(&self.textures)])
             .collect();
         let names = bindings::scene(chunks);
         debug_assert_eq!(bytes.len(), names.len());
@@ -371,6 +403,8 @@ pub struct SceneBuffers {
     pub smooth_triangles: bool,
     /// Whether some material transmits (the kernel's glass path).
     pub glass: bool,
+    /// Whether some triangle is textured (the kernel's TEXTURES path).
+    pub textures: bool,
 }
 
 impl SceneBuffers {
@@ -466,6 +500,7 @@ impl SceneBuffers {
             split,
             smooth_triangles: !arrays.triangle_normals.is_empty(),
             glass: arrays.materials.iter().any(|m| m.transmission > 0.0),
+            textures: !arrays.textures.is_empty(),
         }
     }
 }

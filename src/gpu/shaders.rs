@@ -9,7 +9,7 @@ use super::bindings::{self, SceneChunks};
 
 /// Files of the trace kernel, in the order they are concatenated (after the
 /// declarations generated from [`bindings`]).
-pub const TRACE_PARTS: [(&str, &str); 13] = [
+pub const TRACE_PARTS: [(&str, &str); 14] = [
     ("types.wgsl", include_str!("../../shaders/types.wgsl")),
     (
         "frame_params.wgsl",
@@ -35,6 +35,7 @@ pub const TRACE_PARTS: [(&str, &str); 13] = [
         include_str!("../../shaders/traverse_short_stack.wgsl"),
     ),
     ("shade.wgsl", include_str!("../../shaders/shade.wgsl")),
+    ("texture.wgsl", include_str!("../../shaders/texture.wgsl")),
     ("glass.wgsl", include_str!("../../shaders/glass.wgsl")),
     ("trace.wgsl", include_str!("../../shaders/trace.wgsl")),
     ("query.wgsl", include_str!("../../shaders/query.wgsl")),

@@ -9,7 +9,9 @@
 //! vertex once instead of each corner (a closed mesh has about half as many
 //! vertices as triangles, so six times fewer), for the 1.1M-triangle bunny.
 
-use glam::DVec3;
+use std::sync::Arc;
+
+use glam::{DVec2, DVec3};
 
 use super::Warning;
 
@@ -37,6 +39,9 @@ pub struct MeshMaterial {
     /// As [`Material::transmission`](super::Material::transmission).
     pub transmission: f64,
     pub ior: f64,
+    /// Its base-colour texture, decoded (MTL `map_Kd`, glTF
+    /// `baseColorTexture`); shared by the materials that name one image.
+    pub texture: Option<Arc<super::Texture>>,
 }
 
 impl MeshMaterial {
@@ -54,11 +59,12 @@ impl MeshMaterial {
             reflection: 0.0,
             transmission: 0.0,
             ior: super::Material::DEFAULT_IOR,
+            texture: None,
         }
     }
 }
 
-/// One triangle: indices into its mesh's arrays (28 bytes).
+/// One triangle: indices into its mesh's arrays (40 bytes).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct MeshTriangle {
     /// Each corner's vertex, an index into `Mesh::positions`. Corners with
@@ -68,6 +74,9 @@ pub struct MeshTriangle {
     /// Each corner's normal from the file, an index into `Mesh::normals`;
     /// [`NO_INDEX`] where the file gives the corner none.
     pub normals: [u32; 3],
+    /// Each corner's texture coordinates, an index into `Mesh::uvs`;
+    /// [`NO_INDEX`] where the file gives the corner none.
+    pub uvs: [u32; 3],
     /// Index into `Mesh::materials`; [`NO_INDEX`] when materials were not
     /// asked for.
     pub material: u32,
@@ -80,6 +89,13 @@ impl MeshTriangle {
             .get(k)
             .filter(|&&n| n != NO_INDEX)
             .map(|&n| n as usize)
+    }
+
+    /// Its texture coordinates among `uvs` (a mesh's), if every corner has
+    /// them.
+    pub fn uvs_in(&self, uvs: &[DVec2]) -> Option<[DVec2; 3]> {
+        let [a, b, c] = self.uvs.map(|i| uvs.get(i as usize).copied());
+        Some([a?, b?, c?])
     }
 
     /// Its three corners among `points` (a mesh's positions, or those
@@ -114,6 +130,10 @@ pub struct Mesh {
     /// inverse transpose of the node transform); not necessarily of unit
     /// length. OBJ: every `vn` statement, in order.
     pub normals: Vec<DVec3>,
+    /// The file's texture coordinates, in the convention of
+    /// [`texture`](super::texture) (OBJ: every `vt` statement, in order,
+    /// v turned to 1 - v; kept only where a material has a texture).
+    pub uvs: Vec<DVec2>,
     /// Only triangles with an area in the file's coordinates.
     pub triangles: Vec<MeshTriangle>,
     /// Deduplicated, in order of first use by a triangle; only materials some

@@ -1,11 +1,13 @@
 //! A scene's `[[meshes]]` entries: each mesh file loaded, its vertices
 //! placed in the world (scale, rotate, translate), its triangles built on
 //! all threads straight into the scene's vectors, shaded flat or with the
-//! file's or computed normals, and its materials added to the scene's.
+//! file's or computed normals, and its materials (with their textures) added
+//! to the scene's; a triangle of a textured material keeps the file's
+//! texture coordinates where every corner has them.
 
 use std::path::Path;
 
-use glam::{DMat3, DVec3};
+use glam::{DMat3, DVec2, DVec3};
 use rayon::prelude::*;
 
 use super::mesh::{has_area, Mesh, MeshTriangle};
@@ -13,7 +15,7 @@ use super::mesh_file;
 use super::normals::{self, unit};
 use super::schema::{RawMesh, RawScale};
 use super::validate::{Validator, MAX_COORDINATE};
-use super::{Material, SceneError, Triangle};
+use super::{Material, SceneError, Texture, Triangle};
 
 impl Validator<'_> {
     /// Loads mesh `i`, transforms it to world space and appends its triangles
@@ -25,8 +27,13 @@ impl Validator<'_> {
         override_material: Option<u32>,
         materials: &mut Vec<Material>,
         triangles: &mut Vec<Triangle>,
-        normals: &mut Vec<[DVec3; 3]>,
+        parts: &mut TriangleParts,
     ) -> Result<(), SceneError> {
+        let TriangleParts {
+            normals,
+            uvs,
+            textures,
+        } = parts;
         let key = |k: &str| format!("meshes[{i}].{k}");
         let scale = match m.scale {
             RawScale::Uniform(s) => DVec3::splat(self.number(&|| key("scale"), s)?),
@@ -88,17 +95,45 @@ impl Validator<'_> {
                     ));
                 }
             }
-            materials.extend(mesh.materials.iter().map(|mm| Material {
-                name: format!("{file_name}:{}", mm.name),
-                ambient: mm.ambient,
-                diffuse: mm.diffuse,
-                specular: mm.specular,
-                shininess: mm.shininess,
-                reflection: mm.reflection,
-                transmission: mm.transmission,
-                ior: mm.ior,
-            }));
+            // Each image once, however many materials use it.
+            let mut added: Vec<(*const Texture, u32)> = Vec::new();
+            for mm in &mesh.materials {
+                let texture = mm.texture.as_ref().map(|t| {
+                    let key = std::sync::Arc::as_ptr(t);
+                    match added.iter().find(|(k, _)| *k == key) {
+                        Some(&(_, index)) => index,
+                        None => {
+                            let index = textures.len() as u32;
+                            textures.push(Texture::clone(t));
+                            added.push((key, index));
+                            index
+                        }
+                    }
+                });
+                materials.push(Material {
+                    name: format!("{file_name}:{}", mm.name),
+                    ambient: mm.ambient,
+                    diffuse: mm.diffuse,
+                    specular: mm.specular,
+                    shininess: mm.shininess,
+                    reflection: mm.reflection,
+                    transmission: mm.transmission,
+                    ior: mm.ior,
+                    texture,
+                });
+            }
         }
+        // The texture coordinates of a triangle of a textured material.
+        let uvs_of = |t: &MeshTriangle| -> Option<[DVec2; 3]> {
+            if override_material.is_some() {
+                return None;
+            }
+            mesh.materials.get(t.material()?)?.texture.as_ref()?;
+            t.uvs_in(&mesh.uvs)
+        };
+        let any_textured = override_material.is_none()
+            && !mesh.uvs.is_empty()
+            && mesh.materials.iter().any(|m| m.texture.is_some());
         let world = self.place(i, &mesh, transform, translate)?;
         let shading = MeshNormals::new(m.smooth, &mesh, &world, transform);
         let material_of = |t: &MeshTriangle| match (override_material, t.material()) {
@@ -148,6 +183,7 @@ impl Validator<'_> {
                     vertices,
                     material,
                     normals: index.unwrap_or(Triangle::FLAT),
+                    uvs: Triangle::UNTEXTURED,
                 };
                 (triangle, n.unwrap_or_default())
             });
@@ -156,6 +192,11 @@ impl Validator<'_> {
             (*triangles, *normals) = both;
         }
         if all_kept.into_inner() {
+            if any_textured {
+                for (triangle, t) in triangles[first..].iter_mut().zip(&mesh.triangles) {
+                    add_uvs(uvs, triangle, uvs_of(t));
+                }
+            }
             crate::huge_pages::free_in_background((mesh, world, shading));
             return Ok(());
         }
@@ -180,6 +221,7 @@ impl Validator<'_> {
                 triangle.normals = u32::try_from(normals.len()).unwrap_or(Triangle::FLAT);
                 normals.push(n);
             }
+            add_uvs(uvs, &mut triangle, uvs_of(t));
             triangles.push(triangle);
         }
         Ok(())
@@ -218,6 +260,26 @@ impl Validator<'_> {
         Ok(world)
     }
 }
+/// What the scene keeps beside its triangles, as the meshes add them:
+/// [`Scene::triangle_normals`](super::Scene::triangle_normals),
+/// [`Scene::triangle_uvs`](super::Scene::triangle_uvs) and
+/// [`Scene::textures`](super::Scene::textures).
+#[derive(Default)]
+pub(super) struct TriangleParts {
+    pub normals: Vec<[DVec3; 3]>,
+    pub uvs: Vec<[DVec2; 3]>,
+    pub textures: Vec<Texture>,
+}
+
+/// Gives `triangle` the texture coordinates `corners`, if any, at the end
+/// of `uvs`.
+fn add_uvs(uvs: &mut Vec<[DVec2; 3]>, triangle: &mut Triangle, corners: Option<[DVec2; 3]>) {
+    if let (Some(corners), Ok(index)) = (corners, u32::try_from(uvs.len())) {
+        triangle.uvs = index;
+        uvs.push(corners);
+    }
+}
+
 /// How a mesh entry's triangles are shaded: flat, or with normals from the
 /// file (carried to world space) and/or computed from the faces.
 enum MeshNormals {

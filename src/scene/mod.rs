@@ -27,6 +27,7 @@ pub mod obj;
 mod scene_format;
 mod schema;
 mod source_map;
+pub mod texture;
 mod validate;
 mod warning;
 mod write;
@@ -38,11 +39,12 @@ pub use input_file::MAX_INPUT_BYTES;
 pub use load::{load_scene, load_scene_observed, load_scene_with, parse_scene, parse_scene_with};
 pub use model_scene::{model_scene, model_scene_with};
 pub use scene_format::SceneFormat;
+pub use texture::{Texture, TextureFilter, TextureWrap};
 pub use validate::{check_samples, MAX_IMAGE_SIDE};
 pub use warning::{print_warning, Warning};
 pub use write::scene_text;
 
-use glam::DVec3;
+use glam::{DVec2, DVec3};
 
 /// A fully validated scene. All values are finite; materials are referred
 /// to by index into `materials`.
@@ -57,6 +59,13 @@ pub struct Scene {
     /// The vertex normals of the smooth-shaded triangles, which
     /// [`Triangle::normals`] indexes ([`Scene::normals_of`]).
     pub triangle_normals: Vec<[DVec3; 3]>,
+    /// The texture coordinates of the textured triangles (a triangle whose
+    /// material has a texture and whose file gives every corner one), which
+    /// [`Triangle::uvs`] indexes ([`Scene::uvs_of`]); the convention of
+    /// [`texture`].
+    pub triangle_uvs: Vec<[DVec2; 3]>,
+    /// The base-colour textures that [`Material::texture`] indexes.
+    pub textures: Vec<Texture>,
     /// The `[animation]`, if any: how the camera moves from frame to frame
     /// ([`Scene::camera_at`]); `camera` is its frame 0 unless a key says
     /// otherwise.
@@ -126,6 +135,9 @@ pub struct Material {
     pub transmission: f64,
     /// Index of refraction, > 0, of the object's inside (outside is 1).
     pub ior: f64,
+    /// Index into [`Scene::textures`] of its base-colour texture, which
+    /// multiplies `diffuse` and `ambient` on its textured triangles.
+    pub texture: Option<u32>,
 }
 
 impl Material {
@@ -141,8 +153,9 @@ pub struct Sphere {
 }
 
 /// A two-sided triangle, from `[[triangles]]` or a mesh (already
-/// transformed). 80 bytes: its vertex normals, where it has them, lie in
-/// [`Scene::triangle_normals`] (with the normals in it, a triangle took 160
+/// transformed). 88 bytes: its vertex normals and texture coordinates,
+/// where it has them, lie in [`Scene::triangle_normals`] and
+/// [`Scene::triangle_uvs`] (with the normals in it, a triangle took 160
 /// bytes, and building the 1.1 M-triangle bunny's took 34 ms of its load,
 /// 26 ms since; temporary timers, two threads).
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -153,11 +166,16 @@ pub struct Triangle {
     /// the three vertices, in world space, for smooth shading;
     /// [`Triangle::FLAT`]: the geometric normal everywhere.
     pub normals: u32,
+    /// Index into [`Scene::triangle_uvs`] of its texture coordinates at the
+    /// three vertices; [`Triangle::UNTEXTURED`]: none.
+    pub uvs: u32,
 }
 
 impl Triangle {
     /// [`Triangle::normals`] of a flat-shaded triangle.
     pub const FLAT: u32 = u32::MAX;
+    /// [`Triangle::uvs`] of a triangle without texture coordinates.
+    pub const UNTEXTURED: u32 = u32::MAX;
 
     /// A flat-shaded triangle (no vertex normals).
     pub fn flat(vertices: [DVec3; 3], material: u32) -> Self {
@@ -165,6 +183,7 @@ impl Triangle {
             vertices,
             material,
             normals: Triangle::FLAT,
+            uvs: Triangle::UNTEXTURED,
         }
     }
 }
@@ -180,5 +199,17 @@ impl Scene {
     /// flat one.
     pub fn normals_of(&self, t: &Triangle) -> Option<[DVec3; 3]> {
         self.triangle_normals.get(t.normals as usize).copied()
+    }
+
+    /// The texture coordinates of `t`, a triangle of this scene, or None for
+    /// one without.
+    pub fn uvs_of(&self, t: &Triangle) -> Option<[DVec2; 3]> {
+        self.triangle_uvs.get(t.uvs as usize).copied()
+    }
+
+    /// The texture of material `m`, if it has one.
+    pub fn texture_of(&self, m: u32) -> Option<&Texture> {
+        let t = self.materials.get(m as usize)?.texture?;
+        self.textures.get(t as usize)
     }
 }

@@ -79,15 +79,8 @@ pub fn model_scene_with(
     };
     let mut materials = Vec::new();
     let mut triangles = Vec::new();
-    let mut triangle_normals = Vec::new();
-    validator.mesh(
-        0,
-        &raw,
-        None,
-        &mut materials,
-        &mut triangles,
-        &mut triangle_normals,
-    )?;
+    let mut parts = super::mesh_placement::TriangleParts::default();
+    validator.mesh(0, &raw, None, &mut materials, &mut triangles, &mut parts)?;
 
     let (min, max) = bounds(&triangles);
     let (width, height) = MODEL_IMAGE;
@@ -110,7 +103,9 @@ pub fn model_scene_with(
         materials,
         spheres: Vec::new(),
         triangles,
-        triangle_normals,
+        triangle_normals: parts.normals,
+        triangle_uvs: parts.uvs,
+        textures: parts.textures,
     })
 }
 
@@ -199,6 +194,7 @@ fn ground() -> Material {
         shininess: 0.0,
         reflection: 0.0,
         transmission: 0.0,
+        texture: None,
         ior: Material::DEFAULT_IOR,
     }
 }

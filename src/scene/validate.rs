@@ -171,6 +171,7 @@ impl Validator<'_> {
                 reflection,
                 transmission,
                 ior,
+                texture: None,
             });
         }
         let lookup = |key: KeyPath, name: &str| {
@@ -226,7 +227,7 @@ impl Validator<'_> {
             ));
         }
 
-        let mut triangle_normals = Vec::new();
+        let mut parts = super::mesh_placement::TriangleParts::default();
         for (i, m) in raw.meshes.iter().enumerate() {
             let override_material = match &m.material {
                 Some(name) => Some(lookup(&|| format!("meshes[{i}].material"), name)?),
@@ -238,7 +239,7 @@ impl Validator<'_> {
                 override_material,
                 &mut materials,
                 &mut triangles,
-                &mut triangle_normals,
+                &mut parts,
             )?;
         }
 
@@ -249,7 +250,9 @@ impl Validator<'_> {
             materials,
             spheres,
             triangles,
-            triangle_normals,
+            triangle_normals: parts.normals,
+            triangle_uvs: parts.uvs,
+            textures: parts.textures,
             animation,
         })
     }

@@ -67,7 +67,8 @@ pub struct SceneInfo {
     pub kd_nodes: u32,
     pub leaf_references: u32,
     /// The storage buffers the scene's kernel reads: `gpu::bindings::Need`
-    /// names of the scene's objects (spheres, triangles, smooth_triangles).
+    /// names of the scene's objects and materials (spheres, triangles,
+    /// smooth_triangles, textures).
     pub needs: Vec<&'static str>,
     /// The walk `frame_params` holds (`render`'s default).
     pub traversal: &'static str,
@@ -105,6 +106,11 @@ pub fn encode(prepared: &PreparedScene, name: &str) -> Vec<u8> {
     }
     if !arrays.triangle_normals.is_empty() {
         needs.push(crate::gpu::bindings::Need::SmoothTriangles.name());
+    }
+    // Some triangle is textured: the `textures` binding and the TEXTURES
+    // override (the page sets it from this need).
+    if !arrays.textures.is_empty() {
+        needs.push(crate::gpu::bindings::Need::Textures.name());
     }
     let c = &scene.camera;
     let info = SceneInfo {

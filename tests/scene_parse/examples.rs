@@ -126,6 +126,7 @@ fn the_contract_example_has_every_value() {
             reflection: 0.5,
             transmission: 0.0,
             ior: 1.5,
+            texture: None,
         }]
     );
     assert_eq!(

@@ -28,6 +28,9 @@ mod obj_reader;
 mod objects;
 mod render;
 mod schema;
+#[path = "../common/textured.rs"]
+mod textured;
+mod textures;
 
 use common::TempDir;
 use doc::*;

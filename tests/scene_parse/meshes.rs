@@ -244,6 +244,7 @@ fn without_an_override_faces_use_their_mtl_materials() {
             reflection: 0.0,
             transmission: 0.0,
             ior: 1.5,
+            texture: None,
         }
     );
     assert_eq!(
@@ -257,6 +258,7 @@ fn without_an_override_faces_use_their_mtl_materials() {
             reflection: 0.0,
             transmission: 0.0,
             ior: 1.5,
+            texture: None,
         }
     );
     // Face for face, the same triangles and materials as the OBJ loader gives.

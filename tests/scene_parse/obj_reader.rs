@@ -73,6 +73,7 @@ fn single_triangle() {
         vec![MeshTriangle {
             corners: [0, 1, 2],
             normals: [NO_INDEX; 3],
+            uvs: [NO_INDEX; 3],
             material: NO_INDEX
         }]
     );
@@ -284,6 +285,7 @@ fn mtllib_is_relative_to_the_obj_folder() {
             reflection: 0.0,
             transmission: 0.0,
             ior: 1.5,
+            texture: None,
         }
     );
     assert_eq!(
@@ -297,6 +299,7 @@ fn mtllib_is_relative_to_the_obj_folder() {
             reflection: 0.0,
             transmission: 0.0,
             ior: 1.5,
+            texture: None,
         }
     );
     let used: Vec<_> = mesh.triangles.iter().map(|t| t.material()).collect();
@@ -553,7 +556,35 @@ fn shipped_torus_model() {
 }
 
 #[test]
-fn mtl_texture_statements_are_ignored_with_one_warning_per_file() {
+fn mtl_texture_statements_other_than_map_kd_are_ignored_with_one_warning_per_file() {
+    let dir = temp_dir("other-maps");
+    let obj = dir.join("m.obj");
+    let mtl = dir.join("m.mtl");
+    std::fs::write(
+        &mtl,
+        "newmtl a\nKd 0.5 0.25 1\nmap_Ka wood.png\nmap_Bump -bm 1 n.png\nbump n.png\n",
+    )
+    .unwrap();
+    std::fs::write(
+        &obj,
+        "mtllib m.mtl\nusemtl a\nv 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n",
+    )
+    .unwrap();
+    let mesh = load_obj(&obj, true).unwrap();
+    assert_warning(
+        &mesh,
+        &mtl,
+        3,
+        &["map_Ka", "2 more", "no textures but map_Kd"],
+    );
+    assert_eq!(mesh.materials[0].diffuse, d(0.5, 0.25, 1.0));
+    assert!(mesh.materials[0].texture.is_none());
+    // Without materials the MTL file is not read, so nothing to warn about.
+    assert!(load_obj(&obj, false).unwrap().warnings.is_empty());
+}
+
+#[test]
+fn a_missing_map_kd_image_is_a_warning_naming_it_and_the_flat_kd() {
     let dir = temp_dir("maps");
     let obj = dir.join("m.obj");
     let mtl = dir.join("m.mtl");
@@ -568,8 +599,20 @@ fn mtl_texture_statements_are_ignored_with_one_warning_per_file() {
     )
     .unwrap();
     let mesh = load_obj(&obj, true).unwrap();
-    assert_warning(&mesh, &mtl, 3, &["map_Kd", "2 more", "no textures"]);
+    assert_eq!(mesh.warnings.len(), 2, "{:?}", mesh.warnings);
+    let missing = &mesh.warnings[0];
+    assert_eq!(
+        (missing.file.as_path(), missing.line),
+        (mtl.as_path(), Some(3))
+    );
+    for word in ["cannot read texture", "wood.png", "flat Kd"] {
+        assert!(missing.message.contains(word), "{missing} lacks {word:?}");
+    }
+    let others = &mesh.warnings[1];
+    assert_eq!(others.line, Some(4), "{others}");
+    assert!(others.message.contains("map_Bump (and 1 more"), "{others}");
     assert_eq!(mesh.materials[0].diffuse, d(0.5, 0.25, 1.0));
+    assert!(mesh.materials[0].texture.is_none());
     // Without materials the MTL file is not read, so nothing to warn about.
     assert!(load_obj(&obj, false).unwrap().warnings.is_empty());
 }

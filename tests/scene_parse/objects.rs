@@ -56,6 +56,7 @@ fn material_defaults_and_values() {
             reflection: 0.5,
             transmission: 0.0,
             ior: 1.5,
+            texture: None,
         }
     );
     assert_eq!(
@@ -69,6 +70,7 @@ fn material_defaults_and_values() {
             reflection: 0.0,
             transmission: 0.0,
             ior: 1.5,
+            texture: None,
         }
     );
     assert_eq!(scene.materials.len(), 2);

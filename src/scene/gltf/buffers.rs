@@ -58,7 +58,7 @@ pub(super) fn load_buffers(
 /// A buffer URI that is a relative (or absolute) file path, percent-decoded,
 /// against the glTF file's folder. URIs with a scheme (http:, file:, ...)
 /// are refused: kdray reads only local files named by path.
-fn buffer_path(base: &Path, uri: &str) -> Result<PathBuf, String> {
+pub(super) fn buffer_path(base: &Path, uri: &str) -> Result<PathBuf, String> {
     let scheme = uri.split_once(':').map(|(s, _)| s);
     if let Some(s) = scheme {
         let is_scheme = s.len() > 1
@@ -101,7 +101,7 @@ fn percent_decode(uri: &str) -> Result<String, String> {
 
 /// The bytes of a `data:` URI (what follows `data:`): only base64 payloads,
 /// as glTF writers produce.
-fn decode_data_uri(data: &str) -> Result<Vec<u8>, String> {
+pub(super) fn decode_data_uri(data: &str) -> Result<Vec<u8>, String> {
     let Some((header, payload)) = data.split_once(',') else {
         return Err("no comma before the data".to_string());
     };

@@ -6,8 +6,9 @@
 //! applied; TRIANGLES, TRIANGLE_STRIP and TRIANGLE_FAN primitives, indexed or
 //! not; NORMAL attributes, carried by the inverse transpose of the node
 //! transforms; and each material's PBR factors mapped to kdray's model
-//! ([`pbr_material`]). Textures, cameras, lights, skins, morph targets and
-//! animations are ignored; points and lines are an error (they are not
+//! ([`pbr_material`]); the base-colour texture with its texture
+//! coordinates (`images`). Other textures, cameras, lights, skins, morph
+//! targets and animations are ignored; points and lines are an error (they are not
 //! surfaces, and a file of them would draw nothing). Sparse accessors are
 //! read wherever accessors are. What a file asks for that kdray ignores (an
 //! extension, a texture) gets one [`Warning`](crate::scene::Warning) each on
@@ -32,6 +33,7 @@ use crate::scene::mesh::{mesh_index, Mesh, MeshMaterial, MeshTriangle, NO_INDEX}
 use crate::scene::SceneError;
 
 mod buffers;
+mod images;
 mod unsupported;
 
 use buffers::load_buffers;
@@ -112,6 +114,13 @@ pub fn parse_gltf(
 
     let mut reader = Reader {
         buffers: &buffers,
+        document,
+        images: images::DecodedImages::default(),
+        files: images::ImageFiles {
+            buffers: &buffers,
+            path,
+            read_file: read_buffer,
+        },
         with_materials,
         mesh: Mesh::default(),
         material_of: HashMap::new(),
@@ -161,6 +170,7 @@ pub fn parse_gltf(
     } else {
         mesh.materials.clear();
     }
+    warnings.append(&mut mesh.warnings);
     mesh.warnings = warnings;
     Ok(mesh)
 }
@@ -230,8 +240,12 @@ fn gltf_error_text(e: &gltf::Error) -> String {
 }
 
 /// The walk's state: the triangles and materials gathered so far.
-struct Reader<'a> {
+struct Reader<'a, 'r> {
     buffers: &'a [Vec<u8>],
+    document: &'a gltf::Document,
+    /// The base-colour textures, decoded at their first use.
+    images: images::DecodedImages,
+    files: images::ImageFiles<'a, 'r>,
     with_materials: bool,
     mesh: Mesh,
     /// glTF material index (None: the default material) -> index in `mesh.materials`.
@@ -240,7 +254,7 @@ struct Reader<'a> {
     triangles_seen: usize,
 }
 
-impl Reader<'_> {
+impl Reader<'_, '_> {
     /// Appends the triangles of `mesh` placed by `world`.
     fn mesh(&mut self, mesh: &gltf::Mesh, world: DMat4) -> Result<(), String> {
         let normal_matrix = crate::scene::normals::normal_matrix(DMat3::from_mat4(world));
@@ -299,9 +313,14 @@ impl Reader<'_> {
                 let next = self.mesh.materials.len();
                 let local = *self.material_of.entry(key).or_insert(next);
                 if local == next {
-                    self.mesh
-                        .materials
-                        .push(pbr_material(&primitive.material()));
+                    let mut material = pbr_material(&primitive.material());
+                    material.texture = self.images.base_colour(
+                        &primitive.material(),
+                        self.document,
+                        &mut self.files,
+                        &mut self.mesh.warnings,
+                    );
+                    self.mesh.materials.push(material);
                 }
                 mesh_index(local)
                     .ok_or_else(|| format!("{at}: more materials than a mesh can index"))?
@@ -318,6 +337,12 @@ impl Reader<'_> {
                     "{at}: the scene places more than {NO_INDEX} vertices, more than a mesh can index"
                 )
             };
+            let uvs = self.texture_coordinates(&primitive, positions.len(), &at);
+            let uv_base = self.mesh.uvs.len();
+            if let Some(uvs) = &uvs {
+                mesh_index(uv_base + uvs.len()).ok_or_else(too_many)?;
+                self.mesh.uvs.extend_from_slice(uvs);
+            }
             let vertex_base = self.mesh.positions.len();
             mesh_index(vertex_base + positions.len()).ok_or_else(too_many)?;
             let normal_base = self.mesh.normals.len();
@@ -346,6 +371,11 @@ impl Reader<'_> {
                     corners: c.map(|i| (vertex_base + i) as u32),
                     normals: if normals.is_some() {
                         c.map(|i| (normal_base + i) as u32)
+                    } else {
+                        [NO_INDEX; 3]
+                    },
+                    uvs: if uvs.is_some() {
+                        c.map(|i| (uv_base + i) as u32)
                     } else {
                         [NO_INDEX; 3]
                     },
@@ -592,7 +622,8 @@ pub const PBR_MAX_SHININESS: f64 = 4.0 * 4096.0;
 ///   default, without it; glTF's ior 0 would mean "no refraction" there, and
 ///   is read as 1, an index that bends nothing).
 ///
-/// Textures, emission and alpha are ignored.
+/// Emission and alpha are ignored; the base-colour texture is the
+/// reader's (`images`), here None.
 pub fn pbr_material(material: &gltf::Material) -> MeshMaterial {
     let pbr = material.pbr_metallic_roughness();
     let [r, g, b, _alpha] = pbr.base_color_factor().map(f64::from);
@@ -625,6 +656,7 @@ pub fn pbr_material(material: &gltf::Material) -> MeshMaterial {
             Some(_) => 1.0,
             None => crate::scene::Material::DEFAULT_IOR,
         },
+        texture: None,
     }
 }
 

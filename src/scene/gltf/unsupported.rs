@@ -79,15 +79,15 @@ pub(super) fn extensions_warning(root: &gltf::json::Root, path: &Path) -> Option
     ))
 }
 
-/// One warning naming the texture slots the materials fill: kdray has no
-/// textures, so those surfaces show their factors only.
+/// One warning naming the texture slots other than the base colour that
+/// the materials fill: kdray reads only base-colour textures, so those
+/// surfaces show their other factors only.
 pub(super) fn textures_warning(document: &gltf::Document, path: &Path) -> Option<Warning> {
     let mut slots: Vec<&str> = Vec::new();
     let mut textured = 0usize;
     for material in document.materials() {
         let pbr = material.pbr_metallic_roughness();
         let filled = [
-            ("baseColorTexture", pbr.base_color_texture().is_some()),
             (
                 "metallicRoughnessTexture",
                 pbr.metallic_roughness_texture().is_some(),
@@ -115,7 +115,7 @@ pub(super) fn textures_warning(document: &gltf::Document, path: &Path) -> Option
         path,
         None,
         format!(
-            "{textured} material{plural} use textures ({}), which kdray does not read: they show their colour factors only",
+            "{textured} material{plural} use textures ({}), which kdray does not read: they show their factors only",
             slots.join(", ")
         ),
     ))

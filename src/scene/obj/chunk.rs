@@ -42,6 +42,8 @@ pub(super) struct Chunk<'a> {
     pub(super) corners: Vec<Corner>,
     pub(super) faces: Vec<Face>,
     pub(super) face_statements: usize,
+    /// Whether it has a `vt` statement.
+    pub(super) has_texture_coordinates: bool,
     /// Material statements, each with the number of faces before it.
     pub(super) events: Vec<(usize, Event<'a>)>,
 }
@@ -114,6 +116,9 @@ impl<'a> Chunk<'a> {
                     chunk.events.push((chunk.faces.len(), event));
                     continue;
                 }
+                // Texture coordinates are read by the reference parser
+                // alone, for a file with a textured material (`fast`).
+                Some("vt") => chunk.has_texture_coordinates = true,
                 // Everything the reference parser ignores.
                 _ => {}
             }
@@ -431,6 +436,7 @@ impl Resolved<'_> {
                 emit(MeshTriangle {
                     corners: corners.map(|(v, _)| v),
                     normals: corners.map(|(_, n)| n),
+                    uvs: [NO_INDEX; 3],
                     material,
                 });
             }

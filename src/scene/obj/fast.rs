@@ -129,6 +129,14 @@ pub(super) fn parse(text: &[u8], threads: usize, materials: Option<MaterialFiles
         }
     };
 
+    // Texture coordinates matter only for a textured material: such a
+    // file is the reference parser's.
+    if materials.iter().any(|m| m.texture.is_some())
+        && chunks.iter().any(|c| c.has_texture_coordinates)
+    {
+        return Outcome::Declined { mtl_reads };
+    }
+
     let mut triangles: Vec<MeshTriangle> = crate::huge_pages::with_capacity(room);
     let mut parts = Vec::with_capacity(rooms.len());
     let mut rest = &mut triangles.spare_capacity_mut()[..room];
@@ -181,6 +189,7 @@ pub(super) fn parse(text: &[u8], threads: usize, materials: Option<MaterialFiles
     let mesh = Mesh {
         positions,
         normals,
+        uvs: Vec::new(),
         triangles,
         materials,
         warnings: Vec::new(),

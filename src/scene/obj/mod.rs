@@ -2,9 +2,11 @@
 //!
 //! Only what a ray tracer of triangles needs is kept: vertex positions,
 //! vertex normals (`vn`, for smooth shading), faces (fan-triangulated) and,
-//! on request, the Phong colours of the MTL materials the faces use.
-//! Everything else in the formats (texture coordinates, groups, smoothing
-//! groups, maps, ...) is ignored.
+//! on request, the Phong colours and `map_Kd` textures of the MTL materials
+//! the faces use, with the texture coordinates (`vt`) where a material has
+//! a texture. Everything else in the formats (groups, smoothing groups,
+//! other maps, ...) is ignored. A file with a textured material and `vt`
+//! statements is read by the reference parser.
 //!
 //! Two parsers, one meaning. `fast` parses a file on all cores (one chunk
 //! per core, see `chunk`) and handles every ordinary file; on anything
@@ -22,7 +24,7 @@
 //! wild often lacks is not a fault: a face with no material (no `usemtl`, an
 //! undefined name, an MTL file that cannot be read) gets
 //! [`MeshMaterial::default_grey`](super::mesh::MeshMaterial::default_grey)
-//! and MTL texture statements are ignored, each cause with one
+//! and MTL texture statements other than `map_Kd` are ignored, each cause with one
 //! [`Warning`](super::Warning) on [`Mesh::warnings`] naming the file and
 //! line. Only the reference parser words warnings; the fast path declines
 //! any file that would have one. No input makes this module panic.

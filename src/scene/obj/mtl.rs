@@ -1,18 +1,22 @@
 //! MTL material libraries: `newmtl`, the Phong colours kdray uses
-//! (`Ka`, `Kd`, `Ks`, `Ns`) and glass (`d`, `Tr`, `Ni`); every other
-//! statement is ignored, and the
-//! texture statements (`map_*`, `bump`, `disp`, `decal`, `refl`, `norm`)
-//! with one warning per file: kdray has no textures, and a textured model
-//! that renders in flat colours should say why.
+//! (`Ka`, `Kd`, `Ks`, `Ns`), glass (`d`, `Tr`, `Ni`) and the diffuse
+//! texture `map_Kd` (decoded here, bilinear, repeating unless
+//! `-clamp on`; its other options are skipped); every other statement is
+//! ignored, and the other texture statements (`map_Ka`, `map_Ks`, `bump`,
+//! `disp`, `decal`, `refl`, `norm`, ...) with one warning per file: a model
+//! that renders without them should say why. A `map_Kd` image that cannot
+//! be read or decoded is a warning naming the file; the material keeps its
+//! flat `Kd`.
 
 use std::collections::HashMap;
-use std::path::Path;
+use std::path::{Path, PathBuf};
+use std::sync::Arc;
 
 use glam::DVec3;
 
 use super::tokens::{parse_number, rest_of_line, strip_comment};
 use crate::scene::mesh::MeshMaterial;
-use crate::scene::{SceneError, Warning};
+use crate::scene::{SceneError, Texture, TextureFilter, TextureWrap, Warning};
 
 /// Parses an MTL file into `library`. A material already in `library`
 /// (defined by an earlier MTL file, or earlier in this one) keeps its first
@@ -26,6 +30,8 @@ pub(super) fn parse_mtl(
     // The first texture statement's line and keyword, and how many there are.
     let mut first_texture: Option<(usize, String)> = None;
     let mut textures = 0usize;
+    // Each map_Kd image decoded once per file (and clamp mode).
+    let mut decoded: HashMap<(PathBuf, bool), Option<Arc<Texture>>> = HashMap::new();
     // The material being defined; added to the library when the next one
     // starts or the file ends.
     let mut current: Option<MeshMaterial> = None;
@@ -62,7 +68,47 @@ pub(super) fn parse_mtl(
                 reflection: 0.0,
                 transmission: 0.0,
                 ior: crate::scene::Material::DEFAULT_IOR,
+                texture: None,
             });
+            continue;
+        }
+        if keyword.eq_ignore_ascii_case("map_Kd") {
+            let Some(material) = current.as_mut() else {
+                return Err(err("comes before any newmtl statement".to_string()));
+            };
+            let Some((file, clamp)) = map_statement(line, keyword) else {
+                return Err(err("expected the name of an image file".to_string()));
+            };
+            let image = path.parent().unwrap_or(Path::new("")).join(file);
+            material.texture = decoded
+                .entry((image.clone(), clamp))
+                .or_insert_with(|| {
+                    let wrap = if clamp {
+                        TextureWrap::ClampToEdge
+                    } else {
+                        TextureWrap::Repeat
+                    };
+                    let read = std::fs::read(&image).map_err(|e| e.to_string());
+                    let texture = read.and_then(|bytes| {
+                        Texture::decode(file, &bytes, TextureFilter::Bilinear, [wrap; 2])
+                    });
+                    match texture {
+                        Ok(t) => Some(Arc::new(t)),
+                        Err(e) => {
+                            warnings.push(Warning::new(
+                                path,
+                                Some(line_no),
+                                format!(
+                                    "cannot read texture {}: {e}; material '{}' uses its flat Kd",
+                                    image.display(),
+                                    material.name
+                                ),
+                            ));
+                            None
+                        }
+                    }
+                })
+                .clone();
             continue;
         }
 
@@ -143,7 +189,7 @@ pub(super) fn parse_mtl(
         warnings.push(Warning::new(
             path,
             Some(line),
-            format!("{keyword}{more} ignored: kdray has no textures; faces use the flat colours Ka, Kd, Ks"),
+            format!("{keyword}{more} ignored: kdray reads no textures but map_Kd; faces use the flat colours Ka, Ks"),
         ));
     }
     Ok(())
@@ -163,6 +209,37 @@ fn set_glass(material: &mut MeshMaterial, keyword: &str, value: f64) {
     } else {
         material.transmission = value.clamp(0.0, 1.0);
     }
+}
+
+/// The image file of a `map_*` statement and whether it asks for
+/// `-clamp on`; the options before the file name are skipped (each with
+/// its arguments). None where no file name is left.
+fn map_statement<'l>(line: &'l str, keyword: &str) -> Option<(&'l str, bool)> {
+    let mut rest = rest_of_line(line, keyword);
+    let mut clamp = false;
+    while let Some(option) = rest.strip_prefix('-') {
+        let mut words = option.splitn(2, |c: char| c.is_ascii_whitespace());
+        let name = words.next()?.to_ascii_lowercase();
+        rest = words.next().unwrap_or("").trim_start();
+        // -o, -s and -t take up to three numbers; -mm two; the rest one.
+        let arguments = match name.as_str() {
+            "o" | "s" | "t" => 3,
+            "mm" => 2,
+            _ => 1,
+        };
+        for k in 0..arguments {
+            let mut words = rest.splitn(2, |c: char| c.is_ascii_whitespace());
+            let word = words.next().unwrap_or("");
+            if word.is_empty() || (k > 0 && parse_number(word).is_err()) {
+                break;
+            }
+            if name == "clamp" {
+                clamp = word.eq_ignore_ascii_case("on");
+            }
+            rest = words.next().unwrap_or("").trim_start();
+        }
+    }
+    (!rest.is_empty()).then_some((rest, clamp))
 }
 
 /// An MTL statement that names a texture image.

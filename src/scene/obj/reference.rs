@@ -5,7 +5,7 @@
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
 
-use glam::DVec3;
+use glam::{DVec2, DVec3};
 
 use super::mtl::parse_mtl;
 use super::tokens::{parse_number, rest_of_line, strip_comment};
@@ -22,9 +22,10 @@ pub(in crate::scene) fn parse_reference(
     faces: &mut usize,
 ) -> Result<Mesh, SceneError> {
     let mut mesh = Mesh::default();
-    // Reused for every face so that faces allocate nothing: (v, vn) indices,
-    // the normal's NO_INDEX where the corner names none.
-    let mut face: Vec<(u32, u32)> = Vec::with_capacity(8);
+    // Reused for every face so that faces allocate nothing: (v, vn, vt)
+    // indices, the normal's and texture coordinate's NO_INDEX where the
+    // corner names none.
+    let mut face: Vec<(u32, u32, u32)> = Vec::with_capacity(8);
 
     // Materials state (only touched when `with_materials`).
     let mut library: HashMap<String, MeshMaterial> = HashMap::new();
@@ -81,6 +82,28 @@ pub(in crate::scene) fn parse_reference(
                 }
                 mesh.normals.push(DVec3::from_array(xyz));
             }
+            "vt" if with_materials => {
+                // u [v [w]], read leniently as before texture coordinates
+                // were read at all: a statement that is not numbers gives
+                // coordinates no triangle takes (its corners stay untextured).
+                let mut uv = [0.0f64; 2];
+                let mut count = 0usize;
+                let mut readable = true;
+                for token in tokens {
+                    match parse_number(token) {
+                        Ok(value) if count < 2 => uv[count] = value,
+                        Ok(_) => {}
+                        Err(_) => readable = false,
+                    }
+                    count += 1;
+                }
+                mesh.uvs.push(if readable && count >= 1 {
+                    // OBJ's v runs up from the image's bottom row.
+                    DVec2::new(uv[0], 1.0 - uv[1])
+                } else {
+                    DVec2::NAN
+                });
+            }
             "f" => {
                 *faces += 1;
                 face.clear();
@@ -93,6 +116,7 @@ pub(in crate::scene) fn parse_reference(
                             Some(n) => as_mesh_index(n, token, "normal").map_err(err)?,
                             None => NO_INDEX,
                         },
+                        texture_coordinate(token, &mesh.uvs),
                     ));
                 }
                 if face.len() < 3 {
@@ -125,7 +149,7 @@ pub(in crate::scene) fn parse_reference(
                 let first = face[0];
                 for pair in face[1..].windows(2) {
                     let corners = [first, pair[0], pair[1]];
-                    let [a, b, c] = corners.map(|(v, _)| mesh.positions[v as usize]);
+                    let [a, b, c] = corners.map(|(v, _, _)| mesh.positions[v as usize]);
                     // Skip zero-area triangles: they cannot be hit and have no
                     // normal. "Zero" is the cross product's f64 length, so a
                     // cross product so small that its squared length underflows
@@ -134,8 +158,9 @@ pub(in crate::scene) fn parse_reference(
                         continue;
                     }
                     mesh.triangles.push(MeshTriangle {
-                        corners: corners.map(|(v, _)| v),
-                        normals: corners.map(|(_, n)| n),
+                        corners: corners.map(|(v, _, _)| v),
+                        normals: corners.map(|(_, n, _)| n),
+                        uvs: corners.map(|(_, _, t)| t),
                         material,
                     });
                 }
@@ -188,12 +213,19 @@ pub(in crate::scene) fn parse_reference(
                 current = Some((name, line_no));
                 current_index = None;
             }
-            // vt, vp, o, g, s, l, p, mtllib/usemtl without materials, and
+            // vp, o, g, s, l, p, vt/mtllib/usemtl without materials, and
             // anything unknown.
             _ => {}
         }
     }
 
+    // Texture coordinates matter only for a textured material.
+    if !mesh.materials.iter().any(|m| m.texture.is_some()) {
+        mesh.uvs.clear();
+        for t in &mut mesh.triangles {
+            t.uvs = [NO_INDEX; 3];
+        }
+    }
     Ok(mesh)
 }
 
@@ -288,6 +320,21 @@ fn resolve_normal(token: &str, defined: usize) -> Result<Option<usize>, String> 
         None | Some("") => Ok(None),
         Some(vn) => resolve(vn, token, "normal", defined).map(Some),
     }
+}
+
+/// The index into `uvs` of a face token's texture coordinates (`v/vt` or
+/// `v/vt/vn`), or NO_INDEX: where the token names none, or one that is out
+/// of range or unreadable (texture coordinates were ignored before they were
+/// read, so a bad one leaves the corner untextured rather than failing).
+fn texture_coordinate(token: &str, uvs: &[DVec2]) -> u32 {
+    let Some(vt) = token.split('/').nth(1).filter(|t| !t.is_empty()) else {
+        return NO_INDEX;
+    };
+    resolve(vt, token, "texture coordinate", uvs.len())
+        .ok()
+        .filter(|&i| uvs[i].is_finite())
+        .and_then(mesh_index)
+        .unwrap_or(NO_INDEX)
 }
 
 /// A resolved 0-based index as a mesh's u32 index; an error past what a

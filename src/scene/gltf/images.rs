@@ -1,0 +1,199 @@
+//! A glTF material's `baseColorTexture` and the texture coordinates of
+//! its primitives (TEXCOORD_n, n its texCoord; FLOAT or normalized
+//! UNSIGNED_BYTE/SHORT, sparse too); its image (in a buffer view, as
+//! in a `.glb`; a `data:` URI; or a file named by a relative path) decoded
+//! once per image and sampler, and its sampler in kdray's terms: magFilter
+//! NEAREST is point sampling, LINEAR or unset bilinear (there are no mip
+//! levels, so minFilter is not read); wrapS and wrapT REPEAT,
+//! CLAMP_TO_EDGE or MIRRORED_REPEAT. An image that cannot be read or
+//! decoded is a warning naming it; the material keeps its colour factor.
+
+use std::collections::HashMap;
+use std::path::Path;
+use std::sync::Arc;
+
+use glam::DVec2;
+use gltf::accessor::{DataType, Dimensions};
+use gltf::texture::{MagFilter, WrappingMode};
+
+use super::buffers::{buffer_path, decode_data_uri};
+use crate::scene::{Texture, TextureFilter, TextureWrap, Warning};
+
+/// The textures decoded so far, by (image, sampler); None: it could not
+/// be (warned about once).
+#[derive(Default)]
+pub(super) struct DecodedImages {
+    by_source: HashMap<(usize, Option<usize>), Option<Arc<Texture>>>,
+}
+
+/// The texture coordinates, read where the reader walks the primitives.
+impl super::Reader<'_, '_> {
+    /// The texture coordinates of a primitive whose material has a
+    /// base-colour texture that decoded (the TEXCOORD_n its texCoord names),
+    /// one per position; None otherwise. Coordinates that cannot be read
+    /// leave the primitive untextured, with a warning.
+    pub(super) fn texture_coordinates(
+        &mut self,
+        primitive: &gltf::Primitive,
+        count: usize,
+        at: &str,
+    ) -> Option<Vec<DVec2>> {
+        let material = primitive.material();
+        let info = material.pbr_metallic_roughness().base_color_texture()?;
+        let local = *self.material_of.get(&material.index())?;
+        self.mesh.materials.get(local)?.texture.as_ref()?;
+        let set = info.tex_coord();
+        let read = match primitive.get(&gltf::Semantic::TexCoords(set)) {
+            Some(a) => self.read_vec2(&a).and_then(|uvs| {
+                if uvs.len() == count {
+                    Ok(uvs)
+                } else {
+                    Err(format!("{} coordinates for {count} positions", uvs.len()))
+                }
+            }),
+            None => Err("missing".to_string()),
+        };
+        read.map_err(|m| {
+            self.mesh.warnings.push(crate::scene::Warning::new(
+                self.files.path,
+                None,
+                format!("{at}: TEXCOORD_{set} {m}; the primitive is drawn untextured"),
+            ))
+        })
+        .ok()
+    }
+
+    /// A VEC2 of floats, or of normalized unsigned bytes or shorts, per
+    /// element, every value finite.
+    fn read_vec2(&self, accessor: &gltf::Accessor) -> Result<Vec<DVec2>, String> {
+        let (size, scale) = match accessor.data_type() {
+            DataType::F32 => (4, 1.0),
+            DataType::U8 if accessor.normalized() => (1, 255.0),
+            DataType::U16 if accessor.normalized() => (2, 65535.0),
+            other => {
+                return Err(format!(
+                    "must be FLOAT or normalized UNSIGNED_BYTE or UNSIGNED_SHORT, is {other:?}"
+                ))
+            }
+        };
+        if accessor.dimensions() != Dimensions::Vec2 {
+            return Err(format!("must be VEC2, is {:?}", accessor.dimensions()));
+        }
+        let one = move |b: &[u8]| -> f64 {
+            match size {
+                4 => f64::from(f32::from_le_bytes([b[0], b[1], b[2], b[3]])),
+                2 => f64::from(u16::from_le_bytes([b[0], b[1]])) / scale,
+                _ => f64::from(b[0]) / scale,
+            }
+        };
+        let out = self.read_elements(accessor, 2 * size, DVec2::ZERO, |b| {
+            DVec2::new(one(b), one(&b[size..]))
+        })?;
+        if let Some((i, v)) = out.iter().enumerate().find(|(_, v)| !v.is_finite()) {
+            return Err(format!("element {i} is not finite: {v}"));
+        }
+        Ok(out)
+    }
+}
+
+/// What an image is read from: the buffers and the glTF file's reader.
+pub(super) struct ImageFiles<'a, 'r> {
+    pub buffers: &'a [Vec<u8>],
+    pub path: &'a Path,
+    pub read_file: &'r mut dyn FnMut(&Path) -> std::io::Result<Vec<u8>>,
+}
+
+impl DecodedImages {
+    /// The base-colour texture of `material`, if it has one that decodes;
+    /// a warning on `warnings` the first time one does not.
+    pub(super) fn base_colour(
+        &mut self,
+        material: &gltf::Material,
+        document: &gltf::Document,
+        files: &mut ImageFiles,
+        warnings: &mut Vec<Warning>,
+    ) -> Option<Arc<Texture>> {
+        let info = material.pbr_metallic_roughness().base_color_texture()?;
+        let texture = info.texture();
+        let image = texture.source();
+        let sampler = texture.sampler();
+        let key = (image.index(), sampler.index());
+        if let Some(done) = self.by_source.get(&key) {
+            return done.clone();
+        }
+        let name = match image.name() {
+            Some(name) if !name.is_empty() => format!("image {} ({name})", image.index()),
+            _ => format!("image {}", image.index()),
+        };
+        let filter = match sampler.mag_filter() {
+            Some(MagFilter::Nearest) => TextureFilter::Nearest,
+            _ => TextureFilter::Bilinear,
+        };
+        let wrap = [sampler.wrap_s(), sampler.wrap_t()].map(|w| match w {
+            WrappingMode::ClampToEdge => TextureWrap::ClampToEdge,
+            WrappingMode::MirroredRepeat => TextureWrap::MirroredRepeat,
+            WrappingMode::Repeat => TextureWrap::Repeat,
+        });
+        let decoded = image_bytes(image.index(), document, files)
+            .and_then(|(shown, bytes)| {
+                Texture::decode(&shown, &bytes, filter, wrap).map_err(|e| format!("{shown}: {e}"))
+            })
+            .map(Arc::new);
+        let out = match decoded {
+            Ok(t) => Some(t),
+            Err(e) => {
+                warnings.push(Warning::new(
+                    files.path,
+                    None,
+                    format!(
+                        "cannot read the baseColorTexture {name}: {e}; its materials show their colour factor"
+                    ),
+                ));
+                None
+            }
+        };
+        self.by_source.insert(key, out.clone());
+        out
+    }
+}
+
+/// The encoded bytes of image `index` and how to name it (its file, or
+/// where it lies).
+fn image_bytes(
+    index: usize,
+    document: &gltf::Document,
+    files: &mut ImageFiles,
+) -> Result<(String, Vec<u8>), String> {
+    let json = document
+        .as_json()
+        .images
+        .get(index)
+        .ok_or("no such image")?;
+    if let Some(view) = &json.buffer_view {
+        let view = document
+            .views()
+            .nth(view.value())
+            .ok_or("its buffer view does not exist")?;
+        let buffer = files
+            .buffers
+            .get(view.buffer().index())
+            .ok_or("its buffer does not exist")?;
+        let bytes = view
+            .offset()
+            .checked_add(view.length())
+            .and_then(|end| buffer.get(view.offset()..end))
+            .ok_or("its buffer view does not fit in its buffer")?;
+        return Ok((format!("buffer view {}", view.index()), bytes.to_vec()));
+    }
+    let uri = json
+        .uri
+        .as_deref()
+        .ok_or("it has neither a uri nor a bufferView")?;
+    if let Some(data) = uri.strip_prefix("data:") {
+        return Ok(("a data URI".to_string(), decode_data_uri(data)?));
+    }
+    let base = files.path.parent().unwrap_or(Path::new(""));
+    let file = buffer_path(base, uri)?;
+    let bytes = (files.read_file)(&file).map_err(|e| format!("{}: {e}", file.display()))?;
+    Ok((file.display().to_string(), bytes))
+}
