@@ -4,7 +4,7 @@
 // there (point or bilinear at its one level, texel centres at
 // (i + 0.5) / size, each axis wrapped by its mode) and the texel multiplies
 // the material's diffuse and ambient colours. The `textures` buffer's
-// layout: src/layout.rs, TextureWords. Without TEXTURES the material is
+// layout: src/layout/texture_words.rs, TextureWords. Without TEXTURES the material is
 // read as before.
 
 // The record of texture coordinates of triangle i (the third vertex's
