@@ -21,6 +21,9 @@ packages=(
     # scenes/bunny.toml's mesh, /usr/share/glmark2/models/bunny.obj (the
     # Stanford bunny), which the image tests render.
     glmark2-data
+    # tests/textured_models.rs opens another project's textured models
+    # (Khronos' BoxTextured, an OBJ with Windows-style image paths).
+    assimp-testmodels
     # tests/web.rs traces the exported site in headless Chromium (WebGPU on
     # its SwiftShader), driven from node by tests/web's npm packages (node
     # and npm below, from Debian unless the machine has its own).

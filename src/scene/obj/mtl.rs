@@ -79,7 +79,7 @@ pub(super) fn parse_mtl(
             let Some((file, clamp)) = map_statement(line, keyword) else {
                 return Err(err("expected the name of an image file".to_string()));
             };
-            let image = path.parent().unwrap_or(Path::new("")).join(file);
+            let image = texture_file(path, file);
             material.texture = decoded
                 .entry((image.clone(), clamp))
                 .or_insert_with(|| {
@@ -246,4 +246,23 @@ fn map_statement<'l>(line: &'l str, keyword: &str) -> Option<(&'l str, bool)> {
 fn is_texture_statement(keyword: &str) -> bool {
     let lower = keyword.to_ascii_lowercase();
     lower.starts_with("map_") || ["bump", "disp", "decal", "refl", "norm"].contains(&lower.as_str())
+}
+
+/// Where a `map_Kd` statement's `file` lies: relative to the MTL file's
+/// folder (an absolute path as it is). MTL files written on Windows name
+/// their images with backslashes (`.\wood.jpg`), which other readers take
+/// as separators: where the name as written is no file, the name with `/`
+/// for `\` is used.
+fn texture_file(mtl: &Path, file: &str) -> std::path::PathBuf {
+    let folder = mtl.parent().unwrap_or(Path::new(""));
+    let as_written = folder.join(file);
+    if as_written.exists() || !file.contains('\\') {
+        return as_written;
+    }
+    let slashed = folder.join(file.replace('\\', "/"));
+    if slashed.exists() {
+        slashed
+    } else {
+        as_written
+    }
 }
