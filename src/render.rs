@@ -36,6 +36,8 @@ pub struct RenderStats {
     pub kd_refs_per_leaf: f64,
     /// Bytes of scene data in storage buffers.
     pub gpu_scene_bytes: u64,
+    /// Of those, the textures' (headers, texture coordinates and texels).
+    pub texture_bytes: u64,
     pub build_ms: f64,
     pub upload_ms: f64,
     pub gpu_ms: f64,
@@ -326,6 +328,7 @@ fn render_uploaded(
         kd_max_depth: tree_stats.max_depth,
         kd_refs_per_leaf: tree_stats.refs_per_leaf,
         gpu_scene_bytes: prepared.arrays.byte_size(),
+        texture_bytes: std::mem::size_of_val(prepared.arrays.textures.as_slice()) as u64,
         build_ms: prepared.build_ms,
         upload_ms,
         gpu_ms: summary.gpu_ms,

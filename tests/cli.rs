@@ -712,3 +712,22 @@ fn all_frames_writes_each_frame_as_render_frame_k_does() {
     assert_eq!(run.code, 2, "{run:#?}");
     assert!(!dir.path.join("x.png").exists());
 }
+
+/// `--stats` names the textures' share of the scene's buffers: none for
+/// the seed; for scenes/textured.toml its one 64 x 64 image (a word a
+/// texel), the header word and one 6-word texture header, and the two
+/// floor triangles' texture coordinates (6 words each).
+#[test]
+fn stats_count_the_texture_bytes() {
+    let dir = TempDir::new("texture-bytes");
+    for (scene, words) in [("seed.toml", 0), ("textured.toml", 64 * 64 + 1 + 6 + 2 * 6)] {
+        let path = scene_path(scene);
+        let run = kdray(
+            &dir.path,
+            &render_args(&path, &["-o", "out.png", "--stats"]),
+        );
+        let stats = parse_stats(&run);
+        assert_eq!(u64_field(&stats, "texture_bytes"), words * 4, "{scene}");
+        assert!(u64_field(&stats, "gpu_scene_bytes") > words * 4, "{scene}");
+    }
+}
