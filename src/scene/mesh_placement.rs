@@ -15,7 +15,7 @@ use super::mesh_file;
 use super::normals::{self, unit};
 use super::schema::{RawMesh, RawScale};
 use super::validate::{Validator, MAX_COORDINATE};
-use super::{Material, SceneError, Texture, Triangle};
+use super::{Material, SceneError, Texture, Triangle, TriangleParts};
 
 impl Validator<'_> {
     /// Loads mesh `i`, transforms it to world space and appends its triangles
@@ -259,16 +259,6 @@ impl Validator<'_> {
         }
         Ok(world)
     }
-}
-/// What the scene keeps beside its triangles, as the meshes add them:
-/// [`Scene::triangle_normals`](super::Scene::triangle_normals),
-/// [`Scene::triangle_uvs`](super::Scene::triangle_uvs) and
-/// [`Scene::textures`](super::Scene::textures).
-#[derive(Default)]
-pub(super) struct TriangleParts {
-    pub normals: Vec<[DVec3; 3]>,
-    pub uvs: Vec<[DVec2; 3]>,
-    pub textures: Vec<Texture>,
 }
 
 /// Gives `triangle` the texture coordinates `corners`, if any, at the end

@@ -213,3 +213,14 @@ impl Scene {
         self.textures.get(t as usize)
     }
 }
+
+/// What the scene keeps beside its triangles, as the meshes add them:
+/// [`Scene::triangle_normals`](Scene::triangle_normals),
+/// [`Scene::triangle_uvs`](Scene::triangle_uvs) and
+/// [`Scene::textures`](Scene::textures).
+#[derive(Default)]
+struct TriangleParts {
+    normals: Vec<[DVec3; 3]>,
+    uvs: Vec<[DVec2; 3]>,
+    textures: Vec<Texture>,
+}

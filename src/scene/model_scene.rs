@@ -79,7 +79,7 @@ pub fn model_scene_with(
     };
     let mut materials = Vec::new();
     let mut triangles = Vec::new();
-    let mut parts = super::mesh_placement::TriangleParts::default();
+    let mut parts = super::TriangleParts::default();
     validator.mesh(0, &raw, None, &mut materials, &mut triangles, &mut parts)?;
 
     let (min, max) = bounds(&triangles);

@@ -227,7 +227,7 @@ impl Validator<'_> {
             ));
         }
 
-        let mut parts = super::mesh_placement::TriangleParts::default();
+        let mut parts = super::TriangleParts::default();
         for (i, m) in raw.meshes.iter().enumerate() {
             let override_material = match &m.material {
                 Some(name) => Some(lookup(&|| format!("meshes[{i}].material"), name)?),
