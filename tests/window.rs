@@ -574,3 +574,41 @@ fn no_display_is_one_clear_error() {
     assert!(stderr.contains("kdray: cannot open a window"), "{stderr}");
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+/// `--play` starts the scene's animation: the camera moves frame after
+/// frame (the window traces previews, counted as moving frames), and the
+/// last frame shows another view than the still window's, which stays on
+/// frame 0 and refines it.
+#[test]
+fn play_moves_the_camera_through_the_animation() {
+    let x = Xvfb::start();
+    let dir = temp_dir("play");
+    let scene = repo_path("scenes/orbit.toml");
+    let mut shots = Vec::new();
+    let mut moving = Vec::new();
+    for play in [false, true] {
+        let shot = dir.join(format!("orbit-play-{play}.png"));
+        let mut command = kdray(&dir);
+        command
+            .env("DISPLAY", &x.display)
+            .env_remove("WAYLAND_DISPLAY")
+            .args(window_args(&scene, &shot))
+            .args(["--frames", "30", "--stats"]);
+        if play {
+            command.arg("--play");
+        }
+        let (status, stdout, stderr) = run(command);
+        assert!(status.success(), "play {play}: the window failed: {stderr}");
+        let stats: serde_json::Value = serde_json::from_str(stdout.trim())
+            .unwrap_or_else(|e| panic!("play {play}: --stats printed {stdout:?}: {e}"));
+        moving.push(stats["moving_frames"].as_u64().unwrap());
+        shots.push(read(&shot));
+    }
+    assert_eq!(moving[0], 0, "the still window never moves");
+    assert!(moving[1] > 0, "playing moves the camera: {moving:?}");
+    assert!(
+        clearly_differ(&shots[0], &shots[1]),
+        "the playing window ends on another view than frame 0"
+    );
+    std::fs::remove_dir_all(&dir).unwrap();
+}

@@ -55,6 +55,8 @@ pub struct WindowOptions {
     pub screenshot: Option<PathBuf>,
     /// On exit, print the frame figures as one JSON object on stdout.
     pub stats: bool,
+    /// Start playing the scene's animation.
+    pub play: bool,
 }
 
 impl WindowOptions {

@@ -161,7 +161,10 @@ impl Session {
         let (width, height) = surface.size();
         let pixels = (width as u64 * height as u64).min(max_pixels);
         let viewer = Viewer::new(&ctx, scene.buffers(), surface.view_format(), pixels)?;
-        let playback = Playback::new(scene.scene().frame_count(), animation_fps(scene.scene()));
+        let mut playback = Playback::new(scene.scene().frame_count(), animation_fps(scene.scene()));
+        if options.play {
+            playback.toggle(Instant::now());
+        }
         let path = scene.scene().camera_path();
         let home = path.camera_at(playback.frame());
         let controller = CameraController::new(home, bounds(&scene), width, height);

@@ -149,6 +149,9 @@ pub struct RenderArgs {
     /// With --window: on exit, save the last presented frame as a PNG here.
     #[arg(long, requires = "window")]
     pub screenshot: Option<PathBuf>,
+    /// With --window: start playing the scene's animation (Space pauses).
+    #[arg(long, requires = "window")]
+    pub play: bool,
 }
 
 /// The flags `render` and `farm` share: the scene's `[render]` overrides

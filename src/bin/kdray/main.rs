@@ -24,6 +24,7 @@ fn main() -> ExitCode {
             window: true,
             frames,
             screenshot,
+            play,
             ..
         }) => kdray::window::run(kdray::window::WindowOptions {
             scene,
@@ -31,6 +32,7 @@ fn main() -> ExitCode {
             frames,
             screenshot,
             stats,
+            play,
         }),
         Command::Render(args) => render(args),
         Command::Info => info(),
