@@ -55,6 +55,15 @@ fn swiftshader() -> &'static GpuContext {
 
 /// `scene` with `accel` and the walk `traversal`, on SwiftShader.
 fn render_walk(scene: &Scene, accel: Accel, traversal: Traversal) -> RenderedImage {
+    try_render_walk(scene, accel, traversal).unwrap_or_else(|e| panic!("{e}"))
+}
+
+/// [`render_walk`], or the renderer's refusal.
+fn try_render_walk(
+    scene: &Scene,
+    accel: Accel,
+    traversal: Traversal,
+) -> Result<RenderedImage, String> {
     let ctx = swiftshader();
     let prepared = PreparedScene::new(scene.clone(), accel);
     let uploaded = GpuScene::upload(ctx, prepared).unwrap_or_else(|e| panic!("{e}"));
@@ -69,7 +78,7 @@ fn render_walk(scene: &Scene, accel: Accel, traversal: Traversal) -> RenderedIma
     );
     renderer
         .render(ctx, uploaded.buffers(), params, plan)
-        .unwrap_or_else(|e| panic!("{e}"))
+        .map_err(|e| e.to_string())
 }
 
 /// The device has fewer storage buffers per stage than a kernel with every
@@ -94,6 +103,9 @@ fn swiftshader_has_fewer_storage_buffers_than_the_full_kernel() {
 /// Every k-d walk gives brute force's image on every shipped scene, bit for
 /// bit, on SwiftShader as on lavapipe. Scenes of more objects than
 /// tests/gpu_render.rs sends to brute force are compared walk against walk.
+/// The one kernel that needs more than SwiftShader's 10 storage buffers a
+/// stage (the rope walk's two rope arrays in a scene with spheres,
+/// triangles and textures: 11) is refused in one line naming the limit.
 #[test]
 fn kdtree_equals_brute_force_on_every_scene_on_swiftshader() {
     const BRUTE_FORCE_MAX_OBJECTS: usize = 10_000;
@@ -105,7 +117,21 @@ fn kdtree_equals_brute_force_on_every_scene_on_swiftshader() {
             render_walk(&scene, Accel::Kdtree, Traversal::Restart)
         };
         for walk in Traversal::ALL {
-            let kd = render_walk(&scene, Accel::Kdtree, walk);
+            let kd = match try_render_walk(&scene, Accel::Kdtree, walk) {
+                Ok(kd) => kd,
+                Err(e) => {
+                    let too_many = walk == Traversal::Ropes
+                        && !scene.textures.is_empty()
+                        && !scene.spheres.is_empty()
+                        && !scene.triangles.is_empty();
+                    assert!(
+                        too_many && e.contains("max_storage_buffers_per_shader_stage"),
+                        "{} ({walk}): {e}",
+                        path.display()
+                    );
+                    continue;
+                }
+            };
             let d = compare(&kd.rgb, &reference.rgb, kd.width, kd.height, 0);
             assert_eq!(d.pixels_over, 0, "{} ({walk}): {d:?}", path.display());
         }
