@@ -37,69 +37,50 @@ fn binding_json(b: &Binding) -> Value {
 /// One field of a uniform: its name, byte offset, scalar type and count.
 type Field = (&'static str, usize, &'static str, usize);
 
+/// One field of a uniform struct, by name: (name, byte offset, scalar type, count).
+macro_rules! field {
+    ($struct:ty, $name:ident, $ty:literal, $n:literal) => {
+        (stringify!($name), std::mem::offset_of!($struct, $name), $ty, $n)
+    };
+}
+
 /// `FrameParams`'s fields, by offset (the tests check they tile it).
 fn frame_params_fields() -> Vec<Field> {
-    use std::mem::offset_of;
-    macro_rules! f {
-        ($name:ident, $ty:literal, $n:literal) => {
-            (stringify!($name), offset_of!(FrameParams, $name), $ty, $n)
-        };
-    }
     vec![
-        f!(camera_position, "f32", 3),
-        f!(tan_half_vfov, "f32", 1),
-        f!(camera_forward, "f32", 3),
-        f!(aspect, "f32", 1),
-        f!(camera_right, "f32", 3),
-        f!(min_intensity, "f32", 1),
-        f!(camera_up, "f32", 3),
-        f!(max_depth, "u32", 1),
-        f!(background, "f32", 3),
-        f!(shadow_mode, "u32", 1),
-        f!(scene_min, "f32", 3),
-        f!(sphere_count, "u32", 1),
-        f!(scene_max, "f32", 3),
-        f!(object_count, "u32", 1),
-        f!(width, "u32", 1),
-        f!(height, "u32", 1),
-        f!(samples_per_axis, "u32", 1),
-        f!(light_count, "u32", 1),
-        f!(tile_origin, "u32", 2),
-        f!(tile_size, "u32", 2),
-        f!(accel, "u32", 1),
-        f!(node_count, "u32", 1),
-        f!(sample_index, "u32", 1),
-        f!(traversal, "u32", 1),
+        field!(FrameParams, camera_position, "f32", 3),
+        field!(FrameParams, tan_half_vfov, "f32", 1),
+        field!(FrameParams, camera_forward, "f32", 3),
+        field!(FrameParams, aspect, "f32", 1),
+        field!(FrameParams, camera_right, "f32", 3),
+        field!(FrameParams, min_intensity, "f32", 1),
+        field!(FrameParams, camera_up, "f32", 3),
+        field!(FrameParams, max_depth, "u32", 1),
+        field!(FrameParams, background, "f32", 3),
+        field!(FrameParams, shadow_mode, "u32", 1),
+        field!(FrameParams, scene_min, "f32", 3),
+        field!(FrameParams, sphere_count, "u32", 1),
+        field!(FrameParams, scene_max, "f32", 3),
+        field!(FrameParams, object_count, "u32", 1),
+        field!(FrameParams, width, "u32", 1),
+        field!(FrameParams, height, "u32", 1),
+        field!(FrameParams, samples_per_axis, "u32", 1),
+        field!(FrameParams, light_count, "u32", 1),
+        field!(FrameParams, tile_origin, "u32", 2),
+        field!(FrameParams, tile_size, "u32", 2),
+        field!(FrameParams, accel, "u32", 1),
+        field!(FrameParams, node_count, "u32", 1),
+        field!(FrameParams, sample_index, "u32", 1),
+        field!(FrameParams, traversal, "u32", 1),
     ]
 }
 
+/// `PresentParams`'s fields, by offset.
 fn present_params_fields() -> Vec<Field> {
-    use std::mem::offset_of;
     vec![
-        (
-            "image_size",
-            offset_of!(PresentParams, image_size),
-            "u32",
-            2,
-        ),
-        (
-            "target_size",
-            offset_of!(PresentParams, target_size),
-            "u32",
-            2,
-        ),
-        (
-            "preview_size",
-            offset_of!(PresentParams, preview_size),
-            "u32",
-            2,
-        ),
-        (
-            "show_image",
-            offset_of!(PresentParams, show_image),
-            "u32",
-            1,
-        ),
+        field!(PresentParams, image_size, "u32", 2),
+        field!(PresentParams, target_size, "u32", 2),
+        field!(PresentParams, preview_size, "u32", 2),
+        field!(PresentParams, show_image, "u32", 1),
     ]
 }
 
