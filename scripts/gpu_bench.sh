@@ -3,14 +3,19 @@
 # GPU"). Two steps, so that the GPU machine needs no network:
 #
 #   scripts/gpu_bench.sh prepare          # on a machine with network
-#       a release build, the Stanford bunny, the Vulkan and EGL loader .deb
-#       files and the Python wheels of embreex and Mitsuba 3, all in
-#       .gpu-bench/ (kept out of git through .git/info/exclude); copy that
-#       folder with the checkout to the GPU machine.
+#       a release build (stripped), the Stanford bunny, the Vulkan and EGL
+#       loader .deb files and the Python wheels of embreex and Mitsuba 3,
+#       in .gpu-bench/ and .gpu-bench-mitsuba/ (both kept out of git through
+#       .git/info/exclude). Mitsuba's wheel alone is about 60 MB, so it
+#       travels in two parts: the first in .gpu-bench-mitsuba/, the rest
+#       with everything else in .gpu-bench/; each folder with the checkout
+#       stays under 64 MiB, for machines that take at most that per copy.
+#       Copy .gpu-bench-mitsuba/ to the GPU machine first, then .gpu-bench/.
 #
 #   scripts/gpu_bench.sh run [OUT_DIR]    # on the GPU machine, offline
-#       installs the loaders and wheels locally where they are missing,
-#       writes `kdray info` and refuses a CPU or software adapter (llvmpipe,
+#       installs the loaders and wheels locally where they are missing
+#       (joining Mitsuba's two parts where both are there), writes
+#       `kdray info` and refuses a CPU or software adapter (llvmpipe,
 #       lavapipe, SwiftShader), then measures, each step bounded by
 #       `timeout` and the whole run by GPU_BENCH_BUDGET_S (default 450 s):
 #         - the bench's random scenes with every walk: the gears and 10,000
@@ -30,13 +35,20 @@ set -uo pipefail
 cd "$(dirname "$0")/.."
 
 stash=.gpu-bench
+mitsuba_part=.gpu-bench-mitsuba
+# Bytes of Mitsuba's wheel that travel in $mitsuba_part (the rest in $stash).
+first_part_bytes=$((52 * 1024 * 1024))
 
 prepare() {
     set -e
     cargo build --release --locked
-    mkdir -p "$stash/bin" "$stash/models" "$stash/debs" "$stash/wheels"
-    grep -qx "/$stash/" .git/info/exclude 2>/dev/null || echo "/$stash/" >>.git/info/exclude
+    rm -rf "$stash" "$mitsuba_part"
+    mkdir -p "$stash/bin" "$stash/models" "$stash/debs" "$stash/wheels" "$mitsuba_part"
+    for d in "$stash" "$mitsuba_part"; do
+        grep -qx "/$d/" .git/info/exclude 2>/dev/null || echo "/$d/" >>.git/info/exclude
+    done
     cp target/release/kdray "$stash/bin/kdray"
+    strip "$stash/bin/kdray"
     # The bunny of scenes/peers/bunny.toml (apt-get install glmark2-data).
     cp /usr/share/glmark2/models/bunny.obj "$stash/models/bunny.obj"
     # The Vulkan and EGL loaders; the GPU's own driver brings the rest.
@@ -51,7 +63,13 @@ prepare() {
     python3 -m pip download -q --no-deps --only-binary=:all: --python-version "$py" \
         --implementation cp --platform manylinux_2_28_x86_64 --platform manylinux_2_17_x86_64 \
         --platform manylinux2014_x86_64 -d "$stash/wheels" embreex mitsuba drjit
-    du -sh "$stash"
+    # Mitsuba's wheel in two parts, joined again by `run`.
+    local wheel
+    wheel=$(ls "$stash"/wheels/mitsuba-*.whl)
+    head -c "$first_part_bytes" "$wheel" >"$mitsuba_part/$(basename "$wheel").part1"
+    tail -c +$((first_part_bytes + 1)) "$wheel" >"$stash/wheels/$(basename "$wheel").part2"
+    rm "$wheel"
+    du -sh "$stash" "$mitsuba_part"
 }
 
 out=${2:-${OUT:-gpu-bench-results}}
@@ -94,6 +112,12 @@ install_offline() {
     if [ ! -f "$bunny" ] && [ -f "$stash/models/bunny.obj" ]; then
         mkdir -p "$(dirname "$bunny")" && cp "$stash/models/bunny.obj" "$bunny"
     fi
+    # Mitsuba's wheel, where both its parts came.
+    local part2 part1
+    for part2 in "$stash"/wheels/mitsuba-*.whl.part2; do
+        part1=$mitsuba_part/$(basename "$part2" .part2).part1
+        [ -f "$part2" ] && [ -f "$part1" ] && cat "$part1" "$part2" >"${part2%.part2}"
+    done
     if ls "$stash"/wheels/*.whl >/dev/null 2>&1 &&
         ! "$py" -c 'import embreex, mitsuba' 2>/dev/null; then
         "$py" -m pip install -q --no-index --no-deps --no-compile --no-cache-dir --upgrade \
@@ -182,7 +206,7 @@ run)
     exit "${PIPESTATUS[0]}"
     ;;
 *)
-    sed -n '2,29p' "$0" >&2
+    sed -n '2,33p' "$0" >&2
     exit 2
     ;;
 esac
