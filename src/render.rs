@@ -186,6 +186,7 @@ pub fn render_scene(
     let (stats, summary) = render_streaming(
         ctx,
         &uploaded,
+        None,
         Traversal::default(),
         max_tile_pixels,
         true,
@@ -203,30 +204,6 @@ pub fn render_scene(
         rays: summary.rays,
     };
     Ok((image, stats))
-}
-
-/// Renders `scene` on `ctx` with the search it was prepared for and, for
-/// the k-d tree, the walk `traversal`, handing bands of rows to `sink` top
-/// to bottom as they are read back (for images too big to hold, and
-/// progress bars). With `with_cost`, the bands carry each pixel's walk cost
-/// and the stats their totals.
-pub fn render_streaming(
-    ctx: &GpuContext,
-    scene: &GpuScene,
-    traversal: Traversal,
-    max_tile_pixels: u64,
-    with_cost: bool,
-    sink: &mut dyn FnMut(RowBand<'_>) -> Result<()>,
-) -> Result<(RenderStats, RenderSummary)> {
-    render_uploaded(
-        ctx,
-        scene,
-        None,
-        traversal,
-        max_tile_pixels,
-        with_cost,
-        sink,
-    )
 }
 
 /// Which part of a frame a render covers: rows `rows.0..rows.1` of the
@@ -250,32 +227,15 @@ impl FramePart {
     }
 }
 
-/// [`render_streaming`] for one part of a frame (a farm task's band of
-/// rows, or an animation's frame without rebuilding the tree): bands go to
-/// `sink` with their rows numbered in the whole image, and the stats count
-/// the rays of the part's rows.
-pub fn render_part_streaming(
-    ctx: &GpuContext,
-    scene: &GpuScene,
-    part: &FramePart,
-    traversal: Traversal,
-    max_tile_pixels: u64,
-    sink: &mut dyn FnMut(RowBand<'_>) -> Result<()>,
-) -> Result<(RenderStats, RenderSummary)> {
-    render_uploaded(
-        ctx,
-        scene,
-        Some(part),
-        traversal,
-        max_tile_pixels,
-        false,
-        sink,
-    )
-}
-
-/// Renders `part` of the frame (the scene's own camera, every row, when
-/// `None`).
-fn render_uploaded(
+/// Renders `part` of the frame of `uploaded` (the scene's own camera,
+/// every row, when `None`: a farm task's band of rows, or an animation's
+/// frame without rebuilding the tree, name theirs) with the search it was
+/// prepared for and, for the k-d tree, the walk `traversal`. Bands of rows
+/// go to `sink` top to bottom as they are read back (for images too big to
+/// hold, and progress bars), numbered in the whole image; the stats count
+/// the rays of the rendered rows. With `with_cost`, the bands carry each
+/// pixel's walk cost and the stats their totals.
+pub fn render_streaming(
     ctx: &GpuContext,
     uploaded: &GpuScene,
     part: Option<&FramePart>,

@@ -64,8 +64,11 @@ fn trace_both(
     let (buffers, prepared) = (uploaded.buffers(), uploaded.prepared());
     let trace = |accel, walk| {
         queries()
-            .trace_walk(ctx, buffers, &prepared.arrays.scene_ids, accel, walk, rays)
+            .trace_counted(ctx, buffers, &prepared.arrays.scene_ids, accel, walk, rays)
             .unwrap_or_else(|e| panic!("{e}"))
+            .into_iter()
+            .map(|(hit, _)| hit)
+            .collect()
     };
     let brute = trace(Accel::Brute, Traversal::Restart);
     let walks = Traversal::ALL

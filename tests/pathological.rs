@@ -143,6 +143,7 @@ fn every_build_breaks_ties_as_brute_force_does() {
             kdray::render::render_streaming(
                 gpu(),
                 &uploaded,
+                None,
                 traversal,
                 TilePlan::DEFAULT_MAX_TILE_PIXELS,
                 false,

@@ -143,12 +143,13 @@ pub fn run_task(dir: &Path, task: u32) -> Result<TaskReport> {
         let path = plan.item_path(dir, item);
         let mut png = PngStream::create(&path, plan.width, rows.1 - rows.0)?;
         let part = FramePart { camera, rows };
-        crate::render::render_part_streaming(
+        crate::render::render_streaming(
             &ctx,
             &uploaded,
-            &part,
+            Some(&part),
             plan.flags.traversal,
             TilePlan::DEFAULT_MAX_TILE_PIXELS,
+            false,
             &mut |band| png.write_rows(band.rgb),
         )?;
         png.finish()?;

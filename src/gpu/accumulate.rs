@@ -64,14 +64,7 @@ impl Accumulation {
     /// The pass and buffers for images of up to `pixels` pixels of `scene`.
     pub fn new(ctx: &GpuContext, scene: &SceneBuffers, pixels: u64) -> Result<Self> {
         let pipelines = TracePipelines::new(ctx, ACCUMULATE_TILE)?;
-        let params = ctx.checked("creating the frame parameters", |device| {
-            device.create_buffer(&wgpu::BufferDescriptor {
-                label: Some("window frame params"),
-                size: std::mem::size_of::<FrameParams>() as u64,
-                usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
-                mapped_at_creation: false,
-            })
-        })?;
+        let params = FrameParams::uniform_buffer(ctx, "window frame params")?;
         let pixels = pixels.max(1);
         let [image, preview] = ctx.checked("allocating the accumulation buffers", |device| {
             Self::targets(device, &pipelines, &params, scene, pixels)

@@ -10,6 +10,10 @@
 //! ([`layout_entries`]). This module depends on no other part of `gpu`; the
 //! tests in gpu/shaders.rs hold the assembled shaders to it through naga:
 //! binding numbers and access by name, constants by value, workgroup sizes.
+//!
+//! The arrays that may lie in several bindings (their chunk bindings,
+//! readers and share of the adapter's storage buffers) are in
+//! bindings/split_arrays.rs, re-exported here.
 
 use crate::geometry::{HIT_BOX_MARGIN, IN_PLANE_MARGIN, PARALLEL_EPSILON, T_INFINITY};
 use crate::layout::{
@@ -49,7 +53,23 @@ const fn binding(
     }
 }
 
+impl Binding {
+    /// `T` of a runtime-sized `array<T>` binding.
+    pub fn element_type(&self) -> &'static str {
+        self.wgsl_type
+            .strip_prefix("array<")
+            .and_then(|t| t.strip_suffix('>'))
+            .unwrap_or_else(|| panic!("{} is not a runtime-sized array", self.name))
+    }
+}
+
 use Access::{StorageRead, StorageReadWrite, Uniform};
+
+mod split_arrays;
+pub use split_arrays::{
+    scene_chunks, ElementPart, SceneChunks, SplitArray, MAX_CHUNKS, SPLIT_ARRAYS,
+    SPLIT_ARRAY_COUNT, UNSPLIT,
+};
 
 /// Camera, render settings, counts and the tile ([`crate::layout::FrameParams`]).
 /// Each entry point copies it into the private `params` before anything
@@ -89,140 +109,6 @@ pub const TRIANGLE_NORMALS: Binding = binding(
 /// texture coordinates, in one array of words
 /// ([`crate::layout::TextureWords`]; shaders/texture.wgsl).
 pub const TEXTURES: Binding = binding(16, "textures", "array<u32>", StorageRead);
-/// The most bindings one split array may spread over (shaders/chunks.wgsl);
-/// the adapter's storage buffers per stage decide how many each gets
-/// ([`scene_chunks`]). Eight x 128 MiB holds 22 million triangles.
-pub const MAX_CHUNKS: usize = 8;
-
-/// An array of the scene that may lie in several bindings, each but the last
-/// full (shaders/chunks.wgsl): its bindings, first chunk first, and the
-/// WGSL names the contract generates for it.
-pub struct SplitArray {
-    pub chunks: [Binding; MAX_CHUNKS],
-    /// Bytes per element (the WGSL array's stride).
-    pub element_bytes: usize,
-    /// Its bytes per triangle of a large mesh (the bunny subdivided twice,
-    /// 1.1 million triangles, smooth: 2.94 nodes, 1.47 leaves and 5.8 leaf
-    /// references per triangle): [`scene_chunks`] shares the bindings out
-    /// by these.
-    pub bytes_per_triangle: u32,
-    /// `fn <reader>(k: u32, j: u32<reader_params>) -> <returns>`: what
-    /// `read` says of element `j` of chunk `k` (`@` in `read` stands for
-    /// the chunk's binding).
-    pub reader: &'static str,
-    pub reader_params: &'static str,
-    pub returns: &'static str,
-    pub read: &'static str,
-    /// `const <count_constant>: u32`: the bindings it has in this kernel.
-    pub count_constant: &'static str,
-}
-
-/// A split array's bindings: `$first`, then `$name_1` ... `$name_7` at
-/// `$base` ... `$base + 6`.
-macro_rules! split_array {
-    ($first:expr, $name:literal, $type:literal, $base:literal) => {
-        [
-            $first,
-            binding($base, concat!($name, "_1"), $type, StorageRead),
-            binding($base + 1, concat!($name, "_2"), $type, StorageRead),
-            binding($base + 2, concat!($name, "_3"), $type, StorageRead),
-            binding($base + 3, concat!($name, "_4"), $type, StorageRead),
-            binding($base + 4, concat!($name, "_5"), $type, StorageRead),
-            binding($base + 5, concat!($name, "_6"), $type, StorageRead),
-            binding($base + 6, concat!($name, "_7"), $type, StorageRead),
-        ]
-    };
-}
-
-pub const SPLIT_TRIANGLES: SplitArray = SplitArray {
-    chunks: split_array!(TRIANGLES, "triangles", "array<array<vec4<f32>, 3>>", 30),
-    element_bytes: 48,
-    bytes_per_triangle: 48,
-    reader: "triangles_chunk",
-    reader_params: "",
-    returns: "array<vec4<f32>, 3>",
-    read: "@[j]",
-    count_constant: "TRIANGLES_CHUNKS",
-};
-pub const SPLIT_KD_NODES: SplitArray = SplitArray {
-    chunks: split_array!(KD_NODES, "kd_nodes", "array<vec2<u32>>", 37),
-    element_bytes: 8,
-    bytes_per_triangle: 24,
-    reader: "kd_nodes_chunk",
-    reader_params: "",
-    returns: "vec2<u32>",
-    read: "@[j]",
-    count_constant: "KD_NODES_CHUNKS",
-};
-pub const SPLIT_LEAF_OBJECTS: SplitArray = SplitArray {
-    chunks: split_array!(LEAF_OBJECTS, "leaf_objects", "array<u32>", 44),
-    element_bytes: 4,
-    bytes_per_triangle: 23,
-    reader: "leaf_objects_chunk",
-    reader_params: "",
-    returns: "u32",
-    read: "@[j]",
-    count_constant: "LEAF_OBJECTS_CHUNKS",
-};
-pub const SPLIT_LEAF_ROPES: SplitArray = SplitArray {
-    chunks: split_array!(LEAF_ROPES, "leaf_ropes", "array<LeafRopes>", 51),
-    element_bytes: 48,
-    bytes_per_triangle: 71,
-    // One word of one face (its plane's bits, or its rope when `rope`;
-    // every call passes a constant, so only that load remains), not the
-    // whole 48-byte record: a record copied to a local and indexed by a
-    // variable face lives in memory on llvmpipe, which made the split rope
-    // walk 4-6x slower than the unsplit one (bunny, 1.1 million triangles).
-    reader: "leaf_ropes_chunk",
-    reader_params: ", face: u32, rope: bool",
-    returns: "u32",
-    read: "select(bitcast<u32>(@[j].faces[face]), @[j].ropes[face], rope)",
-    count_constant: "LEAF_ROPES_CHUNKS",
-};
-
-pub const SPLIT_LEAF_ROPE_INDEX: SplitArray = SplitArray {
-    chunks: split_array!(LEAF_ROPE_INDEX, "leaf_rope_index", "array<u32>", 58),
-    element_bytes: 4,
-    bytes_per_triangle: 12,
-    reader: "leaf_rope_index_chunk",
-    reader_params: "",
-    returns: "u32",
-    read: "@[j]",
-    count_constant: "LEAF_ROPE_INDEX_CHUNKS",
-};
-pub const SPLIT_TRIANGLE_NORMALS: SplitArray = SplitArray {
-    chunks: split_array!(
-        TRIANGLE_NORMALS,
-        "triangle_normals",
-        "array<TriangleNormals>",
-        65
-    ),
-    element_bytes: 12,
-    bytes_per_triangle: 12,
-    reader: "triangle_normals_chunk",
-    reader_params: "",
-    returns: "TriangleNormals",
-    read: "@[j]",
-    count_constant: "TRIANGLE_NORMALS_CHUNKS",
-};
-
-/// How many arrays may be split.
-pub const SPLIT_ARRAY_COUNT: usize = 6;
-
-/// Every array that passes one binding as a mesh grows (12 to 72 bytes a
-/// triangle, so between 1.9 and 11 million triangles; docs/design.md has the
-/// arithmetic). The others stay whole: `objects` (8 B an object)
-/// passes 128 MiB at 16.7 million objects, past what the split arrays hold;
-/// spheres, materials and lights do not grow with a mesh.
-pub const SPLIT_ARRAYS: [&SplitArray; SPLIT_ARRAY_COUNT] = [
-    &SPLIT_TRIANGLES,
-    &SPLIT_KD_NODES,
-    &SPLIT_LEAF_OBJECTS,
-    &SPLIT_LEAF_ROPES,
-    &SPLIT_LEAF_ROPE_INDEX,
-    &SPLIT_TRIANGLE_NORMALS,
-];
-
 /// `trace_rays` (the debug entry point): the rays to trace.
 pub const QUERY_RAYS: Binding = binding(10, "query_rays", "array<QueryRay>", StorageRead);
 /// `trace_rays`: one hit per ray.
@@ -239,13 +125,6 @@ pub const QUERY_COSTS: Binding = binding(21, "query_costs", "array<u32>", Storag
 
 /// Words per pixel (or per query) in [`PIXEL_COSTS`] and [`QUERY_COSTS`].
 pub const COST_WORDS: usize = 3;
-
-/// How many bindings each split array has, in the order of
-/// [`SPLIT_ARRAYS`] (1 to [`MAX_CHUNKS`] each).
-pub type SceneChunks = [usize; SPLIT_ARRAY_COUNT];
-
-/// One binding per split array: what a kernel without splitting declares.
-pub const UNSPLIT: SceneChunks = [1; SPLIT_ARRAY_COUNT];
 
 /// The scene's storage buffers, in the order [`crate::gpu::SceneArrays`]
 /// lists them, each split array with its first `chunks` bindings.
@@ -322,43 +201,6 @@ pub const PRESENT_BINDINGS: [Binding; 3] = [PRESENT_PARAMS, PRESENT_IMAGE, PRESE
 /// Its entry points.
 pub const PRESENT_VERTEX_ENTRY_POINT: &str = "vs_main";
 pub const PRESENT_FRAGMENT_ENTRY_POINT: &str = "fs_main";
-
-/// How many bindings each split array gets on a device with `limits`: the
-/// storage buffers per stage left by the whole arrays and the entry point
-/// with the most buffers of its own, shared out one at a time to the array
-/// with the most bytes per triangle per binding so far
-/// ([`SplitArray::bytes_per_triangle`]), at least 1 and at most
-/// [`MAX_CHUNKS`] each. Lavapipe (Vulkan, 32 per stage, 24 left):
-/// triangles 6, nodes 3, leaf references 3, leaf ropes 8, rope index 2,
-/// normals 2; llvmpipe's GL (16 per stage, 8 left): 2, 1, 1, 2, 1, 1. (The
-/// optional `textures` binding takes one: triangles had 7 on lavapipe, but
-/// `objects`, whole, already caps a scene at 16.7 million objects, which 6
-/// triangle bindings hold.)
-pub fn scene_chunks(limits: &wgpu::Limits) -> SceneChunks {
-    let per_stage = limits.max_storage_buffers_per_shader_stage as usize;
-    let whole_arrays = scene(UNSPLIT).len() - SPLIT_ARRAYS.len();
-    let own = ENTRY_POINTS
-        .iter()
-        .map(|e| e.outputs.len())
-        .max()
-        .unwrap_or(0);
-    let mut left = per_stage
-        .saturating_sub(whole_arrays + own)
-        .saturating_sub(SPLIT_ARRAYS.len());
-    let mut chunks = UNSPLIT;
-    while left > 0 {
-        let share = |i: usize| SPLIT_ARRAYS[i].bytes_per_triangle as f64 / chunks[i] as f64;
-        let Some(next) = (0..chunks.len())
-            .filter(|&i| chunks[i] < MAX_CHUNKS)
-            .reduce(|a, b| if share(b) > share(a) { b } else { a })
-        else {
-            break;
-        };
-        chunks[next] += 1;
-        left -= 1;
-    }
-    chunks
-}
 
 /// Every binding the kernel declares with `chunks` bindings per split
 /// array: the parameters, the scene, and each entry point's own buffers.
@@ -591,9 +433,8 @@ pub fn wgsl_contract_without(chunks: SceneChunks, omitted: &[Binding]) -> String
     for b in all(chunks) {
         text += &declaration(&b, !omitted.contains(&b));
     }
-    for (array, chunks) in SPLIT_ARRAYS.into_iter().zip(chunks) {
-        text += &format!("const {}: u32 = {chunks}u;\n", array.count_constant);
-        text += &chunk_reader(array, chunks);
+    for (array, chunks) in SPLIT_ARRAYS.iter().zip(chunks) {
+        text += &array.wgsl_reader(chunks);
     }
     text
 }
@@ -625,12 +466,7 @@ pub fn declaration(b: &Binding, bound: bool) -> String {
             b.wgsl_type
         )
     } else {
-        let element = b
-            .wgsl_type
-            .strip_prefix("array<")
-            .and_then(|t| t.strip_suffix('>'))
-            .unwrap_or_else(|| panic!("{} is not a runtime-sized array", b.name));
-        format!("var<private> {}: array<{element}, 1>;\n", b.name)
+        format!("var<private> {}: array<{}, 1>;\n", b.name, b.element_type())
     };
     if MEASURED.contains(b) {
         let length = if bound {
@@ -640,25 +476,6 @@ pub fn declaration(b: &Binding, bound: bool) -> String {
         };
         text += &format!("fn {}_length() -> u32 {{ return {length}; }}\n", b.name);
     }
-    text
-}
-
-/// `array`'s reader: `array.read` of element `j` of chunk `k` (chunks past
-/// the declared ones read the first; shaders/chunks.wgsl never asks for
-/// them).
-fn chunk_reader(array: &SplitArray, chunks: usize) -> String {
-    let mut text = format!(
-        "fn {}(k: u32, j: u32{}) -> {} {{\n    switch k {{\n",
-        array.reader, array.reader_params, array.returns
-    );
-    let read = |b: &Binding| array.read.replace('@', b.name);
-    for (k, b) in array.chunks[..chunks].iter().enumerate().skip(1) {
-        text += &format!("        case {k}u: {{ return {}; }}\n", read(b));
-    }
-    text += &format!(
-        "        default: {{ return {}; }}\n    }}\n}}\n",
-        read(&array.chunks[0])
-    );
     text
 }
 
@@ -686,49 +503,4 @@ pub fn layout_entries(
             count: None,
         })
         .collect()
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    /// The chunk counts fit the adapter: every entry point's bindings with
-    /// them stay within the storage buffers per stage, and one more binding
-    /// for any array below MAX_CHUNKS would not; lavapipe's Vulkan (32) and
-    /// llvmpipe's GL (16) get what the docs say.
-    #[test]
-    fn scene_chunks_fit_the_storage_buffers_per_stage() {
-        let storage = |b: &[Binding]| b.iter().filter(|b| b.access != Uniform).count();
-        let with = |per_stage| {
-            scene_chunks(&wgpu::Limits {
-                max_storage_buffers_per_shader_stage: per_stage,
-                ..wgpu::Limits::default()
-            })
-        };
-        assert_eq!(with(32), [6, 3, 3, 8, 2, 2]);
-        assert_eq!(with(16), [2, 1, 1, 2, 1, 1]);
-        assert_eq!(with(8), UNSPLIT, "WebGPU's default: no split");
-        assert_eq!(with(1000), [MAX_CHUNKS; SPLIT_ARRAY_COUNT]);
-        let most = |chunks| {
-            [&RENDER_OUTPUTS[..], &ACCUMULATE_OUTPUTS, &QUERY_OUTPUTS]
-                .iter()
-                .map(|outputs| storage(&entry_point_bindings(chunks, outputs)))
-                .max()
-                .unwrap()
-        };
-        // From 14, the most any entry point binds with one binding per array
-        // (every scene array, the textures included, and three of its own).
-        for per_stage in 14..64u32 {
-            let chunks = with(per_stage);
-            assert!(most(chunks) <= per_stage as usize, "{per_stage} per stage");
-            for i in 0..chunks.len() {
-                let mut more = chunks;
-                more[i] += 1;
-                assert!(
-                    chunks[i] == MAX_CHUNKS || most(more) > per_stage as usize,
-                    "{per_stage} per stage: {chunks:?} leaves room"
-                );
-            }
-        }
-    }
 }

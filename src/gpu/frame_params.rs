@@ -1,9 +1,10 @@
 //! The kernel's per-frame uniform ([`FrameParams`]) built from a camera
 //! frame, the render settings and the uploaded scene. The tile fields are
 //! filled in per dispatch by the renderer, `sample_index` per pass by the
-//! window.
+//! window. [`FrameParams::uniform_buffer`] makes the buffer it is written
+//! to.
 
-use super::{SceneArrays, SceneBuffers};
+use super::{GpuContext, SceneArrays, SceneBuffers};
 use crate::geometry::Aabb;
 use crate::kdtree::Traversal;
 use crate::layout::{
@@ -41,6 +42,19 @@ impl crate::choice::Choice for Accel {
 }
 
 impl FrameParams {
+    /// A uniform buffer for one `FrameParams`, written before each dispatch
+    /// (the renderer's and the window's; `label` names it).
+    pub fn uniform_buffer(ctx: &GpuContext, label: &str) -> crate::Result<wgpu::Buffer> {
+        ctx.checked("creating the frame parameters", |device| {
+            device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some(label),
+                size: std::mem::size_of::<FrameParams>() as u64,
+                usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+                mapped_at_creation: false,
+            })
+        })
+    }
+
     /// What `trace_rays` reads: the scene's counts and box, and the accel
     /// (no camera, image or tile).
     pub fn for_queries(scene: &SceneBuffers, accel: Accel) -> FrameParams {

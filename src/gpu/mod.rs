@@ -4,7 +4,9 @@
 //!   shared constants) and the WGSL it generates.
 //! - [`shaders`]: the WGSL sources assembled with that generated text.
 //! - [`context`]: the adapter and device.
-//! - [`scene_buffers`]: the scene's arrays in the GPU layout, uploaded.
+//! - `scene_arrays`: the scene's arrays in the GPU layout ([`SceneArrays`]).
+//! - [`scene_buffers`]: those arrays cut into chunks for their bindings,
+//!   checked against the adapter and uploaded ([`SceneBuffers`]).
 //! - `prepared_scene` and `gpu_scene`: a scene prepared on the CPU
 //!   ([`PreparedScene`]), and the same uploaded ([`GpuScene`]).
 //! - `frame_params`: the kernel's per-frame uniform.
@@ -23,6 +25,7 @@ pub mod kernel_variant;
 mod prepared_scene;
 mod ray_query;
 pub mod renderer;
+mod scene_arrays;
 pub mod scene_buffers;
 pub mod shaders;
 mod trace_pipelines;
@@ -37,5 +40,6 @@ pub use ray_query::{RayQueries, RayQuery};
 pub use renderer::{
     CostTotals, GpuTimeSource, RayTotals, RenderSummary, RenderedImage, Renderer, RowBand, TilePlan,
 };
-pub use scene_buffers::{SceneArrays, SceneBuffers};
+pub use scene_arrays::SceneArrays;
+pub use scene_buffers::SceneBuffers;
 pub use trace_pipelines::{TraceBindGroup, TracePipeline, TracePipelines};

@@ -54,25 +54,14 @@ impl RayQueries {
         accel: Accel,
         queries: &[RayQuery],
     ) -> Result<Vec<Option<Hit>>> {
-        self.trace_walk(ctx, scene, scene_ids, accel, Traversal::default(), queries)
-    }
-
-    /// [`RayQueries::trace`] with the k-d walk `traversal`.
-    pub fn trace_walk(
-        &self,
-        ctx: &GpuContext,
-        scene: &SceneBuffers,
-        scene_ids: &[u32],
-        accel: Accel,
-        traversal: Traversal,
-        queries: &[RayQuery],
-    ) -> Result<Vec<Option<Hit>>> {
-        let counted = self.trace_counted(ctx, scene, scene_ids, accel, traversal, queries)?;
+        let counted =
+            self.trace_counted(ctx, scene, scene_ids, accel, Traversal::default(), queries)?;
         Ok(counted.into_iter().map(|(hit, _)| hit).collect())
     }
 
-    /// [`RayQueries::trace_walk`], with the work the kernel's walk did for
-    /// each ray (counted as the CPU mirror counts it: `WalkCost`).
+    /// [`RayQueries::trace`] with the k-d walk `traversal`, and with the
+    /// work the kernel's walk did for each ray (counted as the CPU mirror
+    /// counts it: `WalkCost`).
     pub fn trace_counted(
         &self,
         ctx: &GpuContext,

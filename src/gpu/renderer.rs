@@ -188,14 +188,7 @@ impl Renderer {
     /// Each frame runs a pipeline specialised for its scene and walk.
     pub fn new(ctx: &GpuContext) -> Result<Self> {
         let pipelines = TracePipelines::new(ctx, bindings::RENDER_TILE)?;
-        let params_buffer = ctx.checked("creating the frame parameters", |device| {
-            device.create_buffer(&wgpu::BufferDescriptor {
-                label: Some("frame params"),
-                size: std::mem::size_of::<FrameParams>() as u64,
-                usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
-                mapped_at_creation: false,
-            })
-        })?;
+        let params_buffer = FrameParams::uniform_buffer(ctx, "frame params")?;
         Ok(Renderer {
             pipelines,
             general: false,

@@ -21,6 +21,7 @@
 //! shader cache, 126 ms with it filled); Mesa's shader cache keeps it.
 
 use std::collections::HashMap;
+use std::hash::Hash;
 use std::sync::{Arc, Mutex};
 
 use super::bindings::{self, Access, Binding, EntryPoint, SceneChunks};
@@ -78,6 +79,25 @@ fn storage_buffers(bindings: &[Binding]) -> usize {
         .count()
 }
 
+/// `map[key]`, made by `make` (under the map's lock) the first time it
+/// is asked for; the kernels, pipelines and bind groups are each made once.
+fn cached<K: Eq + Hash, V: Clone>(
+    map: &Mutex<HashMap<K, V>>,
+    what: &str,
+    key: K,
+    make: impl FnOnce() -> Result<V>,
+) -> Result<V> {
+    let mut map = map
+        .lock()
+        .map_err(|_| Error::Gpu(format!("the {what}' lock was poisoned")))?;
+    if let Some(made) = map.get(&key) {
+        return Ok(made.clone());
+    }
+    let made = make()?;
+    map.insert(key, made.clone());
+    Ok(made)
+}
+
 impl TracePipelines {
     /// The kernel's module on `ctx`'s device and the layout of `entry`'s
     /// bindings there (the scene split as the device's limits allow:
@@ -122,39 +142,33 @@ impl TracePipelines {
     fn kernel(&self, ctx: &GpuContext, omitted: &[Binding]) -> Result<Arc<Kernel>> {
         let mut key: Vec<u32> = omitted.iter().map(|b| b.index).collect();
         key.sort_unstable();
-        let mut kernels = self
-            .kernels
-            .lock()
-            .map_err(|_| Error::Gpu("the trace kernels' lock was poisoned".to_string()))?;
-        if let Some(k) = kernels.get(&key) {
-            return Ok(k.clone());
-        }
-        let bound: Vec<Binding> = bindings::entry_point_bindings(self.chunks, self.entry.outputs)
-            .into_iter()
-            .filter(|b| !omitted.contains(b))
-            .collect();
-        let needed = storage_buffers(&bound);
-        if needed > self.storage_limit {
-            return Err(Error::Gpu(format!(
-                "{} needs {needed} storage buffers for this scene and walk, but {} allows {} per shader stage (max_storage_buffers_per_shader_stage)",
-                self.entry.name, ctx.info.name, self.storage_limit
-            )));
-        }
-        let what = format!("creating the {} pipeline", self.entry.name);
-        let kernel = ctx.checked(&what, |device| {
-            let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-                label: Some(self.entry.name),
-                entries: &bindings::layout_entries(&bound, wgpu::ShaderStages::COMPUTE),
-            });
-            Kernel {
-                module: super::shaders::trace_module(device, self.chunks, omitted),
-                layout,
-                omitted: key.clone(),
+        cached(&self.kernels, "trace kernels", key.clone(), || {
+            let bound: Vec<Binding> =
+                bindings::entry_point_bindings(self.chunks, self.entry.outputs)
+                    .into_iter()
+                    .filter(|b| !omitted.contains(b))
+                    .collect();
+            let needed = storage_buffers(&bound);
+            if needed > self.storage_limit {
+                return Err(Error::Gpu(format!(
+                    "{} needs {needed} storage buffers for this scene and walk, but {} allows {} per shader stage (max_storage_buffers_per_shader_stage)",
+                    self.entry.name, ctx.info.name, self.storage_limit
+                )));
             }
-        })?;
-        let kernel = Arc::new(kernel);
-        kernels.insert(key, kernel.clone());
-        Ok(kernel)
+            let what = format!("creating the {} pipeline", self.entry.name);
+            let kernel = ctx.checked(&what, |device| {
+                let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+                    label: Some(self.entry.name),
+                    entries: &bindings::layout_entries(&bound, wgpu::ShaderStages::COMPUTE),
+                });
+                Kernel {
+                    module: super::shaders::trace_module(device, self.chunks, omitted),
+                    layout,
+                    omitted: key,
+                }
+            })?;
+            Ok(Arc::new(kernel))
+        })
     }
 
     /// The buffers of one dispatch: the frame's parameters, the scene's
@@ -212,20 +226,13 @@ impl TracePipelines {
 
     /// The pipeline for `variant`, made now if it is the first call for it.
     pub fn get(&self, ctx: &GpuContext, variant: KernelVariant) -> Result<TracePipeline> {
-        let mut made = self
-            .made
-            .lock()
-            .map_err(|_| Error::Gpu("the trace pipelines' lock was poisoned".to_string()))?;
-        if let Some(p) = made.get(&variant) {
-            return Ok(p.clone());
-        }
-        let kernel = self.kernel(ctx, &self.omitted(variant))?;
-        let pipeline = ctx.checked("creating a trace pipeline", |device| {
-            self.pipeline(device, &kernel, variant)
-        })?;
-        let p = TracePipeline { pipeline, kernel };
-        made.insert(variant, p.clone());
-        Ok(p)
+        cached(&self.made, "trace pipelines", variant, || {
+            let kernel = self.kernel(ctx, &self.omitted(variant))?;
+            let pipeline = ctx.checked("creating a trace pipeline", |device| {
+                self.pipeline(device, &kernel, variant)
+            })?;
+            Ok(TracePipeline { pipeline, kernel })
+        })
     }
 
     /// A compute pipeline for the entry point with `kernel`'s explicit
@@ -281,16 +288,9 @@ impl TraceBindGroup {
         pipeline: &TracePipeline,
     ) -> Result<wgpu::BindGroup> {
         let kernel = &pipeline.kernel;
-        let mut groups = self
-            .groups
-            .lock()
-            .map_err(|_| Error::Gpu("the bind groups' lock was poisoned".to_string()))?;
-        if let Some(g) = groups.get(&kernel.omitted) {
-            return Ok(g.clone());
-        }
-        let made = ctx.checked("binding the scene", |device| self.create(device, kernel))?;
-        groups.insert(kernel.omitted.clone(), made.clone());
-        Ok(made)
+        cached(&self.groups, "bind groups", kernel.omitted.clone(), || {
+            ctx.checked("binding the scene", |device| self.create(device, kernel))
+        })
     }
 
     /// A bind group of every buffer but those `kernel` leaves out.

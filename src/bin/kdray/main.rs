@@ -114,6 +114,7 @@ fn render(args: RenderArgs) -> Result<()> {
     let (figures, _) = kdray::render::render_streaming(
         &ctx,
         &uploaded,
+        None,
         flags.traversal,
         TilePlan::DEFAULT_MAX_TILE_PIXELS,
         stats || heatmap.is_some(),
@@ -169,12 +170,13 @@ fn render_all_frames(
             camera: path.camera_at(k),
             rows: (0, height),
         };
-        let (figures, _) = kdray::render::render_part_streaming(
+        let (figures, _) = kdray::render::render_streaming(
             &ctx,
             &uploaded,
-            &part,
+            Some(&part),
             flags.traversal,
             TilePlan::DEFAULT_MAX_TILE_PIXELS,
+            false,
             &mut |band| {
                 progress.inc(band.rows as u64);
                 png.write_rows(band.rgb)
