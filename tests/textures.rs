@@ -116,6 +116,25 @@ fn assert_walks_and_reference_agree(scene: &Scene) {
     );
 }
 
+/// The quad of a vertical gradient image shows it: the ratio to the plain
+/// quad is the texture, the quad's top shows the image's top row (green
+/// grows down the image) and its bottom the bottom row, and the walks and
+/// the reference agree.
+fn assert_the_quad_shows_its_texture_upright(scene: &Scene) {
+    assert_ratio_is_the_texture(scene, 1.0);
+    let image = render(scene, Accel::Kdtree);
+    let plain = render(&untextured(scene), Accel::Kdtree);
+    let green = |img: &RenderedImage, row| pixel(img, row, SIDE / 2)[1] as f32;
+    let ratio = |row| green(&image, row) / green(&plain, row);
+    assert!(
+        ratio(SIDE / 4) < ratio(3 * SIDE / 4),
+        "{} {}",
+        ratio(SIDE / 4),
+        ratio(3 * SIDE / 4)
+    );
+    assert_walks_and_reference_agree(scene);
+}
+
 fn max_difference(image: &RenderedImage, other: &[u8]) -> u8 {
     image
         .rgb
@@ -131,21 +150,7 @@ fn an_obj_quad_shows_its_map_kd_bilinear_with_v_up_from_the_bottom_row() {
     let _ = gpu();
     let dir = TempDir::new("gpu-tex-obj");
     let obj = write_obj_quad(&dir.path, &gradient(5, 4), 0.9, "", 1.0);
-    let scene = quad_scene(&dir, &obj);
-    assert_ratio_is_the_texture(&scene, 1.0);
-    // The convention itself: the quad's top shows the image's top row
-    // (green grows down the image), its bottom the bottom row.
-    let image = render(&scene, Accel::Kdtree);
-    let plain = render(&untextured(&scene), Accel::Kdtree);
-    let green = |img: &RenderedImage, row| pixel(img, row, SIDE / 2)[1] as f32;
-    let ratio = |row| green(&image, row) / green(&plain, row);
-    assert!(
-        ratio(SIDE / 4) < ratio(3 * SIDE / 4),
-        "{} {}",
-        ratio(SIDE / 4),
-        ratio(3 * SIDE / 4)
-    );
-    assert_walks_and_reference_agree(&scene);
+    assert_the_quad_shows_its_texture_upright(&quad_scene(&dir, &obj));
 }
 
 #[test]
@@ -160,19 +165,7 @@ fn a_gltf_quad_shows_its_texture_nearest_with_v_down_from_the_top_row() {
         [33071, 33071],
         1.0,
     );
-    let scene = quad_scene(&dir, &gltf);
-    assert_ratio_is_the_texture(&scene, 1.0);
-    let image = render(&scene, Accel::Kdtree);
-    let plain = render(&untextured(&scene), Accel::Kdtree);
-    let green = |img: &RenderedImage, row| pixel(img, row, SIDE / 2)[1] as f32;
-    let ratio = |row| green(&image, row) / green(&plain, row);
-    assert!(
-        ratio(SIDE / 4) < ratio(3 * SIDE / 4),
-        "{} {}",
-        ratio(SIDE / 4),
-        ratio(3 * SIDE / 4)
-    );
-    assert_walks_and_reference_agree(&scene);
+    assert_the_quad_shows_its_texture_upright(&quad_scene(&dir, &gltf));
 }
 
 #[test]

@@ -474,16 +474,10 @@ mod tests {
     #[test]
     fn packed_normals_decode_within_1e_4_rad() {
         use glam::DVec3;
-        let mut normals = vec![
-            DVec3::X,
-            -DVec3::X,
-            DVec3::Y,
-            -DVec3::Y,
-            DVec3::Z,
-            -DVec3::Z,
-            DVec3::new(1.0, 1.0, 0.0).normalize(),
-            DVec3::new(-1.0, 1.0, -1e-9).normalize(),
-        ];
+        // The six axis directions, and two on or just off the octahedron's edges.
+        let mut normals: Vec<DVec3> = DVec3::AXES.iter().flat_map(|&a| [a, -a]).collect();
+        normals.push(DVec3::new(1.0, 1.0, 0.0).normalize());
+        normals.push(DVec3::new(-1.0, 1.0, -1e-9).normalize());
         // A spiral over the sphere (Fibonacci points).
         let n = 2000;
         for i in 0..n {

@@ -27,22 +27,10 @@ pub fn mesh_index(i: usize) -> Option<u32> {
 }
 
 /// A material of a mesh file, already in kdray's terms (for MTL: Ka, Kd, Ks,
-/// Ns and no reflection; for glTF: the rule in docs/scene-format.md).
-#[derive(Debug, Clone, PartialEq)]
-pub struct MeshMaterial {
-    pub name: String,
-    pub ambient: DVec3,
-    pub diffuse: DVec3,
-    pub specular: DVec3,
-    pub shininess: f64,
-    pub reflection: f64,
-    /// As [`Material::transmission`](super::Material::transmission).
-    pub transmission: f64,
-    pub ior: f64,
-    /// Its base-colour texture, decoded (MTL `map_Kd`, glTF
-    /// `baseColorTexture`); shared by the materials that name one image.
-    pub texture: Option<Arc<super::Texture>>,
-}
+/// Ns and no reflection; for glTF: the rule in docs/scene-format.md), with
+/// its base-colour texture decoded (MTL `map_Kd`, glTF `baseColorTexture`)
+/// and shared by the materials that name one image.
+pub type MeshMaterial = super::Material<Arc<super::Texture>>;
 
 impl MeshMaterial {
     /// The material of an OBJ face that names none that kdray can find (no

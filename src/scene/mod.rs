@@ -119,9 +119,13 @@ pub struct Light {
     pub specular: DVec3,
 }
 
+/// A Phong material that may be glass. `T` is how it holds its texture:
+/// a scene's material, an index into [`Scene::textures`] (the default); a
+/// mesh file's ([`MeshMaterial`](mesh::MeshMaterial)), the decoded image.
 #[derive(Debug, Clone, PartialEq)]
-pub struct Material {
-    /// The name in the scene file, or `mesh-file.obj:mtl-name` for MTL materials.
+pub struct Material<T = u32> {
+    /// The name in the scene file, or `mesh-file.obj:mtl-name` for MTL
+    /// materials (in a mesh file's material, the file's name for it).
     pub name: String,
     pub ambient: DVec3,
     pub diffuse: DVec3,
@@ -135,9 +139,9 @@ pub struct Material {
     pub transmission: f64,
     /// Index of refraction, > 0, of the object's inside (outside is 1).
     pub ior: f64,
-    /// Index into [`Scene::textures`] of its base-colour texture, which
-    /// multiplies `diffuse` and `ambient` on its textured triangles.
-    pub texture: Option<u32>,
+    /// Its base-colour texture, which multiplies `diffuse` and `ambient` on
+    /// its textured triangles.
+    pub texture: Option<T>,
 }
 
 impl Material {

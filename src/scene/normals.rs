@@ -136,14 +136,8 @@ mod tests {
 
     #[test]
     fn an_octahedron_vertex_gets_its_axis() {
-        let vertices = [
-            DVec3::X,
-            -DVec3::X,
-            DVec3::Y,
-            -DVec3::Y,
-            DVec3::Z,
-            -DVec3::Z,
-        ];
+        // +x, -x, +y, -y, +z, -z.
+        let vertices: Vec<DVec3> = DVec3::AXES.iter().flat_map(|&a| [a, -a]).collect();
         // The eight faces, one per octant, wound outwards.
         let mut triangles = Vec::new();
         for sx in [0, 1] {

@@ -74,35 +74,26 @@ pub(super) trait Described {
     const WHAT: &'static str;
 }
 
-impl Described for RawScene {
-    const WHAT: &'static str = "a scene (a table of [camera], [render], [[lights]], [materials], [[spheres]], [[triangles]], [[meshes]], [animation])";
+/// Names each table for [`Described`], one line a table.
+macro_rules! described {
+    ($($table:ty => $what:literal,)*) => {
+        $(impl Described for $table {
+            const WHAT: &'static str = $what;
+        })*
+    };
 }
-impl Described for RawCamera {
-    const WHAT: &'static str = "a [camera] table";
-}
-impl Described for RawRender {
-    const WHAT: &'static str = "a [render] table";
-}
-impl Described for RawLight {
-    const WHAT: &'static str = "a [[lights]] table";
-}
-impl Described for RawMaterial {
-    const WHAT: &'static str = "a material table";
-}
-impl Described for RawSphere {
-    const WHAT: &'static str = "a [[spheres]] table";
-}
-impl Described for RawTriangle {
-    const WHAT: &'static str = "a [[triangles]] table";
-}
-impl Described for RawMesh {
-    const WHAT: &'static str = "a [[meshes]] table";
-}
-impl Described for RawAnimation {
-    const WHAT: &'static str = "an [animation] table";
-}
-impl Described for RawCameraKey {
-    const WHAT: &'static str = "an [[animation.keys]] table";
+
+described! {
+    RawScene => "a scene (a table of [camera], [render], [[lights]], [materials], [[spheres]], [[triangles]], [[meshes]], [animation])",
+    RawCamera => "a [camera] table",
+    RawRender => "a [render] table",
+    RawLight => "a [[lights]] table",
+    RawMaterial => "a material table",
+    RawSphere => "a [[spheres]] table",
+    RawTriangle => "a [[triangles]] table",
+    RawMesh => "a [[meshes]] table",
+    RawAnimation => "an [animation] table",
+    RawCameraKey => "an [[animation.keys]] table",
 }
 
 impl<T: Serialize> Serialize for TableOf<T> {

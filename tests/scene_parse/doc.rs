@@ -65,9 +65,8 @@ impl Table {
 }
 
 impl Doc {
-    /// Sets the key at `path` (`camera.vfov`, `spheres[1].radius`,
-    /// `materials.red.diffuse`) to `value`, replacing whatever was there.
-    pub(crate) fn set(mut self, path: &str, value: &str) -> Self {
+    /// The table that holds the key at `path`, and the key's name in it.
+    fn parent_of<'p>(&mut self, path: &'p str) -> (&mut Table, &'p str) {
         let (parents, last) = match path.rsplit_once('.') {
             Some((parents, last)) => (Some(parents), last),
             None => (None, path),
@@ -76,6 +75,13 @@ impl Doc {
         for segment in parents.into_iter().flat_map(|p| p.split('.')) {
             table = table.child(segment);
         }
+        (table, last)
+    }
+
+    /// Sets the key at `path` (`camera.vfov`, `spheres[1].radius`,
+    /// `materials.red.diffuse`) to `value`, replacing whatever was there.
+    pub(crate) fn set(mut self, path: &str, value: &str) -> Self {
+        let (table, last) = self.parent_of(path);
         let node = Node::Value(value.to_string());
         match table.get_mut(last) {
             Some(old) => *old = node,
@@ -86,14 +92,7 @@ impl Doc {
 
     /// Removes the key at `path`.
     pub(crate) fn remove(mut self, path: &str) -> Self {
-        let (parents, last) = match path.rsplit_once('.') {
-            Some((parents, last)) => (Some(parents), last),
-            None => (None, path),
-        };
-        let mut table = &mut self.0;
-        for segment in parents.into_iter().flat_map(|p| p.split('.')) {
-            table = table.child(segment);
-        }
+        let (table, last) = self.parent_of(path);
         table.0.retain(|(k, _)| k != last);
         self
     }

@@ -557,48 +557,25 @@ fn shipped_torus_model() {
 
 #[test]
 fn mtl_texture_statements_other_than_map_kd_are_ignored_with_one_warning_per_file() {
-    let dir = temp_dir("other-maps");
-    let obj = dir.join("m.obj");
-    let mtl = dir.join("m.mtl");
-    std::fs::write(
-        &mtl,
+    let (mesh, obj, mtl) = a_triangle_of_material_a(
+        "other-maps",
         "newmtl a\nKd 0.5 0.25 1\nmap_Ka wood.png\nmap_Bump -bm 1 n.png\nbump n.png\n",
-    )
-    .unwrap();
-    std::fs::write(
-        &obj,
-        "mtllib m.mtl\nusemtl a\nv 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n",
-    )
-    .unwrap();
-    let mesh = load_obj(&obj, true).unwrap();
+    );
     assert_warning(
         &mesh,
         &mtl,
         3,
         &["map_Ka", "2 more", "no textures but map_Kd"],
     );
-    assert_eq!(mesh.materials[0].diffuse, d(0.5, 0.25, 1.0));
-    assert!(mesh.materials[0].texture.is_none());
-    // Without materials the MTL file is not read, so nothing to warn about.
-    assert!(load_obj(&obj, false).unwrap().warnings.is_empty());
+    assert_flat_kd_and_no_warnings_without_materials(&mesh, &obj);
 }
 
 #[test]
 fn a_missing_map_kd_image_is_a_warning_naming_it_and_the_flat_kd() {
-    let dir = temp_dir("maps");
-    let obj = dir.join("m.obj");
-    let mtl = dir.join("m.mtl");
-    std::fs::write(
-        &mtl,
+    let (mesh, obj, mtl) = a_triangle_of_material_a(
+        "maps",
         "newmtl a\nKd 0.5 0.25 1\nmap_Kd wood.png\nmap_Bump -bm 1 n.png\nbump n.png\n",
-    )
-    .unwrap();
-    std::fs::write(
-        &obj,
-        "mtllib m.mtl\nusemtl a\nv 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n",
-    )
-    .unwrap();
-    let mesh = load_obj(&obj, true).unwrap();
+    );
     assert_eq!(mesh.warnings.len(), 2, "{:?}", mesh.warnings);
     let missing = &mesh.warnings[0];
     assert_eq!(
@@ -611,8 +588,25 @@ fn a_missing_map_kd_image_is_a_warning_naming_it_and_the_flat_kd() {
     let others = &mesh.warnings[1];
     assert_eq!(others.line, Some(4), "{others}");
     assert!(others.message.contains("map_Bump (and 1 more"), "{others}");
+    assert_flat_kd_and_no_warnings_without_materials(&mesh, &obj);
+}
+
+/// A fresh folder holding `m.mtl` with `mtl_text` and `m.obj`, one triangle
+/// of material `a` from it: the mesh read with materials, and the OBJ and
+/// MTL files' paths.
+fn a_triangle_of_material_a(tag: &str, mtl_text: &str) -> (Mesh, PathBuf, PathBuf) {
+    let dir = temp_dir(tag);
+    let (obj, mtl) = (dir.join("m.obj"), dir.join("m.mtl"));
+    std::fs::write(&mtl, mtl_text).unwrap();
+    let obj_text = "mtllib m.mtl\nusemtl a\nv 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n";
+    std::fs::write(&obj, obj_text).unwrap();
+    (load_obj(&obj, true).unwrap(), obj, mtl)
+}
+
+/// Material `a` of `mesh` keeps its flat Kd (0.5 0.25 1) and no texture;
+/// read without materials, `obj` has no warning (its MTL file is not read).
+fn assert_flat_kd_and_no_warnings_without_materials(mesh: &Mesh, obj: &Path) {
     assert_eq!(mesh.materials[0].diffuse, d(0.5, 0.25, 1.0));
     assert!(mesh.materials[0].texture.is_none());
-    // Without materials the MTL file is not read, so nothing to warn about.
-    assert!(load_obj(&obj, false).unwrap().warnings.is_empty());
+    assert!(load_obj(obj, false).unwrap().warnings.is_empty());
 }

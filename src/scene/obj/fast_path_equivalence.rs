@@ -6,7 +6,7 @@ use super::chunk::number;
 use super::fast::{parse, split_at_lines, Outcome};
 use super::material_replay::MaterialFiles;
 use super::reference::parse_reference;
-use super::{parse_obj, parse_obj_counting};
+use super::{parse_obj, parse_obj_bytes};
 use crate::scene::mesh::Mesh;
 use crate::scene::SceneError;
 use proptest::prelude::*;
@@ -334,7 +334,7 @@ proptest! {
 
     /// With materials too: the same mesh (materials in order of first
     /// use, each face's index), error, and MTL files read, in order, on
-    /// 1, 2, 3 and 5 chunks and through `parse_obj_counting`.
+    /// 1, 2, 3 and 5 chunks and through `parse_obj_bytes`.
     #[test]
     fn fast_path_gives_the_reference_mesh_with_materials(
         text in obj_text_with_materials()
@@ -360,7 +360,7 @@ proptest! {
                 }
             }
         }
-        let chosen = with_materials(&text, |t, p, r, f| parse_obj_counting(t, p, true, r, f));
+        let chosen = with_materials(&text, |t, p, r, f| parse_obj_bytes(t.as_bytes(), p, true, r, f));
         prop_assert_eq!(chosen, (want, want_read));
     }
 }

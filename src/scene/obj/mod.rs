@@ -82,18 +82,7 @@ pub fn load_obj_observed(
 /// Parses OBJ text already read (for tests and fuzzing); `path` is only used for error messages and to resolve mtllib paths relative to its folder.
 /// Unlike [`load_obj`], a text without faces is an empty mesh.
 pub fn parse_obj(text: &str, path: &Path, with_materials: bool) -> Result<Mesh, SceneError> {
-    parse_obj_counting(text, path, with_materials, &mut |_| {}, &mut 0)
-}
-
-/// The parser of a text; `faces` counts the `f` statements.
-pub(super) fn parse_obj_counting(
-    text: &str,
-    path: &Path,
-    with_materials: bool,
-    on_read: &mut dyn FnMut(&Path),
-    faces: &mut usize,
-) -> Result<Mesh, SceneError> {
-    parse_obj_bytes(text.as_bytes(), path, with_materials, on_read, faces)
+    parse_obj_bytes(text.as_bytes(), path, with_materials, &mut |_| {}, &mut 0)
 }
 
 /// The parser of a file's bytes; `faces` counts the `f` statements. The

@@ -14,7 +14,7 @@ use std::sync::Arc;
 
 use glam::DVec3;
 
-use super::tokens::{parse_number, rest_of_line, strip_comment};
+use super::tokens::{first_three_numbers, parse_number, rest_of_line, statement_error, statements};
 use crate::scene::mesh::MeshMaterial;
 use crate::scene::{SceneError, Texture, TextureFilter, TextureWrap, Warning};
 
@@ -41,17 +41,8 @@ pub(super) fn parse_mtl(
         }
     }
 
-    let text = text.strip_prefix('\u{feff}').unwrap_or(text);
-    for (number, raw) in text.split('\n').enumerate() {
-        let line_no = number + 1;
-        let line = strip_comment(raw);
-        let mut tokens = line.split_ascii_whitespace();
-        let Some(keyword) = tokens.next() else {
-            continue;
-        };
-        let err = |message: String| {
-            SceneError::new(path, Some(line_no), Some(keyword.to_string()), message)
-        };
+    for (line_no, line, keyword, tokens) in statements(text) {
+        let err = statement_error(path, line_no, keyword);
 
         if keyword.eq_ignore_ascii_case("newmtl") {
             let name = rest_of_line(line, keyword);
@@ -144,15 +135,7 @@ pub(super) fn parse_mtl(
             continue;
         }
 
-        let mut values = [0.0f64; 3];
-        let mut count = 0usize;
-        for token in tokens {
-            let value = parse_number(token).map_err(err)?;
-            if count < 3 {
-                values[count] = value;
-            }
-            count += 1;
-        }
+        let (values, count) = first_three_numbers(tokens).map_err(err)?;
 
         if is_shininess {
             if count != 1 {

@@ -8,7 +8,7 @@ use std::path::{Path, PathBuf};
 use glam::{DVec2, DVec3};
 
 use super::mtl::parse_mtl;
-use super::tokens::{parse_number, rest_of_line, strip_comment};
+use super::tokens::{first_three_numbers, parse_number, rest_of_line, statement_error, statements};
 use crate::scene::mesh::{mesh_index, Mesh, MeshMaterial, MeshTriangle, NO_INDEX};
 use crate::scene::{SceneError, Warning};
 
@@ -35,31 +35,14 @@ pub(in crate::scene) fn parse_reference(
     let mut current: Option<(&str, usize)> = None;
     let mut current_index: Option<usize> = None;
 
-    let text = text.strip_prefix('\u{feff}').unwrap_or(text);
-    for (number, raw) in text.split('\n').enumerate() {
-        let line_no = number + 1;
-        let line = strip_comment(raw);
-        let mut tokens = line.split_ascii_whitespace();
-        let Some(keyword) = tokens.next() else {
-            continue;
-        };
-        let err = |message: String| {
-            SceneError::new(path, Some(line_no), Some(keyword.to_string()), message)
-        };
+    for (line_no, line, keyword, tokens) in statements(text) {
+        let err = statement_error(path, line_no, keyword);
 
         match keyword {
             "v" => {
-                let mut xyz = [0.0f64; 3];
-                let mut count = 0usize;
-                for token in tokens {
-                    // x y z [w]; anything past x y z (w, or the vertex colours
-                    // some exporters write) must be numbers too but is unused.
-                    let value = parse_number(token).map_err(err)?;
-                    if count < 3 {
-                        xyz[count] = value;
-                    }
-                    count += 1;
-                }
+                // x y z [w]; anything past x y z (w, or the vertex colours
+                // some exporters write) must be numbers too but is unused.
+                let (xyz, count) = first_three_numbers(tokens).map_err(err)?;
                 if count < 3 {
                     return Err(err(format!(
                         "expected 3 coordinates (x y z [w]), found {count}"
@@ -68,15 +51,7 @@ pub(in crate::scene) fn parse_reference(
                 mesh.positions.push(DVec3::from_array(xyz));
             }
             "vn" => {
-                let mut xyz = [0.0f64; 3];
-                let mut count = 0usize;
-                for token in tokens {
-                    let value = parse_number(token).map_err(err)?;
-                    if count < 3 {
-                        xyz[count] = value;
-                    }
-                    count += 1;
-                }
+                let (xyz, count) = first_three_numbers(tokens).map_err(err)?;
                 if count != 3 {
                     return Err(err(format!("expected 3 numbers (x y z), found {count}")));
                 }
