@@ -83,12 +83,14 @@ fn shadow_transmittance(ray: Ray, length: f32) -> f32 {
 }
 
 // A ray a sample still has to follow: where it starts, its share of the
-// sample, the hits its path has had, and whether it is inside glass.
+// sample, the hits its path has had, the path's length from the eye to its
+// origin (the texture's ray cone), and whether it is inside glass.
 struct PathRay {
     origin: vec3<f32>,
     weight: f32,
     dir: vec3<f32>,
     hits: u32,
+    path_length: f32,
     inside: bool,
 }
 
@@ -101,7 +103,7 @@ struct PathRay {
 fn trace_path_glass(primary: Ray) -> vec3<f32> {
     var pending: array<PathRay, GLASS_STACK_DEPTH>;
     var pending_count = 0u;
-    var path = PathRay(primary.origin, 1.0, primary.dir, 0u, false);
+    var path = PathRay(primary.origin, 1.0, primary.dir, 0u, 0.0, false);
     var color = vec3<f32>(0.0);
     ray_counts.x += 1u;
     loop {
@@ -122,7 +124,8 @@ fn trace_path_glass(primary: Ray) -> vec3<f32> {
                 let surface = surface_at(hit.object, p, ray.dir);
                 let offset = spawn_offset(p, object_magnitude(hit.object));
                 let origin = surface.spawn_point + offset * surface.geometric;
-                let m = material_at(hit.object, p);
+                let path_length = path.path_length + hit.t;
+                let m = material_at(hit.object, p, ray.dir, path_length);
                 let local_share = (1.0 - m.reflection) * (1.0 - m.transmission);
                 // A surface with no local share and some transmission is
                 // not shaded (no shadow rays); the seed mode's rule ends a
@@ -158,6 +161,7 @@ fn trace_path_glass(primary: Ray) -> vec3<f32> {
                         path.weight * reflect_share,
                         reflection_dir(ray.dir, surface),
                         path.hits,
+                        path_length,
                         path.inside
                     );
                     if (transmit_share > 0.0) {
@@ -173,6 +177,7 @@ fn trace_path_glass(primary: Ray) -> vec3<f32> {
                             path.weight * transmit_share,
                             refracted,
                             path.hits,
+                            path_length,
                             !path.inside
                         );
                     } else {

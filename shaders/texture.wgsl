@@ -1,11 +1,16 @@
-// Base-colour textures (src/scene/texture.rs states the rule; its `sample`
-// is the CPU mirror): at a textured triangle's hit the texture coordinates
-// are interpolated with the hit's barycentrics, the texture is sampled
-// there (point or bilinear at its one level, texel centres at
-// (i + 0.5) / size, each axis wrapped by its mode) and the texel multiplies
-// the material's diffuse and ambient colours. The `textures` buffer's
-// layout: src/layout/texture_words.rs, TextureWords. Without TEXTURES the material is
-// read as before.
+// Base-colour textures (src/scene/texture.rs states the rule; its
+// `sample_lod` is the CPU mirror, and src/scene/texture/ray_cone.rs mirrors
+// the level of detail): at a textured triangle's hit the texture
+// coordinates are interpolated with the hit's barycentrics; the level of
+// detail lambda comes from the ray cone's width there (the pixel's spread
+// angle times the path's length from the eye); lambda <= 0 reads the base
+// level with the magnification filter, above 0 the minification filter
+// reads the base level, the nearest mip level or the two nearest blended
+// (point or bilinear within a level, texel centres at (i + 0.5) / the
+// level's size, each axis wrapped by its mode); the texel multiplies the
+// material's diffuse and ambient colours. The `textures` buffer's layout:
+// src/layout/texture_words.rs, TextureWords. Without TEXTURES the material
+// is read as before.
 
 // The record of texture coordinates of triangle i (the third vertex's
 // padding), or UNTEXTURED.
@@ -30,12 +35,31 @@ fn wrap_texel(i: i32, n: i32, mode: u32) -> i32 {
     return ((i % n) + n) % n;
 }
 
-// Texel (x, y) of the texture whose header starts at word `header`.
-fn texel(header: u32, x: i32, y: i32) -> vec3<f32> {
-    let width = textures[header + 1u];
-    let xi = wrap_texel(x, i32(width), textures[header + 4u]);
-    let yi = wrap_texel(y, i32(textures[header + 2u]), textures[header + 5u]);
-    return unpack4x8unorm(textures[textures[header] + u32(yi) * width + u32(xi)]).xyz;
+// One mip level of a texture: where its texels start, its size, and the
+// texture's wrap modes along u and v.
+struct TextureLevel {
+    first: u32,
+    width: u32,
+    height: u32,
+    wrap: vec2<u32>,
+}
+
+// Level k of the texture whose header starts at word `header`.
+fn texture_level(header: u32, k: u32) -> TextureLevel {
+    let entry = textures[header] + TEXTURE_LEVEL_WORDS * k;
+    return TextureLevel(
+        textures[entry],
+        textures[entry + 1u],
+        textures[entry + 2u],
+        vec2<u32>(textures[header + 5u], textures[header + 6u])
+    );
+}
+
+// Texel (x, y) of `level`, wrapped into it.
+fn texel(level: TextureLevel, x: i32, y: i32) -> vec3<f32> {
+    let xi = wrap_texel(x, i32(level.width), level.wrap.x);
+    let yi = wrap_texel(y, i32(level.height), level.wrap.y);
+    return unpack4x8unorm(textures[level.first + u32(yi) * level.width + u32(xi)]).xyz;
 }
 
 // a * (1 - t) + b * t, spelled out as the CPU mirror computes it.
@@ -43,32 +67,88 @@ fn lerp3(a: vec3<f32>, b: vec3<f32>, t: f32) -> vec3<f32> {
     return a * (1.0 - t) + b * t;
 }
 
-// Texture `t` at texture coordinates uv (v down from the image's top row).
-fn sample_texture(t: u32, uv: vec2<f32>) -> vec3<f32> {
-    let header = 1u + TEXTURE_HEADER_WORDS * t;
-    let size = vec2<f32>(f32(textures[header + 1u]), f32(textures[header + 2u]));
+// Level k of the texture at `header`, at uv, point (TEXTURE_NEAREST) or
+// bilinear.
+fn sample_level(header: u32, k: u32, filter_mode: u32, uv: vec2<f32>) -> vec3<f32> {
+    let level = texture_level(header, k);
+    let size = vec2<f32>(f32(level.width), f32(level.height));
     let limit = vec2<f32>(TEXEL_COORDINATE_LIMIT);
-    if (textures[header + 3u] == TEXTURE_NEAREST) {
+    if (filter_mode == TEXTURE_NEAREST) {
         let p = clamp(floor(uv * size), -limit, limit);
-        return texel(header, i32(p.x), i32(p.y));
+        return texel(level, i32(p.x), i32(p.y));
     }
     let p = clamp(uv * size - 0.5, -limit, limit);
     let p0 = floor(p);
     let f = p - p0;
     let x = i32(p0.x);
     let y = i32(p0.y);
-    let top = lerp3(texel(header, x, y), texel(header, x + 1, y), f.x);
-    let bottom = lerp3(texel(header, x, y + 1), texel(header, x + 1, y + 1), f.x);
+    let top = lerp3(texel(level, x, y), texel(level, x + 1, y), f.x);
+    let bottom = lerp3(texel(level, x, y + 1), texel(level, x + 1, y + 1), f.x);
     return lerp3(top, bottom, f.y);
+}
+
+// Texture `t` at texture coordinates uv (v down from the image's top row)
+// and level of detail lambda.
+fn sample_texture(t: u32, uv: vec2<f32>, lambda: f32) -> vec3<f32> {
+    let header = 1u + TEXTURE_HEADER_WORDS * t;
+    if (lambda <= 0.0) {
+        return sample_level(header, 0u, textures[header + 2u], uv);
+    }
+    let min_filter = textures[header + 3u];
+    let mip = textures[header + 4u];
+    if (mip == TEXTURE_MIP_NONE) {
+        return sample_level(header, 0u, min_filter, uv);
+    }
+    let lod = min(lambda, f32(textures[header + 1u] - 1u));
+    if (mip == TEXTURE_MIP_NEAREST) {
+        return sample_level(header, u32(ceil(lod - 0.5)), min_filter, uv);
+    }
+    let l0 = floor(lod);
+    let f = lod - l0;
+    let a = sample_level(header, u32(l0), min_filter, uv);
+    if (f == 0.0) {
+        return a;
+    }
+    return lerp3(a, sample_level(header, u32(l0) + 1u, min_filter, uv), f);
+}
+
+// The spread angle of one pixel's ray cone, in radians.
+fn pixel_spread_angle() -> f32 {
+    return atan(2.0 * params.tan_half_vfov / f32(params.height));
+}
+
+// lambda = Delta + log2(cone_width) - log2(|n . d|), Delta = 0.5 log2(texel
+// area / world area) of triangle `tri` with texture coordinates uv0..uv2 on
+// a texture of `size` texels; 0 where a factor is not positive.
+fn texture_lod(
+    tri: Triangle,
+    uv0: vec2<f32>,
+    uv1: vec2<f32>,
+    uv2: vec2<f32>,
+    size: vec2<f32>,
+    dir: vec3<f32>,
+    cone_width: f32
+) -> f32 {
+    let n = cross(tri.v1 - tri.v0, tri.v2 - tri.v0);
+    let world_area = length(n);
+    let t1 = uv1 - uv0;
+    let t2 = uv2 - uv0;
+    let texel_area = abs(t1.x * t2.y - t2.x * t1.y) * size.x * size.y;
+    let cosine = abs(dot(n, dir)) / world_area;
+    if (!(world_area > 0.0 && texel_area > 0.0 && cosine > 0.0 && cone_width > 0.0)) {
+        return 0.0;
+    }
+    return 0.5 * log2(texel_area / world_area) + log2(cone_width) - log2(cosine);
 }
 
 fn record_uv(word: u32) -> vec2<f32> {
     return vec2<f32>(bitcast<f32>(textures[word]), bitcast<f32>(textures[word + 1u]));
 }
 
-// The material of object `id` at hit point p: its diffuse and ambient
-// colours multiplied by its texture where the object is a textured triangle.
-fn material_at(id: u32, p: vec3<f32>) -> Material {
+// The material of object `id` at hit point p, reached along unit `dir` by
+// a path `path_length` long from the eye: its diffuse and ambient colours
+// multiplied by its texture where the object is a textured triangle.
+fn material_at(id: u32, p: vec3<f32>, dir: vec3<f32>, path_length: f32) -> Material {
     var m = materials[objects[id].x];
     if (!TEXTURES || m.texture == NO_TEXTURE || is_sphere(id)) {
         return m;
@@ -78,10 +158,18 @@ fn material_at(id: u32, p: vec3<f32>) -> Material {
     if (record == UNTEXTURED) {
         return m;
     }
-    let b = barycentrics(triangle(i), p);
+    let tri = triangle(i);
+    let b = barycentrics(tri, p);
     let r = textures[0] + TEXTURE_RECORD_WORDS * record;
-    let uv = b.x * record_uv(r) + b.y * record_uv(r + 2u) + b.z * record_uv(r + 4u);
-    let c = sample_texture(m.texture, uv);
+    let uv0 = record_uv(r);
+    let uv1 = record_uv(r + 2u);
+    let uv2 = record_uv(r + 4u);
+    let uv = b.x * uv0 + b.y * uv1 + b.z * uv2;
+    let base = texture_level(1u + TEXTURE_HEADER_WORDS * m.texture, 0u);
+    let size = vec2<f32>(f32(base.width), f32(base.height));
+    let cone_width = pixel_spread_angle() * path_length;
+    let lambda = texture_lod(tri, uv0, uv1, uv2, size, dir, cone_width);
+    let c = sample_texture(m.texture, uv, lambda);
     m.diffuse *= c;
     m.ambient *= c;
     return m;

@@ -24,6 +24,7 @@ fn trace_path(primary: Ray) -> vec3<f32> {
     var color = vec3<f32>(0.0);
     var weight = 1.0;
     var hits = 0u;
+    var path_length = 0.0; // from the eye to the hit, for the texture's ray cone
     ray_counts.x += 1u;
     while (weight >= params.min_intensity && hits < params.max_depth) {
         loop_iterations += 1u;
@@ -40,7 +41,8 @@ fn trace_path(primary: Ray) -> vec3<f32> {
         let surface = surface_at(hit.object, p, ray.dir);
         let offset = spawn_offset(p, object_magnitude(hit.object));
         let origin = surface.spawn_point + offset * surface.geometric;
-        let m = material_at(hit.object, p);
+        path_length += hit.t;
+        let m = material_at(hit.object, p, ray.dir, path_length);
         let s = shade(m, p, surface.shading, -ray.dir, origin);
         if (params.shadow_mode == SHADOW_SEED && !s.any_light_visible) {
             break;

@@ -1,7 +1,8 @@
 //! A CPU reference of shaders/trace.wgsl + shade.wgsl + glass.wgsl +
 //! texture.wgsl: the same path loop (with glass: refraction, Fresnel, the
 //! stack of pending rays, shadow rays through glass; with textures: the
-//! texel at the hit multiplying diffuse and ambient), shading and f32 arithmetic over the CPU
+//! texture at the hit, its mip level chosen by the ray cone of the path's
+//! length from the eye, multiplying diffuse and ambient), shading and f32 arithmetic over the CPU
 //! mirror of the traversal, so GPU images can be checked pixel by pixel and
 //! a single path can be inspected. Slow (one thread); for tests and
 //! debugging only.
@@ -12,6 +13,7 @@ use crate::geometry::{spawn_offset, Primitives, Ray, T_INFINITY};
 use crate::kdtree::traverse::{any_hit, any_hit_brute, closest_hit, closest_hit_brute, Hit};
 use crate::kdtree::KdTree;
 use crate::layout::{GpuTriangleNormals, GLASS_STACK_DEPTH, SHADOW_CROSSINGS};
+use crate::scene::texture::{pixel_spread_angle, texture_lod};
 use crate::scene::{Scene, ShadowMode};
 
 /// Where a path meets a surface, seen from the incoming ray: mirror of
@@ -145,6 +147,8 @@ pub struct PathRay {
     pub weight: f32,
     /// Hits on its path before this ray.
     pub hits: u32,
+    /// The path's length from the eye to its origin (the texture's ray cone).
+    pub path_length: f32,
     /// Whether it runs inside glass.
     pub inside: bool,
 }
@@ -170,6 +174,8 @@ pub struct ReferenceTracer<'a> {
     up: Vec3,
     tan_half_vfov: f32,
     aspect: f32,
+    /// The spread angle of a pixel's ray cone.
+    pixel_spread: f32,
 }
 
 impl<'a> ReferenceTracer<'a> {
@@ -198,6 +204,7 @@ impl<'a> ReferenceTracer<'a> {
             up: basis.up.as_vec3(),
             tan_half_vfov: basis.tan_half_vfov as f32,
             aspect: (scene.render.width as f64 / scene.render.height as f64) as f32,
+            pixel_spread: pixel_spread_angle(basis.tan_half_vfov as f32, scene.render.height),
         }
     }
 
@@ -303,9 +310,16 @@ impl<'a> ReferenceTracer<'a> {
     }
 
     /// Mirror of `material_at` in shaders/texture.wgsl: the material of
-    /// object `id` at hit point `p`, its diffuse and ambient colours
+    /// object `id` at hit point `p`, reached along unit `dir` by a path
+    /// `path_length` long from the eye, its diffuse and ambient colours
     /// multiplied (in f32) by its texture where `id` is a textured triangle.
-    pub fn material_at(&self, id: u32, p: Vec3) -> std::borrow::Cow<'_, crate::scene::Material> {
+    pub fn material_at(
+        &self,
+        id: u32,
+        p: Vec3,
+        dir: Vec3,
+        path_length: f32,
+    ) -> std::borrow::Cow<'_, crate::scene::Material> {
         let m = self.material(id);
         let Some(t) = (id as usize).checked_sub(self.scene.spheres.len()) else {
             return std::borrow::Cow::Borrowed(m);
@@ -317,9 +331,14 @@ impl<'a> ReferenceTracer<'a> {
         ) else {
             return std::borrow::Cow::Borrowed(m);
         };
-        let b = barycentrics(&self.prims.triangles[t].v, p);
-        let [uv0, uv1, uv2] = uvs.map(|uv| uv.as_vec2());
-        let c = texture.sample(b.x * uv0 + b.y * uv1 + b.z * uv2);
+        let v = &self.prims.triangles[t].v;
+        let b = barycentrics(v, p);
+        let uvs = uvs.map(|uv| uv.as_vec2());
+        let uv = b.x * uvs[0] + b.y * uvs[1] + b.z * uvs[2];
+        let size = glam::Vec2::new(texture.width as f32, texture.height as f32);
+        let cone_width = self.pixel_spread * path_length;
+        let lambda = texture_lod(v, uvs, size, dir, cone_width);
+        let c = texture.sample_lod(uv, lambda);
         let mut textured = m.clone();
         textured.diffuse = (m.diffuse.as_vec3() * c).as_dvec3();
         textured.ambient = (m.ambient.as_vec3() * c).as_dvec3();
@@ -338,6 +357,7 @@ impl<'a> ReferenceTracer<'a> {
         let mut ray = primary;
         let mut color = Vec3::ZERO;
         let mut weight = 1.0f32;
+        let mut path_length = 0.0f32;
         let mut hits = Vec::new();
         while weight >= r.min_intensity as f32 && (hits.len() as u32) < r.max_depth {
             let Some(hit) = self.closest(&ray) else {
@@ -349,7 +369,8 @@ impl<'a> ReferenceTracer<'a> {
             let surface = self.surface(hit.object, p, ray.dir);
             let offset = spawn_offset(p, self.prims.magnitude(hit.object));
             let origin = surface.spawn_point + offset * surface.geometric;
-            let material = self.material_at(hit.object, p);
+            path_length += hit.t;
+            let material = self.material_at(hit.object, p, ray.dir, path_length);
             let m = &*material;
             let (local, any_visible) = self.shade(m, p, surface.shading, -ray.dir, origin);
             if self.scene.render.shadow_mode == ShadowMode::Seed && !any_visible {
@@ -392,6 +413,7 @@ impl<'a> ReferenceTracer<'a> {
             ray: primary,
             weight: 1.0,
             hits: 0,
+            path_length: 0.0,
             inside: false,
         };
         let mut color = Vec3::ZERO;
@@ -431,7 +453,8 @@ impl<'a> ReferenceTracer<'a> {
         let surface = self.surface(hit.object, p, ray.dir);
         let offset = spawn_offset(p, self.prims.magnitude(hit.object));
         let origin = surface.spawn_point + offset * surface.geometric;
-        let material = self.material_at(hit.object, p);
+        let path_length = path.path_length + hit.t;
+        let material = self.material_at(hit.object, p, ray.dir, path_length);
         let m = &*material;
         let (reflection, transmission) = (m.reflection as f32, m.transmission as f32);
         let local_share = (1.0 - reflection) * (1.0 - transmission);
@@ -462,6 +485,7 @@ impl<'a> ReferenceTracer<'a> {
             },
             weight: path.weight * reflect_share,
             hits: path.hits,
+            path_length,
             inside: path.inside,
         };
         if transmit_share > 0.0 {
@@ -478,6 +502,7 @@ impl<'a> ReferenceTracer<'a> {
                 },
                 weight: path.weight * transmit_share,
                 hits: path.hits,
+                path_length,
                 inside: !path.inside,
             };
         } else {

@@ -714,13 +714,16 @@ fn all_frames_writes_each_frame_as_render_frame_k_does() {
 }
 
 /// `--stats` names the textures' share of the scene's buffers: none for
-/// the seed; for scenes/textured.toml its one 64 x 64 image (a word a
-/// texel), the header word and one 6-word texture header, and the two
+/// the seed; for scenes/textured.toml its one 64 x 64 image and its mip
+/// levels down to 1 x 1 (a word a texel), the header word and one 7-word
+/// texture header, its level table (7 levels of 3 words), and the two
 /// floor triangles' texture coordinates (6 words each).
 #[test]
 fn stats_count_the_texture_bytes() {
     let dir = TempDir::new("texture-bytes");
-    for (scene, words) in [("seed.toml", 0), ("textured.toml", 64 * 64 + 1 + 6 + 2 * 6)] {
+    let texels = 64 * 64 + 32 * 32 + 16 * 16 + 8 * 8 + 4 * 4 + 2 * 2 + 1;
+    let textured_words = texels + 1 + 7 + 7 * 3 + 2 * 6;
+    for (scene, words) in [("seed.toml", 0), ("textured.toml", textured_words)] {
         let path = scene_path(scene);
         let run = kdray(
             &dir.path,

@@ -231,7 +231,7 @@ pub enum SharedValue {
 }
 
 /// Every constant the kernel and the host must agree on, by WGSL name.
-pub const SHARED_CONSTANTS: [(&str, SharedValue); 32] = [
+pub const SHARED_CONSTANTS: [(&str, SharedValue); 35] = [
     ("KD_LEAF", SharedValue::U32(KdNode::LEAF)),
     ("ACCEL_KDTREE", SharedValue::U32(ACCEL_KDTREE)),
     ("ACCEL_BRUTE", SharedValue::U32(ACCEL_BRUTE)),
@@ -286,6 +286,16 @@ pub const SHARED_CONSTANTS: [(&str, SharedValue); 32] = [
     (
         "TEXTURE_RECORD_WORDS",
         SharedValue::U32(TextureWords::RECORD_WORDS),
+    ),
+    // Words per mip level in a texture's level table, and the mip modes.
+    (
+        "TEXTURE_LEVEL_WORDS",
+        SharedValue::U32(TextureWords::LEVEL_WORDS),
+    ),
+    ("TEXTURE_MIP_NONE", SharedValue::U32(TextureWords::MIP_NONE)),
+    (
+        "TEXTURE_MIP_NEAREST",
+        SharedValue::U32(TextureWords::MIP_NEAREST),
     ),
     (
         "TEXTURE_NEAREST",

@@ -3,8 +3,10 @@
 //! UNSIGNED_BYTE/SHORT, sparse too); its image (in a buffer view, as
 //! in a `.glb`; a `data:` URI; or a file named by a relative path) decoded
 //! once per image and sampler, and its sampler in kdray's terms: magFilter
-//! NEAREST is point sampling, LINEAR or unset bilinear (there are no mip
-//! levels, so minFilter is not read); wrapS and wrapT REPEAT,
+//! NEAREST is point sampling, LINEAR or unset bilinear; minFilter NEAREST
+//! or LINEAR reads the base level only, *_MIPMAP_NEAREST the nearest mip
+//! level, *_MIPMAP_LINEAR (and unset: LINEAR_MIPMAP_LINEAR) blends two
+//! (see [`min_filter`]); wrapS and wrapT REPEAT,
 //! CLAMP_TO_EDGE or MIRRORED_REPEAT. An image that cannot be read or
 //! decoded is a warning naming it; the material keeps its colour factor.
 
@@ -14,10 +16,10 @@ use std::sync::Arc;
 
 use glam::DVec2;
 use gltf::accessor::{DataType, Dimensions};
-use gltf::texture::{MagFilter, WrappingMode};
+use gltf::texture::{MagFilter, MinFilter as GltfMinFilter, WrappingMode};
 
 use super::buffers::{buffer_path, decode_data_uri};
-use crate::scene::{Texture, TextureFilter, TextureWrap, Warning};
+use crate::scene::{MinFilter, MipMode, Texture, TextureFilter, TextureWrap, Warning};
 
 /// The textures decoded so far, by (image, sampler); None: it could not
 /// be (warned about once).
@@ -136,7 +138,14 @@ impl DecodedImages {
         });
         let decoded = image_bytes(image.index(), document, files)
             .and_then(|(shown, bytes)| {
-                Texture::decode(&shown, &bytes, filter, wrap).map_err(|e| format!("{shown}: {e}"))
+                Texture::decode(
+                    &shown,
+                    &bytes,
+                    filter,
+                    min_filter(sampler.min_filter()),
+                    wrap,
+                )
+                .map_err(|e| format!("{shown}: {e}"))
             })
             .map(Arc::new);
         let out = match decoded {
@@ -155,6 +164,22 @@ impl DecodedImages {
         self.by_source.insert(key, out.clone());
         out
     }
+}
+
+/// A glTF sampler's minFilter in kdray's terms: the filter within a level
+/// (the part before _MIPMAP_) and the mip mode (the part after); unset is
+/// LINEAR_MIPMAP_LINEAR.
+pub(crate) fn min_filter(gltf: Option<GltfMinFilter>) -> MinFilter {
+    use TextureFilter::{Bilinear, Nearest};
+    let (filter, mip) = match gltf {
+        Some(GltfMinFilter::Nearest) => (Nearest, MipMode::None),
+        Some(GltfMinFilter::Linear) => (Bilinear, MipMode::None),
+        Some(GltfMinFilter::NearestMipmapNearest) => (Nearest, MipMode::Nearest),
+        Some(GltfMinFilter::LinearMipmapNearest) => (Bilinear, MipMode::Nearest),
+        Some(GltfMinFilter::NearestMipmapLinear) => (Nearest, MipMode::Linear),
+        Some(GltfMinFilter::LinearMipmapLinear) | None => (Bilinear, MipMode::Linear),
+    };
+    MinFilter { filter, mip }
 }
 
 /// The encoded bytes of image `index` and how to name it (its file, or

@@ -1,6 +1,7 @@
 //! MTL material libraries: `newmtl`, the Phong colours kdray uses
 //! (`Ka`, `Kd`, `Ks`, `Ns`), glass (`d`, `Tr`, `Ni`) and the diffuse
-//! texture `map_Kd` (decoded here, bilinear, repeating unless
+//! texture `map_Kd` (decoded here, bilinear and trilinear between its mip
+//! levels, repeating unless
 //! `-clamp on`; its other options are skipped); every other statement is
 //! ignored, and the other texture statements (`map_Ka`, `map_Ks`, `bump`,
 //! `disp`, `decal`, `refl`, `norm`, ...) with one warning per file: a model
@@ -16,7 +17,7 @@ use glam::DVec3;
 
 use super::tokens::{first_three_numbers, parse_number, rest_of_line, statement_error, statements};
 use crate::scene::mesh::MeshMaterial;
-use crate::scene::{SceneError, Texture, TextureFilter, TextureWrap, Warning};
+use crate::scene::{MinFilter, SceneError, Texture, TextureFilter, TextureWrap, Warning};
 
 /// Parses an MTL file into `library`. A material already in `library`
 /// (defined by an earlier MTL file, or earlier in this one) keeps its first
@@ -81,7 +82,13 @@ pub(super) fn parse_mtl(
                     };
                     let read = std::fs::read(&image).map_err(|e| e.to_string());
                     let texture = read.and_then(|bytes| {
-                        Texture::decode(file, &bytes, TextureFilter::Bilinear, [wrap; 2])
+                        Texture::decode(
+                            file,
+                            &bytes,
+                            TextureFilter::Bilinear,
+                            MinFilter::TRILINEAR,
+                            [wrap; 2],
+                        )
                     });
                     match texture {
                         Ok(t) => Some(Arc::new(t)),
