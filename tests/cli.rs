@@ -715,7 +715,10 @@ fn all_frames_writes_each_frame_as_render_frame_k_does() {
 
 /// tests/scenes/moving_lights.toml: its lights move and change colour.
 fn moving_lights_path() -> String {
-    format!("{}/tests/scenes/moving_lights.toml", env!("CARGO_MANIFEST_DIR"))
+    format!(
+        "{}/tests/scenes/moving_lights.toml",
+        env!("CARGO_MANIFEST_DIR")
+    )
 }
 
 /// The moving-lights scene's frame `k` written as a still scene (its frame's

@@ -266,7 +266,11 @@ impl SceneBuffers {
     /// Rewrites the lights buffer with `lights`, as many as it holds (an
     /// animation's frame moves its lights; the tree stays).
     pub fn write_lights(&self, queue: &wgpu::Queue, lights: &[crate::layout::GpuLight]) {
-        assert_eq!(lights.len(), self.light_count as usize, "one value per light");
+        assert_eq!(
+            lights.len(),
+            self.light_count as usize,
+            "one value per light"
+        );
         let at = self
             .bindings
             .iter()

@@ -461,11 +461,20 @@ mod tests {
         // The orbit turns the camera, never a light; unkeyed lights stay.
         for frame in 0..8 {
             assert_eq!(at(frame)[1], lights[1]);
-            assert_eq!(path.camera_at(frame), CameraPath::new(&camera, Some(&animation)).camera_at(frame));
+            assert_eq!(
+                path.camera_at(frame),
+                CameraPath::new(&camera, Some(&animation)).camera_at(frame)
+            );
         }
         assert_ne!(path.camera_at(4).position, camera.position);
         let still = FramePath::new(&camera, &lights, None);
         assert!(!still.lights_move());
-        assert_eq!(still.frame(3), Frame { camera, lights: lights.to_vec() });
+        assert_eq!(
+            still.frame(3),
+            Frame {
+                camera,
+                lights: lights.to_vec()
+            }
+        );
     }
 }

@@ -602,7 +602,11 @@ fn light_fault(l: &Light) -> Option<String> {
             l.position.to_array()
         ));
     }
-    for (name, c) in [("ambient", l.ambient), ("diffuse", l.diffuse), ("specular", l.specular)] {
+    for (name, c) in [
+        ("ambient", l.ambient),
+        ("diffuse", l.diffuse),
+        ("specular", l.specular),
+    ] {
         if !c.is_finite() {
             return Some(format!("{name} {:?} is not finite", c.to_array()));
         }

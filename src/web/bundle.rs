@@ -350,9 +350,16 @@ mod tests {
         for frame in 0..3u32 {
             let want = crate::gpu::SceneArrays::lights_of(&scene.frame(frame).lights);
             let at = frame as usize * per_frame;
-            assert_eq!(&section[at..at + per_frame], bytemuck::cast_slice::<_, u8>(&want));
+            assert_eq!(
+                &section[at..at + per_frame],
+                bytemuck::cast_slice::<_, u8>(&want)
+            );
         }
-        assert_ne!(section[..per_frame], section[2 * per_frame..], "the light moves");
+        assert_ne!(
+            section[..per_frame],
+            section[2 * per_frame..],
+            "the light moves"
+        );
         let bundle = encode(&PreparedScene::new(scene, Accel::Kdtree), "lights.toml");
         assert!(read_sections(&bundle)
             .unwrap()

@@ -528,7 +528,10 @@ fn a_light_key_at_frame_0_replaces_the_entry() {
             .set("animation.light_keys[1].color", "[0.5, 0.5, 0.5]"),
     );
     for frame in [0, 2, 4, 19] {
-        assert_eq!(scene.frame(frame).lights[0].position, DVec3::new(1.0, 2.0, 3.0));
+        assert_eq!(
+            scene.frame(frame).lights[0].position,
+            DVec3::new(1.0, 2.0, 3.0)
+        );
     }
     assert_eq!(scene.frame(2).lights[0].diffuse, DVec3::splat(0.75));
     assert_eq!(scene.frame(0).lights[0].diffuse, DVec3::ONE);
@@ -575,12 +578,18 @@ fn each_lights_keys_are_in_increasing_frame_order_and_keyed_once() {
     assert_rejected(
         &two_light_keys(("1", "7"), ("1", "3")),
         "animation.light_keys[1].frame",
-        &["increasing", "animation.light_keys[0] (light 1) is at frame 7"],
+        &[
+            "increasing",
+            "animation.light_keys[0] (light 1) is at frame 7",
+        ],
     );
     assert_rejected(
         &two_light_keys(("0", "7"), ("0", "7")),
         "animation.light_keys[1].frame",
-        &["light 0's frame 7 is keyed twice", "animation.light_keys[0]"],
+        &[
+            "light 0's frame 7 is keyed twice",
+            "animation.light_keys[0]",
+        ],
     );
     let scene = assert_accepted(&two_light_keys(("1", "7"), ("0", "3")));
     assert_eq!(scene.frame(7).lights[1].diffuse, DVec3::new(0.5, 0.0, 0.0));
@@ -644,10 +653,18 @@ fn a_light_that_leaves_the_coordinate_range_or_overflows_names_its_frame() {
         .set("animation.light_keys[2].frame", "12")
         .set("animation.light_keys[2].light", "0")
         .set("animation.light_keys[2].position", "[0, 0, 0]");
-    assert_rejected(&doc, "animation.light_keys[0]", &["at frame 6", "light 0's position", "1e15"]);
+    assert_rejected(
+        &doc,
+        "animation.light_keys[0]",
+        &["at frame 6", "light 0's position", "1e15"],
+    );
     let huge = light_key("1", "5", "color", "[2, 1, 1]").set("lights[1].specular", "[1e308, 0, 0]");
     // 1e308 * (1 + f / 5) passes f64::MAX (1.8e308) at frame 4.
-    assert_rejected(&huge, "animation.light_keys[0]", &["at frame 4", "light 1's specular", "not finite"]);
+    assert_rejected(
+        &huge,
+        "animation.light_keys[0]",
+        &["at frame 4", "light 1's specular", "not finite"],
+    );
 }
 
 #[test]
