@@ -2,8 +2,8 @@
 //! ([`PreparedScene`]) -> GPU buffers ([`GpuScene`]) -> tiled dispatch ->
 //! 8-bit image, with the figures `--stats` reports; or one part of a
 //! frame ([`FramePart`]: some of its rows, from another camera and lights),
-//! as a farm task renders it. [`RenderFlags`] are the overrides and the search a
-//! render is asked for.
+//! as a farm task renders it. [`RenderFlags`] are the overrides and the
+//! search a render is asked for.
 
 use std::time::Instant;
 

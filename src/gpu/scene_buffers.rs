@@ -303,15 +303,15 @@ impl SceneBuffers {
                 // element (64 bytes covers the largest element type).
                 let padded = [0u8; 64];
                 let contents = if bytes.is_empty() { &padded[..] } else { bytes };
-                // Not create_buffer_init: it panics when the device is lost.
-                // A failed mapping leaves an invalid buffer, which the caller's
-                // error scope reports as one error line.
                 // The lights are rewritten per frame of an animation.
                 let usage = if *name == bindings::LIGHTS.name {
                     wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST
                 } else {
                     wgpu::BufferUsages::STORAGE
                 };
+                // Not create_buffer_init: it panics when the device is lost.
+                // A failed mapping leaves an invalid buffer, which the caller's
+                // error scope reports as one error line.
                 let buffer = device.create_buffer(&wgpu::BufferDescriptor {
                     label: Some(name),
                     size: contents.len() as u64,

@@ -407,12 +407,12 @@ mod tests {
 
     /// Light 0 from (0, 0, 0) through keys (4, 0, 0) at frame 2 and
     /// (4, 4, 0) at frame 4, its colour factor from 1 to (0, 1, 2) at frame
-    /// 4; light 1 has no keys. By hand, with P(t) of the Catmull-Rom segment:
-    /// frame 1 (t = 1/2 between v0 and v1, p0 = v0 doubled) is
-    /// 0.5 * (2 p1 + (p2 - p0)/2 + (2 p0 - 5 p1 + 4 p2 - p3)/4
-    /// + (-p0 + 3 p1 - 3 p2 + p3)/8) = (2, -0.25, 0); frame 3 (p3 = v2
-    /// doubled) is (4.25, 2, 0); the factor at frame 1 is
-    /// 1 + (f - 1) / 4 = (0.75, 1, 1.25).
+    /// 4; light 1 has no keys. By hand, with P(t) of the Catmull-Rom
+    /// segment, `0.5 * (2 p1 + (p2 - p0)/2 + (2 p0 - 5 p1 + 4 p2 - p3)/4 +
+    /// (-p0 + 3 p1 - 3 p2 + p3)/8)` at t = 1/2: frame 1 (between v0 and v1,
+    /// p0 = v0 doubled) is (2, -0.25, 0); frame 3 (p3 = v2 doubled) is
+    /// (4.25, 2, 0); the factor at frame 1 is 1 + (f - 1) / 4 =
+    /// (0.75, 1, 1.25).
     #[test]
     fn light_keys_move_and_tint_their_light_only() {
         let keys = [
