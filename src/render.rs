@@ -1,9 +1,9 @@
 //! One frame end to end: scene -> primitives and k-d tree
 //! ([`PreparedScene`]) -> GPU buffers ([`GpuScene`]) -> tiled dispatch ->
 //! 8-bit image, with the figures `--stats` reports; or one part of a
-//! frame ([`FramePart`]: some of its rows, from another camera), as a farm
-//! task renders it. [`RenderFlags`] are the overrides and the search a
-//! render is asked for.
+//! frame ([`FramePart`]: some of its rows, from another camera and lights),
+//! as a farm task renders it. [`RenderFlags`] are the overrides and the
+//! search a render is asked for.
 
 use std::time::Instant;
 
@@ -15,7 +15,7 @@ use crate::gpu::{
     RenderedImage, Renderer, RowBand, TilePlan,
 };
 use crate::kdtree::{BuildStrategy, Traversal};
-use crate::scene::{Camera, Scene};
+use crate::scene::{Frame, Scene};
 
 /// What `kdray render --stats` prints, as one JSON object.
 #[derive(Debug, Clone, Serialize)]
@@ -207,29 +207,33 @@ pub fn render_scene(
 }
 
 /// Which part of a frame a render covers: rows `rows.0..rows.1` of the
-/// image (clamped to its height), seen from `camera` with the scene's
-/// `[render]` settings. Its pixels are those of the whole frame's render
-/// from that camera: a pixel's colour depends on its place in the image,
-/// never on the band or tile it was traced in.
+/// image (clamped to its height), seen from `frame`'s camera under its
+/// lights, with the scene's `[render]` settings. Its pixels are those of
+/// the whole frame's render: a pixel's colour depends on its place in the
+/// image, never on the band or tile it was traced in.
 #[derive(Debug, Clone, PartialEq)]
 pub struct FramePart {
-    pub camera: Camera,
+    pub frame: Frame,
     pub rows: (u32, u32),
 }
 
 impl FramePart {
-    /// Every row of the scene's frame from its own camera.
+    /// Every row of the scene's frame from its own camera and lights.
     pub fn whole(scene: &Scene) -> Self {
         FramePart {
-            camera: scene.camera,
+            frame: Frame {
+                camera: scene.camera,
+                lights: scene.lights.clone(),
+            },
             rows: (0, scene.render.height),
         }
     }
 }
 
-/// Renders `part` of the frame of `uploaded` (the scene's own camera,
-/// every row, when `None`: a farm task's band of rows, or an animation's
-/// frame without rebuilding the tree, name theirs) with the search it was
+/// Renders `part` of the frame of `uploaded` (the scene's own camera and
+/// lights, every row, when `None`: a farm task's band of rows, or an
+/// animation's frame without rebuilding the tree, name theirs; the part's
+/// lights are written into the lights buffer first) with the search it was
 /// prepared for and, for the k-d tree, the walk `traversal`. Bands of rows
 /// go to `sink` top to bottom as they are read back (for images too big to
 /// hold, and progress bars), numbered in the whole image; the stats count
@@ -254,13 +258,19 @@ pub fn render_streaming(
     let transfer_ms = upload_ms;
     let upload_ms = prepared.flatten_ms + transfer_ms + ms_since(total);
 
-    let camera = part.map_or(&scene.camera, |p| &p.camera);
+    let whole;
+    let part = match part {
+        Some(part) => part,
+        None => {
+            whole = FramePart::whole(scene);
+            &whole
+        }
+    };
+    uploaded.write_lights(ctx, &part.frame.lights);
     let params = uploaded
-        .view_params(camera, &scene.render, accel)
+        .view_params(&part.frame.camera, &scene.render, accel)
         .with_traversal(traversal);
-    let (first_row, end_row) = part.map_or((0, scene.render.height), |p| {
-        (p.rows.0, p.rows.1.min(scene.render.height))
-    });
+    let (first_row, end_row) = (part.rows.0, part.rows.1.min(scene.render.height));
     let max_binding = crate::gpu::max_binding_bytes(&ctx.device.limits());
     let plan = TilePlan::new(
         scene.render.width,

@@ -713,6 +713,80 @@ fn all_frames_writes_each_frame_as_render_frame_k_does() {
     assert!(!dir.path.join("x.png").exists());
 }
 
+/// tests/scenes/moving_lights.toml: its lights move and change colour.
+fn moving_lights_path() -> String {
+    format!(
+        "{}/tests/scenes/moving_lights.toml",
+        env!("CARGO_MANIFEST_DIR")
+    )
+}
+
+/// The moving-lights scene's frame `k` written as a still scene (its frame's
+/// camera and lights, no animation) into `dir`/`name`; with `lights_of`
+/// another frame, that frame's lights instead.
+fn write_still_frame(dir: &Path, name: &str, k: u32, lights_of: u32) -> String {
+    let mut scene =
+        kdray::scene::load_scene(Path::new(&moving_lights_path())).expect("moving lights scene");
+    scene.camera = scene.frame(k).camera;
+    scene.lights = scene.frame(lights_of).lights;
+    scene.animation = None;
+    let text = kdray::scene::scene_text(&scene, kdray::scene::SceneFormat::Toml).expect("text");
+    let path = dir.join(name);
+    std::fs::write(&path, text).expect("write still scene");
+    path.to_str().expect("utf-8 path").to_string()
+}
+
+/// `render --frame k` of a scene whose lights have keys is, pixel for pixel,
+/// the render of a still scene with the camera and lights of frame k (at a
+/// key, between keys, before a light's first key, after its last); the
+/// frame's lights matter (frame 0's lights give another image), and
+/// `--all-frames` writes the same frames from its one tree.
+#[test]
+fn moving_lights_render_each_frame_as_a_still_scene_with_that_frames_lights() {
+    let dir = TempDir::new("moving-lights");
+    let scene = moving_lights_path();
+    let run = kdray(
+        &dir.path,
+        &render_args(&scene, &["--all-frames", "-o", "frames"]),
+    );
+    assert_eq!(run.code, 0, "{run:#?}");
+    // The decoded pixels of `render --frame k`, and of a still scene.
+    let frame_rgb = |k: u32| {
+        let one = format!("frame{k}.png");
+        let run = kdray(
+            &dir.path,
+            &render_args(&scene, &["--frame", &k.to_string(), "-o", &one]),
+        );
+        assert_eq!(run.code, 0, "{run:#?}");
+        read_png_rgb(&dir.path.join(&one)).expect("single frame").2
+    };
+    let still_rgb = |still: &str| {
+        let out = format!("{still}.png");
+        let run = kdray(&dir.path, &render_args(still, &["-o", &out]));
+        assert_eq!(run.code, 0, "{run:#?}");
+        read_png_rgb(&dir.path.join(&out)).expect("still frame").2
+    };
+    for k in [2u32, 5, 8, 10, 11] {
+        let animated = frame_rgb(k);
+        let still = write_still_frame(&dir.path, &format!("still{k}.toml"), k, k);
+        assert!(
+            animated == still_rgb(&still),
+            "frame {k} differs from the still scene of its camera and lights"
+        );
+        let (_, _, from_all) = read_png_rgb(&dir.path.join("frames").join(format!("{k:04}.png")))
+            .expect("frame of --all-frames");
+        assert!(
+            animated == from_all,
+            "--all-frames' frame {k} differs from --frame {k}"
+        );
+        let unlit = write_still_frame(&dir.path, &format!("unlit{k}.toml"), k, 0);
+        assert!(
+            animated != still_rgb(&unlit),
+            "frame {k}: the lights of frame 0 gave the same image"
+        );
+    }
+}
+
 /// `--stats` names the textures' share of the scene's buffers: none for
 /// the seed; for scenes/textured.toml its one 64 x 64 image and its mip
 /// levels down to 1 x 1 (a word a texel), the header word and one 7-word

@@ -470,3 +470,36 @@ fn a_still_of_one_frame_of_an_animation_equals_render_frame_and_bad_frames_exit_
     assert_eq!(farm.code, 2, "{farm:#?}");
     assert!(farm.one_error_line().contains("--frame"), "{farm:#?}");
 }
+
+/// A farm of an animation whose lights move (tests/scenes/moving_lights.toml,
+/// its 12 frames in 2 tasks run by hand, no Slurm) writes each frame as
+/// `render --frame k` does: every task shows the lights of its frames.
+#[test]
+fn farm_frames_of_moving_lights_equal_render_frame_by_frame() {
+    let tmp = TempDir::new("farm-moving-lights");
+    let out = tmp.join("out");
+    let scene = repo("tests/scenes/moving_lights.toml");
+    let mut args = vec!["farm", &scene, "--out", out.to_str().unwrap()];
+    args.extend(SIZE);
+    args.extend(["--tasks", "2"]);
+    let run = run_kdray(&tmp.path, &args, &[]);
+    assert_eq!(run.code, 0, "{run:#?}");
+    for i in ["0", "1"] {
+        let task = Command::new("sh")
+            .arg(out.join("render.sbatch"))
+            .arg(i)
+            .output()
+            .unwrap();
+        assert!(task.status.success(), "{task:?}");
+    }
+    let frames: Vec<String> = (0..12).map(|k| format!("{k:04}.png")).collect();
+    assert_eq!(top_level_pngs(&out), frames);
+    for (k, name) in frames.iter().enumerate() {
+        let k = k.to_string();
+        assert_eq!(
+            read_png_rgb(&out.join(name)).unwrap(),
+            single_render(&tmp, &scene, &["--frame", &k]),
+            "frame {k}"
+        );
+    }
+}

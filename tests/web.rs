@@ -7,8 +7,8 @@
 //! budget; bad, truncated and newer-version bundles show their errors; a
 //! drag changes the view and restarts refinement; the overlay names the
 //! adapter. An animated scene's `frame=k` page equals the native render of
-//! frame k and Space plays it; C shows the cost heatmap and C again the
-//! image as before.
+//! frame k (its camera, and its lights where they have keys) and Space
+//! plays it; C shows the cost heatmap and C again the image as before.
 
 mod common;
 
@@ -239,9 +239,16 @@ fn pages_play_animations_and_show_the_cost_heatmap() {
     std::fs::create_dir_all(&out).unwrap();
     export(&out, "scenes/orbit.toml", "orbit");
     export(&out, "scenes/seed.toml", "seed");
+    export(&out, "tests/scenes/moving_lights.toml", "lights");
     const FRAME: u32 = 5;
     let mut orbit = small_scene(&repo_path("scenes/orbit.toml"));
     orbit.camera = orbit.camera_at(FRAME);
+    // Frame 8 of the moving lights: a light at a key, moved and tinted.
+    const LIGHTS_FRAME: u32 = 8;
+    let mut lights = small_scene(&repo_path("tests/scenes/moving_lights.toml"));
+    let shown = lights.frame(LIGHTS_FRAME);
+    let frame0_lights = std::mem::replace(&mut lights.lights, shown.lights);
+    lights.camera = shown.camera;
     let seed = small_scene(&repo_path("scenes/seed.toml"));
     let size =
         |s: &kdray::scene::Scene| format!("width={}&height={}", s.render.width, s.render.height);
@@ -257,6 +264,10 @@ fn pages_play_animations_and_show_the_cost_heatmap() {
             "url": url(format!("/seed/index.html?{}", size(&seed))),
             "png": out.join("seed.png"),
             "heatmap": {"png": out.join("seed.heatmap.png"), "restored": out.join("seed.restored.png")},
+        },
+        {
+            "url": url(format!("/lights/index.html?{}&frame={LIGHTS_FRAME}", size(&lights))),
+            "png": out.join("lights.frame.png"),
         },
     ]);
     let results = drive(&jobs, &out);
@@ -283,6 +294,22 @@ fn pages_play_animations_and_show_the_cost_heatmap() {
     // Frame 0 is another view: the page did move the camera.
     let frame0 = render(&small_scene(&repo_path("scenes/orbit.toml")), Accel::Kdtree);
     assert!(changed_pixels(&frame0.rgb, &page) > page.len() / 3 / 10);
+
+    // Frame 8 of the moving lights, as `render --frame 8` renders it; under
+    // frame 0's lights the same view differs: the page did move the lights.
+    let native = render(&lights, Accel::Kdtree);
+    let (w, h, page) = read_png_rgb(&out.join("lights.frame.png")).unwrap();
+    assert_eq!((w, h), (native.width, native.height));
+    let d = compare(&native.rgb, &page, w, h, 2);
+    let budget = (w * h) as usize * MAX_PIXELS_OVER_PER_MILLE / 1000;
+    eprintln!("moving lights frame {LIGHTS_FRAME}: page vs native {d:?}");
+    assert!(
+        d.mean_flip <= MAX_MEAN_FLIP && d.pixels_over <= budget,
+        "moving lights frame {LIGHTS_FRAME}: page vs native {d:?} (budget FLIP {MAX_MEAN_FLIP}, {budget} pixels)"
+    );
+    lights.lights = frame0_lights;
+    let unmoved = render(&lights, Accel::Kdtree);
+    assert!(changed_pixels(&unmoved.rgb, &page) > page.len() / 3 / 10);
 
     // Space played on from frame 5 and paused again.
     let overlay = |key: &str| orbit_r[key].as_str().unwrap_or("").to_string();

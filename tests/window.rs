@@ -1,7 +1,8 @@
 //! The interactive window (`kdray render SCENE --window`), run for real
 //! under Xvfb: its screenshot after refining to k * k samples matches the
-//! headless render, and hot reload picks up edits of the scene file and of
-//! an OBJ it uses and survives a broken file. The camera controls are unit
+//! headless render (for an animated scene, of its frame's lights too), and
+//! hot reload picks up edits of the scene file and of an OBJ it uses and
+//! survives a broken file. The camera controls are unit
 //! tests in src/window/camera_controller.rs (the same code path the event
 //! loop feeds).
 //!
@@ -610,5 +611,46 @@ fn play_moves_the_camera_through_the_animation() {
         clearly_differ(&shots[0], &shots[1]),
         "the playing window ends on another view than frame 0"
     );
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+/// A window on a scene whose light 0 is keyed at frame 0 (another place and
+/// colour than its `[[lights]]` entry) shows frame 0's lights: its
+/// screenshot matches the headless render of frame 0 and clearly differs
+/// from the same scene without that key.
+#[test]
+fn the_window_shows_the_lights_of_its_frame() {
+    let x = Xvfb::start();
+    let dir = temp_dir("lights");
+    let plain = repo_path("tests/scenes/moving_lights.toml");
+    let text = std::fs::read_to_string(&plain).unwrap();
+    let first_key = "[[animation.light_keys]]";
+    let key_at_0 = "frame = 0\nlight = 0\nposition = [-4.0, 1.0, 3.0]\ncolor = [0.3, 0.6, 1.0]\n";
+    let keyed = text.replacen(
+        first_key,
+        &format!("{first_key}\n{key_at_0}\n{first_key}"),
+        1,
+    );
+    assert_ne!(keyed, text, "the scene's light keys");
+    let scene = dir.join("keyed.toml");
+    std::fs::write(&scene, keyed).unwrap();
+    let expected = headless(&dir, &scene, &dir.join("keyed-headless.png"));
+    let unkeyed = headless(&dir, &plain, &dir.join("plain-headless.png"));
+    assert!(
+        clearly_differ(&expected, &unkeyed),
+        "the key at frame 0 changes the image"
+    );
+    let shot = dir.join("keyed-window.png");
+    let mut command = kdray(&dir);
+    command
+        .env("DISPLAY", &x.display)
+        .env_remove("WAYLAND_DISPLAY")
+        .args(window_args(&scene, &shot))
+        .args(["--frames", "40"]);
+    let (status, _, stderr) = run(command);
+    assert!(status.success(), "the window failed: {stderr}");
+    if let Err(e) = check_match("frame 0's lights", &read(&shot), &expected) {
+        panic!("{e}");
+    }
     std::fs::remove_dir_all(&dir).unwrap();
 }

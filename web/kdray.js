@@ -2,8 +2,8 @@
 // and refines the image progressively (one sample per pixel per pass, a
 // reduced-resolution preview while the camera moves), as the native window;
 // plays an animated scene's frames (Space) from the bundle's cameras and
-// shows the cost heatmap (C). docs/web.md states its contract: URL
-// parameters, document.title, window.kdray.png(), keys.
+// frame lights, and shows the cost heatmap (C). docs/web.md states its
+// contract: URL parameters, document.title, window.kdray.png(), keys.
 
 import { parseBundle } from './bundle.js';
 import { Camera, attachPointer } from './controls.js';
@@ -22,6 +22,8 @@ const state = {
   // The shown animation frame of `cameras` (null for a still scene); while
   // playing, `playing` holds the time (ms) and the frame it started from.
   cameras: null, frame: 0, playing: null,
+  // Each frame's lights (null unless a light has keys): frameLightsFrom.
+  frameLights: null,
   // Show the cost heatmap instead of the image (C toggles it).
   heatmap: false,
   // Each image pass's time (ms) since the refinement began, from its
@@ -125,10 +127,27 @@ function restart() { state.restart = true; state.sample = 0; state.done = false;
 
 function moved() { state.lastMove = performance.now(); restart(); }
 
-// Shows frame `k` of the animation: its camera, refinement restarted.
+// The bundle's `frame_lights` section: { write(k): puts frame k's lights
+// in the lights buffer }, or null when no light has keys.
+function frameLightsFrom(bundle, format, frames) {
+  const bytes = bundle.sections.get(format.section);
+  if (!bytes) return null;
+  const per = format.bytes_per_light * bundle.info.lights;
+  if (bytes.byteLength !== per * frames) {
+    throw new PageError(`the bundle's ${format.section} section is ${bytes.byteLength} bytes, not ${frames} frames of ${bundle.info.lights} lights`);
+  }
+  const write = (k) => {
+    const buffer = state.tracer.sceneBuffers.get(format.binding);
+    state.tracer.device.queue.writeBuffer(buffer, 0, bytes, per * k, per);
+  };
+  return { write };
+}
+
+// Shows frame `k` of the animation: its camera and lights, refinement restarted.
 function showFrame(k) {
   state.frame = k;
   state.camera.setHome(state.cameras.at(k));
+  state.frameLights?.write(k);
   restart();
 }
 
@@ -218,10 +237,12 @@ function loadBundle(bytes) {
   const cameras = camerasFrom(bundle, state.contract.bundle.cameras);
   const frames = cameras ? cameras.frames : 1;
   if (settings.frame >= frames) throw new PageError(`frame=${settings.frame}: the scene has frames 0..${frames}`);
+  const frameLights = frameLightsFrom(bundle, state.contract.bundle.frame_lights, frames);
   Object.assign(state, settings, {
-    bundle, cameras, playing: null, camera: new Camera(bundle.info), maxDepth: bundle.info.max_depth,
+    bundle, cameras, frameLights, playing: null, camera: new Camera(bundle.info), maxDepth: bundle.info.max_depth,
   });
   if (cameras) state.camera.setHome(cameras.at(state.frame));
+  frameLights?.write(state.frame);
   // The preview: a quarter of the width and height (at least 1).
   state.tracer.resize(state.width, state.height, Math.max(1, state.width >> 2), Math.max(1, state.height >> 2));
   state.tracer.pipelineFor(walkName());

@@ -14,7 +14,7 @@ use crate::error::{Error, Result};
 use crate::gpu::{GpuContext, GpuScene, PreparedScene, TilePlan};
 use crate::output::PngStream;
 use crate::render::FramePart;
-use crate::scene::{Camera, Scene};
+use crate::scene::{Frame, Scene};
 
 /// What a task did and what it cost, printed as one JSON line into its log
 /// (the figures docs/farm.md's costs are measured from).
@@ -125,11 +125,12 @@ pub fn run_task(dir: &Path, task: u32) -> Result<TaskReport> {
         Work::Still { frame, .. } => Some(frame),
         Work::Frames { .. } => None,
     };
-    // Only the camera moves between frames: one tree serves them all.
-    let path = scene.camera_path();
-    let cameras: Vec<Camera> = todo
+    // Only the camera and lights change between frames: one tree serves
+    // them all.
+    let path = scene.frame_path();
+    let frames: Vec<Frame> = todo
         .iter()
-        .map(|&i| path.camera_at(still_frame.unwrap_or(i)))
+        .map(|&i| path.frame(still_frame.unwrap_or(i)))
         .collect();
     let uploaded = GpuScene::upload(
         &ctx,
@@ -138,11 +139,11 @@ pub fn run_task(dir: &Path, task: u32) -> Result<TaskReport> {
     report.prepare_ms = ms_since(t);
 
     let t = Instant::now();
-    for (&item, camera) in todo.iter().zip(cameras) {
+    for (&item, frame) in todo.iter().zip(frames) {
         let rows = plan.band_rows(item);
         let path = plan.item_path(dir, item);
         let mut png = PngStream::create(&path, plan.width, rows.1 - rows.0)?;
-        let part = FramePart { camera, rows };
+        let part = FramePart { frame, rows };
         crate::render::render_streaming(
             &ctx,
             &uploaded,

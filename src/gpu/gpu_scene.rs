@@ -9,7 +9,7 @@ use crate::error::Result;
 use crate::geometry::Aabb;
 use crate::kdtree::BuildStrategy;
 use crate::layout::FrameParams;
-use crate::scene::{Camera, RenderSettings, Scene};
+use crate::scene::{Camera, Light, RenderSettings, Scene};
 
 /// An upload that failed, and the prepared scene it was given.
 pub struct UploadFailed {
@@ -89,6 +89,14 @@ impl GpuScene {
     /// tolerance.
     pub fn bounds(&self) -> Aabb {
         self.prepared.tree.bounds
+    }
+
+    /// Puts `lights` (one per the scene's light, as an animation's
+    /// [`Frame`](crate::scene::Frame) gives them) in the lights buffer, for
+    /// the frames traced after it; the tree and the other buffers stay.
+    pub fn write_lights(&self, ctx: &GpuContext, lights: &[Light]) {
+        self.buffers
+            .write_lights(&ctx.queue, &super::SceneArrays::lights_of(lights));
     }
 
     /// The kernel's parameters for the scene's own camera and settings, with

@@ -9,7 +9,7 @@ use crate::layout::{
     GpuKdNode, GpuLight, GpuMaterial, GpuSphere, GpuTriangle, GpuTriangleNormals, LeafRopes,
     TextureWords,
 };
-use crate::scene::Scene;
+use crate::scene::{Light, Scene};
 
 /// Host copies of every storage buffer, in the GPU layout.
 pub struct SceneArrays {
@@ -43,6 +43,23 @@ pub struct SceneArrays {
 
 fn f32x3(v: glam::DVec3) -> [f32; 3] {
     v.as_vec3().to_array()
+}
+
+impl SceneArrays {
+    /// `lights` in the GPU layout: the `lights` buffer, which an
+    /// animation's frame rewrites ([`super::GpuScene::write_lights`]).
+    pub fn lights_of(lights: &[Light]) -> Vec<GpuLight> {
+        lights
+            .iter()
+            .map(|l| GpuLight {
+                position: f32x3(l.position),
+                ambient: f32x3(l.ambient),
+                diffuse: f32x3(l.diffuse),
+                specular: f32x3(l.specular),
+                ..bytemuck::Zeroable::zeroed()
+            })
+            .collect()
+    }
 }
 
 /// The order of the objects on the GPU: `order[gpu_id]` is the scene's id.
@@ -173,17 +190,7 @@ impl SceneArrays {
                     _pad: [0.0; 2],
                 })
                 .collect(),
-            lights: scene
-                .lights
-                .iter()
-                .map(|l| GpuLight {
-                    position: f32x3(l.position),
-                    ambient: f32x3(l.ambient),
-                    diffuse: f32x3(l.diffuse),
-                    specular: f32x3(l.specular),
-                    ..bytemuck::Zeroable::zeroed()
-                })
-                .collect(),
+            lights: Self::lights_of(&scene.lights),
             nodes: tree.nodes.iter().map(GpuKdNode::pack).collect(),
             leaf_objects: tree
                 .leaf_objects

@@ -263,6 +263,24 @@ impl SceneBuffers {
             .map(|(b, buffer)| (b.index, buffer.clone()))
     }
 
+    /// Rewrites the lights buffer with `lights`, as many as it holds (an
+    /// animation's frame moves its lights; the tree stays).
+    pub fn write_lights(&self, queue: &wgpu::Queue, lights: &[crate::layout::GpuLight]) {
+        assert_eq!(
+            lights.len(),
+            self.light_count as usize,
+            "one value per light"
+        );
+        let at = self
+            .bindings
+            .iter()
+            .position(|b| b.name == bindings::LIGHTS.name)
+            .expect("the scene binds its lights");
+        if !lights.is_empty() {
+            queue.write_buffer(&self.buffers[at], 0, bytemuck::cast_slice(lights));
+        }
+    }
+
     /// Creates the buffers; errors go to the caller's error scopes.
     fn create(
         device: &wgpu::Device,
@@ -285,13 +303,19 @@ impl SceneBuffers {
                 // element (64 bytes covers the largest element type).
                 let padded = [0u8; 64];
                 let contents = if bytes.is_empty() { &padded[..] } else { bytes };
+                // The lights are rewritten per frame of an animation.
+                let usage = if *name == bindings::LIGHTS.name {
+                    wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST
+                } else {
+                    wgpu::BufferUsages::STORAGE
+                };
                 // Not create_buffer_init: it panics when the device is lost.
                 // A failed mapping leaves an invalid buffer, which the caller's
                 // error scope reports as one error line.
                 let buffer = device.create_buffer(&wgpu::BufferDescriptor {
                     label: Some(name),
                     size: contents.len() as u64,
-                    usage: wgpu::BufferUsages::STORAGE,
+                    usage,
                     mapped_at_creation: true,
                 });
                 if let Ok(mut view) = buffer.slice(..).get_mapped_range_mut() {

@@ -1,19 +1,24 @@
-//! Animation: the validated `[animation]` table ([`Animation`] and its
-//! [`CameraKey`]s) and the camera at each frame ([`CameraPath`],
-//! [`Scene::camera_at`]). The math follows docs/scene-format.md's
-//! "Animation" section formula for formula, so that another program can
-//! compute the same cameras: each camera field has a track through the
-//! scene's `[camera]` (at frame 0) and the keys that set that field; points
-//! and the up vector follow a uniform Catmull-Rom spline, vfov a straight
-//! line, and every field holds its last value after its last key; then the
-//! orbit turns the position about the up axis through look_at.
+//! Animation: the validated `[animation]` table ([`Animation`], its
+//! [`CameraKey`]s and [`LightKey`]s) and what each frame shows ([`Frame`]:
+//! the camera and the lights, from [`FramePath`] or [`Scene::frame`]).
+//! The math follows docs/scene-format.md's "Animation" section formula for
+//! formula, so that another program can compute the same frames: each
+//! camera field, and each keyed light's position and colour, has a track
+//! through its frame-0 value (the scene's `[camera]`, the `[[lights]]`
+//! entry) and the keys that set it; points and the up vector follow a
+//! uniform Catmull-Rom spline, vfov and colours a straight line, and every
+//! track holds its last value after its last key; then the orbit turns the
+//! camera's position about the up axis through look_at (lights do not
+//! orbit).
 //!
 //! Angles are in degrees, as in the scene file; frames count from 0.
+
+use std::ops::{Add, Mul, Sub};
 
 use glam::DVec3;
 
 use super::normals::unit;
-use super::{Camera, Scene};
+use super::{Camera, Light, Scene};
 
 /// Most frames an animation may have.
 pub const MAX_FRAMES: u32 = 100_000;
@@ -21,7 +26,7 @@ pub const MAX_FRAMES: u32 = 100_000;
 pub const DEFAULT_FPS: f64 = 24.0;
 
 /// A scene's `[animation]`: what changes from frame to frame (the camera
-/// only; the objects and lights stay put, so one k-d tree serves every frame).
+/// and the lights; the objects stay put, so one k-d tree serves every frame).
 #[derive(Debug, Clone, PartialEq)]
 pub struct Animation {
     /// Number of frames, `1..=MAX_FRAMES`; the frames are `0..frames`.
@@ -36,6 +41,10 @@ pub struct Animation {
     /// In strictly increasing frame order, every frame below `frames`; each
     /// sets at least one field.
     pub keys: Vec<CameraKey>,
+    /// In file order; the keys of each light in strictly increasing frame
+    /// order, every frame below `frames`, every light an index into
+    /// [`Scene::lights`]; each sets at least one field.
+    pub light_keys: Vec<LightKey>,
 }
 
 /// One `[[animation.keys]]` entry: the camera fields it sets at its frame
@@ -50,7 +59,20 @@ pub struct CameraKey {
     pub vfov_degrees: Option<f64>,
 }
 
-/// The values one camera field takes: `(frame, value)` in strictly
+/// One `[[animation.light_keys]]` entry: the fields of light `light` it
+/// sets at its frame (None: interpolated there from that light's other keys).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct LightKey {
+    pub frame: u32,
+    /// Index into [`Scene::lights`].
+    pub light: u32,
+    pub position: Option<DVec3>,
+    /// A factor, components >= 0, on the light's ambient, diffuse and
+    /// specular colours (1 at frame 0 unless a key there sets it).
+    pub color: Option<DVec3>,
+}
+
+/// The values one camera or light field takes: `(frame, value)` in strictly
 /// increasing frame order, the first at frame 0.
 #[derive(Debug, Clone)]
 struct Track<T>(Vec<(u32, T)>);
@@ -65,15 +87,16 @@ enum Place<T> {
 
 impl<T: Copy> Track<T> {
     /// `start` at frame 0 (unless a key at frame 0 sets the field), then
-    /// each key's value of the field, where it sets it.
-    fn new(start: T, keys: &[CameraKey], field: impl Fn(&CameraKey) -> Option<T>) -> Self {
+    /// each key's value of the field, where it sets it: `keys` gives
+    /// `(frame, value)` in increasing frame order.
+    fn new(start: T, keys: impl IntoIterator<Item = (u32, Option<T>)>) -> Self {
         let mut points = vec![(0, start)];
-        for key in keys {
-            if let Some(value) = field(key) {
-                if key.frame == 0 {
+        for (frame, value) in keys {
+            if let Some(value) = value {
+                if frame == 0 {
                     points[0].1 = value;
                 } else {
-                    points.push((key.frame, value));
+                    points.push((frame, value));
                 }
             }
         }
@@ -100,7 +123,7 @@ impl<T: Copy> Track<T> {
 
 impl Track<DVec3> {
     /// Uniform Catmull-Rom through the points, the end points doubled.
-    fn at(&self, frame: u32) -> DVec3 {
+    fn spline_at(&self, frame: u32) -> DVec3 {
         match self.place(frame) {
             Place::Held(v) => v,
             Place::Between(i, t) => {
@@ -117,9 +140,9 @@ impl Track<DVec3> {
     }
 }
 
-impl Track<f64> {
+impl<T: Copy + Add<Output = T> + Sub<Output = T> + Mul<f64, Output = T>> Track<T> {
     /// Straight lines between the points.
-    fn at(&self, frame: u32) -> f64 {
+    fn linear_at(&self, frame: u32) -> T {
         match self.place(frame) {
             Place::Held(v) => v,
             Place::Between(i, t) => {
@@ -166,10 +189,13 @@ impl CameraPath {
     pub fn new(camera: &Camera, animation: Option<&Animation>) -> Self {
         let keys = animation.map_or(&[][..], |a| &a.keys[..]);
         CameraPath {
-            position: Track::new(camera.position, keys, |k| k.position),
-            look_at: Track::new(camera.look_at, keys, |k| k.look_at),
-            up: Track::new(camera.up, keys, |k| k.up),
-            vfov_degrees: Track::new(camera.vfov_degrees, keys, |k| k.vfov_degrees),
+            position: Track::new(camera.position, keys.iter().map(|k| (k.frame, k.position))),
+            look_at: Track::new(camera.look_at, keys.iter().map(|k| (k.frame, k.look_at))),
+            up: Track::new(camera.up, keys.iter().map(|k| (k.frame, k.up))),
+            vfov_degrees: Track::new(
+                camera.vfov_degrees,
+                keys.iter().map(|k| (k.frame, k.vfov_degrees)),
+            ),
             orbit: animation
                 .filter(|a| a.orbit_degrees != 0.0)
                 .map(|a| (a.orbit_degrees, a.frames.max(1))),
@@ -181,10 +207,10 @@ impl CameraPath {
     /// field held, the orbit going on).
     pub fn camera_at(&self, frame: u32) -> Camera {
         let mut camera = Camera {
-            position: self.position.at(frame),
-            look_at: self.look_at.at(frame),
-            up: self.up.at(frame),
-            vfov_degrees: self.vfov_degrees.at(frame),
+            position: self.position.spline_at(frame),
+            look_at: self.look_at.spline_at(frame),
+            up: self.up.spline_at(frame),
+            vfov_degrees: self.vfov_degrees.linear_at(frame),
         };
         if let Some((degrees, frames)) = self.orbit {
             let turn = degrees * f64::from(frame) / f64::from(frames);
@@ -202,10 +228,122 @@ impl CameraPath {
     }
 }
 
+/// One light at every frame: the `[[lights]]` entry, and for a light with
+/// keys its position track (a spline, as the camera's position) and its
+/// colour-factor track (straight lines, starting at 1).
+#[derive(Debug, Clone)]
+struct LightPath {
+    light: Light,
+    tracks: Option<(Track<DVec3>, Track<DVec3>)>,
+}
+
+impl LightPath {
+    /// Light `index`'s path under `keys` (in file order, each light's in
+    /// increasing frame order, as validated).
+    fn new(light: &Light, index: usize, keys: &[LightKey]) -> Self {
+        let own = || keys.iter().filter(move |k| k.light as usize == index);
+        let tracks = own().next().is_some().then(|| {
+            (
+                Track::new(light.position, own().map(|k| (k.frame, k.position))),
+                Track::new(DVec3::ONE, own().map(|k| (k.frame, k.color))),
+            )
+        });
+        LightPath {
+            light: *light,
+            tracks,
+        }
+    }
+
+    /// The light at `frame`: the `[[lights]]` entry itself when it has no
+    /// keys; else at the interpolated position, each colour times the
+    /// interpolated factor.
+    fn light_at(&self, frame: u32) -> Light {
+        let Some((position, color)) = &self.tracks else {
+            return self.light;
+        };
+        let factor = color.linear_at(frame);
+        Light {
+            position: position.spline_at(frame),
+            ambient: self.light.ambient * factor,
+            diffuse: self.light.diffuse * factor,
+            specular: self.light.specular * factor,
+        }
+    }
+}
+
+/// What one frame shows that changes from frame to frame: the camera and
+/// the lights (the objects are the same in every frame).
+#[derive(Debug, Clone, PartialEq)]
+pub struct Frame {
+    pub camera: Camera,
+    /// One per [`Scene::lights`], in its order.
+    pub lights: Vec<Light>,
+}
+
+/// The camera and lights at every frame of a scene, made once
+/// ([`Scene::frame_path`]) and then asked frame by frame.
+#[derive(Debug, Clone)]
+pub struct FramePath {
+    camera: CameraPath,
+    lights: Vec<LightPath>,
+}
+
+impl FramePath {
+    /// The path of a scene's `camera` and `lights` (frame 0's values unless
+    /// keys at frame 0 say otherwise) under `animation`, validated.
+    pub fn new(camera: &Camera, lights: &[Light], animation: Option<&Animation>) -> Self {
+        let keys = animation.map_or(&[][..], |a| &a.light_keys[..]);
+        FramePath {
+            camera: CameraPath::new(camera, animation),
+            lights: lights
+                .iter()
+                .enumerate()
+                .map(|(i, l)| LightPath::new(l, i, keys))
+                .collect(),
+        }
+    }
+
+    /// The camera and lights at `frame`.
+    pub fn frame(&self, frame: u32) -> Frame {
+        Frame {
+            camera: self.camera_at(frame),
+            lights: self.lights_at(frame),
+        }
+    }
+
+    /// The camera at `frame` ([`CameraPath::camera_at`]).
+    pub fn camera_at(&self, frame: u32) -> Camera {
+        self.camera.camera_at(frame)
+    }
+
+    /// The lights at `frame`, in [`Scene::lights`] order.
+    pub fn lights_at(&self, frame: u32) -> Vec<Light> {
+        self.lights.iter().map(|l| l.light_at(frame)).collect()
+    }
+
+    /// Whether some light has keys: otherwise every frame's lights are the
+    /// scene's `[[lights]]`.
+    pub fn lights_move(&self) -> bool {
+        self.lights.iter().any(|l| l.tracks.is_some())
+    }
+}
+
 impl Scene {
     /// Number of frames: the animation's, or 1 for a still scene.
     pub fn frame_count(&self) -> u32 {
         self.animation.as_ref().map_or(1, |a| a.frames)
+    }
+
+    /// The camera and lights of every frame, for asking about many frames.
+    pub fn frame_path(&self) -> FramePath {
+        FramePath::new(&self.camera, &self.lights, self.animation.as_ref())
+    }
+
+    /// The camera and lights at `frame` (0-based): `self.camera` and
+    /// `self.lights` for a still scene. Builds the path anew (O(keys)); use
+    /// [`Scene::frame_path`] for many frames.
+    pub fn frame(&self, frame: u32) -> Frame {
+        self.frame_path().frame(frame)
     }
 
     /// The camera of every frame, for asking about many frames.
@@ -252,9 +390,91 @@ mod tests {
     /// A track with a single point (no key sets the field) holds it.
     #[test]
     fn a_track_without_keys_holds_its_start() {
-        let track = Track::new(3.0, &[], |k: &CameraKey| k.vfov_degrees);
+        let track = Track::new(3.0, []);
         for frame in [0, 1, 1000] {
-            assert_eq!(track.at(frame), 3.0);
+            assert_eq!(track.linear_at(frame), 3.0);
         }
+    }
+
+    fn light(position: DVec3) -> Light {
+        Light {
+            position,
+            ambient: DVec3::splat(0.25),
+            diffuse: DVec3::new(0.5, 1.0, 1.0),
+            specular: DVec3::ONE,
+        }
+    }
+
+    /// Light 0 from (0, 0, 0) through keys (4, 0, 0) at frame 2 and
+    /// (4, 4, 0) at frame 4, its colour factor from 1 to (0, 1, 2) at frame
+    /// 4; light 1 has no keys. By hand, with P(t) of the Catmull-Rom
+    /// segment, `0.5 * (2 p1 + (p2 - p0)/2 + (2 p0 - 5 p1 + 4 p2 - p3)/4 +
+    /// (-p0 + 3 p1 - 3 p2 + p3)/8)` at t = 1/2: frame 1 (between v0 and v1,
+    /// p0 = v0 doubled) is (2, -0.25, 0); frame 3 (p3 = v2 doubled) is
+    /// (4.25, 2, 0); the factor at frame 1 is 1 + (f - 1) / 4 =
+    /// (0.75, 1, 1.25).
+    #[test]
+    fn light_keys_move_and_tint_their_light_only() {
+        let keys = [
+            LightKey {
+                frame: 2,
+                light: 0,
+                position: Some(DVec3::new(4.0, 0.0, 0.0)),
+                color: None,
+            },
+            LightKey {
+                frame: 4,
+                light: 0,
+                position: Some(DVec3::new(4.0, 4.0, 0.0)),
+                color: Some(DVec3::new(0.0, 1.0, 2.0)),
+            },
+        ];
+        let animation = Animation {
+            frames: 8,
+            fps: DEFAULT_FPS,
+            orbit_degrees: 90.0,
+            keys: Vec::new(),
+            light_keys: keys.to_vec(),
+        };
+        let camera = Camera {
+            position: DVec3::Z,
+            look_at: DVec3::ZERO,
+            up: DVec3::Y,
+            vfov_degrees: 60.0,
+        };
+        let lights = [light(DVec3::ZERO), light(DVec3::new(1.0, 2.0, 3.0))];
+        let path = FramePath::new(&camera, &lights, Some(&animation));
+        assert!(path.lights_move());
+        let at = |frame| path.lights_at(frame);
+        assert_eq!(at(0), lights, "frame 0 is [[lights]] exactly");
+        assert_eq!(at(1)[0].position, DVec3::new(2.0, -0.25, 0.0));
+        assert_eq!(at(2)[0].position, DVec3::new(4.0, 0.0, 0.0));
+        assert_eq!(at(3)[0].position, DVec3::new(4.25, 2.0, 0.0));
+        assert_eq!(at(1)[0].diffuse, DVec3::new(0.375, 1.0, 1.25));
+        assert_eq!(at(1)[0].ambient, DVec3::new(0.1875, 0.25, 0.3125));
+        assert_eq!(at(1)[0].specular, DVec3::new(0.75, 1.0, 1.25));
+        for frame in [4, 5, 7, 100] {
+            let held = at(frame)[0];
+            assert_eq!(held.position, DVec3::new(4.0, 4.0, 0.0), "frame {frame}");
+            assert_eq!(held.diffuse, DVec3::new(0.0, 1.0, 2.0), "frame {frame}");
+        }
+        // The orbit turns the camera, never a light; unkeyed lights stay.
+        for frame in 0..8 {
+            assert_eq!(at(frame)[1], lights[1]);
+            assert_eq!(
+                path.camera_at(frame),
+                CameraPath::new(&camera, Some(&animation)).camera_at(frame)
+            );
+        }
+        assert_ne!(path.camera_at(4).position, camera.position);
+        let still = FramePath::new(&camera, &lights, None);
+        assert!(!still.lights_move());
+        assert_eq!(
+            still.frame(3),
+            Frame {
+                camera,
+                lights: lights.to_vec()
+            }
+        );
     }
 }

@@ -6,7 +6,8 @@
 //! `Scene`) -> `mesh_placement` (each `[[meshes]]` entry read through
 //! `mesh_file` by `obj` or `gltf` into a `mesh::Mesh`, then placed in the
 //! world). `write` turns a `Scene` back into scene file text, and
-//! `animation` gives the camera at each frame of an `[animation]`.
+//! `animation` gives the camera and lights at each frame of an
+//! `[animation]`.
 //!
 //! Units: positions in scene units, angles in degrees in files and radians
 //! nowhere in this module (the camera keeps `vfov_degrees`), colours linear.
@@ -32,7 +33,7 @@ mod validate;
 mod warning;
 mod write;
 
-pub use animation::{Animation, CameraKey, CameraPath, MAX_FRAMES};
+pub use animation::{Animation, CameraKey, CameraPath, Frame, FramePath, LightKey, MAX_FRAMES};
 pub use camera_basis::CameraBasis;
 pub use error::SceneError;
 pub use input_file::MAX_INPUT_BYTES;
@@ -66,9 +67,9 @@ pub struct Scene {
     pub triangle_uvs: Vec<[DVec2; 3]>,
     /// The base-colour textures that [`Material::texture`] indexes.
     pub textures: Vec<Texture>,
-    /// The `[animation]`, if any: how the camera moves from frame to frame
-    /// ([`Scene::camera_at`]); `camera` is its frame 0 unless a key says
-    /// otherwise.
+    /// The `[animation]`, if any: how the camera and lights change from
+    /// frame to frame ([`Scene::frame`]); `camera` and `lights` are its
+    /// frame 0 unless a key says otherwise.
     pub animation: Option<Animation>,
 }
 

@@ -94,6 +94,7 @@ described! {
     RawMesh => "a [[meshes]] table",
     RawAnimation => "an [animation] table",
     RawCameraKey => "an [[animation.keys]] table",
+    RawLightKey => "an [[animation.light_keys]] table",
 }
 
 impl<T: Serialize> Serialize for TableOf<T> {
@@ -299,7 +300,7 @@ pub(super) struct RawMesh {
     pub(super) translate: Vec3,
 }
 
-/// `[animation]`: the frames, and how the camera moves over them.
+/// `[animation]`: the frames, and how the camera and lights move over them.
 #[derive(Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub(super) struct RawAnimation {
@@ -311,6 +312,8 @@ pub(super) struct RawAnimation {
     pub(super) orbit: f64,
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub(super) keys: Vec<TableOf<RawCameraKey>>,
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub(super) light_keys: Vec<TableOf<RawLightKey>>,
 }
 
 fn default_fps() -> f64 {
@@ -330,6 +333,19 @@ pub(super) struct RawCameraKey {
     pub(super) up: Option<Vec3>,
     #[serde(skip_serializing_if = "Option::is_none")]
     pub(super) vfov: Option<f64>,
+}
+
+/// `[[animation.light_keys]]`: a frame, a light's index in `[[lights]]`,
+/// and its position and/or colour factor.
+#[derive(Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub(super) struct RawLightKey {
+    pub(super) frame: u32,
+    pub(super) light: u32,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub(super) position: Option<Vec3>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub(super) color: Option<Vec3>,
 }
 
 /// `scale = 2` or `scale = [x, y, z]`. Written by hand rather than as an

@@ -4,7 +4,8 @@
 //! map, its line. Meshes are loaded and placed by
 //! [`mesh_placement`](super::mesh_placement); an `[animation]` is checked
 //! key by key and then frame by frame (the camera of every frame must be
-//! as valid as `[camera]`).
+//! as valid as `[camera]`, every keyed light as valid as its `[[lights]]`
+//! entry).
 
 use std::cell::RefCell;
 use std::collections::BTreeMap;
@@ -12,7 +13,7 @@ use std::path::Path;
 
 use glam::DVec3;
 
-use super::animation::{Animation, CameraKey, CameraPath, MAX_FRAMES};
+use super::animation::{Animation, CameraKey, CameraPath, FramePath, LightKey, MAX_FRAMES};
 use super::mesh::has_area;
 use super::normals::unit;
 use super::schema::{
@@ -108,7 +109,7 @@ impl Validator<'_> {
     pub(super) fn scene(&self, raw: RawScene) -> Result<Scene, SceneError> {
         let camera = self.camera(&raw.camera)?;
         let render = self.render(&raw.render)?;
-        let animation = match &raw.animation {
+        let mut animation = match &raw.animation {
             Some(a) => Some(self.animation(a, &camera)?),
             None => None,
         };
@@ -131,6 +132,9 @@ impl Validator<'_> {
                 })
             })
             .collect::<Result<Vec<_>, SceneError>>()?;
+        if let (Some(raw), Some(animation)) = (&raw.animation, &mut animation) {
+            animation.light_keys = self.light_keys(raw, animation, &camera, &lights)?;
+        }
 
         let mut materials = Vec::with_capacity(raw.materials.len());
         let mut material_index = BTreeMap::new();
@@ -386,6 +390,7 @@ impl Validator<'_> {
             fps,
             orbit_degrees,
             keys,
+            light_keys: Vec::new(),
         };
         let path = CameraPath::new(camera, Some(&animation));
         for frame in 0..frames {
@@ -403,6 +408,110 @@ impl Validator<'_> {
             }
         }
         Ok(animation)
+    }
+
+    /// `[[animation.light_keys]]`: each key against `lights` (the
+    /// validated `[[lights]]`) and `animation`'s frames, then every keyed
+    /// light at every frame (its position within the coordinate range, its
+    /// colours finite).
+    fn light_keys(
+        &self,
+        raw: &RawAnimation,
+        animation: &Animation,
+        camera: &Camera,
+        lights: &[Light],
+    ) -> Result<Vec<LightKey>, SceneError> {
+        let (frames, count) = (animation.frames, lights.len());
+        let mut keys: Vec<LightKey> = Vec::with_capacity(raw.light_keys.len());
+        // Each light's latest key so far, by its index in `keys`.
+        let mut latest: BTreeMap<u32, usize> = BTreeMap::new();
+        for (i, k) in raw.light_keys.iter().enumerate() {
+            let key = |field: &str| format!("animation.light_keys[{i}].{field}");
+            if k.light as usize >= count {
+                return Err(self.error(
+                    &key("light"),
+                    format!(
+                        "must be in 0..{count} (the index of one of the scene's {count} [[lights]]), got {}",
+                        k.light
+                    ),
+                ));
+            }
+            if k.frame >= frames {
+                return Err(self.error(
+                    &key("frame"),
+                    format!(
+                        "must be in 0..{frames} (animation.frames = {frames}), got {}",
+                        k.frame
+                    ),
+                ));
+            }
+            if let Some(&j) = latest.get(&k.light) {
+                let previous = keys[j].frame;
+                if k.frame <= previous {
+                    let message = if k.frame == previous {
+                        format!(
+                            "light {}'s frame {previous} is keyed twice (animation.light_keys[{j}] is at frame {previous} too)",
+                            k.light
+                        )
+                    } else {
+                        format!(
+                            "the keys of a light must be in increasing frame order: animation.light_keys[{j}] (light {}) is at frame {previous}, this one at {}",
+                            k.light, k.frame
+                        )
+                    };
+                    return Err(self.error(&key("frame"), message));
+                }
+            }
+            let light_key = LightKey {
+                frame: k.frame,
+                light: k.light,
+                position: k
+                    .position
+                    .map(|p| self.position(&|| key("position"), p))
+                    .transpose()?,
+                color: k
+                    .color
+                    .map(|c| self.colour(&|| key("color"), c))
+                    .transpose()?,
+            };
+            if light_key.position.is_none() && light_key.color.is_none() {
+                return Err(self.error(
+                    &format!("animation.light_keys[{i}]"),
+                    "sets neither position nor color",
+                ));
+            }
+            latest.insert(k.light, keys.len());
+            keys.push(light_key);
+        }
+        if keys.is_empty() {
+            return Ok(keys);
+        }
+        let keyed = Animation {
+            light_keys: keys,
+            ..animation.clone()
+        };
+        let path = FramePath::new(camera, lights, Some(&keyed));
+        for frame in 0..frames {
+            for (l, light) in path.lights_at(frame).iter().enumerate() {
+                if let Some(message) = light_fault(light) {
+                    // Blame the light's key whose segment holds the frame
+                    // (its first key, for frames before it).
+                    let own: Vec<usize> = (0..keyed.light_keys.len())
+                        .filter(|&i| keyed.light_keys[i].light as usize == l)
+                        .collect();
+                    let before = own
+                        .iter()
+                        .rev()
+                        .find(|&&i| keyed.light_keys[i].frame <= frame);
+                    let i = before.or(own.first()).copied().unwrap_or(0);
+                    return Err(self.error(
+                        &format!("animation.light_keys[{i}]"),
+                        format!("at frame {frame} light {l}'s {message}"),
+                    ));
+                }
+            }
+        }
+        Ok(keyed.light_keys)
     }
 
     fn render(&self, r: &RawRender) -> Result<RenderSettings, SceneError> {
@@ -479,6 +588,28 @@ fn camera_fault(c: &Camera) -> Option<String> {
             c.up.to_array(),
             (c.look_at - c.position).to_array()
         ));
+    }
+    None
+}
+
+/// What is wrong with an animated frame's light, if anything: its
+/// position must stay within the coordinate range (a spline may overshoot
+/// its keys), its colours finite (a factor times a huge colour may not be).
+fn light_fault(l: &Light) -> Option<String> {
+    if !(l.position.is_finite() && l.position.abs().max_element() <= MAX_COORDINATE) {
+        return Some(format!(
+            "position {:?} is not within ±{MAX_COORDINATE:e} (the GPU computes in f32)",
+            l.position.to_array()
+        ));
+    }
+    for (name, c) in [
+        ("ambient", l.ambient),
+        ("diffuse", l.diffuse),
+        ("specular", l.specular),
+    ] {
+        if !c.is_finite() {
+            return Some(format!("{name} {:?} is not finite", c.to_array()));
+        }
     }
     None
 }

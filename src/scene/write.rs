@@ -8,8 +8,8 @@ use glam::DVec3;
 
 use super::scene_format::SceneFormat;
 use super::schema::{
-    Exact, RawAnimation, RawCamera, RawCameraKey, RawLight, RawMaterial, RawRender, RawScene,
-    RawShadowMode, RawSphere, RawTriangle, TableOf,
+    Exact, RawAnimation, RawCamera, RawCameraKey, RawLight, RawLightKey, RawMaterial, RawRender,
+    RawScene, RawShadowMode, RawSphere, RawTriangle, TableOf,
 };
 use super::{Scene, ShadowMode};
 
@@ -113,6 +113,18 @@ pub fn scene_text(scene: &Scene, format: SceneFormat) -> Result<String, String> 
                             look_at: k.look_at.map(v),
                             up: k.up.map(v),
                             vfov: k.vfov_degrees,
+                        })
+                    })
+                    .collect(),
+                light_keys: a
+                    .light_keys
+                    .iter()
+                    .map(|k| {
+                        TableOf(RawLightKey {
+                            frame: k.frame,
+                            light: k.light,
+                            position: k.position.map(v),
+                            color: k.color.map(v),
                         })
                     })
                     .collect(),

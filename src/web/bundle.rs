@@ -17,10 +17,13 @@
 //! (`spheres`, `triangles`, `objects`, ... in the order of
 //! `gpu::bindings::scene`), each in the GPU layout, and for an animated
 //! scene `cameras` (every frame's camera, computed here from
-//! `Scene::camera_path`, so the page interpolates nothing). A reader
-//! refuses a file with another magic, a newer version, or a section past
-//! its end; it skips sections it does not know, so `cameras` is optional
-//! and needs no new version.
+//! `Scene::frame_path`, so the page interpolates nothing) and, where some
+//! light has keys, `frame_lights` (every frame's `lights` array in the GPU
+//! layout, which the page writes into its lights buffer on a frame change).
+//! A reader refuses a file with another magic, a newer version, or a
+//! section past its end; it skips sections it does not know, so `cameras`
+//! and `frame_lights` are optional and need no new version (the page and
+//! its bundle are written together by `kdray web`).
 
 use serde::Serialize;
 
@@ -46,6 +49,10 @@ pub const CAMERAS_HEADER_BYTES: usize = 16;
 /// f64 values per frame in the `cameras` section: position (3), look_at
 /// (3), up (3), vfov in degrees (1).
 pub const CAMERA_VALUES: usize = 10;
+
+/// The section of every frame's lights: `frames` runs of the scene's
+/// `lights` array (`layout::GpuLight`, `lights` entries each), frame 0 first.
+pub const FRAME_LIGHTS_SECTION: &str = "frame_lights";
 
 /// What the page reads of the scene besides its arrays (the `scene` section).
 #[derive(Debug, Serialize)]
@@ -149,6 +156,10 @@ pub fn encode(prepared: &PreparedScene, name: &str) -> Vec<u8> {
     if let Some(cameras) = &cameras {
         sections.push(("cameras", cameras));
     }
+    let frame_lights = frame_lights_section(scene);
+    if let Some(frame_lights) = &frame_lights {
+        sections.push((FRAME_LIGHTS_SECTION, frame_lights));
+    }
     write_sections(&sections)
 }
 
@@ -156,7 +167,7 @@ pub fn encode(prepared: &PreparedScene, name: &str) -> Vec<u8> {
 /// as `CAMERA_VALUES` f64 (little-endian), frame 0 first.
 pub fn cameras_section(scene: &crate::scene::Scene, fps: f64) -> Vec<u8> {
     let frames = scene.frame_count();
-    let path = scene.camera_path();
+    let path = scene.frame_path();
     let mut out = Vec::with_capacity(CAMERAS_HEADER_BYTES + frames as usize * CAMERA_VALUES * 8);
     out.extend_from_slice(&frames.to_le_bytes());
     out.extend_from_slice(&0u32.to_le_bytes());
@@ -169,6 +180,21 @@ pub fn cameras_section(scene: &crate::scene::Scene, fps: f64) -> Vec<u8> {
         }
     }
     out
+}
+
+/// The `frame_lights` section ([`FRAME_LIGHTS_SECTION`]), or None when no
+/// light has keys (every frame's lights are the `lights` array).
+pub fn frame_lights_section(scene: &crate::scene::Scene) -> Option<Vec<u8>> {
+    let path = scene.frame_path();
+    if !path.lights_move() {
+        return None;
+    }
+    let mut out = Vec::new();
+    for frame in 0..scene.frame_count() {
+        let lights = crate::gpu::SceneArrays::lights_of(&path.lights_at(frame));
+        out.extend_from_slice(bytemuck::cast_slice(&lights));
+    }
+    Some(out)
 }
 
 /// The header, the table and `sections`, each aligned.
@@ -305,6 +331,43 @@ mod tests {
             .unwrap()
             .iter()
             .all(|(n, _)| n != "cameras"));
+    }
+
+    /// A scene whose light has keys carries every frame's lights as the
+    /// lights buffer holds them; one whose lights stay carries none.
+    #[test]
+    fn moving_lights_carry_every_frame_lights() {
+        let text = "[camera]\nposition = [0, 0, 5]\nlook_at = [0, 0, 0]\n\
+            [[lights]]\nposition = [1, 1, 1]\n[[lights]]\nposition = [-1, 1, 1]\n\
+            [materials.m]\ndiffuse = [1, 1, 1]\n[[spheres]]\ncenter = [0, 0, 0]\nradius = 1\nmaterial = \"m\"\n\
+            [animation]\nframes = 3\n\
+            [[animation.light_keys]]\nframe = 2\nlight = 1\nposition = [3, 1, 1]\ncolor = [0.5, 0.5, 0.5]\n";
+        let path = std::path::Path::new("lights.toml");
+        let scene = crate::scene::parse_scene(text, path, crate::scene::SceneFormat::Toml).unwrap();
+        let section = frame_lights_section(&scene).unwrap();
+        let per_frame = 2 * std::mem::size_of::<crate::layout::GpuLight>();
+        assert_eq!(section.len(), 3 * per_frame);
+        for frame in 0..3u32 {
+            let want = crate::gpu::SceneArrays::lights_of(&scene.frame(frame).lights);
+            let at = frame as usize * per_frame;
+            assert_eq!(
+                &section[at..at + per_frame],
+                bytemuck::cast_slice::<_, u8>(&want)
+            );
+        }
+        assert_ne!(
+            section[..per_frame],
+            section[2 * per_frame..],
+            "the light moves"
+        );
+        let bundle = encode(&PreparedScene::new(scene, Accel::Kdtree), "lights.toml");
+        assert!(read_sections(&bundle)
+            .unwrap()
+            .iter()
+            .any(|(n, b)| n == FRAME_LIGHTS_SECTION && *b == &section[..]));
+        let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
+        let orbit = crate::scene::load_scene(&root.join("scenes/orbit.toml")).unwrap();
+        assert!(frame_lights_section(&orbit).is_none());
     }
 
     #[test]

@@ -125,6 +125,11 @@ pub fn contract_json() -> Value {
                 "header_bytes": bundle::CAMERAS_HEADER_BYTES,
                 "values_per_frame": bundle::CAMERA_VALUES,
             },
+            "frame_lights": {
+                "section": bundle::FRAME_LIGHTS_SECTION,
+                "binding": bindings::LIGHTS.name,
+                "bytes_per_light": std::mem::size_of::<crate::layout::GpuLight>(),
+            },
         },
         "accumulate": {
             "entry_point": ACCUMULATE_TILE.name,

@@ -25,7 +25,7 @@ use crate::error::{Error, Result};
 use crate::gpu::{Accel, GpuContext, GpuScene, PreparedScene};
 use crate::kdtree::Traversal;
 use crate::layout::FrameParams;
-use crate::scene::{Camera, CameraPath, RenderSettings, Scene};
+use crate::scene::{Camera, FramePath, RenderSettings, Scene};
 
 /// The largest window opened for a scene's own size, in logical pixels.
 const DEFAULT_WINDOW: (f64, f64) = (960.0, 720.0);
@@ -51,8 +51,8 @@ pub(super) struct Session {
     pub(super) refinement: Refinement,
     /// The scene's animation: the frame shown, played by Space.
     pub(super) playback: Playback,
-    /// The scene's camera at every frame of its animation.
-    pub(super) path: CameraPath,
+    /// The scene's camera and lights at every frame of its animation.
+    pub(super) path: FramePath,
     /// When the camera's fly keys were last applied.
     pub(super) last_update: Instant,
     pub(super) stats: FrameStats,
@@ -165,8 +165,9 @@ impl Session {
         if options.play {
             playback.toggle(Instant::now());
         }
-        let path = scene.scene().camera_path();
+        let path = scene.scene().frame_path();
         let home = path.camera_at(playback.frame());
+        scene.write_lights(&ctx, &path.lights_at(playback.frame()));
         let controller = CameraController::new(home, bounds(&scene), width, height);
         let file_max_depth = scene.scene().render.max_depth;
         let k = window_samples_per_axis(options, scene.scene());
@@ -205,9 +206,10 @@ impl Session {
             animation_fps(scene.scene()),
             Instant::now(),
         );
-        self.path = scene.scene().camera_path();
+        self.path = scene.scene().frame_path();
         self.controller
             .set_scene(self.path.camera_at(self.playback.frame()), bounds(&scene));
+        scene.write_lights(&self.ctx, &self.path.lights_at(self.playback.frame()));
         let max_depth = scene.scene().render.max_depth;
         if max_depth != self.file_max_depth {
             self.file_max_depth = max_depth;
@@ -221,9 +223,13 @@ impl Session {
     }
 
     /// Moves the camera to the animation's shown frame (the frame's camera
-    /// becomes the home that R returns to).
+    /// becomes the home that R returns to) and puts its lights in place.
     pub(super) fn show_frame(&mut self, now: Instant) {
         let home = self.path.camera_at(self.playback.frame());
+        if self.path.lights_move() {
+            self.scene
+                .write_lights(&self.ctx, &self.path.lights_at(self.playback.frame()));
+        }
         self.controller.set_scene(home, bounds(&self.scene));
         self.camera_moved(now);
         self.refinement.invalidate();

@@ -1,7 +1,8 @@
 //! The `[animation]` table: the camera at each frame (`Scene::camera_at`)
 //! against the formulas of docs/scene-format.md worked out by hand, the
-//! table's rules (each error at its key and line, per-frame faults naming
-//! the frame), and the scene writer's round trip.
+//! lights at each frame (`Scene::frame`) under `[[animation.light_keys]]`,
+//! the table's rules (each error at its key and line, per-frame faults
+//! naming the frame), and the scene writer's round trip.
 
 use super::*;
 use kdray::scene::Animation;
@@ -48,6 +49,7 @@ fn the_defaults_are_24_fps_no_orbit_and_no_keys() {
             fps: 24.0,
             orbit_degrees: 0.0,
             keys: Vec::new(),
+            light_keys: Vec::new(),
         }
     );
     assert_eq!(scene.frame_count(), 10);
@@ -460,7 +462,210 @@ fn an_orbit_beyond_the_coordinate_range_is_blamed_on_the_orbit() {
     assert_rejected(&doc, "animation.orbit", &["at frame 1", "position", "1e15"]);
 }
 
-// ============================================================== writer
+// ============================================================== light keys
+
+/// The base scene with a second light and an animation of 20 frames.
+fn two_lights() -> Doc {
+    animated("20")
+        .set("lights[1].position", "[-4, 2, 0]")
+        .set("lights[1].diffuse", "[0.5, 0.5, 0.5]")
+}
+
+/// `two_lights` with one key of `light` at `frame` setting `field`.
+fn light_key(light: &str, frame: &str, field: &str, value: &str) -> Doc {
+    two_lights()
+        .set("animation.light_keys[0].frame", frame)
+        .set("animation.light_keys[0].light", light)
+        .set(&format!("animation.light_keys[0].{field}"), value)
+}
+
+/// A light's track starts at its `[[lights]]` entry at frame 0 (a factor of
+/// 1 on its colours), as a camera field's starts at `[camera]`. With one key
+/// at frame 10 the position runs on the spline with both ends doubled,
+/// which between two points is (t + 3 t^2 - 2 t^3) / 2 of the way (1/2 at
+/// t = 1/2, 38/250 at t = 1/5), the colour factor on a straight line; after
+/// the key both are held, and the other light stays as written.
+#[test]
+fn a_light_runs_from_its_entry_to_its_keys_and_holds_the_last() {
+    let doc = two_lights()
+        .set("animation.light_keys[0].frame", "10")
+        .set("animation.light_keys[0].light", "1")
+        .set("animation.light_keys[0].position", "[4, 2, 0]")
+        .set("animation.light_keys[0].color", "[0, 2, 1]");
+    let scene = assert_accepted(&doc);
+    let first = scene.lights[1];
+    assert_eq!(scene.frame(0).lights, scene.lights);
+    let half = scene.frame(5).lights[1];
+    assert_eq!(half.position, DVec3::new(0.0, 2.0, 0.0));
+    assert_eq!(half.diffuse, DVec3::new(0.25, 0.75, 0.5));
+    assert_eq!(half.ambient, DVec3::new(0.5, 1.5, 1.0));
+    let x = scene.frame(2).lights[1].position.x;
+    assert!((x - (-4.0 + 8.0 * 38.0 / 250.0)).abs() < 1e-12, "{x}");
+    for frame in [10, 11, 19] {
+        let held = scene.frame(frame).lights[1];
+        assert_eq!(held.position, DVec3::new(4.0, 2.0, 0.0), "frame {frame}");
+        assert_eq!(held.diffuse, DVec3::new(0.0, 1.0, 0.5), "frame {frame}");
+        assert_eq!(held.specular, DVec3::new(0.0, 2.0, 1.0), "frame {frame}");
+        assert_eq!(scene.frame(frame).lights[0], scene.lights[0]);
+    }
+    assert_eq!(scene.lights[1], first, "the scene keeps its [[lights]]");
+    // Lights do not change the camera, and the orbit does not move lights.
+    let orbiting = assert_accepted(&doc.clone().set("animation.orbit", "90"));
+    for frame in [0, 5, 12] {
+        assert_eq!(orbiting.frame(frame).lights, scene.frame(frame).lights);
+        assert_eq!(orbiting.frame(frame).camera, orbiting.camera_at(frame));
+    }
+}
+
+/// A key at frame 0 replaces the `[[lights]]` value from the start; a key
+/// that sets only the colour leaves the position where it is.
+#[test]
+fn a_light_key_at_frame_0_replaces_the_entry() {
+    let scene = assert_accepted(
+        &light_key("0", "0", "position", "[1, 2, 3]")
+            .set("animation.light_keys[1].frame", "4")
+            .set("animation.light_keys[1].light", "0")
+            .set("animation.light_keys[1].color", "[0.5, 0.5, 0.5]"),
+    );
+    for frame in [0, 2, 4, 19] {
+        assert_eq!(
+            scene.frame(frame).lights[0].position,
+            DVec3::new(1.0, 2.0, 3.0)
+        );
+    }
+    assert_eq!(scene.frame(2).lights[0].diffuse, DVec3::splat(0.75));
+    assert_eq!(scene.frame(0).lights[0].diffuse, DVec3::ONE);
+}
+
+#[test]
+fn a_light_key_names_an_existing_light() {
+    for bad in ["2", "7"] {
+        assert_rejected(
+            &light_key(bad, "3", "position", "[0, 1, 0]"),
+            "animation.light_keys[0].light",
+            &["0..2", "[[lights]]", bad],
+        );
+    }
+    assert_accepted(&light_key("1", "3", "position", "[0, 1, 0]"));
+}
+
+#[test]
+fn a_light_key_frame_must_lie_inside_the_animation() {
+    for bad in ["20", "21", "1000"] {
+        assert_rejected(
+            &light_key("0", bad, "position", "[0, 1, 0]"),
+            "animation.light_keys[0].frame",
+            &["0..20", bad],
+        );
+    }
+    assert_accepted(&light_key("0", "19", "position", "[0, 1, 0]"));
+}
+
+fn two_light_keys(first: (&str, &str), second: (&str, &str)) -> Doc {
+    two_lights()
+        .set("animation.light_keys[0].light", first.0)
+        .set("animation.light_keys[0].frame", first.1)
+        .set("animation.light_keys[0].color", "[1, 0, 0]")
+        .set("animation.light_keys[1].light", second.0)
+        .set("animation.light_keys[1].frame", second.1)
+        .set("animation.light_keys[1].color", "[0, 1, 0]")
+}
+
+/// The order rules hold per light: keys of different lights may come in
+/// any order.
+#[test]
+fn each_lights_keys_are_in_increasing_frame_order_and_keyed_once() {
+    assert_rejected(
+        &two_light_keys(("1", "7"), ("1", "3")),
+        "animation.light_keys[1].frame",
+        &[
+            "increasing",
+            "animation.light_keys[0] (light 1) is at frame 7",
+        ],
+    );
+    assert_rejected(
+        &two_light_keys(("0", "7"), ("0", "7")),
+        "animation.light_keys[1].frame",
+        &[
+            "light 0's frame 7 is keyed twice",
+            "animation.light_keys[0]",
+        ],
+    );
+    let scene = assert_accepted(&two_light_keys(("1", "7"), ("0", "3")));
+    assert_eq!(scene.frame(7).lights[1].diffuse, DVec3::new(0.5, 0.0, 0.0));
+    assert_eq!(scene.frame(3).lights[0].diffuse, DVec3::new(0.0, 1.0, 0.0));
+    assert_accepted(&two_light_keys(("1", "7"), ("0", "7")));
+}
+
+#[test]
+fn a_light_key_must_set_a_position_or_a_color() {
+    assert_rejected(
+        &two_lights()
+            .set("animation.light_keys[0].frame", "2")
+            .set("animation.light_keys[0].light", "0"),
+        "animation.light_keys[0]",
+        &["neither position nor color"],
+    );
+    assert_rejected(
+        &light_key("0", "2", "intensity", "3"),
+        "animation.light_keys[0].intensity",
+        &["unknown field"],
+    );
+}
+
+#[test]
+fn light_key_values_follow_the_light_rules() {
+    assert_rejected(
+        &light_key("0", "1", "position", "[0, 2e15, 0]"),
+        "animation.light_keys[0].position[1]",
+        &["1e15"],
+    );
+    assert_rejected_text(
+        &light_key("0", "1", "position", "[0, 0, inf]").toml(),
+        "animation.light_keys[0].position[2]",
+        &["finite"],
+    );
+    assert_rejected_text(
+        &light_key("1", "1", "color", "[nan, 1, 0]").toml(),
+        "animation.light_keys[0].color[0]",
+        &["finite"],
+    );
+    assert_rejected(
+        &light_key("1", "1", "color", "[0, -0.5, 1]"),
+        "animation.light_keys[0].color",
+        &[">= 0"],
+    );
+}
+
+/// Keys far apart on a spline overshoot: from x = 0 to 9e14 and back to 0
+/// over two keys the spline passes x = 9e14 * 1.125 > 1e15 between them.
+/// A colour factor times a huge colour may overflow. Either names the frame.
+#[test]
+fn a_light_that_leaves_the_coordinate_range_or_overflows_names_its_frame() {
+    let doc = two_lights()
+        .set("lights[0].position", "[0, 0, 0]")
+        .set("animation.light_keys[0].frame", "4")
+        .set("animation.light_keys[0].light", "0")
+        .set("animation.light_keys[0].position", "[9e14, 0, 0]")
+        .set("animation.light_keys[1].frame", "8")
+        .set("animation.light_keys[1].light", "0")
+        .set("animation.light_keys[1].position", "[9e14, 0, 0]")
+        .set("animation.light_keys[2].frame", "12")
+        .set("animation.light_keys[2].light", "0")
+        .set("animation.light_keys[2].position", "[0, 0, 0]");
+    assert_rejected(
+        &doc,
+        "animation.light_keys[0]",
+        &["at frame 6", "light 0's position", "1e15"],
+    );
+    let huge = light_key("1", "5", "color", "[2, 1, 1]").set("lights[1].specular", "[1e308, 0, 0]");
+    // 1e308 * (1 + f / 5) passes f64::MAX (1.8e308) at frame 4.
+    assert_rejected(
+        &huge,
+        "animation.light_keys[0]",
+        &["at frame 4", "light 1's specular", "not finite"],
+    );
+}
 
 #[test]
 fn the_writer_writes_the_animation_back() {
@@ -473,8 +678,15 @@ fn the_writer_writes_the_animation_back() {
         .set("animation.keys[1].position", "[0.3, 0.2, 1.5]")
         .set("animation.keys[1].look_at", "[0.1, 0, 0]")
         .set("animation.keys[2].frame", "47")
-        .set("animation.keys[2].vfov", "75");
+        .set("animation.keys[2].vfov", "75")
+        .set("animation.light_keys[0].frame", "20")
+        .set("animation.light_keys[0].light", "0")
+        .set("animation.light_keys[0].position", "[1.5, 2, -0.25]")
+        .set("animation.light_keys[1].frame", "30")
+        .set("animation.light_keys[1].light", "0")
+        .set("animation.light_keys[1].color", "[0.5, 0.1, 2]");
     let scene = assert_accepted(&doc);
+    assert_eq!(scene.animation.as_ref().unwrap().light_keys.len(), 2);
     for format in [SceneFormat::Toml, SceneFormat::Json] {
         let text = kdray::scene::scene_text(&scene, format).unwrap();
         assert!(text.contains("animation"), "{text}");

@@ -81,7 +81,8 @@ fn render(args: RenderArgs) -> Result<()> {
             scene.frame_count()
         )));
     }
-    scene.camera = scene.camera_at(frame);
+    let shown = scene.frame(frame);
+    (scene.camera, scene.lights) = (shown.camera, shown.lights);
     let output = output.unwrap_or_else(|| {
         let stem = scene_path
             .file_stem()
@@ -141,8 +142,9 @@ fn render(args: RenderArgs) -> Result<()> {
 }
 
 /// Every frame of `scene`'s animation into `dir` (created if missing) as
-/// [`kdray::farm::plan::frame_file_name`]s, from one tree and one upload;
-/// one progress bar counts the rows of all frames.
+/// [`kdray::farm::plan::frame_file_name`]s, from one tree and one upload
+/// (each frame rewrites only the lights buffer); one progress bar counts the
+/// rows of all frames.
 fn render_all_frames(
     scene: kdray::scene::Scene,
     dir: &Path,
@@ -152,7 +154,7 @@ fn render_all_frames(
     let frames = scene.frame_count();
     std::fs::create_dir_all(dir)
         .map_err(|e| Error::Output(format!("{}: cannot create the folder: {e}", dir.display())))?;
-    let path = scene.camera_path();
+    let path = scene.frame_path();
     let (width, height) = (scene.render.width, scene.render.height);
     let ctx = GpuContext::new()?;
     let progress = progress_bar(
@@ -167,7 +169,7 @@ fn render_all_frames(
         let file = dir.join(kdray::farm::plan::frame_file_name(k, frames));
         let mut png = kdray::output::PngStream::create(&file, width, height)?;
         let part = kdray::render::FramePart {
-            camera: path.camera_at(k),
+            frame: path.frame(k),
             rows: (0, height),
         };
         let (figures, _) = kdray::render::render_streaming(
