@@ -137,6 +137,29 @@ pub fn max_binding_bytes(limits: &wgpu::Limits) -> u64 {
         .min(limits.max_buffer_size)
 }
 
+/// A buffer holding `contents`, written through a mapping at creation. Not
+/// `create_buffer_init`: it panics when the device is lost. A failed mapping
+/// leaves an invalid buffer, which the caller's error scope
+/// ([`GpuContext::checked`]) reports as one error line.
+pub fn buffer_holding(
+    device: &wgpu::Device,
+    label: &str,
+    contents: &[u8],
+    usage: wgpu::BufferUsages,
+) -> wgpu::Buffer {
+    let buffer = device.create_buffer(&wgpu::BufferDescriptor {
+        label: Some(label),
+        size: contents.len() as u64,
+        usage,
+        mapped_at_creation: true,
+    });
+    if let Ok(mut view) = buffer.slice(..).get_mapped_range_mut() {
+        view.copy_from_slice(contents);
+    }
+    buffer.unmap();
+    buffer
+}
+
 /// One line describing an adapter, as `kdray info` and `--stats` show it.
 pub fn describe(info: &wgpu::AdapterInfo) -> String {
     format!(

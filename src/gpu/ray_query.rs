@@ -4,6 +4,7 @@
 //! the same random scenes and rays as the CPU property tests.
 
 use super::bindings;
+use super::context::buffer_holding;
 use super::trace_pipelines::TracePipeline;
 use super::{Accel, GpuContext, KernelVariant, SceneBuffers, TracePipelines};
 use crate::error::Result;
@@ -88,19 +89,8 @@ impl RayQueries {
         let costs_bytes = (queries.len() * bindings::COST_WORDS * 4) as u64;
         let (bind_group, hits, costs, readback) =
             ctx.checked("allocating the ray query buffers", |device| {
-                let storage = |label, contents: &[u8], usage| {
-                    let buffer = device.create_buffer(&wgpu::BufferDescriptor {
-                        label: Some(label),
-                        size: contents.len() as u64,
-                        usage,
-                        mapped_at_creation: true,
-                    });
-                    if let Ok(mut view) = buffer.slice(..).get_mapped_range_mut() {
-                        view.copy_from_slice(contents);
-                    }
-                    buffer.unmap();
-                    buffer
-                };
+                let storage =
+                    |label, contents: &[u8], usage| buffer_holding(device, label, contents, usage);
                 let params = storage(
                     "query params",
                     bytemuck::bytes_of(&params),

@@ -4,6 +4,7 @@
 //! adapter, and the upload ([`SceneBuffers`]).
 
 use super::bindings;
+use super::context::buffer_holding;
 use super::{GpuContext, SceneArrays};
 use crate::geometry::Aabb;
 use crate::layout::GpuKdNode;
@@ -309,20 +310,7 @@ impl SceneBuffers {
                 } else {
                     wgpu::BufferUsages::STORAGE
                 };
-                // Not create_buffer_init: it panics when the device is lost.
-                // A failed mapping leaves an invalid buffer, which the caller's
-                // error scope reports as one error line.
-                let buffer = device.create_buffer(&wgpu::BufferDescriptor {
-                    label: Some(name),
-                    size: contents.len() as u64,
-                    usage,
-                    mapped_at_creation: true,
-                });
-                if let Ok(mut view) = buffer.slice(..).get_mapped_range_mut() {
-                    view.copy_from_slice(contents);
-                }
-                buffer.unmap();
-                buffer
+                buffer_holding(device, name, contents, usage)
             })
             .collect();
         SceneBuffers {

@@ -40,7 +40,12 @@ type Field = (&'static str, usize, &'static str, usize);
 /// One field of a uniform struct, by name: (name, byte offset, scalar type, count).
 macro_rules! field {
     ($struct:ty, $name:ident, $ty:literal, $n:literal) => {
-        (stringify!($name), std::mem::offset_of!($struct, $name), $ty, $n)
+        (
+            stringify!($name),
+            std::mem::offset_of!($struct, $name),
+            $ty,
+            $n,
+        )
     };
 }
 
