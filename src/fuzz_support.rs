@@ -11,20 +11,29 @@ use crate::scene::{self, SceneFormat};
 const NOWHERE: &str = "/nonexistent-kdray-fuzz";
 
 /// Parse and validate scene text; if it validates, build its k-d tree and
-/// trace a ray through it.
+/// trace a ray through it from the camera of the first, middle and last
+/// frames (the animation's keys and orbit, and each camera's basis).
 pub fn scene(text: &str, format: SceneFormat) {
     let path = Path::new(NOWHERE).join("scene");
     if let Ok(scene) = scene::parse_scene(text, &path, format) {
         let prims = crate::geometry::Primitives::from_scene(&scene);
         let tree = crate::kdtree::KdTree::for_primitives(&prims);
-        let ray = crate::geometry::Ray {
-            origin: scene.camera.position.as_vec3(),
-            dir: (scene.camera.look_at - scene.camera.position)
-                .normalize()
-                .as_vec3(),
-        };
-        let _ =
-            crate::kdtree::traverse::closest_hit(&tree, &prims, &ray, crate::geometry::T_INFINITY);
+        let cameras = scene.camera_path();
+        let last = scene.frame_count() - 1;
+        for frame in [0, last / 2, last] {
+            let camera = cameras.camera_at(frame);
+            let basis = camera.basis();
+            let ray = crate::geometry::Ray {
+                origin: camera.position.as_vec3(),
+                dir: basis.forward.as_vec3(),
+            };
+            let _ = crate::kdtree::traverse::closest_hit(
+                &tree,
+                &prims,
+                &ray,
+                crate::geometry::T_INFINITY,
+            );
+        }
     }
 }
 
@@ -34,6 +43,15 @@ pub fn obj(data: &[u8]) {
     let path = Path::new(NOWHERE).join("mesh.obj");
     let _ = scene::obj::parse_obj(&text, &path, false);
     let _ = scene::obj::parse_obj(&text, &path, true);
+}
+
+/// Any bytes as an MTL material library (lossily decoded); its `map_Kd`
+/// images are looked for in a folder that does not exist (an absolute path
+/// is read as written).
+pub fn mtl(data: &[u8]) {
+    let text = String::from_utf8_lossy(data);
+    let path = Path::new(NOWHERE).join("materials.mtl");
+    let _ = scene::obj::parse_mtl_library(&text, &path);
 }
 
 /// Any bytes as a glTF or GLB file, with and without materials; external

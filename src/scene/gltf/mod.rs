@@ -519,7 +519,20 @@ impl Reader<'_, '_> {
             }) => (0..accessor.count())
                 .map(|i| decode(&bytes[offset + i * stride..]))
                 .collect(),
-            None => vec![zero; accessor.count()],
+            None => {
+                // Zeros but for the sparse elements. At most one element per
+                // byte of the buffers (a real file holds that many elements
+                // densely elsewhere, as a morph target's base positions): a
+                // file of a few bytes must not fill gigabytes with zeros.
+                let buffer_bytes: usize = self.buffers.iter().map(Vec::len).sum();
+                if accessor.count() > buffer_bytes {
+                    return Err(format!(
+                        "{} elements without a bufferView, more than the {buffer_bytes} bytes of the file's buffers",
+                        accessor.count()
+                    ));
+                }
+                vec![zero; accessor.count()]
+            }
         };
         for (index, bytes) in self.sparse_elements(accessor, size)? {
             out[index] = decode(bytes);

@@ -38,10 +38,11 @@ mod mtl;
 mod reference;
 mod tokens;
 
+use std::collections::HashMap;
 use std::path::Path;
 
-use super::mesh::Mesh;
-use super::SceneError;
+use super::mesh::{Mesh, MeshMaterial};
+use super::{SceneError, Warning};
 
 /// Reads an OBJ file. With `with_materials` false (the scene overrides the
 /// material) mtllib/usemtl are ignored entirely (an MTL file need not
@@ -83,6 +84,19 @@ pub fn load_obj_observed(
 /// Unlike [`load_obj`], a text without faces is an empty mesh.
 pub fn parse_obj(text: &str, path: &Path, with_materials: bool) -> Result<Mesh, SceneError> {
     parse_obj_bytes(text.as_bytes(), path, with_materials, &mut |_| {}, &mut 0)
+}
+
+/// Parses MTL text already read (for fuzzing): its materials by name and
+/// the warnings it raises. `path` names it in messages; its `map_Kd`
+/// images are looked for beside it.
+pub fn parse_mtl_library(
+    text: &str,
+    path: &Path,
+) -> Result<(HashMap<String, MeshMaterial>, Vec<Warning>), SceneError> {
+    let mut library = HashMap::new();
+    let mut warnings = Vec::new();
+    mtl::parse_mtl(text, path, &mut library, &mut warnings)?;
+    Ok((library, warnings))
 }
 
 /// The parser of a file's bytes; `faces` counts the `f` statements. The

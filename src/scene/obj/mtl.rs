@@ -80,7 +80,9 @@ pub(super) fn parse_mtl(
                     } else {
                         TextureWrap::Repeat
                     };
-                    let read = std::fs::read(&image).map_err(|e| e.to_string());
+                    // Only a regular file (`map_Kd /dev/zero` would be read forever).
+                    let read = crate::scene::input_file::read_input_file(&image)
+                        .map_err(|e| e.to_string());
                     let texture = read.and_then(|bytes| {
                         Texture::decode(
                             file,
