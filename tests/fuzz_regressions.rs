@@ -105,7 +105,7 @@ mod huge_images {
     use std::alloc::{GlobalAlloc, Layout, System};
     use std::cell::Cell;
 
-    use kdray::scene::{Texture, TextureFilter, TextureWrap};
+    use kdray::scene::{MinFilter, Texture, TextureFilter, TextureWrap};
 
     /// System's allocator, counting what each thread holds and the most it
     /// has held.
@@ -244,6 +244,7 @@ mod huge_images {
             "test",
             bytes,
             TextureFilter::Bilinear,
+            MinFilter::TRILINEAR,
             [TextureWrap::Repeat; 2],
         )
     }
