@@ -140,7 +140,9 @@ impl Texture {
         wrap: [TextureWrap; 2],
     ) -> Result<Texture, String> {
         let image = image::load_from_memory(bytes).map_err(|e| e.to_string())?;
-        let rgba = image.to_rgba8();
+        // Consumed, not copied: an RGBA8 image is held once, not twice,
+        // while its texels are made.
+        let rgba = image.into_rgba8();
         let (width, height) = rgba.dimensions();
         if width == 0 || height == 0 {
             return Err("the image has no pixels".to_string());
