@@ -213,6 +213,60 @@ fn a_failing_task_fails_the_wait_naming_it_and_the_finishing_job_does_not_succee
 }
 
 #[test]
+fn wait_alone_waits_for_the_last_submission() {
+    let cluster = cluster();
+    let tmp = TempDir::new("farm-wait-alone");
+    let out = tmp.join("out");
+    let scene = repo("scenes/seed.toml");
+    // The jobs start 3 s after submission, so the later --wait finds them queued.
+    let args = ["--tiles", "2", "--sbatch=--begin=now+3"];
+    let nothing = farm(
+        &tmp.path,
+        &cluster,
+        &scene,
+        &out,
+        &[&args[..], &["--wait"]].concat(),
+    );
+    assert_eq!(nothing.code, 2, "{nothing:#?}");
+    assert!(
+        nothing
+            .stderr_text()
+            .contains("no submission recorded to wait for"),
+        "{nothing:#?}"
+    );
+    let submitted = farm(
+        &tmp.path,
+        &cluster,
+        &scene,
+        &out,
+        &[&args[..], &["--submit"]].concat(),
+    );
+    assert_eq!(submitted.code, 0, "{submitted:#?}");
+    assert!(
+        submitted.stdout.contains("submitted array job"),
+        "{submitted:#?}"
+    );
+    assert!(top_level_pngs(&out).is_empty(), "not finished yet");
+    let waited = farm(
+        &tmp.path,
+        &cluster,
+        &scene,
+        &out,
+        &[&args[..], &["--wait"]].concat(),
+    );
+    assert_eq!(waited.code, 0, "{waited:#?}");
+    assert!(
+        waited.stdout.contains("waiting for array job"),
+        "{waited:#?}"
+    );
+    assert!(waited.stdout.contains("done:"), "{waited:#?}");
+    assert_eq!(
+        read_png_rgb(&out.join("seed.png")).unwrap(),
+        single_render(&tmp, &scene, &[])
+    );
+}
+
+#[test]
 fn a_rerun_renders_only_what_is_missing() {
     let cluster = cluster();
     let tmp = TempDir::new("farm-rerun");

@@ -12,7 +12,7 @@ use super::plan::{self, FarmPlan, ARRAY_SCRIPT, FINISH_SCRIPT};
 use crate::error::{Error, Result};
 
 /// The job ids of a submission.
-#[derive(Debug, Clone, PartialEq, Eq)]
+#[derive(Debug, Clone, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
 pub struct Submission {
     /// The array job, with the tasks it runs; `None` when every part was
     /// there and only the finishing job was submitted.
@@ -59,6 +59,25 @@ pub fn submit(dir: &Path, plan: &FarmPlan, tasks: &[u32]) -> Result<Submission> 
     args.push(dir.join(FINISH_SCRIPT).to_string_lossy().into_owned());
     let finish = run_sbatch(&sbatch, &args)?;
     Ok(Submission { array, finish })
+}
+
+/// DIR/parts/submission.json: the last submission's job ids, so that a
+/// later `--wait` without `--submit` waits for them.
+fn submission_file(dir: &Path) -> PathBuf {
+    plan::parts_dir(dir).join("submission.json")
+}
+
+/// Records `submission` in DIR (atomically).
+pub fn record(dir: &Path, submission: &Submission) -> Result<()> {
+    let mut text = serde_json::to_string_pretty(submission)?;
+    text.push('\n');
+    crate::output::write_file_atomic(&submission_file(dir), text.as_bytes())
+}
+
+/// The submission recorded in DIR, if any (an unreadable record counts as none).
+pub fn recorded(dir: &Path) -> Option<Submission> {
+    let text = std::fs::read_to_string(submission_file(dir)).ok()?;
+    serde_json::from_str(&text).ok()
 }
 
 /// Runs `sbatch --parsable ARGS` and returns the job id it prints

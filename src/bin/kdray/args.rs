@@ -362,9 +362,10 @@ pub struct FarmArgs {
     /// Submit the array and the finishing job with sbatch and print their ids.
     #[arg(long)]
     pub submit: bool,
-    /// With --submit: return when both jobs are done; exit 0 when everything
+    /// Return when the jobs are done (with --submit, the jobs it submits;
+    /// alone, the last ones submitted for --out); exit 0 when everything
     /// is there, else name the failed tasks and their logs.
-    #[arg(long, requires = "submit")]
+    #[arg(long)]
     pub wait: bool,
     /// Discard the images of another render planned in --out and start again.
     #[arg(long)]

@@ -52,6 +52,16 @@ pub fn farm(args: FarmArgs) -> Result<()> {
         println!("complete, nothing to do: {}", result_name(dir, plan));
         return Ok(());
     }
+    if !args.submit && args.wait {
+        let submission = farm::slurm::recorded(dir).ok_or_else(|| {
+            Error::Usage(format!(
+                "{}: no submission recorded to wait for: add --submit",
+                dir.display()
+            ))
+        })?;
+        println!("waiting for {}", jobs_in_words(&submission));
+        return wait_and_report(dir, plan, &submission);
+    }
     if !args.submit {
         println!(
             "submit with the same command and --submit, or by hand: sbatch --array={} {d}/{} \
@@ -75,18 +85,34 @@ pub fn farm(args: FarmArgs) -> Result<()> {
         }
     }
     let submission = farm::slurm::submit(dir, plan, &prepared.pending_tasks)?;
-    match &submission.array {
-        Some((id, tasks)) => println!(
-            "submitted array job {id} (tasks {}) and finishing job {}",
-            farm::slurm::index_list(tasks),
-            submission.finish
-        ),
-        None => println!("submitted finishing job {}", submission.finish),
-    }
+    farm::slurm::record(dir, &submission)?;
+    println!("submitted {}", jobs_in_words(&submission));
     if !args.wait {
         return Ok(());
     }
-    farm::slurm::wait_for_jobs(&submission)?;
+    wait_and_report(dir, plan, &submission)
+}
+
+/// "array job ID (tasks LIST) and finishing job ID", or the finishing job alone.
+fn jobs_in_words(submission: &farm::slurm::Submission) -> String {
+    match &submission.array {
+        Some((id, tasks)) => format!(
+            "array job {id} (tasks {}) and finishing job {}",
+            farm::slurm::index_list(tasks),
+            submission.finish
+        ),
+        None => format!("finishing job {}", submission.finish),
+    }
+}
+
+/// Waits until the submission's jobs have left the queue, then judges by
+/// the files: Ok when everything is there, else the failed tasks and logs.
+fn wait_and_report(
+    dir: &std::path::Path,
+    plan: &farm::FarmPlan,
+    submission: &farm::slurm::Submission,
+) -> Result<()> {
+    farm::slurm::wait_for_jobs(submission)?;
     let (failed, finished) = farm::slurm::outcome(dir, plan);
     if let Some(error) = farm::slurm::failure_report(dir, &failed, finished) {
         return Err(error);
