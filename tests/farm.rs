@@ -219,41 +219,25 @@ fn wait_alone_waits_for_the_last_submission() {
     let out = tmp.join("out");
     let scene = repo("scenes/seed.toml");
     // The jobs start 3 s after submission, so the later --wait finds them queued.
-    let args = ["--tiles", "2", "--sbatch=--begin=now+3"];
-    let nothing = farm(
-        &tmp.path,
-        &cluster,
-        &scene,
-        &out,
-        &[&args[..], &["--wait"]].concat(),
-    );
+    let run = |last: &str| {
+        let args = ["--tiles", "2", "--sbatch=--begin=now+3", last];
+        farm(&tmp.path, &cluster, &scene, &out, &args)
+    };
+    let nothing = run("--wait");
     assert_eq!(nothing.code, 2, "{nothing:#?}");
+    let error = nothing.stderr_text();
     assert!(
-        nothing
-            .stderr_text()
-            .contains("no submission recorded to wait for"),
-        "{nothing:#?}"
+        error.contains("no submission recorded to wait for"),
+        "{error}"
     );
-    let submitted = farm(
-        &tmp.path,
-        &cluster,
-        &scene,
-        &out,
-        &[&args[..], &["--submit"]].concat(),
-    );
+    let submitted = run("--submit");
     assert_eq!(submitted.code, 0, "{submitted:#?}");
     assert!(
         submitted.stdout.contains("submitted array job"),
         "{submitted:#?}"
     );
     assert!(top_level_pngs(&out).is_empty(), "not finished yet");
-    let waited = farm(
-        &tmp.path,
-        &cluster,
-        &scene,
-        &out,
-        &[&args[..], &["--wait"]].concat(),
-    );
+    let waited = run("--wait");
     assert_eq!(waited.code, 0, "{waited:#?}");
     assert!(
         waited.stdout.contains("waiting for array job"),

@@ -264,21 +264,23 @@ impl SceneBuffers {
             .map(|(b, buffer)| (b.index, buffer.clone()))
     }
 
-    /// Rewrites the lights buffer with `lights`, as many as it holds (an
-    /// animation's frame moves its lights; the tree stays).
+    /// Rewrites the lights buffer with `lights`, one per light of the scene
+    /// (an animation's frame moves its lights; the tree stays). Callers pass
+    /// the same scene's frame, so the counts agree; any surplus is not written.
     pub fn write_lights(&self, queue: &wgpu::Queue, lights: &[crate::layout::GpuLight]) {
-        assert_eq!(
+        debug_assert_eq!(
             lights.len(),
             self.light_count as usize,
             "one value per light"
         );
-        let at = self
+        let lights = &lights[..lights.len().min(self.light_count as usize)];
+        let buffer = self
             .bindings
             .iter()
-            .position(|b| b.name == bindings::LIGHTS.name)
-            .expect("the scene binds its lights");
-        if !lights.is_empty() {
-            queue.write_buffer(&self.buffers[at], 0, bytemuck::cast_slice(lights));
+            .zip(&self.buffers)
+            .find(|(b, _)| b.name == bindings::LIGHTS.name);
+        if let (Some((_, buffer)), false) = (buffer, lights.is_empty()) {
+            queue.write_buffer(buffer, 0, bytemuck::cast_slice(lights));
         }
     }
 

@@ -47,9 +47,18 @@ pub fn object() -> impl Strategy<Value = Object> {
 }
 
 pub fn scene() -> impl Strategy<Value = Primitives> {
-    (prop::collection::vec(object(), 1..120), 0usize..4).prop_map(|(objects, copies)| {
+    scene_of(object(), 1..120, 4)
+}
+
+/// Scenes of `objects` (a count in `count`), the first few (fewer than
+/// `max_copies`) repeated exactly: coincident objects.
+pub fn scene_of(
+    object: impl Strategy<Value = Object>,
+    count: std::ops::Range<usize>,
+    max_copies: usize,
+) -> impl Strategy<Value = Primitives> {
+    (prop::collection::vec(object, count), 0..max_copies).prop_map(|(objects, copies)| {
         let mut prims = Primitives::default();
-        // Coincident objects: repeat the first few exactly.
         let repeated = objects.iter().take(copies).cloned().collect::<Vec<_>>();
         for o in objects.into_iter().chain(repeated) {
             match o {

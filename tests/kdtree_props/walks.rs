@@ -159,17 +159,7 @@ fn grid_scene() -> impl Strategy<Value = Primitives> {
         (grid_point(), grid_point(), grid_point())
             .prop_map(|(a, b, c)| Object::Triangle(TriangleF32 { v: [a, b, c] })),
     ];
-    (prop::collection::vec(object, 1..80), 0usize..3).prop_map(|(objects, copies)| {
-        let mut prims = Primitives::default();
-        let repeated = objects.iter().take(copies).cloned().collect::<Vec<_>>();
-        for o in objects.into_iter().chain(repeated) {
-            match o {
-                Object::Sphere(s) => prims.spheres.push(s),
-                Object::Triangle(t) => prims.triangles.push(t),
-            }
-        }
-        prims
-    })
+    strategies::scene_of(object, 1..80, 3)
 }
 
 /// The box of leaf record `pick`, as (min, max): its faces, those on the

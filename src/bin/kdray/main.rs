@@ -71,7 +71,9 @@ fn render(args: RenderArgs) -> Result<()> {
     flags.check()?;
     flags.apply(&mut scene);
     if all_frames {
-        let dir = output.expect("clap requires --output with --all-frames");
+        let Some(dir) = output else {
+            return Err(Error::Usage("--all-frames needs -o DIR".into()));
+        };
         return render_all_frames(scene, &dir, &flags, stats);
     }
     let frame = frame.unwrap_or(0);
