@@ -1,6 +1,9 @@
 //! kdray: a ray tracer whose k-d tree is built on the CPU and walked by a
 //! WGSL compute shader through wgpu.
 //!
+//! The GPU-free layers ([`scene`], [`geometry`], [`kdtree`], [`layout`]) are
+//! the `kdray-core` crate, re-exported here under the same paths.
+//!
 //! Data flows one way: [`scene`] (parse, validate, OBJ and glTF, animation)
 //! -> [`kdtree`] (build, flat GPU layout, the CPU walks) -> [`gpu`] (the
 //! prepared and uploaded scene, the contract, pipelines, dispatch, readback)
@@ -10,20 +13,14 @@
 //! a Slurm cluster; [`bench`](mod@bench) measures. docs/design.md's Architecture is the
 //! map.
 
+pub use kdray_core::{choice, geometry, kdtree, layout, scene};
+
 pub mod bench;
-pub mod choice;
 pub mod error;
 pub mod farm;
-pub mod fuzz_support;
-pub mod geometry;
 pub mod gpu;
-mod huge_pages;
-pub mod kdtree;
-pub mod layout;
 pub mod output;
-pub mod reference;
 pub mod render;
-pub mod scene;
 pub mod web;
 pub mod window;
 

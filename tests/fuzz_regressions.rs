@@ -41,7 +41,7 @@ fn replay(target: &str, check: impl Fn(&[u8])) {
 fn scene_toml_corpus() {
     replay("scene_toml", |data| {
         if let Ok(text) = std::str::from_utf8(data) {
-            kdray::fuzz_support::scene(text, SceneFormat::Toml);
+            kdray_core::fuzz_support::scene(text, SceneFormat::Toml);
         }
     });
 }
@@ -50,24 +50,24 @@ fn scene_toml_corpus() {
 fn scene_json_corpus() {
     replay("scene_json", |data| {
         if let Ok(text) = std::str::from_utf8(data) {
-            kdray::fuzz_support::scene(text, SceneFormat::Json);
+            kdray_core::fuzz_support::scene(text, SceneFormat::Json);
         }
     });
 }
 
 #[test]
 fn obj_corpus() {
-    replay("obj", kdray::fuzz_support::obj);
+    replay("obj", kdray_core::fuzz_support::obj);
 }
 
 #[test]
 fn mtl_corpus() {
-    replay("mtl", kdray::fuzz_support::mtl);
+    replay("mtl", kdray_core::fuzz_support::mtl);
 }
 
 #[test]
 fn gltf_corpus() {
-    replay("gltf", kdray::fuzz_support::gltf);
+    replay("gltf", kdray_core::fuzz_support::gltf);
 }
 
 /// Without a fuzzer at hand: every prefix of the GLB and glTF seeds, and
@@ -79,7 +79,7 @@ fn gltf_truncations_and_bit_flips() {
         let data = std::fs::read(root.join(name)).unwrap();
         for end in 0..data.len() {
             let input = &data[..end];
-            let result = std::panic::catch_unwind(|| kdray::fuzz_support::gltf(input));
+            let result = std::panic::catch_unwind(|| kdray_core::fuzz_support::gltf(input));
             assert!(result.is_ok(), "{name} cut at {end} panics");
         }
     }
@@ -88,7 +88,7 @@ fn gltf_truncations_and_bit_flips() {
         for bit in 0..8 {
             let mut input = data.clone();
             input[at] ^= 1 << bit;
-            let result = std::panic::catch_unwind(|| kdray::fuzz_support::gltf(&input));
+            let result = std::panic::catch_unwind(|| kdray_core::fuzz_support::gltf(&input));
             assert!(
                 result.is_ok(),
                 "tetra.glb with bit {bit} of byte {at} flipped panics"

@@ -11,7 +11,7 @@ use common::*;
 use glam::Vec3;
 use kdray::geometry::Ray;
 use kdray::gpu::Accel;
-use kdray::reference::{refract_fresnel, PathStep, ReferenceTracer};
+use kdray_core::reference::{refract_fresnel, PathStep, ReferenceTracer};
 use kdray::scene::{load_scene_with, parse_scene, SceneFormat};
 
 // ---- the scene format --------------------------------------------------

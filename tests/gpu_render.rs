@@ -307,7 +307,7 @@ fn gpu_matches_the_cpu_reference_on_every_scene() {
         scene.render.width = 64;
         scene.render.height = (scene.render.height * 64).div_ceil(160);
         let gpu = render(&scene, Accel::Kdtree);
-        let cpu = kdray::reference::ReferenceTracer::new(&scene, true).image();
+        let cpu = kdray_core::reference::ReferenceTracer::new(&scene, true).image();
         let d = compare(&gpu.rgb, &cpu, gpu.width, gpu.height, 2);
         let budget = (gpu.width * gpu.height) as usize / 1000;
         assert!(

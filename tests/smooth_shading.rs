@@ -11,7 +11,7 @@ use std::collections::HashMap;
 use common::*;
 use glam::DVec3;
 use kdray::gpu::Accel;
-use kdray::reference::ReferenceTracer;
+use kdray_core::reference::ReferenceTracer;
 use kdray::scene::{load_scene, Scene};
 
 /// A unit icosphere: the icosahedron with each face split in four

@@ -16,7 +16,7 @@ use std::path::Path;
 use common::{gpu, pixel, render, TempDir};
 use glam::{Vec2, Vec3};
 use kdray::gpu::{Accel, RenderedImage};
-use kdray::reference::ReferenceTracer;
+use kdray_core::reference::ReferenceTracer;
 use kdray::scene::{load_scene, MinFilter, MipMode, Scene, TextureFilter};
 use textured::{gradient, write_gltf_quad, write_obj_quad};
 

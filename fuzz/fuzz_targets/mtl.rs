@@ -4,5 +4,5 @@
 use libfuzzer_sys::fuzz_target;
 
 fuzz_target!(|data: &[u8]| {
-    kdray::fuzz_support::mtl(data);
+    kdray_core::fuzz_support::mtl(data);
 });

@@ -6,6 +6,6 @@ use libfuzzer_sys::fuzz_target;
 
 fuzz_target!(|data: &[u8]| {
     if let Ok(text) = std::str::from_utf8(data) {
-        kdray::fuzz_support::scene(text, kdray::scene::SceneFormat::Toml);
+        kdray_core::fuzz_support::scene(text, kdray_core::scene::SceneFormat::Toml);
     }
 });

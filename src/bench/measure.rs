@@ -8,7 +8,7 @@ use super::progress::Progress;
 use super::record::RunRecord;
 use crate::error::Result;
 use crate::gpu::{Accel, GpuContext, GpuScene, RenderSummary, Renderer, SceneBuffers, TilePlan};
-use crate::layout::FrameParams;
+use crate::gpu::FrameParams;
 
 /// What every run of a sweep is timed with: the GPU, the renderer and the
 /// configuration's repeats and brute-force budget.

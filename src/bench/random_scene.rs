@@ -461,7 +461,7 @@ mod tests {
 
     #[test]
     fn every_scene_kind_is_found_by_its_name() {
-        crate::choice::assert_names_round_trip::<SceneKind>();
+        kdray_core::choice::assert_names_round_trip::<SceneKind>();
     }
 
     #[test]

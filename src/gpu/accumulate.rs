@@ -9,7 +9,7 @@ use super::bindings::{self, ACCUMULATE_TILE};
 use super::trace_pipelines::TraceBindGroup;
 use super::{GpuContext, KernelVariant, SceneBuffers, TracePipelines};
 use crate::error::Result;
-use crate::layout::FrameParams;
+use crate::gpu::FrameParams;
 
 /// Bytes per pixel of the accumulation buffers (a `vec4<f32>`: the sum of the
 /// clamped samples and their count).

@@ -16,11 +16,7 @@
 //! bindings/split_arrays.rs, re-exported here.
 
 use crate::geometry::{HIT_BOX_MARGIN, IN_PLANE_MARGIN, PARALLEL_EPSILON, T_INFINITY};
-use crate::layout::{
-    GpuMaterial, GpuTriangle, KdNode, LeafRopes, TextureWords, ACCEL_BRUTE, ACCEL_KDTREE,
-    GLASS_STACK_DEPTH, SHADOW_AMBIENT, SHADOW_CROSSINGS, SHADOW_SEED, TRAVERSAL_RESTART,
-    TRAVERSAL_ROPES, TRAVERSAL_SHORT_STACK,
-};
+use crate::layout::{GpuMaterial, GpuTriangle, KdNode, LeafRopes, TextureWords, ACCEL_BRUTE, ACCEL_KDTREE, GLASS_STACK_DEPTH, SHADOW_AMBIENT, SHADOW_CROSSINGS, SHADOW_SEED, TRAVERSAL_RESTART, TRAVERSAL_ROPES, TRAVERSAL_SHORT_STACK};
 
 /// How a kernel reads or writes a binding.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -71,7 +67,7 @@ pub use split_arrays::{
     SPLIT_ARRAY_COUNT, UNSPLIT,
 };
 
-/// Camera, render settings, counts and the tile ([`crate::layout::FrameParams`]).
+/// Camera, render settings, counts and the tile ([`crate::gpu::FrameParams`]).
 /// Each entry point copies it into the private `params` before anything
 /// else (shaders/frame_params.wgsl, `read_params`), and the kernel reads the copy.
 pub const PARAMS: Binding = binding(0, "frame_params", "FrameParams", Uniform);
@@ -189,7 +185,7 @@ pub const TRACE_RAYS: EntryPoint = EntryPoint {
 pub const ENTRY_POINTS: [EntryPoint; 3] = [RENDER_TILE, ACCUMULATE_TILE, TRACE_RAYS];
 
 /// The window's present pass (shaders/present.wgsl, a module of its own):
-/// what it shows ([`crate::layout::PresentParams`]), and the two
+/// what it shows ([`crate::gpu::PresentParams`]), and the two
 /// accumulation buffers `accumulate_tile` fills, read by its fragment stage.
 pub const PRESENT_PARAMS: Binding = binding(0, "present", "PresentParams", Uniform);
 /// Per pixel: the sum of its clamped samples (rgb) and their number (w).

@@ -7,10 +7,8 @@
 use super::{GpuContext, SceneArrays, SceneBuffers};
 use crate::geometry::Aabb;
 use crate::kdtree::Traversal;
-use crate::layout::{
-    FrameParams, ACCEL_BRUTE, ACCEL_KDTREE, SHADOW_AMBIENT, SHADOW_SEED, TRAVERSAL_RESTART,
-    TRAVERSAL_ROPES, TRAVERSAL_SHORT_STACK,
-};
+use crate::layout::{ACCEL_BRUTE, ACCEL_KDTREE, SHADOW_AMBIENT, SHADOW_SEED, TRAVERSAL_RESTART, TRAVERSAL_ROPES, TRAVERSAL_SHORT_STACK};
+use crate::gpu::FrameParams;
 use crate::scene::{CameraBasis, RenderSettings, ShadowMode};
 
 /// Which nearest-hit search the kernel runs.
@@ -183,6 +181,6 @@ pub(super) fn accel_value(accel: Accel) -> u32 {
 mod tests {
     #[test]
     fn every_accel_is_found_by_its_name() {
-        crate::choice::assert_names_round_trip::<super::Accel>();
+        kdray_core::choice::assert_names_round_trip::<super::Accel>();
     }
 }

@@ -8,7 +8,7 @@ use super::{Accel, GpuContext, PreparedScene, SceneBuffers};
 use crate::error::Result;
 use crate::geometry::Aabb;
 use crate::kdtree::BuildStrategy;
-use crate::layout::FrameParams;
+use crate::gpu::FrameParams;
 use crate::scene::{Camera, Light, RenderSettings, Scene};
 
 /// An upload that failed, and the prepared scene it was given.

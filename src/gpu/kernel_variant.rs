@@ -27,7 +27,7 @@ use super::bindings::{Binding, Need, OPTIONAL_BINDINGS};
 use super::frame_params::{accel_value, traversal_value};
 use super::{Accel, SceneBuffers};
 use crate::kdtree::Traversal;
-use crate::layout::FrameParams;
+use crate::gpu::FrameParams;
 
 /// The walk a pipeline is made for.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]

@@ -21,6 +21,7 @@ pub mod bindings;
 pub mod context;
 mod frame_params;
 mod gpu_scene;
+mod kernel_io;
 pub mod kernel_variant;
 mod prepared_scene;
 mod ray_query;
@@ -28,12 +29,15 @@ pub mod renderer;
 mod scene_arrays;
 pub mod scene_buffers;
 pub mod shaders;
+#[cfg(test)]
+mod layout_check;
 mod trace_pipelines;
 
 pub use accumulate::{Accumulation, Target};
 pub use context::{max_binding_bytes, GpuContext};
 pub use frame_params::Accel;
 pub use gpu_scene::{GpuScene, UploadFailed};
+pub use kernel_io::{FrameParams, GpuQueryHit, GpuQueryRay, PresentParams, RayCounters};
 pub use kernel_variant::KernelVariant;
 pub use prepared_scene::PreparedScene;
 pub use ray_query::{RayQueries, RayQuery};

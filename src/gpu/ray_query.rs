@@ -11,7 +11,7 @@ use crate::error::Result;
 use crate::geometry::Ray;
 use crate::kdtree::traverse::{Hit, WalkCost};
 use crate::kdtree::Traversal;
-use crate::layout::{FrameParams, GpuQueryHit, GpuQueryRay};
+use crate::gpu::{FrameParams, GpuQueryHit, GpuQueryRay};
 
 /// One query: a ray, how far to look, and which question.
 #[derive(Debug, Clone, Copy, PartialEq)]

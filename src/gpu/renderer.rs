@@ -9,7 +9,7 @@ use super::scene_buffers::SceneBuffers;
 use super::{KernelVariant, TracePipelines};
 use crate::error::{Error, Result};
 use crate::kdtree::traverse::WalkCost;
-use crate::layout::{FrameParams, RayCounters};
+use crate::gpu::{FrameParams, RayCounters};
 
 /// How the image is cut into dispatches: bands of whole rows, each band one
 /// or more tiles of at most `tile_width` x `max_rows` pixels. Band heights

@@ -5,10 +5,7 @@
 
 use crate::geometry::{Aabb, Primitives};
 use crate::kdtree::{KdTree, Ropes};
-use crate::layout::{
-    GpuKdNode, GpuLight, GpuMaterial, GpuSphere, GpuTriangle, GpuTriangleNormals, LeafRopes,
-    TextureWords,
-};
+use crate::layout::{GpuKdNode, GpuLight, GpuMaterial, GpuSphere, GpuTriangle, GpuTriangleNormals, LeafRopes, TextureWords};
 use crate::scene::{Light, Scene};
 
 /// Host copies of every storage buffer, in the GPU layout.

@@ -29,7 +29,7 @@ use serde::Serialize;
 
 use crate::gpu::{Accel, PreparedScene};
 use crate::kdtree::Traversal;
-use crate::layout::FrameParams;
+use crate::gpu::FrameParams;
 
 /// The first 8 bytes of every bundle.
 pub const MAGIC: &[u8; 8] = b"KDRAYWEB";

@@ -12,7 +12,7 @@ use crate::gpu::bindings::{
     SHARED_CONSTANTS, UNSPLIT,
 };
 use crate::gpu::kernel_variant::OVERRIDES;
-use crate::layout::{FrameParams, PresentParams};
+use crate::gpu::{FrameParams, PresentParams};
 
 use super::bundle;
 

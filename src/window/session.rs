@@ -24,7 +24,7 @@ use super::{WindowOptions, DEFAULT_WINDOW_SAMPLES};
 use crate::error::{Error, Result};
 use crate::gpu::{Accel, GpuContext, GpuScene, PreparedScene};
 use crate::kdtree::Traversal;
-use crate::layout::FrameParams;
+use crate::gpu::FrameParams;
 use crate::scene::{Camera, FramePath, RenderSettings, Scene};
 
 /// The largest window opened for a scene's own size, in logical pixels.

@@ -6,10 +6,10 @@
 use crate::error::{Error, Result};
 use crate::gpu::accumulate::ACCUMULATION_TEXEL;
 use crate::gpu::{bindings, shaders, Accumulation, GpuContext, SceneBuffers};
-use crate::layout::FrameParams;
+use crate::gpu::FrameParams;
 
 pub use crate::gpu::Target;
-pub use crate::layout::PresentParams;
+pub use crate::gpu::PresentParams;
 
 /// What one frame does on the GPU, in order.
 #[derive(Debug, Clone, Copy)]

@@ -24,8 +24,9 @@ pub trait Choice: Copy + PartialEq + Send + Sync + 'static {
 
 /// Asserts that every value of `T` is found by its name and has help, and
 /// that an unknown name finds none: each implementation's own tests call it.
-#[cfg(test)]
-pub(crate) fn assert_names_round_trip<T: Choice + std::fmt::Debug>() {
+#[cfg(any(test, feature = "test-support"))]
+#[doc(hidden)]
+pub fn assert_names_round_trip<T: Choice + std::fmt::Debug>() {
     for &c in T::ALL {
         assert_eq!(T::from_name(c.name()), Some(c));
         assert!(!c.help().is_empty());

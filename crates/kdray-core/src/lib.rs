@@ -1,0 +1,24 @@
+//! kdray's GPU-free core: everything between a scene file and the arrays a
+//! kernel reads, with no GPU, window or report in its dependency tree.
+//!
+//! Data flows one way: [`scene`] (parse, validate, OBJ and glTF, animation)
+//! -> [`geometry`] (the objects in f32, with the kernel's intersection
+//! arithmetic) -> [`kdtree`] (build, ropes, the CPU walks and brute force)
+//! -> [`layout`] (the `#[repr(C)]` types the kernel reads). The `kdray`
+//! crate uploads them and traces them on the GPU.
+
+pub mod choice;
+pub mod geometry;
+mod huge_pages;
+pub mod kdtree;
+pub mod layout;
+pub mod scene;
+
+/// The fuzz targets' entry points (`fuzz/`, `tests/fuzz_regressions.rs`).
+#[cfg(feature = "test-support")]
+#[doc(hidden)]
+pub mod fuzz_support;
+/// The CPU mirror of the whole kernel, for checking GPU images.
+#[cfg(feature = "test-support")]
+#[doc(hidden)]
+pub mod reference;

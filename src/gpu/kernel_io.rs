@@ -1,0 +1,97 @@
+//! What the kernel reads and writes besides the scene's arrays: the frame's
+//! uniform, the ray counters, the ray queries and the present pass's
+//! parameters. `#[repr(C)]` Pod types that mirror shaders/types.wgsl and
+//! shaders/present.wgsl byte for byte (checked in `layout_check`).
+
+use bytemuck::{Pod, Zeroable};
+
+/// Everything one dispatch needs besides the scene buffers (a uniform).
+#[repr(C)]
+#[derive(Debug, Clone, Copy, PartialEq, Pod, Zeroable)]
+pub struct FrameParams {
+    pub camera_position: [f32; 3],
+    /// tan(vfov / 2).
+    pub tan_half_vfov: f32,
+    pub camera_forward: [f32; 3],
+    /// width / height.
+    pub aspect: f32,
+    pub camera_right: [f32; 3],
+    pub min_intensity: f32,
+    pub camera_up: [f32; 3],
+    pub max_depth: u32,
+    pub background: [f32; 3],
+    pub shadow_mode: u32,
+    pub scene_min: [f32; 3],
+    pub sphere_count: u32,
+    pub scene_max: [f32; 3],
+    pub object_count: u32,
+    /// Full image size in pixels.
+    pub width: u32,
+    pub height: u32,
+    /// k for k * k samples per pixel.
+    pub samples_per_axis: u32,
+    pub light_count: u32,
+    /// Pixel of the image that this dispatch's invocation (0, 0) renders.
+    pub tile_origin: [u32; 2],
+    /// Size of this dispatch's tile; the output buffer is tile_size.x wide.
+    pub tile_size: [u32; 2],
+    pub accel: u32,
+    /// 0 for an empty scene (nothing to traverse).
+    pub node_count: u32,
+    /// `accumulate_tile`: which cell of the k x k sample grid this pass traces
+    /// (row-major, taken modulo k * k).
+    pub sample_index: u32,
+    /// Which k-d walk: `TRAVERSAL_RESTART`, `TRAVERSAL_ROPES` or `TRAVERSAL_SHORT_STACK`.
+    pub traversal: u32,
+}
+
+/// The head of `render_tile`'s output buffer: rays traced by the dispatch.
+#[repr(C)]
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Pod, Zeroable)]
+pub struct RayCounters {
+    pub primary: u32,
+    pub shadow: u32,
+    pub reflection: u32,
+    /// Invocations whose loops, all together, ran 32,768 iterations or more
+    /// (half of llvmpipe's 65,535 per 8-wide SIMD group, which also counts
+    /// its neighbours' divergent iterations):
+    /// llvmpipe (lavapipe) silently cuts an invocation's loops off at 65,535.
+    pub loop_limited: u32,
+}
+
+/// A ray for the kernel's `trace_rays` entry point (tests, debugging).
+#[repr(C)]
+#[derive(Debug, Clone, Copy, PartialEq, Pod, Zeroable)]
+pub struct GpuQueryRay {
+    pub origin: [f32; 3],
+    /// Nearest hit: t <= t_limit; any hit: t < t_limit.
+    pub t_limit: f32,
+    /// Unit length.
+    pub dir: [f32; 3],
+    /// 1: any-hit (shadow-ray) query; 0: nearest hit.
+    pub any_hit: u32,
+}
+
+/// `trace_rays`' answer for one ray.
+#[repr(C)]
+#[derive(Debug, Clone, Copy, PartialEq, Pod, Zeroable)]
+pub struct GpuQueryHit {
+    pub t: f32,
+    /// GPU object id, or `gpu::bindings::NO_OBJECT`.
+    pub object: u32,
+}
+
+/// The window's present pass parameters (a uniform of shaders/present.wgsl).
+#[repr(C)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Pod, Zeroable)]
+pub struct PresentParams {
+    /// Size of the image in the accumulation buffer.
+    pub image_size: [u32; 2],
+    /// Size of the render target.
+    pub target_size: [u32; 2],
+    /// Size of the preview (0 x 0: none).
+    pub preview_size: [u32; 2],
+    /// 0: show the preview only.
+    pub show_image: u32,
+    pub _pad: u32,
+}
