@@ -5,6 +5,8 @@
 
 // Rays this invocation traced: primary, shadow, reflection.
 var<private> ray_counts: vec3<u32>;
+// Path samples this invocation dropped for non-finite radiance.
+var<private> nonfinite_samples: u32;
 
 fn camera_ray(u: f32, v: f32) -> Ray {
     let h = params.tan_half_vfov;
@@ -70,6 +72,51 @@ fn trace_sample(pixel: vec2<u32>, sx: u32, sy: u32, k: u32) -> vec3<f32> {
     return clamp(trace_path(camera_ray(u, v)), vec3<f32>(0.0), vec3<f32>(1.0));
 }
 
+// Sample `s` of `pixel`, unclamped: path: a uniformly random position in
+// the pixel and its path; Whitted: cell s of the k x k grid. A path sample
+// whose radiance is not finite is dropped (0) and counted.
+fn radiance_sample(pixel: vec2<u32>, s: u32) -> vec3<f32> {
+    if (PATH) {
+        seed_random(pixel.y * params.width + pixel.x, s);
+        let u = (f32(pixel.x) + random()) / f32(params.width);
+        let v = (f32(pixel.y) + random()) / f32(params.height);
+        let c = trace_path_physical(camera_ray(u, v));
+        if (!is_finite3(c)) {
+            nonfinite_samples += 1u;
+            return vec3<f32>(0.0);
+        }
+        return c;
+    }
+    let k = params.samples_per_axis;
+    let sx = s % k;
+    let sy = (s / k) % k;
+    let inv_k = 1.0 / f32(k);
+    let u = (f32(pixel.x) + (f32(sx) + 0.5) * inv_k) / f32(params.width);
+    let v = (f32(pixel.y) + (f32(sy) + 0.5) * inv_k) / f32(params.height);
+    return trace_path(camera_ray(u, v));
+}
+
+// render_tile with RADIANCE_OUTPUT: adds samples sample_index ..
+// sample_index + sample_count to the pixel's sums, one at a time (the same
+// additions in the same order however the host splits the samples into
+// dispatches).
+fn add_radiance(pixel: vec2<u32>, i: u32) {
+    let at = 4u * i;
+    var sum = vec3<f32>(
+        bitcast<f32>(tile_output.pixels[at]),
+        bitcast<f32>(tile_output.pixels[at + 1u]),
+        bitcast<f32>(tile_output.pixels[at + 2u])
+    );
+    let end = params.sample_index + params.sample_count;
+    for (var s = params.sample_index; s < end; s++) {
+        loop_iterations += 1u;
+        sum += radiance_sample(pixel, s);
+    }
+    tile_output.pixels[at] = bitcast<u32>(sum.x);
+    tile_output.pixels[at + 1u] = bitcast<u32>(sum.y);
+    tile_output.pixels[at + 2u] = bitcast<u32>(sum.z);
+}
+
 // Adds this invocation's walk cost to pixel `i` of `pixel_costs`
 // (COST_WORDS = 3 words each), if the pipeline counts and the buffer has room: a one-word
 // buffer means "not asked for".
@@ -86,6 +133,9 @@ fn add_ray_counts() {
     atomicAdd(&tile_output.rays.primary, ray_counts.x);
     atomicAdd(&tile_output.rays.shadow, ray_counts.y);
     atomicAdd(&tile_output.rays.reflection, ray_counts.z);
+    if (nonfinite_samples > 0u) {
+        atomicAdd(&tile_output.rays.nonfinite, nonfinite_samples);
+    }
     if (loop_iterations >= LOOP_LIMIT_WARNING) {
         atomicAdd(&tile_output.rays.loop_limited, 1u);
     }
@@ -98,6 +148,13 @@ fn render_tile(@builtin(global_invocation_id) gid: vec3<u32>) {
         return;
     }
     let pixel = params.tile_origin + gid.xy;
+    let i = gid.y * params.tile_size.x + gid.x;
+    if (RADIANCE_OUTPUT) {
+        add_radiance(pixel, i);
+        add_ray_counts();
+        add_pixel_cost(i); // the host clears the buffers per tile
+        return;
+    }
     let k = params.samples_per_axis;
     var sum = vec3<f32>(0.0);
     for (var sy = 0u; sy < k; sy++) {
@@ -107,7 +164,6 @@ fn render_tile(@builtin(global_invocation_id) gid: vec3<u32>) {
         }
     }
     // Divide like the window's present pass does, so both round alike.
-    let i = gid.y * params.tile_size.x + gid.x;
     tile_output.pixels[i] = pack_rgb8(sum / f32(k * k));
     add_ray_counts();
     add_pixel_cost(i); // the host clears the buffer per tile
@@ -120,9 +176,14 @@ fn accumulate_tile(@builtin(global_invocation_id) gid: vec3<u32>) {
         return;
     }
     let pixel = params.tile_origin + gid.xy;
-    let k = params.samples_per_axis;
-    let s = params.sample_index % (k * k);
-    let c = trace_sample(pixel, s % k, s / k, k);
+    var c: vec3<f32>;
+    if (PATH) {
+        c = radiance_sample(pixel, params.sample_index);
+    } else {
+        let k = params.samples_per_axis;
+        let s = params.sample_index % (k * k);
+        c = trace_sample(pixel, s % k, s / k, k);
+    }
     let i = pixel.y * params.width + pixel.x;
     accumulation[i] += vec4<f32>(c, 1.0);
     add_pixel_cost(i); // summed over passes, like the colour

@@ -53,11 +53,20 @@ struct Material {
     transmission: f32,   // 0 opaque .. 1 clear (glass.wgsl)
     ior: f32,            // index of refraction inside; outside is 1
     texture: u32,        // its base-colour texture (texture.wgsl), or NO_TEXTURE
+    metallic: f32,       // path tracer, MODEL_METAL_ROUGH: glTF's metallic
+    roughness: f32,      // and perceptual roughness (GGX alpha = roughness^2)
+    emission: vec3<f32>, // emitted radiance (path tracer)
+    model: u32,          // MODEL_LAMBERTIAN or MODEL_METAL_ROUGH (bsdf.wgsl)
 }
 
+// The lights buffer: `light_count` point lights, then `emitter_count`
+// emissive objects (kind LIGHT_EMITTER, `object` their GPU id, `diffuse`
+// their radiance).
 struct Light {
     position: vec3<f32>,
+    kind: u32,
     ambient: vec3<f32>,
+    object: u32,
     diffuse: vec3<f32>,
     specular: vec3<f32>,
 }
@@ -88,6 +97,12 @@ struct FrameParams {
     // accumulate_tile: which cell of the k x k sample grid this pass traces.
     sample_index: u32,
     traversal: u32,   // TRAVERSAL_RESTART, TRAVERSAL_ROPES or TRAVERSAL_SHORT_STACK
+    integrator: u32,  // INTEGRATOR_WHITTED or INTEGRATOR_PATH
+    seed: u32,        // the path tracer's random seed
+    emitter_count: u32,
+    // render_tile with RADIANCE_OUTPUT: samples sample_index ..
+    // sample_index + sample_count, added to the pixel's sums.
+    sample_count: u32,
 }
 
 // Rays traced by one dispatch, by kind; each invocation adds its own counts.
@@ -97,10 +112,13 @@ struct RayCounters {
     reflection: atomic<u32>,
     // Invocations whose loops ran LOOP_LIMIT_WARNING iterations or more.
     loop_limited: atomic<u32>,
+    // Path samples whose radiance was NaN or infinite (dropped).
+    nonfinite: atomic<u32>,
 }
 
-// render_tile's output: ray counts, then one packed RGBA8 per pixel of the
-// tile, row-major, tile_size.x wide.
+// render_tile's output: ray counts, then per pixel of the tile, row-major,
+// tile_size.x wide, one packed RGBA8 or, with RADIANCE_OUTPUT, four words:
+// the sums of its samples' red, green and blue radiance (f32 bits), unused.
 struct TileOutput {
     rays: RayCounters,
     pixels: array<u32>,

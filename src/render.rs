@@ -15,7 +15,8 @@ use crate::gpu::{
     RenderedImage, Renderer, RowBand, TilePlan,
 };
 use crate::kdtree::{BuildStrategy, Traversal};
-use crate::scene::{Frame, Scene};
+use crate::choice::Choice;
+use crate::scene::{Frame, Integrator, Scene};
 
 /// What `kdray render --stats` prints, as one JSON object.
 #[derive(Debug, Clone, Serialize)]
@@ -28,6 +29,8 @@ pub struct RenderStats {
     pub width: u32,
     pub height: u32,
     pub samples: u32,
+    #[serde(serialize_with = "by_name::serialize")]
+    pub integrator: Integrator,
     pub spheres: usize,
     pub triangles: usize,
     pub kd_nodes: usize,
@@ -55,6 +58,12 @@ pub struct RenderStats {
     /// iterations (their own count reached half of it); only counted on
     /// llvmpipe, where such pixels may be wrong.
     pub loop_limited_pixels: u64,
+    /// Path samples whose radiance was NaN or infinite, dropped (0 for the
+    /// Whitted integrator): no such value reaches a pixel.
+    pub nonfinite_samples: u64,
+    /// Pixel samples per second of GPU time, in millions (the path tracer's
+    /// speed: every sample is one path).
+    pub msamples_per_s: f64,
     /// The walk's work (when counted: `--stats` and `--heatmap` count it).
     #[serde(flatten, skip_serializing_if = "Option::is_none")]
     pub cost: Option<CostStats>,
@@ -114,6 +123,12 @@ pub struct RenderFlags {
     pub traversal: Traversal,
     #[serde(with = "by_name")]
     pub build: BuildStrategy,
+    /// Overrides `[render] integrator`.
+    #[serde(default, with = "option_by_name")]
+    pub integrator: Option<Integrator>,
+    /// Overrides `[render] seed`.
+    #[serde(default)]
+    pub seed: Option<u32>,
 }
 
 impl RenderFlags {
@@ -122,12 +137,49 @@ impl RenderFlags {
         check_render_flags(self.width, self.height, self.samples)
     }
 
-    /// Applies the overrides to `scene`'s `[render]`.
-    pub fn apply(&self, scene: &mut Scene) {
+    /// Applies the overrides to `scene`'s `[render]`, then checks what they
+    /// make together: the samples for the integrator (a perfect square for
+    /// Whitted's grid), and a light for the Whitted integrator.
+    pub fn apply(&self, scene: &mut Scene) -> Result<()> {
         let r = &mut scene.render;
         r.samples = self.samples.unwrap_or(r.samples);
         r.width = self.width.unwrap_or(r.width);
         r.height = self.height.unwrap_or(r.height);
+        r.integrator = self.integrator.unwrap_or(r.integrator);
+        r.seed = self.seed.unwrap_or(r.seed);
+        crate::scene::check_samples(r.samples, r.integrator).map_err(|m| {
+            let integrator = r.integrator.name();
+            crate::Error::Usage(format!("--samples: {m} (with the {integrator} integrator)"))
+        })?;
+        if r.integrator == Integrator::Whitted && scene.lights.is_empty() {
+            return Err(crate::Error::Usage(
+                "--integrator whitted: the scene has no [[lights]]; the Whitted integrator needs one"
+                    .into(),
+            ));
+        }
+        Ok(())
+    }
+}
+
+/// An optional [`Choice`](crate::choice::Choice) written by its name.
+mod option_by_name {
+    use crate::choice::Choice;
+    use serde::{Deserialize, Deserializer, Serializer};
+
+    pub fn serialize<T: Choice, S: Serializer>(value: &Option<T>, s: S) -> Result<S::Ok, S::Error> {
+        match value {
+            Some(v) => s.serialize_some(v.name()),
+            None => s.serialize_none(),
+        }
+    }
+
+    pub fn deserialize<'de, T: Choice, D: Deserializer<'de>>(d: D) -> Result<Option<T>, D::Error> {
+        match Option::<String>::deserialize(d)? {
+            None => Ok(None),
+            Some(name) => T::from_name(&name)
+                .map(Some)
+                .ok_or_else(|| serde::de::Error::custom(format!("unknown name {name}"))),
+        }
     }
 }
 
@@ -161,9 +213,8 @@ pub fn check_render_flags(
             )));
         }
     }
-    if let Some(s) = samples {
-        crate::scene::check_samples(s)
-            .map_err(|m| crate::Error::Usage(format!("--samples: {m}")))?;
+    if samples == Some(0) {
+        return Err(crate::Error::Usage("--samples: must be at least 1, got 0".into()));
     }
     Ok(())
 }
@@ -190,6 +241,7 @@ pub fn render_scene(
         Traversal::default(),
         max_tile_pixels,
         true,
+        false,
         &mut |band| {
             rgb.extend_from_slice(band.rgb);
             Ok(())
@@ -246,6 +298,7 @@ pub fn render_streaming(
     traversal: Traversal,
     max_tile_pixels: u64,
     with_cost: bool,
+    radiance: bool,
     sink: &mut dyn FnMut(RowBand<'_>) -> Result<()>,
 ) -> Result<(RenderStats, RenderSummary)> {
     let total = Instant::now();
@@ -253,7 +306,10 @@ pub fn render_streaming(
     let (accel, upload_ms) = (uploaded.accel(), uploaded.upload_ms());
     let scene = &prepared.scene;
 
-    let renderer = Renderer::new(ctx)?;
+    let mut renderer = Renderer::new(ctx)?.with_settings(&scene.render);
+    if radiance {
+        renderer = renderer.with_radiance();
+    }
     // Flattening and the pipelines' creation count as upload.
     let transfer_ms = upload_ms;
     let upload_ms = prepared.flatten_ms + transfer_ms + ms_since(total);
@@ -291,6 +347,7 @@ pub fn render_streaming(
         width: scene.render.width,
         height: scene.render.height,
         samples: scene.render.samples,
+        integrator: scene.render.integrator,
         spheres: scene.spheres.len(),
         triangles: scene.triangles.len(),
         kd_nodes: tree_stats.nodes,
@@ -315,6 +372,8 @@ pub fn render_streaming(
         } else {
             0
         },
+        nonfinite_samples: summary.rays.nonfinite,
+        msamples_per_s: primary_rays as f64 / (summary.gpu_ms * 1e3).max(1e-9),
         cost: summary
             .cost
             .map(|totals| CostStats::new(totals, summary.rays.total())),

@@ -192,6 +192,7 @@ fn materials() -> Vec<Material> {
                 transmission: 0.0,
                 ior: Material::DEFAULT_IOR,
                 texture: None,
+                physical: crate::scene::Physical::LAMBERTIAN,
             });
         }
     }
@@ -258,6 +259,10 @@ pub fn random_scene(spec: &RandomSceneSpec) -> Scene {
             background: DVec3::new(0.06, 0.08, 0.12),
             shadow_mode: ShadowMode::Ambient,
             samples: 1,
+            integrator: Default::default(),
+            seed: 0,
+            tone_map: Default::default(),
+            exposure: 0.0,
         },
         lights: vec![Light {
             position: DVec3::new(5.0, 8.0, 9.0),

@@ -55,7 +55,7 @@ pub fn prepare(request: &FarmRequest) -> Result<Prepared> {
     request.flags.check()?;
     let scene_path = absolute(&request.scene)?;
     let (mut scene, inputs) = super::fingerprint::load_and_fingerprint(&scene_path)?;
-    request.flags.apply(&mut scene);
+    request.flags.apply(&mut scene)?;
     let work = work_for(&scene, request)?;
     let items = match work {
         Work::Still { tiles, .. } => tiles,

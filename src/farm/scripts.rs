@@ -159,6 +159,8 @@ mod tests {
                 accel: crate::gpu::Accel::Kdtree,
                 traversal: Default::default(),
                 build: Default::default(),
+                integrator: None,
+                seed: None,
             },
             width: 64,
             height: 48,

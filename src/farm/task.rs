@@ -77,7 +77,7 @@ pub fn load_planned_scene(plan: &FarmPlan, dir: &Path) -> Result<Scene> {
             dir.join(plan::PLAN_FILE).display()
         )));
     }
-    plan.flags.apply(&mut scene);
+    plan.flags.apply(&mut scene)?;
     Ok(scene)
 }
 
@@ -150,6 +150,7 @@ pub fn run_task(dir: &Path, task: u32) -> Result<TaskReport> {
             Some(&part),
             plan.flags.traversal,
             TilePlan::DEFAULT_MAX_TILE_PIXELS,
+            false,
             false,
             &mut |band| png.write_rows(band.rgb),
         )?;

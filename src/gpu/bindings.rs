@@ -16,7 +16,7 @@
 //! bindings/split_arrays.rs, re-exported here.
 
 use crate::geometry::{HIT_BOX_MARGIN, IN_PLANE_MARGIN, PARALLEL_EPSILON, T_INFINITY};
-use crate::layout::{GpuMaterial, GpuTriangle, KdNode, LeafRopes, TextureWords, ACCEL_BRUTE, ACCEL_KDTREE, GLASS_STACK_DEPTH, SHADOW_AMBIENT, SHADOW_CROSSINGS, SHADOW_SEED, TRAVERSAL_RESTART, TRAVERSAL_ROPES, TRAVERSAL_SHORT_STACK};
+use crate::layout::{GpuMaterial, GpuTriangle, KdNode, LeafRopes, TextureWords, ACCEL_BRUTE, ACCEL_KDTREE, GLASS_STACK_DEPTH, SHADOW_AMBIENT, SHADOW_CROSSINGS, SHADOW_SEED, TRAVERSAL_RESTART, TRAVERSAL_ROPES, TRAVERSAL_SHORT_STACK, INTEGRATOR_PATH, INTEGRATOR_WHITTED, LIGHT_EMITTER, LIGHT_POINT, MODEL_LAMBERTIAN, MODEL_METAL_ROUGH};
 
 /// How a kernel reads or writes a binding.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -227,12 +227,20 @@ pub enum SharedValue {
 }
 
 /// Every constant the kernel and the host must agree on, by WGSL name.
-pub const SHARED_CONSTANTS: [(&str, SharedValue); 35] = [
+pub const SHARED_CONSTANTS: [(&str, SharedValue); 41] = [
     ("KD_LEAF", SharedValue::U32(KdNode::LEAF)),
     ("ACCEL_KDTREE", SharedValue::U32(ACCEL_KDTREE)),
     ("ACCEL_BRUTE", SharedValue::U32(ACCEL_BRUTE)),
     ("SHADOW_AMBIENT", SharedValue::U32(SHADOW_AMBIENT)),
     ("SHADOW_SEED", SharedValue::U32(SHADOW_SEED)),
+    // The integrator (`FrameParams::integrator`), the kinds of entry in the
+    // lights buffer, and the path tracer's material models.
+    ("INTEGRATOR_WHITTED", SharedValue::U32(INTEGRATOR_WHITTED)),
+    ("INTEGRATOR_PATH", SharedValue::U32(INTEGRATOR_PATH)),
+    ("LIGHT_POINT", SharedValue::U32(LIGHT_POINT)),
+    ("LIGHT_EMITTER", SharedValue::U32(LIGHT_EMITTER)),
+    ("MODEL_LAMBERTIAN", SharedValue::U32(MODEL_LAMBERTIAN)),
+    ("MODEL_METAL_ROUGH", SharedValue::U32(MODEL_METAL_ROUGH)),
     // The glass path's stack of pending rays (glass.wgsl).
     ("GLASS_STACK_DEPTH", SharedValue::U32(GLASS_STACK_DEPTH)),
     // Most transmissive surfaces a shadow ray passes before it is blocked.

@@ -9,7 +9,8 @@ use crate::geometry::Aabb;
 use crate::kdtree::Traversal;
 use crate::layout::{ACCEL_BRUTE, ACCEL_KDTREE, SHADOW_AMBIENT, SHADOW_SEED, TRAVERSAL_RESTART, TRAVERSAL_ROPES, TRAVERSAL_SHORT_STACK};
 use crate::gpu::FrameParams;
-use crate::scene::{CameraBasis, RenderSettings, ShadowMode};
+use crate::layout::{INTEGRATOR_PATH, INTEGRATOR_WHITTED};
+use crate::scene::{CameraBasis, Integrator, RenderSettings, ShadowMode};
 
 /// Which nearest-hit search the kernel runs.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
@@ -62,6 +63,7 @@ impl FrameParams {
             scene_max: scene.bounds.max.to_array(),
             object_count: scene.object_count,
             light_count: scene.light_count,
+            emitter_count: scene.emitter_count,
             accel: accel_value(accel),
             node_count: scene.node_count,
             ..bytemuck::Zeroable::zeroed()
@@ -80,6 +82,7 @@ impl FrameParams {
             sphere_count: scene.sphere_count,
             object_count: scene.object_count,
             light_count: scene.light_count,
+            emitter_count: scene.emitter_count,
             node_count: scene.node_count,
         };
         Self::with_counts(camera, render, &counts, accel)
@@ -97,7 +100,8 @@ impl FrameParams {
             bounds: arrays.bounds,
             sphere_count: arrays.spheres.len() as u32,
             object_count: arrays.objects.len() as u32,
-            light_count: arrays.lights.len() as u32,
+            light_count: arrays.point_light_count(),
+            emitter_count: arrays.emitter_count,
             node_count: arrays.nodes.len() as u32,
         };
         Self::with_counts(camera, render, &counts, accel)
@@ -138,6 +142,13 @@ impl FrameParams {
             node_count: scene.node_count,
             sample_index: 0,
             traversal: traversal_value(Traversal::default()),
+            integrator: match render.integrator {
+                Integrator::Whitted => INTEGRATOR_WHITTED,
+                Integrator::Path => INTEGRATOR_PATH,
+            },
+            seed: render.seed,
+            emitter_count: scene.emitter_count,
+            sample_count: 0,
         }
     }
 
@@ -157,6 +168,7 @@ struct SceneCounts {
     sphere_count: u32,
     object_count: u32,
     light_count: u32,
+    emitter_count: u32,
     node_count: u32,
 }
 

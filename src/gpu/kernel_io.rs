@@ -38,11 +38,23 @@ pub struct FrameParams {
     pub accel: u32,
     /// 0 for an empty scene (nothing to traverse).
     pub node_count: u32,
-    /// `accumulate_tile`: which cell of the k x k sample grid this pass traces
-    /// (row-major, taken modulo k * k).
+    /// Whitted: which cell of the k x k sample grid `accumulate_tile`
+    /// traces (row-major, taken modulo k * k), and the first cell
+    /// `render_tile` traces with radiance output. Path: the first sample
+    /// of the dispatch (each sample's random numbers follow from its index).
     pub sample_index: u32,
     /// Which k-d walk: `TRAVERSAL_RESTART`, `TRAVERSAL_ROPES` or `TRAVERSAL_SHORT_STACK`.
     pub traversal: u32,
+    /// `INTEGRATOR_WHITTED` or `INTEGRATOR_PATH`.
+    pub integrator: u32,
+    /// The path tracer's random seed (`[render] seed`).
+    pub seed: u32,
+    /// Emissive objects in the lights buffer after the `light_count`
+    /// point lights.
+    pub emitter_count: u32,
+    /// `render_tile` with radiance output: samples `sample_index ..
+    /// sample_index + sample_count` of each pixel, added to its sums.
+    pub sample_count: u32,
 }
 
 /// The head of `render_tile`'s output buffer: rays traced by the dispatch.
@@ -57,6 +69,9 @@ pub struct RayCounters {
     /// its neighbours' divergent iterations):
     /// llvmpipe (lavapipe) silently cuts an invocation's loops off at 65,535.
     pub loop_limited: u32,
+    /// Path samples whose radiance was not finite (NaN or infinite):
+    /// dropped, so that no such value reaches a pixel.
+    pub nonfinite: u32,
 }
 
 /// A ray for the kernel's `trace_rays` entry point (tests, debugging).

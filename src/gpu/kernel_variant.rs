@@ -65,6 +65,11 @@ pub struct KernelVariant {
     /// Whether the walks count their work (nodes, leaves, objects) for the
     /// frame's cost buffer. Without, the counters are compiled out.
     pub count_costs: bool,
+    /// The path tracer (shaders/path.wgsl) instead of the Whitted loop.
+    pub path: bool,
+    /// Whether `render_tile` writes radiance sums as floats (path frames,
+    /// EXR output) instead of 8-bit colour.
+    pub radiance_output: bool,
 }
 
 impl KernelVariant {
@@ -78,6 +83,8 @@ impl KernelVariant {
         glass: true,
         textures: true,
         count_costs: true,
+        path: false,
+        radiance_output: false,
     };
 
     /// The variant for frames of `scene` with `params`' accel and walk,
@@ -87,8 +94,11 @@ impl KernelVariant {
         params: &FrameParams,
         count_costs: bool,
     ) -> KernelVariant {
+        let path = params.integrator == crate::layout::INTEGRATOR_PATH;
         KernelVariant {
             count_costs,
+            path,
+            radiance_output: path,
             ..Self::for_scene(scene).with_walk_of(params)
         }
     }
@@ -107,6 +117,8 @@ impl KernelVariant {
             glass: scene.glass,
             textures: scene.textures,
             count_costs: true,
+            path: false,
+            radiance_output: false,
         }
     }
 
@@ -151,7 +163,7 @@ impl KernelVariant {
 
     /// The pipeline constants that make this variant, by WGSL name
     /// (shaders/variant.wgsl declares each of [`OVERRIDES`]).
-    pub fn constants(&self) -> [(&'static str, f64); 9] {
+    pub fn constants(&self) -> [(&'static str, f64); 11] {
         let flag = |b: bool| if b { 1.0 } else { 0.0 };
         let (accel, traversal) = match self.walk {
             Walk::FromParams => (FROM_PARAMS, FROM_PARAMS),
@@ -172,13 +184,15 @@ impl KernelVariant {
             ("GLASS", flag(self.glass)),
             ("TEXTURES", flag(self.textures)),
             ("COUNT_COSTS", flag(self.count_costs)),
+            ("PATH", flag(self.path)),
+            ("RADIANCE_OUTPUT", flag(self.radiance_output)),
         ]
     }
 }
 
 /// The names of the kernel's pipeline-overridable constants, all of which
 /// [`KernelVariant::constants`] sets.
-pub const OVERRIDES: [&str; 9] = [
+pub const OVERRIDES: [&str; 11] = [
     "SPLIT_SCENE",
     "ACCEL",
     "TRAVERSAL",
@@ -188,6 +202,8 @@ pub const OVERRIDES: [&str; 9] = [
     "GLASS",
     "TEXTURES",
     "COUNT_COSTS",
+    "PATH",
+    "RADIANCE_OUTPUT",
 ];
 
 #[cfg(test)]
@@ -214,6 +230,8 @@ mod tests {
             count_costs: false,
             glass: false,
             textures: false,
+            path: false,
+            radiance_output: false,
         };
         assert_eq!(
             mesh.unread_bindings(),

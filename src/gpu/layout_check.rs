@@ -157,7 +157,7 @@ fn rust_types_match_wgsl_layout() {
         &module,
         "Light",
         GpuLight,
-        [position, ambient, diffuse, specular]
+        [position, kind, ambient, object, diffuse, specular]
     );
     layout_of!(
         &module,
@@ -211,6 +211,11 @@ fn rust_types_match_wgsl_layout() {
             (
                 "loop_limited",
                 std::mem::offset_of!(RayCounters, loop_limited),
+                atomic,
+            ),
+            (
+                "nonfinite",
+                std::mem::offset_of!(RayCounters, nonfinite),
                 atomic,
             ),
         ],

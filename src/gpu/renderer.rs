@@ -10,6 +10,8 @@ use super::{KernelVariant, TracePipelines};
 use crate::error::{Error, Result};
 use crate::kdtree::traverse::WalkCost;
 use crate::gpu::{FrameParams, RayCounters};
+use crate::layout::INTEGRATOR_PATH;
+use crate::scene::{RenderSettings, ToneMap};
 
 /// How the image is cut into dispatches: bands of whole rows, each band one
 /// or more tiles of at most `tile_width` x `max_rows` pixels. Band heights
@@ -35,10 +37,10 @@ impl TilePlan {
     const FIRST_BAND_PIXELS: u64 = 1 << 16;
 
     pub fn new(width: u32, height: u32, max_tile_pixels: u64, max_binding_bytes: u64) -> Self {
-        // The output buffer holds the ray counters, then 4 bytes per pixel;
-        // the cost buffer (when asked for) 12 bytes per pixel.
+        // The output buffer holds the ray counters, then 4 bytes per pixel
+        // (16 with radiance); the cost buffer (when asked for) 12 bytes per pixel.
         let max_pixels = max_tile_pixels
-            .min(max_binding_bytes.saturating_sub(64) / COST_BYTES_PER_PIXEL)
+            .min(max_binding_bytes.saturating_sub(64) / output_bytes_per_pixel(true))
             .max(1);
         let tile_width = width.min(max_pixels as u32).max(1);
         let max_rows = (max_pixels / tile_width as u64).clamp(1, height.max(1) as u64) as u32;
@@ -81,6 +83,9 @@ pub struct RowBand<'a> {
     /// Each pixel's walk cost over all its rays, row-major, when the render
     /// was asked for it ([`Renderer::render_bands_with_cost`]).
     pub costs: Option<&'a [WalkCost]>,
+    /// Each pixel's mean linear radiance (r, g, b), row-major: path frames,
+    /// and frames of a renderer made [`Renderer::with_radiance`].
+    pub radiance: Option<&'a [f32]>,
 }
 
 /// Bytes per pixel of the cost output (`bindings::PIXEL_COSTS`).
@@ -115,6 +120,8 @@ pub struct RayTotals {
     /// Invocations whose loops came near llvmpipe's limit of 65,535
     /// iterations per invocation (see `GpuContext::has_loop_limit`).
     pub loop_limited: u64,
+    /// Path samples dropped because their radiance was not finite.
+    pub nonfinite: u64,
 }
 
 /// Where `gpu_ms` comes from.
@@ -153,6 +160,7 @@ impl RayTotals {
         self.shadow += c.shadow as u64;
         self.reflection += c.reflection as u64;
         self.loop_limited += c.loop_limited as u64;
+        self.nonfinite += c.nonfinite as u64;
     }
 
     /// Primary, shadow and reflection rays together.
@@ -182,6 +190,13 @@ pub struct Renderer {
     /// Every frame with the general variant (tests).
     general: bool,
     params_buffer: wgpu::Buffer,
+    /// Whether Whitted frames also come back as radiance (EXR output).
+    radiance: bool,
+    /// Samples per pixel of a path frame.
+    path_samples: u32,
+    /// How a path frame's radiance becomes its 8-bit colour: the curve and
+    /// the scale 2^exposure.
+    tone_map: (ToneMap, f32),
 }
 
 impl Renderer {
@@ -193,7 +208,28 @@ impl Renderer {
             pipelines,
             general: false,
             params_buffer,
+            radiance: false,
+            path_samples: 1,
+            tone_map: (ToneMap::Clamp, 1.0),
         })
+    }
+
+    /// This renderer for frames with `render`'s path samples and tone map.
+    pub fn with_settings(self, render: &RenderSettings) -> Self {
+        Renderer {
+            path_samples: render.samples,
+            tone_map: (render.tone_map, render.exposure.exp2() as f32),
+            ..self
+        }
+    }
+
+    /// This renderer with every frame's radiance read back
+    /// (`RowBand::radiance`), Whitted frames' too (each sample unclamped).
+    pub fn with_radiance(self) -> Self {
+        Renderer {
+            radiance: true,
+            ..self
+        }
     }
 
     /// A renderer whose every frame runs the general variant, which reads
@@ -283,7 +319,9 @@ impl Renderer {
     /// [`Renderer::render_bands`]; with `with_cost`, each band also carries
     /// every pixel's walk cost (`RowBand::costs`) and the summary their
     /// totals. Without, the kernel's cost buffer is one word, which it
-    /// leaves alone, and nothing more is read back.
+    /// leaves alone, and nothing more is read back. Path frames (and every
+    /// frame of a renderer made [`Renderer::with_radiance`]) also carry
+    /// each pixel's mean radiance (`RowBand::radiance`).
     pub fn render_bands_with_cost(
         &self,
         ctx: &GpuContext,
@@ -293,59 +331,22 @@ impl Renderer {
         with_cost: bool,
         sink: &mut dyn FnMut(RowBand<'_>) -> Result<()>,
     ) -> Result<RenderSummary> {
-        let (width, height) = (params.width, params.height);
-        let device = &ctx.device;
-        let pipeline = self
-            .pipelines
-            .get(ctx, self.variant_for(scene, &params, with_cost))?;
-        let tile_pixels = plan.tile_width as u64 * plan.max_rows as u64;
-        let tile_bytes = OUTPUT_HEADER_BYTES + tile_pixels * 4;
-        let cost_bytes = match with_cost {
-            true => tile_pixels * COST_BYTES_PER_PIXEL,
-            false => 4,
+        let width = params.width;
+        let variant = KernelVariant {
+            radiance_output: self.radiance || params.integrator == INTEGRATOR_PATH,
+            ..self.variant_for(scene, &params, with_cost)
         };
-        let output_what = format!(
-            "allocating the output buffers (2 x {})",
-            super::scene_buffers::human_bytes(tile_bytes + cost_bytes)
-        );
-        let (output, costs, readback, bind_group) = ctx.checked(&output_what, |device| {
-            let output = device.create_buffer(&wgpu::BufferDescriptor {
-                label: Some("output pixels"),
-                size: tile_bytes,
-                usage: wgpu::BufferUsages::STORAGE
-                    | wgpu::BufferUsages::COPY_SRC
-                    | wgpu::BufferUsages::COPY_DST,
-                mapped_at_creation: false,
-            });
-            let costs = device.create_buffer(&wgpu::BufferDescriptor {
-                label: Some("pixel costs"),
-                size: cost_bytes,
-                usage: wgpu::BufferUsages::STORAGE
-                    | wgpu::BufferUsages::COPY_SRC
-                    | wgpu::BufferUsages::COPY_DST,
-                mapped_at_creation: false,
-            });
-            // The tile's output, then (with_cost) its costs.
-            let readback = device.create_buffer(&wgpu::BufferDescriptor {
-                label: Some("readback"),
-                size: tile_bytes + if with_cost { cost_bytes } else { 0 },
-                usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
-                mapped_at_creation: false,
-            });
-            // RENDER_OUTPUTS: the tile's output, then its costs.
-            let bind_group =
-                self.pipelines
-                    .bind_group(device, &self.params_buffer, scene, &[&output, &costs]);
-            (output, costs, readback, bind_group)
-        })?;
-        let bind_group = bind_group.for_pipeline(ctx, &pipeline)?;
+        let radiance = variant.radiance_output;
+        let pipeline = self.pipelines.get(ctx, variant)?;
+        let tile_pixels = plan.tile_width as u64 * plan.max_rows as u64;
+        let tile = TileBuffers::new(ctx, self, scene, tile_pixels, with_cost, radiance)?;
+        let bind_group = tile.bind_group.for_pipeline(ctx, &pipeline)?;
         let timer = match ctx.has_timestamps {
             true => Some(ctx.checked("creating the GPU timer", GpuTimer::new)?),
             false => None,
         };
 
-        let mut band_rgb = Vec::with_capacity(width as usize * plan.max_rows as usize * 3);
-        let mut band_costs: Vec<WalkCost> = Vec::new();
+        let mut band = BandBuffers::default();
         let mut summary = RenderSummary {
             gpu_ms: 0.0,
             gpu_time_source: match timer {
@@ -355,92 +356,81 @@ impl Renderer {
             rays: RayTotals::default(),
             cost: with_cost.then(CostTotals::default),
         };
-        let (mut y, end) = (plan.rows.0, plan.rows.1.min(height));
+        let samples = self.samples_of(&params, radiance);
+        let (mut y, end) = (plan.rows.0, plan.rows.1.min(params.height));
         let mut rows = plan.first_band_rows(width);
         while y < end {
             let h = rows.min(end - y);
-            band_rgb.clear();
-            band_rgb.resize(width as usize * h as usize * 3, 0);
-            if with_cost {
-                band_costs.clear();
-                band_costs.resize(width as usize * h as usize, WalkCost::default());
-            }
+            band.reset(width, h, with_cost, radiance);
             let mut band_ms = 0.0;
             let mut x = 0;
             while x < width {
                 let w = plan.tile_width.min(width - x);
-                let tile_params = FrameParams {
-                    tile_origin: [x, y],
-                    tile_size: [w, h],
-                    ..params
-                };
-                ctx.queue
-                    .write_buffer(&self.params_buffer, 0, bytemuck::bytes_of(&tile_params));
-                let mut encoder = device.create_command_encoder(&wgpu::CommandEncoderDescriptor {
-                    label: Some("tile"),
-                });
-                encoder.clear_buffer(&output, 0, Some(OUTPUT_HEADER_BYTES));
-                let used_costs = w as u64 * h as u64 * COST_BYTES_PER_PIXEL;
-                if with_cost {
-                    encoder.clear_buffer(&costs, 0, Some(used_costs));
-                }
-                {
-                    let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
-                        label: Some("trace tile"),
-                        timestamp_writes: timer.as_ref().map(|t| t.writes()),
-                    });
-                    pass.set_pipeline(&pipeline.pipeline);
-                    pass.set_bind_group(0, &bind_group, &[]);
-                    let (gx, gy) = self.pipelines.workgroups(w, h);
-                    pass.dispatch_workgroups(gx, gy, 1);
-                }
-                let used = OUTPUT_HEADER_BYTES + w as u64 * h as u64 * 4;
-                encoder.copy_buffer_to_buffer(&output, 0, &readback, 0, used);
-                if with_cost {
-                    encoder.copy_buffer_to_buffer(&costs, 0, &readback, used, used_costs);
-                }
-                if let Some(t) = &timer {
-                    t.resolve(&mut encoder);
-                }
-                let started = Instant::now();
+                let area = TileArea { x, y, w, h };
+                let mut encoder = device_encoder(ctx);
+                tile.clear(&mut encoder, area, with_cost, radiance);
                 ctx.queue.submit([encoder.finish()]);
-                let read = used + if with_cost { used_costs } else { 0 };
-                let bytes = ctx.read_buffer(&readback, read)?;
-                let (bytes, cost_bytes) = bytes.split_at(used as usize);
-                let wall_ms = started.elapsed().as_secs_f64() * 1e3;
-                let tile_ms = match &timer {
-                    Some(t) => t.read_ms(ctx)?,
-                    None => wall_ms,
-                };
-                band_ms += tile_ms;
-                let (header, pixels) = bytes.split_at(OUTPUT_HEADER_BYTES as usize);
-                summary
-                    .rays
-                    .add(&bytemuck::pod_read_unaligned::<RayCounters>(header));
-                let pixels: &[u32] = bytemuck::cast_slice(pixels);
-                for row in 0..h as usize {
-                    let start = (row * width as usize + x as usize) * 3;
-                    let dst = &mut band_rgb[start..start + w as usize * 3];
-                    for (d, p) in dst
-                        .chunks_exact_mut(3)
-                        .zip(&pixels[row * w as usize..(row + 1) * w as usize])
+                // Samples in dispatches of at most SAMPLES_PER_DISPATCH:
+                // short enough for a GPU's watchdog and llvmpipe's loop
+                // limit; the kernel adds them in order, so the sums do not
+                // depend on the split.
+                let mut first = 0;
+                loop {
+                    let count = samples.saturating_sub(first).min(SAMPLES_PER_DISPATCH);
+                    let last = first + count >= samples;
+                    let tile_params = FrameParams {
+                        tile_origin: [area.x, area.y],
+                        tile_size: [area.w, area.h],
+                        sample_index: first,
+                        sample_count: count,
+                        ..params
+                    };
+                    ctx.queue
+                        .write_buffer(&self.params_buffer, 0, bytemuck::bytes_of(&tile_params));
+                    let mut encoder = device_encoder(ctx);
                     {
-                        d.copy_from_slice(&p.to_le_bytes()[..3]);
+                        let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
+                            label: Some("trace tile"),
+                            timestamp_writes: timer.as_ref().map(|t| t.writes()),
+                        });
+                        pass.set_pipeline(&pipeline.pipeline);
+                        pass.set_bind_group(0, &bind_group, &[]);
+                        let (gx, gy) = self.pipelines.workgroups(w, h);
+                        pass.dispatch_workgroups(gx, gy, 1);
                     }
-                }
-                if let Some(totals) = &mut summary.cost {
-                    let words: &[u32] = bytemuck::cast_slice(cost_bytes);
-                    let mut tile = words.chunks_exact(bindings::COST_WORDS);
-                    for row in 0..h as usize {
-                        let start = row * width as usize + x as usize;
-                        for (d, c) in band_costs[start..start + w as usize]
-                            .iter_mut()
-                            .zip(&mut tile)
-                        {
-                            *d = WalkCost::from_words(c);
-                            totals.add(d);
+                    if last {
+                        tile.copy_to_readback(&mut encoder, area, with_cost, radiance);
+                    }
+                    if let Some(t) = &timer {
+                        t.resolve(&mut encoder);
+                    }
+                    let started = Instant::now();
+                    ctx.queue.submit([encoder.finish()]);
+                    let bytes = match last {
+                        true => Some(ctx.read_buffer(
+                            &tile.readback,
+                            tile.read_bytes(area, with_cost, radiance),
+                        )?),
+                        false => {
+                            ctx.wait_idle()?;
+                            None
                         }
+                    };
+                    let wall_ms = started.elapsed().as_secs_f64() * 1e3;
+                    band_ms += match &timer {
+                        Some(t) => t.read_ms(ctx)?,
+                        None => wall_ms,
+                    };
+                    if let Some(bytes) = bytes {
+                        let samples = samples.max(1) as f32;
+                        band.take_tile(&bytes, area, width, radiance, samples, self.tone_map);
+                        summary.rays.add(&band.counters);
+                        if let Some(totals) = &mut summary.cost {
+                            band.take_costs(&bytes, area, width, radiance, totals);
+                        }
+                        break;
                     }
+                    first += count;
                 }
                 x += w;
             }
@@ -448,8 +438,9 @@ impl Renderer {
             sink(RowBand {
                 y,
                 rows: h,
-                rgb: &band_rgb,
-                costs: with_cost.then_some(&band_costs[..]),
+                rgb: &band.rgb,
+                costs: with_cost.then_some(&band.costs[..]),
+                radiance: radiance.then_some(&band.radiance[..]),
             })?;
             y += h;
             // Tiles of a band run one after another: size the next band so
@@ -459,6 +450,251 @@ impl Renderer {
         }
         ctx.check_health()?;
         Ok(summary)
+    }
+
+    /// Samples a pixel of a frame with `params` takes: the path tracer's
+    /// count, or the Whitted grid's k x k (radiance output traces the grid
+    /// in one pass; 8-bit output ignores the count).
+    fn samples_of(&self, params: &FrameParams, radiance: bool) -> u32 {
+        match (params.integrator == INTEGRATOR_PATH, radiance) {
+            (true, _) => self.path_samples.max(1),
+            (false, true) => params.samples_per_axis * params.samples_per_axis,
+            (false, false) => 1,
+        }
+    }
+}
+
+/// Samples of a pixel one dispatch traces, at most.
+pub const SAMPLES_PER_DISPATCH: u32 = 16;
+
+fn device_encoder(ctx: &GpuContext) -> wgpu::CommandEncoder {
+    ctx.device
+        .create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("tile") })
+}
+
+/// Pixels `x..x + w` of rows `y..y + h`: one tile.
+#[derive(Debug, Clone, Copy)]
+struct TileArea {
+    x: u32,
+    y: u32,
+    w: u32,
+    h: u32,
+}
+
+impl TileArea {
+    fn pixels(&self) -> u64 {
+        self.w as u64 * self.h as u64
+    }
+}
+
+/// Bytes per pixel of `render_tile`'s output: packed RGBA8, or four words
+/// of radiance sums.
+fn output_bytes_per_pixel(radiance: bool) -> u64 {
+    match radiance {
+        true => 16,
+        false => 4,
+    }
+}
+
+/// One tile's buffers on the GPU: the kernel's output and costs, the
+/// readback they are copied to, and their bind group.
+struct TileBuffers {
+    output: wgpu::Buffer,
+    costs: wgpu::Buffer,
+    readback: wgpu::Buffer,
+    bind_group: super::TraceBindGroup,
+}
+
+impl TileBuffers {
+    fn new(
+        ctx: &GpuContext,
+        renderer: &Renderer,
+        scene: &SceneBuffers,
+        tile_pixels: u64,
+        with_cost: bool,
+        radiance: bool,
+    ) -> Result<Self> {
+        let tile_bytes = OUTPUT_HEADER_BYTES + tile_pixels * output_bytes_per_pixel(radiance);
+        let cost_bytes = match with_cost {
+            true => tile_pixels * COST_BYTES_PER_PIXEL,
+            false => 4,
+        };
+        let what = format!(
+            "allocating the output buffers (2 x {})",
+            super::scene_buffers::human_bytes(tile_bytes + cost_bytes)
+        );
+        ctx.checked(&what, |device| {
+            let storage = |label, size| {
+                device.create_buffer(&wgpu::BufferDescriptor {
+                    label: Some(label),
+                    size,
+                    usage: wgpu::BufferUsages::STORAGE
+                        | wgpu::BufferUsages::COPY_SRC
+                        | wgpu::BufferUsages::COPY_DST,
+                    mapped_at_creation: false,
+                })
+            };
+            let output = storage("output pixels", tile_bytes);
+            let costs = storage("pixel costs", cost_bytes);
+            // The tile's output, then (with_cost) its costs.
+            let readback = device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some("readback"),
+                size: tile_bytes + if with_cost { cost_bytes } else { 0 },
+                usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
+                mapped_at_creation: false,
+            });
+            // RENDER_OUTPUTS: the tile's output, then its costs.
+            let bind_group = renderer.pipelines.bind_group(
+                device,
+                &renderer.params_buffer,
+                scene,
+                &[&output, &costs],
+            );
+            TileBuffers {
+                output,
+                costs,
+                readback,
+                bind_group,
+            }
+        })
+    }
+
+    fn output_bytes(area: TileArea, radiance: bool) -> u64 {
+        OUTPUT_HEADER_BYTES + area.pixels() * output_bytes_per_pixel(radiance)
+    }
+
+    /// Zeroes the counters (and the radiance sums, which the dispatches add
+    /// to, and the costs).
+    fn clear(&self, encoder: &mut wgpu::CommandEncoder, area: TileArea, costs: bool, radiance: bool) {
+        let output = match radiance {
+            true => Self::output_bytes(area, true),
+            false => OUTPUT_HEADER_BYTES,
+        };
+        encoder.clear_buffer(&self.output, 0, Some(output));
+        if costs {
+            encoder.clear_buffer(&self.costs, 0, Some(area.pixels() * COST_BYTES_PER_PIXEL));
+        }
+    }
+
+    fn copy_to_readback(
+        &self,
+        encoder: &mut wgpu::CommandEncoder,
+        area: TileArea,
+        costs: bool,
+        radiance: bool,
+    ) {
+        let used = Self::output_bytes(area, radiance);
+        encoder.copy_buffer_to_buffer(&self.output, 0, &self.readback, 0, used);
+        if costs {
+            let cost_bytes = area.pixels() * COST_BYTES_PER_PIXEL;
+            encoder.copy_buffer_to_buffer(&self.costs, 0, &self.readback, used, cost_bytes);
+        }
+    }
+
+    fn read_bytes(&self, area: TileArea, costs: bool, radiance: bool) -> u64 {
+        Self::output_bytes(area, radiance)
+            + if costs {
+                area.pixels() * COST_BYTES_PER_PIXEL
+            } else {
+                0
+            }
+    }
+}
+
+/// One band's pixels on the host, filled tile by tile.
+#[derive(Default)]
+struct BandBuffers {
+    rgb: Vec<u8>,
+    costs: Vec<WalkCost>,
+    /// Mean linear RGB per pixel (radiance output).
+    radiance: Vec<f32>,
+    /// The last tile's ray counters.
+    counters: RayCounters,
+}
+
+impl BandBuffers {
+    fn reset(&mut self, width: u32, rows: u32, costs: bool, radiance: bool) {
+        let pixels = width as usize * rows as usize;
+        self.rgb.clear();
+        self.rgb.resize(pixels * 3, 0);
+        self.costs.clear();
+        if costs {
+            self.costs.resize(pixels, WalkCost::default());
+        }
+        self.radiance.clear();
+        if radiance {
+            self.radiance.resize(pixels * 3, 0.0);
+        }
+    }
+
+    /// Takes a tile's counters and pixels from its read-back bytes: 8-bit
+    /// colour as it is, or radiance sums divided by `samples` and
+    /// tone-mapped into `rgb`.
+    fn take_tile(
+        &mut self,
+        bytes: &[u8],
+        area: TileArea,
+        width: u32,
+        radiance: bool,
+        samples: f32,
+        tone_map: (ToneMap, f32),
+    ) {
+        let (header, pixels) = bytes.split_at(OUTPUT_HEADER_BYTES as usize);
+        self.counters = bytemuck::pod_read_unaligned::<RayCounters>(header);
+        let words: Vec<u32> = pixels[..(area.pixels() * output_bytes_per_pixel(radiance)) as usize]
+            .chunks_exact(4)
+            .map(|b| u32::from_le_bytes([b[0], b[1], b[2], b[3]]))
+            .collect();
+        let (w, width) = (area.w as usize, width as usize);
+        for row in 0..area.h as usize {
+            let start = (row * width + area.x as usize) * 3;
+            let dst = &mut self.rgb[start..start + w * 3];
+            if !radiance {
+                for (d, p) in dst.chunks_exact_mut(3).zip(&words[row * w..(row + 1) * w]) {
+                    d.copy_from_slice(&p.to_le_bytes()[..3]);
+                }
+                continue;
+            }
+            let mean = &mut self.radiance[start..start + w * 3];
+            let sums = &words[row * w * 4..(row + 1) * w * 4];
+            for ((m, d), sum) in mean
+                .chunks_exact_mut(3)
+                .zip(dst.chunks_exact_mut(3))
+                .zip(sums.chunks_exact(4))
+            {
+                for c in 0..3 {
+                    m[c] = f32::from_bits(sum[c]) / samples;
+                    d[c] = tone_map.0.to_srgb8(m[c], tone_map.1);
+                }
+            }
+        }
+    }
+
+    /// Takes a tile's walk costs, after its output in the read-back bytes.
+    fn take_costs(
+        &mut self,
+        bytes: &[u8],
+        area: TileArea,
+        width: u32,
+        radiance: bool,
+        totals: &mut CostTotals,
+    ) {
+        let used = TileBuffers::output_bytes(area, radiance) as usize;
+        let words: Vec<u32> = bytes[used..]
+            .chunks_exact(4)
+            .map(|b| u32::from_le_bytes([b[0], b[1], b[2], b[3]]))
+            .collect();
+        let mut tile = words.chunks_exact(bindings::COST_WORDS);
+        for row in 0..area.h as usize {
+            let start = row * width as usize + area.x as usize;
+            for (d, c) in self.costs[start..start + area.w as usize]
+                .iter_mut()
+                .zip(&mut tile)
+            {
+                *d = WalkCost::from_words(c);
+                totals.add(d);
+            }
+        }
     }
 }
 
@@ -514,6 +750,15 @@ impl GpuTimer {
 }
 
 impl GpuContext {
+    /// Waits until the GPU has run every submission (a dispatch's wall time
+    /// where there are no timestamps; a check for device loss).
+    pub(crate) fn wait_idle(&self) -> Result<()> {
+        self.device
+            .poll(wgpu::PollType::wait_indefinitely())
+            .map_err(|e| Error::Gpu(format!("waiting for the GPU failed: {e}")))?;
+        self.check_health()
+    }
+
     /// Maps `buffer` (after the last submission), copies out `size` bytes, unmaps.
     pub(crate) fn read_buffer(&self, buffer: &wgpu::Buffer, size: u64) -> Result<Vec<u8>> {
         let slice = buffer.slice(..size);

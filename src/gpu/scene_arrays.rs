@@ -5,7 +5,10 @@
 
 use crate::geometry::{Aabb, Primitives};
 use crate::kdtree::{KdTree, Ropes};
-use crate::layout::{GpuKdNode, GpuLight, GpuMaterial, GpuSphere, GpuTriangle, GpuTriangleNormals, LeafRopes, TextureWords};
+use crate::layout::{
+    GpuKdNode, GpuLight, GpuMaterial, GpuSphere, GpuTriangle, GpuTriangleNormals, LeafRopes,
+    TextureWords, LIGHT_EMITTER, MODEL_LAMBERTIAN, MODEL_METAL_ROUGH,
+};
 use crate::scene::{Light, Scene};
 
 /// Host copies of every storage buffer, in the GPU layout.
@@ -16,7 +19,10 @@ pub struct SceneArrays {
     /// ([`super::bindings::OBJECTS`]).
     pub objects: Vec<[u32; 2]>,
     pub materials: Vec<GpuMaterial>,
+    /// The scene's point lights, then one entry per emissive object
+    /// (`LIGHT_EMITTER`), `emitter_count` of them.
     pub lights: Vec<GpuLight>,
+    pub emitter_count: u32,
     pub nodes: Vec<GpuKdNode>,
     pub leaf_objects: Vec<u32>,
     /// The rope walk's data: per leaf its box and ropes, per node its leaf
@@ -54,6 +60,29 @@ impl SceneArrays {
                 diffuse: f32x3(l.diffuse),
                 specular: f32x3(l.specular),
                 ..bytemuck::Zeroable::zeroed()
+            })
+            .collect()
+    }
+
+    /// The point lights at the head of `lights`.
+    pub fn point_light_count(&self) -> u32 {
+        self.lights.len() as u32 - self.emitter_count
+    }
+
+    /// An entry of the lights buffer for each object (by GPU id, in
+    /// `objects`) whose material emits, as f32: the path tracer's area lights.
+    fn emitters_of(objects: &[[u32; 2]], materials: &[GpuMaterial]) -> Vec<GpuLight> {
+        objects
+            .iter()
+            .enumerate()
+            .filter_map(|(gpu_id, &[material, _])| {
+                let emission = materials[material as usize].emission;
+                emission.iter().any(|&e| e > 0.0).then(|| GpuLight {
+                    kind: LIGHT_EMITTER,
+                    object: gpu_id as u32,
+                    diffuse: emission,
+                    ..bytemuck::Zeroable::zeroed()
+                })
             })
             .collect()
     }
@@ -156,7 +185,7 @@ impl SceneArrays {
             true => Vec::new(),
             false => TextureWords::pack(&scene.textures, &uv_records),
         };
-        SceneArrays {
+        let mut arrays = SceneArrays {
             spheres: order[..sphere_count]
                 .iter()
                 .map(|&id| {
@@ -184,10 +213,17 @@ impl SceneArrays {
                         (Some(t), false) => t,
                         _ => GpuMaterial::NO_TEXTURE,
                     },
-                    _pad: [0.0; 2],
+                    metallic: m.physical.metal_rough.map_or(0.0, |p| p.metallic as f32),
+                    roughness: m.physical.metal_rough.map_or(1.0, |p| p.roughness as f32),
+                    emission: f32x3(m.physical.emission),
+                    model: match m.physical.metal_rough {
+                        Some(_) => MODEL_METAL_ROUGH,
+                        None => MODEL_LAMBERTIAN,
+                    },
                 })
                 .collect(),
             lights: Self::lights_of(&scene.lights),
+            emitter_count: 0,
             nodes: tree.nodes.iter().map(GpuKdNode::pack).collect(),
             leaf_objects: tree
                 .leaf_objects
@@ -200,7 +236,11 @@ impl SceneArrays {
             textures,
             bounds: tree.bounds,
             scene_ids: order,
-        }
+        };
+        let emitters = Self::emitters_of(&arrays.objects, &arrays.materials);
+        arrays.emitter_count = emitters.len() as u32;
+        arrays.lights.extend(emitters);
+        arrays
     }
 }
 

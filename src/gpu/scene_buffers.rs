@@ -206,7 +206,10 @@ pub struct SceneBuffers {
     pub bounds: Aabb,
     pub sphere_count: u32,
     pub object_count: u32,
+    /// Point lights, first in the lights buffer.
     pub light_count: u32,
+    /// Emissive objects, after the point lights in the lights buffer.
+    pub emitter_count: u32,
     pub node_count: u32,
     /// Whether a split array (triangles, k-d nodes, leaf object lists, leaf
     /// ropes, rope index, vertex normals) lies in more than one binding (the kernel must then select
@@ -303,8 +306,8 @@ impl SceneBuffers {
             .iter()
             .map(|(name, bytes)| {
                 // Bindings may not be empty: an empty array gets one zeroed
-                // element (64 bytes covers the largest element type).
-                let padded = [0u8; 64];
+                // element (80 bytes covers the largest element type, the material).
+                let padded = [0u8; 80];
                 let contents = if bytes.is_empty() { &padded[..] } else { bytes };
                 // The lights are rewritten per frame of an animation.
                 let usage = if *name == bindings::LIGHTS.name {
@@ -321,7 +324,8 @@ impl SceneBuffers {
             bounds: arrays.bounds,
             sphere_count: arrays.spheres.len() as u32,
             object_count: arrays.objects.len() as u32,
-            light_count: arrays.lights.len() as u32,
+            light_count: arrays.point_light_count(),
+            emitter_count: arrays.emitter_count,
             node_count: arrays.nodes.len() as u32,
             split,
             smooth_triangles: !arrays.triangle_normals.is_empty(),

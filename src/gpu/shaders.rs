@@ -9,7 +9,7 @@ use super::bindings::{self, SceneChunks};
 
 /// Files of the trace kernel, in the order they are concatenated (after the
 /// declarations generated from [`bindings`]).
-pub const TRACE_PARTS: [(&str, &str); 14] = [
+pub const TRACE_PARTS: [(&str, &str); 18] = [
     ("types.wgsl", include_str!("../../shaders/types.wgsl")),
     (
         "frame_params.wgsl",
@@ -37,6 +37,10 @@ pub const TRACE_PARTS: [(&str, &str); 14] = [
     ("shade.wgsl", include_str!("../../shaders/shade.wgsl")),
     ("texture.wgsl", include_str!("../../shaders/texture.wgsl")),
     ("glass.wgsl", include_str!("../../shaders/glass.wgsl")),
+    ("random.wgsl", include_str!("../../shaders/random.wgsl")),
+    ("bsdf.wgsl", include_str!("../../shaders/bsdf.wgsl")),
+    ("emitters.wgsl", include_str!("../../shaders/emitters.wgsl")),
+    ("path.wgsl", include_str!("../../shaders/path.wgsl")),
     ("trace.wgsl", include_str!("../../shaders/trace.wgsl")),
     ("query.wgsl", include_str!("../../shaders/query.wgsl")),
 ];

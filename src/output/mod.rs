@@ -5,6 +5,7 @@
 //! image); images held in memory (screenshots, plots, heatmaps) are
 //! encoded and read by the `image` crate.
 
+pub mod exr;
 pub mod font;
 pub mod heatmap;
 

@@ -18,6 +18,7 @@ use kdray::choice::Choice;
 use kdray::gpu::Accel;
 use kdray::kdtree::{BuildStrategy, Traversal};
 use kdray::render::RenderFlags;
+use kdray::scene::Integrator;
 
 #[derive(Parser)]
 #[command(
@@ -117,7 +118,8 @@ fn expand<T: Choice>(list: &[OrAll<T>]) -> Vec<T> {
 pub struct RenderArgs {
     /// The scene file.
     pub scene: PathBuf,
-    /// Output PNG [default: the scene's file name with .png, in the current folder].
+    /// Output image: PNG, or OpenEXR (.exr: linear radiance as 32-bit floats)
+    /// [default: the scene's file name with .png, in the current folder].
     #[arg(short, long)]
     pub output: Option<PathBuf>,
     #[command(flatten)]
@@ -164,9 +166,16 @@ pub struct ImageFlags {
     /// Image height in pixels (overrides the scene's [render] height).
     #[arg(long)]
     pub height: Option<u32>,
-    /// Samples per pixel, a perfect square (overrides the scene's [render] samples).
+    /// Samples per pixel: a perfect square for the Whitted integrator, any count
+    /// for the path tracer (overrides the scene's [render] samples).
     #[arg(long)]
     pub samples: Option<u32>,
+    /// The light transport (overrides the scene's [render] integrator).
+    #[arg(long, value_parser = choice::<Integrator>())]
+    pub integrator: Option<Integrator>,
+    /// The path tracer's random seed (overrides the scene's [render] seed).
+    #[arg(long)]
+    pub seed: Option<u32>,
     /// Nearest-hit search in the shader.
     #[arg(long, value_parser = choice::<Accel>(), default_value = "kdtree")]
     pub accel: Accel,
@@ -184,6 +193,8 @@ impl From<ImageFlags> for RenderFlags {
             width,
             height,
             samples,
+            integrator,
+            seed,
             accel,
             traversal,
             build,
@@ -195,6 +206,8 @@ impl From<ImageFlags> for RenderFlags {
             accel,
             traversal,
             build,
+            integrator,
+            seed,
         }
     }
 }

@@ -69,7 +69,7 @@ fn render(args: RenderArgs) -> Result<()> {
     let mut scene = kdray::scene::load_scene(scene_path)?;
     let flags: kdray::render::RenderFlags = image.into();
     flags.check()?;
-    flags.apply(&mut scene);
+    flags.apply(&mut scene)?;
     if all_frames {
         let Some(dir) = output else {
             return Err(Error::Usage("--all-frames needs -o DIR".into()));
@@ -101,9 +101,9 @@ fn render(args: RenderArgs) -> Result<()> {
     }
 
     // Rows stream from the GPU into the PNG (memory holds one band); the
-    // file appears only once complete, and a failure leaves no trace.
-    let mut png =
-        kdray::output::PngStream::create(&output, scene.render.width, scene.render.height)?;
+    // file appears only once complete, and a failure leaves no trace. An
+    // EXR is written whole at the end.
+    let mut image = ImageOut::create(&output, scene.render.width, scene.render.height)?;
     let ctx = GpuContext::new()?;
     let progress = progress_bar(scene.render.height as u64, "rendering {pos}/{len} rows")?;
     let (width, height) = (scene.render.width, scene.render.height);
@@ -121,19 +121,20 @@ fn render(args: RenderArgs) -> Result<()> {
         flags.traversal,
         TilePlan::DEFAULT_MAX_TILE_PIXELS,
         stats || heatmap.is_some(),
+        image.wants_radiance(),
         &mut |band| {
             progress.inc(band.rows as u64);
             if let (Some(_), Some(costs)) = (&heatmap, band.costs) {
                 work.extend(costs.iter().map(|c| c.work()));
             }
-            png.write_rows(band.rgb)
+            image.write_band(&band)
         },
     )?;
     progress.finish_and_clear();
     if let Some((path, max)) = &heatmap {
         kdray::output::heatmap::write_heatmap(path, &work, width, height, *max)?;
     }
-    png.finish()?;
+    image.finish()?;
     if let Some(warning) = figures.loop_limit_warning() {
         eprintln!("kdray: {warning}");
     }
@@ -180,6 +181,7 @@ fn render_all_frames(
             Some(&part),
             flags.traversal,
             TilePlan::DEFAULT_MAX_TILE_PIXELS,
+            false,
             false,
             &mut |band| {
                 progress.inc(band.rows as u64);
@@ -240,4 +242,61 @@ fn info() -> Result<()> {
         None => println!("no adapter matches WGPU_ADAPTER_NAME"),
     }
     Ok(())
+}
+
+/// Where `render` writes its image: a PNG fed band by band, or an EXR of
+/// linear radiance, written whole once the last band is in.
+enum ImageOut {
+    Png(kdray::output::PngStream),
+    Exr {
+        path: PathBuf,
+        width: u32,
+        height: u32,
+        rgb: Vec<f32>,
+    },
+}
+
+impl ImageOut {
+    fn create(path: &Path, width: u32, height: u32) -> Result<Self> {
+        if kdray::output::exr::is_exr_path(path) {
+            return Ok(ImageOut::Exr {
+                path: path.to_path_buf(),
+                width,
+                height,
+                rgb: Vec::with_capacity(width as usize * height as usize * 3),
+            });
+        }
+        Ok(ImageOut::Png(kdray::output::PngStream::create(
+            path, width, height,
+        )?))
+    }
+
+    fn wants_radiance(&self) -> bool {
+        matches!(self, ImageOut::Exr { .. })
+    }
+
+    fn write_band(&mut self, band: &kdray::gpu::RowBand<'_>) -> Result<()> {
+        match self {
+            ImageOut::Png(png) => png.write_rows(band.rgb),
+            ImageOut::Exr { rgb, .. } => {
+                let radiance = band.radiance.ok_or_else(|| {
+                    Error::Output("the renderer returned no radiance for the EXR".into())
+                })?;
+                rgb.extend_from_slice(radiance);
+                Ok(())
+            }
+        }
+    }
+
+    fn finish(self) -> Result<()> {
+        match self {
+            ImageOut::Png(png) => png.finish(),
+            ImageOut::Exr {
+                path,
+                width,
+                height,
+                rgb,
+            } => kdray::output::exr::write_exr_atomic(&path, width, height, &rgb),
+        }
+    }
 }

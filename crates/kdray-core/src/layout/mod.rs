@@ -223,7 +223,15 @@ pub struct GpuMaterial {
     /// Its base-colour texture in the `textures` buffer, or
     /// [`GpuMaterial::NO_TEXTURE`].
     pub texture: u32,
-    pub _pad: [f32; 2],
+    /// glTF's metallic and perceptual roughness, read by the path tracer
+    /// where `model` is [`MODEL_METAL_ROUGH`].
+    pub metallic: f32,
+    pub roughness: f32,
+    /// Emitted radiance (the path tracer's lights).
+    pub emission: [f32; 3],
+    /// [`MODEL_LAMBERTIAN`] or [`MODEL_METAL_ROUGH`]: how the path tracer
+    /// reads `diffuse`.
+    pub model: u32,
 }
 
 impl GpuMaterial {
@@ -231,18 +239,36 @@ impl GpuMaterial {
     pub const NO_TEXTURE: u32 = u32::MAX;
 }
 
+/// `GpuMaterial::model`: `diffuse` is a Lambertian albedo.
+pub const MODEL_LAMBERTIAN: u32 = 0;
+/// `GpuMaterial::model`: glTF 2.0's metal/rough BRDF with base colour `diffuse`.
+pub const MODEL_METAL_ROUGH: u32 = 1;
+
 #[repr(C)]
 #[derive(Debug, Clone, Copy, PartialEq, Pod, Zeroable)]
 pub struct GpuLight {
     pub position: [f32; 3],
-    pub _pad0: f32,
+    /// [`LIGHT_POINT`], or [`LIGHT_EMITTER`]: an emissive object, `object`,
+    /// whose radiance is `diffuse` (the path tracer samples it).
+    pub kind: u32,
     pub ambient: [f32; 3],
-    pub _pad1: f32,
+    /// An emitter's GPU object id.
+    pub object: u32,
     pub diffuse: [f32; 3],
     pub _pad2: f32,
     pub specular: [f32; 3],
     pub _pad3: f32,
 }
+
+/// `GpuLight::kind`: a point light of the scene's `[[lights]]`.
+pub const LIGHT_POINT: u32 = 0;
+/// `GpuLight::kind`: an object whose material emits. The lights buffer
+/// holds the point lights first, then the emitters.
+pub const LIGHT_EMITTER: u32 = 1;
+
+/// `FrameParams::integrator` values.
+pub const INTEGRATOR_WHITTED: u32 = 0;
+pub const INTEGRATOR_PATH: u32 = 1;
 
 /// `FrameParams::accel` values.
 pub const ACCEL_KDTREE: u32 = 0;

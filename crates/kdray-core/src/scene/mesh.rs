@@ -48,6 +48,7 @@ impl MeshMaterial {
             transmission: 0.0,
             ior: super::Material::DEFAULT_IOR,
             texture: None,
+            physical: super::Physical::LAMBERTIAN,
         }
     }
 }

@@ -120,6 +120,7 @@ impl Validator<'_> {
                     transmission: mm.transmission,
                     ior: mm.ior,
                     texture,
+                    physical: mm.physical,
                 });
             }
         }

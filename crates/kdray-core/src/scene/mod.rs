@@ -18,6 +18,7 @@ mod document_errors;
 mod error;
 pub mod gltf;
 mod input_file;
+mod integrator;
 mod load;
 pub mod mesh;
 pub mod mesh_file;
@@ -37,6 +38,7 @@ pub use animation::{Animation, CameraKey, CameraPath, Frame, FramePath, LightKey
 pub use camera_basis::CameraBasis;
 pub use error::SceneError;
 pub use input_file::MAX_INPUT_BYTES;
+pub use integrator::{Integrator, ToneMap};
 pub use load::{load_scene, load_scene_observed, load_scene_with, parse_scene, parse_scene_with};
 pub use model_scene::{model_scene, model_scene_with};
 pub use scene_format::SceneFormat;
@@ -101,8 +103,18 @@ pub struct RenderSettings {
     pub max_depth: u32,
     pub background: DVec3,
     pub shadow_mode: ShadowMode,
-    /// Samples per pixel, a perfect square k * k.
+    /// Samples per pixel: a perfect square k * k for the Whitted
+    /// integrator (a k x k grid), any count >= 1 for the path tracer
+    /// (uniformly random positions in the pixel).
     pub samples: u32,
+    pub integrator: Integrator,
+    /// The path tracer's random numbers: the same seed, the same image.
+    pub seed: u32,
+    /// How a path-traced PNG maps radiance to 8-bit sRGB, after scaling it
+    /// by 2^`exposure`.
+    pub tone_map: ToneMap,
+    /// Stops, finite.
+    pub exposure: f64,
 }
 
 impl RenderSettings {
@@ -143,6 +155,43 @@ pub struct Material<T = u32> {
     /// Its base-colour texture, which multiplies `diffuse` and `ambient` on
     /// its textured triangles.
     pub texture: Option<T>,
+    /// What the path tracer reads beyond the keys above.
+    pub physical: Physical,
+}
+
+/// A material's physically based part, read by the path tracer: glTF 2.0's
+/// metal/rough BRDF where it has one, and emission.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Physical {
+    /// Some: glTF's metal/rough BRDF, whose base colour is the material's
+    /// `diffuse`; None: `diffuse` is a Lambertian albedo.
+    pub metal_rough: Option<MetalRough>,
+    /// Emitted radiance, per channel, >= 0 (zero: not a light). A sphere
+    /// emits outward, a triangle on its front side (the side its corners
+    /// wind counter-clockwise seen from).
+    pub emission: DVec3,
+}
+
+impl Physical {
+    /// A Lambertian surface that emits nothing.
+    pub const LAMBERTIAN: Physical = Physical {
+        metal_rough: None,
+        emission: DVec3::ZERO,
+    };
+}
+
+impl Default for Physical {
+    fn default() -> Self {
+        Self::LAMBERTIAN
+    }
+}
+
+/// glTF 2.0's metallic-roughness parameters, each in [0, 1].
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct MetalRough {
+    pub metallic: f64,
+    /// Perceptual roughness: the GGX width is alpha = roughness^2.
+    pub roughness: f64,
 }
 
 impl Material {

@@ -97,6 +97,10 @@ pub fn model_scene_with(
             background: BACKGROUND,
             shadow_mode: ShadowMode::Ambient,
             samples: 1,
+            integrator: Default::default(),
+            seed: 0,
+            tone_map: Default::default(),
+            exposure: 0.0,
         },
         lights: light_rig(min, max),
         animation: None,
@@ -196,6 +200,7 @@ fn ground() -> Material {
         transmission: 0.0,
         texture: None,
         ior: Material::DEFAULT_IOR,
+        physical: super::Physical::LAMBERTIAN,
     }
 }
 

@@ -84,7 +84,7 @@ macro_rules! described {
 }
 
 described! {
-    RawScene => "a scene (a table of [camera], [render], [[lights]], [materials], [[spheres]], [[triangles]], [[meshes]], [animation])",
+    RawScene => "a scene (a table of [camera], [render], [[lights]], [materials], [[spheres]], [[triangles]], [[meshes]], [animation], [environment])",
     RawCamera => "a [camera] table",
     RawRender => "a [render] table",
     RawLight => "a [[lights]] table",
@@ -93,6 +93,7 @@ described! {
     RawTriangle => "a [[triangles]] table",
     RawMesh => "a [[meshes]] table",
     RawAnimation => "an [animation] table",
+    RawEnvironment => "an [environment] table",
     RawCameraKey => "an [[animation.keys]] table",
     RawLightKey => "an [[animation.light_keys]] table",
 }
@@ -148,6 +149,8 @@ pub(super) struct RawScene {
     pub(super) meshes: Vec<TableOf<RawMesh>>,
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub(super) animation: Option<TableOf<RawAnimation>>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub(super) environment: Option<TableOf<RawEnvironment>>,
 }
 
 #[derive(Deserialize, Serialize)]
@@ -187,6 +190,55 @@ pub(super) struct RawRender {
     pub(super) shadow_mode: Option<RawShadowMode>,
     #[serde(skip_serializing_if = "Option::is_none")]
     pub(super) samples: Option<u32>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub(super) integrator: Option<Named<super::Integrator>>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub(super) seed: Option<u32>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub(super) tone_map: Option<Named<super::ToneMap>>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub(super) exposure: Option<f64>,
+}
+
+/// `[environment]`: the radiance of the sky that escaping rays see.
+#[derive(Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub(super) struct RawEnvironment {
+    pub(super) color: Vec3,
+}
+
+/// A [`Choice`](crate::choice::Choice) spelled by its name. Read as a plain
+/// string, so that a wrong name's error lists the right ones.
+pub(super) struct Named<T>(pub(super) T);
+
+impl<T: crate::choice::Choice> Serialize for Named<T> {
+    fn serialize<S: Serializer>(&self, serializer: S) -> Result<S::Ok, S::Error> {
+        serializer.serialize_str(self.0.name())
+    }
+}
+
+impl<'de, T: crate::choice::Choice> Deserialize<'de> for Named<T> {
+    fn deserialize<D: Deserializer<'de>>(deserializer: D) -> Result<Self, D::Error> {
+        struct NameVisitor<T>(std::marker::PhantomData<T>);
+        impl<T: crate::choice::Choice> Visitor<'_> for NameVisitor<T> {
+            type Value = Named<T>;
+            fn expecting(&self, f: &mut fmt::Formatter) -> fmt::Result {
+                let names: Vec<String> = T::ALL.iter().map(|c| format!("\"{}\"", c.name())).collect();
+                f.write_str(&names.join(" or "))
+            }
+            fn visit_str<E: de::Error>(self, v: &str) -> Result<Named<T>, E> {
+                T::from_name(v).map(Named).ok_or_else(|| {
+                    let names: Vec<String> =
+                        T::ALL.iter().map(|c| format!("`{}`", c.name())).collect();
+                    E::custom(format!(
+                        "unknown variant `{v}`, expected {}",
+                        names.join(" or ")
+                    ))
+                })
+            }
+        }
+        deserializer.deserialize_str(NameVisitor(std::marker::PhantomData))
+    }
 }
 
 /// `"ambient"` or `"seed"`. Read as a plain string: the toml crate's own
@@ -242,7 +294,17 @@ pub(super) struct RawLight {
 pub(super) struct RawMaterial {
     #[serde(default)]
     pub(super) ambient: Vec3,
-    pub(super) diffuse: Vec3,
+    /// `diffuse` or `base_color`: one of the two (validate says so).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub(super) diffuse: Option<Vec3>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub(super) base_color: Option<Vec3>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub(super) metallic: Option<f64>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub(super) roughness: Option<f64>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub(super) emission: Option<Vec3>,
     #[serde(default)]
     pub(super) specular: Vec3,
     #[serde(default)]

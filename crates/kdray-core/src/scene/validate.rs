@@ -17,11 +17,12 @@ use super::animation::{Animation, CameraKey, CameraPath, FramePath, LightKey, MA
 use super::mesh::has_area;
 use super::normals::unit;
 use super::schema::{
-    RawAnimation, RawCamera, RawRender, RawScene, RawShadowMode, Vec3, DEFAULT_UP,
+    RawAnimation, RawCamera, RawMaterial, RawRender, RawScene, RawShadowMode, Vec3, DEFAULT_UP,
 };
 use super::source_map::LazySourceMap;
 use super::{
-    Camera, Light, Material, RenderSettings, Scene, SceneError, ShadowMode, Sphere, Triangle,
+    Camera, Integrator, Light, Material, MetalRough, Physical, RenderSettings, Scene, SceneError,
+    ShadowMode, Sphere, ToneMap, Triangle,
 };
 
 /// Largest accepted image side, in pixels.
@@ -108,15 +109,27 @@ impl Validator<'_> {
 
     pub(super) fn scene(&self, raw: RawScene) -> Result<Scene, SceneError> {
         let camera = self.camera(&raw.camera)?;
-        let render = self.render(&raw.render)?;
+        let mut render = self.render(&raw.render)?;
+        if let Some(env) = &raw.environment {
+            if raw.render.background.is_some() {
+                return Err(self.error(
+                    "environment",
+                    "give the sky's radiance as [environment] color or as render.background, not both",
+                ));
+            }
+            render.background = self.colour(&|| "environment.color".into(), env.color)?;
+        }
         let mut animation = match &raw.animation {
             Some(a) => Some(self.animation(a, &camera)?),
             None => None,
         };
 
-        if raw.lights.is_empty() {
+        if raw.lights.is_empty() && render.integrator == Integrator::Whitted {
             // Names the line of `lights = []` when there is one.
-            return Err(self.error("lights", "a scene needs at least one [[lights]] entry"));
+            return Err(self.error(
+                "lights",
+                "a scene needs at least one [[lights]] entry (the path tracer, integrator = \"path\", may do without)",
+            ));
         }
         let lights = raw
             .lights
@@ -165,17 +178,19 @@ impl Validator<'_> {
             if ior <= 0.0 {
                 return Err(self.error(&key("ior"), format!("must be > 0, got {ior:?}")));
             }
+            let (diffuse, physical) = self.physical(name, m)?;
             material_index.insert(name.clone(), materials.len() as u32);
             materials.push(Material {
                 name: name.clone(),
                 ambient: self.colour(&|| key("ambient"), m.ambient)?,
-                diffuse: self.colour(&|| key("diffuse"), m.diffuse)?,
+                diffuse,
                 specular: self.colour(&|| key("specular"), m.specular)?,
                 shininess,
                 reflection,
                 transmission,
                 ior,
                 texture: None,
+                physical,
             });
         }
         let lookup = |key: KeyPath, name: &str| {
@@ -539,8 +554,10 @@ impl Validator<'_> {
                 format!("must be in 1..=64, got {max_depth}"),
             ));
         }
+        let integrator = r.integrator.as_ref().map_or(Integrator::default(), |n| n.0);
         let samples = r.samples.unwrap_or(1);
-        check_samples(samples).map_err(|m| self.error("render.samples", m))?;
+        check_samples(samples, integrator).map_err(|m| self.error("render.samples", m))?;
+        let exposure = self.number(&|| "render.exposure".into(), r.exposure.unwrap_or(0.0))?;
         Ok(RenderSettings {
             width,
             height,
@@ -555,7 +572,63 @@ impl Validator<'_> {
                 Some(RawShadowMode::Seed) => ShadowMode::Seed,
             },
             samples,
+            integrator,
+            seed: r.seed.unwrap_or(0),
+            tone_map: r.tone_map.as_ref().map_or(ToneMap::default(), |n| n.0),
+            exposure,
         })
+    }
+
+    /// A material's albedo (`diffuse`, or `base_color`) and its physical
+    /// part: exactly one of `diffuse` and `base_color`; `metallic` and
+    /// `roughness` (in [0, 1]; 0 and 0.5 by default) only with
+    /// `base_color`; `emission` a colour of any size.
+    fn physical(&self, name: &str, m: &RawMaterial) -> Result<(DVec3, Physical), SceneError> {
+        let key = |k: &str| format!("materials.{name}.{k}");
+        let unit = |k: &str, v: Option<f64>, default: f64| -> Result<f64, SceneError> {
+            let x = self.number(&|| key(k), v.unwrap_or(default))?;
+            if !(0.0..=1.0).contains(&x) {
+                return Err(self.error(&key(k), format!("must be in [0, 1], got {x:?}")));
+            }
+            Ok(x)
+        };
+        let (albedo, metal_rough) = match (m.diffuse, m.base_color) {
+            (Some(d), None) => {
+                for (k, v) in [("metallic", m.metallic), ("roughness", m.roughness)] {
+                    if v.is_some() {
+                        return Err(self.error(
+                            &key(k),
+                            format!("{k} belongs to the metal/rough model: give base_color instead of diffuse"),
+                        ));
+                    }
+                }
+                (self.colour(&|| key("diffuse"), d)?, None)
+            }
+            (None, Some(b)) => (
+                self.colour(&|| key("base_color"), b)?,
+                Some(MetalRough {
+                    metallic: unit("metallic", m.metallic, 0.0)?,
+                    roughness: unit("roughness", m.roughness, 0.5)?,
+                }),
+            ),
+            (Some(_), Some(_)) => {
+                return Err(self.error(
+                    &key("base_color"),
+                    "give diffuse (Lambertian) or base_color (metal/rough), not both",
+                ))
+            }
+            (None, None) => {
+                return Err(self.error(
+                    &format!("materials.{name}"),
+                    "missing field `diffuse` (or `base_color`)",
+                ))
+            }
+        };
+        let emission = match m.emission {
+            Some(e) => self.colour(&|| key("emission"), e)?,
+            None => DVec3::ZERO,
+        };
+        Ok((albedo, Physical { metal_rough, emission }))
     }
 }
 
@@ -614,8 +687,15 @@ fn light_fault(l: &Light) -> Option<String> {
     None
 }
 
-/// `samples` must be a perfect square k * k with k >= 1.
-pub fn check_samples(samples: u32) -> Result<(), String> {
+/// `samples` must be at least 1, and for the Whitted integrator a perfect
+/// square k * k (its k x k grid).
+pub fn check_samples(samples: u32, integrator: Integrator) -> Result<(), String> {
+    if integrator == Integrator::Path {
+        return match samples {
+            0 => Err("must be at least 1, got 0".into()),
+            _ => Ok(()),
+        };
+    }
     // In u64: for samples near u32::MAX, k rounds up to 65536 and k * k
     // would overflow a u32.
     let k = (samples as f64).sqrt().round() as u64;

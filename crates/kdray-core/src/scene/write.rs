@@ -9,7 +9,7 @@ use glam::DVec3;
 use super::scene_format::SceneFormat;
 use super::schema::{
     Exact, RawAnimation, RawCamera, RawCameraKey, RawLight, RawLightKey, RawMaterial, RawRender,
-    RawScene, RawShadowMode, RawSphere, RawTriangle, TableOf,
+    Named, RawScene, RawShadowMode, RawSphere, RawTriangle, TableOf,
 };
 use super::{Scene, ShadowMode};
 
@@ -25,7 +25,11 @@ pub fn scene_text(scene: &Scene, format: SceneFormat) -> Result<String, String> 
     for m in &scene.materials {
         let raw = RawMaterial {
             ambient: v(m.ambient),
-            diffuse: v(m.diffuse),
+            diffuse: m.physical.metal_rough.is_none().then(|| v(m.diffuse)),
+            base_color: m.physical.metal_rough.map(|_| v(m.diffuse)),
+            metallic: m.physical.metal_rough.map(|p| p.metallic),
+            roughness: m.physical.metal_rough.map(|p| p.roughness),
+            emission: (m.physical.emission != DVec3::ZERO).then(|| v(m.physical.emission)),
             specular: v(m.specular),
             shininess: m.shininess,
             reflection: m.reflection,
@@ -62,6 +66,10 @@ pub fn scene_text(scene: &Scene, format: SceneFormat) -> Result<String, String> 
                 ShadowMode::Seed => RawShadowMode::Seed,
             }),
             samples: Some(r.samples),
+            integrator: Some(Named(r.integrator)),
+            seed: Some(r.seed),
+            tone_map: Some(Named(r.tone_map)),
+            exposure: Some(r.exposure),
         }),
         lights: scene
             .lights
@@ -76,6 +84,7 @@ pub fn scene_text(scene: &Scene, format: SceneFormat) -> Result<String, String> 
             })
             .collect(),
         materials,
+        environment: None,
         spheres: scene
             .spheres
             .iter()

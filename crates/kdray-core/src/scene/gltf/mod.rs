@@ -635,8 +635,10 @@ pub const PBR_MAX_SHININESS: f64 = 4.0 * 4096.0;
 ///   default, without it; glTF's ior 0 would mean "no refraction" there, and
 ///   is read as 1, an index that bends nothing).
 ///
-/// Emission and alpha are ignored; the base-colour texture is the
-/// reader's (`images`), here None.
+/// The path tracer reads glTF's own model: base colour, metallic and
+/// roughness as they are, and `emissiveFactor` as emitted radiance. Alpha
+/// is ignored; the base-colour texture is the reader's (`images`), here
+/// None.
 pub fn pbr_material(material: &gltf::Material) -> MeshMaterial {
     let pbr = material.pbr_metallic_roughness();
     let [r, g, b, _alpha] = pbr.base_color_factor().map(f64::from);
@@ -670,6 +672,14 @@ pub fn pbr_material(material: &gltf::Material) -> MeshMaterial {
             None => crate::scene::Material::DEFAULT_IOR,
         },
         texture: None,
+        physical: crate::scene::Physical {
+            metal_rough: Some(crate::scene::MetalRough {
+                metallic,
+                roughness,
+            }),
+            emission: DVec3::from_array(material.emissive_factor().map(f64::from))
+                .max(DVec3::ZERO),
+        },
     }
 }
 

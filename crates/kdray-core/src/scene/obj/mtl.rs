@@ -61,6 +61,7 @@ pub(super) fn parse_mtl(
                 transmission: 0.0,
                 ior: crate::scene::Material::DEFAULT_IOR,
                 texture: None,
+                physical: crate::scene::Physical::LAMBERTIAN,
             });
             continue;
         }
@@ -112,7 +113,7 @@ pub(super) fn parse_mtl(
             continue;
         }
 
-        let is_colour = ["Ka", "Kd", "Ks"]
+        let is_colour = ["Ka", "Kd", "Ks", "Ke"]
             .iter()
             .any(|k| keyword.eq_ignore_ascii_case(k));
         let is_shininess = keyword.eq_ignore_ascii_case("Ns");
@@ -125,7 +126,7 @@ pub(super) fn parse_mtl(
             continue;
         }
         if !is_colour && !is_shininess && !is_glass {
-            continue; // illum, Ke, ...
+            continue; // illum, ...
         }
         let Some(material) = current.as_mut() else {
             return Err(err("comes before any newmtl statement".to_string()));
@@ -167,6 +168,8 @@ pub(super) fn parse_mtl(
             match keyword.as_bytes()[1].to_ascii_lowercase() {
                 b'a' => material.ambient = colour,
                 b'd' => material.diffuse = colour,
+                // Emitted radiance: the path tracer's light.
+                b'e' => material.physical.emission = colour.max(DVec3::ZERO),
                 _ => material.specular = colour,
             }
         }

@@ -1,0 +1,150 @@
+// Next-event estimation for the path tracer: one entry of the lights buffer
+// chosen uniformly (the `light_count` point lights, then the
+// `emitter_count` emissive objects), a direction toward it, its radiance and
+// the solid-angle density of choosing that direction; and the same density
+// for a direction that BSDF sampling found, for multiple importance
+// sampling. A sphere is sampled uniformly in the cone it subtends (it emits
+// outward), a triangle uniformly by area (it emits on its front side, the
+// side (v1 - v0) x (v2 - v0) points to).
+
+struct LightSample {
+    dir: vec3<f32>,
+    distance: f32,       // to the point sampled; the shadow ray stops short of it
+    radiance: vec3<f32>, // arriving along dir if unblocked (a point light: intensity / d^2)
+    pdf: f32,            // solid angle density, the choice included; 0: nothing to add
+    delta: bool,         // a point light: no BSDF sample can find it
+}
+
+fn lights_total() -> u32 {
+    return params.light_count + params.emitter_count;
+}
+
+fn emitter_radiance(id: u32) -> vec3<f32> {
+    return materials[objects[id].x].emission;
+}
+
+// 1 - cos of the half-angle of the cone sphere `s` subtends from p (0 when p
+// is inside), written so that small far spheres keep their precision.
+fn sphere_cone_width(s: Sphere, p: vec3<f32>) -> f32 {
+    let d2 = dot(s.center - p, s.center - p);
+    let r2 = s.radius * s.radius;
+    if (d2 <= r2) {
+        return 0.0;
+    }
+    let sin2 = r2 / d2;
+    return sin2 / (1.0 + sqrt(1.0 - sin2));
+}
+
+fn triangle_front(tri: Triangle) -> vec3<f32> {
+    return cross(tri.v1 - tri.v0, tri.v2 - tri.v0);
+}
+
+fn no_light() -> LightSample {
+    return LightSample(vec3<f32>(0.0, 0.0, 1.0), 0.0, vec3<f32>(0.0), 0.0, false);
+}
+
+// A sample toward one light, seen from p (the shading point; shadow rays
+// start at `origin`, p moved off the surface).
+fn sample_light(p: vec3<f32>) -> LightSample {
+    let total = lights_total();
+    if (total == 0u) {
+        return no_light();
+    }
+    let k = min(u32(random() * f32(total)), total - 1u);
+    let choice = 1.0 / f32(total);
+    let u1 = random();
+    let u2 = random();
+    let light = lights[k];
+    if (k < params.light_count) {
+        let to = light.position - p;
+        let d2 = dot(to, to);
+        if (d2 <= 0.0) {
+            return no_light();
+        }
+        let d = sqrt(d2);
+        return LightSample(to / d, d, light.diffuse / d2, choice, true);
+    }
+    let id = light.object;
+    if (is_sphere(id)) {
+        let s = sphere(id);
+        let width = sphere_cone_width(s, p);
+        if (width <= 0.0) {
+            return no_light();
+        }
+        let axis = normalize(s.center - p);
+        let cos_t = 1.0 - u1 * width;
+        let sin_t = sqrt(max(1.0 - cos_t * cos_t, 0.0));
+        let phi = 2.0 * PI * u2;
+        let dir = normalize(tangent_frame(axis) * vec3<f32>(sin_t * cos(phi), sin_t * sin(phi), cos_t));
+        let t = intersect_sphere(s, Ray(p, dir));
+        if (t == NO_HIT) {
+            return no_light(); // grazing the rim in f32
+        }
+        return LightSample(dir, t, light.diffuse, choice / (2.0 * PI * width), false);
+    }
+    let tri = triangle(id - params.sphere_count);
+    let su = sqrt(u1);
+    let q = (1.0 - su) * tri.v0 + su * (1.0 - u2) * tri.v1 + su * u2 * tri.v2;
+    let front = triangle_front(tri);
+    let twice_area = length(front);
+    let to = q - p;
+    let d2 = dot(to, to);
+    if (twice_area <= 0.0 || d2 <= 0.0) {
+        return no_light();
+    }
+    let d = sqrt(d2);
+    let dir = to / d;
+    let cos_l = -dot(front, dir) / twice_area;
+    if (cos_l <= 0.0) {
+        return no_light(); // its back faces p
+    }
+    return LightSample(dir, d, light.diffuse, choice * d2 / (0.5 * twice_area * cos_l), false);
+}
+
+// The density with which sample_light, from p, picks the direction `dir`
+// that meets emitter `id` at distance t (0 where it could not).
+fn light_pdf(id: u32, p: vec3<f32>, dir: vec3<f32>, t: f32) -> f32 {
+    let choice = 1.0 / f32(lights_total());
+    if (is_sphere(id)) {
+        let width = sphere_cone_width(sphere(id), p);
+        if (width <= 0.0) {
+            return 0.0;
+        }
+        return choice / (2.0 * PI * width);
+    }
+    let tri = triangle(id - params.sphere_count);
+    let front = triangle_front(tri);
+    let twice_area = length(front);
+    let cos_l = -dot(front, dir) / twice_area;
+    if (cos_l <= 0.0) {
+        return 0.0;
+    }
+    return choice * t * t / (0.5 * twice_area * cos_l);
+}
+
+// The radiance emitter `id` sends back along -dir from its hit at p (0 from
+// a sphere's inside or a triangle's back).
+fn emitted(id: u32, p: vec3<f32>, dir: vec3<f32>) -> vec3<f32> {
+    let e = emitter_radiance(id);
+    if (is_sphere(id)) {
+        if (dot(p - sphere(id).center, dir) >= 0.0) {
+            return vec3<f32>(0.0);
+        }
+        return e;
+    }
+    let tri = triangle(id - params.sphere_count);
+    if (dot(triangle_front(tri), dir) >= 0.0) {
+        return vec3<f32>(0.0);
+    }
+    return e;
+}
+
+// The power heuristic (Veach 1997, beta = 2) for the strategy with density a.
+fn mis_weight(a: f32, b: f32) -> f32 {
+    let a2 = a * a;
+    let b2 = b * b;
+    if (a2 + b2 <= 0.0) {
+        return 0.0;
+    }
+    return a2 / (a2 + b2);
+}

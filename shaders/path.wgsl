@@ -1,0 +1,150 @@
+// The path tracer (`integrator = "path"`): one path per sample, up to
+// `max_depth` scattering hits, next-event estimation at each hit combined
+// with BSDF sampling by multiple importance sampling (emitters only: point
+// lights are a delta and the sky is found by BSDF sampling alone), Russian
+// roulette from the fourth hit on. Light that reaches a path: the sky
+// (`params.background`) where it escapes, emission where it hits an emitter.
+// Reached only in pipelines with the PATH override (variant.wgsl).
+
+// A path's state after a hit: where the next ray starts and where it goes.
+struct Bounce {
+    dir: vec3<f32>,
+    weight: vec3<f32>,   // the throughput's factor: f cos / pdf
+    pdf: f32,            // the direction's solid-angle density; 0: a delta lobe
+    refracted: bool,
+}
+
+// Smooth glass: reflect with the Fresnel reflectance's probability, else
+// refract (exact Fresnel, glass.wgsl); untinted, as in the Whitted
+// integrator.
+fn sample_glass(d: vec3<f32>, s: Surface, m: Material, inside: bool) -> Bounce {
+    var eta_i = 1.0;
+    var eta_t = m.ior;
+    if (inside) {
+        eta_i = m.ior;
+        eta_t = 1.0;
+    }
+    let r = refraction_at(d, s, eta_i, eta_t);
+    if (random() < r.fresnel) {
+        return Bounce(reflection_dir(d, s), vec3<f32>(1.0), 0.0, false);
+    }
+    return Bounce(r.dir, vec3<f32>(1.0), 0.0, true);
+}
+
+// The next direction at a hit: the mirror with probability `reflection`,
+// glass with `(1 - reflection) transmission`, else the model's own
+// sampling. Its weight is the model's value over its density (the lobe's
+// choice cancels out).
+fn sample_bounce(m: Material, s: Surface, d: vec3<f32>, inside: bool) -> Bounce {
+    let u = random();
+    if (u < m.reflection) {
+        return Bounce(reflection_dir(d, s), vec3<f32>(1.0), 0.0, false);
+    }
+    if (u < m.reflection + (1.0 - m.reflection) * m.transmission) {
+        return sample_glass(d, s, m, inside);
+    }
+    let v = -d;
+    let l = sample_model(m, s.shading, v);
+    if (dot(l, s.geometric) <= 0.0) {
+        return Bounce(l, vec3<f32>(0.0), 0.0, false); // below the surface
+    }
+    let e = eval_model(m, s.shading, v, l);
+    if (e.pdf <= 0.0) {
+        return Bounce(l, vec3<f32>(0.0), 0.0, false);
+    }
+    return Bounce(l, e.value / e.pdf, e.pdf * model_share(m), false);
+}
+
+// Light arriving at the hit p from one light chosen by sample_light, through
+// the model's share of the material, weighted against BSDF sampling.
+fn next_event(m: Material, s: Surface, v: vec3<f32>, p: vec3<f32>, origin: vec3<f32>) -> vec3<f32> {
+    let share = model_share(m);
+    if (share <= 0.0) {
+        return vec3<f32>(0.0);
+    }
+    let light = sample_light(p);
+    if (light.pdf <= 0.0 || dot(light.dir, s.geometric) <= 0.0) {
+        return vec3<f32>(0.0);
+    }
+    let e = eval_model(m, s.shading, v, light.dir);
+    if (all(e.value == vec3<f32>(0.0))) {
+        return vec3<f32>(0.0);
+    }
+    // Stop short of the light's own surface (an any-hit ray counts t < limit).
+    let limit = light.distance - spawn_offset(p + light.distance * light.dir, 0.0);
+    ray_counts.y += 1u;
+    if (limit <= 0.0 || trace_ray(Ray(origin, light.dir), limit, true).object != NO_OBJECT) {
+        return vec3<f32>(0.0);
+    }
+    var weight = 1.0;
+    if (!light.delta) {
+        weight = mis_weight(light.pdf, e.pdf * share);
+    }
+    return share * e.value * light.radiance * (weight / light.pdf);
+}
+
+fn trace_path_physical(primary: Ray) -> vec3<f32> {
+    var ray = primary;
+    var throughput = vec3<f32>(1.0);
+    var radiance = vec3<f32>(0.0);
+    var last_pdf = 0.0; // the BSDF density of the ray's direction; 0: camera or delta
+    var inside = false;
+    var path_length = 0.0;
+    ray_counts.x += 1u;
+    for (var hits = 0u; ; hits++) {
+        loop_iterations += 1u;
+        if (hits > 0u) {
+            ray_counts.z += 1u;
+        }
+        let hit = trace_ray(ray, T_INFINITY, false);
+        if (hit.object == NO_OBJECT) {
+            radiance += throughput * params.background;
+            break;
+        }
+        let p = ray.origin + hit.t * ray.dir;
+        path_length += hit.t;
+        let m = material_at(hit.object, p, ray.dir, path_length);
+        if (any(m.emission > vec3<f32>(0.0))) {
+            let e = emitted(hit.object, p, ray.dir);
+            var weight = 1.0;
+            if (last_pdf > 0.0) {
+                weight = mis_weight(last_pdf, light_pdf(hit.object, ray.origin, ray.dir, hit.t));
+            }
+            radiance += throughput * e * weight;
+        }
+        if (hits >= params.max_depth) {
+            break;
+        }
+        let surface = surface_at(hit.object, p, ray.dir);
+        let offset = spawn_offset(p, object_magnitude(hit.object));
+        let outside = surface.spawn_point + offset * surface.geometric;
+        radiance += throughput * next_event(m, surface, -ray.dir, p, outside);
+        let b = sample_bounce(m, surface, ray.dir, inside);
+        throughput *= b.weight;
+        if (all(throughput == vec3<f32>(0.0))) {
+            break;
+        }
+        if (hits >= 3u) {
+            let keep = min(max_component(throughput), 0.95);
+            if (random() >= keep) {
+                break;
+            }
+            throughput /= keep;
+        }
+        var origin = outside;
+        if (dot(b.dir, surface.geometric) < 0.0) {
+            origin = p - offset * surface.geometric;
+        }
+        if (b.refracted) {
+            inside = !inside;
+        }
+        last_pdf = b.pdf;
+        ray = Ray(origin, b.dir);
+    }
+    return radiance;
+}
+
+// Whether every component of c is a finite number.
+fn is_finite3(c: vec3<f32>) -> bool {
+    return all(c == c) && all(abs(c) <= vec3<f32>(3.4e38));
+}
