@@ -144,7 +144,10 @@ fn trace_path_physical(primary: Ray) -> vec3<f32> {
     return radiance;
 }
 
-// Whether every component of c is a finite number.
+// Whether every component of c is a finite number, read from the bits: WGSL
+// lets compilers assume floats are never NaN or infinite, so x == x and
+// comparisons may be folded away.
 fn is_finite3(c: vec3<f32>) -> bool {
-    return all(c == c) && all(abs(c) <= vec3<f32>(3.4e38));
+    let exponent = bitcast<vec3<u32>>(c) & vec3<u32>(0x7f800000u);
+    return all(exponent != vec3<u32>(0x7f800000u));
 }

@@ -110,7 +110,14 @@ fn add_radiance(pixel: vec2<u32>, i: u32) {
     let end = params.sample_index + params.sample_count;
     for (var s = params.sample_index; s < end; s++) {
         loop_iterations += 1u;
-        sum += radiance_sample(pixel, s);
+        // A sum that would overflow drops the sample too: no infinity
+        // reaches a pixel.
+        let next = sum + radiance_sample(pixel, s);
+        if (is_finite3(next)) {
+            sum = next;
+        } else {
+            nonfinite_samples += 1u;
+        }
     }
     tile_output.pixels[at] = bitcast<u32>(sum.x);
     tile_output.pixels[at + 1u] = bitcast<u32>(sum.y);

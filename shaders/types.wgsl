@@ -103,6 +103,10 @@ struct FrameParams {
     // render_tile with RADIANCE_OUTPUT: samples sample_index ..
     // sample_index + sample_count, added to the pixel's sums.
     sample_count: u32,
+    samples: u32,     // of the whole frame (the host's count)
+    _pad0: u32,
+    _pad1: u32,
+    _pad2: u32,
 }
 
 // Rays traced by one dispatch, by kind; each invocation adds its own counts.

@@ -167,6 +167,9 @@ export class Tracer {
         COUNT_COSTS: costs ? 1 : 0,
         GLASS: this.glass ? 1 : 0,
         TEXTURES: this.needs.has('textures') ? 1 : 0,
+        // The page traces the Whitted integrator, into the accumulation buffer.
+        PATH: 0,
+        RADIANCE_OUTPUT: 0,
       };
       for (const name of this.contract.overrides) {
         if (!(name in constants)) throw new PageError(`the kernel has an override ${name} this page does not set`);

@@ -149,6 +149,10 @@ impl FrameParams {
             seed: render.seed,
             emitter_count: scene.emitter_count,
             sample_count: 0,
+            samples: render.samples,
+            _pad0: 0,
+            _pad1: 0,
+            _pad2: 0,
         }
     }
 

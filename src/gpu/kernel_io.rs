@@ -55,6 +55,12 @@ pub struct FrameParams {
     /// `render_tile` with radiance output: samples `sample_index ..
     /// sample_index + sample_count` of each pixel, added to its sums.
     pub sample_count: u32,
+    /// Samples per pixel of the whole frame (`[render] samples`): the host's
+    /// count of path samples to trace; the kernel reads `sample_count`.
+    pub samples: u32,
+    pub _pad0: u32,
+    pub _pad1: u32,
+    pub _pad2: u32,
 }
 
 /// The head of `render_tile`'s output buffer: rays traced by the dispatch.

@@ -150,7 +150,11 @@ fn rust_types_match_wgsl_layout() {
             specular,
             transmission,
             ior,
-            texture
+            texture,
+            metallic,
+            roughness,
+            emission,
+            model
         ]
     );
     layout_of!(
@@ -188,6 +192,14 @@ fn rust_types_match_wgsl_layout() {
             node_count,
             sample_index,
             traversal,
+            integrator,
+            seed,
+            emitter_count,
+            sample_count,
+            samples,
+            _pad0,
+            _pad1,
+            _pad2,
         ]
     );
     // The host reads the counters as u32s; WGSL adds to them atomically.

@@ -192,8 +192,6 @@ pub struct Renderer {
     params_buffer: wgpu::Buffer,
     /// Whether Whitted frames also come back as radiance (EXR output).
     radiance: bool,
-    /// Samples per pixel of a path frame.
-    path_samples: u32,
     /// How a path frame's radiance becomes its 8-bit colour: the curve and
     /// the scale 2^exposure.
     tone_map: (ToneMap, f32),
@@ -209,15 +207,14 @@ impl Renderer {
             general: false,
             params_buffer,
             radiance: false,
-            path_samples: 1,
-            tone_map: (ToneMap::Clamp, 1.0),
+            tone_map: (ToneMap::default(), 1.0),
         })
     }
 
-    /// This renderer for frames with `render`'s path samples and tone map.
+    /// This renderer with `render`'s tone map for path frames (the default
+    /// curve at exposure 0 unless set).
     pub fn with_settings(self, render: &RenderSettings) -> Self {
         Renderer {
-            path_samples: render.samples,
             tone_map: (render.tone_map, render.exposure.exp2() as f32),
             ..self
         }
@@ -457,7 +454,7 @@ impl Renderer {
     /// in one pass; 8-bit output ignores the count).
     fn samples_of(&self, params: &FrameParams, radiance: bool) -> u32 {
         match (params.integrator == INTEGRATOR_PATH, radiance) {
-            (true, _) => self.path_samples.max(1),
+            (true, _) => params.samples.max(1),
             (false, true) => params.samples_per_axis * params.samples_per_axis,
             (false, false) => 1,
         }

@@ -76,6 +76,14 @@ fn frame_params_fields() -> Vec<Field> {
         field!(FrameParams, node_count, "u32", 1),
         field!(FrameParams, sample_index, "u32", 1),
         field!(FrameParams, traversal, "u32", 1),
+        field!(FrameParams, integrator, "u32", 1),
+        field!(FrameParams, seed, "u32", 1),
+        field!(FrameParams, emitter_count, "u32", 1),
+        field!(FrameParams, sample_count, "u32", 1),
+        field!(FrameParams, samples, "u32", 1),
+        field!(FrameParams, _pad0, "u32", 1),
+        field!(FrameParams, _pad1, "u32", 1),
+        field!(FrameParams, _pad2, "u32", 1),
     ]
 }
 

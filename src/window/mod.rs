@@ -65,6 +65,11 @@ impl WindowOptions {
         if self.frames == Some(0) {
             return Err(Error::Usage("--frames: must be at least 1, got 0".into()));
         }
+        if self.flags.integrator == Some(crate::scene::Integrator::Path) {
+            return Err(Error::Usage(
+                "--integrator path: the window traces the Whitted integrator only; render the path tracer without --window".into(),
+            ));
+        }
         Ok(())
     }
 }

@@ -24,6 +24,12 @@ pub fn load(
     seen: &mut dyn FnMut(&Path),
 ) -> crate::Result<crate::gpu::PreparedScene> {
     let scene = crate::scene::load_scene_observed(path, seen)?;
+    if scene.render.integrator == crate::scene::Integrator::Path {
+        return Err(crate::Error::Usage(format!(
+            "{}: the window traces the Whitted integrator only; render the path tracer with kdray render (no --window)",
+            path.display()
+        )));
+    }
     Ok(crate::gpu::PreparedScene::built_by(
         scene,
         crate::gpu::Accel::Kdtree,

@@ -76,8 +76,16 @@ pub fn small_scene(path: &Path) -> Scene {
     let aspect = scene.render.height as f64 / scene.render.width as f64;
     scene.render.width = 160;
     scene.render.height = ((160.0 * aspect).round() as u32).max(1);
+    if scene.render.integrator == kdray::scene::Integrator::Path {
+        scene.render.samples = scene.render.samples.min(PATH_TEST_SAMPLES);
+    }
     scene
 }
+
+/// Samples per pixel, at most, of a path-traced shipped scene at test size:
+/// its images are compared exactly, or with goldens made from the same
+/// samples, so noise does not matter, and each sample is a pass on lavapipe.
+pub const PATH_TEST_SAMPLES: u32 = 16;
 
 /// How two 8-bit images differ.
 #[derive(Debug)]

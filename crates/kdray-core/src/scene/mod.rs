@@ -26,6 +26,8 @@ mod mesh_placement;
 mod model_scene;
 mod normals;
 pub mod obj;
+#[cfg(test)]
+mod physical_keys_tests;
 mod scene_format;
 mod schema;
 mod source_map;
