@@ -9,10 +9,11 @@
 
 struct LightSample {
     dir: vec3<f32>,
-    distance: f32,       // to the point sampled; the shadow ray stops short of it
+    distance: f32,       // to the point sampled
     radiance: vec3<f32>, // arriving along dir if unblocked (a point light: intensity / d^2)
     pdf: f32,            // solid angle density, the choice included; 0: nothing to add
     delta: bool,         // a point light: no BSDF sample can find it
+    object: u32,         // the emitter's GPU id (NO_OBJECT: a point light)
 }
 
 fn lights_total() -> u32 {
@@ -40,7 +41,7 @@ fn triangle_front(tri: Triangle) -> vec3<f32> {
 }
 
 fn no_light() -> LightSample {
-    return LightSample(vec3<f32>(0.0, 0.0, 1.0), 0.0, vec3<f32>(0.0), 0.0, false);
+    return LightSample(vec3<f32>(0.0, 0.0, 1.0), 0.0, vec3<f32>(0.0), 0.0, false, NO_OBJECT);
 }
 
 // A sample toward one light, seen from p (the shading point; shadow rays
@@ -62,7 +63,7 @@ fn sample_light(p: vec3<f32>) -> LightSample {
             return no_light();
         }
         let d = sqrt(d2);
-        return LightSample(to / d, d, light.diffuse / d2, choice, true);
+        return LightSample(to / d, d, light.diffuse / d2, choice, true, NO_OBJECT);
     }
     let id = light.object;
     if (is_sphere(id)) {
@@ -80,7 +81,7 @@ fn sample_light(p: vec3<f32>) -> LightSample {
         if (t == NO_HIT) {
             return no_light(); // grazing the rim in f32
         }
-        return LightSample(dir, t, light.diffuse, choice / (2.0 * PI * width), false);
+        return LightSample(dir, t, light.diffuse, choice / (2.0 * PI * width), false, id);
     }
     let tri = triangle(id - params.sphere_count);
     let su = sqrt(u1);
@@ -98,7 +99,7 @@ fn sample_light(p: vec3<f32>) -> LightSample {
     if (cos_l <= 0.0) {
         return no_light(); // its back faces p
     }
-    return LightSample(dir, d, light.diffuse, choice * d2 / (0.5 * twice_area * cos_l), false);
+    return LightSample(dir, d, light.diffuse, choice * d2 / (0.5 * twice_area * cos_l), false, id);
 }
 
 // The density with which sample_light, from p, picks the direction `dir`
@@ -137,6 +138,23 @@ fn emitted(id: u32, p: vec3<f32>, dir: vec3<f32>) -> vec3<f32> {
         return vec3<f32>(0.0);
     }
     return e;
+}
+
+// Where the shadow ray toward `light`, leaving from `origin`, must find
+// nothing before it (an any-hit ray counts hits at t < limit); 0: the light
+// cannot be reached. An emitter's own hit is computed from the shadow ray's
+// origin with the walk's own test, so that the light never shadows itself
+// (from p, a ray grazing a sphere's rim meets it sooner when moved off the
+// surface).
+fn shadow_limit(light: LightSample, origin: vec3<f32>) -> f32 {
+    if (light.object == NO_OBJECT) {
+        return light.distance;
+    }
+    let t = test_object(light.object, Ray(origin, light.dir)).t;
+    if (t == NO_HIT) {
+        return 0.0;
+    }
+    return t;
 }
 
 // The power heuristic (Veach 1997, beta = 2) for the strategy with density a.

@@ -70,10 +70,12 @@ fn next_event(m: Material, s: Surface, v: vec3<f32>, p: vec3<f32>, origin: vec3<
     if (all(e.value == vec3<f32>(0.0))) {
         return vec3<f32>(0.0);
     }
-    // Stop short of the light's own surface (an any-hit ray counts t < limit).
-    let limit = light.distance - spawn_offset(p + light.distance * light.dir, 0.0);
+    let limit = shadow_limit(light, origin);
+    if (limit <= 0.0) {
+        return vec3<f32>(0.0);
+    }
     ray_counts.y += 1u;
-    if (limit <= 0.0 || trace_ray(Ray(origin, light.dir), limit, true).object != NO_OBJECT) {
+    if (trace_ray(Ray(origin, light.dir), limit, true).object != NO_OBJECT) {
         return vec3<f32>(0.0);
     }
     var weight = 1.0;

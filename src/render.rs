@@ -9,13 +9,13 @@ use std::time::Instant;
 
 use serde::{Deserialize, Serialize};
 
+use crate::choice::Choice;
 use crate::error::Result;
 use crate::gpu::{
     Accel, CostTotals, GpuContext, GpuScene, GpuTimeSource, PreparedScene, RenderSummary,
     RenderedImage, Renderer, RowBand, TilePlan,
 };
 use crate::kdtree::{BuildStrategy, Traversal};
-use crate::choice::Choice;
 use crate::scene::{Frame, Integrator, Scene};
 
 /// What `kdray render --stats` prints, as one JSON object.
@@ -214,7 +214,9 @@ pub fn check_render_flags(
         }
     }
     if samples == Some(0) {
-        return Err(crate::Error::Usage("--samples: must be at least 1, got 0".into()));
+        return Err(crate::Error::Usage(
+            "--samples: must be at least 1, got 0".into(),
+        ));
     }
     Ok(())
 }

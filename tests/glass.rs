@@ -11,8 +11,8 @@ use common::*;
 use glam::Vec3;
 use kdray::geometry::Ray;
 use kdray::gpu::Accel;
-use kdray_core::reference::{refract_fresnel, PathStep, ReferenceTracer};
 use kdray::scene::{load_scene_with, parse_scene, SceneFormat};
+use kdray_core::reference::{refract_fresnel, PathStep, ReferenceTracer};
 
 // ---- the scene format --------------------------------------------------
 

@@ -44,7 +44,12 @@ fn radiance(scene: &Scene, traversal: Traversal, max_tile_pixels: u64) -> (Vec<f
 }
 
 fn default_radiance(scene: &Scene) -> Vec<f32> {
-    radiance(scene, Traversal::default(), TilePlan::DEFAULT_MAX_TILE_PIXELS).0
+    radiance(
+        scene,
+        Traversal::default(),
+        TilePlan::DEFAULT_MAX_TILE_PIXELS,
+    )
+    .0
 }
 
 fn assert_close(actual: f32, expected: f64, relative: f64, what: &str) {
@@ -230,7 +235,11 @@ fn path_images_depend_on_the_seed_alone() {
     reseeded.render.seed = 7;
     let (other, _) = radiance(&reseeded, Traversal::default(), u64::MAX);
     let differing = first.iter().zip(&other).filter(|(a, b)| a != b).count();
-    assert!(differing > first.len() / 2, "{differing} of {}", first.len());
+    assert!(
+        differing > first.len() / 2,
+        "{differing} of {}",
+        first.len()
+    );
 }
 
 /// Every walk meets the same hits with the same random numbers as brute
@@ -247,10 +256,17 @@ fn every_walk_gives_brute_force_radiance() {
         let plan = TilePlan::new(w, h, u64::MAX, u64::MAX);
         let mut out = Vec::new();
         renderer
-            .render_bands_with_cost(ctx, uploaded.buffers(), uploaded.frame_params(), plan, false, &mut |band| {
-                out.extend_from_slice(band.radiance.unwrap());
-                Ok(())
-            })
+            .render_bands_with_cost(
+                ctx,
+                uploaded.buffers(),
+                uploaded.frame_params(),
+                plan,
+                false,
+                &mut |band| {
+                    out.extend_from_slice(band.radiance.unwrap());
+                    Ok(())
+                },
+            )
             .unwrap_or_else(|e| panic!("{e}"));
         out
     };
@@ -329,7 +345,10 @@ fn exr_output_holds_the_radiance_the_png_tone_maps() {
     let (w, h, exr) = kdray::output::exr::read_exr_rgb(&dir.join("box.exr")).unwrap();
     let (pw, ph, png) = kdray::output::read_png_rgb(&dir.join("box.png")).unwrap();
     assert_eq!((w, h, pw, ph), (24, 24, 24, 24));
-    assert!(exr.iter().any(|&x| x > 1.0), "a light seen directly is brighter than 1");
+    assert!(
+        exr.iter().any(|&x| x > 1.0),
+        "a light seen directly is brighter than 1"
+    );
     for (e, p) in exr.iter().zip(&png) {
         assert_eq!(kdray::scene::ToneMap::Aces.to_srgb8(*e, 1.0), *p);
     }

@@ -11,8 +11,8 @@ use std::collections::HashMap;
 use common::*;
 use glam::DVec3;
 use kdray::gpu::Accel;
-use kdray_core::reference::ReferenceTracer;
 use kdray::scene::{load_scene, Scene};
+use kdray_core::reference::ReferenceTracer;
 
 /// A unit icosphere: the icosahedron with each face split in four
 /// `subdivisions` times, new vertices pushed out onto the unit sphere

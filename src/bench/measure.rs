@@ -7,8 +7,8 @@ use std::time::Instant;
 use super::progress::Progress;
 use super::record::RunRecord;
 use crate::error::Result;
-use crate::gpu::{Accel, GpuContext, GpuScene, RenderSummary, Renderer, SceneBuffers, TilePlan};
 use crate::gpu::FrameParams;
+use crate::gpu::{Accel, GpuContext, GpuScene, RenderSummary, Renderer, SceneBuffers, TilePlan};
 
 /// What every run of a sweep is timed with: the GPU, the renderer and the
 /// configuration's repeats and brute-force budget.

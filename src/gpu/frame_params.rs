@@ -6,9 +6,12 @@
 
 use super::{GpuContext, SceneArrays, SceneBuffers};
 use crate::geometry::Aabb;
-use crate::kdtree::Traversal;
-use crate::layout::{ACCEL_BRUTE, ACCEL_KDTREE, SHADOW_AMBIENT, SHADOW_SEED, TRAVERSAL_RESTART, TRAVERSAL_ROPES, TRAVERSAL_SHORT_STACK};
 use crate::gpu::FrameParams;
+use crate::kdtree::Traversal;
+use crate::layout::{
+    ACCEL_BRUTE, ACCEL_KDTREE, SHADOW_AMBIENT, SHADOW_SEED, TRAVERSAL_RESTART, TRAVERSAL_ROPES,
+    TRAVERSAL_SHORT_STACK,
+};
 use crate::layout::{INTEGRATOR_PATH, INTEGRATOR_WHITTED};
 use crate::scene::{CameraBasis, Integrator, RenderSettings, ShadowMode};
 

@@ -7,8 +7,8 @@ use std::time::Instant;
 use super::{Accel, GpuContext, PreparedScene, SceneBuffers};
 use crate::error::Result;
 use crate::geometry::Aabb;
-use crate::kdtree::BuildStrategy;
 use crate::gpu::FrameParams;
+use crate::kdtree::BuildStrategy;
 use crate::scene::{Camera, Light, RenderSettings, Scene};
 
 /// An upload that failed, and the prepared scene it was given.

@@ -26,8 +26,8 @@ pub use super::bindings::FROM_PARAMS;
 use super::bindings::{Binding, Need, OPTIONAL_BINDINGS};
 use super::frame_params::{accel_value, traversal_value};
 use super::{Accel, SceneBuffers};
-use crate::kdtree::Traversal;
 use crate::gpu::FrameParams;
+use crate::kdtree::Traversal;
 
 /// The walk a pipeline is made for.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]

@@ -240,8 +240,7 @@ fn rust_types_match_wgsl_layout() {
     );
     layout_of!(&module, "QueryHit", GpuQueryHit, [t, object]);
 
-    let (present, _) =
-        super::shaders::parse_and_validate(&super::shaders::present_source());
+    let (present, _) = super::shaders::parse_and_validate(&super::shaders::present_source());
     layout_of!(
         &present,
         "PresentParams",

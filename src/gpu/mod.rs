@@ -23,14 +23,14 @@ mod frame_params;
 mod gpu_scene;
 mod kernel_io;
 pub mod kernel_variant;
+#[cfg(test)]
+mod layout_check;
 mod prepared_scene;
 mod ray_query;
 pub mod renderer;
 mod scene_arrays;
 pub mod scene_buffers;
 pub mod shaders;
-#[cfg(test)]
-mod layout_check;
 mod trace_pipelines;
 
 pub use accumulate::{Accumulation, Target};
@@ -42,7 +42,8 @@ pub use kernel_variant::KernelVariant;
 pub use prepared_scene::PreparedScene;
 pub use ray_query::{RayQueries, RayQuery};
 pub use renderer::{
-    CostTotals, GpuTimeSource, RayTotals, RenderSummary, RenderedImage, Renderer, RowBand, TilePlan,
+    CostTotals, GpuTimeSource, RayTotals, RenderSummary, RenderedImage, Renderer, RowBand,
+    TilePlan, SAMPLES_PER_DISPATCH,
 };
 pub use scene_arrays::SceneArrays;
 pub use scene_buffers::SceneBuffers;

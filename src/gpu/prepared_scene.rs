@@ -8,8 +8,8 @@ use std::time::Instant;
 
 use super::{Accel, SceneArrays, SceneBuffers};
 use crate::geometry::Primitives;
-use crate::kdtree::{BuildParams, BuildStrategy, KdTree};
 use crate::gpu::FrameParams;
+use crate::kdtree::{BuildParams, BuildStrategy, KdTree};
 use crate::scene::Scene;
 
 /// A scene with its tree and GPU arrays, ready to upload.

@@ -9,9 +9,9 @@ use super::trace_pipelines::TracePipeline;
 use super::{Accel, GpuContext, KernelVariant, SceneBuffers, TracePipelines};
 use crate::error::Result;
 use crate::geometry::Ray;
+use crate::gpu::{FrameParams, GpuQueryHit, GpuQueryRay};
 use crate::kdtree::traverse::{Hit, WalkCost};
 use crate::kdtree::Traversal;
-use crate::gpu::{FrameParams, GpuQueryHit, GpuQueryRay};
 
 /// One query: a ray, how far to look, and which question.
 #[derive(Debug, Clone, Copy, PartialEq)]

@@ -8,8 +8,8 @@ use super::context::GpuContext;
 use super::scene_buffers::SceneBuffers;
 use super::{KernelVariant, TracePipelines};
 use crate::error::{Error, Result};
-use crate::kdtree::traverse::WalkCost;
 use crate::gpu::{FrameParams, RayCounters};
+use crate::kdtree::traverse::WalkCost;
 use crate::layout::INTEGRATOR_PATH;
 use crate::scene::{RenderSettings, ToneMap};
 
@@ -382,8 +382,11 @@ impl Renderer {
                         sample_count: count,
                         ..params
                     };
-                    ctx.queue
-                        .write_buffer(&self.params_buffer, 0, bytemuck::bytes_of(&tile_params));
+                    ctx.queue.write_buffer(
+                        &self.params_buffer,
+                        0,
+                        bytemuck::bytes_of(&tile_params),
+                    );
                     let mut encoder = device_encoder(ctx);
                     {
                         let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
@@ -466,7 +469,9 @@ pub const SAMPLES_PER_DISPATCH: u32 = 16;
 
 fn device_encoder(ctx: &GpuContext) -> wgpu::CommandEncoder {
     ctx.device
-        .create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("tile") })
+        .create_command_encoder(&wgpu::CommandEncoderDescriptor {
+            label: Some("tile"),
+        })
 }
 
 /// Pixels `x..x + w` of rows `y..y + h`: one tile.
@@ -562,7 +567,13 @@ impl TileBuffers {
 
     /// Zeroes the counters (and the radiance sums, which the dispatches add
     /// to, and the costs).
-    fn clear(&self, encoder: &mut wgpu::CommandEncoder, area: TileArea, costs: bool, radiance: bool) {
+    fn clear(
+        &self,
+        encoder: &mut wgpu::CommandEncoder,
+        area: TileArea,
+        costs: bool,
+        radiance: bool,
+    ) {
         let output = match radiance {
             true => Self::output_bytes(area, true),
             false => OUTPUT_HEADER_BYTES,

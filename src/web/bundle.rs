@@ -27,9 +27,9 @@
 
 use serde::Serialize;
 
+use crate::gpu::FrameParams;
 use crate::gpu::{Accel, PreparedScene};
 use crate::kdtree::Traversal;
-use crate::gpu::FrameParams;
 
 /// The first 8 bytes of every bundle.
 pub const MAGIC: &[u8; 8] = b"KDRAYWEB";

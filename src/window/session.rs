@@ -22,9 +22,9 @@ use super::title::{Progress, TitleBar, TitleFacts};
 use super::view::{FrameWork, PresentParams, Target, Viewer};
 use super::{WindowOptions, DEFAULT_WINDOW_SAMPLES};
 use crate::error::{Error, Result};
+use crate::gpu::FrameParams;
 use crate::gpu::{Accel, GpuContext, GpuScene, PreparedScene};
 use crate::kdtree::Traversal;
-use crate::gpu::FrameParams;
 use crate::scene::{Camera, FramePath, RenderSettings, Scene};
 
 /// The largest window opened for a scene's own size, in logical pixels.

@@ -5,11 +5,11 @@
 
 use crate::error::{Error, Result};
 use crate::gpu::accumulate::ACCUMULATION_TEXEL;
-use crate::gpu::{bindings, shaders, Accumulation, GpuContext, SceneBuffers};
 use crate::gpu::FrameParams;
+use crate::gpu::{bindings, shaders, Accumulation, GpuContext, SceneBuffers};
 
-pub use crate::gpu::Target;
 pub use crate::gpu::PresentParams;
+pub use crate::gpu::Target;
 
 /// What one frame does on the GPU, in order.
 #[derive(Debug, Clone, Copy)]

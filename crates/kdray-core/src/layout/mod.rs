@@ -287,7 +287,6 @@ pub const SHADOW_CROSSINGS: u32 = 8;
 pub const SHADOW_AMBIENT: u32 = 0;
 pub const SHADOW_SEED: u32 = 1;
 
-
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -86,11 +86,17 @@ fn the_environment_colour_is_the_background() {
 fn samples_and_lights_follow_the_integrator() {
     assert!(parse(&path_scene("samples = 5", "diffuse = [1, 1, 1]")).is_ok());
     let e = refused(&path_scene("samples = 0", "diffuse = [1, 1, 1]"));
-    assert!(e.starts_with("s.toml:") && e.contains("render.samples"), "{e}");
+    assert!(
+        e.starts_with("s.toml:") && e.contains("render.samples"),
+        "{e}"
+    );
     let whitted = path_scene("samples = 5", "diffuse = [1, 1, 1]")
         .replace("integrator = \"path\"", "integrator = \"whitted\"");
     let e = refused(&whitted);
-    assert!(e.contains("render.samples") && e.contains("perfect square"), "{e}");
+    assert!(
+        e.contains("render.samples") && e.contains("perfect square"),
+        "{e}"
+    );
     let e = refused(&whitted.replace("samples = 5", "samples = 4"));
     assert!(e.contains("lights") && e.contains("path"), "{e}");
 }
@@ -98,15 +104,43 @@ fn samples_and_lights_follow_the_integrator() {
 #[test]
 fn bad_path_keys_are_refused_naming_their_key() {
     for (render, material, key) in [
-        ("integrator = \"photon\"", "diffuse = [1, 1, 1]", "integrator"),
+        (
+            "integrator = \"photon\"",
+            "diffuse = [1, 1, 1]",
+            "integrator",
+        ),
         ("tone_map = \"filmic\"", "diffuse = [1, 1, 1]", "tone_map"),
         ("exposure = nan", "diffuse = [1, 1, 1]", "render.exposure"),
-        ("", "diffuse = [1, 1, 1]\nbase_color = [1, 1, 1]", "materials.m.base_color"),
-        ("", "diffuse = [1, 1, 1]\nmetallic = 0.5", "materials.m.metallic"),
-        ("", "base_color = [1, 1, 1]\nroughness = 1.5", "materials.m.roughness"),
-        ("", "base_color = [1, 1, 1]\nmetallic = -0.1", "materials.m.metallic"),
-        ("", "diffuse = [1, 1, 1]\nemission = [1, inf, 1]", "materials.m.emission"),
-        ("", "diffuse = [1, 1, 1]\nemission = [1, -1, 1]", "materials.m.emission"),
+        (
+            "",
+            "diffuse = [1, 1, 1]\nbase_color = [1, 1, 1]",
+            "materials.m.base_color",
+        ),
+        (
+            "",
+            "diffuse = [1, 1, 1]\nmetallic = 0.5",
+            "materials.m.metallic",
+        ),
+        (
+            "",
+            "base_color = [1, 1, 1]\nroughness = 1.5",
+            "materials.m.roughness",
+        ),
+        (
+            "",
+            "base_color = [1, 1, 1]\nmetallic = -0.1",
+            "materials.m.metallic",
+        ),
+        (
+            "",
+            "diffuse = [1, 1, 1]\nemission = [1, inf, 1]",
+            "materials.m.emission",
+        ),
+        (
+            "",
+            "diffuse = [1, 1, 1]\nemission = [1, -1, 1]",
+            "materials.m.emission",
+        ),
         ("", "ambient = [1, 1, 1]", "materials.m"),
     ] {
         let e = refused(&path_scene(render, material));

@@ -223,7 +223,8 @@ impl<'de, T: crate::choice::Choice> Deserialize<'de> for Named<T> {
         impl<T: crate::choice::Choice> Visitor<'_> for NameVisitor<T> {
             type Value = Named<T>;
             fn expecting(&self, f: &mut fmt::Formatter) -> fmt::Result {
-                let names: Vec<String> = T::ALL.iter().map(|c| format!("\"{}\"", c.name())).collect();
+                let names: Vec<String> =
+                    T::ALL.iter().map(|c| format!("\"{}\"", c.name())).collect();
                 f.write_str(&names.join(" or "))
             }
             fn visit_str<E: de::Error>(self, v: &str) -> Result<Named<T>, E> {

@@ -628,7 +628,13 @@ impl Validator<'_> {
             Some(e) => self.colour(&|| key("emission"), e)?,
             None => DVec3::ZERO,
         };
-        Ok((albedo, Physical { metal_rough, emission }))
+        Ok((
+            albedo,
+            Physical {
+                metal_rough,
+                emission,
+            },
+        ))
     }
 }
 

@@ -8,8 +8,8 @@ use glam::DVec3;
 
 use super::scene_format::SceneFormat;
 use super::schema::{
-    Exact, RawAnimation, RawCamera, RawCameraKey, RawLight, RawLightKey, RawMaterial, RawRender,
-    Named, RawScene, RawShadowMode, RawSphere, RawTriangle, TableOf,
+    Exact, Named, RawAnimation, RawCamera, RawCameraKey, RawLight, RawLightKey, RawMaterial,
+    RawRender, RawScene, RawShadowMode, RawSphere, RawTriangle, TableOf,
 };
 use super::{Scene, ShadowMode};
 

@@ -677,8 +677,7 @@ pub fn pbr_material(material: &gltf::Material) -> MeshMaterial {
                 metallic,
                 roughness,
             }),
-            emission: DVec3::from_array(material.emissive_factor().map(f64::from))
-                .max(DVec3::ZERO),
+            emission: DVec3::from_array(material.emissive_factor().map(f64::from)).max(DVec3::ZERO),
         },
     }
 }
