@@ -297,13 +297,17 @@ material = "ball"
 }
 
 /// The GPU kernel against its CPU mirror (src/reference.rs: the same path
-/// loop, shading and f32 arithmetic over the CPU traversal) on every scene:
-/// pixels may differ only where float rounding (e.g. fused multiply-adds on
-/// the GPU) flips a tie.
+/// loop, shading and f32 arithmetic over the CPU traversal) on every scene
+/// of the Whitted integrator, which it mirrors: pixels may differ only
+/// where float rounding (e.g. fused multiply-adds on the GPU) flips a tie.
+/// (The path tracer is held to exact radiance in tests/path_tracing.rs.)
 #[test]
 fn gpu_matches_the_cpu_reference_on_every_scene() {
     for path in shipped_scenes() {
         let mut scene = small_scene(&path);
+        if scene.render.integrator == kdray::scene::Integrator::Path {
+            continue;
+        }
         scene.render.width = 64;
         scene.render.height = (scene.render.height * 64).div_ceil(160);
         let gpu = render(&scene, Accel::Kdtree);
