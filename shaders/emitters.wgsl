@@ -16,8 +16,9 @@ struct LightSample {
     object: u32,         // the emitter's GPU id (NO_OBJECT: a point light)
 }
 
+// Point lights, emitters and, with an image, the sky.
 fn lights_total() -> u32 {
-    return params.light_count + params.emitter_count;
+    return params.light_count + params.emitter_count + select(0u, 1u, has_environment_image());
 }
 
 fn emitter_radiance(id: u32) -> vec3<f32> {
@@ -55,6 +56,14 @@ fn sample_light(p: vec3<f32>) -> LightSample {
     let choice = 1.0 / f32(total);
     let u1 = random();
     let u2 = random();
+    if (k == params.light_count + params.emitter_count) {
+        let dir = sample_environment();
+        let pdf = choice * environment_pdf(dir);
+        if (pdf <= 0.0) {
+            return no_light();
+        }
+        return LightSample(dir, T_INFINITY, sky(dir), pdf, false, NO_OBJECT);
+    }
     let light = lights[k];
     if (k < params.light_count) {
         let to = light.position - p;

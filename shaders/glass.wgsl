@@ -116,7 +116,7 @@ fn trace_path_glass(primary: Ray) -> vec3<f32> {
             let ray = Ray(path.origin, path.dir);
             let hit = trace_ray(ray, T_INFINITY, false);
             if (hit.object == NO_OBJECT) {
-                color += path.weight * params.background;
+                color += path.weight * sky(ray.dir);
                 alive = false;
             } else {
                 path.hits += 1u;

@@ -1,7 +1,8 @@
 // The path tracer (`integrator = "path"`): one path per sample, up to
 // `max_depth` scattering hits, next-event estimation at each hit combined
-// with BSDF sampling by multiple importance sampling (emitters only: point
-// lights are a delta and the sky is found by BSDF sampling alone), Russian
+// with BSDF sampling by multiple importance sampling (emitters and a sky
+// image; point lights are a delta, a uniform sky is found by BSDF sampling
+// alone), Russian
 // roulette from the fourth hit on. Light that reaches a path: the sky
 // (`params.background`) where it escapes, emission where it hits an emitter.
 // Reached only in pipelines with the PATH override (variant.wgsl).
@@ -100,7 +101,11 @@ fn trace_path_physical(primary: Ray) -> vec3<f32> {
         }
         let hit = trace_ray(ray, T_INFINITY, false);
         if (hit.object == NO_OBJECT) {
-            radiance += throughput * params.background;
+            var weight = 1.0;
+            if (last_pdf > 0.0 && has_environment_image()) {
+                weight = mis_weight(last_pdf, environment_pdf(ray.dir) / f32(lights_total()));
+            }
+            radiance += throughput * sky(ray.dir) * weight;
             break;
         }
         let p = ray.origin + hit.t * ray.dir;

@@ -35,7 +35,7 @@ fn trace_path(primary: Ray) -> vec3<f32> {
         }
         let hit = trace_ray(ray, T_INFINITY, false);
         if (hit.object == NO_OBJECT) {
-            color += weight * params.background;
+            color += weight * sky(ray.dir);
             break;
         }
         hits += 1u;

@@ -104,9 +104,14 @@ struct FrameParams {
     // sample_index + sample_count, added to the pixel's sums.
     sample_count: u32,
     samples: u32,     // of the whole frame (the host's count)
+    // [environment] image in `textures` (environment.wgsl); env_width 0: none.
+    env_offset: u32,
+    env_width: u32,
+    env_height: u32,
+    env_intensity: f32,
+    env_rotation_cos: f32,
+    env_rotation_sin: f32,
     _pad0: u32,
-    _pad1: u32,
-    _pad2: u32,
 }
 
 // Rays traced by one dispatch, by kind; each invocation adds its own counts.

@@ -353,3 +353,192 @@ fn exr_output_holds_the_radiance_the_png_tone_maps() {
         assert_eq!(kdray::scene::ToneMap::Aces.to_srgb8(*e, 1.0), *p);
     }
 }
+
+/// Writes a `width` x `height` sky of linear RGB (row-major, top row first)
+/// as an EXR file in `dir`, and a scene around it; returns the scene.
+fn scene_with_sky(dir: &TempDir, texels: &[[f32; 3]], width: u32, scene: &str) -> Scene {
+    let height = texels.len() as u32 / width;
+    kdray::output::exr::write_exr_atomic(
+        &dir.join("sky.exr"),
+        width,
+        height,
+        &texels.iter().flatten().copied().collect::<Vec<f32>>(),
+    )
+    .unwrap();
+    let path = dir.write("scene.toml", scene);
+    kdray::scene::load_scene(&path).unwrap_or_else(|e| panic!("{e}"))
+}
+
+/// A sky of distinct texels, looked at through a one-pixel camera of 0.5
+/// degrees along several directions, turned and not: the kernel reads the
+/// texel the documented rule (scene::environment) names.
+#[test]
+fn the_sky_image_is_read_where_the_documented_rule_says() {
+    let dir = TempDir::new("sky-texels");
+    let (w, h) = (8u32, 4u32);
+    let texels: Vec<[f32; 3]> = (0..w * h)
+        .map(|i| [(i % w) as f32 + 1.0, (i / w) as f32 + 1.0, 0.5])
+        .collect();
+    for rotation in [0.0, 90.0, -30.0] {
+        for look in [
+            [0.1, 0.1, -1.0],
+            [1.0, 0.3, 0.2],
+            [-1.0, -0.4, 0.1],
+            [0.2, 0.9, 0.3],
+            [0.3, -0.2, 1.0],
+        ] {
+            let scene = scene_with_sky(
+                &dir,
+                &texels,
+                w,
+                &format!(
+                    r#"
+                    [camera]
+                    position = [0, 0, 0]
+                    look_at = {look:?}
+                    vfov = 0.5
+                    [render]
+                    width = 1
+                    height = 1
+                    integrator = "path"
+                    samples = 4
+                    [environment]
+                    image = "sky.exr"
+                    intensity = 2
+                    rotation = {rotation:?}
+                    "#
+                ),
+            );
+            let env = scene.environment.as_ref().expect("the sky image");
+            let expected = env.radiance(DVec3::from_array(look).normalize());
+            let got = default_radiance(&scene);
+            for c in 0..3 {
+                assert_close(
+                    got[c],
+                    expected[c],
+                    1e-6,
+                    &format!("{look:?} turned {rotation}"),
+                );
+            }
+        }
+    }
+}
+
+/// A plane of albedo a under a sky image with a small bright sun: its
+/// radiance is a / pi times the irradiance summed texel by texel over the
+/// upper half of the image (direct light only). Sampling the sky by its
+/// luminance, sampling the BSDF and their weights together are unbiased.
+#[test]
+fn a_plane_under_a_sky_image_gets_the_irradiance_of_its_texels() {
+    let dir = TempDir::new("sky-plane");
+    let (w, h) = (16u32, 8u32);
+    let mut texels: Vec<[f32; 3]> = (0..w * h)
+        .map(|i| {
+            let row = (i / w) as f32;
+            [0.2 + 0.1 * row, 0.3, 0.5 - 0.05 * row]
+        })
+        .collect();
+    texels[(w + 5) as usize] = [400.0, 300.0, 200.0]; // the sun, high in the sky
+    let a = 0.5;
+    let scene = scene_with_sky(
+        &dir,
+        &texels,
+        w,
+        &format!(
+            r#"
+            [camera]
+            position = [0, 2, 3]
+            look_at = [0, 0, 0]
+            vfov = 20
+            [render]
+            width = 8
+            height = 8
+            integrator = "path"
+            samples = 512
+            max_depth = 1
+            [environment]
+            image = "sky.exr"
+            rotation = 40
+            [materials.plane]
+            diffuse = [{a}, {a}, {a}]
+            [[triangles]]
+            vertices = [[-1000, 0, -1000], [1000, 0, -1000], [1000, 0, 1000]]
+            material = "plane"
+            [[triangles]]
+            vertices = [[-1000, 0, -1000], [1000, 0, 1000], [-1000, 0, 1000]]
+            material = "plane"
+            "#
+        ),
+    );
+    // Irradiance on a plane facing +y: each texel of the upper half
+    // subtends d(phi) = 2 pi / w and its cosine-weighted polar band
+    // (sin^2 theta1 - sin^2 theta0) / 2.
+    let mut irradiance = [0.0f64; 3];
+    for row in 0..h / 2 {
+        let t0 = row as f64 / h as f64 * std::f64::consts::PI;
+        let t1 = (row + 1) as f64 / h as f64 * std::f64::consts::PI;
+        let band =
+            (t1.sin().powi(2) - t0.sin().powi(2)) / 2.0 * (2.0 * std::f64::consts::PI / w as f64);
+        for col in 0..w {
+            let t = texels[(row * w + col) as usize];
+            for c in 0..3 {
+                irradiance[c] += t[c] as f64 * band;
+            }
+        }
+    }
+    let image = default_radiance(&scene);
+    let pixels = (image.len() / 3) as f64;
+    for c in 0..3 {
+        let mean: f64 = image
+            .iter()
+            .skip(c)
+            .step_by(3)
+            .map(|&x| x as f64)
+            .sum::<f64>()
+            / pixels;
+        let expected = a / std::f64::consts::PI * irradiance[c];
+        assert_close(mean as f32, expected, 0.01, &format!("channel {c}"));
+    }
+}
+
+/// A sky image that is missing, truncated or not an image: one line naming
+/// the file and the key, exit 2.
+#[test]
+fn a_bad_sky_image_is_refused_in_one_line() {
+    let dir = TempDir::new("sky-bad");
+    let scene = dir.write(
+        "scene.toml",
+        "[camera]\nposition = [0, 0, 5]\nlook_at = [0, 0, 0]\n[render]\nintegrator = \"path\"\n[environment]\nimage = \"sky.hdr\"\n",
+    );
+    let full = {
+        let mut bytes = std::io::Cursor::new(Vec::new());
+        image::DynamicImage::ImageRgb32F(
+            image::Rgb32FImage::from_raw(4, 2, vec![1.0; 24]).unwrap(),
+        )
+        .write_to(&mut bytes, image::ImageFormat::Hdr)
+        .unwrap();
+        bytes.into_inner()
+    };
+    for (what, bytes) in [
+        ("missing", None),
+        ("truncated", Some(full[..full.len() - 7].to_vec())),
+        ("not an image", Some(b"#?RADIANCE\nhello".to_vec())),
+    ] {
+        let _ = std::fs::remove_file(dir.join("sky.hdr"));
+        if let Some(b) = bytes {
+            std::fs::write(dir.join("sky.hdr"), b).unwrap();
+        }
+        let run = run_kdray(
+            &dir.path,
+            &["render", scene.to_str().unwrap(), "-o", "out.png"],
+            &[],
+        );
+        assert_eq!(run.code, 2, "{what}: {run:?}");
+        let line = run.one_error_line();
+        assert!(
+            line.contains("sky.hdr") && line.contains("environment.image"),
+            "{what}: {line}"
+        );
+        assert!(!dir.join("out.png").exists());
+    }
+}

@@ -119,7 +119,10 @@ fn pages_trace_every_scene_as_the_native_renderer_does_and_show_their_errors() {
         if scene.render.integrator == kdray::scene::Integrator::Path {
             // The page traces the Whitted integrator only, and says so.
             assert_eq!(run.code, 2, "{name}: {run:?}");
-            assert!(run.one_error_line().contains("Whitted integrator only"), "{run:?}");
+            assert!(
+                run.one_error_line().contains("Whitted integrator only"),
+                "{run:?}"
+            );
             assert!(!out.join(&name).exists(), "{name}: a site was written");
             continue;
         }

@@ -264,6 +264,7 @@ pub fn random_scene(spec: &RandomSceneSpec) -> Scene {
             tone_map: Default::default(),
             exposure: 0.0,
         },
+        environment: None,
         lights: vec![Light {
             position: DVec3::new(5.0, 8.0, 9.0),
             ambient: DVec3::splat(0.25),

@@ -4,6 +4,7 @@
 //! window. [`FrameParams::uniform_buffer`] makes the buffer it is written
 //! to.
 
+use super::scene_arrays::EnvironmentWords;
 use super::{GpuContext, SceneArrays, SceneBuffers};
 use crate::geometry::Aabb;
 use crate::gpu::FrameParams;
@@ -87,6 +88,7 @@ impl FrameParams {
             light_count: scene.light_count,
             emitter_count: scene.emitter_count,
             node_count: scene.node_count,
+            environment: scene.environment,
         };
         Self::with_counts(camera, render, &counts, accel)
     }
@@ -106,6 +108,7 @@ impl FrameParams {
             light_count: arrays.point_light_count(),
             emitter_count: arrays.emitter_count,
             node_count: arrays.nodes.len() as u32,
+            environment: arrays.environment,
         };
         Self::with_counts(camera, render, &counts, accel)
     }
@@ -153,9 +156,13 @@ impl FrameParams {
             emitter_count: scene.emitter_count,
             sample_count: 0,
             samples: render.samples,
+            env_offset: scene.environment.offset,
+            env_width: scene.environment.width,
+            env_height: scene.environment.height,
+            env_intensity: scene.environment.intensity,
+            env_rotation_cos: scene.environment.rotation_cos,
+            env_rotation_sin: scene.environment.rotation_sin,
             _pad0: 0,
-            _pad1: 0,
-            _pad2: 0,
         }
     }
 
@@ -177,6 +184,7 @@ struct SceneCounts {
     light_count: u32,
     emitter_count: u32,
     node_count: u32,
+    environment: EnvironmentWords,
 }
 
 /// `FrameParams::traversal` for `traversal`.

@@ -58,9 +58,17 @@ pub struct FrameParams {
     /// Samples per pixel of the whole frame (`[render] samples`): the host's
     /// count of path samples to trace; the kernel reads `sample_count`.
     pub samples: u32,
+    /// `[environment] image` in the `textures` buffer: its first word (the
+    /// texels, then the sampling tables; `SceneArrays::environment`), its
+    /// size in texels (width 0: no image, the sky is `background`), its
+    /// intensity and the cosine and sine of its rotation about +y.
+    pub env_offset: u32,
+    pub env_width: u32,
+    pub env_height: u32,
+    pub env_intensity: f32,
+    pub env_rotation_cos: f32,
+    pub env_rotation_sin: f32,
     pub _pad0: u32,
-    pub _pad1: u32,
-    pub _pad2: u32,
 }
 
 /// The head of `render_tile`'s output buffer: rays traced by the dispatch.

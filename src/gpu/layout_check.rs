@@ -197,9 +197,13 @@ fn rust_types_match_wgsl_layout() {
             emitter_count,
             sample_count,
             samples,
+            env_offset,
+            env_width,
+            env_height,
+            env_intensity,
+            env_rotation_cos,
+            env_rotation_sin,
             _pad0,
-            _pad1,
-            _pad2,
         ]
     );
     // The host reads the counters as u32s; WGSL adds to them atomically.

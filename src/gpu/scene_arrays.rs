@@ -23,6 +23,8 @@ pub struct SceneArrays {
     /// (`LIGHT_EMITTER`), `emitter_count` of them.
     pub lights: Vec<GpuLight>,
     pub emitter_count: u32,
+    /// Where `[environment] image` lies in `textures`, if the scene has one.
+    pub environment: EnvironmentWords,
     pub nodes: Vec<GpuKdNode>,
     pub leaf_objects: Vec<u32>,
     /// The rope walk's data: per leaf its box and ropes, per node its leaf
@@ -224,6 +226,7 @@ impl SceneArrays {
                 .collect(),
             lights: Self::lights_of(&scene.lights),
             emitter_count: 0,
+            environment: EnvironmentWords::default(),
             nodes: tree.nodes.iter().map(GpuKdNode::pack).collect(),
             leaf_objects: tree
                 .leaf_objects
@@ -237,10 +240,49 @@ impl SceneArrays {
             bounds: tree.bounds,
             scene_ids: order,
         };
+        if let Some(env) = &scene.environment {
+            arrays.environment = EnvironmentWords::append(env, &mut arrays.textures);
+        }
         let emitters = Self::emitters_of(&arrays.objects, &arrays.materials);
         arrays.emitter_count = emitters.len() as u32;
         arrays.lights.extend(emitters);
         arrays
+    }
+}
+
+/// Where the sky image lies in the `textures` buffer (all zero: no image):
+/// the words from `offset` hold its texels (three f32 a texel, row-major,
+/// top row first), the rows' cumulative distribution (`height + 1` f32),
+/// then each row's (`width + 1` f32 a row), as
+/// [`EnvironmentMap::sampling_tables`](crate::scene::EnvironmentMap::sampling_tables)
+/// makes them; shaders/environment.wgsl reads them.
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct EnvironmentWords {
+    pub offset: u32,
+    pub width: u32,
+    pub height: u32,
+    pub intensity: f32,
+    pub rotation_cos: f32,
+    pub rotation_sin: f32,
+}
+
+impl EnvironmentWords {
+    /// Appends `env`'s words to `words` and says where they lie.
+    fn append(env: &crate::scene::EnvironmentMap, words: &mut Vec<u32>) -> Self {
+        let offset = words.len() as u32;
+        let (rows, columns) = env.sampling_tables();
+        words.reserve(env.texels.len() * 3 + rows.len() + columns.len());
+        words.extend(env.texels.iter().flatten().map(|c| c.to_bits()));
+        words.extend(rows.iter().chain(&columns).map(|c| c.to_bits()));
+        let (sin, cos) = env.rotation_degrees.to_radians().sin_cos();
+        EnvironmentWords {
+            offset,
+            width: env.width,
+            height: env.height,
+            intensity: env.intensity as f32,
+            rotation_cos: cos as f32,
+            rotation_sin: sin as f32,
+        }
     }
 }
 

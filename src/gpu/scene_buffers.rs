@@ -210,6 +210,8 @@ pub struct SceneBuffers {
     pub light_count: u32,
     /// Emissive objects, after the point lights in the lights buffer.
     pub emitter_count: u32,
+    /// Where the sky image lies in the textures buffer, if any.
+    pub environment: super::scene_arrays::EnvironmentWords,
     pub node_count: u32,
     /// Whether a split array (triangles, k-d nodes, leaf object lists, leaf
     /// ropes, rope index, vertex normals) lies in more than one binding (the kernel must then select
@@ -326,6 +328,7 @@ impl SceneBuffers {
             object_count: arrays.objects.len() as u32,
             light_count: arrays.point_light_count(),
             emitter_count: arrays.emitter_count,
+            environment: arrays.environment,
             node_count: arrays.nodes.len() as u32,
             split,
             smooth_triangles: !arrays.triangle_normals.is_empty(),

@@ -9,7 +9,7 @@ use super::bindings::{self, SceneChunks};
 
 /// Files of the trace kernel, in the order they are concatenated (after the
 /// declarations generated from [`bindings`]).
-pub const TRACE_PARTS: [(&str, &str); 18] = [
+pub const TRACE_PARTS: [(&str, &str); 19] = [
     ("types.wgsl", include_str!("../../shaders/types.wgsl")),
     (
         "frame_params.wgsl",
@@ -37,6 +37,10 @@ pub const TRACE_PARTS: [(&str, &str); 18] = [
     ("shade.wgsl", include_str!("../../shaders/shade.wgsl")),
     ("texture.wgsl", include_str!("../../shaders/texture.wgsl")),
     ("glass.wgsl", include_str!("../../shaders/glass.wgsl")),
+    (
+        "environment.wgsl",
+        include_str!("../../shaders/environment.wgsl"),
+    ),
     ("random.wgsl", include_str!("../../shaders/random.wgsl")),
     ("bsdf.wgsl", include_str!("../../shaders/bsdf.wgsl")),
     ("emitters.wgsl", include_str!("../../shaders/emitters.wgsl")),

@@ -81,9 +81,13 @@ fn frame_params_fields() -> Vec<Field> {
         field!(FrameParams, emitter_count, "u32", 1),
         field!(FrameParams, sample_count, "u32", 1),
         field!(FrameParams, samples, "u32", 1),
+        field!(FrameParams, env_offset, "u32", 1),
+        field!(FrameParams, env_width, "u32", 1),
+        field!(FrameParams, env_height, "u32", 1),
+        field!(FrameParams, env_intensity, "f32", 1),
+        field!(FrameParams, env_rotation_cos, "f32", 1),
+        field!(FrameParams, env_rotation_sin, "f32", 1),
         field!(FrameParams, _pad0, "u32", 1),
-        field!(FrameParams, _pad1, "u32", 1),
-        field!(FrameParams, _pad2, "u32", 1),
     ]
 }
 

@@ -15,6 +15,7 @@
 mod animation;
 mod camera_basis;
 mod document_errors;
+pub mod environment;
 mod error;
 pub mod gltf;
 mod input_file;
@@ -38,6 +39,7 @@ mod write;
 
 pub use animation::{Animation, CameraKey, CameraPath, Frame, FramePath, LightKey, MAX_FRAMES};
 pub use camera_basis::CameraBasis;
+pub use environment::EnvironmentMap;
 pub use error::SceneError;
 pub use input_file::MAX_INPUT_BYTES;
 pub use integrator::{Integrator, ToneMap};
@@ -71,6 +73,9 @@ pub struct Scene {
     pub triangle_uvs: Vec<[DVec2; 3]>,
     /// The base-colour textures that [`Material::texture`] indexes.
     pub textures: Vec<Texture>,
+    /// `[environment] image`: the sky as an image (escaping rays see it
+    /// instead of `render.background`).
+    pub environment: Option<EnvironmentMap>,
     /// The `[animation]`, if any: how the camera and lights change from
     /// frame to frame ([`Scene::frame`]); `camera` and `lights` are its
     /// frame 0 unless a key says otherwise.

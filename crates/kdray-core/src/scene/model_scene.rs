@@ -103,6 +103,7 @@ pub fn model_scene_with(
             exposure: 0.0,
         },
         lights: light_rig(min, max),
+        environment: None,
         animation: None,
         materials,
         spheres: Vec::new(),

@@ -204,7 +204,15 @@ pub(super) struct RawRender {
 #[derive(Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub(super) struct RawEnvironment {
-    pub(super) color: Vec3,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub(super) color: Option<Vec3>,
+    /// An equirectangular HDR or EXR file, relative to the scene's folder.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub(super) image: Option<String>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub(super) intensity: Option<f64>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub(super) rotation: Option<f64>,
 }
 
 /// A [`Choice`](crate::choice::Choice) spelled by its name. Read as a plain

@@ -17,12 +17,13 @@ use super::animation::{Animation, CameraKey, CameraPath, FramePath, LightKey, MA
 use super::mesh::has_area;
 use super::normals::unit;
 use super::schema::{
-    RawAnimation, RawCamera, RawMaterial, RawRender, RawScene, RawShadowMode, Vec3, DEFAULT_UP,
+    RawAnimation, RawCamera, RawEnvironment, RawMaterial, RawRender, RawScene, RawShadowMode, Vec3,
+    DEFAULT_UP,
 };
 use super::source_map::LazySourceMap;
 use super::{
-    Camera, Integrator, Light, Material, MetalRough, Physical, RenderSettings, Scene, SceneError,
-    ShadowMode, Sphere, ToneMap, Triangle,
+    Camera, EnvironmentMap, Integrator, Light, Material, MetalRough, Physical, RenderSettings,
+    Scene, SceneError, ShadowMode, Sphere, ToneMap, Triangle,
 };
 
 /// Largest accepted image side, in pixels.
@@ -110,15 +111,30 @@ impl Validator<'_> {
     pub(super) fn scene(&self, raw: RawScene) -> Result<Scene, SceneError> {
         let camera = self.camera(&raw.camera)?;
         let mut render = self.render(&raw.render)?;
-        if let Some(env) = &raw.environment {
-            if raw.render.background.is_some() {
-                return Err(self.error(
-                    "environment",
-                    "give the sky's radiance as [environment] color or as render.background, not both",
-                ));
+        let environment = match &raw.environment {
+            Some(env) => {
+                if raw.render.background.is_some() {
+                    return Err(self.error(
+                        "environment",
+                        "give the sky as [environment] or as render.background, not both",
+                    ));
+                }
+                match (env.color, &env.image) {
+                    (Some(c), None) => {
+                        render.background = self.colour(&|| "environment.color".into(), c)?;
+                        None
+                    }
+                    (None, Some(image)) => Some(self.environment_map(env, image)?),
+                    _ => {
+                        return Err(self.error(
+                            "environment",
+                            "give one of color (a uniform sky) and image (an HDR or EXR file)",
+                        ))
+                    }
+                }
             }
-            render.background = self.colour(&|| "environment.color".into(), env.color)?;
-        }
+            None => None,
+        };
         let mut animation = match &raw.animation {
             Some(a) => Some(self.animation(a, &camera)?),
             None => None,
@@ -266,6 +282,7 @@ impl Validator<'_> {
             camera,
             render,
             lights,
+            environment,
             materials,
             spheres,
             triangles,
@@ -576,6 +593,48 @@ impl Validator<'_> {
             seed: r.seed.unwrap_or(0),
             tone_map: r.tone_map.as_ref().map_or(ToneMap::default(), |n| n.0),
             exposure,
+        })
+    }
+
+    /// `[environment] image`: the file read (relative to the scene's folder)
+    /// and decoded, its intensity (>= 0) and rotation (degrees) checked.
+    fn environment_map(
+        &self,
+        env: &RawEnvironment,
+        image: &str,
+    ) -> Result<EnvironmentMap, SceneError> {
+        let intensity = self.number(
+            &|| "environment.intensity".into(),
+            env.intensity.unwrap_or(1.0),
+        )?;
+        if intensity < 0.0 {
+            return Err(self.error(
+                "environment.intensity",
+                format!("must be >= 0, got {intensity:?}"),
+            ));
+        }
+        let rotation = self.number(
+            &|| "environment.rotation".into(),
+            env.rotation.unwrap_or(0.0),
+        )?;
+        let path = self.file.parent().unwrap_or(Path::new("")).join(image);
+        (self.on_read.borrow_mut())(&path);
+        let decoded = super::input_file::read_input_file(&path)
+            .map_err(|e| e.to_string())
+            .and_then(|bytes| EnvironmentMap::decode(&bytes));
+        let (width, height, texels) = decoded.map_err(|e| {
+            self.error(
+                "environment.image",
+                format!("{}: not a sky image: {e}", path.display()),
+            )
+        })?;
+        Ok(EnvironmentMap {
+            path: image.to_string(),
+            width,
+            height,
+            texels,
+            intensity,
+            rotation_degrees: rotation,
         })
     }
 

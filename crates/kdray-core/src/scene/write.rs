@@ -8,8 +8,8 @@ use glam::DVec3;
 
 use super::scene_format::SceneFormat;
 use super::schema::{
-    Exact, Named, RawAnimation, RawCamera, RawCameraKey, RawLight, RawLightKey, RawMaterial,
-    RawRender, RawScene, RawShadowMode, RawSphere, RawTriangle, TableOf,
+    Exact, Named, RawAnimation, RawCamera, RawCameraKey, RawEnvironment, RawLight, RawLightKey,
+    RawMaterial, RawRender, RawScene, RawShadowMode, RawSphere, RawTriangle, TableOf,
 };
 use super::{Scene, ShadowMode};
 
@@ -84,7 +84,14 @@ pub fn scene_text(scene: &Scene, format: SceneFormat) -> Result<String, String> 
             })
             .collect(),
         materials,
-        environment: None,
+        environment: scene.environment.as_ref().map(|e| {
+            TableOf(RawEnvironment {
+                color: None,
+                image: Some(e.path.clone()),
+                intensity: Some(e.intensity),
+                rotation: Some(e.rotation_degrees),
+            })
+        }),
         spheres: scene
             .spheres
             .iter()
