@@ -3,6 +3,10 @@ for the peer renderers in this folder (Embree, Mitsuba 3). Not part of the
 crate; it trusts the file to be valid (run `kdray render` on it first) and
 reads only what the peers need: camera, render size and samples, lights,
 materials, spheres, triangles and OBJ meshes (v and f; MTL Ka/Kd/Ks/Ns).
+For the path tracer (`integrator = "path"`) it also reads the physical
+material keys (transmission, ior, base_color, metallic, roughness,
+emission) and the `[environment]` table; `diffuse` then holds the albedo,
+the base colour where a material gives `base_color`, as kdray does.
 """
 
 import json
@@ -21,6 +25,8 @@ RENDER_DEFAULTS = {
     "background": [0.0, 0.0, 0.0],
     "shadow_mode": "ambient",
     "samples": 1,
+    "integrator": "whitted",
+    "seed": 0,
 }
 
 
@@ -31,6 +37,15 @@ class Material:
     specular: tuple = (0.0, 0.0, 0.0)
     shininess: float = 0.0
     reflection: float = 0.0
+    # The path tracer's keys (docs/scene-format.md): `model` is "lambertian"
+    # (albedo `diffuse`) or "metal_rough" (base colour `diffuse`, metallic,
+    # roughness); emission is radiance (W / (sr m^2) per channel).
+    transmission: float = 0.0
+    ior: float = 1.5
+    model: str = "lambertian"
+    metallic: float = 0.0
+    roughness: float = 0.5
+    emission: tuple = (0.0, 0.0, 0.0)
 
 
 @dataclass
@@ -48,6 +63,8 @@ class Scene:
     # vertices (T, 3, 3) in world space (float64), material names.
     triangles: np.ndarray
     triangle_materials: list = field(default_factory=list)
+    # `[environment]` as written ({} when absent): `color` is a uniform sky.
+    environment: dict = field(default_factory=dict)
 
 
 def load(path):
@@ -65,7 +82,8 @@ def load(path):
     render = dict(RENDER_DEFAULTS)
     render.update(doc.get("render", {}))
     lights = []
-    for light in doc["lights"]:
+    # Path scenes may have no point lights (emitters and the sky light them).
+    for light in doc.get("lights", []):
         lights.append(
             {
                 "position": light["position"],
@@ -119,16 +137,25 @@ def load(path):
         sphere_materials=sphere_materials,
         triangles=triangles,
         triangle_materials=tri_materials,
+        environment=dict(doc.get("environment", {})),
     )
 
 
 def _material(m):
+    # Exactly one of diffuse (Lambertian) and base_color (metal/rough).
+    metal_rough = "base_color" in m
     return Material(
         ambient=tuple(m.get("ambient", [0.0, 0.0, 0.0])),
-        diffuse=tuple(m["diffuse"]),
+        diffuse=tuple(m["base_color"] if metal_rough else m["diffuse"]),
         specular=tuple(m.get("specular", [0.0, 0.0, 0.0])),
         shininess=float(m.get("shininess", 0.0)),
         reflection=float(m.get("reflection", 0.0)),
+        transmission=float(m.get("transmission", 0.0)),
+        ior=float(m.get("ior", 1.5)),
+        model="metal_rough" if metal_rough else "lambertian",
+        metallic=float(m.get("metallic", 0.0)),
+        roughness=float(m.get("roughness", 0.5)),
+        emission=tuple(m.get("emission", [0.0, 0.0, 0.0])),
     )
 
 
