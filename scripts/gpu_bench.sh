@@ -21,6 +21,9 @@
 #         - the bench's random scenes with every walk: the gears and 10,000
 #           spheres against brute force, 1,000 -> 1,000,000 spheres;
 #         - the study's suite (`kdray bench --suite`) with every walk;
+#         - the path tracer: the Cornell box at 1024x1024, 64 samples, with
+#           every walk (samples and rays per second in each --stats JSON),
+#           and the bunny under the sky image at 1920x1080, 16 samples;
 #         - the bunny's camera and shadow rays at 1920x1080 and 3840x2160
 #           with every walk, Embree 4 on one CPU core at 1920x1080, and
 #           Mitsuba 3's `cuda_ad_rgb` variant on the same frames where it
@@ -169,6 +172,15 @@ run() {
         --traversal all --repeat 5 --out "$out/growth" >/dev/null
     step suite 100 "$kdray" bench --suite --traversal all --repeat 5 --out "$out/suite" >/dev/null
 
+    # The path tracer: incoherent rays, every walk.
+    mkdir -p "$out/path"
+    local walk
+    for walk in restart ropes short-stack; do
+        step "path-cornell-$walk" 40 "$kdray" render scenes/cornell_box.toml --width 1024 \
+            --height 1024 --samples 64 --traversal "$walk" --stats \
+            -o "$out/path/cornell-$walk.exr" >"$out/path/cornell-$walk.json"
+    done
+
     # The bunny's camera and shadow rays, the peers' frame (docs/peers.md).
     if [ ! -f "$bunny" ]; then
         echo "gpu_bench.sh: no bunny at $bunny: its frames are not measured"
@@ -180,6 +192,8 @@ run() {
         --width 1920 --height 1080 --repeat 5 --write-scenes --out "$out/bunny-1080p" >/dev/null
     step bunny-2160p 50 "$kdray" bench --scene "$direct" --accel kdtree --traversal all \
         --width 3840 --height 2160 --repeat 5 --out "$out/bunny-2160p" >/dev/null
+    step path-bunny-sky 40 "$kdray" render scenes/bunny_sky.toml --width 1920 --height 1080 \
+        --samples 16 --stats -o "$out/path/bunny-sky.exr" >"$out/path/bunny-sky.json"
     if "$py" -c 'import embreex, numpy' 2>/dev/null; then
         step embree-1080p 30 taskset -c 0 "$py" scripts/peers/bench_embree.py "$out/bunny-1080p" \
             --repeat 5 --kdray "$kdray"
