@@ -5,7 +5,7 @@
 // alone), Russian
 // roulette from the fourth hit on. Light that reaches a path: the sky
 // (`params.background`) where it escapes, emission where it hits an emitter.
-// Reached only in pipelines with the PATH override (variant.wgsl).
+// Reached where `is_path()` (variant.wgsl): a path-traced frame.
 
 // A path's state after a hit: where the next ray starts and where it goes.
 struct Bounce {

@@ -76,7 +76,7 @@ fn trace_sample(pixel: vec2<u32>, sx: u32, sy: u32, k: u32) -> vec3<f32> {
 // the pixel and its path; Whitted: cell s of the k x k grid. A path sample
 // whose radiance is not finite is dropped (0) and counted.
 fn radiance_sample(pixel: vec2<u32>, s: u32) -> vec3<f32> {
-    if (PATH) {
+    if (is_path()) {
         seed_random(pixel.y * params.width + pixel.x, s);
         let u = (f32(pixel.x) + random()) / f32(params.width);
         let v = (f32(pixel.y) + random()) / f32(params.height);
@@ -184,7 +184,7 @@ fn accumulate_tile(@builtin(global_invocation_id) gid: vec3<u32>) {
     }
     let pixel = params.tile_origin + gid.xy;
     var c: vec3<f32>;
-    if (PATH) {
+    if (is_path()) {
         c = radiance_sample(pixel, params.sample_index);
     } else {
         let k = params.samples_per_axis;

@@ -30,12 +30,20 @@ override TEXTURES: bool = true;
 // it llvmpipe runs 4.7% fewer instructions for the bunny and its frame is
 // 1 - 3% shorter (docs/design.md, "Counting only when asked").
 override COUNT_COSTS: bool = true;
-// The integrator: the path tracer (path.wgsl) or the Whitted loop
-// (trace.wgsl, glass.wgsl); a pipeline holds one of them.
-override PATH: bool = false;
+// INTEGRATOR_WHITTED (trace.wgsl, glass.wgsl) or INTEGRATOR_PATH
+// (path.wgsl); FROM_PARAMS: `params.integrator`.
+override INTEGRATOR: u32 = FROM_PARAMS;
 // Whether render_tile writes each pixel's radiance sums as floats (the path
 // tracer, and EXR output) instead of 8-bit colour.
 override RADIANCE_OUTPUT: bool = false;
+
+// Whether the frame is path traced.
+fn is_path() -> bool {
+    if (INTEGRATOR != FROM_PARAMS) {
+        return INTEGRATOR == INTEGRATOR_PATH;
+    }
+    return params.integrator == INTEGRATOR_PATH;
+}
 
 fn frame_accel() -> u32 {
     if (ACCEL != FROM_PARAMS) {

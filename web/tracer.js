@@ -168,7 +168,7 @@ export class Tracer {
         GLASS: this.glass ? 1 : 0,
         TEXTURES: this.needs.has('textures') ? 1 : 0,
         // The page traces the Whitted integrator, into the accumulation buffer.
-        PATH: 0,
+        INTEGRATOR: c.INTEGRATOR_WHITTED,
         RADIANCE_OUTPUT: 0,
       };
       for (const name of this.contract.overrides) {

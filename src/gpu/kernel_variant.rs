@@ -65,8 +65,9 @@ pub struct KernelVariant {
     /// Whether the walks count their work (nodes, leaves, objects) for the
     /// frame's cost buffer. Without, the counters are compiled out.
     pub count_costs: bool,
-    /// The path tracer (shaders/path.wgsl) instead of the Whitted loop.
-    pub path: bool,
+    /// `INTEGRATOR_WHITTED`, `INTEGRATOR_PATH` (shaders/path.wgsl), or
+    /// [`FROM_PARAMS`]: the frame's `integrator`.
+    pub integrator: u32,
     /// Whether `render_tile` writes radiance sums as floats (path frames,
     /// EXR output) instead of 8-bit colour.
     pub radiance_output: bool,
@@ -83,7 +84,7 @@ impl KernelVariant {
         glass: true,
         textures: true,
         count_costs: true,
-        path: false,
+        integrator: FROM_PARAMS,
         radiance_output: false,
     };
 
@@ -94,11 +95,10 @@ impl KernelVariant {
         params: &FrameParams,
         count_costs: bool,
     ) -> KernelVariant {
-        let path = params.integrator == crate::layout::INTEGRATOR_PATH;
         KernelVariant {
             count_costs,
-            path,
-            radiance_output: path,
+            integrator: params.integrator,
+            radiance_output: params.integrator == crate::layout::INTEGRATOR_PATH,
             ..Self::for_scene(scene).with_walk_of(params)
         }
     }
@@ -117,7 +117,7 @@ impl KernelVariant {
             glass: scene.glass,
             textures: scene.textures,
             count_costs: true,
-            path: false,
+            integrator: crate::layout::INTEGRATOR_WHITTED,
             radiance_output: false,
         }
     }
@@ -184,7 +184,7 @@ impl KernelVariant {
             ("GLASS", flag(self.glass)),
             ("TEXTURES", flag(self.textures)),
             ("COUNT_COSTS", flag(self.count_costs)),
-            ("PATH", flag(self.path)),
+            ("INTEGRATOR", self.integrator as f64),
             ("RADIANCE_OUTPUT", flag(self.radiance_output)),
         ]
     }
@@ -202,7 +202,7 @@ pub const OVERRIDES: [&str; 11] = [
     "GLASS",
     "TEXTURES",
     "COUNT_COSTS",
-    "PATH",
+    "INTEGRATOR",
     "RADIANCE_OUTPUT",
 ];
 
@@ -230,7 +230,7 @@ mod tests {
             count_costs: false,
             glass: false,
             textures: false,
-            path: false,
+            integrator: crate::layout::INTEGRATOR_WHITTED,
             radiance_output: false,
         };
         assert_eq!(
