@@ -131,6 +131,8 @@ fi
 
 for t in "${tiers[@]}"; do
     echo "scripts/test.sh: the $t tier: $(tier_command "$t")" >&2
-    # shellcheck disable=SC2046 # the command is words without quoting
+    start=$SECONDS
+    # The command is plain words: split, not quoted.
     $(tier_command "$t") "$@"
+    echo "scripts/test.sh: the $t tier passed in $((SECONDS - start)) s" >&2
 done
