@@ -7,7 +7,7 @@
 //!
 //! SCENE defaults to scenes/seed.toml; without OUT.png the example prints the
 //! image's size and mean colour. WIDTH (pixels) overrides the scene's width
-//! and keeps its aspect ratio. tests/examples.rs calls [`render`] and
+//! and keeps its aspect ratio. tests/gpu/examples.rs calls [`render`] and
 //! compares the image with a golden one.
 
 use std::path::{Path, PathBuf};

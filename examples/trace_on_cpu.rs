@@ -9,7 +9,7 @@
 //!
 //! Prints the scene as characters (`#` lit floor, `.` floor in shadow, `O`
 //! lit sphere, `o` sphere in shadow, blank for no hit) and the first hits.
-//! tests/examples.rs checks [`trace`] against brute force and exact values.
+//! tests/gpu/examples.rs checks [`trace`] against brute force and exact values.
 
 use glam::Vec3;
 use kdray::geometry::{spawn_offset, Primitives, Ray, SphereF32, TriangleF32, T_INFINITY};

@@ -1,51 +1,103 @@
 #!/usr/bin/env bash
-# The README's test command: installs what the test suite needs on a Debian
-# or Ubuntu machine without a GPU, then runs `cargo test --locked`.
-# `.ci/run` runs exactly this script. Extra arguments go to `cargo test`.
+# The README's test command: installs what the tests need on a Debian or
+# Ubuntu machine without a GPU, then runs the test tiers (docs/testing.md):
 #
+#   scripts/test.sh [--dry-run] [all|core|gpu|external] [cargo test arguments]
+#
+#   core      cargo test -p kdray-core: the GPU-free core; nothing to install
+#   gpu       kdray's unit tests and tests/gpu/: lavapipe, llvmpipe GL,
+#             SwiftShader's Vulkan, the kdray binary
+#   external  tests/external/: Chromium, Slurm, Xvfb, out-of-memory runs
+#   all       the three, in that order (the default; what `.ci/run` runs)
+#
+# Extra arguments go to every `cargo test` it runs. --dry-run prints the
+# packages it would install and the commands it would run, and does nothing.
 # apt-get runs only when a package below is missing, with sudo when not
 # root; on a machine without dpkg/apt-get it is skipped (install the
 # equivalents yourself).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
-packages=(
+dry_run=false
+if [ "${1:-}" = --dry-run ]; then
+    dry_run=true
+    shift
+fi
+tier=all
+case "${1:-}" in
+    all | core | gpu | external) tier=$1; shift ;;
+esac
+
+gpu_packages=(
     # lavapipe (Vulkan on the CPU), and EGL + llvmpipe for the GL fallback
-    # (tests/gpu_faults.rs compares the two).
+    # (tests/gpu/gpu_faults.rs compares the two).
     mesa-vulkan-drivers libvulkan1 libegl1 libegl-mesa0 libgl1-mesa-dri
-    # g++ builds nv-flip's C++ core (the golden-image tests); gcc (cc) builds
-    # tests/common/device_memory_budget.c for tests/gpu_memory.rs.
-    g++ gcc
-    # tests/window.rs runs the window under Xvfb; winit loads these at run time.
-    xvfb xauth libxkbcommon-x11-0 libx11-xcb1 libxcursor1 libxi6 libxrandr2
+    # g++ builds nv-flip's C++ core (the golden-image tests).
+    g++
     # scenes/bunny.toml's mesh, /usr/share/glmark2/models/bunny.obj (the
     # Stanford bunny), which the image tests render.
     glmark2-data
-    # tests/textured_models.rs opens another project's textured models
+    # tests/gpu/textured_models.rs opens another project's textured models
     # (Khronos' BoxTextured, an OBJ with Windows-style image paths).
     assimp-testmodels
-    # tests/web.rs traces the exported site in headless Chromium (WebGPU on
-    # its SwiftShader), driven from node by tests/web's npm packages (node
-    # and npm below, from Debian unless the machine has its own).
-    chromium python3
-    # tests/farm.rs runs `kdray farm` on a one-node Slurm cluster that
-    # scripts/slurm_cluster.sh starts on this machine (as root, no systemd).
+    # tests/gpu/swiftshader.rs runs on SwiftShader's Vulkan, which Debian's
+    # chromium package ships.
+    chromium
+)
+external_packages=(
+    # gcc (cc) builds tests/common/device_memory_budget.c for
+    # tests/external/gpu_memory.rs.
+    gcc
+    # tests/external/window.rs runs the window under Xvfb; winit loads these
+    # at run time.
+    xvfb xauth libxkbcommon-x11-0 libx11-xcb1 libxcursor1 libxi6 libxrandr2
+    # tests/external/web.rs traces the exported site in headless Chromium
+    # (WebGPU on its SwiftShader), driven from node by tests/web's npm
+    # packages (node and npm below, from Debian unless the machine has its own).
+    python3
+    # tests/external/farm.rs runs `kdray farm` on a one-node Slurm cluster
+    # that scripts/slurm_cluster.sh starts on this machine (as root, no systemd).
     slurmctld slurmd slurm-client munge
 )
 
-# Node.js may come from elsewhere (NodeSource's nodejs bundles npm and
-# conflicts with Debian's npm): Debian's packages only where there is none.
-command -v node >/dev/null || packages+=(nodejs)
-command -v npm >/dev/null || packages+=(npm)
+packages=()
+case $tier in
+    gpu) packages=("${gpu_packages[@]}") ;;
+    external | all) packages=("${gpu_packages[@]}" "${external_packages[@]}") ;;
+esac
+if [ "$tier" = external ] || [ "$tier" = all ]; then
+    # Node.js may come from elsewhere (NodeSource's nodejs bundles npm and
+    # conflicts with Debian's npm): Debian's packages only where there is none.
+    command -v node >/dev/null || packages+=(nodejs)
+    command -v npm >/dev/null || packages+=(npm)
+fi
+
+# One line per tier: the cargo command that runs it.
+tier_command() {
+    case $1 in
+        core) echo "cargo test --locked -p kdray-core" ;;
+        gpu) echo "cargo test --locked -p kdray --lib --bins --test gpu" ;;
+        external) echo "cargo test --locked -p kdray --test external" ;;
+    esac
+}
+if [ "$tier" = all ]; then tiers=(core gpu external); else tiers=("$tier"); fi
+
+if $dry_run; then
+    echo "packages: ${packages[*]}"
+    for t in "${tiers[@]}"; do echo "$(tier_command "$t")"; done
+    exit 0
+fi
 
 missing=()
-if command -v dpkg-query >/dev/null && command -v apt-get >/dev/null; then
-    for p in "${packages[@]}"; do
-        status=$(dpkg-query -W -f='${Status}' "$p" 2>/dev/null || true)
-        [ "$status" = "install ok installed" ] || missing+=("$p")
-    done
-else
-    echo "scripts/test.sh: no dpkg/apt-get here; not installing: ${packages[*]}" >&2
+if [ ${#packages[@]} -gt 0 ]; then
+    if command -v dpkg-query >/dev/null && command -v apt-get >/dev/null; then
+        for p in "${packages[@]}"; do
+            status=$(dpkg-query -W -f='${Status}' "$p" 2>/dev/null || true)
+            [ "$status" = "install ok installed" ] || missing+=("$p")
+        done
+    else
+        echo "scripts/test.sh: no dpkg/apt-get here; not installing: ${packages[*]}" >&2
+    fi
 fi
 
 if [ ${#missing[@]} -gt 0 ]; then
@@ -64,7 +116,7 @@ if [ ${#missing[@]} -gt 0 ]; then
 fi
 
 # tests/web's driver (playwright-core), exactly as its lockfile says.
-if [ ! -d tests/web/node_modules/playwright-core ]; then
+if { [ "$tier" = external ] || [ "$tier" = all ]; } && [ ! -d tests/web/node_modules/playwright-core ]; then
     npm ci --prefix tests/web --no-audit --no-fund >/dev/null
 fi
 
@@ -77,4 +129,10 @@ if [ -n "$free_kib" ] && [ "$free_kib" -lt $((3 * 1024 * 1024)) ]; then
     echo "scripts/test.sh: only $((free_kib / 1024)) MiB free for $target_dir; the test build needs about 2.5 GB" >&2
 fi
 
-exec cargo test --locked "$@"
+for t in "${tiers[@]}"; do
+    echo "scripts/test.sh: the $t tier: $(tier_command "$t")" >&2
+    start=$SECONDS
+    # The command is plain words: split, not quoted.
+    $(tier_command "$t") "$@"
+    echo "scripts/test.sh: the $t tier passed in $((SECONDS - start)) s" >&2
+done

@@ -5,9 +5,9 @@
 use std::path::Path;
 
 use super::options::{check_count, check_side};
-use super::random_scene::{random_scene, scene_file_text, FileFormat, RandomSceneSpec};
+use super::random_scene::{random_scene, scene_file_text, RandomSceneSpec};
 use crate::error::{Error, Result};
-use crate::scene::Scene;
+use crate::scene::{Scene, SceneFormat};
 
 /// From this many objects a TOML scene loads slowly and JSON is the better
 /// format (docs/scene-format.md: 3.1 GB and 8.5 s to load a million spheres
@@ -33,7 +33,7 @@ pub fn write_random_scene(spec: &RandomSceneSpec, output: &Path) -> Result<Scene
         spec.count
     );
     let text =
-        scene_file_text(&scene, FileFormat::from_path(output), &header).map_err(Error::Output)?;
+        scene_file_text(&scene, SceneFormat::from_path(output), &header).map_err(Error::Output)?;
     crate::output::write_file_atomic(output, text.as_bytes())?;
     Ok(scene)
 }
@@ -41,5 +41,5 @@ pub fn write_random_scene(spec: &RandomSceneSpec, output: &Path) -> Result<Scene
 /// Whether a scene of `count` objects written to `output` would be a TOML
 /// file big enough to load slowly ([`BIG_TOML_OBJECTS`]).
 pub fn is_big_toml(output: &Path, count: usize) -> bool {
-    FileFormat::from_path(output) == FileFormat::Toml && count >= BIG_TOML_OBJECTS
+    SceneFormat::from_path(output) == SceneFormat::Toml && count >= BIG_TOML_OBJECTS
 }

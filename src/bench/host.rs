@@ -57,8 +57,8 @@ fn host_cpu() -> Option<String> {
     Some(line.split_once(':')?.1.trim().to_string())
 }
 
-/// The system clock's time as ISO 8601 UTC (`YYYY-MM-DDThh:mm:ssZ`), with
-/// no date crate.
+/// The system clock's time as ISO 8601 UTC to the second
+/// (`YYYY-MM-DDThh:mm:ssZ`).
 pub fn utc_now_iso() -> String {
     let secs = std::time::SystemTime::now()
         .duration_since(std::time::UNIX_EPOCH)
@@ -66,25 +66,14 @@ pub fn utc_now_iso() -> String {
     iso_from_unix(secs)
 }
 
-/// ISO 8601 UTC of a Unix time in seconds.
+/// ISO 8601 UTC of a Unix time in seconds (`jiff`'s RFC 3339 form, which
+/// leaves out a zero fraction of a second).
 pub fn iso_from_unix(secs: u64) -> String {
-    let (days, rem) = ((secs / 86_400) as i64, secs % 86_400);
-    // Howard Hinnant's civil_from_days.
-    let z = days + 719_468;
-    let era = z.div_euclid(146_097);
-    let doe = z.rem_euclid(146_097);
-    let yoe = (doe - doe / 1460 + doe / 36_524 - doe / 146_096) / 365;
-    let doy = doe - (365 * yoe + yoe / 4 - yoe / 100);
-    let mp = (5 * doy + 2) / 153;
-    let d = doy - (153 * mp + 2) / 5 + 1;
-    let m = if mp < 10 { mp + 3 } else { mp - 9 };
-    let y = yoe + era * 400 + i64::from(m <= 2);
-    format!(
-        "{y:04}-{m:02}-{d:02}T{:02}:{:02}:{:02}Z",
-        rem / 3600,
-        rem % 3600 / 60,
-        rem % 60
-    )
+    i64::try_from(secs)
+        .ok()
+        .and_then(|s| jiff::Timestamp::from_second(s).ok())
+        .unwrap_or(jiff::Timestamp::MAX)
+        .to_string()
 }
 
 /// Peak resident memory of this process so far, in MiB (Linux: VmHWM).
@@ -112,5 +101,6 @@ mod tests {
         assert_eq!(iso_from_unix(0), "1970-01-01T00:00:00Z");
         assert_eq!(iso_from_unix(951_782_400), "2000-02-29T00:00:00Z");
         assert_eq!(iso_from_unix(1_700_000_000), "2023-11-14T22:13:20Z");
+        assert_eq!(iso_from_unix(4_102_444_799), "2099-12-31T23:59:59Z");
     }
 }

@@ -46,7 +46,7 @@ pub mod options;
 pub mod outputs;
 pub mod plots;
 mod progress;
-pub mod random_scene;
+pub use kdray_core::random_scene;
 pub mod record;
 pub mod report;
 mod run;

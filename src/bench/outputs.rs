@@ -88,7 +88,7 @@ pub(super) fn write_scene(out: &Path, label: &str, scene: &Scene) -> Result<Stri
     let dir = out.join(SCENES_DIR);
     create_folder(&dir)?;
     let name = format!("{}.json", cases::scene_slug(label, scene.object_count()));
-    let text = random_scene::scene_file_text(scene, random_scene::FileFormat::Json, "")
+    let text = random_scene::scene_file_text(scene, crate::scene::SceneFormat::Json, "")
         .map_err(|e| Error::Output(format!("{label}: cannot write the scene: {e}")))?;
     crate::output::write_file_atomic(&dir.join(&name), text.as_bytes())?;
     Ok(format!("{SCENES_DIR}/{name}"))

@@ -256,10 +256,58 @@ pub fn write_plots(report: &BenchReport, out: &Path) -> Result<Vec<PathBuf>> {
     let kd = points(report, Accel::Kdtree);
     let brute = points(report, Accel::Brute);
 
-    // 1. Time against N (seed figures 7 and 9).
+    let series = time_series(report, &kd, &brute);
+    let time_path = out.join(TIME_PLOT);
+    loglog_chart(
+        &time_path,
+        &format!(
+            "GPU time per frame vs objects: {}, {}",
+            what(report),
+            image_size(report)
+        ),
+        &footer,
+        "objects N (log)",
+        "GPU time per frame, ms (log)",
+        &series,
+    )?;
+
+    let series = speedup_series(&kd, &brute);
+    let speedup_path = out.join(SPEEDUP_PLOT);
+    loglog_chart(
+        &speedup_path,
+        &format!(
+            "Speed-up of the k-d tree over brute force: {}",
+            what(report)
+        ),
+        &footer,
+        "objects N (log)",
+        "speed-up, x (log)",
+        &series,
+    )?;
+
+    let series = build_series(report);
+    let build_path = out.join(BUILD_PLOT);
+    loglog_chart(
+        &build_path,
+        &format!(
+            "k-d tree build and upload time vs objects: {}",
+            what(report)
+        ),
+        &footer,
+        "objects N (log)",
+        "time, ms (log)",
+        &series,
+    )?;
+    Ok(vec![time_path, speedup_path, build_path])
+}
+
+/// The time plot's series (seed figures 7 and 9): the k-d tree's and brute
+/// force's GPU time against N, brute force's linear fit, and its
+/// prediction for the sizes skipped as over budget.
+fn time_series(report: &BenchReport, kd: &[(f64, f64)], brute: &[(f64, f64)]) -> Vec<Series> {
     let mut series = vec![Series {
         label: "k-d tree".into(),
-        points: kd.clone(),
+        points: kd.to_vec(),
         colour: KD_COLOUR,
         dashed: false,
         marker: Marker::Dot,
@@ -267,7 +315,7 @@ pub fn write_plots(report: &BenchReport, out: &Path) -> Result<Vec<PathBuf>> {
     if !brute.is_empty() {
         series.push(Series {
             label: "brute force (the seed's loop)".into(),
-            points: brute.clone(),
+            points: brute.to_vec(),
             colour: BRUTE_COLOUR,
             dashed: false,
             marker: Marker::Triangle,
@@ -320,21 +368,12 @@ pub fn write_plots(report: &BenchReport, out: &Path) -> Result<Vec<PathBuf>> {
             }
         }
     }
-    let time_path = out.join(TIME_PLOT);
-    loglog_chart(
-        &time_path,
-        &format!(
-            "GPU time per frame vs objects: {}, {}",
-            what(report),
-            image_size(report)
-        ),
-        &footer,
-        "objects N (log)",
-        "GPU time per frame, ms (log)",
-        &series,
-    )?;
+    series
+}
 
-    // 2. Speed-up.
+/// The speed-up plot's series: brute force's time over the k-d tree's at
+/// each N both measured, and the break-even line.
+fn speedup_series(kd: &[(f64, f64)], brute: &[(f64, f64)]) -> Vec<Series> {
     let speedup: Vec<(f64, f64)> = kd
         .iter()
         .filter_map(|&(n, k)| brute.iter().find(|b| b.0 == n).map(|&(_, b)| (n, b / k)))
@@ -356,20 +395,12 @@ pub fn write_plots(report: &BenchReport, out: &Path) -> Result<Vec<PathBuf>> {
             marker: Marker::None,
         });
     }
-    let speedup_path = out.join(SPEEDUP_PLOT);
-    loglog_chart(
-        &speedup_path,
-        &format!(
-            "Speed-up of the k-d tree over brute force: {}",
-            what(report)
-        ),
-        &footer,
-        "objects N (log)",
-        "speed-up, x (log)",
-        &series,
-    )?;
+    series
+}
 
-    // 3. Build and upload time.
+/// The build plot's series: the k-d tree's build and upload times against
+/// N, and c N log2(N)^2 through the largest build.
+fn build_series(report: &BenchReport) -> Vec<Series> {
     let build: Vec<(f64, f64)> = report
         .runs
         .iter()
@@ -425,19 +456,7 @@ pub fn write_plots(report: &BenchReport, out: &Path) -> Result<Vec<PathBuf>> {
             });
         }
     }
-    let build_path = out.join(BUILD_PLOT);
-    loglog_chart(
-        &build_path,
-        &format!(
-            "k-d tree build and upload time vs objects: {}",
-            what(report)
-        ),
-        &footer,
-        "objects N (log)",
-        "time, ms (log)",
-        &series,
-    )?;
-    Ok(vec![time_path, speedup_path, build_path])
+    series
 }
 
 #[cfg(test)]

@@ -169,11 +169,6 @@ impl CameraController {
         self.fly.iter().any(|&k| k)
     }
 
-    /// Whether a drag is in progress.
-    pub fn is_dragging(&self) -> bool {
-        self.left || self.right || self.middle
-    }
-
     /// Applies one event; true if the camera changed.
     pub fn handle(&mut self, input: Input) -> bool {
         match input {

@@ -1,14 +1,21 @@
-//! Shared helpers of the tests: one device for the whole test binary,
-//! rendering scene text or files at a small size, image comparison, running
-//! the binary; and ([`strategies`]) the random scenes, rays and trees of the
-//! k-d tree's property tests. Every test file includes it as `mod common;`.
+//! Shared helpers of kdray's test binaries (tests/gpu/, tests/external/):
+//! one device for the whole test binary, rendering scene text or files at a
+//! small size, image comparison, running the binary; and, from kdray-core's
+//! tests (crates/kdray-core/tests/common/), the repository's paths,
+//! temporary folders, the property tests' random scenes ([`strategies`]) and
+//! the textured models ([`textured`]). Each binary's main.rs declares it
+//! once; its modules `use crate::common;`.
 #![allow(dead_code)]
 
-pub mod strategies;
+#[path = "../../crates/kdray-core/tests/common/mod.rs"]
+mod core_common;
+
+// Each binary uses some of these.
+#[allow(unused_imports)]
+pub use core_common::{proptest_config, repo_path, repo_root, strategies, textured, TempDir};
 
 use std::path::{Path, PathBuf};
 use std::process::Command;
-use std::sync::atomic::{AtomicUsize, Ordering};
 use std::sync::OnceLock;
 
 use kdray::gpu::{Accel, GpuContext, RenderedImage, TilePlan};
@@ -20,10 +27,6 @@ pub fn gpu() -> &'static GpuContext {
         GpuContext::new()
             .unwrap_or_else(|e| panic!("GPU tests need an adapter (lavapipe in CI): {e}"))
     })
-}
-
-pub fn repo_path(relative: &str) -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join(relative)
 }
 
 pub fn scene_from_toml(text: &str) -> Scene {
@@ -138,51 +141,6 @@ pub fn failure_dir() -> PathBuf {
     let dir = repo_path("target/test-failures");
     std::fs::create_dir_all(&dir).unwrap();
     dir
-}
-
-/// A fresh folder under the system temp dir, removed on drop.
-pub struct TempDir {
-    pub path: PathBuf,
-}
-
-impl TempDir {
-    /// `kdray-test-PID-TAG-N`: unique per process, tag and call.
-    pub fn new(tag: &str) -> Self {
-        static COUNTER: AtomicUsize = AtomicUsize::new(0);
-        let n = COUNTER.fetch_add(1, Ordering::Relaxed);
-        let path =
-            std::env::temp_dir().join(format!("kdray-test-{}-{tag}-{n}", std::process::id()));
-        let _ = std::fs::remove_dir_all(&path);
-        std::fs::create_dir_all(&path).unwrap();
-        TempDir { path }
-    }
-
-    pub fn join(&self, name: &str) -> PathBuf {
-        self.path.join(name)
-    }
-
-    /// Writes `text` to `name` (relative; folders made as needed); returns its path.
-    pub fn write(&self, name: &str, text: &str) -> PathBuf {
-        let path = self.join(name);
-        std::fs::create_dir_all(path.parent().unwrap()).unwrap();
-        std::fs::write(&path, text).unwrap();
-        path
-    }
-
-    /// Leftover temporary files of atomic writes (`.NAME.tmp-PID`).
-    pub fn temp_files(&self) -> Vec<String> {
-        std::fs::read_dir(&self.path)
-            .unwrap()
-            .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
-            .filter(|name| name.contains(".tmp-"))
-            .collect()
-    }
-}
-
-impl Drop for TempDir {
-    fn drop(&mut self) {
-        let _ = std::fs::remove_dir_all(&self.path);
-    }
 }
 
 /// What one run of the `kdray` binary left behind.

@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Writes the small glTF test models of tests/scene_parse.rs and tests/cli.rs.
+"""Writes the small glTF test models of crates/kdray-core/tests/scene_parse/ and tests/gpu/cli.rs.
 
 Also: sparse.gltf, the tetrahedron whose POSITION and NORMAL accessors are
 sparse, moving vertex 3 (and its normal), and sparse_dense.gltf, the same
@@ -10,7 +10,7 @@ texture, which kdray warns about; gltf1.gltf and gltf1_no_asset.gltf, glTF
 A tetrahedron (4 vertices, 4 indexed triangles, per-vertex NORMALs) placed by
 a two-node hierarchy: the root node has a translation and a rotation, its
 child a scale and the mesh. The Rust tests restate these numbers (TETRA_* in
-tests/scene_parse.rs) and check the loaded triangles against an OBJ written
+crates/kdray-core/tests/scene_parse/) and check the loaded triangles against an OBJ written
 from them, so change both together. Run from this folder: python3 make_models.py
 """
 import base64

@@ -1,5 +1,5 @@
 // Drives the kdray page in headless Chromium (WebGPU on SwiftShader) for
-// tests/web.rs. Usage: node drive_page.mjs JOBS.json; prints one JSON
+// tests/external/web.rs. Usage: node drive_page.mjs JOBS.json; prints one JSON
 // object of results on stdout. Each job: { url, png (a path to write the
 // page's PNG to, or null), drag (a path for the PNG after a drag, or
 // null), screenshot (a path, or null), play (bool: press Space, wait for

@@ -1,4 +1,4 @@
-//! What the fuzz targets (`fuzz/`) and their replay (`tests/fuzz_regressions.rs`)
+//! What the fuzz targets (`fuzz/`) and their replay (`crates/kdray-core/tests/fuzz_regressions.rs`)
 //! run on one input. Anything may fail, nothing may panic. Kept out of
 //! `scene/`: the scene check goes on to build a k-d tree and trace a ray,
 //! which the scene layer knows nothing of.

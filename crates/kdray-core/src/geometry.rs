@@ -259,7 +259,7 @@ impl TriangleF32 {
     /// hit 6 units beyond its box). A margin of 2^-18 of |e1|max |e2|max,
     /// the bound on this dot product's rounding, was tried first: it turned
     /// slivers (edges 2.6e-4 rad apart) away from rays 0.4 degrees off their
-    /// plane, and a fan of them cracked (`tests/triangle_edges.rs`). For a
+    /// plane, and a fan of them cracked (`tests/gpu/triangle_edges.rs`). For a
     /// sliver whose normal is itself uncertain the edge functions decide,
     /// and `holds_hit_at` catches what they get wrong far from the
     /// triangle. Asked only of candidate hits. Mirrors `runs_in_plane` in

@@ -5,16 +5,19 @@
 //! -> [`geometry`] (the objects in f32, with the kernel's intersection
 //! arithmetic) -> [`kdtree`] (build, ropes, the CPU walks and brute force)
 //! -> [`layout`] (the `#[repr(C)]` types the kernel reads). The `kdray`
-//! crate uploads them and traces them on the GPU.
+//! crate uploads them and traces them on the GPU. Beside them,
+//! [`random_scene`] generates the deterministic random scenes of
+//! `kdray bench` and `kdray generate` (and of the k-d tree's tests).
 
 pub mod choice;
 pub mod geometry;
 mod huge_pages;
 pub mod kdtree;
 pub mod layout;
+pub mod random_scene;
 pub mod scene;
 
-/// The fuzz targets' entry points (`fuzz/`, `tests/fuzz_regressions.rs`).
+/// The fuzz targets' entry points (`fuzz/`, `crates/kdray-core/tests/fuzz_regressions.rs`).
 #[cfg(feature = "test-support")]
 #[doc(hidden)]
 pub mod fuzz_support;

@@ -83,26 +83,6 @@ impl KdTree {
         }
     }
 
-    /// The tree's expected cost for a random ray through the root cell:
-    /// the surface area heuristic summed over the nodes with `params`'
-    /// costs (traversal per inner node, intersection per leaf reference,
-    /// each weighted by its cell's share of the root's area). A measure of
-    /// tree quality free of the machine's noise.
-    pub fn sah_cost(&self, params: &BuildParams) -> f64 {
-        let root_area = self.bounds.surface_area() as f64;
-        let mut total = 0.0;
-        self.visit_cells(|node, cell| {
-            let share = cell.surface_area() as f64 / root_area;
-            total += share
-                * if node.is_leaf() {
-                    params.intersection_cost as f64 * node.count as f64
-                } else {
-                    params.traversal_cost as f64
-                };
-        });
-        total
-    }
-
     pub fn stats(&self) -> TreeStats {
         let leaves = self.nodes.iter().filter(|n| n.is_leaf()).count();
         TreeStats {
@@ -129,11 +109,10 @@ mod tests {
     use super::*;
     use glam::Vec3;
 
-    /// One split of the cube [0, 2]^3 at x = 0.5: the children's areas,
-    /// by hand, are 2·(0.5·2 + 2·2 + 2·0.5) = 12 and 2·(1.5·2 + 2·2 + 1.5·2)
-    /// = 20 of the root's 24; the walk visits parents first, below first.
+    /// One split of the cube [0, 2]^3 at x = 0.5: the walk visits parents
+    /// first, below first, each with its cell.
     #[test]
-    fn the_sah_cost_weights_each_node_by_its_area() {
+    fn the_cells_are_visited_parents_first_with_their_boxes() {
         let tree = KdTree {
             nodes: vec![
                 KdNode {
@@ -162,17 +141,6 @@ mod tests {
             },
             max_depth: 1,
         };
-        let params = BuildParams {
-            traversal_cost: 10.0,
-            intersection_cost: 1.0,
-            ..BuildParams::for_object_count(4)
-        };
-        let expected = 10.0 + 12.0 / 24.0 * 1.0 + 20.0 / 24.0 * 3.0;
-        assert!(
-            (tree.sah_cost(&params) - expected).abs() < 1e-9,
-            "{}",
-            tree.sah_cost(&params)
-        );
         let mut cells = Vec::new();
         tree.visit_cells(|n, c| cells.push((n.count, c.max.x, c.min.x)));
         assert_eq!(cells, [(0, 2.0, 0.0), (1, 0.5, 0.0), (3, 2.0, 0.5)]);

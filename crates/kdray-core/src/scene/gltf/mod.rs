@@ -80,7 +80,7 @@ pub fn parse_gltf(
     };
     // Parse, check what the crate's validation would index unchecked, then
     // validate (gltf-json 1.4 panics on a POSITION accessor index out of
-    // range, found by tests/fuzz_regressions.rs's bit flips).
+    // range, found by crates/kdray-core/tests/fuzz_regressions.rs's bit flips).
     let gltf = gltf::Gltf::from_slice_without_validation(bytes).map_err(invalid)?;
     let mut root = gltf.document.into_json();
     if root.asset.version.starts_with('1') {

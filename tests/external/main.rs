@@ -1,0 +1,19 @@
+//! The external tier (docs/testing.md, "Tiers"): tests that drive a tool
+//! beyond the GPU driver: headless Chromium (`web`), a Slurm cluster
+//! (`farm`), an X server (`window`, under Xvfb) and lavapipe with its
+//! allocations made to fail (`gpu_memory`, through a preloaded library built
+//! with cc). A missing tool fails the test that needs it, naming the tool
+//! and how to install it (`scripts/test.sh external` installs them all).
+//! Run it with `scripts/test.sh external` or `cargo test -p kdray --test external`.
+//!
+//! To add tests: write `tests/external/NAME.rs` starting with
+//! `use crate::common;` and add `mod NAME;` below.
+
+#[path = "../common/mod.rs"]
+mod common;
+
+mod farm;
+mod gpu_memory;
+mod web;
+mod window;
+mod tools;

@@ -1,0 +1,365 @@
+//! The web export in a real browser: headless Chromium (WebGPU on
+//! SwiftShader) driven by tests/web/drive_page.mjs through npm's
+//! playwright-core, the site served by a static server on 127.0.0.1.
+//! scripts/test.sh installs Chromium and the npm package (lockfile).
+//!
+//! Every scene's page image equals the native render within the golden
+//! budget; bad, truncated and newer-version bundles show their errors; a
+//! drag changes the view and restarts refinement; the overlay names the
+//! adapter. An animated scene's `frame=k` page equals the native render of
+//! frame k (its camera, and its lights where they have keys) and Space
+//! plays it; C shows the cost heatmap and C again the image as before.
+
+use crate::common;
+
+use std::net::TcpListener;
+use std::path::{Path, PathBuf};
+use std::process::{Child, Command, Stdio};
+
+use common::*;
+use kdray::gpu::Accel;
+use kdray::output::read_png_rgb;
+
+/// As tests/gpu/golden.rs: mean FLIP, and pixels over 2 levels per mille.
+const MAX_MEAN_FLIP: f32 = 0.01;
+const MAX_PIXELS_OVER_PER_MILLE: usize = 1;
+
+/// A static file server for `root` on a free port, killed (by pid) on drop.
+struct Server {
+    child: Child,
+    port: u16,
+}
+
+impl Server {
+    fn start(root: &Path) -> Server {
+        let port = TcpListener::bind("127.0.0.1:0")
+            .unwrap()
+            .local_addr()
+            .unwrap()
+            .port();
+        let child = Command::new("python3")
+            .args([
+                "-m",
+                "http.server",
+                &port.to_string(),
+                "--bind",
+                "127.0.0.1",
+                "-d",
+            ])
+            .arg(root)
+            .stdout(Stdio::null())
+            .stderr(Stdio::null())
+            .spawn()
+            .expect("python3 serves the site");
+        for _ in 0..100 {
+            if std::net::TcpStream::connect(("127.0.0.1", port)).is_ok() {
+                return Server { child, port };
+            }
+            std::thread::sleep(std::time::Duration::from_millis(50));
+        }
+        panic!("the static server did not start on port {port}");
+    }
+}
+
+impl Drop for Server {
+    fn drop(&mut self) {
+        let _ = self.child.kill();
+        let _ = self.child.wait();
+    }
+}
+
+fn browser_ready() -> PathBuf {
+    let driver = repo_path("tests/web");
+    assert!(
+        Path::new("/usr/bin/chromium").exists() && driver.join("node_modules/playwright-core").exists(),
+        "the browser tests need Debian's chromium and tests/web's npm packages: run scripts/test.sh \
+         (or apt-get install chromium; npm ci --prefix tests/web)"
+    );
+    driver
+}
+
+/// One browser at a time: the machine's cores are few and each page traces
+/// on the CPU.
+static BROWSER: std::sync::Mutex<()> = std::sync::Mutex::new(());
+
+/// Runs the driver over `jobs`; its results.
+fn drive(jobs: &serde_json::Value, work: &Path) -> Vec<serde_json::Value> {
+    let _one_browser = BROWSER.lock().unwrap_or_else(|e| e.into_inner());
+    let jobs_path = work.join("jobs.json");
+    std::fs::write(&jobs_path, jobs.to_string()).unwrap();
+    let out = Command::new("node")
+        .arg(browser_ready().join("drive_page.mjs"))
+        .arg(&jobs_path)
+        .output()
+        .expect("node runs the driver");
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert!(
+        out.status.success(),
+        "the driver failed: {}\n{stdout}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    serde_json::from_str(stdout.lines().last().unwrap_or("")).unwrap()
+}
+
+fn title(r: &serde_json::Value) -> &str {
+    r["title"].as_str().unwrap_or("")
+}
+
+#[test]
+fn pages_trace_every_scene_as_the_native_renderer_does_and_show_their_errors() {
+    let out = repo_path("target/web-test");
+    let _ = std::fs::remove_dir_all(&out);
+    std::fs::create_dir_all(&out).unwrap();
+    let mut jobs = Vec::new();
+    let mut scenes = Vec::new();
+    for path in shipped_scenes() {
+        let name = path.file_stem().unwrap().to_string_lossy().into_owned();
+        let run = run_kdray(&out, &["web", path.to_str().unwrap(), "-o", &name], &[]);
+        let scene = small_scene(&path);
+        if scene.render.integrator == kdray::scene::Integrator::Path {
+            // The page traces the Whitted integrator only, and says so.
+            assert_eq!(run.code, 2, "{name}: {run:?}");
+            assert!(
+                run.one_error_line().contains("Whitted integrator only"),
+                "{run:?}"
+            );
+            assert!(!out.join(&name).exists(), "{name}: a site was written");
+            continue;
+        }
+        assert_eq!(run.code, 0, "{}", run.stderr_text());
+        let (w, h) = (scene.render.width, scene.render.height);
+        jobs.push(serde_json::json!({
+            "url": format!("/{name}/index.html?width={w}&height={h}"),
+            "png": out.join(format!("{name}.page.png")),
+            "drag": if name == "seed" { serde_json::json!(out.join("seed.dragged.png")) } else { serde_json::json!(null) },
+            "screenshot": if name == "seed" { serde_json::json!(out.join("page-screenshot.png")) } else { serde_json::json!(null) },
+        }));
+        scenes.push((name, scene));
+    }
+    // Broken bundles beside the seed's.
+    let good = std::fs::read(out.join("seed/scene.kdray")).unwrap();
+    let mut bad_magic = good.clone();
+    bad_magic[..4].copy_from_slice(b"JUNK");
+    let mut newer = good.clone();
+    newer[8..12].copy_from_slice(&(kdray::web::bundle::FORMAT_VERSION + 1).to_le_bytes());
+    let broken = [
+        ("bad-magic.kdray", bad_magic, "bad magic"),
+        (
+            "truncated.kdray",
+            good[..good.len() - 5].to_vec(),
+            "truncated bundle",
+        ),
+        ("newer.kdray", newer, "is newer than this page reads"),
+    ];
+    for (file, bytes, _) in &broken {
+        std::fs::write(out.join("seed").join(file), bytes).unwrap();
+        jobs.push(serde_json::json!({"url": format!("/seed/index.html?bundle={file}"), "png": null, "drag": null, "screenshot": null}));
+    }
+    let server = Server::start(&out);
+    for job in &mut jobs {
+        let url = job["url"].as_str().unwrap();
+        job["url"] = format!("http://127.0.0.1:{}{url}", server.port).into();
+    }
+    let results = drive(&serde_json::Value::Array(jobs), &out);
+    drop(server);
+
+    let mut failures = Vec::new();
+    for ((name, scene), r) in scenes.iter().zip(&results) {
+        if !title(r).starts_with("kdray: done") {
+            failures.push(format!("{name}: the page ended with {r}"));
+            continue;
+        }
+        let native = render(scene, Accel::Kdtree);
+        let (w, h, page) = read_png_rgb(&out.join(format!("{name}.page.png"))).unwrap();
+        assert_eq!((w, h), (native.width, native.height), "{name}");
+        let d = compare(&native.rgb, &page, w, h, 2);
+        let budget = (w * h) as usize * MAX_PIXELS_OVER_PER_MILLE / 1000;
+        eprintln!("{name}: page vs native {d:?}");
+        if d.mean_flip > MAX_MEAN_FLIP || d.pixels_over > budget {
+            failures.push(format!(
+                "{name}: page vs native {d:?} (budget FLIP {MAX_MEAN_FLIP}, {budget} pixels)"
+            ));
+        }
+        let overlay = r["overlay"].as_str().unwrap_or("");
+        assert!(
+            overlay.contains("adapter google swiftshader"),
+            "{name}: overlay {overlay}"
+        );
+    }
+    assert!(failures.is_empty(), "{}", failures.join("\n"));
+
+    // The drag: the view changed, refinement restarted and finished again.
+    let seed = &results[0];
+    assert!(scenes[0].0 == "seed" || seed["drag_title"].is_null());
+    let seed_index = scenes.iter().position(|(n, _)| n == "seed").unwrap();
+    let seed = &results[seed_index];
+    let samples = scenes[seed_index].1.render.samples;
+    assert!(
+        seed["after_drag_sample"].as_u64().unwrap() < samples as u64
+            || !seed["after_drag_title"]
+                .as_str()
+                .unwrap()
+                .starts_with("kdray: done"),
+        "the drag did not restart refinement: {seed}"
+    );
+    assert!(
+        seed["drag_title"]
+            .as_str()
+            .unwrap()
+            .starts_with("kdray: done"),
+        "{seed}"
+    );
+    let (_, _, before) = read_png_rgb(&out.join("seed.page.png")).unwrap();
+    let (_, _, after) = read_png_rgb(&out.join("seed.dragged.png")).unwrap();
+    let changed = before
+        .chunks(3)
+        .zip(after.chunks(3))
+        .filter(|(a, b)| a != b)
+        .count();
+    assert!(
+        changed > before.len() / 3 / 10,
+        "the drag changed only {changed} pixels"
+    );
+
+    // Broken bundles: each shows its own error in the page.
+    for ((file, _, expected), r) in broken.iter().zip(&results[scenes.len()..]) {
+        assert!(title(r).starts_with("kdray: error"), "{file}: {r}");
+        let message = r["message"].as_str().unwrap_or("");
+        assert!(message.contains(expected), "{file}: message {message:?}");
+    }
+}
+
+/// Writes the site of `scene` (a path under scenes/) into `out`/`name`.
+fn export(out: &Path, scene: &str, name: &str) {
+    let path = repo_path(scene);
+    let run = run_kdray(out, &["web", path.to_str().unwrap(), "-o", name], &[]);
+    assert_eq!(run.code, 0, "{}", run.stderr_text());
+}
+
+/// Pixels that differ between two RGB images of the same size.
+fn changed_pixels(a: &[u8], b: &[u8]) -> usize {
+    assert_eq!(a.len(), b.len());
+    a.chunks(3).zip(b.chunks(3)).filter(|(x, y)| x != y).count()
+}
+
+#[test]
+fn pages_play_animations_and_show_the_cost_heatmap() {
+    let out = repo_path("target/web-test-play");
+    let _ = std::fs::remove_dir_all(&out);
+    std::fs::create_dir_all(&out).unwrap();
+    export(&out, "scenes/orbit.toml", "orbit");
+    export(&out, "scenes/seed.toml", "seed");
+    export(&out, "tests/scenes/moving_lights.toml", "lights");
+    const FRAME: u32 = 5;
+    let mut orbit = small_scene(&repo_path("scenes/orbit.toml"));
+    orbit.camera = orbit.camera_at(FRAME);
+    // Frame 8 of the moving lights: a light at a key, moved and tinted.
+    const LIGHTS_FRAME: u32 = 8;
+    let mut lights = small_scene(&repo_path("tests/scenes/moving_lights.toml"));
+    let shown = lights.frame(LIGHTS_FRAME);
+    let frame0_lights = std::mem::replace(&mut lights.lights, shown.lights);
+    lights.camera = shown.camera;
+    let seed = small_scene(&repo_path("scenes/seed.toml"));
+    let size =
+        |s: &kdray::scene::Scene| format!("width={}&height={}", s.render.width, s.render.height);
+    let server = Server::start(&out);
+    let url = |path: String| format!("http://127.0.0.1:{}{path}", server.port);
+    let jobs = serde_json::json!([
+        {
+            "url": url(format!("/orbit/index.html?{}&frame={FRAME}", size(&orbit))),
+            "png": out.join("orbit.frame.png"),
+            "play": true,
+        },
+        {
+            "url": url(format!("/seed/index.html?{}", size(&seed))),
+            "png": out.join("seed.png"),
+            "heatmap": {"png": out.join("seed.heatmap.png"), "restored": out.join("seed.restored.png")},
+        },
+        {
+            "url": url(format!("/lights/index.html?{}&frame={LIGHTS_FRAME}", size(&lights))),
+            "png": out.join("lights.frame.png"),
+        },
+    ]);
+    let results = drive(&jobs, &out);
+    drop(server);
+    let (orbit_r, seed_r) = (&results[0], &results[1]);
+    for r in &results {
+        assert!(
+            title(r).starts_with("kdray: done") && r["failure"].is_null(),
+            "{r}"
+        );
+    }
+
+    // Frame 5 of the orbit, as `render --frame 5` renders it.
+    let native = render(&orbit, Accel::Kdtree);
+    let (w, h, page) = read_png_rgb(&out.join("orbit.frame.png")).unwrap();
+    assert_eq!((w, h), (native.width, native.height));
+    let d = compare(&native.rgb, &page, w, h, 2);
+    let budget = (w * h) as usize * MAX_PIXELS_OVER_PER_MILLE / 1000;
+    eprintln!("orbit frame {FRAME}: page vs native {d:?}");
+    assert!(
+        d.mean_flip <= MAX_MEAN_FLIP && d.pixels_over <= budget,
+        "orbit frame {FRAME}: page vs native {d:?} (budget FLIP {MAX_MEAN_FLIP}, {budget} pixels)"
+    );
+    // Frame 0 is another view: the page did move the camera.
+    let frame0 = render(&small_scene(&repo_path("scenes/orbit.toml")), Accel::Kdtree);
+    assert!(changed_pixels(&frame0.rgb, &page) > page.len() / 3 / 10);
+
+    // Frame 8 of the moving lights, as `render --frame 8` renders it; under
+    // frame 0's lights the same view differs: the page did move the lights.
+    let native = render(&lights, Accel::Kdtree);
+    let (w, h, page) = read_png_rgb(&out.join("lights.frame.png")).unwrap();
+    assert_eq!((w, h), (native.width, native.height));
+    let d = compare(&native.rgb, &page, w, h, 2);
+    let budget = (w * h) as usize * MAX_PIXELS_OVER_PER_MILLE / 1000;
+    eprintln!("moving lights frame {LIGHTS_FRAME}: page vs native {d:?}");
+    assert!(
+        d.mean_flip <= MAX_MEAN_FLIP && d.pixels_over <= budget,
+        "moving lights frame {LIGHTS_FRAME}: page vs native {d:?} (budget FLIP {MAX_MEAN_FLIP}, {budget} pixels)"
+    );
+    lights.lights = frame0_lights;
+    let unmoved = render(&lights, Accel::Kdtree);
+    assert!(changed_pixels(&unmoved.rgb, &page) > page.len() / 3 / 10);
+
+    // Space played on from frame 5 and paused again.
+    let overlay = |key: &str| orbit_r[key].as_str().unwrap_or("").to_string();
+    let frames = orbit.frame_count();
+    assert!(
+        overlay("before_play_overlay").contains(&format!("frame {FRAME}/{frames} paused")),
+        "{orbit_r}"
+    );
+    let playing = overlay("playing_overlay");
+    // Its line reads "frame k/N playing".
+    let shown: u32 = playing
+        .lines()
+        .find(|l| l.starts_with("frame ") && l.ends_with(" playing"))
+        .and_then(|l| l["frame ".len()..].split('/').next()?.parse().ok())
+        .unwrap_or_else(|| panic!("no playing frame in the overlay: {playing}"));
+    assert_ne!(shown, FRAME, "{playing}");
+    assert!(shown < frames, "{playing}");
+    assert!(overlay("paused_overlay").contains(" paused"), "{orbit_r}");
+
+    // C: the heatmap instead of the image, then the image as before.
+    let (_, _, image) = read_png_rgb(&out.join("seed.png")).unwrap();
+    let (_, _, heatmap) = read_png_rgb(&out.join("seed.heatmap.png")).unwrap();
+    let (_, _, restored) = read_png_rgb(&out.join("seed.restored.png")).unwrap();
+    assert!(
+        changed_pixels(&image, &heatmap) > image.len() / 3 / 2,
+        "the heatmap changed only {} pixels",
+        changed_pixels(&image, &heatmap)
+    );
+    let heat_overlay = seed_r["heatmap_overlay"].as_str().unwrap_or("");
+    assert!(heat_overlay.contains("heatmap"), "{heat_overlay}");
+    assert!(
+        !seed_r["restored_overlay"]
+            .as_str()
+            .unwrap_or("heatmap")
+            .contains("heatmap"),
+        "{seed_r}"
+    );
+    assert_eq!(
+        changed_pixels(&image, &restored),
+        0,
+        "C twice did not restore the image"
+    );
+}

@@ -1,0 +1,32 @@
+//! The GPU tier (docs/testing.md, "Tiers"): every test that needs a GPU
+//! adapter (lavapipe in CI, SwiftShader's Vulkan for `swiftshader`) or runs
+//! the kdray binary, and no tool beyond Mesa and the packages
+//! scripts/test.sh installs for it. One test binary, so it is linked once:
+//! run it with `scripts/test.sh gpu` or `cargo test -p kdray --test gpu`.
+//!
+//! To add tests: write `tests/gpu/NAME.rs` starting with
+//! `use crate::common;` (and `use common::*;` for the helpers), and add
+//! `mod NAME;` below. Tests that need Chromium, Slurm, Xvfb or a memory
+//! limit belong in tests/external/ instead.
+
+#[path = "../common/mod.rs"]
+mod common;
+
+mod bench;
+mod cli;
+mod examples;
+mod glass;
+mod golden;
+mod gpu_faults;
+mod gpu_ray_queries;
+mod gpu_render;
+mod open_model;
+mod path_tracing;
+mod pathological;
+mod smooth_shading;
+mod split_bindings;
+mod swiftshader;
+mod textured_models;
+mod textures;
+mod triangle_edges;
+mod web_export;
