@@ -309,7 +309,7 @@ def _png(path, kd, ms, b):
     heat = np.kron(np.minimum(rel * 5, 1), np.ones((b, b)))
     heat_img = np.zeros_like(kd)
     heat_img[: heat.shape[0], : heat.shape[1]] = heat[:, :, None]
-    mi.util.write_bitmap(path, np.concatenate([kd, ms, heat_img], axis=1).astype(np.float32))
+    mi.util.write_bitmap(path, np.concatenate([kd, ms, heat_img], axis=1).astype(np.float32), write_async=False)
 
 
 def cmd_compare(args, mi, dr):
@@ -335,8 +335,9 @@ def cmd_compare(args, mi, dr):
     m0 = mitsuba_render(mi, dr, mscene, width, height, spp, seed=0)
     m_seconds = time.perf_counter() - t0
     m1 = mitsuba_render(mi, dr, mscene, width, height, spp, seed=1)
-    mi.util.write_bitmap(os.path.join(args.out, name + "_mitsuba.exr"), m0)
-    mi.util.write_bitmap(os.path.join(args.out, name + "_mitsuba_seed1.exr"), m1)
+    # Written synchronously: mi.util.write_bitmap's background writer hung here.
+    mi.Bitmap(m0).write(os.path.join(args.out, name + "_mitsuba.exr"))
+    mi.Bitmap(m1).write(os.path.join(args.out, name + "_mitsuba_seed1.exr"))
     _png(os.path.join(args.out, name + ".png"), kd_img, m0, args.block)
 
     both = (m0.astype(np.float64) + m1) / 2
