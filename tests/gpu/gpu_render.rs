@@ -37,6 +37,7 @@ fn render_walk(scene: &Scene, traversal: Traversal, max_tile_pixels: u64) -> Ren
 /// 201 levels: a shadow ray through the corner of two split planes.)
 /// Scenes of more objects (the bunny's 69,670) are compared walk against
 /// walk: brute force over them exceeds llvmpipe's loop limit (design.md).
+/// Path-traced scenes get [`path_pixels_allowed`].
 #[test]
 fn kdtree_equals_brute_force_on_every_scene() {
     const BRUTE_FORCE_MAX_OBJECTS: usize = 10_000;
@@ -54,8 +55,31 @@ fn kdtree_equals_brute_force_on_every_scene() {
         for walk in Traversal::ALL {
             let kd = render_walk(&scene, walk, TilePlan::DEFAULT_MAX_TILE_PIXELS);
             let d = compare(&kd.rgb, &brute.rgb, kd.width, kd.height, 0);
-            assert_eq!(d.pixels_over, 0, "{} ({walk}): {d:?}", path.display());
+            let allowed = path_pixels_allowed(&scene);
+            assert!(
+                d.pixels_over <= allowed,
+                "{} ({walk}): {d:?}, {allowed} allowed",
+                path.display()
+            );
         }
+    }
+}
+
+/// Pixels two differently compiled kernels may disagree on in a
+/// path-traced scene at test size, where the same walk or the same hits
+/// meet the same random numbers: none for the Whitted integrator; for the
+/// path tracer 2% of the image. A path's choices compare random numbers
+/// with probabilities, so a last-bit difference between two compilations
+/// of the same arithmetic (llvmpipe fuses multiply-adds by context) can
+/// send a path elsewhere: the bunny under the sky at 160x90 and 16 samples
+/// differs on 96 - 167 of 14,400 pixels between its walks, and between the
+/// specialised and the general kernel of one walk. The Cornell box agrees
+/// exactly, and its radiance equals brute force's bit for bit
+/// (`path_tracing::every_walk_gives_brute_force_radiance`).
+pub fn path_pixels_allowed(scene: &Scene) -> usize {
+    match scene.render.integrator {
+        kdray::scene::Integrator::Whitted => 0,
+        kdray::scene::Integrator::Path => (scene.render.width * scene.render.height) as usize / 50,
     }
 }
 
@@ -380,8 +404,11 @@ fn specialised_pipelines_render_what_the_general_kernel_renders() {
                 .unwrap_or_else(|e| panic!("{e}"));
             let what = format!("{} ({accel:?}, {traversal:?}, {variant:?})", path.display());
             let d = compare(&a.rgb, &b.rgb, a.width, a.height, 0);
-            assert_eq!(d.pixels_over, 0, "{what}: {d:?}");
-            assert_eq!(a.rays, b.rays, "{what}");
+            let allowed = path_pixels_allowed(&scene);
+            assert!(d.pixels_over <= allowed, "{what}: {d:?}, {allowed} allowed");
+            if allowed == 0 {
+                assert_eq!(a.rays, b.rays, "{what}");
+            }
             let counted = |renderer: &Renderer| {
                 let mut costs = Vec::new();
                 let summary = renderer
@@ -398,8 +425,14 @@ fn specialised_pipelines_render_what_the_general_kernel_renders() {
                 a_total.nodes_visited + a_total.objects_tested > 0,
                 "{what}: nothing counted"
             );
-            assert_eq!(a_total, b_total, "{what}");
-            assert!(a_costs == b_costs, "{what}: the per-pixel costs differ");
+            let differing = a_costs.iter().zip(&b_costs).filter(|(a, b)| a != b).count();
+            assert!(
+                differing <= allowed,
+                "{what}: the costs of {differing} pixels differ"
+            );
+            if allowed == 0 {
+                assert_eq!(a_total, b_total, "{what}");
+            }
         }
     }
     // Spheres only, triangles only, both; and a smooth mesh (scenes/bunny.toml).
