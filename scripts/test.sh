@@ -120,13 +120,13 @@ if { [ "$tier" = external ] || [ "$tier" = all ]; } && [ ! -d tests/web/node_mod
     npm ci --prefix tests/web --no-audit --no-fund >/dev/null
 fi
 
-# The debug build and its test binaries take about 2.5 GB under target/; a
-# full disk shows up as a linker crash (signal 7, bus error), so say it first.
+# The debug build and its test binaries take a few GB under target/; a full
+# disk shows up as a linker crash (signal 7, bus error), so say it first.
 target_dir=${CARGO_TARGET_DIR:-target}
 mkdir -p "$target_dir"
 free_kib=$(df -Pk "$target_dir" | awk 'NR == 2 { print $4 }')
 if [ -n "$free_kib" ] && [ "$free_kib" -lt $((3 * 1024 * 1024)) ]; then
-    echo "scripts/test.sh: only $((free_kib / 1024)) MiB free for $target_dir; the test build needs about 2.5 GB" >&2
+    echo "scripts/test.sh: only $((free_kib / 1024)) MiB free for $target_dir; the test build needs a few GB" >&2
 fi
 
 for t in "${tiers[@]}"; do

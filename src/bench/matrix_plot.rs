@@ -83,6 +83,68 @@ struct Bar {
 /// The SVG text of one scene's plot.
 pub fn scene_svg(report: &BenchReport, scene: &str, n: usize) -> String {
     let runs: Vec<&RunRecord> = report.runs_of(scene, n).collect();
+    let bars = scene_bars(report, scene, n, &runs);
+    let max = bars.iter().filter_map(|b| b.value).fold(0.0f64, f64::max);
+    let step = grid_step(max);
+    let axis_max = if max > 0.0 {
+        (max / step).ceil() * step
+    } else {
+        1.0
+    };
+    let plot_w = WIDTH - LABEL_W - VALUE_W;
+    let height = TOP + ROW_H * bars.len() as f64 + BOTTOM;
+    let x = |v: f64| LABEL_W + plot_w * v / axis_max;
+    let first = runs.first();
+
+    let mut s = String::new();
+    let _ = writeln!(
+        s,
+        r#"<svg xmlns="http://www.w3.org/2000/svg" width="{WIDTH}" height="{height}" viewBox="0 0 {WIDTH} {height}" font-family="DejaVu Sans, Arial, sans-serif">"#
+    );
+    let _ = writeln!(s, r#"<rect width="100%" height="100%" fill="white"/>"#);
+    let _ = writeln!(
+        s,
+        r#"<text x="{}" y="24" font-size="17" text-anchor="middle">{}</text>"#,
+        WIDTH / 2.0,
+        xml(&format!(
+            "Rays per second: {scene}, N = {}{}",
+            super::numbers::count(n as u64),
+            first.map_or(String::new(), |r| format!(
+                ", {}x{}, max_depth {}",
+                r.width, r.height, r.max_depth
+            ))
+        ))
+    );
+    let bottom = TOP + ROW_H * bars.len() as f64;
+    write_grid(&mut s, step, axis_max, bottom, &x);
+    let _ = writeln!(
+        s,
+        r#"<text x="{:.1}" y="{:.1}" font-size="13" text-anchor="middle">million rays per second (GPU time; Embree: CPU time)</text>"#,
+        LABEL_W + plot_w / 2.0,
+        bottom + 34.0
+    );
+    write_bars(&mut s, &bars, &x);
+    let _ = writeln!(
+        s,
+        r##"<line x1="{LABEL_W:.1}" y1="{:.1}" x2="{LABEL_W:.1}" y2="{bottom:.1}" stroke="#505050"/>"##,
+        TOP - 6.0
+    );
+    let _ = writeln!(
+        s,
+        r##"<text x="10" y="{:.1}" font-size="11" fill="#6e6e6e">{}</text>"##,
+        height - 8.0,
+        xml(&format!(
+            "{}  |  {} UTC",
+            report.machine.adapter_line, report.date_utc
+        ))
+    );
+    s.push_str("</svg>\n");
+    s
+}
+
+/// The plot's bars: each run of `scene` at size `n` (its walk's Mrays/s,
+/// or why it has none), then Embree's figure where the report has one.
+fn scene_bars(report: &BenchReport, scene: &str, n: usize, runs: &[&RunRecord]) -> Vec<Bar> {
     let mut bars: Vec<Bar> = runs
         .iter()
         .map(|r| {
@@ -116,39 +178,12 @@ pub fn scene_svg(report: &BenchReport, scene: &str, n: usize) -> String {
             colour: EMBREE_COLOUR,
         });
     }
-    let max = bars.iter().filter_map(|b| b.value).fold(0.0f64, f64::max);
-    let step = grid_step(max);
-    let axis_max = if max > 0.0 {
-        (max / step).ceil() * step
-    } else {
-        1.0
-    };
-    let plot_w = WIDTH - LABEL_W - VALUE_W;
-    let height = TOP + ROW_H * bars.len() as f64 + BOTTOM;
-    let x = |v: f64| LABEL_W + plot_w * v / axis_max;
-    let first = runs.first();
+    bars
+}
 
-    let mut s = String::new();
-    let _ = writeln!(
-        s,
-        r#"<svg xmlns="http://www.w3.org/2000/svg" width="{WIDTH}" height="{height}" viewBox="0 0 {WIDTH} {height}" font-family="DejaVu Sans, Arial, sans-serif">"#
-    );
-    let _ = writeln!(s, r#"<rect width="100%" height="100%" fill="white"/>"#);
-    let _ = writeln!(
-        s,
-        r#"<text x="{}" y="24" font-size="17" text-anchor="middle">{}</text>"#,
-        WIDTH / 2.0,
-        xml(&format!(
-            "Rays per second: {scene}, N = {}{}",
-            super::numbers::count(n as u64),
-            first.map_or(String::new(), |r| format!(
-                ", {}x{}, max_depth {}",
-                r.width, r.height, r.max_depth
-            ))
-        ))
-    );
-    // Grid and its labels.
-    let bottom = TOP + ROW_H * bars.len() as f64;
+/// The vertical grid lines at multiples of `step` up to `axis_max`, and
+/// their labels under `bottom`; `x` maps a value to its position.
+fn write_grid(s: &mut String, step: f64, axis_max: f64, bottom: f64, x: &impl Fn(f64) -> f64) {
     let mut k = 0u32;
     loop {
         let v = step * k as f64;
@@ -170,12 +205,10 @@ pub fn scene_svg(report: &BenchReport, scene: &str, n: usize) -> String {
         );
         k += 1;
     }
-    let _ = writeln!(
-        s,
-        r#"<text x="{:.1}" y="{:.1}" font-size="13" text-anchor="middle">million rays per second (GPU time; Embree: CPU time)</text>"#,
-        LABEL_W + plot_w / 2.0,
-        bottom + 34.0
-    );
+}
+
+/// One row per bar: its label, and its bar and value or its note.
+fn write_bars(s: &mut String, bars: &[Bar], x: &impl Fn(f64) -> f64) {
     for (i, b) in bars.iter().enumerate() {
         let y = TOP + ROW_H * i as f64;
         let mid = y + ROW_H / 2.0 + 4.0;
@@ -212,22 +245,6 @@ pub fn scene_svg(report: &BenchReport, scene: &str, n: usize) -> String {
             }
         }
     }
-    let _ = writeln!(
-        s,
-        r##"<line x1="{LABEL_W:.1}" y1="{:.1}" x2="{LABEL_W:.1}" y2="{bottom:.1}" stroke="#505050"/>"##,
-        TOP - 6.0
-    );
-    let _ = writeln!(
-        s,
-        r##"<text x="10" y="{:.1}" font-size="11" fill="#6e6e6e">{}</text>"##,
-        height - 8.0,
-        xml(&format!(
-            "{}  |  {} UTC",
-            report.machine.adapter_line, report.date_utc
-        ))
-    );
-    s.push_str("</svg>\n");
-    s
 }
 
 /// Writes one plot per scene into `out`; returns their paths.

@@ -14,6 +14,6 @@ mod common;
 
 mod farm;
 mod gpu_memory;
+mod tools;
 mod web;
 mod window;
-mod tools;

@@ -16,7 +16,11 @@ fn on_path(program: &str) -> Option<PathBuf> {
 
 /// Fails naming every program of `programs` that is not on PATH.
 fn require(programs: &[&str], used_by: &str, install: &str) {
-    let missing: Vec<&str> = programs.iter().copied().filter(|p| on_path(p).is_none()).collect();
+    let missing: Vec<&str> = programs
+        .iter()
+        .copied()
+        .filter(|p| on_path(p).is_none())
+        .collect();
     assert!(
         missing.is_empty(),
         "{used_by} needs {}, not found on PATH: run scripts/test.sh external (or {install})",
@@ -50,10 +54,18 @@ fn slurm_and_munge_are_installed() {
 
 #[test]
 fn xvfb_is_installed() {
-    require(&["Xvfb", "xauth"], "tests/external/window.rs", "apt-get install xvfb xauth");
+    require(
+        &["Xvfb", "xauth"],
+        "tests/external/window.rs",
+        "apt-get install xvfb xauth",
+    );
 }
 
 #[test]
 fn a_c_compiler_is_installed() {
-    require(&["cc"], "tests/external/gpu_memory.rs", "apt-get install gcc");
+    require(
+        &["cc"],
+        "tests/external/gpu_memory.rs",
+        "apt-get install gcc",
+    );
 }

@@ -46,83 +46,12 @@ impl Validator<'_> {
         let translate = self.position(&|| key("translate"), m.translate)?;
         let transform = mesh_transform(scale, rotate);
 
-        let base = self.file.parent().unwrap_or(Path::new(""));
-        let mesh_path = base.join(&m.path);
-        let mesh = {
-            let mut on_read = self.on_read.borrow_mut();
-            mesh_file::load_mesh(&mesh_path, override_material.is_none(), &mut **on_read)
-        }
-        .map_err(|e| {
-            // A model opened on its own has no scene file to point at.
-            if e.line.is_some() || mesh_path == self.file {
-                return e;
-            }
-            // A mesh file at fault as a whole: also say which entry asked for it.
-            let at = match self.map.get().and_then(|m| m.line_of_path(&key("path"))) {
-                Some(line) => format!("{}:{line}", self.file.display()),
-                None => self.file.display().to_string(),
-            };
-            let message = format!("{} (from {} in {at})", e.message, key("path"));
-            e.reworded(message)
-        })?;
-
-        let mut mesh = mesh;
-        for warning in std::mem::take(&mut mesh.warnings) {
-            (self.warn.borrow_mut())(warning);
-        }
+        let mesh_path = self.file.parent().unwrap_or(Path::new("")).join(&m.path);
+        let mesh = self.load_entry_mesh(i, &mesh_path, override_material.is_none())?;
 
         let first_material = materials.len() as u32;
         if override_material.is_none() {
-            let file_name = Path::new(&m.path)
-                .file_name()
-                .map_or(m.path.clone(), |f| f.to_string_lossy().into_owned());
-            // The mesh readers check that colours are finite; the scene's
-            // rule that colours are >= 0 holds for them too.
-            for mm in &mesh.materials {
-                let colours = [("Ka", mm.ambient), ("Kd", mm.diffuse), ("Ks", mm.specular)];
-                if let Some((statement, c)) = colours.iter().find(|(_, c)| c.min_element() < 0.0) {
-                    let (kind, what) = match mesh_file::MeshFormat::of_path(&mesh_path) {
-                        Some(mesh_file::MeshFormat::Gltf) => ("glTF", "colour"),
-                        _ => ("MTL", *statement),
-                    };
-                    return Err(self.error(
-                        &key("path"),
-                        format!(
-                            "{kind} material \"{}\" has a negative {what} colour {:?}; colour components must be >= 0",
-                            mm.name,
-                            c.to_array()
-                        ),
-                    ));
-                }
-            }
-            // Each image once, however many materials use it.
-            let mut added: Vec<(*const Texture, u32)> = Vec::new();
-            for mm in &mesh.materials {
-                let texture = mm.texture.as_ref().map(|t| {
-                    let key = std::sync::Arc::as_ptr(t);
-                    match added.iter().find(|(k, _)| *k == key) {
-                        Some(&(_, index)) => index,
-                        None => {
-                            let index = textures.len() as u32;
-                            textures.push(Texture::clone(t));
-                            added.push((key, index));
-                            index
-                        }
-                    }
-                });
-                materials.push(Material {
-                    name: format!("{file_name}:{}", mm.name),
-                    ambient: mm.ambient,
-                    diffuse: mm.diffuse,
-                    specular: mm.specular,
-                    shininess: mm.shininess,
-                    reflection: mm.reflection,
-                    transmission: mm.transmission,
-                    ior: mm.ior,
-                    texture,
-                    physical: mm.physical,
-                });
-            }
+            self.add_mesh_materials(i, &m.path, &mesh_path, &mesh, materials, textures)?;
         }
         // The texture coordinates of a triangle of a textured material.
         let uvs_of = |t: &MeshTriangle| -> Option<[DVec2; 3]> {
@@ -224,6 +153,105 @@ impl Validator<'_> {
             }
             add_uvs(uvs, &mut triangle, uvs_of(t));
             triangles.push(triangle);
+        }
+        Ok(())
+    }
+
+    /// Mesh entry `i`'s file, loaded (with its materials when
+    /// `with_materials`); its warnings handed to the scene's sink. A mesh
+    /// file at fault as a whole is an error that also names the entry.
+    fn load_entry_mesh(
+        &self,
+        i: usize,
+        mesh_path: &Path,
+        with_materials: bool,
+    ) -> Result<Mesh, SceneError> {
+        let key = |k: &str| format!("meshes[{i}].{k}");
+        let mut mesh = {
+            let mut on_read = self.on_read.borrow_mut();
+            mesh_file::load_mesh(mesh_path, with_materials, &mut **on_read)
+        }
+        .map_err(|e| {
+            // A model opened on its own has no scene file to point at.
+            if e.line.is_some() || mesh_path == self.file {
+                return e;
+            }
+            // A mesh file at fault as a whole: also say which entry asked for it.
+            let at = match self.map.get().and_then(|m| m.line_of_path(&key("path"))) {
+                Some(line) => format!("{}:{line}", self.file.display()),
+                None => self.file.display().to_string(),
+            };
+            let message = format!("{} (from {} in {at})", e.message, key("path"));
+            e.reworded(message)
+        })?;
+        for warning in std::mem::take(&mut mesh.warnings) {
+            (self.warn.borrow_mut())(warning);
+        }
+        Ok(mesh)
+    }
+
+    /// The materials of mesh entry `i`'s file (`path` as the entry writes
+    /// it), named `FILE:NAME`, appended to the scene's, and each image they
+    /// use appended to `textures` once. A negative colour is an error.
+    fn add_mesh_materials(
+        &self,
+        i: usize,
+        path: &str,
+        mesh_path: &Path,
+        mesh: &Mesh,
+        materials: &mut Vec<Material>,
+        textures: &mut Vec<Texture>,
+    ) -> Result<(), SceneError> {
+        let key = |k: &str| format!("meshes[{i}].{k}");
+        let file_name = Path::new(path)
+            .file_name()
+            .map_or(path.to_string(), |f| f.to_string_lossy().into_owned());
+        // The mesh readers check that colours are finite; the scene's
+        // rule that colours are >= 0 holds for them too.
+        for mm in &mesh.materials {
+            let colours = [("Ka", mm.ambient), ("Kd", mm.diffuse), ("Ks", mm.specular)];
+            if let Some((statement, c)) = colours.iter().find(|(_, c)| c.min_element() < 0.0) {
+                let (kind, what) = match mesh_file::MeshFormat::of_path(mesh_path) {
+                    Some(mesh_file::MeshFormat::Gltf) => ("glTF", "colour"),
+                    _ => ("MTL", *statement),
+                };
+                return Err(self.error(
+                    &key("path"),
+                    format!(
+                        "{kind} material \"{}\" has a negative {what} colour {:?}; colour components must be >= 0",
+                        mm.name,
+                        c.to_array()
+                    ),
+                ));
+            }
+        }
+        // Each image once, however many materials use it.
+        let mut added: Vec<(*const Texture, u32)> = Vec::new();
+        for mm in &mesh.materials {
+            let texture = mm.texture.as_ref().map(|t| {
+                let key = std::sync::Arc::as_ptr(t);
+                match added.iter().find(|(k, _)| *k == key) {
+                    Some(&(_, index)) => index,
+                    None => {
+                        let index = textures.len() as u32;
+                        textures.push(Texture::clone(t));
+                        added.push((key, index));
+                        index
+                    }
+                }
+            });
+            materials.push(Material {
+                name: format!("{file_name}:{}", mm.name),
+                ambient: mm.ambient,
+                diffuse: mm.diffuse,
+                specular: mm.specular,
+                shininess: mm.shininess,
+                reflection: mm.reflection,
+                transmission: mm.transmission,
+                ior: mm.ior,
+                texture,
+                physical: mm.physical,
+            });
         }
         Ok(())
     }

@@ -51,18 +51,7 @@ pub(super) fn parse_mtl(
                 return Err(err("expected a material name".to_string()));
             }
             finish(current.take(), library);
-            current = Some(MeshMaterial {
-                name: name.to_string(),
-                ambient: DVec3::ZERO,
-                diffuse: DVec3::ZERO,
-                specular: DVec3::ZERO,
-                shininess: 0.0,
-                reflection: 0.0,
-                transmission: 0.0,
-                ior: crate::scene::Material::DEFAULT_IOR,
-                texture: None,
-                physical: crate::scene::Physical::LAMBERTIAN,
-            });
+            current = Some(new_material(name));
             continue;
         }
         if keyword.eq_ignore_ascii_case("map_Kd") {
@@ -76,26 +65,9 @@ pub(super) fn parse_mtl(
             material.texture = decoded
                 .entry((image.clone(), clamp))
                 .or_insert_with(|| {
-                    let wrap = if clamp {
-                        TextureWrap::ClampToEdge
-                    } else {
-                        TextureWrap::Repeat
-                    };
-                    // Only a regular file (`map_Kd /dev/zero` would be read forever).
-                    let read = crate::scene::input_file::read_input_file(&image)
-                        .map_err(|e| e.to_string());
-                    let texture = read.and_then(|bytes| {
-                        Texture::decode(
-                            file,
-                            &bytes,
-                            TextureFilter::Bilinear,
-                            MinFilter::TRILINEAR,
-                            [wrap; 2],
-                        )
-                    });
-                    match texture {
-                        Ok(t) => Some(Arc::new(t)),
-                        Err(e) => {
+                    decode_map_kd(file, &image, clamp)
+                        .map(Some)
+                        .unwrap_or_else(|e| {
                             warnings.push(Warning::new(
                                 path,
                                 Some(line_no),
@@ -106,8 +78,7 @@ pub(super) fn parse_mtl(
                                 ),
                             ));
                             None
-                        }
-                    }
+                        })
                 })
                 .clone();
             continue;
@@ -132,62 +103,123 @@ pub(super) fn parse_mtl(
             return Err(err("comes before any newmtl statement".to_string()));
         };
         if is_glass {
-            // Read leniently, as before these were read at all: `d -halo v`
-            // takes v; anything but one number leaves the statement unread.
-            let words: Vec<&str> = tokens
-                .filter(|w| !w.eq_ignore_ascii_case("-halo"))
-                .collect();
-            if let [word] = words[..] {
-                if let Ok(value) = parse_number(word) {
-                    set_glass(material, keyword, value);
-                }
-            }
-            continue;
-        }
-
-        let (values, count) = first_three_numbers(tokens).map_err(err)?;
-
-        if is_shininess {
-            if count != 1 {
-                return Err(err(format!("expected 1 number, found {count}")));
-            }
-            if values[0] < 0.0 {
-                return Err(err(format!("shininess must be >= 0, found {}", values[0])));
-            }
-            material.shininess = values[0];
+            read_glass(material, keyword, tokens);
         } else {
-            let colour = match count {
-                1 => DVec3::splat(values[0]),
-                3 => DVec3::from_array(values),
-                _ => {
-                    return Err(err(format!(
-                        "expected 3 numbers (r g b) or 1 (grey), found {count}"
-                    )))
-                }
-            };
-            match keyword.as_bytes()[1].to_ascii_lowercase() {
-                b'a' => material.ambient = colour,
-                b'd' => material.diffuse = colour,
-                // Emitted radiance: the path tracer's light.
-                b'e' => material.physical.emission = colour.max(DVec3::ZERO),
-                _ => material.specular = colour,
-            }
+            read_colour_or_shininess(material, keyword, tokens).map_err(err)?;
         }
     }
     finish(current.take(), library);
     if let Some((line, keyword)) = first_texture {
-        let more = match textures - 1 {
-            0 => String::new(),
-            1 => " (and 1 more texture statement)".to_string(),
-            n => format!(" (and {n} more texture statements)"),
-        };
-        warnings.push(Warning::new(
-            path,
-            Some(line),
-            format!("{keyword}{more} ignored: kdray reads no textures but map_Kd; faces use the flat colours Ka, Ks"),
-        ));
+        warnings.push(ignored_textures_warning(path, line, &keyword, textures));
     }
     Ok(())
+}
+
+/// A material named `name` before any of its statements: black, matte,
+/// opaque, untextured.
+fn new_material(name: &str) -> MeshMaterial {
+    MeshMaterial {
+        name: name.to_string(),
+        ambient: DVec3::ZERO,
+        diffuse: DVec3::ZERO,
+        specular: DVec3::ZERO,
+        shininess: 0.0,
+        reflection: 0.0,
+        transmission: 0.0,
+        ior: crate::scene::Material::DEFAULT_IOR,
+        texture: None,
+        physical: crate::scene::Physical::LAMBERTIAN,
+    }
+}
+
+/// `map_Kd`'s image `file` (found at `image`), decoded with its mip levels:
+/// bilinear within a level, trilinear between them, repeating unless
+/// `clamp`. The error says why it cannot be read or decoded.
+fn decode_map_kd(file: &str, image: &Path, clamp: bool) -> Result<Arc<Texture>, String> {
+    let wrap = if clamp {
+        TextureWrap::ClampToEdge
+    } else {
+        TextureWrap::Repeat
+    };
+    // Only a regular file (`map_Kd /dev/zero` would be read forever).
+    let bytes = crate::scene::input_file::read_input_file(image).map_err(|e| e.to_string())?;
+    let texture = Texture::decode(
+        file,
+        &bytes,
+        TextureFilter::Bilinear,
+        MinFilter::TRILINEAR,
+        [wrap; 2],
+    )?;
+    Ok(Arc::new(texture))
+}
+
+/// `d`, `Tr` or `Ni`, read leniently, as before these were read at all:
+/// `d -halo v` takes v; anything but one number leaves the statement unread.
+fn read_glass<'t>(
+    material: &mut MeshMaterial,
+    keyword: &str,
+    tokens: impl Iterator<Item = &'t str>,
+) {
+    let words: Vec<&str> = tokens
+        .filter(|w| !w.eq_ignore_ascii_case("-halo"))
+        .collect();
+    if let [word] = words[..] {
+        if let Ok(value) = parse_number(word) {
+            set_glass(material, keyword, value);
+        }
+    }
+}
+
+/// `Ns x`, or `Ka`/`Kd`/`Ks` as three numbers or one (a grey); the error
+/// message (without file and line) for anything else.
+fn read_colour_or_shininess<'t>(
+    material: &mut MeshMaterial,
+    keyword: &str,
+    tokens: impl Iterator<Item = &'t str>,
+) -> Result<(), String> {
+    let (values, count) = first_three_numbers(tokens)?;
+    if keyword.eq_ignore_ascii_case("Ns") {
+        if count != 1 {
+            return Err(format!("expected 1 number, found {count}"));
+        }
+        if values[0] < 0.0 {
+            return Err(format!("shininess must be >= 0, found {}", values[0]));
+        }
+        material.shininess = values[0];
+        return Ok(());
+    }
+    let colour = match count {
+        1 => DVec3::splat(values[0]),
+        3 => DVec3::from_array(values),
+        _ => {
+            return Err(format!(
+                "expected 3 numbers (r g b) or 1 (grey), found {count}"
+            ))
+        }
+    };
+    match keyword.as_bytes()[1].to_ascii_lowercase() {
+        b'a' => material.ambient = colour,
+        b'd' => material.diffuse = colour,
+        // Emitted radiance: the path tracer's light.
+        b'e' => material.physical.emission = colour.max(DVec3::ZERO),
+        _ => material.specular = colour,
+    }
+    Ok(())
+}
+
+/// The one warning for a file's texture statements other than `map_Kd`:
+/// the first one's line and keyword, and how many more there are.
+fn ignored_textures_warning(path: &Path, line: usize, keyword: &str, count: usize) -> Warning {
+    let more = match count - 1 {
+        0 => String::new(),
+        1 => " (and 1 more texture statement)".to_string(),
+        n => format!(" (and {n} more texture statements)"),
+    };
+    Warning::new(
+        path,
+        Some(line),
+        format!("{keyword}{more} ignored: kdray reads no textures but map_Kd; faces use the flat colours Ka, Ks"),
+    )
 }
 
 /// `d` (dissolve: 1 opaque), `Tr` (1 - d) and `Ni` (index of refraction)
