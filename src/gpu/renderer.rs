@@ -364,73 +364,28 @@ impl Renderer {
             while x < width {
                 let w = plan.tile_width.min(width - x);
                 let area = TileArea { x, y, w, h };
-                let mut encoder = device_encoder(ctx);
-                tile.clear(&mut encoder, area, with_cost, radiance);
-                ctx.queue.submit([encoder.finish()]);
-                // Samples in dispatches of at most SAMPLES_PER_DISPATCH:
-                // short enough for a GPU's watchdog and llvmpipe's loop
-                // limit; the kernel adds them in order, so the sums do not
-                // depend on the split.
-                let mut first = 0;
-                loop {
-                    let count = samples.saturating_sub(first).min(SAMPLES_PER_DISPATCH);
-                    let last = first + count >= samples;
-                    let tile_params = FrameParams {
-                        tile_origin: [area.x, area.y],
-                        tile_size: [area.w, area.h],
-                        sample_index: first,
-                        sample_count: count,
-                        ..params
-                    };
-                    ctx.queue.write_buffer(
-                        &self.params_buffer,
-                        0,
-                        bytemuck::bytes_of(&tile_params),
-                    );
-                    let mut encoder = device_encoder(ctx);
-                    {
-                        let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
-                            label: Some("trace tile"),
-                            timestamp_writes: timer.as_ref().map(|t| t.writes()),
-                        });
-                        pass.set_pipeline(&pipeline.pipeline);
-                        pass.set_bind_group(0, &bind_group, &[]);
-                        let (gx, gy) = self.pipelines.workgroups(w, h);
-                        pass.dispatch_workgroups(gx, gy, 1);
-                    }
-                    if last {
-                        tile.copy_to_readback(&mut encoder, area, with_cost, radiance);
-                    }
-                    if let Some(t) = &timer {
-                        t.resolve(&mut encoder);
-                    }
-                    let started = Instant::now();
-                    ctx.queue.submit([encoder.finish()]);
-                    let bytes = match last {
-                        true => Some(ctx.read_buffer(
-                            &tile.readback,
-                            tile.read_bytes(area, with_cost, radiance),
-                        )?),
-                        false => {
-                            ctx.wait_idle()?;
-                            None
-                        }
-                    };
-                    let wall_ms = started.elapsed().as_secs_f64() * 1e3;
-                    band_ms += match &timer {
-                        Some(t) => t.read_ms(ctx)?,
-                        None => wall_ms,
-                    };
-                    if let Some(bytes) = bytes {
-                        let samples = samples.max(1) as f32;
-                        band.take_tile(&bytes, area, width, radiance, samples, self.tone_map);
-                        summary.rays.add(&band.counters);
-                        if let Some(totals) = &mut summary.cost {
-                            band.take_costs(&bytes, area, width, radiance, totals);
-                        }
-                        break;
-                    }
-                    first += count;
+                let run = TileRun {
+                    pipeline: &pipeline.pipeline,
+                    bind_group: &bind_group,
+                    timer: timer.as_ref(),
+                    tile: &tile,
+                    params,
+                    with_cost,
+                    radiance,
+                };
+                let (ms, bytes) = self.trace_tile(ctx, &run, area, samples)?;
+                band_ms += ms;
+                band.take_tile(
+                    &bytes,
+                    area,
+                    width,
+                    radiance,
+                    samples.max(1) as f32,
+                    self.tone_map,
+                );
+                summary.rays.add(&band.counters);
+                if let Some(totals) = &mut summary.cost {
+                    band.take_costs(&bytes, area, width, radiance, totals);
                 }
                 x += w;
             }
@@ -450,6 +405,79 @@ impl Renderer {
         }
         ctx.check_health()?;
         Ok(summary)
+    }
+
+    /// Traces `area` of the frame: its buffers cleared, its `samples` in
+    /// dispatches of at most [`SAMPLES_PER_DISPATCH`] (short enough for a
+    /// GPU's watchdog and llvmpipe's loop limit; the kernel adds them in
+    /// order, so the sums do not depend on the split), the last one copied
+    /// back. Returns the GPU time of its dispatches (timestamps, else wall
+    /// time) and the read-back bytes.
+    fn trace_tile(
+        &self,
+        ctx: &GpuContext,
+        run: &TileRun<'_>,
+        area: TileArea,
+        samples: u32,
+    ) -> Result<(f64, Vec<u8>)> {
+        let mut encoder = device_encoder(ctx);
+        run.tile
+            .clear(&mut encoder, area, run.with_cost, run.radiance);
+        ctx.queue.submit([encoder.finish()]);
+        let mut ms = 0.0;
+        let mut first = 0;
+        loop {
+            let count = samples.saturating_sub(first).min(SAMPLES_PER_DISPATCH);
+            let last = first + count >= samples;
+            let tile_params = FrameParams {
+                tile_origin: [area.x, area.y],
+                tile_size: [area.w, area.h],
+                sample_index: first,
+                sample_count: count,
+                ..run.params
+            };
+            ctx.queue
+                .write_buffer(&self.params_buffer, 0, bytemuck::bytes_of(&tile_params));
+            let mut encoder = device_encoder(ctx);
+            {
+                let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
+                    label: Some("trace tile"),
+                    timestamp_writes: run.timer.map(|t| t.writes()),
+                });
+                pass.set_pipeline(run.pipeline);
+                pass.set_bind_group(0, run.bind_group, &[]);
+                let (gx, gy) = self.pipelines.workgroups(area.w, area.h);
+                pass.dispatch_workgroups(gx, gy, 1);
+            }
+            if last {
+                run.tile
+                    .copy_to_readback(&mut encoder, area, run.with_cost, run.radiance);
+            }
+            if let Some(t) = run.timer {
+                t.resolve(&mut encoder);
+            }
+            let started = Instant::now();
+            ctx.queue.submit([encoder.finish()]);
+            let bytes = match last {
+                true => Some(ctx.read_buffer(
+                    &run.tile.readback,
+                    run.tile.read_bytes(area, run.with_cost, run.radiance),
+                )?),
+                false => {
+                    ctx.wait_idle()?;
+                    None
+                }
+            };
+            let wall_ms = started.elapsed().as_secs_f64() * 1e3;
+            ms += match run.timer {
+                Some(t) => t.read_ms(ctx)?,
+                None => wall_ms,
+            };
+            if let Some(bytes) = bytes {
+                return Ok((ms, bytes));
+            }
+            first += count;
+        }
     }
 
     /// Samples a pixel of a frame with `params` takes: the path tracer's
@@ -487,6 +515,17 @@ impl TileArea {
     fn pixels(&self) -> u64 {
         self.w as u64 * self.h as u64
     }
+}
+
+/// What every dispatch of a frame's tiles uses.
+struct TileRun<'a> {
+    pipeline: &'a wgpu::ComputePipeline,
+    bind_group: &'a wgpu::BindGroup,
+    timer: Option<&'a GpuTimer>,
+    tile: &'a TileBuffers,
+    params: FrameParams,
+    with_cost: bool,
+    radiance: bool,
 }
 
 /// Bytes per pixel of `render_tile`'s output: packed RGBA8, or four words
