@@ -420,10 +420,12 @@ impl Renderer {
         area: TileArea,
         samples: u32,
     ) -> Result<(f64, Vec<u8>)> {
-        let mut encoder = device_encoder(ctx);
+        // The clear goes with the first dispatch: one submission a tile
+        // where one dispatch traces all its samples.
+        let mut cleared = device_encoder(ctx);
         run.tile
-            .clear(&mut encoder, area, run.with_cost, run.radiance);
-        ctx.queue.submit([encoder.finish()]);
+            .clear(&mut cleared, area, run.with_cost, run.radiance);
+        let mut pending = Some(cleared);
         let mut ms = 0.0;
         let mut first = 0;
         loop {
@@ -438,7 +440,7 @@ impl Renderer {
             };
             ctx.queue
                 .write_buffer(&self.params_buffer, 0, bytemuck::bytes_of(&tile_params));
-            let mut encoder = device_encoder(ctx);
+            let mut encoder = pending.take().unwrap_or_else(|| device_encoder(ctx));
             {
                 let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
                     label: Some("trace tile"),
