@@ -67,7 +67,7 @@ pub const STANDALONE_SHADERS: [(&str, &str); 1] = [("present.wgsl", PRESENT_FILE
 /// which it may leave inside its descent loop) are capped at `node_count +
 /// 1`; each descent step moves to a higher node index (children follow their
 /// parent in the flat layout, `flat_layout_is_what_the_kernel_assumes` in
-/// tests/kdtree_props/), and an index past the end is clamped to the last
+/// crates/kdray-core/tests/kdtree_props/), and an index past the end is clamped to the last
 /// node, a leaf; leaf, brute-force, light, sample and chunk (chunks.wgsl)
 /// loops run over counts;
 /// the reflection loop over `max_depth`. The counters cost 6-10% of the
