@@ -18,8 +18,18 @@ use kdray::scene::Scene;
 /// its dropped samples, through the k-d tree with `traversal`, in
 /// dispatches of at most `max_tile_pixels`.
 fn radiance(scene: &Scene, traversal: Traversal, max_tile_pixels: u64) -> (Vec<f32>, u64) {
+    radiance_with(scene, Accel::Kdtree, traversal, max_tile_pixels)
+}
+
+/// [`radiance`] with the search `accel` (the walk matters for the k-d tree only).
+fn radiance_with(
+    scene: &Scene,
+    accel: Accel,
+    traversal: Traversal,
+    max_tile_pixels: u64,
+) -> (Vec<f32>, u64) {
     let ctx = gpu();
-    let prepared = PreparedScene::new(scene.clone(), Accel::Kdtree);
+    let prepared = PreparedScene::new(scene.clone(), accel);
     let uploaded = GpuScene::upload(ctx, prepared).unwrap_or_else(|e| panic!("{e}"));
     let renderer = Renderer::new(ctx)
         .unwrap_or_else(|e| panic!("{e}"))
@@ -247,29 +257,7 @@ fn path_images_depend_on_the_seed_alone() {
 #[test]
 fn every_walk_gives_brute_force_radiance() {
     let scene = small_cornell_box(4);
-    let ctx = gpu();
-    let brute = {
-        let prepared = PreparedScene::new(scene.clone(), Accel::Brute);
-        let uploaded = GpuScene::upload(ctx, prepared).unwrap_or_else(|e| panic!("{e}"));
-        let renderer = Renderer::new(ctx).unwrap_or_else(|e| panic!("{e}"));
-        let (w, h) = (scene.render.width, scene.render.height);
-        let plan = TilePlan::new(w, h, u64::MAX, u64::MAX);
-        let mut out = Vec::new();
-        renderer
-            .render_bands_with_cost(
-                ctx,
-                uploaded.buffers(),
-                uploaded.frame_params(),
-                plan,
-                false,
-                &mut |band| {
-                    out.extend_from_slice(band.radiance.unwrap());
-                    Ok(())
-                },
-            )
-            .unwrap_or_else(|e| panic!("{e}"));
-        out
-    };
+    let (brute, _) = radiance_with(&scene, Accel::Brute, Traversal::default(), u64::MAX);
     for walk in Traversal::ALL {
         let (kd, _) = radiance(&scene, walk, TilePlan::DEFAULT_MAX_TILE_PIXELS);
         let differing = kd.iter().zip(&brute).filter(|(a, b)| a != b).count();
