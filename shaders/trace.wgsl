@@ -1,7 +1,8 @@
 // Entry points: camera rays, the bounded reflection loop, samples per pixel.
 // render_tile traces all k x k samples of each pixel of a tile and writes
-// 8-bit colour; accumulate_tile adds one stratified sample per pass (the
-// interactive window's progressive refinement). One invocation per pixel.
+// 8-bit colour (or, path traced, radiance sums); accumulate_tile adds one
+// sample per pass (the interactive window's and the page's progressive
+// refinement). One invocation per pixel.
 
 // Rays this invocation traced: primary, shadow, reflection.
 var<private> ray_counts: vec3<u32>;
@@ -183,15 +184,18 @@ fn accumulate_tile(@builtin(global_invocation_id) gid: vec3<u32>) {
         return;
     }
     let pixel = params.tile_origin + gid.xy;
-    var c: vec3<f32>;
+    let i = pixel.y * params.width + pixel.x;
     if (is_path()) {
-        c = radiance_sample(pixel, params.sample_index);
+        // Radiance, summed as add_radiance sums it (a sample that would
+        // make the sum non-finite adds nothing but still counts), so that
+        // pass n shows the headless render of n samples.
+        let old = accumulation[i];
+        let next = old.xyz + radiance_sample(pixel, params.sample_index);
+        accumulation[i] = vec4<f32>(select(old.xyz, next, is_finite3(next)), old.w + 1.0);
     } else {
         let k = params.samples_per_axis;
         let s = params.sample_index % (k * k);
-        c = trace_sample(pixel, s % k, s / k, k);
+        accumulation[i] += vec4<f32>(trace_sample(pixel, s % k, s / k, k), 1.0);
     }
-    let i = pixel.y * params.width + pixel.x;
-    accumulation[i] += vec4<f32>(c, 1.0);
     add_pixel_cost(i); // summed over passes, like the colour
 }

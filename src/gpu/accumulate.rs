@@ -12,7 +12,7 @@ use crate::error::Result;
 use crate::gpu::FrameParams;
 
 /// Bytes per pixel of the accumulation buffers (a `vec4<f32>`: the sum of the
-/// clamped samples and their count).
+/// samples, clamped Whitted colours or path radiance, and their count).
 pub const ACCUMULATION_TEXEL: u64 = 16;
 /// Bytes per pixel of the cost buffers (`bindings::PIXEL_COSTS`).
 pub const COST_TEXEL: u64 = bindings::COST_WORDS as u64 * 4;
@@ -171,9 +171,11 @@ impl Accumulation {
             encoder.clear_buffer(&t.costs, 0, Some(pixels * COST_TEXEL));
         }
         if let Some(params) = pass {
-            let pipeline = self
-                .pipelines
-                .get(ctx, self.scene_variant.with_walk_of(params))?;
+            let variant = KernelVariant {
+                integrator: params.integrator,
+                ..self.scene_variant.with_walk_of(params)
+            };
+            let pipeline = self.pipelines.get(ctx, variant)?;
             let group = t.group.for_pipeline(ctx, &pipeline)?;
             ctx.queue
                 .write_buffer(&self.params, 0, bytemuck::bytes_of(params));

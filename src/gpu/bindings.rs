@@ -458,11 +458,29 @@ pub fn wgsl_contract_without(chunks: SceneChunks, omitted: &[Binding]) -> String
     text
 }
 
-/// The present pass's generated declarations (the struct they name is in
-/// shaders/present.wgsl).
+/// The constants the present pass and the host agree on: how a pixel's
+/// mean becomes its shown level (`PresentParams::tone_map`).
+pub const PRESENT_CONSTANTS: [(&str, SharedValue); 3] = [
+    ("PRESENT_QUANTISE", SharedValue::U32(super::PRESENT_QUANTISE)),
+    ("PRESENT_ACES", SharedValue::U32(super::PRESENT_ACES)),
+    (
+        "PRESENT_CLAMP_SRGB",
+        SharedValue::U32(super::PRESENT_CLAMP_SRGB),
+    ),
+];
+
+/// The present pass's generated constants and declarations (the struct
+/// they name is in shaders/present.wgsl).
 pub fn wgsl_present_contract() -> String {
-    String::from("// Generated from src/gpu/bindings.rs: edit it there.\n")
-        + &declarations(&PRESENT_BINDINGS)
+    let mut text = String::from("// Generated from src/gpu/bindings.rs: edit it there.\n");
+    for (name, value) in PRESENT_CONSTANTS {
+        text += &format!(
+            "const {name}: {} = {};\n",
+            value.wgsl_type(),
+            value.wgsl_literal()
+        );
+    }
+    text + &declarations(&PRESENT_BINDINGS)
 }
 
 /// `@group(0) @binding(index) var<...> name: type;` for each of `bindings`.

@@ -112,7 +112,7 @@ pub struct GpuQueryHit {
 
 /// The window's present pass parameters (a uniform of shaders/present.wgsl).
 #[repr(C)]
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Pod, Zeroable)]
+#[derive(Debug, Clone, Copy, PartialEq, Pod, Zeroable)]
 pub struct PresentParams {
     /// Size of the image in the accumulation buffer.
     pub image_size: [u32; 2],
@@ -122,5 +122,36 @@ pub struct PresentParams {
     pub preview_size: [u32; 2],
     /// 0: show the preview only.
     pub show_image: u32,
+    /// How a pixel's mean becomes the shown level: [`PRESENT_QUANTISE`]
+    /// (Whitted colours and the heatmap, clamped), or [`PRESENT_ACES`] /
+    /// [`PRESENT_CLAMP_SRGB`] (path radiance, as `ToneMap::to_srgb8`).
+    pub tone_map: u32,
+    /// 2^exposure, the factor applied to path radiance before its curve.
+    pub exposure_scale: f32,
     pub _pad: u32,
+}
+
+/// [`PresentParams::tone_map`]: the mean clamped to [0, 1] and quantised.
+pub const PRESENT_QUANTISE: u32 = 0;
+/// [`PresentParams::tone_map`]: ACES, then sRGB (`ToneMap::Aces`).
+pub const PRESENT_ACES: u32 = 1;
+/// [`PresentParams::tone_map`]: clamped, then sRGB (`ToneMap::Clamp`).
+pub const PRESENT_CLAMP_SRGB: u32 = 2;
+
+impl PresentParams {
+    /// The `tone_map` and `exposure_scale` that show frames of `render`
+    /// traced with `integrator` as its PNG would be written.
+    pub fn tone_of(
+        integrator: crate::scene::Integrator,
+        render: &crate::scene::RenderSettings,
+    ) -> (u32, f32) {
+        use crate::scene::{Integrator, ToneMap};
+        match (integrator, render.tone_map) {
+            (Integrator::Whitted, _) => (PRESENT_QUANTISE, 1.0),
+            (Integrator::Path, ToneMap::Aces) => (PRESENT_ACES, render.exposure.exp2() as f32),
+            (Integrator::Path, ToneMap::Clamp) => {
+                (PRESENT_CLAMP_SRGB, render.exposure.exp2() as f32)
+            }
+        }
+    }
 }

@@ -37,7 +37,10 @@ pub use accumulate::{Accumulation, Target};
 pub use context::{max_binding_bytes, GpuContext};
 pub use frame_params::Accel;
 pub use gpu_scene::{GpuScene, UploadFailed};
-pub use kernel_io::{FrameParams, GpuQueryHit, GpuQueryRay, PresentParams, RayCounters};
+pub use kernel_io::{
+    FrameParams, GpuQueryHit, GpuQueryRay, PresentParams, RayCounters, PRESENT_ACES,
+    PRESENT_CLAMP_SRGB, PRESENT_QUANTISE,
+};
 pub use kernel_variant::KernelVariant;
 pub use prepared_scene::PreparedScene;
 pub use ray_query::{RayQueries, RayQuery};

@@ -276,8 +276,17 @@ mod tests {
     /// exactly the host's value (bit for bit for floats).
     #[test]
     fn kernel_constants_equal_the_hosts() {
-        let module = kernel([MAX_CHUNKS; SPLIT_ARRAY_COUNT]);
-        for (name, value) in SHARED_CONSTANTS {
+        constants_equal_the_hosts(&kernel([MAX_CHUNKS; SPLIT_ARRAY_COUNT]), &SHARED_CONSTANTS);
+    }
+
+    #[test]
+    fn present_constants_equal_the_hosts() {
+        let (module, _) = parse_and_validate(&present_source());
+        constants_equal_the_hosts(&module, &crate::gpu::bindings::PRESENT_CONSTANTS);
+    }
+
+    fn constants_equal_the_hosts(module: &naga::Module, constants: &[(&str, SharedValue)]) {
+        for &(name, value) in constants {
             let (_, constant) = module
                 .constants
                 .iter()
@@ -348,7 +357,7 @@ mod tests {
                     !code.contains("@binding("),
                     "{file} declares a binding: {line}"
                 );
-                for (name, _) in SHARED_CONSTANTS {
+                for (name, _) in SHARED_CONSTANTS.iter().chain(&bindings::PRESENT_CONSTANTS) {
                     assert!(
                         !code.trim_start().starts_with(&format!("const {name}:")),
                         "{file} declares {name}: {line}"

@@ -9,7 +9,7 @@ use serde_json::{json, Value};
 
 use crate::gpu::bindings::{
     self, Access, Binding, SharedValue, ACCUMULATE_TILE, OPTIONAL_BINDINGS, PRESENT_BINDINGS,
-    SHARED_CONSTANTS, UNSPLIT,
+    SHARED_CONSTANTS, UNSPLIT, PRESENT_CONSTANTS,
 };
 use crate::gpu::kernel_variant::OVERRIDES;
 use crate::gpu::{FrameParams, PresentParams};
@@ -98,6 +98,8 @@ fn present_params_fields() -> Vec<Field> {
         field!(PresentParams, target_size, "u32", 2),
         field!(PresentParams, preview_size, "u32", 2),
         field!(PresentParams, show_image, "u32", 1),
+        field!(PresentParams, tone_map, "u32", 1),
+        field!(PresentParams, exposure_scale, "f32", 1),
     ]
 }
 
@@ -118,6 +120,7 @@ fn struct_json(size: usize, fields: &[Field]) -> Value {
 pub fn contract_json() -> Value {
     let constants: serde_json::Map<String, Value> = SHARED_CONSTANTS
         .iter()
+        .chain(&PRESENT_CONSTANTS)
         .map(|&(name, value)| {
             let v = match value {
                 SharedValue::U32(v) => json!(v),

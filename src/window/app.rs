@@ -38,7 +38,7 @@ pub fn run(options: WindowOptions) -> Result<()> {
     };
     // Watch first, so a change made while the scene loads is not missed.
     let (files, scene) =
-        WatchList::record(|seen| reload::load(&options.scene, options.flags.build, seen));
+        WatchList::record(|seen| reload::load(&options.scene, &options.flags, seen));
     let watcher = SceneWatcher::new(files);
     let scene = scene?;
     let event_loop = EventLoop::new().map_err(|e| {
@@ -116,10 +116,10 @@ impl App {
     /// drawing the current one meanwhile.
     fn start_reload(&mut self) {
         let path = self.options.scene.clone();
-        let build = self.options.flags.build;
+        let flags = self.options.flags.clone();
         // The mesh list may have changed: the job also lists what to watch.
         self.reloads
-            .request(move || WatchList::record(|seen| reload::load(&path, build, seen)));
+            .request(move || WatchList::record(|seen| reload::load(&path, &flags, seen)));
         if let Some(session) = &mut self.session {
             session.title.reloading = true;
             session.update_title(&self.name, true);
@@ -235,6 +235,10 @@ impl App {
                 // makes the frames that show the other view.
                 session.heatmap = !session.heatmap;
                 session.refinement.invalidate();
+                session.update_title(&self.name, true);
+            }
+            Action::ToggleIntegrator => {
+                session.toggle_integrator(&self.options);
                 session.update_title(&self.name, true);
             }
             Action::DepthDown | Action::DepthUp => {

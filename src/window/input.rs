@@ -20,6 +20,7 @@ kdray window controls:
   T                  cycle the k-d walk: restart, ropes, short stack
   K                  cycle the k-d build: sah, median (rebuilds the tree)
   C                  toggle the cost heatmap (work per sample, false colour)
+  I                  toggle the integrator: whitted / path (progressive)
   [ ]                max_depth down / up
   Space              play / pause the scene's animation
   H                  this help
@@ -40,6 +41,8 @@ pub enum Action {
     CycleBuild,
     /// C: the cost heatmap instead of the shaded image, or back.
     ToggleHeatmap,
+    /// I: the other integrator (Whitted or path tracing).
+    ToggleIntegrator,
     DepthDown,
     DepthUp,
     /// Space: play or pause the scene's animation.
@@ -51,7 +54,7 @@ pub enum Action {
 /// The window's own keys, by the character they type (lower case), each
 /// acting once per press. A new key is one line here, one in [`HELP`] and
 /// one arm in `App::handle_key`.
-const WINDOW_KEYS: [(&str, Action); 10] = [
+const WINDOW_KEYS: [(&str, Action); 11] = [
     ("f", Action::Camera(ControlKey::FrameAll)),
     ("r", Action::Camera(ControlKey::Reset)),
     ("p", Action::Screenshot),
@@ -59,6 +62,7 @@ const WINDOW_KEYS: [(&str, Action); 10] = [
     ("t", Action::CycleTraversal),
     ("k", Action::CycleBuild),
     ("c", Action::ToggleHeatmap),
+    ("i", Action::ToggleIntegrator),
     ("[", Action::DepthDown),
     ("]", Action::DepthUp),
     ("h", Action::Help),

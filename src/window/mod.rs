@@ -38,6 +38,9 @@ use crate::render::RenderFlags;
 /// Samples per pixel the window refines to when neither the scene nor
 /// `--samples` asks for more.
 pub const DEFAULT_WINDOW_SAMPLES: u32 = 16;
+/// Path samples per pixel the window refines to when neither the scene nor
+/// `--samples` asks for more.
+pub const DEFAULT_WINDOW_PATH_SAMPLES: u32 = 256;
 
 /// What `kdray render SCENE --window ...` asked for.
 #[derive(Debug, Clone)]
@@ -46,7 +49,8 @@ pub struct WindowOptions {
     /// As for a render, but: `width` and `height` are the window's size in
     /// physical pixels (default: the scene's aspect ratio, fitted into 960 x
     /// 720 logical pixels); `samples` the samples per pixel to refine to
-    /// (default: the scene's, at least [`DEFAULT_WINDOW_SAMPLES`]); the
+    /// (default: the scene's, at least [`DEFAULT_WINDOW_SAMPLES`], or
+    /// [`DEFAULT_WINDOW_PATH_SAMPLES`] path traced); the
     /// walk and build are those to start with (T and K cycle them).
     pub flags: RenderFlags,
     /// Present this many frames, then exit.
@@ -64,11 +68,6 @@ impl WindowOptions {
         self.flags.check()?;
         if self.frames == Some(0) {
             return Err(Error::Usage("--frames: must be at least 1, got 0".into()));
-        }
-        if self.flags.integrator == Some(crate::scene::Integrator::Path) {
-            return Err(Error::Usage(
-                "--integrator path: the window traces the Whitted integrator only; render the path tracer without --window".into(),
-            ));
         }
         Ok(())
     }

@@ -5,9 +5,10 @@
 //! While the camera moves (and for [`SETTLE`] after its last change) a frame
 //! traces the *preview*: a fresh single-sample image at 1/s of the
 //! resolution, `s` in 1..=[`MAX_MOVING_SCALE`] adapted so a frame takes about
-//! [`MOVING_BUDGET_MS`]. While it is still, each frame adds stratified
-//! samples to the *image* (sample `n` of the k x k grid in pass `n`, the
-//! headless kernel's order) until every pixel holds all k * k; then the
+//! [`MOVING_BUDGET_MS`]. While it is still, each frame adds a sample to each
+//! pixel of the *image* (sample `n` in pass `n`, the headless kernel's
+//! order: a cell of the k x k grid for Whitted frames, a path sample for
+//! path-traced ones) until every pixel holds all its [`Samples`]; then the
 //! window idles. A pass that would take longer than [`STILL_BUDGET_MS`] is
 //! spread over several frames, a band of rows each, and the present pass
 //! shows the preview where the image has no sample yet. Any change restarts
@@ -87,11 +88,20 @@ impl FramePlan {
     }
 }
 
+/// The samples a pixel of the finished image holds.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Samples {
+    /// Whitted: the cells of a k x k grid, one a pass (k = `per_axis`).
+    Grid { per_axis: u32 },
+    /// Path traced: `count` samples at random positions, sample n in pass n.
+    Random { count: u32 },
+}
+
 /// The scheduler's state: the image being refined and what the frames so
 /// far taught about the device's speed.
 #[derive(Debug, Clone)]
 pub struct Refinement {
-    samples_per_axis: u32,
+    target: Samples,
     /// Most pixels one accumulation buffer holds on the device.
     max_pixels: u64,
     /// Size of the image being refined.
@@ -120,11 +130,11 @@ pub struct Refinement {
 }
 
 impl Refinement {
-    /// Refining to `samples_per_axis`² samples per pixel in images of at
-    /// most `max_pixels` pixels; the first frame is a preview.
-    pub fn new(samples_per_axis: u32, max_pixels: u64) -> Self {
+    /// Refining to `samples` per pixel in images of at most `max_pixels`
+    /// pixels; the first frame is a preview.
+    pub fn new(samples: Samples, max_pixels: u64) -> Self {
         Refinement {
-            samples_per_axis,
+            target: samples,
             max_pixels,
             image: (0, 0),
             preview: (0, 0),
@@ -141,14 +151,18 @@ impl Refinement {
         }
     }
 
-    /// A new sample count (a reload); call [`Self::invalidate`] too.
-    pub fn set_samples_per_axis(&mut self, samples_per_axis: u32) {
-        self.samples_per_axis = samples_per_axis;
+    /// A new sample count (a reload, another integrator); call
+    /// [`Self::invalidate`] too.
+    pub fn set_samples(&mut self, samples: Samples) {
+        self.target = samples;
     }
 
-    /// Samples per pixel of the finished image, k * k.
+    /// Samples per pixel of the finished image.
     pub fn samples(&self) -> u32 {
-        self.samples_per_axis * self.samples_per_axis
+        match self.target {
+            Samples::Grid { per_axis } => per_axis * per_axis,
+            Samples::Random { count } => count,
+        }
     }
 
     /// Samples per pixel in the image so far (complete passes).
@@ -285,7 +299,10 @@ impl Refinement {
             .min(self.image.1 - first_row);
         let pass = Pass {
             image: self.image,
-            samples_per_axis: self.samples_per_axis,
+            samples_per_axis: match self.target {
+                Samples::Grid { per_axis } => per_axis,
+                Samples::Random { .. } => 1,
+            },
             sample_index: self.passes,
             first_row,
             rows,
@@ -354,7 +371,7 @@ mod tests {
     #[test]
     fn a_preview_then_k_by_k_whole_passes_then_idle() {
         let t = Instant::now();
-        let mut r = Refinement::new(2, u64::MAX);
+        let mut r = Refinement::new(Samples::Grid { per_axis: 2 }, u64::MAX);
         assert!(r.has_work(t));
         let first = r.plan(t, (96, 64));
         // The default divisor before any measurement: 2.
@@ -399,6 +416,30 @@ mod tests {
         );
     }
 
+    /// Path-traced frames: any count of samples (here 5, not a square),
+    /// sample n in pass n, and a new count takes effect on restart.
+    #[test]
+    fn path_samples_refine_to_any_count_then_idle() {
+        let t = Instant::now();
+        let mut r = Refinement::new(Samples::Random { count: 5 }, u64::MAX);
+        assert_eq!(r.samples(), 5);
+        assert_eq!(r.plan(t, (96, 64)).kind, FrameKind::Moving);
+        let frames = still_frames(&mut r, t, (96, 64));
+        let passes: Vec<(u32, u32)> = frames
+            .iter()
+            .map(|p| {
+                let pass = p.pass.unwrap();
+                (pass.sample_index, pass.samples_per_axis)
+            })
+            .collect();
+        assert_eq!(passes, [(0, 1), (1, 1), (2, 1), (3, 1), (4, 1)]);
+        assert!(!r.has_work(t));
+        r.set_samples(Samples::Grid { per_axis: 3 });
+        r.invalidate();
+        assert_eq!(r.samples(), 9);
+        assert!(r.has_work(t));
+    }
+
     /// Refining k x k samples in a 1000 x 1000 window, past the first
     /// (preview) frame.
     fn large_window(k: u32) -> (Instant, Refinement) {
@@ -407,7 +448,7 @@ mod tests {
             "the bands below are multiples of 8 rows"
         );
         let t = Instant::now();
-        let mut r = Refinement::new(k, u64::MAX);
+        let mut r = Refinement::new(Samples::Grid { per_axis: k }, u64::MAX);
         assert_eq!(r.plan(t, (1000, 1000)).kind, FrameKind::Moving);
         (t, r)
     }
@@ -454,7 +495,7 @@ mod tests {
     #[test]
     fn moving_previews_then_one_restart_when_still() {
         let t = Instant::now();
-        let mut r = Refinement::new(2, u64::MAX);
+        let mut r = Refinement::new(Samples::Grid { per_axis: 2 }, u64::MAX);
         r.plan(t, (96, 64));
         r.plan(t, (96, 64));
         assert_eq!(r.passes(), 1);
@@ -477,7 +518,7 @@ mod tests {
     #[test]
     fn an_invalidation_shows_one_preview_then_restarts() {
         let t = Instant::now();
-        let mut r = Refinement::new(1, u64::MAX);
+        let mut r = Refinement::new(Samples::Grid { per_axis: 1 }, u64::MAX);
         assert_eq!(r.plan(t, (96, 64)).kind, FrameKind::Moving);
         assert_eq!(r.plan(t, (96, 64)).kind, FrameKind::Still);
         assert_eq!(r.plan(t, (96, 64)).kind, FrameKind::Idle);
@@ -496,7 +537,7 @@ mod tests {
 
     #[test]
     fn the_image_shrinks_to_what_one_buffer_holds() {
-        let r = Refinement::new(1, 1000);
+        let r = Refinement::new(Samples::Grid { per_axis: 1 }, 1000);
         assert_eq!(r.image_size((40, 25)), (40, 25));
         // 41 x 25 is over 1,000 pixels: half the size (rounded up) fits.
         assert_eq!(r.image_size((41, 25)), (21, 13));
@@ -506,7 +547,7 @@ mod tests {
     #[test]
     fn the_moving_scale_follows_the_moving_budget() {
         let t = Instant::now();
-        let mut r = Refinement::new(1, u64::MAX);
+        let mut r = Refinement::new(Samples::Grid { per_axis: 1 }, u64::MAX);
         assert_eq!(r.moving_scale(), 2);
         // Over 1.3 x 50 ms: coarser, up to 1/8.
         for expected in 3..=MAX_MOVING_SCALE {
@@ -534,7 +575,7 @@ mod tests {
     #[test]
     fn starting_to_move_picks_the_scale_the_still_speed_predicts() {
         let t = Instant::now();
-        let mut r = Refinement::new(1, u64::MAX);
+        let mut r = Refinement::new(Samples::Grid { per_axis: 1 }, u64::MAX);
         r.plan(t, (400, 300));
         // 0.001 ms per pixel: 120,000 pixels take 120 ms, so 1/s of the
         // resolution takes 120 / s^2 ms; s = ceil(sqrt(120 / 50)) = 2...

@@ -14,26 +14,25 @@ use std::path::{Path, PathBuf};
 use std::thread::JoinHandle;
 use std::time::{Duration, Instant, SystemTime};
 
-/// Loads `path` and prepares it with the k-d tree built by `strategy`: the
-/// window switches between the tree and brute force per frame (brute force
-/// only changes a flag the kernel reads), so the tree is always built.
-/// `seen` is told of every file read (the files to watch for hot reload).
+/// Loads `path` and prepares it with the k-d tree built by `flags.build`:
+/// the window switches between the tree and brute force per frame (brute
+/// force only changes a flag the kernel reads), so the tree is always built.
+/// `--integrator` and `--seed` replace the file's; the window applies the
+/// other flags itself. `seen` is told of every file read (the files to
+/// watch for hot reload).
 pub fn load(
     path: &Path,
-    strategy: crate::kdtree::BuildStrategy,
+    flags: &crate::render::RenderFlags,
     seen: &mut dyn FnMut(&Path),
 ) -> crate::Result<crate::gpu::PreparedScene> {
-    let scene = crate::scene::load_scene_observed(path, seen)?;
-    if scene.render.integrator == crate::scene::Integrator::Path {
-        return Err(crate::Error::Usage(format!(
-            "{}: the window traces the Whitted integrator only; render the path tracer with kdray render (no --window)",
-            path.display()
-        )));
-    }
+    let mut scene = crate::scene::load_scene_observed(path, seen)?;
+    let render = &mut scene.render;
+    render.integrator = flags.integrator.unwrap_or(render.integrator);
+    render.seed = flags.seed.unwrap_or(render.seed);
     Ok(crate::gpu::PreparedScene::built_by(
         scene,
         crate::gpu::Accel::Kdtree,
-        strategy,
+        flags.build,
     ))
 }
 

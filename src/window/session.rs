@@ -16,16 +16,16 @@ use winit::window::Window;
 use super::camera_controller::{Bounds, CameraController};
 use super::frame_stats::{FrameStats, ReportContext};
 use super::playback::Playback;
-use super::refinement::{FrameKind, FramePlan, Pass, Refinement};
+use super::refinement::{FrameKind, FramePlan, Pass, Refinement, Samples};
 use super::surface::{Acquired, WindowSurface};
 use super::title::{Progress, TitleBar, TitleFacts};
 use super::view::{FrameWork, PresentParams, Target, Viewer};
-use super::{WindowOptions, DEFAULT_WINDOW_SAMPLES};
+use super::{WindowOptions, DEFAULT_WINDOW_PATH_SAMPLES, DEFAULT_WINDOW_SAMPLES};
 use crate::error::{Error, Result};
 use crate::gpu::FrameParams;
 use crate::gpu::{Accel, GpuContext, GpuScene, PreparedScene};
 use crate::kdtree::Traversal;
-use crate::scene::{Camera, FramePath, RenderSettings, Scene};
+use crate::scene::{Camera, FramePath, Integrator, RenderSettings, Scene};
 
 /// The largest window opened for a scene's own size, in logical pixels.
 const DEFAULT_WINDOW: (f64, f64) = (960.0, 720.0);
@@ -47,6 +47,9 @@ pub(super) struct Session {
     pub(super) traversal: Traversal,
     /// Show the cost heatmap instead of the image (C toggles it).
     pub(super) heatmap: bool,
+    /// The integrator traced: the scene's (after --integrator) until I
+    /// toggles it.
+    pub(super) integrator: Integrator,
     pub(super) max_depth: u32,
     pub(super) refinement: Refinement,
     /// The scene's animation: the frame shown, played by Space.
@@ -75,17 +78,29 @@ fn window_size(options: &WindowOptions, scene: &Scene) -> Size {
     }
 }
 
-/// k of the k x k samples per pixel the window refines to.
-fn window_samples_per_axis(options: &WindowOptions, scene: &Scene) -> u32 {
+/// The samples per pixel the window refines to: --samples, else the
+/// scene's, at least [`DEFAULT_WINDOW_SAMPLES`] (Whitted frames: the k x k
+/// grid of that count) or [`DEFAULT_WINDOW_PATH_SAMPLES`] (path-traced
+/// frames, sample n as `kdray render` traces it).
+fn window_samples(options: &WindowOptions, scene: &Scene, integrator: Integrator) -> Samples {
+    if integrator == Integrator::Path {
+        return Samples::Random {
+            count: options
+                .flags
+                .samples
+                .unwrap_or_else(|| scene.render.samples.max(DEFAULT_WINDOW_PATH_SAMPLES)),
+        };
+    }
     let samples = options
         .flags
         .samples
         .unwrap_or_else(|| scene.render.samples.max(DEFAULT_WINDOW_SAMPLES));
-    RenderSettings {
+    let per_axis = RenderSettings {
         samples,
         ..scene.render
     }
-    .samples_per_axis()
+    .samples_per_axis();
+    Samples::Grid { per_axis }
 }
 
 /// The frame rate the window plays `scene`'s animation at.
@@ -104,11 +119,13 @@ fn bounds(scene: &GpuScene) -> Bounds {
 
 /// The kernel's parameters for `pass` of `scene` seen from `camera` in a
 /// `w` x `h` window.
+#[allow(clippy::too_many_arguments)]
 fn pass_params(
     scene: &GpuScene,
     camera: &Camera,
     max_depth: u32,
     accel: Accel,
+    integrator: Integrator,
     pass: &Pass,
     (w, h): (u32, u32),
 ) -> FrameParams {
@@ -117,6 +134,7 @@ fn pass_params(
         width: iw,
         height: ih,
         max_depth,
+        integrator,
         ..scene.scene().render
     };
     let mut p = scene.view_params(camera, &render, accel);
@@ -170,7 +188,8 @@ impl Session {
         scene.write_lights(&ctx, &path.lights_at(playback.frame()));
         let controller = CameraController::new(home, bounds(&scene), width, height);
         let file_max_depth = scene.scene().render.max_depth;
-        let k = window_samples_per_axis(options, scene.scene());
+        let integrator = scene.scene().render.integrator;
+        let samples = window_samples(options, scene.scene(), integrator);
         let now = Instant::now();
         Ok(Session {
             window,
@@ -183,8 +202,9 @@ impl Session {
             accel: options.flags.accel,
             traversal: options.flags.traversal,
             heatmap: false,
+            integrator,
             max_depth: file_max_depth,
-            refinement: Refinement::new(k, max_pixels),
+            refinement: Refinement::new(samples, max_pixels),
             playback,
             path,
             last_update: now,
@@ -215,11 +235,23 @@ impl Session {
             self.file_max_depth = max_depth;
             self.max_depth = max_depth;
         }
+        self.integrator = scene.scene().render.integrator;
         self.refinement
-            .set_samples_per_axis(window_samples_per_axis(options, scene.scene()));
+            .set_samples(window_samples(options, scene.scene(), self.integrator));
         self.scene = scene;
         self.refinement.invalidate();
         Ok(())
+    }
+
+    /// Traces the other integrator from now on (I), refined to its samples.
+    pub(super) fn toggle_integrator(&mut self, options: &WindowOptions) {
+        self.integrator = match self.integrator {
+            Integrator::Whitted => Integrator::Path,
+            Integrator::Path => Integrator::Whitted,
+        };
+        self.refinement
+            .set_samples(window_samples(options, self.scene.scene(), self.integrator));
+        self.refinement.invalidate();
     }
 
     /// Moves the camera to the animation's shown frame (the frame's camera
@@ -309,14 +341,24 @@ impl Session {
     pub(super) fn frame_work(&mut self, plan: &FramePlan, window: (u32, u32)) -> FrameWork {
         let camera = self.controller.camera();
         let pass = plan.pass.map(|p| {
-            pass_params(&self.scene, &camera, self.max_depth, self.accel, &p, window)
-                .with_traversal(self.traversal)
+            pass_params(
+                &self.scene,
+                &camera,
+                self.max_depth,
+                self.accel,
+                self.integrator,
+                &p,
+                window,
+            )
+            .with_traversal(self.traversal)
         });
         let (target, show_image) = match plan.kind {
             FrameKind::Moving => (Target::Preview, 0),
             FrameKind::Still | FrameKind::Idle => (Target::Image, 1),
         };
         let (tw, th) = plan.target_size();
+        let (tone_map, exposure_scale) =
+            PresentParams::tone_of(self.integrator, &self.scene.scene().render);
         FrameWork {
             target,
             clear_pixels: plan.clear.then_some(tw as u64 * th as u64),
@@ -326,6 +368,8 @@ impl Session {
                 target_size: [window.0, window.1],
                 preview_size: [plan.preview.0, plan.preview.1],
                 show_image,
+                tone_map,
+                exposure_scale,
                 _pad: 0,
             },
         }
@@ -344,6 +388,7 @@ impl Session {
             Progress::Refining {
                 passes: self.refinement.passes(),
                 samples: self.refinement.samples(),
+                path: self.integrator == Integrator::Path,
             }
         };
         let (frame_ms, mrays) = self.stats.smoothed();

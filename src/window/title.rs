@@ -14,8 +14,8 @@ pub const TITLE_INTERVAL: Duration = Duration::from_millis(250);
 pub enum Progress {
     /// The camera moves: previews at 1/`scale` of the resolution.
     Moving { scale: u32 },
-    /// `passes` of `samples` samples per pixel.
-    Refining { passes: u32, samples: u32 },
+    /// `passes` of `samples` samples per pixel (path samples if `path`).
+    Refining { passes: u32, samples: u32, path: bool },
 }
 
 /// Everything the title says.
@@ -83,7 +83,16 @@ impl TitleBar {
     pub fn text(&self, facts: &TitleFacts) -> String {
         let progress = match facts.progress {
             Progress::Moving { scale } => format!("moving, 1/{scale} resolution"),
-            Progress::Refining { passes, samples } => format!("{passes}/{samples} spp"),
+            Progress::Refining {
+                passes,
+                samples,
+                path: false,
+            } => format!("{passes}/{samples} spp"),
+            Progress::Refining {
+                passes,
+                samples,
+                path: true,
+            } => format!("path traced, {passes}/{samples} spp"),
         };
         let accel = match facts.accel {
             Accel::Kdtree => format!("kdtree {} {}", facts.build, facts.traversal),
@@ -125,6 +134,7 @@ mod tests {
             progress: Progress::Refining {
                 passes: 3,
                 samples: 16,
+                path: false,
             },
             frame_ms: 12.345,
             mrays: 1.5,
@@ -155,6 +165,16 @@ mod tests {
              - frame 12/48 playing"
         );
         facts.animation = None;
+        facts.progress = Progress::Refining {
+            passes: 7,
+            samples: 256,
+            path: true,
+        };
+        assert_eq!(
+            bar.text(&facts),
+            "seed.toml - path traced, 7/256 spp - 12.3 ms - 1.50 Mrays/s - kdtree median \
+             short-stack - depth 5"
+        );
         facts.progress = Progress::Moving { scale: 4 };
         facts.accel = Accel::Brute;
         bar.reloading = true;

@@ -193,8 +193,16 @@ impl Viewer {
         } else {
             self.heatmap = None;
         }
+        // The heatmap's texels are levels already: quantised, not tone mapped.
+        let present = match self.heatmap {
+            Some(_) => PresentParams {
+                tone_map: crate::gpu::PRESENT_QUANTISE,
+                ..work.present
+            },
+            None => work.present,
+        };
         ctx.queue
-            .write_buffer(&self.present_params, 0, bytemuck::bytes_of(&work.present));
+            .write_buffer(&self.present_params, 0, bytemuck::bytes_of(&present));
         self.draw(&mut encoder, &self.present, target);
         ctx.queue.submit([encoder.finish()]);
         Ok(())
@@ -434,6 +442,8 @@ mod tests {
                 target_size: [w, h],
                 preview_size: [0, 0],
                 show_image: 1,
+                tone_map: crate::gpu::PRESENT_QUANTISE,
+                exposure_scale: 1.0,
                 _pad: 0,
             },
         };

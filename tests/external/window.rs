@@ -1,6 +1,7 @@
 //! The interactive window (`kdray render SCENE --window`), run for real
-//! under Xvfb: its screenshot after refining to k * k samples matches the
-//! headless render (for an animated scene, of its frame's lights too), and
+//! under Xvfb: its screenshot after refining to k * k samples (or path
+//! samples) matches the headless render (for an animated scene, of its
+//! frame's lights too), and
 //! hot reload picks up edits of the scene file and of an OBJ it uses and
 //! survives a broken file. The camera controls are unit
 //! tests in src/window/camera_controller.rs (the same code path the event
@@ -187,10 +188,11 @@ fn run(mut command: Command) -> (ExitStatus, String, String) {
     )
 }
 
-/// `kdray render SCENE --samples 4 -o OUT` at the tests' size.
-fn headless(dir: &Path, scene: &Path, out: &Path) -> Vec<u8> {
+/// `kdray render SCENE --samples 4 -o OUT` at the tests' size, with
+/// `extra` flags.
+fn headless_with(dir: &Path, scene: &Path, out: &Path, extra: &[&str]) -> Vec<u8> {
     let mut command = kdray(dir);
-    command.args(["render".as_ref(), scene.as_os_str()]).args([
+    command.args(["render".as_ref(), scene.as_os_str()]).args(extra).args([
         "--width",
         &W.to_string(),
         "--height",
@@ -203,6 +205,10 @@ fn headless(dir: &Path, scene: &Path, out: &Path) -> Vec<u8> {
     let (status, _, stderr) = run(command);
     assert!(status.success(), "headless render failed: {stderr}");
     read(out)
+}
+
+fn headless(dir: &Path, scene: &Path, out: &Path) -> Vec<u8> {
+    headless_with(dir, scene, out, &[])
 }
 
 fn read(path: &Path) -> Vec<u8> {
@@ -246,14 +252,28 @@ fn clearly_differ(a: &[u8], b: &[u8]) -> bool {
     compare(a, b, W, H, 2).pixels_over > (W * H) as usize / 100
 }
 
+/// Whitted scenes, a path-traced one, and a Whitted scene path traced by
+/// flag: the window's picture after 4 samples (a k x k grid, or 4 path
+/// samples tone-mapped by the present pass) is the headless render's.
 #[test]
 fn still_window_screenshot_matches_the_headless_render() {
     let x = Xvfb::start();
     let dir = temp_dir("match");
     let mut failures = Vec::new();
-    for name in ["seed", "torus"] {
-        let scene = repo_path(&format!("scenes/{name}.toml"));
-        let expected = headless(&dir, &scene, &dir.join(format!("{name}-headless.png")));
+    let cases: [(&str, &str, &[&str]); 4] = [
+        ("seed", "seed", &[]),
+        ("torus", "torus", &[]),
+        ("cornell_box", "cornell_box", &[]),
+        ("seed-path", "seed", &["--integrator", "path"]),
+    ];
+    for (name, file, extra) in cases {
+        let scene = repo_path(&format!("scenes/{file}.toml"));
+        let expected = headless_with(
+            &dir,
+            &scene,
+            &dir.join(format!("{name}-headless.png")),
+            extra,
+        );
         // A preview frame, then the 4 samples, then the finished image
         // presented again. A pass is one frame, or on a slow (loaded)
         // machine bands of at least 8 rows: at most 4 x 8 frames.
@@ -263,11 +283,12 @@ fn still_window_screenshot_matches_the_headless_render() {
             .env("DISPLAY", &x.display)
             .env_remove("WAYLAND_DISPLAY")
             .args(window_args(&scene, &shot))
+            .args(extra)
             .args(["--frames", "40", "--stats"]);
         let (status, stdout, stderr) = run(command);
         assert!(status.success(), "{name}: the window failed: {stderr}");
         assert!(
-            stderr.contains(&format!("{name}.toml: {W}x{H} window on")),
+            stderr.contains(&format!("{file}.toml: {W}x{H} window on")),
             "{name}: {stderr}"
         );
         // The figures count those frames: every frame but the first (which
@@ -305,6 +326,7 @@ fn still_window_screenshot_matches_the_headless_render() {
             .env("DISPLAY", &x.display)
             .env_remove("WAYLAND_DISPLAY")
             .args(window_args(&scene, &first))
+            .args(extra)
             .args(["--frames", "1"]);
         let (status, _, stderr) = run(command);
         assert!(status.success(), "{name}: the window failed: {stderr}");
