@@ -1,6 +1,7 @@
 // The page: loads contract.json, the kernel and the bundle, checks them,
 // and refines the image progressively (one sample per pixel per pass, a
-// reduced-resolution preview while the camera moves), as the native window;
+// reduced-resolution preview while the camera moves), as the native window,
+// with the Whitted integrator or path traced (URL `integrator`, key I);
 // plays an animated scene's frames (Space) from the bundle's cameras and
 // frame lights, and shows the cost heatmap (C). docs/web.md states its
 // contract: URL parameters, document.title, window.kdray.png(), keys.
@@ -10,6 +11,10 @@ import { Camera, attachPointer } from './controls.js';
 import { Tracer, PageError, openGpu, setField } from './tracer.js';
 
 const WALKS = ['restart', 'ropes', 'short-stack'];
+const INTEGRATORS = ['whitted', 'path'];
+// Path samples the page refines to when toggled to path tracing (I) and
+// neither the URL nor a path-traced scene says how many, as the window.
+const DEFAULT_PATH_SAMPLES = 256;
 const canvas = document.getElementById('view');
 const overlay = document.getElementById('overlay');
 const message = document.getElementById('message');
@@ -18,6 +23,8 @@ const query = new URLSearchParams(location.search);
 const state = {
   tracer: null, bundle: null, camera: null, contract: null,
   width: 0, height: 0, samples: 1, walk: 'short-stack', brute: false, maxDepth: 0,
+  // The integrator traced, and the samples each refines to.
+  integrator: 'whitted', samplesOf: { whitted: 1, path: 1 },
   sample: 0, restart: true, lastMove: -Infinity, frameMs: 0, error: null, done: false,
   // The shown animation frame of `cameras` (null for a still scene); while
   // playing, `playing` holds the time (ms) and the frame it started from.
@@ -79,17 +86,28 @@ function camerasFrom(bundle, format) {
 function settingsFrom(info) {
   const width = intParam('width', info.width);
   const height = intParam('height', info.height);
+  const integrator = query.get('integrator') ?? info.integrator;
+  if (!INTEGRATORS.includes(integrator)) throw new PageError(`integrator=${integrator} is not one of ${INTEGRATORS.join(', ')}`);
   const samples = intParam('samples', info.samples);
   const frameText = query.get('frame');
   const frame = frameText === null ? 0 : Number(frameText);
   if (!Number.isInteger(frame) || frame < 0) throw new PageError(`URL parameter frame=${frameText} is not a frame number (0, 1, ...)`);
   const k = Math.round(Math.sqrt(samples));
-  if (k * k !== samples) throw new PageError(`samples=${samples} is not a perfect square`);
+  if (integrator === 'whitted' && k * k !== samples) {
+    throw new PageError(`samples=${samples} is not a perfect square (as the Whitted integrator needs)`);
+  }
+  // The other integrator's count, for I: the scene's own where it fits.
+  const whitted = integrator === 'whitted' ? samples : (Math.round(Math.sqrt(info.samples)) ** 2 || 1);
+  const path = integrator === 'path' ? samples
+    : info.integrator === 'path' ? info.samples : Math.max(info.samples, DEFAULT_PATH_SAMPLES);
   const traversal = query.get('traversal') ?? info.traversal;
   if (!WALKS.includes(traversal)) throw new PageError(`traversal=${traversal} is not one of ${WALKS.join(', ')}`);
   const accel = query.get('accel') ?? 'kdtree';
   if (!['kdtree', 'brute'].includes(accel)) throw new PageError(`accel=${accel} is not kdtree or brute`);
-  return { width, height, samples, walk: traversal, brute: accel === 'brute', frame };
+  return {
+    width, height, samples, walk: traversal, brute: accel === 'brute', frame,
+    integrator, samplesOf: { whitted, path },
+  };
 }
 
 // The kernel's uniform for one pass of `width` x `height`, sample `k`.
@@ -110,7 +128,10 @@ function frameParams(width, height, k) {
   setField(layout, bytes, 'aspect', width / height);
   setField(layout, bytes, 'width', width);
   setField(layout, bytes, 'height', height);
-  setField(layout, bytes, 'samples_per_axis', Math.round(Math.sqrt(state.samples)));
+  const path = state.integrator === 'path';
+  setField(layout, bytes, 'integrator', path ? c.INTEGRATOR_PATH : c.INTEGRATOR_WHITTED);
+  setField(layout, bytes, 'samples', state.samples);
+  setField(layout, bytes, 'samples_per_axis', path ? 1 : Math.round(Math.sqrt(state.samples)));
   setField(layout, bytes, 'tile_origin', [0, 0]);
   setField(layout, bytes, 'tile_size', [width, height]);
   setField(layout, bytes, 'max_depth', state.maxDepth);
@@ -122,6 +143,13 @@ function frameParams(width, height, k) {
 }
 
 function walkName() { return state.brute ? 'brute' : state.walk; }
+
+// I: the other integrator, refined to its own samples.
+function toggleIntegrator() {
+  state.integrator = state.integrator === 'path' ? 'whitted' : 'path';
+  state.samples = state.samplesOf[state.integrator];
+  restart();
+}
 
 function restart() { state.restart = true; state.sample = 0; state.done = false; state.passMs = []; }
 
@@ -171,7 +199,7 @@ function updateOverlay() {
   const mrays = frameMs > 0 ? (width * height) / (frameMs * 1e3) : 0;
   const lines = [
     `${state.bundle.info.name}  ${width} x ${height}`,
-    `samples ${sample}/${samples}`,
+    `samples ${sample}/${samples}${state.integrator === 'path' ? ' path traced' : ''}`,
     `frame ${frameMs.toFixed(1)} ms  ${mrays.toFixed(2)} Mrays/s primary`,
     `walk ${walkName()}  max_depth ${state.maxDepth}`,
   ];
@@ -194,9 +222,9 @@ async function step() {
   const started = performance.now();
   if (started - state.lastMove < MOVE_SETTLE_MS) {
     const { pw, ph } = tracer.size;
-    await tracer.pass('preview', frameParams(pw, ph, 0), walkName(), true, false, state.heatmap);
+    await tracer.pass('preview', frameParams(pw, ph, 0), walkName(), true, false, state.heatmap, state.integrator);
   } else if (state.sample < state.samples) {
-    await tracer.pass('image', frameParams(width, height, state.sample), walkName(), state.restart, true, state.heatmap);
+    await tracer.pass('image', frameParams(width, height, state.sample), walkName(), state.restart, true, state.heatmap, state.integrator);
     state.restart = false;
     state.sample += 1;
     state.passMs.push(performance.now() - started);
@@ -245,7 +273,7 @@ function loadBundle(bytes) {
   frameLights?.write(state.frame);
   // The preview: a quarter of the width and height (at least 1).
   state.tracer.resize(state.width, state.height, Math.max(1, state.width >> 2), Math.max(1, state.height >> 2));
-  state.tracer.pipelineFor(walkName());
+  state.tracer.pipelineFor(walkName(), false, state.integrator);
   restart();
 }
 
@@ -283,6 +311,7 @@ const KEYS = {
   ' ': () => togglePlay(),
   // The costs accumulate with the colours: refine again to show the other.
   c: () => { state.heatmap = !state.heatmap; restart(); },
+  i: () => toggleIntegrator(),
 };
 
 async function main() {

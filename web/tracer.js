@@ -109,6 +109,10 @@ export class Tracer {
     }
     this.needs = new Set(bundle.info.needs);
     this.glass = bundle.info.glass === true;
+    // How path radiance is shown ([render] tone_map and exposure).
+    this.pathToneMap = bundle.info.path_tone_map;
+    this.exposureScale = bundle.info.exposure_scale;
+    this.toneMap = this.contract.constants.PRESENT_QUANTISE;
     this.groups = new Map();
   }
 
@@ -150,10 +154,10 @@ export class Tracer {
   }
 
   // The pipeline and its layout for `walk` on the loaded scene, counting
-  // the walks' work if `costs`.
-  pipelineFor(walk, costs = false) {
+  // the walks' work if `costs`, tracing `integrator` ('whitted' or 'path').
+  pipelineFor(walk, costs = false, integrator = 'whitted') {
     const { omitted, bindings, key } = this.bindingsFor(walk, costs);
-    const id = `${walk}|${key}|${costs}`;
+    const id = `${walk}|${key}|${costs}|${integrator}`;
     if (!this.pipelines.has(id)) {
       const c = this.contract.constants;
       const traversal = { restart: c.TRAVERSAL_RESTART, ropes: c.TRAVERSAL_ROPES, 'short-stack': c.TRAVERSAL_SHORT_STACK };
@@ -167,8 +171,8 @@ export class Tracer {
         COUNT_COSTS: costs ? 1 : 0,
         GLASS: this.glass ? 1 : 0,
         TEXTURES: this.needs.has('textures') ? 1 : 0,
-        // The page traces the Whitted integrator, into the accumulation buffer.
-        INTEGRATOR: c.INTEGRATOR_WHITTED,
+        // Into the accumulation buffer, either integrator.
+        INTEGRATOR: integrator === 'path' ? c.INTEGRATOR_PATH : c.INTEGRATOR_WHITTED,
         RADIANCE_OUTPUT: 0,
       };
       for (const name of this.contract.overrides) {
@@ -240,10 +244,12 @@ export class Tracer {
   }
 
   // One pass: clears `target` (and its costs) first if `clear`, adds one
-  // sample with `params` (the frame's uniform bytes), then presents the
-  // image, or with `costs` the cost heatmap.
-  async pass(target, params, walk, clear, showImage, costs = false) {
-    const p = this.pipelineFor(walk, costs);
+  // sample with `params` (the frame's uniform bytes) of `integrator`, then
+  // presents the image (path radiance tone-mapped), or with `costs` the
+  // cost heatmap.
+  async pass(target, params, walk, clear, showImage, costs = false, integrator = 'whitted') {
+    const p = this.pipelineFor(walk, costs, integrator);
+    this.toneMap = integrator === 'path' ? this.pathToneMap : this.contract.constants.PRESENT_QUANTISE;
     this.device.queue.writeBuffer(this.frameParams, 0, params);
     const pp = new ArrayBuffer(this.contract.present.params.size);
     const layout = this.contract.present.params;
@@ -251,6 +257,9 @@ export class Tracer {
     setField(layout, pp, 'target_size', [this.canvas.width, this.canvas.height]);
     setField(layout, pp, 'preview_size', [this.size.pw, this.size.ph]);
     setField(layout, pp, 'show_image', showImage ? 1 : 0);
+    // The heatmap's texels are levels already: quantised, never tone mapped.
+    setField(layout, pp, 'tone_map', costs ? this.contract.constants.PRESENT_QUANTISE : this.toneMap);
+    setField(layout, pp, 'exposure_scale', this.exposureScale);
     this.device.queue.writeBuffer(this.presentParams, 0, pp);
     const encoder = this.device.createCommandEncoder();
     const buffer = target === 'image' ? this.image : this.preview;
@@ -329,7 +338,8 @@ export class Tracer {
 
   // The image's pixels (or, while the heatmap is shown, the heatmap's) read
   // back from the GPU as RGBA8, quantised as the present pass and
-  // render_tile quantise: floor(255 * clamp(sum / n) + 0.5).
+  // render_tile quantise: floor(255 * clamp(sum / n) + 0.5), path radiance
+  // first through the present pass's curve (toneMapped).
   async readImage() {
     const { width, height } = this.size;
     const bytes = width * height * this.contract.accumulate.texel_bytes;
@@ -338,14 +348,30 @@ export class Tracer {
     const sums = new Float32Array(data);
     const rgba = new Uint8ClampedArray(width * height * 4);
     const f = Math.fround;
+    const tone = this.heatScale === null ? this.toneMap : this.contract.constants.PRESENT_QUANTISE;
     for (let i = 0; i < width * height; i++) {
       const n = sums[4 * i + 3];
       for (let c = 0; c < 3; c++) {
-        const v = n > 0 ? Math.min(Math.max(f(sums[4 * i + c] / n), 0), 1) : 0;
+        const v = n > 0 ? this.toneMapped(f(sums[4 * i + c] / n), tone) : 0;
         rgba[4 * i + c] = Math.floor(f(f(255 * v) + 0.5));
       }
       rgba[4 * i + 3] = 255;
     }
     return rgba;
+  }
+
+  // present.wgsl's tone_mapped for one channel's mean (f32 steps).
+  toneMapped(mean, tone) {
+    const f = Math.fround;
+    const c = this.contract.constants;
+    const clamp01 = (x) => Math.min(Math.max(x, 0), 1);
+    if (tone === c.PRESENT_QUANTISE) return clamp01(mean);
+    let v = f(mean * this.exposureScale);
+    if (tone === c.PRESENT_ACES) {
+      v = Math.max(v, 0);
+      v = f(f(v * f(f(2.51 * v) + 0.03)) / f(f(v * f(f(2.43 * v) + 0.59)) + 0.14));
+    }
+    const x = clamp01(v);
+    return x <= f(0.0031308) ? f(12.92 * x) : f(f(1.055 * f(Math.pow(x, f(1 / 2.4)))) - 0.055);
   }
 }

@@ -27,7 +27,8 @@
 
 use serde::Serialize;
 
-use crate::gpu::FrameParams;
+use crate::gpu::{FrameParams, PresentParams};
+use crate::scene::Integrator;
 use crate::gpu::{Accel, PreparedScene};
 use crate::kdtree::Traversal;
 
@@ -62,15 +63,26 @@ pub struct SceneInfo {
     pub camera: CameraInfo,
     pub width: u32,
     pub height: u32,
-    /// Samples per pixel, a perfect square.
+    /// Samples per pixel: a perfect square for the Whitted integrator, any
+    /// count path traced.
     pub samples: u32,
+    /// The scene's integrator, `whitted` or `path` (the page's `integrator`
+    /// URL parameter and the I key change it).
+    pub integrator: &'static str,
+    /// How the present pass shows path radiance: `PRESENT_ACES` or
+    /// `PRESENT_CLAMP_SRGB` (`[render] tone_map`), and 2^exposure.
+    pub path_tone_map: u32,
+    pub exposure_scale: f32,
     pub max_depth: u32,
     /// The tree's root cell, `[min, max]`: where the page frames the view.
     pub bounds: [[f32; 3]; 2],
     pub spheres: u32,
     pub triangles: u32,
     pub smooth_triangles: u32,
+    /// Point lights: the first entries of the lights buffer, the ones a
+    /// `frame_lights` frame replaces; the emitters follow them.
     pub lights: u32,
+    pub emitters: u32,
     pub kd_nodes: u32,
     pub leaf_references: u32,
     /// The storage buffers the scene's kernel reads: `gpu::bindings::Need`
@@ -131,12 +143,16 @@ pub fn encode(prepared: &PreparedScene, name: &str) -> Vec<u8> {
         width: scene.render.width,
         height: scene.render.height,
         samples: scene.render.samples,
+        integrator: crate::choice::Choice::name(scene.render.integrator),
+        path_tone_map: PresentParams::tone_of(Integrator::Path, &scene.render).0,
+        exposure_scale: PresentParams::tone_of(Integrator::Path, &scene.render).1,
         max_depth: scene.render.max_depth,
         bounds: [arrays.bounds.min.to_array(), arrays.bounds.max.to_array()],
         spheres,
         triangles,
         smooth_triangles: arrays.triangle_normals.len() as u32,
-        lights: arrays.lights.len() as u32,
+        lights: arrays.point_light_count(),
+        emitters: arrays.emitter_count,
         kd_nodes: arrays.nodes.len() as u32,
         leaf_references: arrays.leaf_objects.len() as u32,
         needs,

@@ -29,12 +29,6 @@ pub const PAGE_FILES: [(&str, &str); 6] = [
 pub fn export_site(scene_path: &Path, dir: &Path) -> Result<()> {
     check_site_dir(dir)?;
     let scene = crate::scene::load_scene(scene_path)?;
-    if scene.render.integrator == crate::scene::Integrator::Path {
-        return Err(Error::Usage(format!(
-            "{}: the page traces the Whitted integrator only; render the path tracer with kdray render",
-            scene_path.display()
-        )));
-    }
     let name = scene_path
         .file_name()
         .map_or("scene".into(), |n| n.to_string_lossy().into_owned());

@@ -6,7 +6,10 @@
 //! Every scene's page image equals the native render within the golden
 //! budget; bad, truncated and newer-version bundles show their errors; a
 //! drag changes the view and restarts refinement; the overlay names the
-//! adapter. An animated scene's `frame=k` page equals the native render of
+//! adapter. Path-traced scenes, and the seed path traced by URL
+//! (`integrator=path&samples=4`), equal the native render of those samples
+//! within the path tracer's budget; I switches the page to the other
+//! integrator. An animated scene's `frame=k` page equals the native render of
 //! frame k (its camera, and its lights where they have keys) and Space
 //! plays it; C shows the cost heatmap and C again the image as before.
 
@@ -116,26 +119,29 @@ fn pages_trace_every_scene_as_the_native_renderer_does_and_show_their_errors() {
         let name = path.file_stem().unwrap().to_string_lossy().into_owned();
         let run = run_kdray(&out, &["web", path.to_str().unwrap(), "-o", &name], &[]);
         let scene = small_scene(&path);
-        if scene.render.integrator == kdray::scene::Integrator::Path {
-            // The page traces the Whitted integrator only, and says so.
-            assert_eq!(run.code, 2, "{name}: {run:?}");
-            assert!(
-                run.one_error_line().contains("Whitted integrator only"),
-                "{run:?}"
-            );
-            assert!(!out.join(&name).exists(), "{name}: a site was written");
-            continue;
-        }
         assert_eq!(run.code, 0, "{}", run.stderr_text());
-        let (w, h) = (scene.render.width, scene.render.height);
+        let (w, h, n) = (scene.render.width, scene.render.height, scene.render.samples);
         jobs.push(serde_json::json!({
-            "url": format!("/{name}/index.html?width={w}&height={h}"),
+            "url": format!("/{name}/index.html?width={w}&height={h}&samples={n}"),
             "png": out.join(format!("{name}.page.png")),
             "drag": if name == "seed" { serde_json::json!(out.join("seed.dragged.png")) } else { serde_json::json!(null) },
             "screenshot": if name == "seed" { serde_json::json!(out.join("page-screenshot.png")) } else { serde_json::json!(null) },
         }));
         scenes.push((name, scene));
     }
+    // A Whitted scene path traced by URL: as `render --integrator path`.
+    let mut seed_path = small_scene(&repo_path("scenes/seed.toml"));
+    seed_path.render.integrator = kdray::scene::Integrator::Path;
+    seed_path.render.samples = 4;
+    let (w, h) = (seed_path.render.width, seed_path.render.height);
+    jobs.push(serde_json::json!({
+        "url": format!("/seed/index.html?width={w}&height={h}&integrator=path&samples=4"),
+        "png": out.join("seed-path.page.png"),
+        "drag": null,
+        "screenshot": null,
+        "toggle": out.join("seed-path.toggled.png"),
+    }));
+    scenes.push(("seed-path".into(), seed_path));
     // Broken bundles beside the seed's.
     let good = std::fs::read(out.join("seed/scene.kdray")).unwrap();
     let mut bad_magic = good.clone();
@@ -173,7 +179,8 @@ fn pages_trace_every_scene_as_the_native_renderer_does_and_show_their_errors() {
         let (w, h, page) = read_png_rgb(&out.join(format!("{name}.page.png"))).unwrap();
         assert_eq!((w, h), (native.width, native.height), "{name}");
         let d = compare(&native.rgb, &page, w, h, 2);
-        let budget = (w * h) as usize * MAX_PIXELS_OVER_PER_MILLE / 1000;
+        let budget =
+            ((w * h) as usize * MAX_PIXELS_OVER_PER_MILLE / 1000).max(path_pixels_allowed(scene));
         eprintln!("{name}: page vs native {d:?}");
         if d.mean_flip > MAX_MEAN_FLIP || d.pixels_over > budget {
             failures.push(format!(
@@ -220,6 +227,23 @@ fn pages_trace_every_scene_as_the_native_renderer_does_and_show_their_errors() {
         changed > before.len() / 3 / 10,
         "the drag changed only {changed} pixels"
     );
+
+    // I on the path-traced seed: the Whitted image, the scene's own.
+    let path_index = scenes.iter().position(|(n, _)| n == "seed-path").unwrap();
+    let toggled = &results[path_index];
+    assert!(
+        !toggled["toggled_overlay"]
+            .as_str()
+            .unwrap_or("path traced")
+            .contains("path traced"),
+        "{toggled}"
+    );
+    let (_, _, whitted_page) = read_png_rgb(&out.join("seed-path.toggled.png")).unwrap();
+    let whitted = render(&scenes[seed_index].1, Accel::Kdtree);
+    let d = compare(&whitted.rgb, &whitted_page, whitted.width, whitted.height, 0);
+    assert_eq!(d.pixels_over, 0, "seed toggled to Whitted: {d:?}");
+    let (_, _, path_page) = read_png_rgb(&out.join("seed-path.page.png")).unwrap();
+    assert!(changed_pixels(&path_page, &whitted_page) > whitted_page.len() / 3 / 10);
 
     // Broken bundles: each shows its own error in the page.
     for ((file, _, expected), r) in broken.iter().zip(&results[scenes.len()..]) {

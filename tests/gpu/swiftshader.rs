@@ -163,7 +163,7 @@ mod on_swiftshader {
                     }
                 };
                 let d = compare(&kd.rgb, &reference.rgb, kd.width, kd.height, 0);
-                let allowed = crate::gpu_render::path_pixels_allowed(&scene);
+                let allowed = common::path_pixels_allowed(&scene);
                 assert!(
                     d.pixels_over <= allowed,
                     "{} ({walk}): {d:?}",

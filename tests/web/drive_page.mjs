@@ -4,7 +4,8 @@
 // page's PNG to, or null), drag (a path for the PNG after a drag, or
 // null), screenshot (a path, or null), play (bool: press Space, wait for
 // the next frame, press Space again), heatmap ({ png, restored }: press C,
-// save the heatmap's PNG, press C again, save the image's) }.
+// save the heatmap's PNG, press C again, save the image's), toggle (a path:
+// press I, wait for the other integrator's image, save its PNG) }.
 // The page's contract (docs/web.md): document.title starts with
 // "kdray: done" or "kdray: error"; window.kdray.png() is a PNG data URL.
 
@@ -75,6 +76,14 @@ for (const job of jobs) {
       await page.waitForFunction(() => document.getElementById('overlay').textContent.includes(' paused'),
         null, { timeout: TIMEOUT_MS, polling: 20 });
       result.paused_overlay = await overlayText(page);
+    }
+    if (job.toggle && result.title.startsWith('kdray: done')) {
+      const from = await page.evaluate(() => window.kdray.state.integrator);
+      await page.keyboard.press('i');
+      await page.waitForFunction((f) => window.kdray.state.integrator !== f && window.kdray.state.done,
+        from, { timeout: TIMEOUT_MS, polling: 50 });
+      result.toggled_overlay = await overlayText(page);
+      await savePng(page, job.toggle);
     }
     if (job.heatmap && result.title.startsWith('kdray: done')) {
       await page.keyboard.press('c');
