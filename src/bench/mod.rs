@@ -29,9 +29,11 @@
 //! - [`fit`]: least-squares fits; [`csv`], [`summary`], [`numbers`]: the text outputs;
 //! - [`plots`], [`matrix_plot`]: the pictures; [`outputs`]: the output folder and `--replot`;
 //! - [`random_scene`](mod@random_scene), [`generate`]: the random scenes and `kdray generate`;
-//! - [`suite`]: the four scenes of `--suite`; [`named`]: choices in JSON by name.
+//! - [`suite`]: the four scenes of `--suite`; [`named`]: choices in JSON by name;
+//! - [`wavefront_bound`]: `--wavefront-bound`, the path tracer's kernel shape measured.
 
 pub mod bench_case;
+pub mod wavefront_bound;
 mod budget;
 pub mod cases;
 pub mod csv;

@@ -75,6 +75,89 @@ impl RayQueries {
         if queries.is_empty() {
             return Ok(Vec::new());
         }
+        let params = FrameParams::for_queries(scene, accel).with_traversal(traversal);
+        let (bind_group, hits, costs, readback, hits_bytes, costs_bytes) =
+            self.query_buffers(ctx, scene, &params, queries)?;
+        let bind_group = bind_group.for_pipeline(ctx, &self.pipeline)?;
+        let mut encoder = ctx
+            .device
+            .create_command_encoder(&wgpu::CommandEncoderDescriptor {
+                label: Some("trace_rays"),
+            });
+        self.encode_dispatch(&mut encoder, &self.pipeline, &bind_group, queries.len());
+        encoder.copy_buffer_to_buffer(&hits, 0, &readback, 0, hits_bytes);
+        encoder.copy_buffer_to_buffer(&costs, 0, &readback, hits_bytes, costs_bytes);
+        ctx.queue.submit([encoder.finish()]);
+        let bytes = ctx.read_buffer(&readback, hits_bytes + costs_bytes)?;
+        let (hit_bytes, cost_bytes) = bytes.split_at(hits_bytes as usize);
+        let hits: &[GpuQueryHit] = bytemuck::cast_slice(hit_bytes);
+        let costs: &[u32] = bytemuck::cast_slice(cost_bytes);
+        Ok(hits
+            .iter()
+            .zip(costs.chunks_exact(bindings::COST_WORDS))
+            .map(|(h, c)| {
+                let hit = (h.object != bindings::NO_OBJECT).then(|| Hit {
+                    object: scene_ids
+                        .get(h.object as usize)
+                        .copied()
+                        .unwrap_or(u32::MAX),
+                    t: h.t,
+                });
+                (hit, WalkCost::from_words(c))
+            })
+            .collect())
+    }
+
+    /// Submit-to-done wall time (ms) of each of `repeats` dispatches of
+    /// `queries` through `scene` with the k-d walk `traversal`, by the
+    /// kernel specialised for the scene and walk with no cost counting: the
+    /// cost of tracing a queue of rays alone, as a wavefront's extension
+    /// and shadow stages would (the bench's `--wavefront-bound`). The
+    /// buffers are made once, before the first.
+    pub fn time_queries(
+        &self,
+        ctx: &GpuContext,
+        scene: &SceneBuffers,
+        traversal: Traversal,
+        queries: &[RayQuery],
+        repeats: u32,
+    ) -> Result<Vec<f64>> {
+        let params = FrameParams::for_queries(scene, Accel::Kdtree).with_traversal(traversal);
+        let variant = KernelVariant {
+            count_costs: false,
+            ..KernelVariant::for_scene(scene).with_walk_of(&params)
+        };
+        let pipeline = self.pipelines.get(ctx, variant)?;
+        let (bind_group, ..) = self.query_buffers(ctx, scene, &params, queries)?;
+        let bind_group = bind_group.for_pipeline(ctx, &pipeline)?;
+        let mut times = Vec::new();
+        for _ in 0..repeats {
+            let mut encoder = ctx.device.create_command_encoder(&Default::default());
+            self.encode_dispatch(&mut encoder, &pipeline, &bind_group, queries.len());
+            let started = std::time::Instant::now();
+            ctx.queue.submit([encoder.finish()]);
+            ctx.wait_idle()?;
+            times.push(started.elapsed().as_secs_f64() * 1e3);
+        }
+        Ok(times)
+    }
+
+    /// The query's uniform, rays, hits, costs and readback buffers, bound.
+    #[allow(clippy::type_complexity)]
+    fn query_buffers(
+        &self,
+        ctx: &GpuContext,
+        scene: &SceneBuffers,
+        params: &FrameParams,
+        queries: &[RayQuery],
+    ) -> Result<(
+        super::trace_pipelines::TraceBindGroup,
+        wgpu::Buffer,
+        wgpu::Buffer,
+        wgpu::Buffer,
+        u64,
+        u64,
+    )> {
         let rays: Vec<GpuQueryRay> = queries
             .iter()
             .map(|q| GpuQueryRay {
@@ -84,7 +167,6 @@ impl RayQueries {
                 any_hit: q.any_hit as u32,
             })
             .collect();
-        let params = FrameParams::for_queries(scene, accel).with_traversal(traversal);
         let hits_bytes = (queries.len() * std::mem::size_of::<GpuQueryHit>()) as u64;
         let costs_bytes = (queries.len() * bindings::COST_WORDS * 4) as u64;
         let (bind_group, hits, costs, readback) =
@@ -93,7 +175,7 @@ impl RayQueries {
                     |label, contents: &[u8], usage| buffer_holding(device, label, contents, usage);
                 let params = storage(
                     "query params",
-                    bytemuck::bytes_of(&params),
+                    bytemuck::bytes_of(params),
                     wgpu::BufferUsages::UNIFORM,
                 );
                 let rays = storage(
@@ -125,9 +207,18 @@ impl RayQueries {
                         .bind_group(device, &params, scene, &[&rays, &hits, &costs]);
                 (bind_group, hits, costs, readback)
             })?;
-        let bind_group = bind_group.for_pipeline(ctx, &self.pipeline)?;
+        Ok((bind_group, hits, costs, readback, hits_bytes, costs_bytes))
+    }
 
-        let (groups, _) = self.pipelines.workgroups(queries.len() as u32, 1);
+    /// Records the dispatch of one invocation per query.
+    fn encode_dispatch(
+        &self,
+        encoder: &mut wgpu::CommandEncoder,
+        pipeline: &TracePipeline,
+        bind_group: &wgpu::BindGroup,
+        queries: usize,
+    ) {
+        let (groups, _) = self.pipelines.workgroups(queries as u32, 1);
         let (gx, gy) = if groups <= MAX_GROUPS_PER_DIMENSION {
             (groups, 1)
         } else {
@@ -136,40 +227,12 @@ impl RayQueries {
                 groups.div_ceil(MAX_GROUPS_PER_DIMENSION),
             )
         };
-        let mut encoder = ctx
-            .device
-            .create_command_encoder(&wgpu::CommandEncoderDescriptor {
-                label: Some("trace_rays"),
-            });
-        {
-            let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
-                label: Some("trace_rays"),
-                timestamp_writes: None,
-            });
-            pass.set_pipeline(&self.pipeline.pipeline);
-            pass.set_bind_group(0, &bind_group, &[]);
-            pass.dispatch_workgroups(gx, gy, 1);
-        }
-        encoder.copy_buffer_to_buffer(&hits, 0, &readback, 0, hits_bytes);
-        encoder.copy_buffer_to_buffer(&costs, 0, &readback, hits_bytes, costs_bytes);
-        ctx.queue.submit([encoder.finish()]);
-        let bytes = ctx.read_buffer(&readback, hits_bytes + costs_bytes)?;
-        let (hit_bytes, cost_bytes) = bytes.split_at(hits_bytes as usize);
-        let hits: &[GpuQueryHit] = bytemuck::cast_slice(hit_bytes);
-        let costs: &[u32] = bytemuck::cast_slice(cost_bytes);
-        Ok(hits
-            .iter()
-            .zip(costs.chunks_exact(bindings::COST_WORDS))
-            .map(|(h, c)| {
-                let hit = (h.object != bindings::NO_OBJECT).then(|| Hit {
-                    object: scene_ids
-                        .get(h.object as usize)
-                        .copied()
-                        .unwrap_or(u32::MAX),
-                    t: h.t,
-                });
-                (hit, WalkCost::from_words(c))
-            })
-            .collect())
+        let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
+            label: Some("trace_rays"),
+            timestamp_writes: None,
+        });
+        pass.set_pipeline(&pipeline.pipeline);
+        pass.set_bind_group(0, bind_group, &[]);
+        pass.dispatch_workgroups(gx, gy, 1);
     }
 }

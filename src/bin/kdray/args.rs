@@ -279,6 +279,12 @@ pub struct BenchArgs {
     /// its summary, fits and plots in DIR.
     #[arg(long, value_name = "DIR", conflicts_with_all = ["scenes", "save_images", "suite", "write_scenes"])]
     pub replot: Option<PathBuf>,
+    /// Path trace each --scene (one sample a pixel) with every walk, and
+    /// trace the same kind of rays from a queue alone: how much a wavefront
+    /// path tracer could gain on this adapter at most. Writes
+    /// OUT/wavefront-bound.json.
+    #[arg(long, requires = "scenes", conflicts_with_all = ["suite", "replot"])]
+    pub wavefront_bound: bool,
 }
 
 impl BenchArgs {

@@ -13,6 +13,9 @@ use crate::args::{BenchArgs, GenerateArgs};
 /// `kdray bench`: measures (or, with `--replot`, rewrites the outputs of an
 /// earlier run), writes the files, prints the summary on stdout.
 pub fn bench(args: BenchArgs) -> Result<()> {
+    if args.wavefront_bound {
+        return wavefront_bound(&args);
+    }
     let outcome = match &args.replot {
         Some(dir) => replot(dir)?,
         None => {
@@ -26,6 +29,53 @@ pub fn bench(args: BenchArgs) -> Result<()> {
         }
     };
     print_outcome(&outcome);
+    Ok(())
+}
+
+/// `kdray bench --wavefront-bound`: a table on stdout, the figures in
+/// OUT/wavefront-bound.json.
+fn wavefront_bound(args: &BenchArgs) -> Result<()> {
+    let ctx = GpuContext::new()?;
+    let mut all = Vec::new();
+    println!("| scene | walk | megakernel Mrays/s | queue alone Mrays/s | megakernel / queue |");
+    println!("| --- | --- | ---: | ---: | ---: |");
+    for path in &args.scenes {
+        let mut scene = kdray::scene::load_scene(path)?;
+        scene.render.width = args.width.unwrap_or(scene.render.width);
+        scene.render.height = args.height.unwrap_or(scene.render.height);
+        scene.render.max_depth = args.max_depth.unwrap_or(scene.render.max_depth);
+        let figures = kdray::bench::wavefront_bound::measure(&ctx, &scene, args.repeat)?;
+        for f in &figures {
+            println!(
+                "| {} | {} | {:.2} | {:.2} | {:.2} |",
+                path.display(),
+                f.traversal,
+                f.megakernel_mrays_per_s,
+                f.queue_mrays_per_s,
+                f.ratio
+            );
+        }
+        all.push(serde_json::json!({
+            "scene": path,
+            "width": scene.render.width,
+            "height": scene.render.height,
+            "max_depth": scene.render.max_depth,
+            "walks": figures,
+        }));
+    }
+    let report = serde_json::json!({
+        "command": std::env::args().collect::<Vec<_>>().join(" "),
+        "adapter": ctx.info.name,
+        "scenes": all,
+    });
+    std::fs::create_dir_all(&args.out).map_err(|e| kdray::Error::File {
+        path: args.out.clone(),
+        what: "cannot create the output folder",
+        source: e,
+    })?;
+    let file = args.out.join("wavefront-bound.json");
+    kdray::output::write_file_atomic(&file, serde_json::to_string_pretty(&report)?.as_bytes())?;
+    eprintln!("kdray: wrote {}", file.display());
     Ok(())
 }
 
