@@ -34,6 +34,7 @@ use crate::scene::SceneError;
 
 mod buffers;
 mod images;
+mod meshopt;
 mod unsupported;
 
 use buffers::load_buffers;
