@@ -108,7 +108,10 @@ fn decode_attributes(data: &[u8], count: usize, stride: usize) -> Result<Vec<u8>
     if data.first() != Some(&ATTRIBUTES_HEADER) {
         return Err(match data.first() {
             Some(h) if h & 0xf0 == 0xa0 => {
-                format!("ATTRIBUTES stream version {} (only version 0 is read)", h & 0x0f)
+                format!(
+                    "ATTRIBUTES stream version {} (only version 0 is read)",
+                    h & 0x0f
+                )
             }
             Some(h) => format!("ATTRIBUTES stream header {h:#04x}, not 0xa0"),
             None => "empty ATTRIBUTES stream".to_string(),
@@ -360,7 +363,10 @@ impl<T: Copy + Default> Ring<T> {
 
 fn decode_indices(data: &[u8], count: usize) -> Result<Vec<u32>, String> {
     if data.first() != Some(&INDICES_HEADER) {
-        return Err(format!("INDICES stream header {:?}, not 0xd1", data.first()));
+        return Err(format!(
+            "INDICES stream header {:?}, not 0xd1",
+            data.first()
+        ));
     }
     if count
         .checked_add(1 + INDICES_TAIL)
@@ -383,10 +389,7 @@ fn decode_indices(data: &[u8], count: usize) -> Result<Vec<u32>, String> {
         out.push(last[baseline]);
     }
     if at != end {
-        return Err(format!(
-            "INDICES stream has {} bytes left over",
-            end - at
-        ));
+        return Err(format!("INDICES stream has {} bytes left over", end - at));
     }
     Ok(out)
 }

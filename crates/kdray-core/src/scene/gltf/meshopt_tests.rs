@@ -64,7 +64,9 @@ fn every_mode_and_filter_decodes_as_meshoptimizer_does() {
             let wide = v.stride == 8;
             let values = |b: &[u8]| -> Vec<i32> {
                 if wide {
-                    b.chunks(2).map(|c| i32::from(i16::from_le_bytes([c[0], c[1]]))).collect()
+                    b.chunks(2)
+                        .map(|c| i32::from(i16::from_le_bytes([c[0], c[1]])))
+                        .collect()
                 } else {
                     b.iter().map(|&x| i32::from(x as i8)).collect()
                 }
@@ -105,7 +107,11 @@ fn damaged_streams_are_errors_or_garbage_but_never_panics() {
 #[test]
 fn counts_the_stream_cannot_hold_are_refused_before_allocating() {
     let v = &vectors()[0];
-    for (mode, stride) in [(Mode::Attributes, 4), (Mode::Triangles, 4), (Mode::Indices, 4)] {
+    for (mode, stride) in [
+        (Mode::Attributes, 4),
+        (Mode::Triangles, 4),
+        (Mode::Indices, 4),
+    ] {
         let err = decode(&v.encoded, 3 << 40, stride, mode, Filter::None).unwrap_err();
         assert!(err.contains("too short") || err.contains("header"), "{err}");
     }
