@@ -122,3 +122,103 @@ fn a_required_extension_kdray_cannot_read_is_an_error_naming_it_and_a_conversion
     }
     assert!(!e.contains('\n') && !e.contains("accessor"), "{e}");
 }
+
+/// A GLB's JSON text and where its binary chunk's bytes start.
+fn glb_parts(glb: &[u8]) -> (String, usize) {
+    let json_length = u32::from_le_bytes(glb[12..16].try_into().unwrap()) as usize;
+    let json = String::from_utf8(glb[20..20 + json_length].to_vec()).unwrap();
+    (json, 20 + json_length + 8)
+}
+
+/// `glb` with its JSON's `from` replaced by `to`, of the same length.
+fn with_json_edit(glb: &[u8], from: &str, to: &str) -> Vec<u8> {
+    assert_eq!(from.len(), to.len());
+    let (json, _) = glb_parts(glb);
+    assert!(json.contains(from), "{from}");
+    let edited = json.replacen(from, to, 1);
+    let mut out = glb.to_vec();
+    out[20..20 + edited.len()].copy_from_slice(edited.as_bytes());
+    out
+}
+
+fn parse(bytes: &[u8], name: &str) -> Result<Mesh, String> {
+    let path = std::path::Path::new("models").join(name);
+    kdray_core::scene::gltf::parse_gltf(bytes, &path, true, &mut |_| {
+        Err(std::io::Error::from(std::io::ErrorKind::NotFound))
+    })
+    .map_err(|e| e.to_string())
+}
+
+/// A clean error: one line naming the file, the extension and the view.
+fn assert_clean_error(result: Result<Mesh, String>, name: &str, words: &[&str], what: &str) {
+    let e = match result {
+        Ok(_) => panic!("{what}: loads"),
+        Err(e) => e,
+    };
+    assert!(!e.contains('\n'), "{what}: {e}");
+    for word in [name].iter().chain(words) {
+        assert!(e.contains(word), "{what}: {e} lacks {word}");
+    }
+}
+
+#[test]
+fn corrupt_draco_and_meshopt_streams_are_one_line_errors_naming_the_view() {
+    let dir = common::repo_path("tests/models/optimised");
+    let draco = std::fs::read(dir.join("box_draco.glb")).unwrap();
+    let meshopt = std::fs::read(dir.join("box_meshopt.glb")).unwrap();
+    let (draco_name, meshopt_name) = ("box_draco.glb", "box_meshopt.glb");
+    let draco_words = ["KHR_draco_mesh_compression", "buffer view 1"];
+    // The Draco stream is buffer view 1 (bytes 2440..+233 of the binary
+    // chunk); the meshopt NORMAL stream is view 2's (2472..+61).
+    let (_, bin) = glb_parts(&draco);
+    let mut zeroed = draco.clone();
+    zeroed[bin + 2440..bin + 2440 + 233].fill(0);
+    assert_clean_error(
+        parse(&zeroed, draco_name),
+        draco_name,
+        &draco_words,
+        "zeroed",
+    );
+    let cut = with_json_edit(&draco, "\"byteLength\":233", "\"byteLength\":133");
+    assert_clean_error(
+        parse(&cut, draco_name),
+        draco_name,
+        &draco_words,
+        "truncated",
+    );
+    let meshopt_words = ["EXT_meshopt_compression", "buffer view 2"];
+    let cut = with_json_edit(&meshopt, "\"byteLength\":61", "\"byteLength\":31");
+    assert_clean_error(
+        parse(&cut, meshopt_name),
+        meshopt_name,
+        &meshopt_words,
+        "truncated",
+    );
+    let (_, bin) = glb_parts(&meshopt);
+    let mut bad_header = meshopt.clone();
+    bad_header[bin + 2472] = 0xa7;
+    assert_clean_error(
+        parse(&bad_header, meshopt_name),
+        meshopt_name,
+        &meshopt_words,
+        "bad header",
+    );
+    // Every bit flip in either stream loads or is a clean error, quickly.
+    let started = std::time::Instant::now();
+    for (glb, name, range) in [
+        (&draco, draco_name, 2440..2440 + 233),
+        (&meshopt, meshopt_name, 2440..2440 + 344),
+    ] {
+        let (_, bin) = glb_parts(glb);
+        for at in range {
+            for bit in [0, 2, 5, 7] {
+                let mut input = glb.clone();
+                input[bin + at] ^= 1 << bit;
+                if let Err(e) = parse(&input, name) {
+                    assert!(!e.contains('\n') && e.contains(name), "{e}");
+                }
+            }
+        }
+    }
+    assert!(started.elapsed().as_secs() < 60, "{:?}", started.elapsed());
+}
