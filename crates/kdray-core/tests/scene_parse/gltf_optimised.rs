@@ -121,6 +121,15 @@ fn a_required_extension_kdray_cannot_read_is_an_error_naming_it_and_a_conversion
         assert!(e.contains(word), "{e} lacks {word}");
     }
     assert!(!e.contains('\n') && !e.contains("accessor"), "{e}");
+    // glTF Transform's AVIF box: its texture's only image is AVIF.
+    let e = load("optimised/box_avif.glb").unwrap_err().to_string();
+    for word in [
+        "box_avif.glb",
+        "EXT_texture_avif",
+        "gltf-transform png in.glb out.glb --formats avif",
+    ] {
+        assert!(e.contains(word), "{e} lacks {word}");
+    }
 }
 
 /// A GLB's JSON text and where its binary chunk's bytes start.

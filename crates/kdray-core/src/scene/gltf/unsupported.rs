@@ -57,7 +57,7 @@ pub(super) fn conversion_hint(extension: &str) -> &'static str {
             "convert its KTX2 textures to PNG, for example with `gltf-transform ktxdecompress in.glb out.glb`"
         }
         "EXT_texture_avif" => {
-            "convert its AVIF textures to PNG or WebP, for example with `gltf-transform png in.glb out.glb`"
+            "convert its AVIF textures to PNG, for example with `gltf-transform png in.glb out.glb --formats avif`"
         }
         "KHR_meshopt_compression" => {
             "decompress it, for example with `gltf-transform copy in.glb out.glb`, or compress it with EXT_meshopt_compression (`gltf-transform meshopt in.glb out.glb`)"
