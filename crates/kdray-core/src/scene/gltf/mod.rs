@@ -7,11 +7,15 @@
 //! not; NORMAL attributes, carried by the inverse transpose of the node
 //! transforms; and each material's PBR factors mapped to kdray's model
 //! ([`pbr_material`]); the base-colour texture with its texture
-//! coordinates (`images`). Other textures, cameras, lights, skins, morph
+//! coordinates (`images`); the files the web's optimisers write:
+//! quantized attributes (`accessors`), meshopt-compressed buffer views
+//! (`extensions`, `meshopt`), Draco-compressed primitives (`draco`) and
+//! WebP textures. Other textures, cameras, lights, skins, morph
 //! targets and animations are ignored; points and lines are an error (they are not
 //! surfaces, and a file of them would draw nothing). Sparse accessors are
-//! read wherever accessors are. What a file asks for that kdray ignores (an
-//! extension, a texture) gets one [`Warning`](crate::scene::Warning) each on
+//! read wherever accessors are. An extension the file requires that kdray
+//! does not read is an error naming it. What a file asks for that kdray
+//! ignores (an extension, a texture) gets one [`Warning`](crate::scene::Warning) each on
 //! [`Mesh::warnings`](super::mesh::Mesh::warnings); a glTF 1.0 file is
 //! named as such.
 //!
