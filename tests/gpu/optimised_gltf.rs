@@ -45,10 +45,10 @@ fn quantized_meshopt_draco_and_webp_boxes_render_as_the_original() {
     for name in ["box_quantized.glb", "box_meshopt.glb", "box_draco.glb", "box_webp.glb"] {
         let (rgb, warnings) = render(&dir.join(name));
         assert!(warnings.is_empty(), "{name}: {warnings:?}");
-        // Quantized positions move edges by under a pixel; lossy WebP
-        // changes texels by a few levels.
+        // Measured on lavapipe: 0 for quantize and meshopt (the box's
+        // corners quantize exactly), 0.04 for Draco, 0.12 for lossy WebP.
         let d = mean_difference(&original, &rgb);
-        assert!(d < 2.0, "{name}: mean difference {d} levels");
+        assert!(d < 0.5, "{name}: mean difference {d} levels");
     }
 }
 
