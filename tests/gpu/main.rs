@@ -21,6 +21,7 @@ mod gpu_faults;
 mod gpu_ray_queries;
 mod gpu_render;
 mod open_model;
+mod optimised_gltf;
 mod path_tracing;
 mod pathological;
 mod smooth_shading;

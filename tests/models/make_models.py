@@ -4,7 +4,10 @@
 Also: sparse.gltf, the tetrahedron whose POSITION and NORMAL accessors are
 sparse, moving vertex 3 (and its normal), and sparse_dense.gltf, the same
 mesh written densely; wild.gltf, the tetrahedron asking for extensions and a
-texture, which kdray warns about; gltf1.gltf and gltf1_no_asset.gltf, glTF
+texture, which kdray warns about; tetra_quantized_i16.gltf and
+tetra_quantized_u8.gltf, the tetrahedron in KHR_mesh_quantization's integer
+types with texture coordinates and a 2x2 texture; requires_basisu.gltf, one
+requiring an extension kdray refuses; gltf1.gltf and gltf1_no_asset.gltf, glTF
 1.0 files, which kdray names as such.
 
 A tetrahedron (4 vertices, 4 indexed triangles, per-vertex NORMALs) placed by
@@ -16,6 +19,7 @@ from them, so change both together. Run from this folder: python3 make_models.py
 import base64
 import json
 import struct
+import zlib
 
 POSITIONS = [0, 0, 0, 1, 0, 0, 0, 1, 0, 0, 0, 1]
 NORMALS = [-0.57735026, -0.57735026, -0.57735026, 1, 0, 0, 0, 1, 0, 0, 0, 1]
@@ -116,11 +120,98 @@ def dense_moved_document():
 def wild_document():
     doc = document(data_uri_of(BIN))
     doc["extensionsUsed"] = ["KHR_materials_emissive_strength", "KHR_texture_transform"]
-    doc["extensionsRequired"] = ["KHR_texture_transform"]
     doc["materials"][0]["pbrMetallicRoughness"]["baseColorTexture"] = {"index": 0}
     doc["materials"][0]["normalTexture"] = {"index": 0}
     doc["textures"] = [{"source": 0}]
     doc["images"] = [{"uri": "wood.png"}]
+    return doc
+
+
+# Texture coordinates of the quantized tetrahedra (any values; exact in
+# every component type used below).
+UVS = [0.0, 0.0, 1.0, 0.0, 0.0, 1.0, 1.0, 1.0]
+
+
+def png_2x2():
+    """A 2x2 RGB PNG (red, green / blue, white), written without a library."""
+    def chunk(kind, data):
+        return (struct.pack(">I", len(data)) + kind + data
+                + struct.pack(">I", zlib.crc32(kind + data) & 0xffffffff))
+    rows = b"\0\xff\0\0\0\xff\0" + b"\0\0\0\xff\xff\xff\xff"
+    return (b"\x89PNG\r\n\x1a\n" + chunk(b"IHDR", struct.pack(">IIBBBBB", 2, 2, 8, 2, 0, 0, 0))
+            + chunk(b"IDAT", zlib.compress(rows)) + chunk(b"IEND", b""))
+
+
+def quantized_document(kind):
+    """The tetrahedron in KHR_mesh_quantization's types, interleaved with
+    byteStrides that keep each element 4-byte aligned:
+    - "i16": POSITION normalized SHORT and NORMAL normalized BYTE in one view
+      (stride 12), TEXCOORD_0 normalized UNSIGNED_SHORT (stride 4);
+    - "u8": POSITION UNSIGNED_BYTE (stride 4), NORMAL normalized SHORT
+      (stride 8), TEXCOORD_0 BYTE (stride 4), UNSIGNED_BYTE indices."""
+    def snorm(x, bits):
+        return round(x * ((1 << (bits - 1)) - 1))
+    data = b""
+    views = []
+    accessors = []
+    def view(payload, stride=None):
+        nonlocal data
+        v = {"buffer": 0, "byteOffset": len(data), "byteLength": len(payload)}
+        if stride:
+            v["byteStride"] = stride
+        data += pad(payload, b"\0")
+        views.append(v)
+        return len(views) - 1
+    if kind == "i16":
+        vertices = b""
+        for i in range(4):
+            vertices += struct.pack("<3hxx", *(snorm(p, 16) for p in POSITIONS[3 * i:3 * i + 3]))
+            vertices += struct.pack("<3bx", *(snorm(n, 8) for n in NORMALS[3 * i:3 * i + 3]))
+        v = view(vertices, 12)
+        accessors.append({"bufferView": v, "componentType": 5122, "normalized": True,
+                          "count": 4, "type": "VEC3", "min": [0, 0, 0], "max": [32767] * 3})
+        accessors.append({"bufferView": v, "byteOffset": 8, "componentType": 5120,
+                          "normalized": True, "count": 4, "type": "VEC3"})
+        uvs = b"".join(struct.pack("<HH", round(UVS[2 * i] * 65535), round(UVS[2 * i + 1] * 65535))
+                       for i in range(4))
+        accessors.append({"bufferView": view(uvs, 4), "componentType": 5123,
+                          "normalized": True, "count": 4, "type": "VEC2"})
+        indices = struct.pack("<12H", *INDICES)
+        index_type = 5123
+    else:
+        positions = b"".join(struct.pack("<3Bx", *POSITIONS[3 * i:3 * i + 3]) for i in range(4))
+        accessors.append({"bufferView": view(positions, 4), "componentType": 5121,
+                          "count": 4, "type": "VEC3", "min": [0, 0, 0], "max": [1, 1, 1]})
+        normals = b"".join(struct.pack("<3hxx", *(snorm(n, 16) for n in NORMALS[3 * i:3 * i + 3]))
+                           for i in range(4))
+        accessors.append({"bufferView": view(normals, 8), "componentType": 5122,
+                          "normalized": True, "count": 4, "type": "VEC3"})
+        uvs = b"".join(struct.pack("<bbxx", int(UVS[2 * i]), int(UVS[2 * i + 1])) for i in range(4))
+        accessors.append({"bufferView": view(uvs, 4), "componentType": 5120,
+                          "count": 4, "type": "VEC2"})
+        indices = struct.pack("<12B", *INDICES)
+        index_type = 5121
+    accessors.append({"bufferView": view(indices), "componentType": index_type,
+                      "count": 12, "type": "SCALAR"})
+    doc = document(data_uri_of(data))
+    doc["buffers"][0]["byteLength"] = len(data)
+    doc["bufferViews"] = views
+    doc["accessors"] = accessors
+    doc["meshes"][0]["primitives"][0]["attributes"] = {"POSITION": 0, "NORMAL": 1, "TEXCOORD_0": 2}
+    doc["meshes"][0]["primitives"][0]["indices"] = 3
+    doc["materials"][0]["pbrMetallicRoughness"]["baseColorTexture"] = {"index": 0}
+    doc["textures"] = [{"source": 0}]
+    doc["images"] = [{"uri": "data:image/png;base64," + base64.b64encode(png_2x2()).decode()}]
+    doc["extensionsUsed"] = ["KHR_mesh_quantization"]
+    doc["extensionsRequired"] = ["KHR_mesh_quantization"]
+    return doc
+
+
+def required_document():
+    """The tetrahedron requiring an extension kdray does not read."""
+    doc = document(data_uri_of(BIN))
+    doc["extensionsUsed"] = ["KHR_texture_basisu"]
+    doc["extensionsRequired"] = ["KHR_texture_basisu"]
     return doc
 
 
@@ -174,6 +265,11 @@ def main():
         json.dump(dense_moved_document(), f)
     with open("wild.gltf", "w") as f:
         json.dump(wild_document(), f)
+    for kind in ("i16", "u8"):
+        with open(f"tetra_quantized_{kind}.gltf", "w") as f:
+            json.dump(quantized_document(kind), f)
+    with open("requires_basisu.gltf", "w") as f:
+        json.dump(required_document(), f)
     with open("gltf1.gltf", "w") as f:
         json.dump(GLTF1, f)
     no_asset = {k: v for k, v in GLTF1.items() if k != "asset"}

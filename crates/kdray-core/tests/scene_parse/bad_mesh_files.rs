@@ -216,3 +216,33 @@ fn points_and_lines_are_errors() {
         "mesh 0 primitive 0: mode Lines is not a surface; kdray draws TRIANGLES, TRIANGLE_STRIP and TRIANGLE_FAN only",
     );
 }
+
+#[test]
+fn a_latin1_obj_loads_with_its_names_matched_byte_for_byte() {
+    let dir = TempDir::new("latin1");
+    // Older exporters write names and comments in Latin-1: "æ" is 0xe6.
+    let mut obj = b"# Terr\xe6n export\nmtllib land.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\n".to_vec();
+    obj.extend_from_slice(b"usemtl Terraind\xe6k\nf 1 2 3\n");
+    std::fs::write(dir.join("land.obj"), &obj).unwrap();
+    std::fs::write(dir.join("land.mtl"), b"newmtl Terraind\xe6k\nKd 1 0 0\n").unwrap();
+    let mesh = kdray_core::scene::obj::load_obj(&dir.join("land.obj"), true).unwrap();
+    assert_eq!(mesh.triangles.len(), 1);
+    assert_eq!(mesh.materials[0].name, "Terraind\u{e6}k");
+    assert_eq!(mesh.materials[0].diffuse, DVec3::new(1.0, 0.0, 0.0));
+    // One warning: the file was not UTF-8, named at its first such byte.
+    assert_eq!(mesh.warnings.len(), 1, "{:?}", mesh.warnings);
+    let w = mesh.warnings[0].to_string();
+    assert!(w.contains("land.obj:1:") && w.contains("Latin-1"), "{w}");
+}
+
+#[test]
+fn a_utf16_obj_is_refused_as_utf16() {
+    let dir = TempDir::new("utf16");
+    let mut bytes = vec![0xff, 0xfe];
+    for unit in "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n".encode_utf16() {
+        bytes.extend_from_slice(&unit.to_le_bytes());
+    }
+    std::fs::write(dir.join("wide.obj"), &bytes).unwrap();
+    let (e, _) = error_of(&dir, "wide.obj");
+    assert!(e.message.contains("UTF-16"), "{e}");
+}

@@ -20,6 +20,7 @@ mod camera;
 mod examples;
 mod files_and_syntax;
 mod gltf_meshes;
+mod gltf_optimised;
 mod mesh_normals;
 mod mesh_placement;
 mod meshes;

@@ -1,21 +1,28 @@
 //! A glTF file's buffers: the GLB binary chunk, `data:` URIs (base64) and
 //! files named by a relative path, each checked against its declared length.
 
+use std::collections::HashSet;
 use std::path::{Path, PathBuf};
 
 use crate::scene::SceneError;
 
-/// Every buffer's bytes, checked to be at least its declared `byteLength`.
+/// Every buffer's bytes, checked to be at least its declared `byteLength`;
+/// `placeholders` (meshopt fallback buffers) are left empty, unread.
 pub(super) fn load_buffers(
     document: &gltf::Document,
     blob: Option<&[u8]>,
     path: &Path,
     read_buffer: &mut dyn FnMut(&Path) -> std::io::Result<Vec<u8>>,
+    placeholders: &HashSet<usize>,
 ) -> Result<Vec<Vec<u8>>, SceneError> {
     let base = path.parent().unwrap_or(Path::new(""));
     let mut out = Vec::new();
     for buffer in document.buffers() {
         let i = buffer.index();
+        if placeholders.contains(&i) {
+            out.push(Vec::new());
+            continue;
+        }
         let err = |message: String| SceneError::new(path, None, None, message);
         let data = match buffer.source() {
             gltf::buffer::Source::Bin => blob

@@ -15,7 +15,6 @@ use std::path::Path;
 use std::sync::Arc;
 
 use glam::DVec2;
-use gltf::accessor::{DataType, Dimensions};
 use gltf::texture::{MagFilter, MinFilter as GltfMinFilter, WrappingMode};
 
 use super::buffers::{buffer_path, decode_data_uri};
@@ -37,6 +36,7 @@ impl super::Reader<'_, '_> {
     pub(super) fn texture_coordinates(
         &mut self,
         primitive: &gltf::Primitive,
+        draco: Option<&super::draco::DracoPrimitive>,
         count: usize,
         at: &str,
     ) -> Option<Vec<DVec2>> {
@@ -45,15 +45,28 @@ impl super::Reader<'_, '_> {
         let local = *self.material_of.get(&material.index())?;
         self.mesh.materials.get(local)?.texture.as_ref()?;
         let set = info.tex_coord();
-        let read = match primitive.get(&gltf::Semantic::TexCoords(set)) {
-            Some(a) => self.read_vec2(&a).and_then(|uvs| {
+        let decoded = draco.map(|d| {
+            d.tex_coords
+                .get(&set)
+                .cloned()
+                .ok_or_else(|| "missing".to_string())
+        });
+        let read = match (decoded, primitive.get(&gltf::Semantic::TexCoords(set))) {
+            (Some(decoded), _) => decoded.and_then(|uvs| {
                 if uvs.len() == count {
                     Ok(uvs)
                 } else {
                     Err(format!("{} coordinates for {count} positions", uvs.len()))
                 }
             }),
-            None => Err("missing".to_string()),
+            (None, Some(a)) => self.read_vec2(&a).and_then(|uvs| {
+                if uvs.len() == count {
+                    Ok(uvs)
+                } else {
+                    Err(format!("{} coordinates for {count} positions", uvs.len()))
+                }
+            }),
+            (None, None) => Err("missing".to_string()),
         };
         read.map_err(|m| {
             self.mesh.warnings.push(crate::scene::Warning::new(
@@ -63,38 +76,6 @@ impl super::Reader<'_, '_> {
             ))
         })
         .ok()
-    }
-
-    /// A VEC2 of floats, or of normalized unsigned bytes or shorts, per
-    /// element, every value finite.
-    fn read_vec2(&self, accessor: &gltf::Accessor) -> Result<Vec<DVec2>, String> {
-        let (size, scale) = match accessor.data_type() {
-            DataType::F32 => (4, 1.0),
-            DataType::U8 if accessor.normalized() => (1, 255.0),
-            DataType::U16 if accessor.normalized() => (2, 65535.0),
-            other => {
-                return Err(format!(
-                    "must be FLOAT or normalized UNSIGNED_BYTE or UNSIGNED_SHORT, is {other:?}"
-                ))
-            }
-        };
-        if accessor.dimensions() != Dimensions::Vec2 {
-            return Err(format!("must be VEC2, is {:?}", accessor.dimensions()));
-        }
-        let one = move |b: &[u8]| -> f64 {
-            match size {
-                4 => f64::from(f32::from_le_bytes([b[0], b[1], b[2], b[3]])),
-                2 => f64::from(u16::from_le_bytes([b[0], b[1]])) / scale,
-                _ => f64::from(b[0]) / scale,
-            }
-        };
-        let out = self.read_elements(accessor, 2 * size, DVec2::ZERO, |b| {
-            DVec2::new(one(b), one(&b[size..]))
-        })?;
-        if let Some((i, v)) = out.iter().enumerate().find(|(_, v)| !v.is_finite()) {
-            return Err(format!("element {i} is not finite: {v}"));
-        }
-        Ok(out)
     }
 }
 

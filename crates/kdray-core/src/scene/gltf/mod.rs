@@ -7,11 +7,15 @@
 //! not; NORMAL attributes, carried by the inverse transpose of the node
 //! transforms; and each material's PBR factors mapped to kdray's model
 //! ([`pbr_material`]); the base-colour texture with its texture
-//! coordinates (`images`). Other textures, cameras, lights, skins, morph
+//! coordinates (`images`); the files the web's optimisers write:
+//! quantized attributes (`accessors`), meshopt-compressed buffer views
+//! (`extensions`, `meshopt`), Draco-compressed primitives (`draco`) and
+//! WebP textures. Other textures, cameras, lights, skins, morph
 //! targets and animations are ignored; points and lines are an error (they are not
 //! surfaces, and a file of them would draw nothing). Sparse accessors are
-//! read wherever accessors are. What a file asks for that kdray ignores (an
-//! extension, a texture) gets one [`Warning`](crate::scene::Warning) each on
+//! read wherever accessors are. An extension the file requires that kdray
+//! does not read is an error naming it. What a file asks for that kdray
+//! ignores (an extension, a texture) gets one [`Warning`](crate::scene::Warning) each on
 //! [`Mesh::warnings`](super::mesh::Mesh::warnings); a glTF 1.0 file is
 //! named as such.
 //!
@@ -26,16 +30,20 @@ use std::collections::HashMap;
 use std::path::Path;
 
 use glam::{DMat3, DMat4, DVec3};
-use gltf::accessor::{DataType, Dimensions};
 use gltf::mesh::Mode;
 
 use crate::scene::mesh::{mesh_index, Mesh, MeshMaterial, MeshTriangle, NO_INDEX};
 use crate::scene::SceneError;
 
+mod accessors;
 mod buffers;
+mod draco;
+mod extensions;
 mod images;
+mod meshopt;
 mod unsupported;
 
+use accessors::Attribute;
 use buffers::load_buffers;
 use unsupported::{extensions_warning, is_gltf_1, textures_warning, GLTF_1_UNSUPPORTED};
 
@@ -87,10 +95,10 @@ pub fn parse_gltf(
         return Err(err(GLTF_1_UNSUPPORTED.to_string()));
     }
     check_attribute_indices(&root).map_err(err)?;
+    // The extensions kdray reads rewrite what the crate would refuse; one
+    // it does not read is an error if required, a warning if used.
+    let prepared = extensions::prepare(&mut root).map_err(err)?;
     let mut warnings = Vec::new();
-    // Extensions are read by none of kdray: say so, and let a required one
-    // through validation, which would refuse it (a required extension that
-    // changes the geometry shows as an error further on).
     if let Some(warning) = extensions_warning(&root, path) {
         warnings.push(warning);
     }
@@ -100,7 +108,14 @@ pub fn parse_gltf(
         blob: gltf.blob,
     };
     let document = &gltf.document;
-    let buffers = load_buffers(document, gltf.blob.as_deref(), path, read_buffer)?;
+    let buffers = load_buffers(
+        document,
+        gltf.blob.as_deref(),
+        path,
+        read_buffer,
+        &prepared.placeholders,
+    )?;
+    let decoded_views = extensions::decode_meshopt_views(document, &buffers).map_err(err)?;
 
     let Some(scene) = document
         .default_scene()
@@ -114,6 +129,8 @@ pub fn parse_gltf(
 
     let mut reader = Reader {
         buffers: &buffers,
+        decoded_views: &decoded_views,
+        viewless: &prepared.viewless,
         document,
         images: images::DecodedImages::default(),
         files: images::ImageFiles {
@@ -242,6 +259,10 @@ fn gltf_error_text(e: &gltf::Error) -> String {
 /// The walk's state: the triangles and materials gathered so far.
 struct Reader<'a, 'r> {
     buffers: &'a [Vec<u8>],
+    /// Buffer views as `EXT_meshopt_compression` decoded them (None: as stored).
+    decoded_views: &'a [Option<Vec<u8>>],
+    /// Accessors that have no buffer view (the one the crate sees is a placeholder).
+    viewless: &'a std::collections::HashSet<usize>,
     document: &'a gltf::Document,
     /// The base-colour textures, decoded at their first use.
     images: images::DecodedImages,
@@ -269,33 +290,28 @@ impl Reader<'_, '_> {
                     "{at}: mode {mode:?} is not a surface; kdray draws TRIANGLES, TRIANGLE_STRIP and TRIANGLE_FAN only"
                 ));
             }
-            let Some(positions) = primitive.get(&gltf::Semantic::Positions) else {
-                return Err(format!("{at}: no POSITION attribute"));
+            let draco = self
+                .draco_primitive(&primitive)
+                .map_err(|m| format!("{at}: {m}"))?;
+            let (positions, normals, indices) = match &draco {
+                Some(d) => (
+                    d.positions.clone(),
+                    d.normals.clone(),
+                    Some(d.indices.clone()),
+                ),
+                None => self.plain_primitive(&primitive, &at)?,
             };
-            let positions = self
-                .read_vec3(&positions)
-                .map_err(|m| format!("{at}: POSITION {m}"))?;
-            let normals = match primitive.get(&gltf::Semantic::Normals) {
-                Some(a) => {
-                    let normals = self
-                        .read_vec3(&a)
-                        .map_err(|m| format!("{at}: NORMAL {m}"))?;
-                    if normals.len() != positions.len() {
-                        return Err(format!(
-                            "{at}: {} normals for {} positions",
-                            normals.len(),
-                            positions.len()
-                        ));
-                    }
-                    Some(normals)
+            if let Some(n) = &normals {
+                if n.len() != positions.len() {
+                    return Err(format!(
+                        "{at}: {} normals for {} positions",
+                        n.len(),
+                        positions.len()
+                    ));
                 }
-                None => None,
-            };
-            let indices: Vec<usize> = match primitive.indices() {
-                Some(a) => {
-                    let indices = self
-                        .read_indices(&a)
-                        .map_err(|m| format!("{at}: indices {m}"))?;
+            }
+            let indices: Vec<usize> = match indices {
+                Some(indices) => {
                     if let Some(bad) = indices.iter().find(|&&i| i >= positions.len()) {
                         return Err(format!(
                             "{at}: index {bad} is out of range: {} vertices",
@@ -337,7 +353,7 @@ impl Reader<'_, '_> {
                     "{at}: the scene places more than {NO_INDEX} vertices, more than a mesh can index"
                 )
             };
-            let uvs = self.texture_coordinates(&primitive, positions.len(), &at);
+            let uvs = self.texture_coordinates(&primitive, draco.as_ref(), positions.len(), &at);
             let uv_base = self.mesh.uvs.len();
             if let Some(uvs) = &uvs {
                 mesh_index(uv_base + uvs.len()).ok_or_else(too_many)?;
@@ -386,204 +402,36 @@ impl Reader<'_, '_> {
         Ok(())
     }
 
-    /// The bytes of a buffer view, checked to lie inside its buffer.
-    fn view_bytes(&self, view: &gltf::buffer::View) -> Result<&[u8], String> {
-        let buffer = &self.buffers[view.buffer().index()];
-        let view_end = view
-            .offset()
-            .checked_add(view.length())
-            .filter(|&end| end <= buffer.len())
-            .ok_or_else(|| {
-                format!(
-                    "buffer view {} (bytes {}..+{}) lies outside its buffer of {} bytes",
-                    view.index(),
-                    view.offset(),
-                    view.length(),
-                    buffer.len()
-                )
-            })?;
-        Ok(&buffer[view.offset()..view_end])
-    }
-
-    /// Where an accessor's dense elements are, every element checked to lie
-    /// inside its buffer view and the view inside its buffer. None for an
-    /// accessor without a view (all zeros, or what its sparse part sets).
-    fn elements(
+    /// An uncompressed primitive's positions, normals and indices (None:
+    /// not indexed), from its accessors.
+    #[allow(clippy::type_complexity)]
+    fn plain_primitive(
         &self,
-        accessor: &gltf::Accessor,
-        size: usize,
-    ) -> Result<Option<Elements<'_>>, String> {
-        if accessor.count() == 0 {
-            return Err("has no elements".to_string());
-        }
-        let Some(view) = accessor.view() else {
-            return Ok(None);
+        primitive: &gltf::Primitive,
+        at: &str,
+    ) -> Result<(Vec<DVec3>, Option<Vec<DVec3>>, Option<Vec<usize>>), String> {
+        let Some(positions) = primitive.get(&gltf::Semantic::Positions) else {
+            return Err(format!("{at}: no POSITION attribute"));
         };
-        let view_bytes = self.view_bytes(&view)?;
-        let stride = view.stride().unwrap_or(size);
-        if stride < size {
-            return Err(format!(
-                "byteStride {stride} is smaller than an element ({size} bytes)"
-            ));
-        }
-        let last_end = (accessor.count() - 1)
-            .checked_mul(stride)
-            .and_then(|x| x.checked_add(accessor.offset()))
-            .and_then(|x| x.checked_add(size));
-        if last_end.is_none_or(|end| end > view_bytes.len()) {
-            return Err(format!(
-                "{} elements of {size} bytes (stride {stride}, offset {}) do not fit in buffer view {} of {} bytes",
-                accessor.count(),
-                accessor.offset(),
-                view.index(),
-                view_bytes.len()
-            ));
-        }
-        Ok(Some(Elements {
-            bytes: view_bytes,
-            offset: accessor.offset(),
-            stride,
-        }))
+        let positions = self
+            .read_vec3(&positions, Attribute::Position)
+            .map_err(|m| format!("{at}: POSITION {m}"))?;
+        let normals = match primitive.get(&gltf::Semantic::Normals) {
+            Some(a) => Some(
+                self.read_vec3(&a, Attribute::Normal)
+                    .map_err(|m| format!("{at}: NORMAL {m}"))?,
+            ),
+            None => None,
+        };
+        let indices = match primitive.indices() {
+            Some(a) => Some(
+                self.read_indices(&a)
+                    .map_err(|m| format!("{at}: indices {m}"))?,
+            ),
+            None => None,
+        };
+        Ok((positions, normals, indices))
     }
-
-    /// The elements a sparse accessor replaces: (element index, its new
-    /// `size` bytes), every index and value checked to lie in its view and
-    /// every index below the accessor's count. Empty for a dense accessor.
-    fn sparse_elements(
-        &self,
-        accessor: &gltf::Accessor,
-        size: usize,
-    ) -> Result<Vec<(usize, &[u8])>, String> {
-        let Some(sparse) = accessor.sparse() else {
-            return Ok(Vec::new());
-        };
-        let count = sparse.count();
-        let indices = sparse.indices();
-        let index_size = match indices.index_type() {
-            gltf::accessor::sparse::IndexType::U8 => 1,
-            gltf::accessor::sparse::IndexType::U16 => 2,
-            gltf::accessor::sparse::IndexType::U32 => 4,
-        };
-        let values = sparse.values();
-        let fits = |bytes: &[u8], offset: usize, element: usize, what: &str| {
-            let end = count
-                .checked_mul(element)
-                .and_then(|x| x.checked_add(offset));
-            if end.is_none_or(|end| end > bytes.len()) {
-                return Err(format!(
-                    "sparse {what}: {count} elements of {element} bytes (offset {offset}) do not fit in their buffer view of {} bytes",
-                    bytes.len()
-                ));
-            }
-            Ok(())
-        };
-        let index_view = self.view_bytes(&indices.view())?;
-        fits(index_view, indices.offset(), index_size, "indices")?;
-        let index_bytes = &index_view[indices.offset()..];
-        let value_view = self.view_bytes(&values.view())?;
-        fits(value_view, values.offset(), size, "values")?;
-        let value_bytes = &value_view[values.offset()..];
-        (0..count)
-            .map(|k| {
-                let b = &index_bytes[k * index_size..];
-                let index = match index_size {
-                    1 => b[0] as usize,
-                    2 => u16::from_le_bytes([b[0], b[1]]) as usize,
-                    _ => u32::from_le_bytes([b[0], b[1], b[2], b[3]]) as usize,
-                };
-                if index >= accessor.count() {
-                    return Err(format!(
-                        "sparse index {index} is out of range: {} elements",
-                        accessor.count()
-                    ));
-                }
-                Ok((index, &value_bytes[k * size..k * size + size]))
-            })
-            .collect()
-    }
-
-    /// Every element of an accessor of `size`-byte elements, decoded: the
-    /// dense elements (zeros without a view), then the sparse ones in place.
-    fn read_elements<T: Clone>(
-        &self,
-        accessor: &gltf::Accessor,
-        size: usize,
-        zero: T,
-        decode: impl Fn(&[u8]) -> T,
-    ) -> Result<Vec<T>, String> {
-        let mut out = match self.elements(accessor, size)? {
-            Some(Elements {
-                bytes,
-                offset,
-                stride,
-            }) => (0..accessor.count())
-                .map(|i| decode(&bytes[offset + i * stride..]))
-                .collect(),
-            None => {
-                // Zeros but for the sparse elements. At most one element per
-                // byte of the buffers (a real file holds that many elements
-                // densely elsewhere, as a morph target's base positions): a
-                // file of a few bytes must not fill gigabytes with zeros.
-                let buffer_bytes: usize = self.buffers.iter().map(Vec::len).sum();
-                if accessor.count() > buffer_bytes {
-                    return Err(format!(
-                        "{} elements without a bufferView, more than the {buffer_bytes} bytes of the file's buffers",
-                        accessor.count()
-                    ));
-                }
-                vec![zero; accessor.count()]
-            }
-        };
-        for (index, bytes) in self.sparse_elements(accessor, size)? {
-            out[index] = decode(bytes);
-        }
-        Ok(out)
-    }
-
-    /// A VEC3 of 32-bit floats per element, every value finite.
-    fn read_vec3(&self, accessor: &gltf::Accessor) -> Result<Vec<DVec3>, String> {
-        if accessor.data_type() != DataType::F32 || accessor.dimensions() != Dimensions::Vec3 {
-            return Err(format!(
-                "must be VEC3 of FLOAT, is {:?} of {:?}",
-                accessor.dimensions(),
-                accessor.data_type()
-            ));
-        }
-        let float = |b: &[u8]| f64::from(f32::from_le_bytes([b[0], b[1], b[2], b[3]]));
-        let out = self.read_elements(accessor, 12, DVec3::ZERO, |b| {
-            DVec3::new(float(b), float(&b[4..]), float(&b[8..]))
-        })?;
-        if let Some((i, v)) = out.iter().enumerate().find(|(_, v)| !v.is_finite()) {
-            return Err(format!("element {i} is not finite: {v}"));
-        }
-        Ok(out)
-    }
-
-    /// Unsigned byte, short or int scalars.
-    fn read_indices(&self, accessor: &gltf::Accessor) -> Result<Vec<usize>, String> {
-        let size = match accessor.data_type() {
-            DataType::U8 => 1,
-            DataType::U16 => 2,
-            DataType::U32 => 4,
-            other => return Err(format!("must be unsigned integers, are {other:?}")),
-        };
-        if accessor.dimensions() != Dimensions::Scalar {
-            return Err(format!("must be SCALAR, are {:?}", accessor.dimensions()));
-        }
-        self.read_elements(accessor, size, 0, |b| match size {
-            1 => b[0] as usize,
-            2 => u16::from_le_bytes([b[0], b[1]]) as usize,
-            _ => u32::from_le_bytes([b[0], b[1], b[2], b[3]]) as usize,
-        })
-    }
-}
-
-/// An accessor's elements: element i starts at `bytes[offset + i * stride]`.
-struct Elements<'a> {
-    /// The buffer view's bytes.
-    bytes: &'a [u8],
-    offset: usize,
-    stride: usize,
 }
 
 /// The vertex indices of each triangle of a primitive. Strips alternate

@@ -1,6 +1,7 @@
 //! What a glTF file asks for that kdray does not do, found before or after
-//! reading it: the 1.0 format (refused, by name), extensions and texture
-//! slots (each kind one warning).
+//! reading it: the 1.0 format (refused, by name), a required extension
+//! kdray does not read (refused, by name, with a way to convert the file),
+//! extensions only used and texture slots (each kind one warning).
 
 use std::path::Path;
 
@@ -36,44 +37,66 @@ pub(super) fn is_gltf_1(bytes: &[u8]) -> bool {
     }
 }
 
-/// The glTF extensions kdray reads (onto a material's transmission and ior).
-pub(super) const SUPPORTED_EXTENSIONS: [&str; 2] =
-    ["KHR_materials_transmission", "KHR_materials_ior"];
+/// The glTF extensions kdray reads: two material extensions (onto a
+/// material's transmission and ior), quantized and compressed geometry
+/// (`accessors`, `meshopt`, `draco`) and WebP textures (`images`).
+pub(super) const SUPPORTED_EXTENSIONS: [&str; 6] = [
+    "KHR_materials_transmission",
+    "KHR_materials_ior",
+    "KHR_mesh_quantization",
+    "EXT_meshopt_compression",
+    "KHR_draco_mesh_compression",
+    "EXT_texture_webp",
+];
 
-/// One warning naming every extension the file uses or requires that kdray
-/// does not implement, so the model may look other than its author meant.
+/// How to turn a file needing an extension kdray does not read into one
+/// it does, where a command is known (glTF Transform's CLI, version 4).
+pub(super) fn conversion_hint(extension: &str) -> &'static str {
+    match extension {
+        "KHR_texture_basisu" => {
+            "convert its KTX2 textures to PNG, for example with `gltf-transform ktxdecompress in.glb out.glb`"
+        }
+        "EXT_texture_avif" => {
+            "convert its AVIF textures to PNG, for example with `gltf-transform png in.glb out.glb --formats avif`"
+        }
+        "KHR_meshopt_compression" => {
+            "decompress it, for example with `gltf-transform copy in.glb out.glb`, or compress it with EXT_meshopt_compression (`gltf-transform meshopt in.glb out.glb`)"
+        }
+        _ => "convert the file to one that does not need it (for example with glTF Transform's CLI, `gltf-transform`)",
+    }
+}
+
+/// The error for a file that requires (`extensionsRequired`) an extension
+/// kdray does not read: the model cannot be drawn as meant without it.
+pub(super) fn required_extension_error(root: &gltf::json::Root) -> Option<String> {
+    let name = root
+        .extensions_required
+        .iter()
+        .find(|n| !SUPPORTED_EXTENSIONS.contains(&n.as_str()))?;
+    Some(format!(
+        "the file requires the glTF extension {name}, which kdray does not read; {}",
+        conversion_hint(name)
+    ))
+}
+
+/// One warning naming every extension the file uses (`extensionsUsed`)
+/// that kdray does not implement, so the model may look other than its
+/// author meant. (A required one is an error, found before.)
 pub(super) fn extensions_warning(root: &gltf::json::Root, path: &Path) -> Option<Warning> {
-    let mut names: Vec<&str> = root
+    let names: Vec<&str> = root
         .extensions_used
         .iter()
         .map(String::as_str)
         .filter(|n| !SUPPORTED_EXTENSIONS.contains(n))
         .collect();
-    for required in &root.extensions_required {
-        if !names.contains(&required.as_str()) && !SUPPORTED_EXTENSIONS.contains(&required.as_str())
-        {
-            names.push(required);
-        }
-    }
     if names.is_empty() {
         return None;
     }
-    let required: Vec<&str> = root
-        .extensions_required
-        .iter()
-        .map(String::as_str)
-        .filter(|n| !SUPPORTED_EXTENSIONS.contains(n))
-        .collect();
-    let required = if required.is_empty() {
-        String::new()
-    } else {
-        format!(" (required: {})", required.join(", "))
-    };
     Some(Warning::new(
         path,
         None,
         format!(
-            "ignores the glTF extensions {}{required}: kdray does not implement them, so the model may look different",
+            "ignores the glTF extensions {}: kdray does not implement them, so the model may look different",
             names.join(", ")
         ),
     ))

@@ -117,7 +117,7 @@ impl<'p, 't> MaterialState<'p, 't> {
             let text = crate::scene::input_file::read_input_file(&mtl_path).ok()?;
             let mut warnings = Vec::new();
             parse_mtl(
-                &String::from_utf8_lossy(&text),
+                &super::text_of(&text),
                 &mtl_path,
                 &mut self.library,
                 &mut warnings,

@@ -48,9 +48,9 @@ use super::{SceneError, Warning};
 /// material) mtllib/usemtl are ignored entirely (an MTL file need not
 /// exist); with it, every triangle has a material (the default grey where
 /// the file gives none, with a warning).
-/// A file that is not UTF-8 text, or that has no face with an area, is an
-/// error: it would draw nothing (a binary file read as OBJ is all unknown
-/// statements).
+/// A file that is not text (a NUL byte; UTF-16), or that has no face with
+/// an area, is an error: it would draw nothing (a binary file read as OBJ
+/// is all unknown statements). Text that is not UTF-8 is read as Latin-1.
 pub fn load_obj(path: &Path, with_materials: bool) -> Result<Mesh, SceneError> {
     load_obj_observed(path, with_materials, &mut |_| {})
 }
@@ -133,25 +133,78 @@ fn parse_obj_bytes(
             on_read(p);
         }
     };
-    let text = utf8_text(bytes, path, "OBJ")?;
-    reference::parse_reference(text, path, with_materials, &mut on_read_rest, faces)
+    let (text, latin1) = obj_text(bytes, path)?;
+    let mut mesh =
+        reference::parse_reference(&text, path, with_materials, &mut on_read_rest, faces)?;
+    if let Some(warning) = latin1 {
+        mesh.warnings.insert(0, warning);
+    }
+    Ok(mesh)
 }
 
-/// The file's `bytes` as UTF-8 text. Not UTF-8 is an error naming the line
-/// of the first bad byte: it is how a binary file (a `.glb` misnamed
-/// `.obj`, an image) shows, and reading it as text would silently give an
-/// empty mesh.
-fn utf8_text<'b>(bytes: &'b [u8], path: &Path, what: &str) -> Result<&'b str, SceneError> {
-    std::str::from_utf8(bytes).map_err(|e| {
-        let valid = &bytes[..e.valid_up_to()];
-        let line = valid.iter().filter(|&&b| b == b'\n').count() + 1;
-        let offset = valid.len();
-        SceneError::new(
+/// The line (1-based) and byte offset of the first byte of `bytes` that is
+/// not UTF-8.
+fn first_bad_byte(bytes: &[u8], e: &std::str::Utf8Error) -> (usize, usize) {
+    let valid = &bytes[..e.valid_up_to()];
+    (
+        valid.iter().filter(|&&b| b == b'\n').count() + 1,
+        valid.len(),
+    )
+}
+
+/// The OBJ file's `bytes` as text: UTF-8; or, where they are not, Latin-1
+/// (ISO 8859-1: each byte one character), as older exporters write names
+/// and comments, with a warning. Names then match an MTL file's byte for
+/// byte (MTL files are read by the same rule, [`text_of`]). A file with a
+/// NUL byte is not text: an error naming the line of the first byte that
+/// is not UTF-8, as a binary file (a `.glb` misnamed `.obj`, an image)
+/// would otherwise give an empty mesh; a UTF-16 file (its byte order mark)
+/// is an error that says so.
+fn obj_text<'b>(
+    bytes: &'b [u8],
+    path: &Path,
+) -> Result<(std::borrow::Cow<'b, str>, Option<Warning>), SceneError> {
+    if bytes.starts_with(&[0xff, 0xfe]) || bytes.starts_with(&[0xfe, 0xff]) {
+        return Err(SceneError::new(
             path,
-            Some(line),
             None,
-            format!("not a text {what} file: invalid UTF-8 at byte {offset} (a binary file? kdray reads binary glTF as .glb)"),
-        )
-        .with_source(e)
-    })
+            None,
+            "a UTF-16 text file (its byte order mark); kdray reads OBJ files as UTF-8 or Latin-1: save it as UTF-8",
+        ));
+    }
+    match std::str::from_utf8(bytes) {
+        Ok(text) => Ok((text.into(), None)),
+        Err(e) => {
+            let (line, offset) = first_bad_byte(bytes, &e);
+            if bytes.contains(&0) {
+                return Err(SceneError::new(
+                    path,
+                    Some(line),
+                    None,
+                    format!("not a text OBJ file: invalid UTF-8 at byte {offset} (a binary file? kdray reads binary glTF as .glb)"),
+                )
+                .with_source(e));
+            }
+            let warning = Warning::new(
+                path,
+                Some(line),
+                format!("not UTF-8 (byte {offset}): the file is read as Latin-1 (ISO 8859-1)"),
+            );
+            Ok((latin1(bytes).into(), Some(warning)))
+        }
+    }
+}
+
+/// An MTL file's bytes as text: UTF-8, or Latin-1 where they are not (see
+/// [`obj_text`]).
+pub(super) fn text_of(bytes: &[u8]) -> std::borrow::Cow<'_, str> {
+    match std::str::from_utf8(bytes) {
+        Ok(text) => text.into(),
+        Err(_) => latin1(bytes).into(),
+    }
+}
+
+/// Latin-1 bytes as text: byte b is the character U+00b.
+fn latin1(bytes: &[u8]) -> String {
+    bytes.iter().map(|&b| char::from(b)).collect()
 }

@@ -154,7 +154,7 @@ pub(in crate::scene) fn parse_reference(
                     match crate::scene::input_file::read_input_file(&mtl_path) {
                         Ok(mtl_text) => {
                             parse_mtl(
-                                &String::from_utf8_lossy(&mtl_text),
+                                &super::text_of(&mtl_text),
                                 &mtl_path,
                                 &mut library,
                                 &mut mesh.warnings,
