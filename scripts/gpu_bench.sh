@@ -180,6 +180,10 @@ run() {
             --height 1024 --samples 64 --traversal "$walk" --stats \
             -o "$out/path/cornell-$walk.exr" >"$out/path/cornell-$walk.json"
     done
+    # The kernel's shape: one loop per pixel against a queue of the same
+    # rays traced alone (what a wavefront's frame costs at least).
+    step wavefront-bound 40 "$kdray" bench --wavefront-bound --scene scenes/cornell_box.toml \
+        --width 1024 --height 1024 --repeat 5 --out "$out/path" >/dev/null
 
     # The bunny's camera and shadow rays, the peers' frame (docs/peers.md).
     if [ ! -f "$bunny" ]; then
