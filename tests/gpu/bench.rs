@@ -352,6 +352,51 @@ fn bench_measures_scene_files() {
     check_plots(&out);
 }
 
+/// `--wavefront-bound`: every walk's path-traced frame and queue, with
+/// their rays counted as made: at max_depth 1 the queue is one camera ray
+/// a pixel and a shadow ray per camera ray that hit the box (most, not the
+/// ones past its open front), and the frame traces those and more (its
+/// BSDF-sampled rays toward the light, for MIS).
+#[test]
+fn wavefront_bound_measures_the_loop_and_the_queue_with_every_walk() {
+    let dir = TempDir::new("wavefront");
+    let scene = Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/cornell_box.toml");
+    let out = dir.join("out");
+    let run = kdray(&[
+        "bench",
+        "--wavefront-bound",
+        "--scene",
+        scene.to_str().unwrap(),
+        "--width",
+        "16",
+        "--height",
+        "12",
+        "--max-depth",
+        "1",
+        "--repeat",
+        "1",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert_eq!(run.code, 0, "{}", run.stderr_text());
+    let report = read_json(&out.join("wavefront-bound.json"));
+    let walks = report["scenes"][0]["walks"].as_array().unwrap();
+    let names: Vec<&str> = walks.iter().map(|w| w["traversal"].as_str().unwrap()).collect();
+    assert_eq!(names, ["restart", "ropes", "short-stack"]);
+    let pixels = 16 * 12;
+    for w in walks {
+        let n = |key: &str| w[key].as_u64().unwrap();
+        let shadow = n("queue_shadow_rays");
+        assert!(shadow > pixels / 2 && shadow < pixels, "{w}");
+        assert_eq!(n("queue_rays"), pixels + shadow, "{w}");
+        assert!(n("megakernel_rays") > pixels + shadow, "{w}");
+        for key in ["megakernel_ms", "queue_ms", "ratio"] {
+            assert!(w[key].as_f64().unwrap() > 0.0, "{key}: {w}");
+        }
+    }
+    assert!(run.stdout.contains("cornell_box.toml | restart"), "{}", run.stdout);
+}
+
 #[test]
 fn bad_arguments_exit_2() {
     let dir = TempDir::new("usage");
