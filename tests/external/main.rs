@@ -13,6 +13,7 @@
 mod common;
 
 mod farm;
+mod farm_path;
 mod gpu_memory;
 mod tools;
 mod web;
