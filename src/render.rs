@@ -348,7 +348,9 @@ pub fn render_streaming(
     let summary = renderer.render_bands_with_cost(ctx, buffers, params, plan, with_cost, sink)?;
     let tree_stats = prepared.tree.stats();
     let rows = end_row.saturating_sub(first_row) as u64;
-    let samples = part.samples.map_or(scene.render.samples, |(_, count)| count);
+    let samples = part
+        .samples
+        .map_or(scene.render.samples, |(_, count)| count);
     let primary_rays = scene.render.width as u64 * rows * samples as u64;
     let stats = RenderStats {
         adapter: ctx.info.name.clone(),

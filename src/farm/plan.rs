@@ -146,8 +146,7 @@ impl FarmPlan {
     /// The finishing job's EXR of linear radiance beside the PNG, made by
     /// a split by samples only.
     pub fn final_exr_path(&self, dir: &Path) -> Option<PathBuf> {
-        matches!(self.work, Work::Samples { .. })
-            .then(|| dir.join(format!("{}.exr", self.stem())))
+        matches!(self.work, Work::Samples { .. }).then(|| dir.join(format!("{}.exr", self.stem())))
     }
 
     /// What a work item is called in messages: band, share or frame.
@@ -181,9 +180,7 @@ impl FarmPlan {
             return Some("the render flags changed".into());
         }
         if self.work != other.work {
-            return Some(
-                "the work (--tiles, --split, --frame or the animation) changed".into(),
-            );
+            return Some("the work (--tiles, --split, --frame or the animation) changed".into());
         }
         super::fingerprint::difference(&self.inputs, &other.inputs)
     }
@@ -303,6 +300,58 @@ mod tests {
                 assert!(max - min <= 1, "{items} items in {tasks} tasks: {parts:?}");
             }
         }
+    }
+
+    #[test]
+    fn shares_of_samples_cover_every_sample_once_and_go_to_exr_parts() {
+        let plan = FarmPlan {
+            scene: "/scenes/cornell_box.toml".into(),
+            kdray: "/bin/kdray".into(),
+            flags: RenderFlags {
+                width: None,
+                height: None,
+                samples: None,
+                accel: crate::gpu::Accel::Kdtree,
+                traversal: Default::default(),
+                build: Default::default(),
+                integrator: None,
+                seed: None,
+            },
+            width: 64,
+            height: 48,
+            work: Work::Samples {
+                frame: 0,
+                shares: 3,
+                samples: 40,
+            },
+            tasks: 3,
+            inputs: vec![],
+            sbatch: vec![],
+        };
+        let ranges: Vec<(u32, u32)> = (0..3).map(|t| plan.sample_range(t).unwrap()).collect();
+        assert_eq!(ranges, [(0, 13), (13, 13), (26, 14)]);
+        assert_eq!(plan.band_rows(2), (0, 48), "every share covers every row");
+        let dir = Path::new("/farm");
+        assert_eq!(
+            plan.item_path(dir, 1),
+            Path::new("/farm/parts/samples-0001.exr")
+        );
+        assert_eq!(plan.final_path(dir), Path::new("/farm/cornell_box.png"));
+        assert_eq!(
+            plan.final_exr_path(dir).unwrap(),
+            Path::new("/farm/cornell_box.exr")
+        );
+        let json = serde_json::to_string(&plan.work).unwrap();
+        assert_eq!(
+            json,
+            r#"{"kind":"samples","frame":0,"shares":3,"samples":40}"#
+        );
+        let still = FarmPlan {
+            work: Work::Still { frame: 0, tiles: 3 },
+            ..plan
+        };
+        assert_eq!(still.sample_range(0), None);
+        assert_eq!(still.final_exr_path(dir), None);
     }
 
     #[test]

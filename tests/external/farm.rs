@@ -108,7 +108,13 @@ pub(crate) fn cluster() -> ClusterUse {
 }
 
 /// `kdray farm SCENE --out OUT` at 64x48 with `extra` flags, on `cluster`.
-pub(crate) fn farm(dir: &Path, cluster: &ClusterUse, scene: &str, out: &Path, extra: &[&str]) -> Run {
+pub(crate) fn farm(
+    dir: &Path,
+    cluster: &ClusterUse,
+    scene: &str,
+    out: &Path,
+    extra: &[&str],
+) -> Run {
     let mut args = vec!["farm", scene, "--out", out.to_str().unwrap()];
     args.extend(SIZE);
     args.extend(extra);
