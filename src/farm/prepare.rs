@@ -269,3 +269,11 @@ fn absolute(path: &Path) -> Result<PathBuf> {
         source,
     })
 }
+
+#[cfg(test)]
+mod tests {
+    #[test]
+    fn split_names_round_trip() {
+        kdray_core::choice::assert_names_round_trip::<super::Split>();
+    }
+}
