@@ -269,6 +269,10 @@ pub fn render_scene(
 pub struct FramePart {
     pub frame: Frame,
     pub rows: (u32, u32),
+    /// Path frames: only samples `first .. first + count` of each pixel
+    /// (`None`: all `[render] samples`), their mean as the pixel
+    /// ([`Renderer::with_sample_range`](crate::gpu::Renderer::with_sample_range)).
+    pub samples: Option<(u32, u32)>,
 }
 
 impl FramePart {
@@ -280,6 +284,7 @@ impl FramePart {
                 lights: scene.lights.clone(),
             },
             rows: (0, scene.render.height),
+            samples: None,
         }
     }
 }
@@ -324,6 +329,9 @@ pub fn render_streaming(
             &whole
         }
     };
+    if let Some((first, count)) = part.samples {
+        renderer = renderer.with_sample_range(first, count);
+    }
     uploaded.write_lights(ctx, &part.frame.lights);
     let params = uploaded
         .view_params(&part.frame.camera, &scene.render, accel)
@@ -340,7 +348,10 @@ pub fn render_streaming(
     let summary = renderer.render_bands_with_cost(ctx, buffers, params, plan, with_cost, sink)?;
     let tree_stats = prepared.tree.stats();
     let rows = end_row.saturating_sub(first_row) as u64;
-    let primary_rays = scene.render.width as u64 * rows * scene.render.samples as u64;
+    let samples = part
+        .samples
+        .map_or(scene.render.samples, |(_, count)| count);
+    let primary_rays = scene.render.width as u64 * rows * samples as u64;
     let stats = RenderStats {
         adapter: ctx.info.name.clone(),
         backend: format!("{:?}", ctx.info.backend),

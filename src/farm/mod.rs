@@ -7,9 +7,10 @@
 //!   ([`fingerprint`]), the work items (a still's bands of rows, or an
 //!   animation's frames) and their share among the tasks;
 //! - render.sbatch and finish.sbatch ([`scripts`]);
-//! - the result: a still's one PNG, or the frames 0000.png, 0001.png, ...
-//!   (and an MP4, [`video`]);
-//! - parts/: the still's bands, every job's log, the finishing job's marker.
+//! - the result: a still's one PNG (and, split by samples, its EXR), or the
+//!   frames 0000.png, 0001.png, ... (and an MP4, [`video`]);
+//! - parts/: the still's bands or shares of samples ([`samples`]), every
+//!   job's log, the finishing job's marker.
 //!
 //! [`prepare`](mod@prepare) writes the plan and scripts and works out what is missing;
 //! [`slurm`] submits and waits; [`task`] is what runs on the nodes. Every
@@ -19,6 +20,7 @@
 pub mod fingerprint;
 pub mod plan;
 pub mod prepare;
+pub mod samples;
 pub mod scripts;
 pub mod slurm;
 pub mod task;
@@ -28,6 +30,7 @@ use std::path::{Path, PathBuf};
 
 pub use plan::Finished;
 pub use plan::{FarmPlan, RenderFlags, Work};
+pub use prepare::Split;
 pub use prepare::{prepare, FarmRequest, Prepared};
 pub use slurm::Submission;
 pub use task::{finish, run_task, task_index, TaskReport};
@@ -56,10 +59,7 @@ fn is_executable(path: &Path) -> bool {
 /// (task 2), band 3 (task 3)", the first few only.
 pub(crate) fn missing_summary(plan: &FarmPlan, dir: &Path, missing: &[u32]) -> String {
     const SHOWN: usize = 5;
-    let what = match plan.work {
-        Work::Still { .. } => "band",
-        Work::Frames { .. } => "frame",
-    };
+    let what = plan.item_word();
     let mut parts: Vec<String> = missing
         .iter()
         .take(SHOWN)

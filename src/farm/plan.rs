@@ -21,8 +21,8 @@ pub const FINISH_SCRIPT: &str = "finish.sbatch";
 /// The subfolder of DIR for bands, logs and the finishing job's marker.
 pub const PARTS_DIR: &str = "parts";
 
-/// What the farm renders: its work items are a still's bands of rows or
-/// an animation's frames.
+/// What the farm renders: its work items are a still's bands of rows, a
+/// path-traced still's shares of its samples, or an animation's frames.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(tag = "kind", rename_all = "snake_case")]
 pub enum Work {
@@ -30,6 +30,15 @@ pub enum Work {
     /// one) in `tiles` bands of rows, band `t` being rows
     /// `t * height / tiles .. (t + 1) * height / tiles`.
     Still { frame: u32, tiles: u32 },
+    /// One path-traced image (frame `frame`) whose `samples` per pixel are
+    /// cut into `shares` contiguous ranges, share `t` being samples
+    /// `t * samples / shares .. (t + 1) * samples / shares` of every pixel
+    /// (see [`super::samples`]).
+    Samples {
+        frame: u32,
+        shares: u32,
+        samples: u32,
+    },
     /// Every frame of the scene's animation, frame `k` written as
     /// DIR/`k`.png (zero-padded to at least four digits).
     Frames { frames: u32, fps: f64 },
@@ -61,7 +70,30 @@ impl FarmPlan {
     pub fn items(&self) -> u32 {
         match self.work {
             Work::Still { tiles, .. } => tiles,
+            Work::Samples { shares, .. } => shares,
             Work::Frames { frames, .. } => frames,
+        }
+    }
+
+    /// The frame of a still (`None` for an animation's frames).
+    pub fn still_frame(&self) -> Option<u32> {
+        match self.work {
+            Work::Still { frame, .. } | Work::Samples { frame, .. } => Some(frame),
+            Work::Frames { .. } => None,
+        }
+    }
+
+    /// The samples of share `share` of a split by samples, as (first
+    /// sample index, count); `None` for other work.
+    pub fn sample_range(&self, part: u32) -> Option<(u32, u32)> {
+        match self.work {
+            Work::Samples {
+                shares, samples, ..
+            } => {
+                let range = share(samples, shares, part);
+                Some((range.start, range.len() as u32))
+            }
+            _ => None,
         }
     }
 
@@ -79,22 +111,24 @@ impl FarmPlan {
     }
 
     /// Rows `first..end` of band `band` of a still (the whole image for a
-    /// frame of an animation).
+    /// share of the samples or a frame of an animation).
     pub fn band_rows(&self, band: u32) -> (u32, u32) {
         match self.work {
             Work::Still { tiles, .. } => {
                 let rows = share(self.height, tiles, band);
                 (rows.start, rows.end)
             }
-            Work::Frames { .. } => (0, self.height),
+            Work::Samples { .. } | Work::Frames { .. } => (0, self.height),
         }
     }
 
-    /// Where item `item` is written: a band in the parts folder, or a
-    /// frame at DIR's top level.
+    /// Where item `item` is written: a band (PNG) or a share of the
+    /// samples (EXR of mean radiance) in the parts folder, or a frame at
+    /// DIR's top level.
     pub fn item_path(&self, dir: &Path, item: u32) -> PathBuf {
         match self.work {
             Work::Still { .. } => parts_dir(dir).join(format!("band-{item:04}.png")),
+            Work::Samples { .. } => parts_dir(dir).join(format!("samples-{item:04}.exr")),
             Work::Frames { frames, .. } => dir.join(frame_file_name(item, frames)),
         }
     }
@@ -103,10 +137,25 @@ impl FarmPlan {
     /// level, or the animation's MP4 (when ffmpeg is installed).
     pub fn final_path(&self, dir: &Path) -> PathBuf {
         let ext = match self.work {
-            Work::Still { .. } => "png",
+            Work::Still { .. } | Work::Samples { .. } => "png",
             Work::Frames { .. } => "mp4",
         };
         dir.join(format!("{}.{ext}", self.stem()))
+    }
+
+    /// The finishing job's EXR of linear radiance beside the PNG, made by
+    /// a split by samples only.
+    pub fn final_exr_path(&self, dir: &Path) -> Option<PathBuf> {
+        matches!(self.work, Work::Samples { .. }).then(|| dir.join(format!("{}.exr", self.stem())))
+    }
+
+    /// What a work item is called in messages: band, share or frame.
+    pub fn item_word(&self) -> &'static str {
+        match self.work {
+            Work::Still { .. } => "band",
+            Work::Samples { .. } => "share",
+            Work::Frames { .. } => "frame",
+        }
     }
 
     /// The scene file's name without its extension.
@@ -131,7 +180,7 @@ impl FarmPlan {
             return Some("the render flags changed".into());
         }
         if self.work != other.work {
-            return Some("the work (--tiles, --frame or the animation) changed".into());
+            return Some("the work (--tiles, --split, --frame or the animation) changed".into());
         }
         super::fingerprint::difference(&self.inputs, &other.inputs)
     }
@@ -215,6 +264,13 @@ pub fn write_plan(dir: &Path, plan: &FarmPlan) -> Result<()> {
 pub enum Finished {
     /// The still's PNG.
     Image(PathBuf),
+    /// A split by samples' shares averaged into the still's PNG (tone-mapped)
+    /// and EXR (linear radiance).
+    Averaged {
+        shares: u32,
+        png: PathBuf,
+        exr: PathBuf,
+    },
     /// Every frame checked; the MP4 when ffmpeg encoded it, else the
     /// command that would.
     Frames {
@@ -244,6 +300,58 @@ mod tests {
                 assert!(max - min <= 1, "{items} items in {tasks} tasks: {parts:?}");
             }
         }
+    }
+
+    #[test]
+    fn shares_of_samples_cover_every_sample_once_and_go_to_exr_parts() {
+        let plan = FarmPlan {
+            scene: "/scenes/cornell_box.toml".into(),
+            kdray: "/bin/kdray".into(),
+            flags: RenderFlags {
+                width: None,
+                height: None,
+                samples: None,
+                accel: crate::gpu::Accel::Kdtree,
+                traversal: Default::default(),
+                build: Default::default(),
+                integrator: None,
+                seed: None,
+            },
+            width: 64,
+            height: 48,
+            work: Work::Samples {
+                frame: 0,
+                shares: 3,
+                samples: 40,
+            },
+            tasks: 3,
+            inputs: vec![],
+            sbatch: vec![],
+        };
+        let ranges: Vec<(u32, u32)> = (0..3).map(|t| plan.sample_range(t).unwrap()).collect();
+        assert_eq!(ranges, [(0, 13), (13, 13), (26, 14)]);
+        assert_eq!(plan.band_rows(2), (0, 48), "every share covers every row");
+        let dir = Path::new("/farm");
+        assert_eq!(
+            plan.item_path(dir, 1),
+            Path::new("/farm/parts/samples-0001.exr")
+        );
+        assert_eq!(plan.final_path(dir), Path::new("/farm/cornell_box.png"));
+        assert_eq!(
+            plan.final_exr_path(dir).unwrap(),
+            Path::new("/farm/cornell_box.exr")
+        );
+        let json = serde_json::to_string(&plan.work).unwrap();
+        assert_eq!(
+            json,
+            r#"{"kind":"samples","frame":0,"shares":3,"samples":40}"#
+        );
+        let still = FarmPlan {
+            work: Work::Still { frame: 0, tiles: 3 },
+            ..plan
+        };
+        assert_eq!(still.sample_range(0), None);
+        assert_eq!(still.final_exr_path(dir), None);
     }
 
     #[test]

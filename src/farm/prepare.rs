@@ -7,8 +7,40 @@
 use std::path::{Path, PathBuf};
 
 use super::plan::{self, FarmPlan, RenderFlags, Work};
+use crate::choice::Choice;
 use crate::error::{Error, Result};
-use crate::scene::Scene;
+use crate::scene::{Integrator, Scene};
+
+/// How a still is cut into work items (`--split`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum Split {
+    /// Bands of rows, each traced with every sample: any integrator.
+    #[default]
+    Rows,
+    /// Shares of the path tracer's samples, each traced over the whole
+    /// image, averaged by the finishing job.
+    Samples,
+}
+
+impl Choice for Split {
+    const ALL: &'static [Self] = &[Self::Rows, Self::Samples];
+
+    fn name(self) -> &'static str {
+        match self {
+            Self::Rows => "rows",
+            Self::Samples => "samples",
+        }
+    }
+
+    fn help(self) -> &'static str {
+        match self {
+            Self::Rows => "bands of rows, each with all samples (any integrator)",
+            Self::Samples => {
+                "shares of the path tracer's samples over the whole image, averaged at the end"
+            }
+        }
+    }
+}
 
 /// Frames per task when `--tasks` is not given: enough that a task's fixed
 /// cost (start-up, adapter, tree build and upload) is small beside its
@@ -23,8 +55,11 @@ pub struct FarmRequest {
     pub flags: RenderFlags,
     /// A still of this frame of the scene's animation.
     pub frame: Option<u32>,
-    /// A still in this many bands of rows (one task each by default).
+    /// A still in this many parts (one task each by default): bands of
+    /// rows, or shares of the samples with [`Split::Samples`].
     pub tiles: Option<u32>,
+    /// How a still is cut.
+    pub split: Split,
     /// The array's tasks [default: one per band for a still; one per
     /// [`DEFAULT_FRAMES_PER_TASK`] frames for an animation].
     pub tasks: Option<u32>,
@@ -57,36 +92,31 @@ pub fn prepare(request: &FarmRequest) -> Result<Prepared> {
     let (mut scene, inputs) = super::fingerprint::load_and_fingerprint(&scene_path)?;
     request.flags.apply(&mut scene)?;
     let work = work_for(&scene, request)?;
-    let items = match work {
-        Work::Still { tiles, .. } => tiles,
-        Work::Frames { frames, .. } => frames,
-    };
-    let tasks = match (request.tasks, &work) {
-        (Some(t), _) => t,
-        (None, Work::Still { tiles, .. }) => *tiles,
-        (None, Work::Frames { frames, .. }) => frames.div_ceil(DEFAULT_FRAMES_PER_TASK),
-    };
-    if !(1..=items).contains(&tasks) {
-        return Err(Error::Usage(format!(
-            "--tasks: must be in 1..={items} (one {} at least per task), got {tasks}",
-            match work {
-                Work::Still { .. } => "band",
-                Work::Frames { .. } => "frame",
-            }
-        )));
-    }
     let dir = absolute(&request.out)?;
-    let plan = FarmPlan {
+    let mut plan = FarmPlan {
         scene: scene_path,
         kdray: request.kdray.clone(),
         flags: request.flags.clone(),
         width: scene.render.width,
         height: scene.render.height,
         work,
-        tasks,
+        tasks: 1,
         inputs,
         sbatch: request.sbatch.clone(),
     };
+    let items = plan.items();
+    plan.tasks = match (request.tasks, &plan.work) {
+        (Some(t), _) => t,
+        (None, Work::Frames { frames, .. }) => frames.div_ceil(DEFAULT_FRAMES_PER_TASK),
+        (None, _) => items,
+    };
+    if !(1..=items).contains(&plan.tasks) {
+        return Err(Error::Usage(format!(
+            "--tasks: must be in 1..={items} (one {} at least per task), got {}",
+            plan.item_word(),
+            plan.tasks
+        )));
+    }
     // The scripts are checked (DIR's path, the options) before DIR is touched.
     super::scripts::array_script(&plan, &dir)?;
     super::scripts::finish_script(&plan, &dir)?;
@@ -121,7 +151,10 @@ pub fn prepare(request: &FarmRequest) -> Result<Prepared> {
         })
         .collect();
     let result_there = match plan.work {
-        Work::Still { .. } => plan.final_path(&dir).is_file(),
+        Work::Still { .. } | Work::Samples { .. } => {
+            plan.final_path(&dir).is_file()
+                && plan.final_exr_path(&dir).is_none_or(|exr| exr.is_file())
+        }
         Work::Frames { .. } => true,
     };
     let complete =
@@ -135,8 +168,9 @@ pub fn prepare(request: &FarmRequest) -> Result<Prepared> {
     })
 }
 
-/// A still (of `--frame`, in `--tiles` bands) or, for a scene with an
-/// animation and neither flag, its frames.
+/// A still (of `--frame`, in `--tiles` bands or, with `--split samples`,
+/// shares of its samples) or, for a scene with an animation and none of
+/// these flags, its frames.
 fn work_for(scene: &Scene, request: &FarmRequest) -> Result<Work> {
     let animation = animation_of(scene);
     if let Some(frame) = request.frame {
@@ -146,6 +180,9 @@ fn work_for(scene: &Scene, request: &FarmRequest) -> Result<Work> {
                 "--frame: the scene has frames 0..{frames}, got {frame}"
             )));
         }
+    }
+    if request.split == Split::Samples {
+        return samples_work(scene, request);
     }
     match (animation, request.frame, request.tiles) {
         (Some((frames, fps)), None, None) => Ok(Work::Frames { frames, fps }),
@@ -163,6 +200,30 @@ fn work_for(scene: &Scene, request: &FarmRequest) -> Result<Work> {
             })
         }
     }
+}
+
+/// A path-traced still whose samples are cut into `--parts` shares.
+fn samples_work(scene: &Scene, request: &FarmRequest) -> Result<Work> {
+    if scene.render.integrator != Integrator::Path {
+        return Err(Error::Usage(format!(
+            "--split samples: {} is rendered by the {} integrator; the split by samples \
+             needs the path tracer (integrator = \"path\" or --integrator path)",
+            request.scene.display(),
+            scene.render.integrator.name()
+        )));
+    }
+    let samples = scene.render.samples;
+    let shares = request.tiles.unwrap_or(1);
+    if !(1..=samples).contains(&shares) {
+        return Err(Error::Usage(format!(
+            "--parts: must be in 1..={samples} (one sample at least per share), got {shares}"
+        )));
+    }
+    Ok(Work::Samples {
+        frame: request.frame.unwrap_or(0),
+        shares,
+        samples,
+    })
 }
 
 /// The scene's animation as (frames, frames per second), if it has one.
@@ -187,6 +248,9 @@ fn discard(old: &FarmPlan, dir: &Path) -> Result<()> {
         }
     }
     remove(&old.final_path(dir))?;
+    if let Some(exr) = old.final_exr_path(dir) {
+        remove(&exr)?;
+    }
     let parts = plan::parts_dir(dir);
     match std::fs::remove_dir_all(&parts) {
         Err(e) if e.kind() != std::io::ErrorKind::NotFound => Err(Error::File {
@@ -204,4 +268,12 @@ fn absolute(path: &Path) -> Result<PathBuf> {
         what: "cannot make the path absolute",
         source,
     })
+}
+
+#[cfg(test)]
+mod tests {
+    #[test]
+    fn split_names_round_trip() {
+        kdray_core::choice::assert_names_round_trip::<super::Split>();
+    }
 }

@@ -1,7 +1,8 @@
 //! What runs on the cluster: one array task ([`run_task`]: its share of
-//! the bands or frames, skipping those already written, the tree built and
-//! uploaded once) and the finishing job ([`finish`]: the still's bands
-//! streamed into one PNG, or every frame checked and the MP4 encoded).
+//! the bands, shares of samples or frames, skipping those already written,
+//! the tree built and uploaded once) and the finishing job ([`finish`]:
+//! the still's bands streamed into one PNG, the shares of samples averaged
+//! into its PNG and EXR, or every frame checked and the MP4 encoded).
 
 use std::path::Path;
 use std::time::Instant;
@@ -21,7 +22,7 @@ use crate::scene::{Frame, Scene};
 #[derive(Debug, Clone, Serialize)]
 pub struct TaskReport {
     pub task: u32,
-    /// The items (bands or frames) of its share.
+    /// The items (bands, shares of samples or frames) of its share.
     pub items: Vec<u32>,
     /// Those it rendered (the others were there already).
     pub rendered: Vec<u32>,
@@ -121,10 +122,7 @@ pub fn run_task(dir: &Path, task: u32) -> Result<TaskReport> {
     report.adapter = ctx.info.name.clone();
 
     let t = Instant::now();
-    let still_frame = match plan.work {
-        Work::Still { frame, .. } => Some(frame),
-        Work::Frames { .. } => None,
-    };
+    let still_frame = plan.still_frame();
     // Only the camera and lights change between frames: one tree serves
     // them all.
     let path = scene.frame_path();
@@ -140,10 +138,19 @@ pub fn run_task(dir: &Path, task: u32) -> Result<TaskReport> {
 
     let t = Instant::now();
     for (&item, frame) in todo.iter().zip(frames) {
+        if let Work::Samples { .. } = plan.work {
+            super::samples::render_share(&ctx, &uploaded, &plan, dir, item, frame)?;
+            report.rendered.push(item);
+            continue;
+        }
         let rows = plan.band_rows(item);
         let path = plan.item_path(dir, item);
         let mut png = PngStream::create(&path, plan.width, rows.1 - rows.0)?;
-        let part = FramePart { frame, rows };
+        let part = FramePart {
+            frame,
+            rows,
+            samples: None,
+        };
         crate::render::render_streaming(
             &ctx,
             &uploaded,
@@ -199,6 +206,10 @@ pub fn finish(dir: &Path) -> Result<Finished> {
             }
             png.finish()?;
             Finished::Image(out)
+        }
+        Work::Samples { .. } => {
+            let scene = load_planned_scene(&plan, dir)?;
+            super::samples::finish_shares(&plan, dir, &scene.render)?
         }
         Work::Frames { frames, fps } => {
             for k in 0..frames {

@@ -195,6 +195,9 @@ pub struct Renderer {
     /// How a path frame's radiance becomes its 8-bit colour: the curve and
     /// the scale 2^exposure.
     tone_map: (ToneMap, f32),
+    /// Radiance frames trace only samples `first .. first + count` of each
+    /// pixel (`None`: all of them); see [`Renderer::with_sample_range`].
+    sample_range: Option<(u32, u32)>,
 }
 
 impl Renderer {
@@ -208,6 +211,7 @@ impl Renderer {
             params_buffer,
             radiance: false,
             tone_map: (ToneMap::default(), 1.0),
+            sample_range: None,
         })
     }
 
@@ -225,6 +229,21 @@ impl Renderer {
     pub fn with_radiance(self) -> Self {
         Renderer {
             radiance: true,
+            ..self
+        }
+    }
+
+    /// This renderer with radiance frames (path frames, and every frame
+    /// after [`Renderer::with_radiance`]) tracing only samples `first ..
+    /// first + count` of each pixel, with the random numbers the whole
+    /// frame gives those sample indices: `RowBand::radiance` is their mean
+    /// and `RowBand::rgb` its tone-mapped colour. A farm splits a still's
+    /// samples this way; the means of the shares, weighted by their
+    /// counts, are the whole frame's mean within float rounding. Frames
+    /// without radiance output ignore it.
+    pub fn with_sample_range(self, first: u32, count: u32) -> Self {
+        Renderer {
+            sample_range: Some((first, count)),
             ..self
         }
     }
@@ -353,7 +372,7 @@ impl Renderer {
             rays: RayTotals::default(),
             cost: with_cost.then(CostTotals::default),
         };
-        let samples = self.samples_of(&params, radiance);
+        let (first_sample, samples) = self.samples_of(&params, radiance);
         let (mut y, end) = (plan.rows.0, plan.rows.1.min(params.height));
         let mut rows = plan.first_band_rows(width);
         while y < end {
@@ -373,7 +392,7 @@ impl Renderer {
                     with_cost,
                     radiance,
                 };
-                let (ms, bytes) = self.trace_tile(ctx, &run, area, samples)?;
+                let (ms, bytes) = self.trace_tile(ctx, &run, area, first_sample, samples)?;
                 band_ms += ms;
                 band.take_tile(
                     &bytes,
@@ -407,8 +426,9 @@ impl Renderer {
         Ok(summary)
     }
 
-    /// Traces `area` of the frame: its buffers cleared, its `samples` in
-    /// dispatches of at most [`SAMPLES_PER_DISPATCH`] (short enough for a
+    /// Traces `area` of the frame: its buffers cleared, its `samples`
+    /// samples from sample index `first_sample` on in dispatches of at most
+    /// [`SAMPLES_PER_DISPATCH`] (short enough for a
     /// GPU's watchdog and llvmpipe's loop limit; the kernel adds them in
     /// order, so the sums do not depend on the split), the last one copied
     /// back. Returns the GPU time of its dispatches (timestamps, else wall
@@ -418,6 +438,7 @@ impl Renderer {
         ctx: &GpuContext,
         run: &TileRun<'_>,
         area: TileArea,
+        first_sample: u32,
         samples: u32,
     ) -> Result<(f64, Vec<u8>)> {
         // The clear goes with the first dispatch: one submission a tile
@@ -434,7 +455,7 @@ impl Renderer {
             let tile_params = FrameParams {
                 tile_origin: [area.x, area.y],
                 tile_size: [area.w, area.h],
-                sample_index: first,
+                sample_index: first_sample + first,
                 sample_count: count,
                 ..run.params
             };
@@ -482,15 +503,20 @@ impl Renderer {
         }
     }
 
-    /// Samples a pixel of a frame with `params` takes: the path tracer's
-    /// count, or the Whitted grid's k x k (radiance output traces the grid
-    /// in one pass; 8-bit output ignores the count).
-    fn samples_of(&self, params: &FrameParams, radiance: bool) -> u32 {
-        match (params.integrator == INTEGRATOR_PATH, radiance) {
+    /// The first sample index and the samples a pixel of a frame with
+    /// `params` takes: the path tracer's count, or the Whitted grid's k x k
+    /// (radiance output traces the grid in one pass; 8-bit output ignores
+    /// the count), or the renderer's sample range for radiance frames.
+    fn samples_of(&self, params: &FrameParams, radiance: bool) -> (u32, u32) {
+        if let (true, Some((first, count))) = (radiance, self.sample_range) {
+            return (first, count);
+        }
+        let samples = match (params.integrator == INTEGRATOR_PATH, radiance) {
             (true, _) => params.samples.max(1),
             (false, true) => params.samples_per_axis * params.samples_per_axis,
             (false, false) => 1,
-        }
+        };
+        (0, samples)
     }
 }
 

@@ -13,9 +13,9 @@ use crate::common;
 use common::{run_kdray, Run, TempDir};
 use kdray::output::read_png_rgb;
 
-const SIZE: [&str; 4] = ["--width", "64", "--height", "48"];
+pub(crate) const SIZE: [&str; 4] = ["--width", "64", "--height", "48"];
 
-fn repo(relative: &str) -> String {
+pub(crate) fn repo(relative: &str) -> String {
     format!("{}/{relative}", env!("CARGO_MANIFEST_DIR"))
 }
 
@@ -50,7 +50,7 @@ static CLUSTER: Mutex<(Option<Cluster>, usize)> = Mutex::new((None, 0));
 
 /// A test's hold on the cluster: dropped, also while a failed test
 /// unwinds, it lets go, and the last one out stops the daemons by pid.
-struct ClusterUse {
+pub(crate) struct ClusterUse {
     conf: PathBuf,
 }
 
@@ -78,7 +78,7 @@ fn free_port_pair() -> u16 {
     panic!("no two free neighbouring ports");
 }
 
-fn cluster() -> ClusterUse {
+pub(crate) fn cluster() -> ClusterUse {
     let mut shared = CLUSTER.lock().unwrap_or_else(|e| e.into_inner());
     if shared.0.is_none() {
         let dir = TempDir::new("slurm");
@@ -108,7 +108,13 @@ fn cluster() -> ClusterUse {
 }
 
 /// `kdray farm SCENE --out OUT` at 64x48 with `extra` flags, on `cluster`.
-fn farm(dir: &Path, cluster: &ClusterUse, scene: &str, out: &Path, extra: &[&str]) -> Run {
+pub(crate) fn farm(
+    dir: &Path,
+    cluster: &ClusterUse,
+    scene: &str,
+    out: &Path,
+    extra: &[&str],
+) -> Run {
     let mut args = vec!["farm", scene, "--out", out.to_str().unwrap()];
     args.extend(SIZE);
     args.extend(extra);
@@ -120,7 +126,7 @@ fn farm(dir: &Path, cluster: &ClusterUse, scene: &str, out: &Path, extra: &[&str
 }
 
 /// The single-machine render of `scene` at 64x48 (`extra`: more flags).
-fn single_render(dir: &TempDir, scene: &str, extra: &[&str]) -> (u32, u32, Vec<u8>) {
+pub(crate) fn single_render(dir: &TempDir, scene: &str, extra: &[&str]) -> (u32, u32, Vec<u8>) {
     let out = dir.join("single.png");
     let mut args = vec!["render", scene, "-o", out.to_str().unwrap()];
     args.extend(SIZE);
@@ -133,7 +139,7 @@ fn single_render(dir: &TempDir, scene: &str, extra: &[&str]) -> (u32, u32, Vec<u
 }
 
 /// The PNG files at the top level of `dir`, sorted.
-fn top_level_pngs(dir: &Path) -> Vec<String> {
+pub(crate) fn top_level_pngs(dir: &Path) -> Vec<String> {
     let mut names: Vec<String> = std::fs::read_dir(dir)
         .unwrap()
         .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
@@ -143,7 +149,7 @@ fn top_level_pngs(dir: &Path) -> Vec<String> {
     names
 }
 
-fn mtime(path: &Path) -> SystemTime {
+pub(crate) fn mtime(path: &Path) -> SystemTime {
     std::fs::metadata(path)
         .and_then(|m| m.modified())
         .unwrap_or_else(|e| panic!("{}: {e}", path.display()))

@@ -1,6 +1,6 @@
 //! The external tier (docs/testing.md, "Tiers"): tests that drive a tool
 //! beyond the GPU driver: headless Chromium (`web`), a Slurm cluster
-//! (`farm`), an X server (`window`, under Xvfb) and lavapipe with its
+//! (`farm`, `farm_path`), an X server (`window`, under Xvfb) and lavapipe with its
 //! allocations made to fail (`gpu_memory`, through a preloaded library built
 //! with cc). A missing tool fails the test that needs it, naming the tool
 //! and how to install it (`scripts/test.sh external` installs them all).
@@ -13,6 +13,7 @@
 mod common;
 
 mod farm;
+mod farm_path;
 mod gpu_memory;
 mod tools;
 mod web;

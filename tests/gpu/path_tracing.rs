@@ -1,8 +1,9 @@
 //! The path tracer (`integrator = "path"`) on the adapter at hand: scenes
 //! whose radiance is known exactly (a white furnace, a Lambertian plane
 //! under a uniform sky, a plane lit by a sphere of known solid angle),
-//! determinism and the seed, the image independent of its tiles, no
-//! infinity or NaN in a pixel, and EXR output. That every walk and brute
+//! determinism and the seed, the image independent of its tiles, sample
+//! ranges (a farm's split by samples), no infinity or NaN in a pixel, and
+//! EXR output. That every walk and brute
 //! force give the same path-traced image is checked on the shipped Cornell
 //! box by tests/gpu_render.rs's `kdtree_equals_brute_force_on_every_scene`.
 
@@ -18,22 +19,28 @@ use kdray::scene::Scene;
 /// its dropped samples, through the k-d tree with `traversal`, in
 /// dispatches of at most `max_tile_pixels`.
 fn radiance(scene: &Scene, traversal: Traversal, max_tile_pixels: u64) -> (Vec<f32>, u64) {
-    radiance_with(scene, Accel::Kdtree, traversal, max_tile_pixels)
+    radiance_with(scene, Accel::Kdtree, traversal, max_tile_pixels, None)
 }
 
-/// [`radiance`] with the search `accel` (the walk matters for the k-d tree only).
+/// [`radiance`] with the search `accel` (the walk matters for the k-d tree
+/// only), and of samples `first .. first + count` alone when `samples` is
+/// `Some((first, count))`.
 fn radiance_with(
     scene: &Scene,
     accel: Accel,
     traversal: Traversal,
     max_tile_pixels: u64,
+    samples: Option<(u32, u32)>,
 ) -> (Vec<f32>, u64) {
     let ctx = gpu();
     let prepared = PreparedScene::new(scene.clone(), accel);
     let uploaded = GpuScene::upload(ctx, prepared).unwrap_or_else(|e| panic!("{e}"));
-    let renderer = Renderer::new(ctx)
+    let mut renderer = Renderer::new(ctx)
         .unwrap_or_else(|e| panic!("{e}"))
         .with_settings(&scene.render);
+    if let Some((first, count)) = samples {
+        renderer = renderer.with_sample_range(first, count);
+    }
     let params = uploaded.frame_params().with_traversal(traversal);
     let (w, h) = (scene.render.width, scene.render.height);
     let plan = TilePlan::new(
@@ -252,12 +259,51 @@ fn path_images_depend_on_the_seed_alone() {
     );
 }
 
+/// A sample range traces those sample indices with the whole frame's
+/// random numbers: the range of every sample is the whole frame bit for
+/// bit, two ranges of one size differ, and ranges that cover the samples
+/// (13, 13 and 9 of 35: unequal, and starting inside a dispatch of 16)
+/// average, weighted by their counts, to the whole frame within f32
+/// rounding (radiance is never negative: relative error about the count
+/// times 2^-24).
+#[test]
+fn sample_ranges_average_to_the_whole_frame() {
+    let scene = small_cornell_box(35);
+    let of = |range| {
+        radiance_with(
+            &scene,
+            Accel::Kdtree,
+            Traversal::default(),
+            u64::MAX,
+            Some(range),
+        )
+        .0
+    };
+    let whole = default_radiance(&scene);
+    let bits = |v: &[f32]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
+    assert_eq!(bits(&of((0, 35))), bits(&whole));
+    let ranges = [(0, 13), (13, 13), (26, 9)];
+    let shares: Vec<Vec<f32>> = ranges.iter().map(|&r| of(r)).collect();
+    assert_ne!(shares[0], shares[1], "other samples, other random numbers");
+    let mut worst: f64 = 0.0;
+    for (i, &expected) in whole.iter().enumerate() {
+        let sum: f64 = ranges
+            .iter()
+            .zip(&shares)
+            .map(|(&(_, count), share)| share[i] as f64 * count as f64)
+            .sum();
+        let error = (sum / 35.0 - expected as f64).abs();
+        worst = worst.max(error / (1e-5 * (expected as f64).abs() + 1e-7));
+    }
+    assert!(worst <= 1.0, "differs by {worst} tolerances");
+}
+
 /// Every walk meets the same hits with the same random numbers as brute
 /// force: the radiance is equal bit for bit.
 #[test]
 fn every_walk_gives_brute_force_radiance() {
     let scene = small_cornell_box(4);
-    let (brute, _) = radiance_with(&scene, Accel::Brute, Traversal::default(), u64::MAX);
+    let (brute, _) = radiance_with(&scene, Accel::Brute, Traversal::default(), u64::MAX, None);
     for walk in Traversal::ALL {
         let (kd, _) = radiance(&scene, walk, TilePlan::DEFAULT_MAX_TILE_PIXELS);
         let differing = kd.iter().zip(&brute).filter(|(a, b)| a != b).count();

@@ -15,6 +15,7 @@ use kdray::bench::options::{
 use kdray::bench::random_scene::{DEFAULT_HEIGHT, DEFAULT_WIDTH};
 use kdray::bench::{RandomSceneSpec, SceneKind, DEFAULT_SEED};
 use kdray::choice::Choice;
+use kdray::farm::Split;
 use kdray::gpu::Accel;
 use kdray::kdtree::{BuildStrategy, Traversal};
 use kdray::render::RenderFlags;
@@ -367,11 +368,17 @@ pub struct FarmArgs {
     /// instead of every frame.
     #[arg(long, value_name = "N")]
     pub frame: Option<u32>,
-    /// Cut the still into N bands of rows, one array task each [default: 1].
-    #[arg(long, value_name = "N")]
+    /// Cut the still into N parts, one array task each [default: 1]: bands
+    /// of rows, or with --split samples shares of the samples.
+    #[arg(long, visible_alias = "parts", value_name = "N")]
     pub tiles: Option<u32>,
-    /// The job array's tasks, each rendering a contiguous share of the bands
-    /// or frames [default: one per band; one per 50 frames].
+    /// How a still is cut into parts: bands of rows, or (path tracer only)
+    /// contiguous shares of each pixel's samples, averaged by the finishing
+    /// job into the still's PNG and EXR.
+    #[arg(long, value_parser = choice::<Split>(), default_value = "rows")]
+    pub split: Split,
+    /// The job array's tasks, each rendering a contiguous share of the bands,
+    /// shares of samples or frames [default: one per part; one per 50 frames].
     #[arg(long, value_name = "K")]
     pub tasks: Option<u32>,
     /// An sbatch option for both scripts, one per flag, e.g.

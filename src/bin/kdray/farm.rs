@@ -16,6 +16,7 @@ pub fn farm(args: FarmArgs) -> Result<()> {
         flags: args.image.into(),
         frame: args.frame,
         tiles: args.tiles,
+        split: args.split,
         tasks: args.tasks,
         sbatch: args.sbatch,
         force: args.force,
@@ -32,6 +33,14 @@ pub fn farm(args: FarmArgs) -> Result<()> {
     let what = match plan.work {
         Work::Still { frame, tiles } => format!(
             "a {}x{} still (frame {frame}) in {tiles} bands",
+            plan.width, plan.height
+        ),
+        Work::Samples {
+            frame,
+            shares,
+            samples,
+        } => format!(
+            "a {}x{} still (frame {frame}) of {samples} samples in {shares} shares",
             plan.width, plan.height
         ),
         Work::Frames { frames, .. } => {
@@ -125,6 +134,10 @@ fn wait_and_report(
 fn result_name(dir: &std::path::Path, plan: &farm::FarmPlan) -> String {
     match plan.work {
         Work::Still { .. } => plan.final_path(dir).display().to_string(),
+        Work::Samples { .. } => match plan.final_exr_path(dir) {
+            Some(exr) => format!("{} and {}", plan.final_path(dir).display(), exr.display()),
+            None => plan.final_path(dir).display().to_string(),
+        },
         Work::Frames { frames, .. } => {
             let video = plan.final_path(dir);
             format!(
@@ -149,6 +162,11 @@ pub fn farm_task(args: FarmTaskArgs) -> Result<()> {
 pub fn farm_finish(args: FarmFinishArgs) -> Result<()> {
     match farm::finish(&args.dir)? {
         Finished::Image(path) => println!("wrote {}", path.display()),
+        Finished::Averaged { shares, png, exr } => println!(
+            "{shares} shares of samples averaged; wrote {} and {}",
+            png.display(),
+            exr.display()
+        ),
         Finished::Frames {
             frames,
             video: Some(video),

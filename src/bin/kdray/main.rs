@@ -174,6 +174,7 @@ fn render_all_frames(
         let part = kdray::render::FramePart {
             frame: path.frame(k),
             rows: (0, height),
+            samples: None,
         };
         let (figures, _) = kdray::render::render_streaming(
             &ctx,

@@ -1,0 +1,224 @@
+//! `kdray farm` with the path tracer: animations frame by frame, stills in
+//! bands of rows, and stills split by samples (`--split samples`), each
+//! against `kdray render` of the same scene on the same adapter. Images
+//! are 64x48 with few samples, so that each test takes seconds.
+
+use std::path::Path;
+use std::process::Command;
+
+use crate::common;
+use crate::farm::{cluster, farm, mtime, repo, single_render, top_level_pngs, SIZE};
+
+use common::{run_kdray, TempDir};
+use kdray::output::exr::read_exr_rgb;
+use kdray::output::read_png_rgb;
+
+/// `kdray render SCENE -o single.exr` at 64x48 with `extra` flags: the
+/// linear radiance.
+fn single_exr(dir: &TempDir, scene: &str, extra: &[&str]) -> (u32, u32, Vec<f32>) {
+    let out = dir.join("single.exr");
+    let mut args = vec!["render", scene, "-o", out.to_str().unwrap()];
+    args.extend(SIZE);
+    args.extend(extra);
+    let run = run_kdray(&dir.path, &args, &[]);
+    assert_eq!(run.code, 0, "{run:#?}");
+    let image = read_exr_rgb(&out).unwrap();
+    std::fs::remove_file(out).unwrap();
+    image
+}
+
+/// Runs DIR's array script for each task index, then its finishing script,
+/// by hand (no Slurm), asserting that each succeeds.
+fn run_by_hand(out: &Path, tasks: u32) {
+    for i in 0..tasks {
+        let task = Command::new("sh")
+            .arg(out.join("render.sbatch"))
+            .arg(i.to_string())
+            .env_remove("SLURM_ARRAY_TASK_ID")
+            .env_remove("JOB_COMPLETION_INDEX")
+            .output()
+            .unwrap();
+        assert!(task.status.success(), "task {i}: {task:?}");
+    }
+    let finish = Command::new("sh")
+        .arg(out.join("finish.sbatch"))
+        .output()
+        .unwrap();
+    assert!(finish.status.success(), "{finish:?}");
+}
+
+/// The largest `|a - b| / (tolerance(b))` over every value, with `tolerance
+/// = 1e-5 * |b| + 1e-7`: below 1 when every value agrees within float
+/// rounding.
+fn worst_relative_difference(a: &[f32], b: &[f32]) -> f64 {
+    assert_eq!(a.len(), b.len());
+    a.iter()
+        .zip(b)
+        .map(|(&x, &y)| (x as f64 - y as f64).abs() / (1e-5 * (y as f64).abs() + 1e-7))
+        .fold(0.0, f64::max)
+}
+
+/// The largest difference of one channel between two 8-bit images.
+fn max_level_difference(a: &[u8], b: &[u8]) -> u8 {
+    assert_eq!(a.len(), b.len());
+    a.iter()
+        .zip(b)
+        .map(|(x, y)| x.abs_diff(*y))
+        .max()
+        .unwrap_or(0)
+}
+
+const PATH: [&str; 6] = ["--integrator", "path", "--samples", "8", "--seed", "7"];
+
+#[test]
+fn a_path_traced_orbit_of_five_frames_in_three_tasks_on_slurm_equals_render_frame_by_frame() {
+    let cluster = cluster();
+    let tmp = TempDir::new("farm-path-frames");
+    let out = tmp.join("out");
+    let text = std::fs::read_to_string(repo("scenes/orbit.toml")).unwrap();
+    let five = text.replace("frames = 48", "frames = 5");
+    assert_ne!(five, text, "scenes/orbit.toml's frames line");
+    let scene = tmp.write("orbit.toml", &five);
+    let scene = scene.to_str().unwrap();
+    let mut args = vec!["--tasks", "3", "--submit", "--wait"];
+    args.extend(PATH);
+    let run = farm(&tmp.path, &cluster, scene, &out, &args);
+    assert_eq!(run.code, 0, "{run:#?}");
+    assert!(
+        run.stdout.contains("5 frames of 64x48, 3 tasks"),
+        "{run:#?}"
+    );
+    let frames: Vec<String> = (0..5).map(|k| format!("{k:04}.png")).collect();
+    assert_eq!(top_level_pngs(&out), frames);
+    for (k, name) in frames.iter().enumerate() {
+        let k = k.to_string();
+        let mut flags = vec!["--frame", &k];
+        flags.extend(PATH);
+        assert_eq!(
+            read_png_rgb(&out.join(name)).unwrap(),
+            single_render(&tmp, scene, &flags),
+            "frame {k}"
+        );
+    }
+    // The plan carried the integrator and the seed: the Whitted frame and
+    // the path tracer's with another seed differ.
+    let farmed = read_png_rgb(&out.join("0000.png")).unwrap();
+    assert_ne!(farmed, single_render(&tmp, scene, &[]), "Whitted frame 0");
+    let mut other_seed = PATH;
+    other_seed[5] = "8";
+    assert_ne!(
+        farmed,
+        single_render(&tmp, scene, &other_seed),
+        "frame 0 with seed 8"
+    );
+}
+
+#[test]
+fn a_path_traced_still_split_by_samples_on_slurm_equals_the_single_render_within_rounding() {
+    let cluster = cluster();
+    let tmp = TempDir::new("farm-path-samples");
+    let out = tmp.join("out");
+    let scene = repo("scenes/cornell_box.toml");
+    // 40 samples in shares of 13, 13 and 14: unequal weights, and shares
+    // that start inside the single render's dispatches of 16 samples.
+    let args = [
+        "--samples",
+        "40",
+        "--split",
+        "samples",
+        "--parts",
+        "3",
+        "--submit",
+        "--wait",
+    ];
+    let run = farm(&tmp.path, &cluster, &scene, &out, &args);
+    assert_eq!(run.code, 0, "{run:#?}");
+    assert!(
+        run.stdout
+            .contains("a 64x48 still (frame 0) of 40 samples in 3 shares, 3 tasks"),
+        "{run:#?}"
+    );
+    assert_eq!(top_level_pngs(&out), ["cornell_box.png"]);
+    let share = |i: u32| out.join(format!("parts/samples-{i:04}.exr"));
+
+    let single = single_exr(&tmp, &scene, &["--samples", "40"]);
+    let farmed = read_exr_rgb(&out.join("cornell_box.exr")).unwrap();
+    assert_eq!((farmed.0, farmed.1), (64, 48));
+    let worst = worst_relative_difference(&farmed.2, &single.2);
+    eprintln!("split by samples: worst difference {worst:.3} of 1e-5 relative + 1e-7");
+    assert!(worst <= 1.0, "the farm's EXR differs by {worst} tolerances");
+    // Each share alone is a noisier image of fewer samples.
+    for i in 0..3 {
+        let (_, _, part) = read_exr_rgb(&share(i)).unwrap();
+        assert!(
+            worst_relative_difference(&part, &single.2) > 1e3,
+            "share {i} is not the whole render"
+        );
+    }
+    let single_png = single_render(&tmp, &scene, &["--samples", "40"]);
+    let farmed_png = read_png_rgb(&out.join("cornell_box.png")).unwrap();
+    assert_eq!((farmed_png.0, farmed_png.1), (single_png.0, single_png.1));
+    let levels = max_level_difference(&farmed_png.2, &single_png.2);
+    eprintln!("split by samples: the PNGs differ by {levels} levels at most");
+    assert!(levels <= 1, "the farm's PNG differs by {levels} levels");
+    assert!(tmp.temp_files().is_empty());
+
+    // A re-run renders only the missing share.
+    std::fs::remove_file(share(1)).unwrap();
+    std::fs::remove_file(out.join("cornell_box.exr")).unwrap();
+    let kept = [0, 2].map(|i| mtime(&share(i)));
+    let run = farm(&tmp.path, &cluster, &scene, &out, &args);
+    assert_eq!(run.code, 0, "{run:#?}");
+    assert!(run.stdout.contains("(tasks 1)"), "{run:#?}");
+    assert_eq!(kept, [0, 2].map(|i| mtime(&share(i))));
+    let again = read_exr_rgb(&out.join("cornell_box.exr")).unwrap();
+    assert_eq!(again, farmed, "the re-run's average is the first one's");
+}
+
+#[test]
+fn a_path_traced_still_in_bands_equals_the_single_render() {
+    let tmp = TempDir::new("farm-path-bands");
+    let out = tmp.join("out");
+    let scene = repo("scenes/cornell_box.toml");
+    let mut args = vec!["farm", &scene, "--out", out.to_str().unwrap()];
+    args.extend(SIZE);
+    args.extend(["--samples", "8", "--tiles", "3"]);
+    let run = run_kdray(&tmp.path, &args, &[]);
+    assert_eq!(run.code, 0, "{run:#?}");
+    run_by_hand(&out, 3);
+    assert_eq!(top_level_pngs(&out), ["cornell_box.png"]);
+    assert_eq!(
+        read_png_rgb(&out.join("cornell_box.png")).unwrap(),
+        single_render(&tmp, &scene, &["--samples", "8"])
+    );
+}
+
+#[test]
+fn a_split_by_samples_of_a_whitted_scene_or_into_too_many_parts_exits_2() {
+    let tmp = TempDir::new("farm-split-refused");
+    let out = tmp.join("out");
+    let plan = |scene: &str, extra: &[&str]| {
+        let mut args = vec!["farm", scene, "--out", out.to_str().unwrap()];
+        args.extend(SIZE);
+        args.extend(["--split", "samples"]);
+        args.extend(extra);
+        run_kdray(&tmp.path, &args, &[])
+    };
+    let whitted = plan(&repo("scenes/seed.toml"), &["--parts", "2"]);
+    assert_eq!(whitted.code, 2, "{whitted:#?}");
+    let line = whitted.one_error_line();
+    assert!(line.contains("--split samples"), "{line}");
+    assert!(line.contains("--integrator path"), "{line}");
+
+    let cornell = repo("scenes/cornell_box.toml");
+    let many = plan(&cornell, &["--samples", "4", "--parts", "5"]);
+    assert_eq!(many.code, 2, "{many:#?}");
+    assert!(many.one_error_line().contains("--parts"), "{many:#?}");
+    let tasks = plan(
+        &cornell,
+        &["--samples", "4", "--parts", "2", "--tasks", "3"],
+    );
+    assert_eq!(tasks.code, 2, "{tasks:#?}");
+    assert!(tasks.one_error_line().contains("--tasks"), "{tasks:#?}");
+    assert!(!out.join("farm.json").exists(), "nothing planned");
+}
