@@ -108,7 +108,8 @@ fn sample_light(p: vec3<f32>) -> LightSample {
     if (cos_l <= 0.0) {
         return no_light(); // its back faces p
     }
-    return LightSample(dir, d, light.diffuse, choice * d2 / (0.5 * twice_area * cos_l), false, id);
+    let radiance = light.diffuse * emissive_scale(id, q);
+    return LightSample(dir, d, radiance, choice * d2 / (0.5 * twice_area * cos_l), false, id);
 }
 
 // The density with which sample_light, from p, picks the direction `dir`
@@ -146,7 +147,7 @@ fn emitted(id: u32, p: vec3<f32>, dir: vec3<f32>) -> vec3<f32> {
     if (dot(triangle_front(tri), dir) >= 0.0) {
         return vec3<f32>(0.0);
     }
-    return e;
+    return e * emissive_scale(id, p);
 }
 
 // Where the shadow ray toward `light`, leaving from `origin`, must find

@@ -122,7 +122,12 @@ fn trace_path_physical(primary: Ray) -> vec3<f32> {
         if (hits >= params.max_depth) {
             break;
         }
-        let surface = surface_at(hit.object, p, ray.dir);
+        var surface = surface_at(hit.object, p, ray.dir);
+        // A normal map bends the shading normal, never past the surface.
+        let bent = mapped_normal(hit.object, p, surface.shading);
+        if (dot(bent, surface.geometric) > 0.0) {
+            surface.shading = bent;
+        }
         let offset = spawn_offset(p, object_magnitude(hit.object));
         let outside = surface.spawn_point + offset * surface.geometric;
         radiance += throughput * next_event(m, surface, -ray.dir, p, outside);

@@ -55,11 +55,23 @@ fn texture_level(header: u32, k: u32) -> TextureLevel {
     );
 }
 
-// Texel (x, y) of `level`, wrapped into it.
-fn texel(level: TextureLevel, x: i32, y: i32) -> vec3<f32> {
+// Texel (x, y) of `level`, wrapped into it: byte / 255, or with `srgb`
+// decoded from the sRGB transfer function to linear (the path tracer's
+// colour textures).
+fn texel(level: TextureLevel, x: i32, y: i32, srgb: bool) -> vec3<f32> {
     let xi = wrap_texel(x, i32(level.width), level.wrap.x);
     let yi = wrap_texel(y, i32(level.height), level.wrap.y);
-    return unpack4x8unorm(textures[level.first + u32(yi) * level.width + u32(xi)]).xyz;
+    let c = unpack4x8unorm(textures[level.first + u32(yi) * level.width + u32(xi)]).xyz;
+    if (srgb) {
+        return srgb_to_linear(c);
+    }
+    return c;
+}
+
+// The sRGB transfer function's inverse (IEC 61966-2-1), per channel.
+fn srgb_to_linear(c: vec3<f32>) -> vec3<f32> {
+    let curve = pow((c + 0.055) / 1.055, vec3<f32>(2.4));
+    return select(curve, c / 12.92, c <= vec3<f32>(0.04045));
 }
 
 // a * (1 - t) + b * t, spelled out as the CPU mirror computes it.
@@ -69,47 +81,47 @@ fn lerp3(a: vec3<f32>, b: vec3<f32>, t: f32) -> vec3<f32> {
 
 // Level k of the texture at `header`, at uv, point (TEXTURE_NEAREST) or
 // bilinear.
-fn sample_level(header: u32, k: u32, filter_mode: u32, uv: vec2<f32>) -> vec3<f32> {
+fn sample_level(header: u32, k: u32, filter_mode: u32, uv: vec2<f32>, srgb: bool) -> vec3<f32> {
     let level = texture_level(header, k);
     let size = vec2<f32>(f32(level.width), f32(level.height));
     let limit = vec2<f32>(TEXEL_COORDINATE_LIMIT);
     if (filter_mode == TEXTURE_NEAREST) {
         let p = clamp(floor(uv * size), -limit, limit);
-        return texel(level, i32(p.x), i32(p.y));
+        return texel(level, i32(p.x), i32(p.y), srgb);
     }
     let p = clamp(uv * size - 0.5, -limit, limit);
     let p0 = floor(p);
     let f = p - p0;
     let x = i32(p0.x);
     let y = i32(p0.y);
-    let top = lerp3(texel(level, x, y), texel(level, x + 1, y), f.x);
-    let bottom = lerp3(texel(level, x, y + 1), texel(level, x + 1, y + 1), f.x);
+    let top = lerp3(texel(level, x, y, srgb), texel(level, x + 1, y, srgb), f.x);
+    let bottom = lerp3(texel(level, x, y + 1, srgb), texel(level, x + 1, y + 1, srgb), f.x);
     return lerp3(top, bottom, f.y);
 }
 
 // Texture `t` at texture coordinates uv (v down from the image's top row)
-// and level of detail lambda.
-fn sample_texture(t: u32, uv: vec2<f32>, lambda: f32) -> vec3<f32> {
+// and level of detail lambda, its texels decoded from sRGB if `srgb`.
+fn sample_texture(t: u32, uv: vec2<f32>, lambda: f32, srgb: bool) -> vec3<f32> {
     let header = 1u + TEXTURE_HEADER_WORDS * t;
     if (lambda <= 0.0) {
-        return sample_level(header, 0u, textures[header + 2u], uv);
+        return sample_level(header, 0u, textures[header + 2u], uv, srgb);
     }
     let min_filter = textures[header + 3u];
     let mip = textures[header + 4u];
     if (mip == TEXTURE_MIP_NONE) {
-        return sample_level(header, 0u, min_filter, uv);
+        return sample_level(header, 0u, min_filter, uv, srgb);
     }
     let lod = min(lambda, f32(textures[header + 1u] - 1u));
     if (mip == TEXTURE_MIP_NEAREST) {
-        return sample_level(header, u32(ceil(lod - 0.5)), min_filter, uv);
+        return sample_level(header, u32(ceil(lod - 0.5)), min_filter, uv, srgb);
     }
     let l0 = floor(lod);
     let f = lod - l0;
-    let a = sample_level(header, u32(l0), min_filter, uv);
+    let a = sample_level(header, u32(l0), min_filter, uv, srgb);
     if (f == 0.0) {
         return a;
     }
-    return lerp3(a, sample_level(header, u32(l0) + 1u, min_filter, uv), f);
+    return lerp3(a, sample_level(header, u32(l0) + 1u, min_filter, uv, srgb), f);
 }
 
 // The spread angle of one pixel's ray cone, in radians.
@@ -145,32 +157,131 @@ fn record_uv(word: u32) -> vec2<f32> {
     return vec2<f32>(bitcast<f32>(textures[word]), bitcast<f32>(textures[word + 1u]));
 }
 
-// The material of object `id` at hit point p, reached along unit `dir` by
-// a path `path_length` long from the eye: its diffuse and ambient colours
-// multiplied by its texture where the object is a textured triangle.
-fn material_at(id: u32, p: vec3<f32>, dir: vec3<f32>, path_length: f32) -> Material {
-    var m = materials[objects[id].x];
-    if (!TEXTURES || m.texture == NO_TEXTURE || is_sphere(id)) {
-        return m;
-    }
-    let i = id - params.sphere_count;
+// Where a textured triangle's hit reads its textures: the coordinates
+// interpolated at the hit, the corners' coordinates and the ray cone's
+// width there; `found` false for a triangle without coordinates.
+struct TextureHit {
+    found: bool,
+    tri: Triangle,
+    uv0: vec2<f32>,
+    uv1: vec2<f32>,
+    uv2: vec2<f32>,
+    uv: vec2<f32>,
+}
+
+fn texture_hit(i: u32, p: vec3<f32>) -> TextureHit {
     let record = triangle_uv_record(i);
-    if (record == UNTEXTURED) {
-        return m;
-    }
     let tri = triangle(i);
+    if (record == UNTEXTURED) {
+        return TextureHit(false, tri, vec2<f32>(0.0), vec2<f32>(0.0), vec2<f32>(0.0), vec2<f32>(0.0));
+    }
     let b = barycentrics(tri, p);
     let r = textures[0] + TEXTURE_RECORD_WORDS * record;
     let uv0 = record_uv(r);
     let uv1 = record_uv(r + 2u);
     let uv2 = record_uv(r + 4u);
-    let uv = b.x * uv0 + b.y * uv1 + b.z * uv2;
-    let base = texture_level(1u + TEXTURE_HEADER_WORDS * m.texture, 0u);
+    return TextureHit(true, tri, uv0, uv1, uv2, b.x * uv0 + b.y * uv1 + b.z * uv2);
+}
+
+// Texture `t` at the hit `h`, seen along `dir` with a cone `cone_width` wide.
+fn sample_at_hit(t: u32, h: TextureHit, dir: vec3<f32>, cone_width: f32, srgb: bool) -> vec3<f32> {
+    let base = texture_level(1u + TEXTURE_HEADER_WORDS * t, 0u);
     let size = vec2<f32>(f32(base.width), f32(base.height));
+    let lambda = texture_lod(h.tri, h.uv0, h.uv1, h.uv2, size, dir, cone_width);
+    return sample_texture(t, h.uv, lambda, srgb);
+}
+
+// The material of object `id` at hit point p, reached along unit `dir` by
+// a path `path_length` long from the eye: on a textured triangle, its
+// diffuse and ambient colours multiplied by its base-colour texture (as
+// stored for the Whitted integrator, decoded from sRGB for the path
+// tracer), and for the path tracer its metallic and roughness scaled by
+// the metallic-roughness map's blue and green, its emission by the
+// emissive map (sRGB).
+fn material_at(id: u32, p: vec3<f32>, dir: vec3<f32>, path_length: f32) -> Material {
+    var m = materials[objects[id].x];
+    if (!TEXTURES || is_sphere(id)) {
+        return m;
+    }
+    let path = is_path();
+    let maps = path && (m.metal_rough_texture != NO_TEXTURE || m.emissive_texture != NO_TEXTURE);
+    if (m.texture == NO_TEXTURE && !maps) {
+        return m;
+    }
+    let h = texture_hit(id - params.sphere_count, p);
+    if (!h.found) {
+        return m;
+    }
     let cone_width = pixel_spread_angle() * path_length;
-    let lambda = texture_lod(tri, uv0, uv1, uv2, size, dir, cone_width);
-    let c = sample_texture(m.texture, uv, lambda);
-    m.diffuse *= c;
-    m.ambient *= c;
+    if (m.texture != NO_TEXTURE) {
+        let c = sample_at_hit(m.texture, h, dir, cone_width, path);
+        m.diffuse *= c;
+        m.ambient *= c;
+    }
+    if (path && m.metal_rough_texture != NO_TEXTURE) {
+        let mr = sample_at_hit(m.metal_rough_texture, h, dir, cone_width, false);
+        m.roughness *= mr.y;
+        m.metallic *= mr.z;
+    }
+    if (path && m.emissive_texture != NO_TEXTURE) {
+        m.emission *= sample_at_hit(m.emissive_texture, h, dir, cone_width, true);
+    }
     return m;
+}
+
+// What the emissive map makes of emitter `id`'s emission at p, on the
+// base level (a light sample has no ray cone): 1 without one.
+fn emissive_scale(id: u32, p: vec3<f32>) -> vec3<f32> {
+    if (!TEXTURES || is_sphere(id)) {
+        return vec3<f32>(1.0);
+    }
+    let t = materials[objects[id].x].emissive_texture;
+    if (t == NO_TEXTURE) {
+        return vec3<f32>(1.0);
+    }
+    let h = texture_hit(id - params.sphere_count, p);
+    if (!h.found) {
+        return vec3<f32>(1.0);
+    }
+    return sample_texture(t, h.uv, 0.0, true);
+}
+
+// The shading normal n (unit, facing the ray) bent by the normal map of
+// object `id`'s material at p, in the tangent frame glTF's sample viewer
+// uses: T = dp/du of the triangle (its texture coordinates' gradient),
+// made orthogonal to n, B = n x T; the texel's 2c - 1 with x and y scaled
+// by the map's scale. n itself where there is no map or no frame.
+fn mapped_normal(id: u32, p: vec3<f32>, n: vec3<f32>) -> vec3<f32> {
+    if (!TEXTURES || is_sphere(id)) {
+        return n;
+    }
+    let m = materials[objects[id].x];
+    if (m.normal_texture == NO_TEXTURE) {
+        return n;
+    }
+    let h = texture_hit(id - params.sphere_count, p);
+    if (!h.found) {
+        return n;
+    }
+    let e1 = h.tri.v1 - h.tri.v0;
+    let e2 = h.tri.v2 - h.tri.v0;
+    let d1 = h.uv1 - h.uv0;
+    let d2 = h.uv2 - h.uv0;
+    let det = d1.x * d2.y - d2.x * d1.y;
+    if (det == 0.0) {
+        return n;
+    }
+    let t_raw = (e1 * d2.y - e2 * d1.y) / det;
+    let t = t_raw - n * dot(n, t_raw);
+    if (dot(t, t) <= 0.0) {
+        return n;
+    }
+    let tangent = normalize(t);
+    let bitangent = cross(n, tangent);
+    let c = sample_texture(m.normal_texture, h.uv, 0.0, false) * 2.0 - 1.0;
+    let bent = tangent * (c.x * m.normal_scale) + bitangent * (c.y * m.normal_scale) + n * c.z;
+    if (dot(bent, bent) <= 0.0) {
+        return n;
+    }
+    return normalize(bent);
 }

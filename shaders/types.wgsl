@@ -57,6 +57,11 @@ struct Material {
     roughness: f32,      // and perceptual roughness (GGX alpha = roughness^2)
     emission: vec3<f32>, // emitted radiance (path tracer)
     model: u32,          // MODEL_LAMBERTIAN or MODEL_METAL_ROUGH (bsdf.wgsl)
+    // The path tracer's maps (texture.wgsl), each or NO_TEXTURE.
+    metal_rough_texture: u32,
+    emissive_texture: u32,
+    normal_texture: u32,
+    normal_scale: f32,
 }
 
 // The lights buffer: `light_count` point lights, then `emitter_count`

@@ -154,7 +154,11 @@ fn rust_types_match_wgsl_layout() {
             metallic,
             roughness,
             emission,
-            model
+            model,
+            metal_rough_texture,
+            emissive_texture,
+            normal_texture,
+            normal_scale
         ]
     );
     layout_of!(

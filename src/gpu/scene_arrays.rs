@@ -187,6 +187,12 @@ impl SceneArrays {
             true => Vec::new(),
             false => TextureWords::pack(&scene.textures, &uv_records),
         };
+        // A material's texture in the buffer, or none where no triangle is
+        // textured (the buffer is then empty).
+        let texture_index = |t: Option<u32>| match (t, textures.is_empty()) {
+            (Some(t), false) => t,
+            _ => GpuMaterial::NO_TEXTURE,
+        };
         let mut arrays = SceneArrays {
             spheres: order[..sphere_count]
                 .iter()
@@ -211,10 +217,7 @@ impl SceneArrays {
                     specular: f32x3(m.specular),
                     transmission: m.transmission as f32,
                     ior: m.ior as f32,
-                    texture: match (m.texture, textures.is_empty()) {
-                        (Some(t), false) => t,
-                        _ => GpuMaterial::NO_TEXTURE,
-                    },
+                    texture: texture_index(m.texture),
                     metallic: m.physical.metal_rough.map_or(0.0, |p| p.metallic as f32),
                     roughness: m.physical.metal_rough.map_or(1.0, |p| p.roughness as f32),
                     emission: f32x3(m.physical.emission),
@@ -222,6 +225,10 @@ impl SceneArrays {
                         Some(_) => MODEL_METAL_ROUGH,
                         None => MODEL_LAMBERTIAN,
                     },
+                    metal_rough_texture: texture_index(m.maps.metal_rough),
+                    emissive_texture: texture_index(m.maps.emissive),
+                    normal_texture: texture_index(m.maps.normal),
+                    normal_scale: m.maps.normal_scale as f32,
                 })
                 .collect(),
             lights: Self::lights_of(&scene.lights),

@@ -194,6 +194,7 @@ fn materials() -> Vec<Material> {
                 ior: Material::DEFAULT_IOR,
                 texture: None,
                 physical: crate::scene::Physical::LAMBERTIAN,
+                maps: crate::scene::MaterialMaps::NONE,
             });
         }
     }

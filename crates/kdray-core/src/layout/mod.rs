@@ -232,6 +232,13 @@ pub struct GpuMaterial {
     /// [`MODEL_LAMBERTIAN`] or [`MODEL_METAL_ROUGH`]: how the path tracer
     /// reads `diffuse`.
     pub model: u32,
+    /// The path tracer's maps in the `textures` buffer, each or
+    /// [`GpuMaterial::NO_TEXTURE`]: metallic-roughness (blue, green),
+    /// emissive, and the tangent-space normal map with its x-y scale.
+    pub metal_rough_texture: u32,
+    pub emissive_texture: u32,
+    pub normal_texture: u32,
+    pub normal_scale: f32,
 }
 
 impl GpuMaterial {

@@ -49,6 +49,7 @@ impl MeshMaterial {
             ior: super::Material::DEFAULT_IOR,
             texture: None,
             physical: super::Physical::LAMBERTIAN,
+            maps: super::MaterialMaps::NONE,
         }
     }
 }

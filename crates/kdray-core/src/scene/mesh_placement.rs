@@ -58,12 +58,15 @@ impl Validator<'_> {
             if override_material.is_some() {
                 return None;
             }
-            mesh.materials.get(t.material()?)?.texture.as_ref()?;
+            let m = mesh.materials.get(t.material()?)?;
+            if m.texture.is_none() && !m.maps.any() {
+                return None;
+            }
             t.uvs_in(&mesh.uvs)
         };
         let any_textured = override_material.is_none()
             && !mesh.uvs.is_empty()
-            && mesh.materials.iter().any(|m| m.texture.is_some());
+            && mesh.materials.iter().any(|m| m.texture.is_some() || m.maps.any());
         let world = self.place(i, &mesh, transform, translate)?;
         let shading = MeshNormals::new(m.smooth, &mesh, &world, transform);
         let material_of = |t: &MeshTriangle| match (override_material, t.material()) {
@@ -228,7 +231,7 @@ impl Validator<'_> {
         // Each image once, however many materials use it.
         let mut added: Vec<(*const Texture, u32)> = Vec::new();
         for mm in &mesh.materials {
-            let texture = mm.texture.as_ref().map(|t| {
+            let mut index_of = |t: &std::sync::Arc<Texture>| {
                 let key = std::sync::Arc::as_ptr(t);
                 match added.iter().find(|(k, _)| *k == key) {
                     Some(&(_, index)) => index,
@@ -239,7 +242,9 @@ impl Validator<'_> {
                         index
                     }
                 }
-            });
+            };
+            let texture = mm.texture.as_ref().map(&mut index_of);
+            let maps = mm.maps.map(&mut index_of);
             materials.push(Material {
                 name: format!("{file_name}:{}", mm.name),
                 ambient: mm.ambient,
@@ -251,6 +256,7 @@ impl Validator<'_> {
                 ior: mm.ior,
                 texture,
                 physical: mm.physical,
+                maps,
             });
         }
         Ok(())

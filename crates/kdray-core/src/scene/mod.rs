@@ -164,6 +164,49 @@ pub struct Material<T = u32> {
     pub texture: Option<T>,
     /// What the path tracer reads beyond the keys above.
     pub physical: Physical,
+    /// The path tracer's other texture maps (glTF's).
+    pub maps: MaterialMaps<T>,
+}
+
+/// A glTF material's texture maps beside its base colour, read by the path
+/// tracer on textured triangles (docs/scene-format.md, "glTF materials");
+/// `T` as [`Material`]'s texture.
+#[derive(Debug, Clone, PartialEq)]
+pub struct MaterialMaps<T = u32> {
+    /// metallicRoughnessTexture: its blue channel scales `metallic`, its
+    /// green `roughness` (linear values).
+    pub metal_rough: Option<T>,
+    /// emissiveTexture: multiplies the emission (sRGB-encoded colours).
+    pub emissive: Option<T>,
+    /// normalTexture: a tangent-space normal (linear, 2 * texel - 1), its x
+    /// and y scaled by `normal_scale`.
+    pub normal: Option<T>,
+    pub normal_scale: f64,
+}
+
+impl<T> MaterialMaps<T> {
+    /// No maps.
+    pub const NONE: MaterialMaps<T> = MaterialMaps {
+        metal_rough: None,
+        emissive: None,
+        normal: None,
+        normal_scale: 1.0,
+    };
+
+    /// Whether any map is given.
+    pub fn any(&self) -> bool {
+        self.metal_rough.is_some() || self.emissive.is_some() || self.normal.is_some()
+    }
+
+    /// The same maps, each texture mapped by `f`.
+    pub fn map<U>(&self, mut f: impl FnMut(&T) -> U) -> MaterialMaps<U> {
+        MaterialMaps {
+            metal_rough: self.metal_rough.as_ref().map(&mut f),
+            emissive: self.emissive.as_ref().map(&mut f),
+            normal: self.normal.as_ref().map(&mut f),
+            normal_scale: self.normal_scale,
+        }
+    }
 }
 
 /// A material's physically based part, read by the path tracer: glTF 2.0's

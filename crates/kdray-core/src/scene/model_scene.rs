@@ -202,6 +202,7 @@ fn ground() -> Material {
         texture: None,
         ior: Material::DEFAULT_IOR,
         physical: super::Physical::LAMBERTIAN,
+        maps: super::MaterialMaps::NONE,
     }
 }
 

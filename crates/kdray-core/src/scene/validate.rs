@@ -207,6 +207,7 @@ impl Validator<'_> {
                 ior,
                 texture: None,
                 physical,
+                maps: crate::scene::MaterialMaps::NONE,
             });
         }
         let lookup = |key: KeyPath, name: &str| {

@@ -140,3 +140,73 @@ pub fn write_gltf_quad(
     std::fs::write(&path, json).unwrap();
     path
 }
+
+/// Writes `name` into `dir`: the quad as in [`write_gltf_quad`] with the
+/// material `material` (a glTF material's JSON, whose textures i are
+/// `images[i]`, nearest, clamped) and, if given, the vertex normal `normal`
+/// at every corner. Its path.
+pub fn write_gltf_quad_material(
+    dir: &Path,
+    name: &str,
+    material: &str,
+    images: &[image::RgbaImage],
+    normal: Option<[f32; 3]>,
+) -> PathBuf {
+    let mut data = Vec::new();
+    for c in CORNERS {
+        for x in c {
+            data.extend_from_slice(&x.to_le_bytes());
+        }
+    }
+    for uv in IMAGE_UVS {
+        for x in uv {
+            data.extend_from_slice(&x.to_le_bytes());
+        }
+    }
+    for i in [0u16, 1, 2, 0, 2, 3] {
+        data.extend_from_slice(&i.to_le_bytes());
+    }
+    data.extend_from_slice(&[0, 0]); // the normals' 4-byte alignment
+    let (normal_attribute, normal_view, normal_accessor) = match normal {
+        Some(n) => {
+            for _ in 0..4 {
+                for x in n {
+                    data.extend_from_slice(&x.to_le_bytes());
+                }
+            }
+            (
+                r#","NORMAL":3"#,
+                r#",{"buffer":0,"byteOffset":96,"byteLength":48}"#,
+                r#",{"bufferView":3,"componentType":5126,"count":4,"type":"VEC3"}"#,
+            )
+        }
+        None => ("", "", ""),
+    };
+    let textures: Vec<String> = (0..images.len())
+        .map(|i| format!(r#"{{"source":{i},"sampler":0}}"#))
+        .collect();
+    let image_list: Vec<String> = images
+        .iter()
+        .map(|im| format!(r#"{{"uri":"data:image/png;base64,{}"}}"#, base64(&png_bytes(im))))
+        .collect();
+    let json = format!(
+        r#"{{"asset":{{"version":"2.0"}},"scene":0,"scenes":[{{"nodes":[0]}}],"nodes":[{{"mesh":0}}],
+"meshes":[{{"primitives":[{{"attributes":{{"POSITION":0,"TEXCOORD_0":1{normal_attribute}}},"indices":2,"material":0}}]}}],
+"materials":[{material}],
+"textures":[{}],
+"samplers":[{{"magFilter":9728,"minFilter":9728,"wrapS":33071,"wrapT":33071}}],
+"images":[{}],
+"buffers":[{{"byteLength":{},"uri":"data:application/octet-stream;base64,{}"}}],
+"bufferViews":[{{"buffer":0,"byteOffset":0,"byteLength":48}},{{"buffer":0,"byteOffset":48,"byteLength":32}},{{"buffer":0,"byteOffset":80,"byteLength":12}}{normal_view}],
+"accessors":[{{"bufferView":0,"componentType":5126,"count":4,"type":"VEC3","min":[-1,-1,0],"max":[1,1,0]}},
+{{"bufferView":1,"componentType":5126,"count":4,"type":"VEC2"}},
+{{"bufferView":2,"componentType":5123,"count":6,"type":"SCALAR"}}{normal_accessor}]}}"#,
+        textures.join(","),
+        image_list.join(","),
+        data.len(),
+        base64(&data),
+    );
+    let path = dir.join(name);
+    std::fs::write(&path, json).unwrap();
+    path
+}

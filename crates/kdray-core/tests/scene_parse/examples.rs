@@ -132,6 +132,7 @@ fn the_contract_example_has_every_value() {
             ior: 1.5,
             texture: None,
             physical: kdray_core::scene::Physical::LAMBERTIAN,
+            maps: kdray_core::scene::MaterialMaps::NONE,
         }]
     );
     assert_eq!(

@@ -246,6 +246,7 @@ fn without_an_override_faces_use_their_mtl_materials() {
             ior: 1.5,
             texture: None,
             physical: kdray_core::scene::Physical::LAMBERTIAN,
+            maps: kdray_core::scene::MaterialMaps::NONE,
         }
     );
     assert_eq!(
@@ -261,6 +262,7 @@ fn without_an_override_faces_use_their_mtl_materials() {
             ior: 1.5,
             texture: None,
             physical: kdray_core::scene::Physical::LAMBERTIAN,
+            maps: kdray_core::scene::MaterialMaps::NONE,
         }
     );
     // Face for face, the same triangles and materials as the OBJ loader gives.

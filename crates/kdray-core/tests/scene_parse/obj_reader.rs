@@ -287,6 +287,7 @@ fn mtllib_is_relative_to_the_obj_folder() {
             ior: 1.5,
             texture: None,
             physical: kdray_core::scene::Physical::LAMBERTIAN,
+            maps: kdray_core::scene::MaterialMaps::NONE,
         }
     );
     assert_eq!(
@@ -302,6 +303,7 @@ fn mtllib_is_relative_to_the_obj_folder() {
             ior: 1.5,
             texture: None,
             physical: kdray_core::scene::Physical::LAMBERTIAN,
+            maps: kdray_core::scene::MaterialMaps::NONE,
         }
     );
     let used: Vec<_> = mesh.triangles.iter().map(|t| t.material()).collect();

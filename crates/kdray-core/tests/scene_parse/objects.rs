@@ -58,6 +58,7 @@ fn material_defaults_and_values() {
             ior: 1.5,
             texture: None,
             physical: kdray_core::scene::Physical::LAMBERTIAN,
+            maps: kdray_core::scene::MaterialMaps::NONE,
         }
     );
     assert_eq!(
@@ -73,6 +74,7 @@ fn material_defaults_and_values() {
             ior: 1.5,
             texture: None,
             physical: kdray_core::scene::Physical::LAMBERTIAN,
+            maps: kdray_core::scene::MaterialMaps::NONE,
         }
     );
     assert_eq!(scene.materials.len(), 2);

@@ -140,3 +140,39 @@ fn gltf_texture_coordinates_run_down_from_the_top_row_with_the_sampler_and_facto
     let scene = load_scene(&dir.join("scene.toml")).unwrap();
     assert!(scene.textures.is_empty() && scene.triangle_uvs.is_empty());
 }
+
+/// A glTF material's metallic-roughness, emissive and normal textures load
+/// as its maps (with the normal map's scale), each image once; an
+/// occlusionTexture, which kdray does not read, gets one warning.
+#[test]
+fn gltf_material_maps_load_and_occlusion_is_named_in_a_warning() {
+    let dir = TempDir::new("tex-maps");
+    let texel = |r, g, b| image::RgbaImage::from_pixel(1, 1, image::Rgba([r, g, b, 255]));
+    let material = r#"{"pbrMetallicRoughness":{"baseColorTexture":{"index":0},
+        "metallicRoughnessTexture":{"index":1}},"emissiveFactor":[1,1,1],
+        "emissiveTexture":{"index":2},"normalTexture":{"index":3,"scale":0.5},
+        "occlusionTexture":{"index":1}}"#;
+    let images = [texel(200, 100, 50), texel(0, 60, 220), texel(10, 20, 30), texel(128, 128, 255)];
+    let gltf = crate::textured::write_gltf_quad_material(&dir.path, "maps.gltf", material, &images, None);
+    let mesh = kdray_core::scene::gltf::load_gltf(&gltf, true, &mut |_| {}).unwrap();
+    let warnings: Vec<String> = mesh.warnings.iter().map(|w| w.to_string()).collect();
+    assert_eq!(warnings.len(), 1, "{warnings:?}");
+    assert!(warnings[0].contains("occlusionTexture"), "{warnings:?}");
+    let m = &mesh.materials[0];
+    let texel_of = |t: &Option<std::sync::Arc<kdray_core::scene::Texture>>| {
+        t.as_ref().expect("a map").texels[0].to_le_bytes()
+    };
+    assert_eq!(texel_of(&m.texture), images[0].get_pixel(0, 0).0);
+    assert_eq!(texel_of(&m.maps.metal_rough), images[1].get_pixel(0, 0).0);
+    assert_eq!(texel_of(&m.maps.emissive), images[2].get_pixel(0, 0).0);
+    assert_eq!(texel_of(&m.maps.normal), images[3].get_pixel(0, 0).0);
+    assert_eq!(m.maps.normal_scale, 0.5);
+    // In a scene: the four images, each a texture of the scene, and every
+    // triangle textured.
+    let scene = scene_of(&dir, &gltf);
+    assert_eq!(scene.textures.len(), 4);
+    let sm = &scene.materials[0];
+    assert!(sm.texture.is_some() && sm.maps.metal_rough.is_some());
+    assert!(sm.maps.emissive.is_some() && sm.maps.normal.is_some());
+    assert!(scene.triangles.iter().all(|t| scene.uvs_of(t).is_some()));
+}

@@ -97,7 +97,51 @@ impl DecodedImages {
         warnings: &mut Vec<Warning>,
     ) -> Option<Arc<Texture>> {
         let info = material.pbr_metallic_roughness().base_color_texture()?;
-        let texture = info.texture();
+        self.texture(info.texture(), "baseColorTexture", document, files, warnings)
+    }
+
+    /// The metallicRoughnessTexture, emissiveTexture and normalTexture of
+    /// `material`, each where it has one that decodes (a warning the first
+    /// time one does not).
+    pub(super) fn maps(
+        &mut self,
+        material: &gltf::Material,
+        document: &gltf::Document,
+        files: &mut ImageFiles,
+        warnings: &mut Vec<Warning>,
+    ) -> crate::scene::MaterialMaps<Arc<Texture>> {
+        let pbr = material.pbr_metallic_roughness();
+        let mut decode = |texture: Option<gltf::texture::Texture>, role: &str| {
+            self.texture(texture?, role, document, files, warnings)
+        };
+        crate::scene::MaterialMaps {
+            metal_rough: decode(
+                pbr.metallic_roughness_texture().map(|i| i.texture()),
+                "metallicRoughnessTexture",
+            ),
+            emissive: decode(
+                material.emissive_texture().map(|i| i.texture()),
+                "emissiveTexture",
+            ),
+            normal: decode(
+                material.normal_texture().map(|i| i.texture()),
+                "normalTexture",
+            ),
+            normal_scale: material
+                .normal_texture()
+                .map_or(1.0, |n| f64::from(n.scale())),
+        }
+    }
+
+    /// `texture` decoded with its sampler, once per image and sampler.
+    fn texture(
+        &mut self,
+        texture: gltf::texture::Texture,
+        role: &str,
+        document: &gltf::Document,
+        files: &mut ImageFiles,
+        warnings: &mut Vec<Warning>,
+    ) -> Option<Arc<Texture>> {
         let image = texture.source();
         let sampler = texture.sampler();
         let key = (image.index(), sampler.index());
@@ -136,7 +180,7 @@ impl DecodedImages {
                     files.path,
                     None,
                     format!(
-                        "cannot read the baseColorTexture {name}: {e}; its materials show their colour factor"
+                        "cannot read the {role} {name}: {e}; its materials show their factors"
                     ),
                 ));
                 None

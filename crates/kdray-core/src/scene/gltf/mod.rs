@@ -336,6 +336,12 @@ impl Reader<'_, '_> {
                         &mut self.files,
                         &mut self.mesh.warnings,
                     );
+                    material.maps = self.images.maps(
+                        &primitive.material(),
+                        self.document,
+                        &mut self.files,
+                        &mut self.mesh.warnings,
+                    );
                     self.mesh.materials.push(material);
                 }
                 mesh_index(local)
@@ -527,6 +533,7 @@ pub fn pbr_material(material: &gltf::Material) -> MeshMaterial {
             }),
             emission: DVec3::from_array(material.emissive_factor().map(f64::from)).max(DVec3::ZERO),
         },
+        maps: crate::scene::MaterialMaps::NONE,
     }
 }
 

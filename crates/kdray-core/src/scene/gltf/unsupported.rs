@@ -102,35 +102,15 @@ pub(super) fn extensions_warning(root: &gltf::json::Root, path: &Path) -> Option
     ))
 }
 
-/// One warning naming the texture slots other than the base colour that
-/// the materials fill: kdray reads only base-colour textures, so those
-/// surfaces show their other factors only.
+/// One warning for the materials that give an occlusionTexture, which
+/// kdray does not read (the base colour, metallic-roughness, emissive and
+/// normal textures it reads): those surfaces show no baked occlusion.
 pub(super) fn textures_warning(document: &gltf::Document, path: &Path) -> Option<Warning> {
-    let mut slots: Vec<&str> = Vec::new();
-    let mut textured = 0usize;
-    for material in document.materials() {
-        let pbr = material.pbr_metallic_roughness();
-        let filled = [
-            (
-                "metallicRoughnessTexture",
-                pbr.metallic_roughness_texture().is_some(),
-            ),
-            ("normalTexture", material.normal_texture().is_some()),
-            ("occlusionTexture", material.occlusion_texture().is_some()),
-            ("emissiveTexture", material.emissive_texture().is_some()),
-        ];
-        let mut any = false;
-        for (slot, is_filled) in filled {
-            if is_filled {
-                any = true;
-                if !slots.contains(&slot) {
-                    slots.push(slot);
-                }
-            }
-        }
-        textured += usize::from(any);
-    }
-    if slots.is_empty() {
+    let textured = document
+        .materials()
+        .filter(|m| m.occlusion_texture().is_some())
+        .count();
+    if textured == 0 {
         return None;
     }
     let plural = if textured == 1 { "" } else { "s" };
@@ -138,8 +118,7 @@ pub(super) fn textures_warning(document: &gltf::Document, path: &Path) -> Option
         path,
         None,
         format!(
-            "{textured} material{plural} use textures ({}), which kdray does not read: they show their factors only",
-            slots.join(", ")
+            "{textured} material{plural} use an occlusionTexture, which kdray does not read: they show no baked occlusion"
         ),
     ))
 }

@@ -129,6 +129,7 @@ fn new_material(name: &str) -> MeshMaterial {
         ior: crate::scene::Material::DEFAULT_IOR,
         texture: None,
         physical: crate::scene::Physical::LAMBERTIAN,
+        maps: crate::scene::MaterialMaps::NONE,
     }
 }
 
