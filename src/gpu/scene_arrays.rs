@@ -153,11 +153,15 @@ impl SceneArrays {
                 None => GpuTriangle::FLAT,
             };
         // Texture coordinates only where the triangle's material has a
-        // texture (the kernel reads them only there).
+        // texture or a map (the kernel reads them only there).
         let mut uv_records = Vec::new();
         let mut uvs_of = |id: u32| {
             let t = &scene.triangles[id as usize - sphere_count];
-            match scene.texture_of(t.material).and(scene.uvs_of(t)) {
+            let textured = scene
+                .materials
+                .get(t.material as usize)
+                .is_some_and(|m| m.texture.is_some() || m.maps.any());
+            match scene.uvs_of(t).filter(|_| textured) {
                 Some(uvs) => {
                     uv_records.push(uvs.map(|uv| uv.as_vec2()));
                     uv_records.len() as u32 - 1

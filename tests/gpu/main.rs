@@ -20,6 +20,7 @@ mod golden;
 mod gpu_faults;
 mod gpu_ray_queries;
 mod gpu_render;
+mod material_maps;
 mod open_model;
 mod optimised_gltf;
 mod path_tracing;

@@ -41,10 +41,20 @@ impl super::Reader<'_, '_> {
         at: &str,
     ) -> Option<Vec<DVec2>> {
         let material = primitive.material();
-        let info = material.pbr_metallic_roughness().base_color_texture()?;
         let local = *self.material_of.get(&material.index())?;
-        self.mesh.materials.get(local)?.texture.as_ref()?;
-        let set = info.tex_coord();
+        let read = self.mesh.materials.get(local)?;
+        if read.texture.is_none() && !read.maps.any() {
+            return None;
+        }
+        // One set of coordinates serves every texture: the base colour's,
+        // else the first map's.
+        let pbr = material.pbr_metallic_roughness();
+        let set = pbr
+            .base_color_texture()
+            .map(|i| i.tex_coord())
+            .or_else(|| pbr.metallic_roughness_texture().map(|i| i.tex_coord()))
+            .or_else(|| material.normal_texture().map(|i| i.tex_coord()))
+            .or_else(|| material.emissive_texture().map(|i| i.tex_coord()))?;
         let decoded = draco.map(|d| {
             d.tex_coords
                 .get(&set)
