@@ -16,6 +16,10 @@ out=${2:-docs/results/lavapipe}
 repeat=${REPEAT:-3}
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
+# The figures name the checkout: measure its own release build.
+if [ $# -eq 0 ]; then
+    cargo build --release --locked -q
+fi
 
 keep() { # NAME: the run's bench.json into OUT/NAME.json
     mkdir -p "$out"

@@ -2,7 +2,8 @@
 //! beyond the GPU driver: headless Chromium (`web`), a Slurm cluster
 //! (`farm`, `farm_path`), an X server (`window`, under Xvfb) and lavapipe with its
 //! allocations made to fail (`gpu_memory`, through a preloaded library built
-//! with cc). A missing tool fails the test that needs it, naming the tool
+//! with cc), and the docs' generated tables against the python3 scripts that
+//! print them (`doc_tables`). A missing tool fails the test that needs it, naming the tool
 //! and how to install it (`scripts/test.sh external` installs them all).
 //! Run it with `scripts/test.sh external` or `cargo test -p kdray --test external`.
 //!
@@ -12,6 +13,7 @@
 #[path = "../common/mod.rs"]
 mod common;
 
+mod doc_tables;
 mod farm;
 mod farm_path;
 mod gpu_memory;

@@ -1,0 +1,45 @@
+#!/usr/bin/env bash
+# What glass costs (docs/benchmarks.md, "Glass"): `kdray render --stats` of
+# the seed scene and of scenes/glass.toml (the seed with a glass ball) at
+# 1280x720, alternating, ROUNDS rounds (default 5). Writes OUT (default
+# docs/results/glass.json) with the machine, its load and the commit, and
+# prints the table scripts/glass_table.py makes of it.
+#
+#   scripts/glass_cost.sh [KDRAY] [OUT]   # KDRAY: default target/release/kdray
+set -euo pipefail
+cd "$(dirname "$0")/.."
+kdray=${1:-target/release/kdray}
+out=${2:-docs/results/glass.json}
+rounds=${ROUNDS:-5}
+work=$(mktemp -d)
+trap 'rm -rf "$work"' EXIT
+# The figures name the checkout: measure its own release build.
+if [ $# -eq 0 ]; then
+    cargo build --release --locked -q
+fi
+
+runs=()
+load_before=$(cut -d' ' -f1 /proc/loadavg)
+for _ in $(seq "$rounds"); do
+    for scene in seed glass; do
+        json=$("$kdray" render "scenes/$scene.toml" --width 1280 --height 720 --stats -o "$work/out.png")
+        runs+=("{\"scene\": \"$scene\", \"stats\": $json}")
+    done
+done
+mkdir -p "$(dirname "$out")"
+{
+    echo "{"
+    echo "  \"machine\": \"$(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2 | sed 's/^ //'), $(nproc) cores\","
+    echo "  \"adapter\": \"$("$kdray" info 2>/dev/null | grep '^\*' | sed 's/^\* //;s/"/\\"/g')\","
+    echo "  \"commit\": \"$(git rev-parse --short HEAD)\","
+    echo "  \"load\": \"$load_before - $(cut -d' ' -f1 /proc/loadavg)\","
+    echo "  \"runs\": ["
+    for i in "${!runs[@]}"; do
+        sep=,
+        [ "$i" -eq $((${#runs[@]} - 1)) ] && sep=
+        echo "    ${runs[$i]}$sep"
+    done
+    echo "  ]"
+    echo "}"
+} >"$out"
+python3 scripts/glass_table.py "$out"
