@@ -176,3 +176,54 @@ fn gltf_material_maps_load_and_occlusion_is_named_in_a_warning() {
     assert!(sm.maps.emissive.is_some() && sm.maps.normal.is_some());
     assert!(scene.triangles.iter().all(|t| scene.uvs_of(t).is_some()));
 }
+
+/// KHR_texture_transform on the base colour's texture: the loaded texture
+/// coordinates are the file's transformed by hand (scale, then a rotation
+/// counter-clockwise in (u, v), then the offset), and a map asking for
+/// another transform gets one warning.
+#[test]
+fn khr_texture_transform_moves_the_texture_coordinates_as_specified() {
+    let dir = TempDir::new("tex-transform");
+    let texel = image::RgbaImage::from_pixel(2, 2, image::Rgba([200, 100, 50, 255]));
+    let (offset, rotation, scale) = ([0.5, 0.25], 0.3_f64, [2.0, 3.0]);
+    let transform = format!(
+        r#"{{"KHR_texture_transform":{{"offset":[{},{}],"rotation":{rotation},"scale":[{},{}]}}}}"#,
+        offset[0], offset[1], scale[0], scale[1]
+    );
+    let material = format!(
+        r#"{{"pbrMetallicRoughness":{{"baseColorTexture":{{"index":0,"extensions":{transform}}}}}}}"#
+    );
+    let gltf = crate::textured::write_gltf_quad_material(&dir.path, "t.gltf", &material, &[texel.clone()], None);
+    let scene = scene_of(&dir, &gltf);
+    let (s, c) = rotation.sin_cos();
+    let by_hand: Vec<DVec2> = IMAGE_UVS
+        .iter()
+        .map(|uv| {
+            let (u, v) = (uv[0] as f64 * scale[0], uv[1] as f64 * scale[1]);
+            DVec2::new(c * u - s * v + offset[0], s * u + c * v + offset[1])
+        })
+        .collect();
+    // The quad's two triangles use corners (0, 1, 2) and (0, 2, 3).
+    let loaded: Vec<DVec2> = scene
+        .triangles
+        .iter()
+        .flat_map(|t| scene.uvs_of(t).unwrap())
+        .collect();
+    let expected = [0, 1, 2, 0, 2, 3].map(|i| by_hand[i]);
+    for (got, want) in loaded.iter().zip(&expected) {
+        assert!((*got - *want).length() < 1e-6, "{got} != {want}");
+    }
+    let mesh = kdray_core::scene::gltf::load_gltf(&gltf, true, &mut |_| {}).unwrap();
+    assert!(mesh.warnings.is_empty(), "{:?}", mesh.warnings);
+
+    // An emissive map with another transform: one warning naming the rule.
+    let material = format!(
+        r#"{{"pbrMetallicRoughness":{{"baseColorTexture":{{"index":0,"extensions":{transform}}}}},
+            "emissiveFactor":[1,1,1],"emissiveTexture":{{"index":0}}}}"#
+    );
+    let gltf = crate::textured::write_gltf_quad_material(&dir.path, "t2.gltf", &material, &[texel], None);
+    let mesh = kdray_core::scene::gltf::load_gltf(&gltf, true, &mut |_| {}).unwrap();
+    let shown: Vec<String> = mesh.warnings.iter().map(|w| w.to_string()).collect();
+    assert_eq!(shown.len(), 1, "{shown:?}");
+    assert!(shown[0].contains("baseColorTexture's"), "{shown:?}");
+}

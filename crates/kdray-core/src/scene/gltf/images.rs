@@ -29,9 +29,9 @@ pub(super) struct DecodedImages {
 
 /// The texture coordinates, read where the reader walks the primitives.
 impl super::Reader<'_, '_> {
-    /// The texture coordinates of a primitive whose material has a
-    /// base-colour texture that decoded (the TEXCOORD_n its texCoord names),
-    /// one per position; None otherwise. Coordinates that cannot be read
+    /// The texture coordinates of a primitive whose material has a texture
+    /// that decoded (the set and transform of texture_transform.rs), one per
+    /// position; None otherwise. Coordinates that cannot be read
     /// leave the primitive untextured, with a warning.
     pub(super) fn texture_coordinates(
         &mut self,
@@ -46,15 +46,27 @@ impl super::Reader<'_, '_> {
         if read.texture.is_none() && !read.maps.any() {
             return None;
         }
-        // One set of coordinates serves every texture: the base colour's,
-        // else the first map's.
-        let pbr = material.pbr_metallic_roughness();
-        let set = pbr
-            .base_color_texture()
-            .map(|i| i.tex_coord())
-            .or_else(|| pbr.metallic_roughness_texture().map(|i| i.tex_coord()))
-            .or_else(|| material.normal_texture().map(|i| i.tex_coord()))
-            .or_else(|| material.emissive_texture().map(|i| i.tex_coord()))?;
+        // One set of coordinates serves every texture (texture_transform.rs).
+        let (choice, differ) = super::texture_transform::uv_choice(&material)?;
+        if differ {
+            let name = material
+                .index()
+                .map_or_else(|| "the default material".to_string(), |i| format!("materials[{i}]"));
+            let warning = crate::scene::Warning::new(
+                self.files.path,
+                None,
+                format!(
+                    "{name}: its textures ask for different texture coordinates or \
+                     KHR_texture_transform transforms; kdray reads all with its {}'s",
+                    choice.slot
+                ),
+            );
+            // One line per material, however many primitives use it.
+            if !self.mesh.warnings.contains(&warning) {
+                self.mesh.warnings.push(warning);
+            }
+        }
+        let set = choice.set;
         let decoded = draco.map(|d| {
             d.tex_coords
                 .get(&set)
@@ -78,7 +90,11 @@ impl super::Reader<'_, '_> {
             }),
             (None, None) => Err("missing".to_string()),
         };
-        read.map_err(|m| {
+        read.map(|uvs| match choice.transform {
+            Some(t) => uvs.into_iter().map(|uv| t.apply(uv)).collect(),
+            None => uvs,
+        })
+        .map_err(|m| {
             self.mesh.warnings.push(crate::scene::Warning::new(
                 self.files.path,
                 None,

@@ -41,6 +41,7 @@ mod draco;
 mod extensions;
 mod images;
 mod meshopt;
+mod texture_transform;
 mod unsupported;
 
 use accessors::Attribute;

@@ -38,11 +38,12 @@ pub(super) fn is_gltf_1(bytes: &[u8]) -> bool {
 }
 
 /// The glTF extensions kdray reads: two material extensions (onto a
-/// material's transmission and ior), quantized and compressed geometry
+/// material's transmission and ior), texture transforms (texture_transform.rs), quantized and compressed geometry
 /// (`accessors`, `meshopt`, `draco`) and WebP textures (`images`).
-pub(super) const SUPPORTED_EXTENSIONS: [&str; 6] = [
+pub(super) const SUPPORTED_EXTENSIONS: [&str; 7] = [
     "KHR_materials_transmission",
     "KHR_materials_ior",
+    "KHR_texture_transform",
     "KHR_mesh_quantization",
     "EXT_meshopt_compression",
     "KHR_draco_mesh_compression",
