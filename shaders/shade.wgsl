@@ -2,7 +2,8 @@
 // glass: shadow_transmittance in glass.wgsl).
 
 struct Shading {
-    color: vec3<f32>,      // ambient_term + direct_term
+    color: vec3<f32>,      // emission + ambient_term + direct_term
+    // A light is visible from the hit, or the hit emits (it lights itself).
     any_light_visible: bool,
 }
 
@@ -57,7 +58,9 @@ fn shade(m: Material, p: vec3<f32>, n: vec3<f32>, v: vec3<f32>, origin: vec3<f32
         }
         direct += light_term;
     }
-    return Shading(ambient + direct, visible_any);
+    // Emission first: with none, emission + ambient is ambient bit for bit.
+    let emits = any(m.emission > vec3<f32>(0.0));
+    return Shading(m.emission + ambient + direct, visible_any || emits);
 }
 
 // Where a path meets a surface, seen from the incoming ray (mirrored by

@@ -31,3 +31,4 @@ mod textured_models;
 mod textures;
 mod triangle_edges;
 mod web_export;
+mod whitted_emission;

@@ -565,7 +565,10 @@ impl<'a> ReferenceTracer<'a> {
             }
             direct += light_term;
         }
-        (ambient + direct, any_visible)
+        // Emission first, as in the shader: with none the sum is unchanged.
+        let emission = m.physical.emission.as_vec3();
+        let emits = emission.cmpgt(Vec3::ZERO).any();
+        (emission + ambient + direct, any_visible || emits)
     }
 
     /// The 8-bit colour of pixel (row, column), as render_tile computes it.
