@@ -15,10 +15,12 @@ mod common;
 mod doc;
 
 mod animation;
+mod authored_gltf;
 mod bad_mesh_files;
 mod camera;
 mod examples;
 mod files_and_syntax;
+mod gltf_emission;
 mod gltf_meshes;
 mod gltf_optimised;
 mod mesh_normals;

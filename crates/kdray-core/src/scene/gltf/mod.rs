@@ -484,7 +484,8 @@ pub const PBR_MAX_SHININESS: f64 = 4.0 * 4096.0;
 ///   is read as 1, an index that bends nothing).
 ///
 /// The path tracer reads glTF's own model: base colour, metallic and
-/// roughness as they are, and `emissiveFactor` as emitted radiance. Alpha
+/// roughness as they are, and `emissiveFactor` (times
+/// `KHR_materials_emissive_strength`'s strength) as emitted radiance. Alpha
 /// is ignored; the base-colour texture is the reader's (`images`), here
 /// None.
 pub fn pbr_material(material: &gltf::Material) -> MeshMaterial {
@@ -525,8 +526,23 @@ pub fn pbr_material(material: &gltf::Material) -> MeshMaterial {
                 metallic,
                 roughness,
             }),
-            emission: DVec3::from_array(material.emissive_factor().map(f64::from)).max(DVec3::ZERO),
+            emission: emission(material),
         },
+    }
+}
+
+/// A material's emitted radiance: emissiveFactor times
+/// `KHR_materials_emissive_strength`'s emissiveStrength (1 without the
+/// extension; glTF clamps the factor to [0, 1], the strength lifts it past 1).
+/// A negative or non-finite product is read as 0.
+fn emission(material: &gltf::Material) -> DVec3 {
+    let factor = DVec3::from_array(material.emissive_factor().map(f64::from));
+    let strength = material.emissive_strength().map_or(1.0, f64::from);
+    let e = factor * strength;
+    if e.is_finite() {
+        e.max(DVec3::ZERO)
+    } else {
+        DVec3::ZERO
     }
 }
 
