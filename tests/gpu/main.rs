@@ -16,6 +16,7 @@ mod bench;
 mod cli;
 mod examples;
 mod glass;
+mod gltf_camera;
 mod golden;
 mod gpu_faults;
 mod gpu_ray_queries;

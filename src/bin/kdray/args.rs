@@ -15,6 +15,7 @@ use kdray::bench::options::{
 use kdray::bench::random_scene::{DEFAULT_HEIGHT, DEFAULT_WIDTH};
 use kdray::bench::{RandomSceneSpec, SceneKind, DEFAULT_SEED};
 use kdray::choice::Choice;
+use kdray::scene::ModelCamera;
 use kdray::gpu::Accel;
 use kdray::kdtree::{BuildStrategy, Traversal};
 use kdray::render::RenderFlags;
@@ -124,6 +125,9 @@ pub struct RenderArgs {
     pub output: Option<PathBuf>,
     #[command(flatten)]
     pub image: ImageFlags,
+    /// A model file opened as a scene (.obj, .gltf, .glb): which camera to look through.
+    #[arg(long, value_parser = choice::<ModelCamera>(), default_value = "file", conflicts_with = "window")]
+    pub camera: ModelCamera,
     /// Print one JSON object of figures on stdout (with --window: frame rates, on exit).
     #[arg(long)]
     pub stats: bool,

@@ -44,7 +44,7 @@ pub use error::SceneError;
 pub use input_file::MAX_INPUT_BYTES;
 pub use integrator::{Integrator, ToneMap};
 pub use load::{load_scene, load_scene_observed, load_scene_with, parse_scene, parse_scene_with};
-pub use model_scene::{model_scene, model_scene_with};
+pub use model_scene::{model_scene, model_scene_viewed, model_scene_with, ModelCamera};
 pub use scene_format::SceneFormat;
 pub use texture::{MinFilter, MipMode, Texture, TextureFilter, TextureWrap};
 pub use validate::{check_samples, MAX_IMAGE_SIDE};

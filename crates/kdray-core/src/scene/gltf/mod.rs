@@ -10,7 +10,8 @@
 //! coordinates (`images`); the files the web's optimisers write:
 //! quantized attributes (`accessors`), meshopt-compressed buffer views
 //! (`extensions`, `meshopt`), Draco-compressed primitives (`draco`) and
-//! WebP textures. Other textures, cameras, lights, skins, morph
+//! WebP textures; the first perspective camera the walk meets (`placed`),
+//! for a model opened on its own. Other textures, lights, skins, morph
 //! targets and animations are ignored; points and lines are an error (they are not
 //! surfaces, and a file of them would draw nothing). Sparse accessors are
 //! read wherever accessors are. An extension the file requires that kdray
@@ -41,6 +42,7 @@ mod draco;
 mod extensions;
 mod images;
 mod meshopt;
+mod placed;
 mod unsupported;
 
 use accessors::Attribute;
@@ -147,6 +149,7 @@ pub fn parse_gltf(
     // node reached twice (a cycle, or a node with two parents, both invalid
     // glTF) is an error: it could make the walk endless or exponential.
     let mut visited = vec![false; document.nodes().count()];
+    let mut orthographic_cameras = 0usize;
     let mut stack: Vec<(gltf::Node, DMat4)> = scene.nodes().map(|n| (n, DMat4::IDENTITY)).collect();
     stack.reverse();
     while let Some((node, parent)) = stack.pop() {
@@ -166,11 +169,27 @@ pub fn parse_gltf(
         if let Some(mesh) = node.mesh() {
             reader.mesh(&mesh, world).map_err(err)?;
         }
+        if let Some(camera) = node.camera().filter(|_| reader.mesh.camera.is_none()) {
+            match placed::perspective_camera(&camera, index, world).map_err(err)? {
+                Some(c) => reader.mesh.camera = Some(c),
+                None => orthographic_cameras += 1,
+            }
+        }
         let children: Vec<_> = node.children().collect();
         stack.extend(children.into_iter().rev().map(|c| (c, world)));
     }
 
     let mut mesh = reader.mesh;
+    if orthographic_cameras > 0 {
+        warnings.push(crate::scene::Warning::new(
+            path,
+            None,
+            format!(
+                "ignores {orthographic_cameras} orthographic camera{}: kdray's camera is a pinhole (perspective)",
+                if orthographic_cameras == 1 { "" } else { "s" }
+            ),
+        ));
+    }
     if mesh.triangles.is_empty() {
         return Err(err(if reader.triangles_seen == 0 {
             "no triangles: the scene's nodes place no mesh with triangles, so it would draw nothing"

@@ -193,6 +193,7 @@ pub(super) fn parse(text: &[u8], threads: usize, materials: Option<MaterialFiles
         triangles,
         materials,
         warnings: Vec::new(),
+        camera: None,
     };
     let parsed: Vec<_> = chunks
         .into_iter()
