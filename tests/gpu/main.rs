@@ -18,6 +18,7 @@ mod examples;
 mod glass;
 mod gltf_camera;
 mod golden;
+mod light_kinds;
 mod gpu_faults;
 mod gpu_ray_queries;
 mod gpu_render;

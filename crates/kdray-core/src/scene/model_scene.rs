@@ -232,6 +232,7 @@ pub(super) fn light_rig(min: DVec3, max: DVec3) -> Vec<Light> {
         ambient: DVec3::splat(ambient),
         diffuse: DVec3::splat(diffuse),
         specular: DVec3::splat(specular),
+        kind: Default::default(),
     };
     vec![
         light(

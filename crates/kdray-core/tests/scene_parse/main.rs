@@ -24,6 +24,7 @@ mod gltf_cameras;
 mod gltf_emission;
 mod gltf_meshes;
 mod gltf_optimised;
+mod light_kinds;
 mod mesh_normals;
 mod mesh_placement;
 mod meshes;
@@ -43,7 +44,7 @@ use std::path::{Path, PathBuf};
 use glam::DVec3;
 use kdray_core::scene::obj::load_obj;
 use kdray_core::scene::{
-    load_scene, parse_scene, Camera, Light, Material, RenderSettings, Scene, SceneError,
+    load_scene, parse_scene, Camera, Light, LightKind, Material, RenderSettings, Scene, SceneError,
     SceneFormat, ShadowMode, Sphere, Triangle,
 };
 
