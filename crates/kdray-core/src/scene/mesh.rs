@@ -134,6 +134,9 @@ pub struct Mesh {
     /// glTF: the first perspective camera the scene's node walk meets
     /// (depth first, children in order), in the file's coordinates.
     pub camera: Option<super::Camera>,
+    /// glTF: the `KHR_lights_punctual` lights the node walk meets, in the
+    /// file's coordinates.
+    pub lights: Vec<super::Light>,
 }
 
 impl Mesh {

@@ -17,10 +17,11 @@ use super::schema::{RawMesh, RawScale};
 use super::validate::{Validator, MAX_COORDINATE};
 use super::{Material, SceneError, Texture, Triangle, TriangleParts};
 
-/// What a mesh file places besides its triangles (glTF: a camera).
+/// What a mesh file places besides its triangles (glTF: a camera, lights).
 #[derive(Debug, Default)]
 pub(super) struct Placed {
     pub camera: Option<super::Camera>,
+    pub lights: Vec<super::Light>,
 }
 
 impl Validator<'_> {
@@ -57,6 +58,7 @@ impl Validator<'_> {
         let mesh = self.load_entry_mesh(i, &mesh_path, override_material.is_none())?;
         let placed = Placed {
             camera: mesh.camera,
+            lights: mesh.lights.clone(),
         };
 
         let first_material = materials.len() as u32;

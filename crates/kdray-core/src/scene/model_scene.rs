@@ -1,7 +1,8 @@
 //! A model file opened on its own (`kdray render bunny.obj`), as a model
 //! viewer would show it: the model as its file places it, seen through the
 //! file's camera (a glTF's first) or else framed from a three-quarter view
-//! to fit its bounding box, under a three-point light rig
+//! to fit its bounding box, under the file's lights (a glTF's
+//! `KHR_lights_punctual`) or else a three-point light rig
 //! (key, fill, rim) placed relative to the box, standing on a ground plane
 //! (two large triangles) just below its lowest point.
 //!
@@ -145,7 +146,11 @@ pub fn model_scene_viewed(
             tone_map: Default::default(),
             exposure: 0.0,
         },
-        lights: light_rig(min, max),
+        lights: if placed.lights.is_empty() {
+            light_rig(min, max)
+        } else {
+            file_lights(path, placed.lights)?
+        },
         environment: None,
         animation: None,
         materials,
@@ -174,6 +179,24 @@ fn file_camera(path: &Path, camera: Camera) -> Result<Camera, SceneError> {
         ));
     }
     Ok(camera)
+}
+
+/// The file's lights (a glTF's `KHR_lights_punctual`), in place of the
+/// rig, their positions within the coordinates the GPU can take.
+fn file_lights(path: &Path, lights: Vec<Light>) -> Result<Vec<Light>, SceneError> {
+    let limit = super::validate::MAX_COORDINATE;
+    match lights.iter().find(|l| l.position.abs().max_element() > limit) {
+        Some(far) => Err(SceneError::new(
+            path,
+            None,
+            None,
+            format!(
+                "a light of the file sits at {}, beyond ±{limit:e} (the GPU computes in f32)",
+                far.position
+            ),
+        )),
+        None => Ok(lights),
+    }
 }
 
 /// The box round every triangle's vertices (a loaded model has at least one).

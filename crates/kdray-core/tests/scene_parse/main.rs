@@ -22,6 +22,7 @@ mod examples;
 mod files_and_syntax;
 mod gltf_cameras;
 mod gltf_emission;
+mod gltf_lights;
 mod gltf_meshes;
 mod gltf_optimised;
 mod light_kinds;

@@ -10,8 +10,9 @@
 //! coordinates (`images`); the files the web's optimisers write:
 //! quantized attributes (`accessors`), meshopt-compressed buffer views
 //! (`extensions`, `meshopt`), Draco-compressed primitives (`draco`) and
-//! WebP textures; the first perspective camera the walk meets (`placed`),
-//! for a model opened on its own. Other textures, lights, skins, morph
+//! WebP textures; the first perspective camera the walk meets and the
+//! `KHR_lights_punctual` lights (`placed`), for a model opened on its own.
+//! Other textures, skins, morph
 //! targets and animations are ignored; points and lines are an error (they are not
 //! surfaces, and a file of them would draw nothing). Sparse accessors are
 //! read wherever accessors are. An extension the file requires that kdray
@@ -168,6 +169,10 @@ pub fn parse_gltf(
         }
         if let Some(mesh) = node.mesh() {
             reader.mesh(&mesh, world).map_err(err)?;
+        }
+        if let Some(light) = node.light() {
+            let light = placed::punctual_light(&light, index, world).map_err(err)?;
+            reader.mesh.lights.push(light);
         }
         if let Some(camera) = node.camera().filter(|_| reader.mesh.camera.is_none()) {
             match placed::perspective_camera(&camera, index, world).map_err(err)? {

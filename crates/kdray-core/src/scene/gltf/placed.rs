@@ -1,10 +1,10 @@
 //! What a glTF scene's nodes place besides meshes: the first perspective
-//! camera (for a model opened on its own), read in the node walk with the
-//! node's world transform.
+//! camera and the `KHR_lights_punctual` lights (for a model opened on its
+//! own), read in the node walk with the node's world transform.
 
 use glam::{DMat4, DVec3};
 
-use crate::scene::Camera;
+use crate::scene::{Camera, Light, LightKind};
 
 /// The camera of node `index` placed by `world`: the eye at the node's
 /// origin, looking down its -Z axis with +Y up (glTF's camera convention),
@@ -47,4 +47,69 @@ pub(super) fn perspective_camera(
         up: up.normalize(),
         vfov_degrees,
     }))
+}
+
+/// The `KHR_lights_punctual` light of node `index` placed by `world`: at the
+/// node's origin, shining down its -Z axis (spot and directional). glTF's
+/// photometric intensity is read one for one as kdray's radiometric units
+/// (docs/scene-format.md): `diffuse` = `specular` = colour x intensity (cd
+/// as W/sr for point and spot lights, lux as W/m^2 for directional ones),
+/// `ambient` 0. `range` is ignored (the falloff stays 1 / d^2).
+pub(super) fn punctual_light(
+    light: &gltf::khr_lights_punctual::Light,
+    index: usize,
+    world: DMat4,
+) -> Result<Light, String> {
+    use gltf::khr_lights_punctual::Kind;
+    let at = || format!("node {index} light {}", light.index());
+    let colour = DVec3::from_array(light.color().map(f64::from)) * f64::from(light.intensity());
+    if !(colour.is_finite() && colour.min_element() >= 0.0) {
+        return Err(format!(
+            "{}: colour x intensity must be finite and >= 0, got {colour}",
+            at()
+        ));
+    }
+    let direction = || {
+        crate::scene::normals::unit(world.transform_vector3(DVec3::NEG_Z)).ok_or_else(|| {
+            format!("{}: the node transform collapses the light's direction", at())
+        })
+    };
+    let kind = match light.kind() {
+        Kind::Point => LightKind::Point,
+        Kind::Directional => LightKind::Directional {
+            direction: direction()?,
+        },
+        Kind::Spot {
+            inner_cone_angle,
+            outer_cone_angle,
+        } => {
+            let (inner, outer) = (
+                f64::from(inner_cone_angle).to_degrees(),
+                f64::from(outer_cone_angle).to_degrees(),
+            );
+            // glTF: 0 <= inner < outer <= pi / 2.
+            if !(inner >= 0.0 && inner < outer && outer <= 90.0) {
+                return Err(format!(
+                    "{}: the spot's cone angles must satisfy 0 <= innerConeAngle < outerConeAngle <= pi/2, got {inner_cone_angle} and {outer_cone_angle} rad",
+                    at()
+                ));
+            }
+            LightKind::Spot {
+                direction: direction()?,
+                inner_degrees: inner,
+                outer_degrees: outer,
+            }
+        }
+    };
+    let position = match kind {
+        LightKind::Directional { .. } => DVec3::ZERO,
+        _ => world.transform_point3(DVec3::ZERO),
+    };
+    Ok(Light {
+        position,
+        ambient: DVec3::ZERO,
+        diffuse: colour,
+        specular: colour,
+        kind,
+    })
 }

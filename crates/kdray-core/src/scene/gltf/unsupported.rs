@@ -38,12 +38,13 @@ pub(super) fn is_gltf_1(bytes: &[u8]) -> bool {
 }
 
 /// The glTF extensions kdray reads: three material extensions (onto a
-/// material's transmission, ior and emission), quantized and compressed geometry
+/// material's transmission, ior and emission), punctual lights, quantized and compressed geometry
 /// (`accessors`, `meshopt`, `draco`) and WebP textures (`images`).
-pub(super) const SUPPORTED_EXTENSIONS: [&str; 7] = [
+pub(super) const SUPPORTED_EXTENSIONS: [&str; 8] = [
     "KHR_materials_transmission",
     "KHR_materials_ior",
     "KHR_materials_emissive_strength",
+    "KHR_lights_punctual",
     "KHR_mesh_quantization",
     "EXT_meshopt_compression",
     "KHR_draco_mesh_compression",

@@ -194,6 +194,7 @@ pub(super) fn parse(text: &[u8], threads: usize, materials: Option<MaterialFiles
         materials,
         warnings: Vec::new(),
         camera: None,
+        lights: Vec::new(),
     };
     let parsed: Vec<_> = chunks
         .into_iter()
