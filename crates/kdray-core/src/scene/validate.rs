@@ -496,6 +496,16 @@ impl Validator<'_> {
                     return Err(self.error(&key("frame"), message));
                 }
             }
+            let directional = matches!(
+                lights[k.light as usize].kind,
+                super::LightKind::Directional { .. }
+            );
+            if k.position.is_some() && directional {
+                return Err(self.error(
+                    &key("position"),
+                    format!("light {} is directional: it has no position to key", k.light),
+                ));
+            }
             let light_key = LightKey {
                 frame: k.frame,
                 light: k.light,

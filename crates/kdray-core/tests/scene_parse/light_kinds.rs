@@ -104,4 +104,15 @@ fn bad_light_kind_keys_are_refused_naming_the_key() {
         &["missing field `position`", "spot light"],
     );
     assert_rejected(&base().set("lights[1].kind", "\"area\""), "lights[1].kind", &["spot", "directional"]);
+    // An animation may key a directional light's colour, not a position.
+    let keyed = directional()
+        .set("animation.frames", "4")
+        .set("animation.light_keys[0].frame", "2")
+        .set("animation.light_keys[0].light", "1");
+    assert_accepted(&keyed.clone().set("animation.light_keys[0].color", "[0.5, 0.5, 0.5]"));
+    assert_rejected(
+        &keyed.set("animation.light_keys[0].position", "[1, 2, 3]"),
+        "animation.light_keys[0].position",
+        &["light 1 is directional"],
+    );
 }
