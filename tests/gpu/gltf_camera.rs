@@ -78,7 +78,18 @@ fn the_camera_flag_picks_a_models_view_and_is_refused_for_a_scene_file() {
         let out = format!("{view}.png");
         let run = run_kdray(
             &dir.path,
-            &["render", "model.gltf", "--camera", view, "--width", "24", "--height", "24", "-o", &out],
+            &[
+                "render",
+                "model.gltf",
+                "--camera",
+                view,
+                "--width",
+                "24",
+                "--height",
+                "24",
+                "-o",
+                &out,
+            ],
             &[],
         );
         assert_eq!(run.code, 0, "{run:#?}");
@@ -89,8 +100,15 @@ fn the_camera_flag_picks_a_models_view_and_is_refused_for_a_scene_file() {
         "scene.toml",
         "[camera]\nposition = [0, 0, 5]\nlook_at = [0, 0, 0]\n\n[[lights]]\nposition = [0, 5, 5]\n",
     );
-    let run = run_kdray(&dir.path, &["render", scene.to_str().unwrap(), "--camera", "default"], &[]);
+    let run = run_kdray(
+        &dir.path,
+        &["render", scene.to_str().unwrap(), "--camera", "default"],
+        &[],
+    );
     assert_eq!(run.code, 2, "{run:#?}");
     let line = run.one_error_line();
-    assert!(line.contains("--camera default") && line.contains("scene.toml"), "{line}");
+    assert!(
+        line.contains("--camera default") && line.contains("scene.toml"),
+        "{line}"
+    );
 }

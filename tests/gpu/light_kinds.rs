@@ -99,12 +99,18 @@ specular = [0, 0, 0]
         }
     }
     // The image holds all three parts of the cone: the test sees each.
-    assert!(full > 100 && between > 100 && dark > 1000, "{full} {between} {dark}");
+    assert!(
+        full > 100 && between > 100 && dark > 1000,
+        "{full} {between} {dark}"
+    );
     // The CPU reference agrees.
     let reference = ReferenceTracer::new(&scene, true);
     for (row, column) in [(32, 32), (32, 40), (32, 44), (20, 20), (0, 0)] {
         let (a, b) = (pixel(&image, row, column), reference.pixel(row, column));
-        assert!(a.iter().zip(b).all(|(x, y)| x.abs_diff(y) <= 1), "({row}, {column}): {a:?} {b:?}");
+        assert!(
+            a.iter().zip(b).all(|(x, y)| x.abs_diff(y) <= 1),
+            "({row}, {column}): {a:?} {b:?}"
+        );
     }
 }
 
@@ -146,7 +152,10 @@ material = "white"
     assert_eq!(at(1.0, 2.5), [0, 0, 0], "the far ball's shadow");
     for (x, z) in [(-2.0, 0.0), (1.0, -1.5), (2.5, 2.5), (-1.0, 2.5)] {
         let got = at(x, z);
-        assert!(got.iter().all(|&c| c.abs_diff(lit[0]) <= 1), "({x}, {z}): {got:?}, want {lit:?}");
+        assert!(
+            got.iter().all(|&c| c.abs_diff(lit[0]) <= 1),
+            "({x}, {z}): {got:?}, want {lit:?}"
+        );
     }
     let reference = ReferenceTracer::new(&scene, true);
     assert_eq!(reference.pixel(32, 42), pixel(&image, 32, 42));
@@ -209,6 +218,9 @@ fn path_traced_delta_lights_give_the_radiance_their_units_predict() {
     let cos = h / d2.sqrt();
     let centre = srgb_level(albedo / std::f64::consts::PI * intensity * cos / d2);
     let got = pixel(&image, 31, 31);
-    assert!(got.iter().all(|&g| g.abs_diff(centre) <= 1), "{got:?}, want {centre}");
+    assert!(
+        got.iter().all(|&g| g.abs_diff(centre) <= 1),
+        "{got:?}, want {centre}"
+    );
     assert_eq!(pixel(&image, 31, 50), [0, 0, 0], "outside the outer cone");
 }

@@ -50,10 +50,22 @@ fn a_black_emitting_sphere_shows_its_emission_under_whitted() {
         let scene = scene_from_toml(&emitting_sphere(emission, mode));
         let image = render(&scene, Accel::Kdtree);
         assert_eq!(pixel(&image, 16, 16), quantize(emission), "{mode}: centre");
-        assert_eq!(pixel(&image, 13, 18), quantize(emission), "{mode}: off centre");
-        assert_eq!(pixel(&image, 0, 0), quantize([0.1; 3]), "{mode}: background");
+        assert_eq!(
+            pixel(&image, 13, 18),
+            quantize(emission),
+            "{mode}: off centre"
+        );
+        assert_eq!(
+            pixel(&image, 0, 0),
+            quantize([0.1; 3]),
+            "{mode}: background"
+        );
         let reference = ReferenceTracer::new(&scene, true);
-        assert_eq!(reference.pixel(16, 16), quantize(emission), "{mode}: reference");
+        assert_eq!(
+            reference.pixel(16, 16),
+            quantize(emission),
+            "{mode}: reference"
+        );
     }
 }
 

@@ -15,11 +15,11 @@ use kdray::bench::options::{
 use kdray::bench::random_scene::{DEFAULT_HEIGHT, DEFAULT_WIDTH};
 use kdray::bench::{RandomSceneSpec, SceneKind, DEFAULT_SEED};
 use kdray::choice::Choice;
-use kdray::scene::ModelCamera;
 use kdray::gpu::Accel;
 use kdray::kdtree::{BuildStrategy, Traversal};
 use kdray::render::RenderFlags;
 use kdray::scene::Integrator;
+use kdray::scene::ModelCamera;
 
 #[derive(Parser)]
 #[command(

@@ -119,7 +119,10 @@ impl Validator<'_> {
             };
             let d = self.vector(&|| key("direction"), v)?;
             unit(d).ok_or_else(|| {
-                self.error(&key("direction"), format!("must not be zero, got {:?}", v.0))
+                self.error(
+                    &key("direction"),
+                    format!("must not be zero, got {:?}", v.0),
+                )
             })
         };
         let position = |p: Option<super::schema::Vec3>| -> Result<DVec3, SceneError> {
@@ -161,10 +164,16 @@ impl Validator<'_> {
                 let inner = cone("inner_cone", l.inner_cone, DEFAULT_INNER_CONE_DEGREES)?;
                 let outer = cone("outer_cone", l.outer_cone, DEFAULT_OUTER_CONE_DEGREES)?;
                 if inner >= outer {
-                    let at = if l.inner_cone.is_some() { "inner_cone" } else { "outer_cone" };
+                    let at = if l.inner_cone.is_some() {
+                        "inner_cone"
+                    } else {
+                        "outer_cone"
+                    };
                     return Err(self.error(
                         &key(at),
-                        format!("inner_cone must be less than outer_cone, got {inner:?} and {outer:?}"),
+                        format!(
+                            "inner_cone must be less than outer_cone, got {inner:?} and {outer:?}"
+                        ),
                     ));
                 }
                 Ok((

@@ -185,7 +185,10 @@ fn file_camera(path: &Path, camera: Camera) -> Result<Camera, SceneError> {
 /// rig, their positions within the coordinates the GPU can take.
 fn file_lights(path: &Path, lights: Vec<Light>) -> Result<Vec<Light>, SceneError> {
     let limit = super::validate::MAX_COORDINATE;
-    match lights.iter().find(|l| l.position.abs().max_element() > limit) {
+    match lights
+        .iter()
+        .find(|l| l.position.abs().max_element() > limit)
+    {
         Some(far) => Err(SceneError::new(
             path,
             None,

@@ -503,7 +503,10 @@ impl Validator<'_> {
             if k.position.is_some() && directional {
                 return Err(self.error(
                     &key("position"),
-                    format!("light {} is directional: it has no position to key", k.light),
+                    format!(
+                        "light {} is directional: it has no position to key",
+                        k.light
+                    ),
                 ));
             }
             let light_key = LightKey {

@@ -34,11 +34,15 @@ fn open(dir: &TempDir, doc: &serde_json::Value, view: ModelCamera) -> (Scene, Ve
 #[test]
 fn a_model_looks_through_its_first_perspective_camera() {
     let dir = TempDir::new("gltf-camera");
-    let doc = with_camera(json!({"type": "perspective", "perspective": {"yfov": 0.5, "znear": 0.1}}));
+    let doc =
+        with_camera(json!({"type": "perspective", "perspective": {"yfov": 0.5, "znear": 0.1}}));
     let (scene, warnings) = open(&dir, &doc, ModelCamera::File);
     assert!(warnings.is_empty(), "{warnings:?}");
     let c = scene.camera;
-    assert!((c.position - DVec3::new(4.0, 1.0, 0.5)).length() < 1e-6, "{c:?}");
+    assert!(
+        (c.position - DVec3::new(4.0, 1.0, 0.5)).length() < 1e-6,
+        "{c:?}"
+    );
     let forward = (c.look_at - c.position).normalize();
     assert!((forward - DVec3::NEG_X).length() < 1e-6, "{c:?}");
     assert!((c.up.normalize() - DVec3::Y).length() < 1e-6, "{c:?}");
@@ -58,14 +62,19 @@ fn an_orthographic_camera_is_ignored_with_a_warning() {
     }));
     let (scene, warnings) = open(&dir, &doc, ModelCamera::File);
     assert_eq!(warnings.len(), 1, "{warnings:?}");
-    assert!(warnings[0].to_string().contains("orthographic"), "{}", warnings[0]);
+    assert!(
+        warnings[0].to_string().contains("orthographic"),
+        "{}",
+        warnings[0]
+    );
     assert_eq!(scene.camera.vfov_degrees, 40.0);
 }
 
 #[test]
 fn a_camera_whose_node_collapses_its_view_is_refused() {
     let dir = TempDir::new("gltf-camera-collapsed");
-    let mut doc = with_camera(json!({"type": "perspective", "perspective": {"yfov": 0.5, "znear": 0.1}}));
+    let mut doc =
+        with_camera(json!({"type": "perspective", "perspective": {"yfov": 0.5, "znear": 0.1}}));
     doc["nodes"][2] = json!({"camera": 0, "scale": [1, 1, 0]});
     let path = write_document(&dir, "model.gltf", &doc);
     let e = model_scene_viewed(&path, ModelCamera::File, &mut |_| {}, &mut |_| {}).unwrap_err();

@@ -79,7 +79,10 @@ fn a_models_punctual_lights_replace_the_light_rig() {
     let dir = TempDir::new("gltf-lights-model");
     let path = write_document(&dir, "lit.gltf", &lit_document());
     let scene = model_scene_viewed(&path, ModelCamera::File, &mut |_| {}, &mut |_| {}).unwrap();
-    assert_eq!(scene.lights, read_document(&dir, "lit.gltf", &lit_document()).lights);
+    assert_eq!(
+        scene.lights,
+        read_document(&dir, "lit.gltf", &lit_document()).lights
+    );
     // Without lights the rig of three is used.
     let plain = write_document(&dir, "plain.gltf", &triangle_document(json!({})));
     let scene = model_scene_viewed(&plain, ModelCamera::File, &mut |_| {}, &mut |_| {}).unwrap();

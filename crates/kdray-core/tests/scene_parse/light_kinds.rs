@@ -72,15 +72,31 @@ fn bad_light_kind_keys_are_refused_naming_the_key() {
             .set("lights[1].kind", "\"directional\"")
             .set("lights[1].direction", "[0, -1, 0]")
     };
-    assert_rejected(&spot().set("lights[1].outer_cone", "95"), "lights[1].outer_cone", &["between 0 and 90"]);
-    assert_rejected(&spot().set("lights[1].inner_cone", "-1"), "lights[1].inner_cone", &["between 0 and 90"]);
+    assert_rejected(
+        &spot().set("lights[1].outer_cone", "95"),
+        "lights[1].outer_cone",
+        &["between 0 and 90"],
+    );
+    assert_rejected(
+        &spot().set("lights[1].inner_cone", "-1"),
+        "lights[1].inner_cone",
+        &["between 0 and 90"],
+    );
     assert_rejected(
         &spot().set("lights[1].inner_cone", "50"),
         "lights[1].inner_cone",
         &["inner_cone must be less than outer_cone"],
     );
-    assert_rejected(&spot().set("lights[1].direction", "[0, 0, 0]"), "lights[1].direction", &["zero"]);
-    assert_rejected(&directional().set("lights[1].direction", "[0, 0, 0]"), "lights[1].direction", &["zero"]);
+    assert_rejected(
+        &spot().set("lights[1].direction", "[0, 0, 0]"),
+        "lights[1].direction",
+        &["zero"],
+    );
+    assert_rejected(
+        &directional().set("lights[1].direction", "[0, 0, 0]"),
+        "lights[1].direction",
+        &["zero"],
+    );
     assert_rejected(
         &directional().set("lights[1].position", "[1, 2, 3]"),
         "lights[1].position",
@@ -103,13 +119,21 @@ fn bad_light_kind_keys_are_refused_naming_the_key() {
         "lights[1]",
         &["missing field `position`", "spot light"],
     );
-    assert_rejected(&base().set("lights[1].kind", "\"area\""), "lights[1].kind", &["spot", "directional"]);
+    assert_rejected(
+        &base().set("lights[1].kind", "\"area\""),
+        "lights[1].kind",
+        &["spot", "directional"],
+    );
     // An animation may key a directional light's colour, not a position.
     let keyed = directional()
         .set("animation.frames", "4")
         .set("animation.light_keys[0].frame", "2")
         .set("animation.light_keys[0].light", "1");
-    assert_accepted(&keyed.clone().set("animation.light_keys[0].color", "[0.5, 0.5, 0.5]"));
+    assert_accepted(
+        &keyed
+            .clone()
+            .set("animation.light_keys[0].color", "[0.5, 0.5, 0.5]"),
+    );
     assert_rejected(
         &keyed.set("animation.light_keys[0].position", "[1, 2, 3]"),
         "animation.light_keys[0].position",

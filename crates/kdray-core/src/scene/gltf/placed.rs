@@ -32,7 +32,9 @@ pub(super) fn perspective_camera(
     let forward = world.transform_vector3(DVec3::NEG_Z);
     let up = world.transform_vector3(DVec3::Y);
     // A zero scale collapses the axes; a shear may fold +Y onto -Z.
-    if !(forward.length() > 0.0 && up.cross(forward).length() > 1e-12 * up.length() * forward.length()) {
+    if !(forward.length() > 0.0
+        && up.cross(forward).length() > 1e-12 * up.length() * forward.length())
+    {
         return Err(format!(
             "{}: the node transform collapses the camera's view or up direction",
             at()
@@ -71,7 +73,10 @@ pub(super) fn punctual_light(
     }
     let direction = || {
         crate::scene::normals::unit(world.transform_vector3(DVec3::NEG_Z)).ok_or_else(|| {
-            format!("{}: the node transform collapses the light's direction", at())
+            format!(
+                "{}: the node transform collapses the light's direction",
+                at()
+            )
         })
     };
     let kind = match light.kind() {
