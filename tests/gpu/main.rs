@@ -17,6 +17,7 @@ mod cli;
 mod examples;
 mod glass;
 mod gltf_camera;
+mod gltf_lights;
 mod golden;
 mod gpu_faults;
 mod gpu_ray_queries;
