@@ -17,7 +17,9 @@ use kdray::scene::{
 /// shining straight down (the same turn, at a translation that means
 /// nothing).
 fn write_model(dir: &TempDir) -> std::path::PathBuf {
-    let corners: [f32; 12] = [-2.0, 0.0, -2.0, -2.0, 0.0, 2.0, 2.0, 0.0, 2.0, 2.0, 0.0, -2.0];
+    let corners: [f32; 12] = [
+        -2.0, 0.0, -2.0, -2.0, 0.0, 2.0, 2.0, 0.0, 2.0, 2.0, 0.0, -2.0,
+    ];
     let indices: [u16; 6] = [0, 1, 2, 0, 2, 3];
     let mut bytes: Vec<u8> = corners.iter().flat_map(|x| x.to_le_bytes()).collect();
     bytes.extend(indices.iter().flat_map(|i| i.to_le_bytes()));
