@@ -13,11 +13,12 @@ use serde_json::json;
 fn with_camera(projection: serde_json::Value) -> serde_json::Value {
     let mut doc = triangle_document(json!({}));
     doc["scenes"] = json!([{"nodes": [0, 1]}]);
+    let s = std::f64::consts::FRAC_1_SQRT_2;
     doc["nodes"] = json!([
         {"mesh": 0},
         {"translation": [0, 1, 0], "children": [2]},
         // Turned 90 degrees about +y: -Z goes to -X.
-        {"camera": 0, "translation": [4, 0, 0.5], "rotation": [0, 0.70710678, 0, 0.70710678]}
+        {"camera": 0, "translation": [4, 0, 0.5], "rotation": [0, s, 0, s]}
     ]);
     doc["cameras"] = json!([projection]);
     doc
