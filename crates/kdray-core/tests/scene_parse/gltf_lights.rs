@@ -102,3 +102,17 @@ fn a_spot_cone_outside_the_gltf_range_is_refused_naming_the_node_and_light() {
         assert_error(&e, &path, None, None, &["node 3 light 1", "outerConeAngle"]);
     }
 }
+
+#[test]
+fn a_node_naming_a_light_that_is_not_there_is_an_error_not_a_panic() {
+    let dir = TempDir::new("gltf-lights-missing");
+    let mut beyond = lit_document();
+    beyond["nodes"][2]["extensions"]["KHR_lights_punctual"]["light"] = json!(7);
+    let mut none_declared = lit_document();
+    none_declared.as_object_mut().unwrap().remove("extensions");
+    for (name, doc) in [("beyond.gltf", beyond), ("undeclared.gltf", none_declared)] {
+        let path = write_document(&dir, name, &doc);
+        let e = kdray_core::scene::gltf::load_gltf(&path, true, &mut |_| {}).unwrap_err();
+        assert_error(&e, &path, None, None, &["not a valid glTF 2.0 file"]);
+    }
+}
