@@ -10,10 +10,10 @@
 struct LightSample {
     dir: vec3<f32>,
     distance: f32,       // to the point sampled
-    radiance: vec3<f32>, // arriving along dir if unblocked (a point light: intensity / d^2)
+    radiance: vec3<f32>, // arriving along dir if unblocked (a point light: intensity / d^2; directional: irradiance)
     pdf: f32,            // solid angle density, the choice included; 0: nothing to add
-    delta: bool,         // a point light: no BSDF sample can find it
-    object: u32,         // the emitter's GPU id (NO_OBJECT: a point light)
+    delta: bool,         // a point, spot or directional light: no BSDF sample can find it
+    object: u32,         // the emitter's GPU id (NO_OBJECT: a scene light)
 }
 
 // Point lights, emitters and, with an image, the sky.
@@ -66,13 +66,23 @@ fn sample_light(p: vec3<f32>) -> LightSample {
     }
     let light = lights[k];
     if (k < params.light_count) {
+        // Delta lights: a directional light's `diffuse` is the irradiance it
+        // gives a surface facing it; a point or spot light's its radiant
+        // intensity, a spot's times its falloff.
+        if (light.kind == LIGHT_DIRECTIONAL) {
+            return LightSample(-light.direction, T_INFINITY, light.diffuse, choice, true, NO_OBJECT);
+        }
         let to = light.position - p;
         let d2 = dot(to, to);
         if (d2 <= 0.0) {
             return no_light();
         }
         let d = sqrt(d2);
-        return LightSample(to / d, d, light.diffuse / d2, choice, true, NO_OBJECT);
+        var intensity = light.diffuse;
+        if (light.kind == LIGHT_SPOT) {
+            intensity *= spot_factor(light, dot(-to / d, light.direction));
+        }
+        return LightSample(to / d, d, intensity / d2, choice, true, NO_OBJECT);
     }
     let id = light.object;
     if (is_sphere(id)) {

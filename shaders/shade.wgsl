@@ -2,7 +2,8 @@
 // glass: shadow_transmittance in glass.wgsl).
 
 struct Shading {
-    color: vec3<f32>,      // ambient_term + direct_term
+    color: vec3<f32>,      // emission + ambient_term + direct_term
+    // A light is visible from the hit, or the hit emits (it lights itself).
     any_light_visible: bool,
 }
 
@@ -17,8 +18,18 @@ fn specular_power(x: f32, e: f32) -> f32 {
     return pow(x, e);
 }
 
+// KHR_lights_punctual's spot falloff (mirrors scene::spot_factor): the
+// share of a spot light's intensity sent `cos_angle` (cosine off its axis)
+// away; 1 inside the inner cone, 0 outside the outer one.
+fn spot_factor(light: Light, cos_angle: f32) -> f32 {
+    let t = clamp((cos_angle - light.cos_outer) * light.spot_scale, 0.0, 1.0);
+    return t * t;
+}
+
 // p: hit point; n: unit normal facing the incoming ray; v = -ray direction;
-// origin: p moved off the surface, where shadow rays start.
+// origin: p moved off the surface, where shadow rays start. A spot light is
+// a point light times its falloff; a directional light's shadow ray is
+// unbounded.
 fn shade(m: Material, p: vec3<f32>, n: vec3<f32>, v: vec3<f32>, origin: vec3<f32>) -> Shading {
     var ambient = vec3<f32>(0.0);
     var direct = vec3<f32>(0.0);
@@ -27,21 +38,38 @@ fn shade(m: Material, p: vec3<f32>, n: vec3<f32>, v: vec3<f32>, origin: vec3<f32
         loop_iterations += 1u;
         let light = lights[i];
         ambient += m.ambient * light.ambient;
-        let to_light = light.position - p;
-        let distance = length(to_light);
-        if (distance <= 0.0) {
-            continue;
+        var l: vec3<f32>;
+        var shadow_ray = Ray(origin, vec3<f32>(0.0, 0.0, 1.0));
+        var shadow_length = T_INFINITY;
+        var strength = 1.0; // the spot falloff
+        if (light.kind == LIGHT_DIRECTIONAL) {
+            l = -light.direction;
+            shadow_ray.dir = l;
+        } else {
+            let to_light = light.position - p;
+            let distance = length(to_light);
+            if (distance <= 0.0) {
+                continue;
+            }
+            l = to_light / distance;
+            if (light.kind == LIGHT_SPOT) {
+                strength = spot_factor(light, dot(-l, light.direction));
+                if (strength == 0.0) {
+                    continue;
+                }
+            }
+            let to_light_from_origin = light.position - origin;
+            shadow_length = length(to_light_from_origin);
+            if (shadow_length > 0.0) {
+                shadow_ray.dir = to_light_from_origin / shadow_length;
+            }
         }
-        let l = to_light / distance;
         let l_dot_n = dot(l, n);
         if (l_dot_n <= 0.0) {
             continue;
         }
-        let to_light_from_origin = light.position - origin;
-        let shadow_length = length(to_light_from_origin);
         var through = 1.0;
         if (shadow_length > 0.0) {
-            let shadow_ray = Ray(origin, to_light_from_origin / shadow_length);
             ray_counts.y += 1u;
             through = shadow_transmittance(shadow_ray, shadow_length);
             if (through == 0.0) {
@@ -55,9 +83,11 @@ fn shade(m: Material, p: vec3<f32>, n: vec3<f32>, v: vec3<f32>, origin: vec3<f32
         if (GLASS) {
             light_term *= through; // 1 without glass on the way
         }
-        direct += light_term;
+        direct += strength * light_term; // strength 1 but for a spot light
     }
-    return Shading(ambient + direct, visible_any);
+    // Emission first: with none, emission + ambient is ambient bit for bit.
+    let emits = any(m.emission > vec3<f32>(0.0));
+    return Shading(m.emission + ambient + direct, visible_any || emits);
 }
 
 // Where a path meets a surface, seen from the incoming ray (mirrored by

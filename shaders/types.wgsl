@@ -64,16 +64,19 @@ struct Material {
     normal_scale: f32,
 }
 
-// The lights buffer: `light_count` point lights, then `emitter_count`
-// emissive objects (kind LIGHT_EMITTER, `object` their GPU id, `diffuse`
-// their radiance).
+// The lights buffer: `light_count` scene lights (kind LIGHT_POINT,
+// LIGHT_SPOT or LIGHT_DIRECTIONAL), then `emitter_count` emissive objects
+// (kind LIGHT_EMITTER, `object` their GPU id, `diffuse` their radiance).
 struct Light {
-    position: vec3<f32>,
+    position: vec3<f32>,  // point and spot lights
     kind: u32,
     ambient: vec3<f32>,
     object: u32,
     diffuse: vec3<f32>,
+    cos_outer: f32,       // spot: cosine of the outer cone's half-angle
     specular: vec3<f32>,
+    spot_scale: f32,      // spot: 1 / max(cos inner - cos outer, 0.001)
+    direction: vec3<f32>, // spot: its axis; directional: where the light travels (unit)
 }
 
 struct FrameParams {

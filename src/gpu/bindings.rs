@@ -18,9 +18,9 @@
 use crate::geometry::{HIT_BOX_MARGIN, IN_PLANE_MARGIN, PARALLEL_EPSILON, T_INFINITY};
 use crate::layout::{
     GpuMaterial, GpuTriangle, KdNode, LeafRopes, TextureWords, ACCEL_BRUTE, ACCEL_KDTREE,
-    GLASS_STACK_DEPTH, INTEGRATOR_PATH, INTEGRATOR_WHITTED, LIGHT_EMITTER, LIGHT_POINT,
-    MODEL_LAMBERTIAN, MODEL_METAL_ROUGH, SHADOW_AMBIENT, SHADOW_CROSSINGS, SHADOW_SEED,
-    TRAVERSAL_RESTART, TRAVERSAL_ROPES, TRAVERSAL_SHORT_STACK,
+    GLASS_STACK_DEPTH, INTEGRATOR_PATH, INTEGRATOR_WHITTED, LIGHT_DIRECTIONAL, LIGHT_EMITTER,
+    LIGHT_POINT, LIGHT_SPOT, MODEL_LAMBERTIAN, MODEL_METAL_ROUGH, SHADOW_AMBIENT, SHADOW_CROSSINGS,
+    SHADOW_SEED, TRAVERSAL_RESTART, TRAVERSAL_ROPES, TRAVERSAL_SHORT_STACK,
 };
 
 /// How a kernel reads or writes a binding.
@@ -232,7 +232,7 @@ pub enum SharedValue {
 }
 
 /// Every constant the kernel and the host must agree on, by WGSL name.
-pub const SHARED_CONSTANTS: [(&str, SharedValue); 41] = [
+pub const SHARED_CONSTANTS: [(&str, SharedValue); 43] = [
     ("KD_LEAF", SharedValue::U32(KdNode::LEAF)),
     ("ACCEL_KDTREE", SharedValue::U32(ACCEL_KDTREE)),
     ("ACCEL_BRUTE", SharedValue::U32(ACCEL_BRUTE)),
@@ -244,6 +244,8 @@ pub const SHARED_CONSTANTS: [(&str, SharedValue); 41] = [
     ("INTEGRATOR_PATH", SharedValue::U32(INTEGRATOR_PATH)),
     ("LIGHT_POINT", SharedValue::U32(LIGHT_POINT)),
     ("LIGHT_EMITTER", SharedValue::U32(LIGHT_EMITTER)),
+    ("LIGHT_SPOT", SharedValue::U32(LIGHT_SPOT)),
+    ("LIGHT_DIRECTIONAL", SharedValue::U32(LIGHT_DIRECTIONAL)),
     ("MODEL_LAMBERTIAN", SharedValue::U32(MODEL_LAMBERTIAN)),
     ("MODEL_METAL_ROUGH", SharedValue::U32(MODEL_METAL_ROUGH)),
     // The glass path's stack of pending rays (glass.wgsl).

@@ -165,7 +165,7 @@ fn rust_types_match_wgsl_layout() {
         &module,
         "Light",
         GpuLight,
-        [position, kind, ambient, object, diffuse, specular]
+        [position, kind, ambient, object, diffuse, cos_outer, specular, spot_scale, direction]
     );
     layout_of!(
         &module,

@@ -7,9 +7,10 @@ use crate::geometry::{Aabb, Primitives};
 use crate::kdtree::{KdTree, Ropes};
 use crate::layout::{
     GpuKdNode, GpuLight, GpuMaterial, GpuSphere, GpuTriangle, GpuTriangleNormals, LeafRopes,
-    TextureWords, LIGHT_EMITTER, MODEL_LAMBERTIAN, MODEL_METAL_ROUGH,
+    TextureWords, LIGHT_DIRECTIONAL, LIGHT_EMITTER, LIGHT_POINT, LIGHT_SPOT, MODEL_LAMBERTIAN,
+    MODEL_METAL_ROUGH,
 };
-use crate::scene::{Light, Scene};
+use crate::scene::{Light, LightKind, Scene};
 
 /// Host copies of every storage buffer, in the GPU layout.
 pub struct SceneArrays {
@@ -56,12 +57,34 @@ impl SceneArrays {
     pub fn lights_of(lights: &[Light]) -> Vec<GpuLight> {
         lights
             .iter()
-            .map(|l| GpuLight {
-                position: f32x3(l.position),
-                ambient: f32x3(l.ambient),
-                diffuse: f32x3(l.diffuse),
-                specular: f32x3(l.specular),
-                ..bytemuck::Zeroable::zeroed()
+            .map(|l| {
+                let mut g = GpuLight {
+                    position: f32x3(l.position),
+                    ambient: f32x3(l.ambient),
+                    diffuse: f32x3(l.diffuse),
+                    specular: f32x3(l.specular),
+                    ..bytemuck::Zeroable::zeroed()
+                };
+                match l.kind {
+                    LightKind::Point => g.kind = LIGHT_POINT,
+                    LightKind::Spot {
+                        direction,
+                        inner_degrees,
+                        outer_degrees,
+                    } => {
+                        let cos_inner = inner_degrees.to_radians().cos();
+                        let cos_outer = outer_degrees.to_radians().cos();
+                        g.kind = LIGHT_SPOT;
+                        g.direction = f32x3(direction);
+                        g.cos_outer = cos_outer as f32;
+                        g.spot_scale = (1.0 / (cos_inner - cos_outer).max(0.001)) as f32;
+                    }
+                    LightKind::Directional { direction } => {
+                        g.kind = LIGHT_DIRECTIONAL;
+                        g.direction = f32x3(direction);
+                    }
+                }
+                g
             })
             .collect()
     }

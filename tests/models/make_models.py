@@ -119,7 +119,7 @@ def dense_moved_document():
 
 def wild_document():
     doc = document(data_uri_of(BIN))
-    doc["extensionsUsed"] = ["KHR_materials_emissive_strength", "KHR_texture_transform"]
+    doc["extensionsUsed"] = ["KHR_materials_sheen", "KHR_texture_transform"]
     doc["materials"][0]["pbrMetallicRoughness"]["baseColorTexture"] = {"index": 0}
     doc["materials"][0]["normalTexture"] = {"index": 0}
     doc["textures"] = [{"source": 0}]

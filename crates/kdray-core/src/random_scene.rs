@@ -272,6 +272,7 @@ pub fn random_scene(spec: &RandomSceneSpec) -> Scene {
             ambient: DVec3::splat(0.25),
             diffuse: DVec3::ONE,
             specular: DVec3::ONE,
+            kind: Default::default(),
         }],
         materials: materials(),
         spheres,

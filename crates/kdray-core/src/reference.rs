@@ -14,7 +14,7 @@ use crate::kdtree::traverse::{any_hit, any_hit_brute, closest_hit, closest_hit_b
 use crate::kdtree::KdTree;
 use crate::layout::{GpuTriangleNormals, GLASS_STACK_DEPTH, SHADOW_CROSSINGS};
 use crate::scene::texture::{pixel_spread_angle, texture_lod};
-use crate::scene::{Scene, ShadowMode};
+use crate::scene::{LightKind, Scene, ShadowMode};
 
 /// Where a path meets a surface, seen from the incoming ray: mirror of
 /// `Surface` in shaders/shade.wgsl.
@@ -525,24 +525,55 @@ impl<'a> ReferenceTracer<'a> {
         for light in &self.scene.lights {
             let lp = light.position.as_vec3();
             ambient += m.ambient.as_vec3() * light.ambient.as_vec3();
-            let to_light = lp - p;
-            let distance = to_light.length();
-            if distance <= 0.0 {
-                continue;
-            }
-            let l = to_light / distance;
+            // As shade.wgsl: a spot light is a point light times its
+            // falloff; a directional light's shadow ray is unbounded.
+            let mut strength = 1.0f32;
+            let (l, shadow_ray, shadow_length) = match light.kind {
+                LightKind::Directional { direction } => {
+                    let l = -direction.as_vec3();
+                    (l, Ray { origin, dir: l }, f32::INFINITY)
+                }
+                _ => {
+                    let to_light = lp - p;
+                    let distance = to_light.length();
+                    if distance <= 0.0 {
+                        continue;
+                    }
+                    let l = to_light / distance;
+                    if let LightKind::Spot {
+                        direction,
+                        inner_degrees,
+                        outer_degrees,
+                    } = light.kind
+                    {
+                        // In f32 from the values the lights buffer holds
+                        // (src/gpu/scene_arrays.rs).
+                        let cos_inner = inner_degrees.to_radians().cos();
+                        let cos_outer = outer_degrees.to_radians().cos();
+                        let scale = (1.0 / (cos_inner - cos_outer).max(0.001)) as f32;
+                        let cos_angle = (-l).dot(direction.as_vec3());
+                        let t = ((cos_angle - cos_outer as f32) * scale).clamp(0.0, 1.0);
+                        strength = t * t;
+                        if strength == 0.0 {
+                            continue;
+                        }
+                    }
+                    let from_origin = lp - origin;
+                    let shadow_length = from_origin.length();
+                    let dir = if shadow_length > 0.0 {
+                        from_origin / shadow_length
+                    } else {
+                        Vec3::Z
+                    };
+                    (l, Ray { origin, dir }, shadow_length)
+                }
+            };
             let l_dot_n = l.dot(n);
             if l_dot_n <= 0.0 {
                 continue;
             }
-            let from_origin = lp - origin;
-            let shadow_length = from_origin.length();
             let mut through = 1.0f32;
             if shadow_length > 0.0 {
-                let shadow_ray = Ray {
-                    origin,
-                    dir: from_origin / shadow_length,
-                };
                 through = self.shadow_transmittance(&shadow_ray, shadow_length);
                 if through == 0.0 {
                     continue;
@@ -563,9 +594,12 @@ impl<'a> ReferenceTracer<'a> {
             if self.glass {
                 light_term *= through;
             }
-            direct += light_term;
+            direct += strength * light_term;
         }
-        (ambient + direct, any_visible)
+        // Emission first, as in the shader: with none the sum is unchanged.
+        let emission = m.physical.emission.as_vec3();
+        let emits = emission.cmpgt(Vec3::ZERO).any();
+        (emission + ambient + direct, any_visible || emits)
     }
 
     /// The 8-bit colour of pixel (row, column), as render_tile computes it.

@@ -20,6 +20,7 @@ use kdray::gpu::Accel;
 use kdray::kdtree::{BuildStrategy, Traversal};
 use kdray::render::RenderFlags;
 use kdray::scene::Integrator;
+use kdray::scene::ModelCamera;
 
 #[derive(Parser)]
 #[command(
@@ -125,6 +126,9 @@ pub struct RenderArgs {
     pub output: Option<PathBuf>,
     #[command(flatten)]
     pub image: ImageFlags,
+    /// A model file opened as a scene (.obj, .gltf, .glb): which camera to look through.
+    #[arg(long, value_parser = choice::<ModelCamera>(), default_value = "file", conflicts_with = "window")]
+    pub camera: ModelCamera,
     /// Print one JSON object of figures on stdout (with --window: frame rates, on exit).
     #[arg(long)]
     pub stats: bool,

@@ -52,6 +52,28 @@ fn main() -> ExitCode {
     }
 }
 
+/// The scene file, or the model file seen through `camera`; `--camera
+/// default` names a model's view, so a scene file with it is a usage error.
+fn load_viewed(path: &Path, camera: kdray::scene::ModelCamera) -> Result<kdray::scene::Scene> {
+    use kdray::scene::ModelCamera;
+    if camera == ModelCamera::File {
+        return Ok(kdray::scene::load_scene(path)?);
+    }
+    if kdray::scene::mesh_file::MeshFormat::of_path(path).is_none() {
+        return Err(Error::Usage(format!(
+            "--camera {}: {} is a scene file, which states its camera; the flag is for a model file (.obj, .gltf, .glb)",
+            kdray::choice::Choice::name(camera),
+            path.display()
+        )));
+    }
+    Ok(kdray::scene::model_scene_viewed(
+        path,
+        camera,
+        &mut |_| {},
+        &mut kdray::scene::print_warning,
+    )?)
+}
+
 fn render(args: RenderArgs) -> Result<()> {
     let RenderArgs {
         scene: scene_path,
@@ -62,11 +84,12 @@ fn render(args: RenderArgs) -> Result<()> {
         heatmap_max,
         frame,
         all_frames,
+        camera,
         ..
     } = args;
     let scene_path = scene_path.as_path();
     let heatmap = heatmap.map(|path| (path, heatmap_max));
-    let mut scene = kdray::scene::load_scene(scene_path)?;
+    let mut scene = load_viewed(scene_path, camera)?;
     let flags: kdray::render::RenderFlags = image.into();
     flags.check()?;
     flags.apply(&mut scene)?;

@@ -267,6 +267,7 @@ impl LightPath {
             ambient: self.light.ambient * factor,
             diffuse: self.light.diffuse * factor,
             specular: self.light.specular * factor,
+            kind: self.light.kind,
         }
     }
 }
@@ -402,6 +403,7 @@ mod tests {
             ambient: DVec3::splat(0.25),
             diffuse: DVec3::new(0.5, 1.0, 1.0),
             specular: DVec3::ONE,
+            kind: Default::default(),
         }
     }
 

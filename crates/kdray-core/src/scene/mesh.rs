@@ -132,6 +132,12 @@ pub struct Mesh {
     /// What the file asked for that the reader ignored or filled in, in
     /// file order; the caller decides where they go.
     pub warnings: Vec<Warning>,
+    /// glTF: the first perspective camera the scene's node walk meets
+    /// (depth first, children in order), in the file's coordinates.
+    pub camera: Option<super::Camera>,
+    /// glTF: the `KHR_lights_punctual` lights the node walk meets, in the
+    /// file's coordinates.
+    pub lights: Vec<super::Light>,
 }
 
 impl Mesh {

@@ -17,9 +17,17 @@ use super::schema::{RawMesh, RawScale};
 use super::validate::{Validator, MAX_COORDINATE};
 use super::{Material, SceneError, Texture, Triangle, TriangleParts};
 
+/// What a mesh file places besides its triangles (glTF: a camera, lights).
+#[derive(Debug, Default)]
+pub(super) struct Placed {
+    pub camera: Option<super::Camera>,
+    pub lights: Vec<super::Light>,
+}
+
 impl Validator<'_> {
     /// Loads mesh `i`, transforms it to world space and appends its triangles
-    /// (and, without an override, its MTL materials).
+    /// (and, without an override, its MTL materials); returns what the file
+    /// places besides (in the file's coordinates, not moved by the entry).
     pub(super) fn mesh(
         &self,
         i: usize,
@@ -28,7 +36,7 @@ impl Validator<'_> {
         materials: &mut Vec<Material>,
         triangles: &mut Vec<Triangle>,
         parts: &mut TriangleParts,
-    ) -> Result<(), SceneError> {
+    ) -> Result<Placed, SceneError> {
         let TriangleParts {
             normals,
             uvs,
@@ -48,6 +56,10 @@ impl Validator<'_> {
 
         let mesh_path = self.file.parent().unwrap_or(Path::new("")).join(&m.path);
         let mesh = self.load_entry_mesh(i, &mesh_path, override_material.is_none())?;
+        let placed = Placed {
+            camera: mesh.camera,
+            lights: mesh.lights.clone(),
+        };
 
         let first_material = materials.len() as u32;
         if override_material.is_none() {
@@ -131,7 +143,7 @@ impl Validator<'_> {
                 }
             }
             crate::huge_pages::free_in_background((mesh, world, shading));
-            return Ok(());
+            return Ok(placed);
         }
         triangles.truncate(first);
         normals.truncate(first_normals);
@@ -157,7 +169,7 @@ impl Validator<'_> {
             add_uvs(uvs, &mut triangle, uvs_of(t));
             triangles.push(triangle);
         }
-        Ok(())
+        Ok(placed)
     }
 
     /// Mesh entry `i`'s file, loaded (with its materials when

@@ -20,6 +20,7 @@ mod error;
 pub mod gltf;
 mod input_file;
 mod integrator;
+mod light_kind;
 mod load;
 pub mod mesh;
 pub mod mesh_file;
@@ -43,8 +44,9 @@ pub use environment::EnvironmentMap;
 pub use error::SceneError;
 pub use input_file::MAX_INPUT_BYTES;
 pub use integrator::{Integrator, ToneMap};
+pub use light_kind::{spot_factor, LightKind, LightShape};
 pub use load::{load_scene, load_scene_observed, load_scene_with, parse_scene, parse_scene_with};
-pub use model_scene::{model_scene, model_scene_with};
+pub use model_scene::{model_scene, model_scene_viewed, model_scene_with, ModelCamera};
 pub use scene_format::SceneFormat;
 pub use texture::{MinFilter, MipMode, Texture, TextureFilter, TextureWrap};
 pub use validate::{check_samples, MAX_IMAGE_SIDE};
@@ -133,10 +135,12 @@ impl RenderSettings {
 
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Light {
+    /// Where a point or spot light is (a directional light's: zero, unused).
     pub position: DVec3,
     pub ambient: DVec3,
     pub diffuse: DVec3,
     pub specular: DVec3,
+    pub kind: LightKind,
 }
 
 /// A Phong material that may be glass. `T` is how it holds its texture:

@@ -1,6 +1,8 @@
 //! A model file opened on its own (`kdray render bunny.obj`), as a model
-//! viewer would show it: the model as its file places it, framed from a
-//! three-quarter view to fit its bounding box, under a three-point light rig
+//! viewer would show it: the model as its file places it, seen through the
+//! file's camera (a glTF's first) or else framed from a three-quarter view
+//! to fit its bounding box, under the file's lights (a glTF's
+//! `KHR_lights_punctual`) or else a three-point light rig
 //! (key, fill, rim) placed relative to the box, standing on a ground plane
 //! (two large triangles) just below its lowest point.
 //!
@@ -44,6 +46,35 @@ const GROUND_GAP: f64 = 1e-3;
 /// A dark blue-grey behind the model.
 const BACKGROUND: DVec3 = DVec3::new(0.05, 0.06, 0.09);
 
+/// Which camera a model scene looks through.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum ModelCamera {
+    /// The file's own (a glTF's first perspective camera) where it has one,
+    /// else the three-quarter view.
+    #[default]
+    File,
+    /// The three-quarter view, whatever the file says.
+    Default,
+}
+
+impl crate::choice::Choice for ModelCamera {
+    const ALL: &'static [Self] = &[Self::File, Self::Default];
+
+    fn name(self) -> &'static str {
+        match self {
+            Self::File => "file",
+            Self::Default => "default",
+        }
+    }
+
+    fn help(self) -> &'static str {
+        match self {
+            Self::File => "the model file's camera (a glTF's first), else the three-quarter view",
+            Self::Default => "the three-quarter view framing the model, whatever the file says",
+        }
+    }
+}
+
 /// The scene of a model file (`.obj`, `.gltf`, `.glb`); warnings are
 /// printed on stderr.
 pub fn model_scene(path: &Path) -> Result<Scene, SceneError> {
@@ -54,6 +85,16 @@ pub fn model_scene(path: &Path) -> Result<Scene, SceneError> {
 /// each warning to `warn`.
 pub fn model_scene_with(
     path: &Path,
+    on_read: &mut dyn FnMut(&Path),
+    warn: &mut dyn FnMut(Warning),
+) -> Result<Scene, SceneError> {
+    model_scene_viewed(path, ModelCamera::File, on_read, warn)
+}
+
+/// [`model_scene_with`], through the camera `view` picks.
+pub fn model_scene_viewed(
+    path: &Path,
+    view: ModelCamera,
     on_read: &mut dyn FnMut(&Path),
     warn: &mut dyn FnMut(Warning),
 ) -> Result<Scene, SceneError> {
@@ -80,7 +121,7 @@ pub fn model_scene_with(
     let mut materials = Vec::new();
     let mut triangles = Vec::new();
     let mut parts = super::TriangleParts::default();
-    validator.mesh(0, &raw, None, &mut materials, &mut triangles, &mut parts)?;
+    let placed = validator.mesh(0, &raw, None, &mut materials, &mut triangles, &mut parts)?;
 
     let (min, max) = bounds(&triangles);
     let (width, height) = MODEL_IMAGE;
@@ -88,7 +129,10 @@ pub fn model_scene_with(
     materials.push(ground());
     triangles.extend(ground_triangles(min, max, ground_material));
     Ok(Scene {
-        camera: framing_camera(min, max),
+        camera: match (view, placed.camera) {
+            (ModelCamera::File, Some(camera)) => file_camera(path, camera)?,
+            _ => framing_camera(min, max),
+        },
         render: RenderSettings {
             width,
             height,
@@ -102,7 +146,11 @@ pub fn model_scene_with(
             tone_map: Default::default(),
             exposure: 0.0,
         },
-        lights: light_rig(min, max),
+        lights: if placed.lights.is_empty() {
+            light_rig(min, max)
+        } else {
+            file_lights(path, placed.lights)?
+        },
         environment: None,
         animation: None,
         materials,
@@ -112,6 +160,46 @@ pub fn model_scene_with(
         triangle_uvs: parts.uvs,
         textures: parts.textures,
     })
+}
+
+/// The file's camera, its eye (and the point it looks at) within the
+/// coordinates the GPU can take, like a scene file's.
+fn file_camera(path: &Path, camera: Camera) -> Result<Camera, SceneError> {
+    let within = |p: DVec3| p.abs().max_element() <= super::validate::MAX_COORDINATE;
+    if !(within(camera.position) && within(camera.look_at)) {
+        return Err(SceneError::new(
+            path,
+            None,
+            None,
+            format!(
+                "the file's camera sits at {}, beyond ±{:e} (the GPU computes in f32); use --camera default",
+                camera.position,
+                super::validate::MAX_COORDINATE
+            ),
+        ));
+    }
+    Ok(camera)
+}
+
+/// The file's lights (a glTF's `KHR_lights_punctual`), in place of the
+/// rig, their positions within the coordinates the GPU can take.
+fn file_lights(path: &Path, lights: Vec<Light>) -> Result<Vec<Light>, SceneError> {
+    let limit = super::validate::MAX_COORDINATE;
+    match lights
+        .iter()
+        .find(|l| l.position.abs().max_element() > limit)
+    {
+        Some(far) => Err(SceneError::new(
+            path,
+            None,
+            None,
+            format!(
+                "a light of the file sits at {}, beyond ±{limit:e} (the GPU computes in f32)",
+                far.position
+            ),
+        )),
+        None => Ok(lights),
+    }
 }
 
 /// The box round every triangle's vertices (a loaded model has at least one).
@@ -170,6 +258,7 @@ pub(super) fn light_rig(min: DVec3, max: DVec3) -> Vec<Light> {
         ambient: DVec3::splat(ambient),
         diffuse: DVec3::splat(diffuse),
         specular: DVec3::splat(specular),
+        kind: Default::default(),
     };
     vec![
         light(

@@ -289,7 +289,18 @@ impl<'de> Deserialize<'de> for RawShadowMode {
 #[derive(Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub(super) struct RawLight {
-    pub(super) position: Vec3,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub(super) kind: Option<Named<super::light_kind::LightShape>>,
+    /// Required for point and spot lights; a directional light has none.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub(super) position: Option<Vec3>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub(super) direction: Option<Vec3>,
+    /// Degrees off `direction` (spot lights).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub(super) inner_cone: Option<f64>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub(super) outer_cone: Option<f64>,
     #[serde(default = "white")]
     pub(super) ambient: Vec3,
     #[serde(default = "white")]

@@ -153,8 +153,10 @@ impl Validator<'_> {
             .enumerate()
             .map(|(i, l)| {
                 let key = |k: &str| format!("lights[{i}].{k}");
+                let (kind, position) = self.light_kind(i, l)?;
                 Ok(Light {
-                    position: self.position(&|| key("position"), l.position)?,
+                    kind,
+                    position: position.unwrap_or_default(),
                     ambient: self.colour(&|| key("ambient"), l.ambient)?,
                     diffuse: self.colour(&|| key("diffuse"), l.diffuse)?,
                     specular: self.colour(&|| key("specular"), l.specular)?,
@@ -494,6 +496,19 @@ impl Validator<'_> {
                     };
                     return Err(self.error(&key("frame"), message));
                 }
+            }
+            let directional = matches!(
+                lights[k.light as usize].kind,
+                super::LightKind::Directional { .. }
+            );
+            if k.position.is_some() && directional {
+                return Err(self.error(
+                    &key("position"),
+                    format!(
+                        "light {} is directional: it has no position to key",
+                        k.light
+                    ),
+                ));
             }
             let light_key = LightKey {
                 frame: k.frame,

@@ -11,7 +11,7 @@ use super::schema::{
     Exact, Named, RawAnimation, RawCamera, RawCameraKey, RawEnvironment, RawLight, RawLightKey,
     RawMaterial, RawRender, RawScene, RawShadowMode, RawSphere, RawTriangle, TableOf,
 };
-use super::{Scene, ShadowMode};
+use super::{LightKind, LightShape, Scene, ShadowMode};
 
 /// `scene` as the text of a scene file that [`parse_scene`](super::parse_scene) reads back as an
 /// equal `Scene`, provided its material names are distinct and sort in index
@@ -75,8 +75,21 @@ pub fn scene_text(scene: &Scene, format: SceneFormat) -> Result<String, String> 
             .lights
             .iter()
             .map(|l| {
+                let shape = l.kind.shape();
+                let (inner_cone, outer_cone) = match l.kind {
+                    LightKind::Spot {
+                        inner_degrees,
+                        outer_degrees,
+                        ..
+                    } => (Some(inner_degrees), Some(outer_degrees)),
+                    _ => (None, None),
+                };
                 TableOf(RawLight {
-                    position: v(l.position),
+                    kind: (shape != LightShape::Point).then_some(Named(shape)),
+                    position: (shape != LightShape::Directional).then(|| v(l.position)),
+                    direction: l.kind.direction().map(v),
+                    inner_cone,
+                    outer_cone,
                     ambient: v(l.ambient),
                     diffuse: v(l.diffuse),
                     specular: v(l.specular),

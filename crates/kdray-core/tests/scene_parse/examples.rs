@@ -117,6 +117,7 @@ fn the_contract_example_has_every_value() {
             ambient: DVec3::ONE,
             diffuse: DVec3::ONE,
             specular: DVec3::ONE,
+            kind: LightKind::Point,
         }]
     );
     assert_eq!(

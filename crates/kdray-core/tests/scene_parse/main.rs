@@ -15,12 +15,17 @@ mod common;
 mod doc;
 
 mod animation;
+mod authored_gltf;
 mod bad_mesh_files;
 mod camera;
 mod examples;
 mod files_and_syntax;
+mod gltf_cameras;
+mod gltf_emission;
+mod gltf_lights;
 mod gltf_meshes;
 mod gltf_optimised;
+mod light_kinds;
 mod mesh_normals;
 mod mesh_placement;
 mod meshes;
@@ -40,7 +45,7 @@ use std::path::{Path, PathBuf};
 use glam::DVec3;
 use kdray_core::scene::obj::load_obj;
 use kdray_core::scene::{
-    load_scene, parse_scene, Camera, Light, Material, RenderSettings, Scene, SceneError,
+    load_scene, parse_scene, Camera, Light, LightKind, Material, RenderSettings, Scene, SceneError,
     SceneFormat, ShadowMode, Sphere, Triangle,
 };
 

@@ -14,6 +14,7 @@ fn light_colours_default_to_one() {
             ambient: DVec3::ONE,
             diffuse: DVec3::ONE,
             specular: DVec3::ONE,
+            kind: LightKind::Point,
         }]
     );
     let doc = base()

@@ -258,11 +258,12 @@ fn missing_required_keys_name_their_table() {
             .remove(removed);
         for text in doc.both() {
             let e = text.parse_err();
-            // A material's colour (`diffuse` or `base_color`) is checked
-            // after reading, at the material's key; the rest by the reader,
-            // which names a JSON object where it ends.
+            // A material's colour (`diffuse` or `base_color`) and a light's
+            // position (a directional light has none) are checked after
+            // reading, at the table's key; the rest by the reader, which
+            // names a JSON object where it ends.
             let line = match removed {
-                "materials.red.diffuse" => text.line(table),
+                "materials.red.diffuse" | "lights[0].position" => text.line(table),
                 _ => text.table_line(table),
             };
             assert_error(

@@ -10,7 +10,9 @@
 //! coordinates (`images`); the files the web's optimisers write:
 //! quantized attributes (`accessors`), meshopt-compressed buffer views
 //! (`extensions`, `meshopt`), Draco-compressed primitives (`draco`) and
-//! WebP textures. Other textures, cameras, lights, skins, morph
+//! WebP textures; the first perspective camera the walk meets and the
+//! `KHR_lights_punctual` lights (`placed`), for a model opened on its own.
+//! Other textures, skins, morph
 //! targets and animations are ignored; points and lines are an error (they are not
 //! surfaces, and a file of them would draw nothing). Sparse accessors are
 //! read wherever accessors are. An extension the file requires that kdray
@@ -41,6 +43,7 @@ mod draco;
 mod extensions;
 mod images;
 mod meshopt;
+mod placed;
 mod texture_transform;
 mod unsupported;
 
@@ -148,6 +151,7 @@ pub fn parse_gltf(
     // node reached twice (a cycle, or a node with two parents, both invalid
     // glTF) is an error: it could make the walk endless or exponential.
     let mut visited = vec![false; document.nodes().count()];
+    let mut orthographic_cameras = 0usize;
     let mut stack: Vec<(gltf::Node, DMat4)> = scene.nodes().map(|n| (n, DMat4::IDENTITY)).collect();
     stack.reverse();
     while let Some((node, parent)) = stack.pop() {
@@ -167,11 +171,31 @@ pub fn parse_gltf(
         if let Some(mesh) = node.mesh() {
             reader.mesh(&mesh, world).map_err(err)?;
         }
+        if let Some(light) = node.light() {
+            let light = placed::punctual_light(&light, index, world).map_err(err)?;
+            reader.mesh.lights.push(light);
+        }
+        if let Some(camera) = node.camera().filter(|_| reader.mesh.camera.is_none()) {
+            match placed::perspective_camera(&camera, index, world).map_err(err)? {
+                Some(c) => reader.mesh.camera = Some(c),
+                None => orthographic_cameras += 1,
+            }
+        }
         let children: Vec<_> = node.children().collect();
         stack.extend(children.into_iter().rev().map(|c| (c, world)));
     }
 
     let mut mesh = reader.mesh;
+    if orthographic_cameras > 0 {
+        warnings.push(crate::scene::Warning::new(
+            path,
+            None,
+            format!(
+                "ignores {orthographic_cameras} orthographic camera{}: kdray's camera is a pinhole (perspective)",
+                if orthographic_cameras == 1 { "" } else { "s" }
+            ),
+        ));
+    }
     if mesh.triangles.is_empty() {
         return Err(err(if reader.triangles_seen == 0 {
             "no triangles: the scene's nodes place no mesh with triangles, so it would draw nothing"
@@ -491,7 +515,8 @@ pub const PBR_MAX_SHININESS: f64 = 4.0 * 4096.0;
 ///   is read as 1, an index that bends nothing).
 ///
 /// The path tracer reads glTF's own model: base colour, metallic and
-/// roughness as they are, and `emissiveFactor` as emitted radiance. Alpha
+/// roughness as they are, and `emissiveFactor` (times
+/// `KHR_materials_emissive_strength`'s strength) as emitted radiance. Alpha
 /// is ignored; the base-colour texture is the reader's (`images`), here
 /// None.
 pub fn pbr_material(material: &gltf::Material) -> MeshMaterial {
@@ -532,9 +557,24 @@ pub fn pbr_material(material: &gltf::Material) -> MeshMaterial {
                 metallic,
                 roughness,
             }),
-            emission: DVec3::from_array(material.emissive_factor().map(f64::from)).max(DVec3::ZERO),
+            emission: emission(material),
         },
         maps: crate::scene::MaterialMaps::NONE,
+    }
+}
+
+/// A material's emitted radiance: emissiveFactor times
+/// `KHR_materials_emissive_strength`'s emissiveStrength (1 without the
+/// extension; glTF clamps the factor to [0, 1], the strength lifts it past 1).
+/// A negative or non-finite product is read as 0.
+fn emission(material: &gltf::Material) -> DVec3 {
+    let factor = DVec3::from_array(material.emissive_factor().map(f64::from));
+    let strength = material.emissive_strength().map_or(1.0, f64::from);
+    let e = factor * strength;
+    if e.is_finite() {
+        e.max(DVec3::ZERO)
+    } else {
+        DVec3::ZERO
     }
 }
 

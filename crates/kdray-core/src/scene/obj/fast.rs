@@ -37,8 +37,9 @@ pub(super) fn threads_for(len: usize) -> usize {
 
 /// What the fast path made of a file.
 pub(super) enum Outcome {
-    /// The mesh and the number of `f` statements.
-    Mesh(Mesh, usize),
+    /// The mesh (boxed: it outweighs `Declined` many times) and the number
+    /// of `f` statements.
+    Mesh(Box<Mesh>, usize),
     /// Left to the reference parser, after telling the observer of
     /// `mtl_reads` MTL files: the reference parser tells it of the same
     /// files first, in the same order (see `parse`).
@@ -193,13 +194,15 @@ pub(super) fn parse(text: &[u8], threads: usize, materials: Option<MaterialFiles
         triangles,
         materials,
         warnings: Vec::new(),
+        camera: None,
+        lights: Vec::new(),
     };
     let parsed: Vec<_> = chunks
         .into_iter()
         .map(|c| (c.positions, c.normals, c.corners, c.faces))
         .collect();
     crate::huge_pages::free_in_background(parsed);
-    Outcome::Mesh(mesh, face_statements)
+    Outcome::Mesh(Box::new(mesh), face_statements)
 }
 
 /// `text` cut into `parts` pieces of about equal size, each ending just

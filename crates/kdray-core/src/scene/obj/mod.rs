@@ -119,7 +119,7 @@ fn parse_obj_bytes(
     let mtl_reads = match fast::parse(body, fast::threads_for(body.len()), materials) {
         fast::Outcome::Mesh(mesh, statements) => {
             *faces = statements;
-            return Ok(mesh);
+            return Ok(*mesh);
         }
         fast::Outcome::Declined { mtl_reads } => mtl_reads,
     };
