@@ -101,8 +101,8 @@ export class Tracer {
     for (const b of this.sceneBuffers?.values() ?? []) b.destroy();
     this.sceneBuffers = new Map();
     for (const [name, bytes] of bundle.arrays) {
-      // An empty array gets one zeroed element, as the native host does (64 bytes).
-      const size = Math.max(64, Math.ceil(bytes.length / 4) * 4);
+      // An empty array gets one zeroed element, as the native host does.
+      const size = Math.max(this.contract.bundle.empty_array_bytes, Math.ceil(bytes.length / 4) * 4);
       const buffer = this.device.createBuffer({ label: name, size, usage: GPUBufferUsage.STORAGE | GPUBufferUsage.COPY_DST });
       if (bytes.length) this.device.queue.writeBuffer(buffer, 0, bytes, 0, bytes.length & ~3);
       this.sceneBuffers.set(name, buffer);

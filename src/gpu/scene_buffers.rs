@@ -11,6 +11,18 @@ use crate::layout::GpuKdNode;
 
 /// The arrays as the bindings hold them: in binding order, split arrays cut
 /// into chunks, checked against the adapter's limits.
+/// Bytes of the zeroed element an empty array is bound with: the largest
+/// element of any array (the material, then the light).
+pub const EMPTY_ARRAY_BYTES: usize = {
+    let material = std::mem::size_of::<crate::layout::GpuMaterial>();
+    let light = std::mem::size_of::<crate::layout::GpuLight>();
+    if material > light {
+        material
+    } else {
+        light
+    }
+};
+
 impl SceneArrays {
     /// The bytes of each split array, in the order of
     /// [`bindings::SPLIT_ARRAYS`].
@@ -308,8 +320,8 @@ impl SceneBuffers {
             .iter()
             .map(|(name, bytes)| {
                 // Bindings may not be empty: an empty array gets one zeroed
-                // element (80 bytes covers the largest element type, the material).
-                let padded = [0u8; 80];
+                // element of the largest element type.
+                let padded = [0u8; EMPTY_ARRAY_BYTES];
                 let contents = if bytes.is_empty() { &padded[..] } else { bytes };
                 // The lights are rewritten per frame of an animation.
                 let usage = if *name == bindings::LIGHTS.name {

@@ -138,6 +138,8 @@ pub fn contract_json() -> Value {
             "version": bundle::FORMAT_VERSION,
             "header_bytes": bundle::HEADER_BYTES,
             "section_entry_bytes": bundle::SECTION_ENTRY_BYTES,
+            // An empty array is bound as one zeroed element of this size.
+            "empty_array_bytes": crate::gpu::scene_buffers::EMPTY_ARRAY_BYTES,
             "section_name_bytes": bundle::SECTION_NAME_BYTES,
             "scene_arrays": bindings::scene(UNSPLIT).iter().map(|b| b.name).collect::<Vec<_>>(),
             "cameras": {
