@@ -22,7 +22,8 @@ fn generated_blocks() -> Vec<(String, String, String)> {
     for doc in docs {
         let text = std::fs::read_to_string(&doc).unwrap();
         let mut rest = text.as_str();
-        while let Some(at) = rest.find(START) {
+        // A marker opens a line (a marker quoted in prose does not count).
+        while let Some(at) = rest.find(&format!("\n{START}")).map(|at| at + 1) {
             let after = &rest[at + START.len()..];
             let close = after.find("-->").expect("an unclosed generated marker");
             let command = after[..close].trim().to_string();
