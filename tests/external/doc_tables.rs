@@ -66,7 +66,7 @@ fn generated_tables_are_what_their_scripts_print_from_the_committed_results() {
         let printed = String::from_utf8_lossy(&out.stdout).trim().to_string();
         if &printed != body {
             failures.push(format!(
-                "{doc}: the block of `{command}` differs from what it prints; run it and paste:\n{printed}"
+                "{doc}: the block of `{command}` differs from what it prints (scripts/refresh_doc_tables.py rewrites it):\n{printed}"
             ));
         }
     }
