@@ -33,7 +33,6 @@
 //! - [`wavefront_bound`]: `--wavefront-bound`, the path tracer's kernel shape measured.
 
 pub mod bench_case;
-pub mod wavefront_bound;
 mod budget;
 pub mod cases;
 pub mod csv;
@@ -48,6 +47,7 @@ pub mod options;
 pub mod outputs;
 pub mod plots;
 mod progress;
+pub mod wavefront_bound;
 pub use kdray_core::random_scene;
 pub mod record;
 pub mod report;

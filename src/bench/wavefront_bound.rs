@@ -21,8 +21,8 @@ use crate::geometry::{Primitives, Ray};
 use crate::gpu::{GpuContext, GpuScene, PreparedScene, RayQueries, RayQuery, TilePlan};
 use crate::kdtree::traverse::closest_hit;
 use crate::kdtree::Traversal;
-use kdray_core::random_scene::SplitMix64;
 use crate::scene::{Integrator, Scene};
+use kdray_core::random_scene::SplitMix64;
 
 /// One walk's figures on one scene.
 #[derive(Debug, Clone, Serialize)]
@@ -49,7 +49,10 @@ pub fn measure(ctx: &GpuContext, scene: &Scene, repeats: u32) -> Result<Vec<Wave
     let mut scene = scene.clone();
     scene.render.integrator = Integrator::Path;
     scene.render.samples = 1;
-    let uploaded = GpuScene::upload(ctx, PreparedScene::new(scene.clone(), crate::gpu::Accel::Kdtree))?;
+    let uploaded = GpuScene::upload(
+        ctx,
+        PreparedScene::new(scene.clone(), crate::gpu::Accel::Kdtree),
+    )?;
     let bounds = uploaded.prepared().arrays.bounds;
     let extent = (bounds.max - bounds.min).max_element();
     let queries = path_queue(&scene, &uploaded.prepared().tree, extent);
@@ -74,7 +77,8 @@ pub fn measure(ctx: &GpuContext, scene: &Scene, repeats: u32) -> Result<Vec<Wave
             frames.push(summary.gpu_ms);
         }
         let megakernel_ms = median(&frames[1..]);
-        let times = tracer.time_queries(ctx, uploaded.buffers(), traversal, &queries, repeats + 1)?;
+        let times =
+            tracer.time_queries(ctx, uploaded.buffers(), traversal, &queries, repeats + 1)?;
         let queue_ms = median(&times[1..]);
         let mk = rays as f64 / (megakernel_ms * 1e3);
         let q = queries.len() as f64 / (queue_ms * 1e3);
@@ -104,7 +108,13 @@ fn median(values: &[f64]) -> f64 {
 fn light_points(scene: &Scene) -> Vec<Vec3> {
     let emits = |m: u32| scene.materials[m as usize].physical.emission != glam::DVec3::ZERO;
     let mut points: Vec<Vec3> = scene.lights.iter().map(|l| l.position.as_vec3()).collect();
-    points.extend(scene.spheres.iter().filter(|s| emits(s.material)).map(|s| s.center.as_vec3()));
+    points.extend(
+        scene
+            .spheres
+            .iter()
+            .filter(|s| emits(s.material))
+            .map(|s| s.center.as_vec3()),
+    );
     points.extend(
         scene
             .triangles
@@ -136,9 +146,16 @@ fn path_queue(scene: &Scene, tree: &crate::kdtree::KdTree, extent: f32) -> Vec<R
             let dir = basis.forward
                 + (2.0 * u - 1.0) * basis.tan_half_vfov * aspect * basis.right
                 + (1.0 - 2.0 * v) * basis.tan_half_vfov * basis.up;
-            let mut ray = Ray { origin: basis.position.as_vec3(), dir: dir.as_vec3().normalize() };
+            let mut ray = Ray {
+                origin: basis.position.as_vec3(),
+                dir: dir.as_vec3().normalize(),
+            };
             for _ in 0..scene.render.max_depth {
-                queue.push(RayQuery { ray, t_limit: f32::MAX, any_hit: false });
+                queue.push(RayQuery {
+                    ray,
+                    t_limit: f32::MAX,
+                    any_hit: false,
+                });
                 let Some(hit) = closest_hit(tree, &prims, &ray, f32::MAX) else {
                     break;
                 };
@@ -149,15 +166,26 @@ fn path_queue(scene: &Scene, tree: &crate::kdtree::KdTree, extent: f32) -> Vec<R
                 }
                 let origin = p + offset * n;
                 if !lights.is_empty() {
-                    let target = lights[(rng.next_f64() * lights.len() as f64) as usize % lights.len()];
+                    let target =
+                        lights[(rng.next_f64() * lights.len() as f64) as usize % lights.len()];
                     let to = target - origin;
                     let d = to.length();
                     if d > 0.0 {
-                        let shadow = Ray { origin, dir: to / d };
-                        queue.push(RayQuery { ray: shadow, t_limit: d * 0.999, any_hit: true });
+                        let shadow = Ray {
+                            origin,
+                            dir: to / d,
+                        };
+                        queue.push(RayQuery {
+                            ray: shadow,
+                            t_limit: d * 0.999,
+                            any_hit: true,
+                        });
                     }
                 }
-                ray = Ray { origin, dir: cosine_about(n, &mut rng) };
+                ray = Ray {
+                    origin,
+                    dir: cosine_about(n, &mut rng),
+                };
             }
         }
     }

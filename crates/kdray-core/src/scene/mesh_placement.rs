@@ -78,7 +78,10 @@ impl Validator<'_> {
         };
         let any_textured = override_material.is_none()
             && !mesh.uvs.is_empty()
-            && mesh.materials.iter().any(|m| m.texture.is_some() || m.maps.any());
+            && mesh
+                .materials
+                .iter()
+                .any(|m| m.texture.is_some() || m.maps.any());
         let world = self.place(i, &mesh, transform, translate)?;
         let shading = MeshNormals::new(m.smooth, &mesh, &world, transform);
         let material_of = |t: &MeshTriangle| match (override_material, t.material()) {

@@ -187,7 +187,12 @@ pub fn write_gltf_quad_material(
         .collect();
     let image_list: Vec<String> = images
         .iter()
-        .map(|im| format!(r#"{{"uri":"data:image/png;base64,{}"}}"#, base64(&png_bytes(im))))
+        .map(|im| {
+            format!(
+                r#"{{"uri":"data:image/png;base64,{}"}}"#,
+                base64(&png_bytes(im))
+            )
+        })
         .collect();
     let json = format!(
         r#"{{"asset":{{"version":"2.0"}},"scene":0,"scenes":[{{"nodes":[0]}}],"nodes":[{{"mesh":0}}],

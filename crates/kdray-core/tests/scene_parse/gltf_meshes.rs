@@ -240,7 +240,10 @@ fn extensions_and_missing_images_each_get_one_warning() {
     for word in ["baseColorTexture", "wood.png", "factors"] {
         assert!(shown[1].contains(word), "{} lacks {word}", shown[1]);
     }
-    assert!(mesh.materials.iter().all(|m| m.texture.is_none() && !m.maps.any()));
+    assert!(mesh
+        .materials
+        .iter()
+        .all(|m| m.texture.is_none() && !m.maps.any()));
     // With the scene's material instead, the textures do not matter.
     let mesh = read_model("wild.gltf", false).unwrap();
     assert_eq!(mesh.warnings.len(), 1, "{:?}", mesh.warnings);

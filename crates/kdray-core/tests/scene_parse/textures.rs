@@ -152,8 +152,14 @@ fn gltf_material_maps_load_and_occlusion_is_named_in_a_warning() {
         "metallicRoughnessTexture":{"index":1}},"emissiveFactor":[1,1,1],
         "emissiveTexture":{"index":2},"normalTexture":{"index":3,"scale":0.5},
         "occlusionTexture":{"index":1}}"#;
-    let images = [texel(200, 100, 50), texel(0, 60, 220), texel(10, 20, 30), texel(128, 128, 255)];
-    let gltf = crate::textured::write_gltf_quad_material(&dir.path, "maps.gltf", material, &images, None);
+    let images = [
+        texel(200, 100, 50),
+        texel(0, 60, 220),
+        texel(10, 20, 30),
+        texel(128, 128, 255),
+    ];
+    let gltf =
+        crate::textured::write_gltf_quad_material(&dir.path, "maps.gltf", material, &images, None);
     let mesh = kdray_core::scene::gltf::load_gltf(&gltf, true, &mut |_| {}).unwrap();
     let warnings: Vec<String> = mesh.warnings.iter().map(|w| w.to_string()).collect();
     assert_eq!(warnings.len(), 1, "{warnings:?}");
@@ -193,7 +199,13 @@ fn khr_texture_transform_moves_the_texture_coordinates_as_specified() {
     let material = format!(
         r#"{{"pbrMetallicRoughness":{{"baseColorTexture":{{"index":0,"extensions":{transform}}}}}}}"#
     );
-    let gltf = crate::textured::write_gltf_quad_material(&dir.path, "t.gltf", &material, &[texel.clone()], None);
+    let gltf = crate::textured::write_gltf_quad_material(
+        &dir.path,
+        "t.gltf",
+        &material,
+        &[texel.clone()],
+        None,
+    );
     let scene = scene_of(&dir, &gltf);
     let (s, c) = rotation.sin_cos();
     let by_hand: Vec<DVec2> = IMAGE_UVS
@@ -221,7 +233,8 @@ fn khr_texture_transform_moves_the_texture_coordinates_as_specified() {
         r#"{{"pbrMetallicRoughness":{{"baseColorTexture":{{"index":0,"extensions":{transform}}}}},
             "emissiveFactor":[1,1,1],"emissiveTexture":{{"index":0}}}}"#
     );
-    let gltf = crate::textured::write_gltf_quad_material(&dir.path, "t2.gltf", &material, &[texel], None);
+    let gltf =
+        crate::textured::write_gltf_quad_material(&dir.path, "t2.gltf", &material, &[texel], None);
     let mesh = kdray_core::scene::gltf::load_gltf(&gltf, true, &mut |_| {}).unwrap();
     let shown: Vec<String> = mesh.warnings.iter().map(|w| w.to_string()).collect();
     assert_eq!(shown.len(), 1, "{shown:?}");

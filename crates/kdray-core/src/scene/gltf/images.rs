@@ -49,9 +49,10 @@ impl super::Reader<'_, '_> {
         // One set of coordinates serves every texture (texture_transform.rs).
         let (choice, differ) = super::texture_transform::uv_choice(&material)?;
         if differ {
-            let name = material
-                .index()
-                .map_or_else(|| "the default material".to_string(), |i| format!("materials[{i}]"));
+            let name = material.index().map_or_else(
+                || "the default material".to_string(),
+                |i| format!("materials[{i}]"),
+            );
             let warning = crate::scene::Warning::new(
                 self.files.path,
                 None,
@@ -123,7 +124,13 @@ impl DecodedImages {
         warnings: &mut Vec<Warning>,
     ) -> Option<Arc<Texture>> {
         let info = material.pbr_metallic_roughness().base_color_texture()?;
-        self.texture(info.texture(), "baseColorTexture", document, files, warnings)
+        self.texture(
+            info.texture(),
+            "baseColorTexture",
+            document,
+            files,
+            warnings,
+        )
     }
 
     /// The metallicRoughnessTexture, emissiveTexture and normalTexture of
@@ -205,9 +212,7 @@ impl DecodedImages {
                 warnings.push(Warning::new(
                     files.path,
                     None,
-                    format!(
-                        "cannot read the {role} {name}: {e}; its materials show their factors"
-                    ),
+                    format!("cannot read the {role} {name}: {e}; its materials show their factors"),
                 ));
                 None
             }

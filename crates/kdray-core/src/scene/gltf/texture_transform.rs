@@ -80,13 +80,16 @@ pub(super) fn uv_choice(material: &gltf::Material) -> Option<(UvChoice, bool)> {
         slot_choice(slot, i.tex_coord(), i.extension_value(EXTENSION))
     };
     let slots: Vec<UvChoice> = [
-        pbr.base_color_texture().map(|i| info("baseColorTexture", i)),
+        pbr.base_color_texture()
+            .map(|i| info("baseColorTexture", i)),
         pbr.metallic_roughness_texture()
             .map(|i| info("metallicRoughnessTexture", i)),
-        material.normal_texture().map(|n| {
-            slot_choice("normalTexture", n.tex_coord(), n.extension_value(EXTENSION))
-        }),
-        material.emissive_texture().map(|i| info("emissiveTexture", i)),
+        material
+            .normal_texture()
+            .map(|n| slot_choice("normalTexture", n.tex_coord(), n.extension_value(EXTENSION))),
+        material
+            .emissive_texture()
+            .map(|i| info("emissiveTexture", i)),
     ]
     .into_iter()
     .flatten()
