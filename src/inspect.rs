@@ -226,7 +226,11 @@ pub fn build_tree(scene: &Scene, strategy: BuildStrategy) -> KdTree {
 
 /// Parses `--pixel`'s `X,Y` (two whole numbers).
 pub fn parse_pixel(text: &str) -> Result<(u32, u32)> {
-    let bad = || Error::Usage(format!("--pixel: expected X,Y (two whole numbers), got {text:?}"));
+    let bad = || {
+        Error::Usage(format!(
+            "--pixel: expected X,Y (two whole numbers), got {text:?}"
+        ))
+    };
     let (x, y) = text.split_once(',').ok_or_else(bad)?;
     let number = |s: &str| s.trim().parse::<u32>().map_err(|_| bad());
     Ok((number(x)?, number(y)?))
@@ -251,7 +255,9 @@ pub fn inspect_scene(
         )));
     }
     let depths = tree.as_ref().map(node_depths).unwrap_or_default();
-    let nodes = tree.as_ref().map(|t| (t.nodes.clone(), t.leaf_objects.clone()));
+    let nodes = tree
+        .as_ref()
+        .map(|t| (t.nodes.clone(), t.leaf_objects.clone()));
     let accel = if tree.is_some() { "kdtree" } else { "brute" };
     let tracer = match tree {
         Some(tree) => ReferenceTracer::with_tree(scene, tree, traversal),

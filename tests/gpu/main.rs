@@ -20,6 +20,8 @@ mod golden;
 mod gpu_faults;
 mod gpu_ray_queries;
 mod gpu_render;
+mod inspect;
+mod inspect_cli;
 mod open_model;
 mod path_tracing;
 mod pathological;

@@ -292,7 +292,11 @@ impl<'a> ReferenceTracer<'a> {
 
     /// The hit `query` asks for and the work the search did, each step
     /// reported to `observer`.
-    fn search<O: WalkObserver>(&self, query: WalkQuery, observer: &mut O) -> (Option<Hit>, WalkCost) {
+    fn search<O: WalkObserver>(
+        &self,
+        query: WalkQuery,
+        observer: &mut O,
+    ) -> (Option<Hit>, WalkCost) {
         let prims = &self.prims;
         match &self.search {
             Search::Brute => brute_counted(prims, query.ray, query.t_limit, query.any),

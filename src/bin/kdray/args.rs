@@ -164,7 +164,7 @@ pub struct InspectArgs {
     /// The scene file.
     pub scene: PathBuf,
     /// The pixel: column X, row Y, from the top-left (0,0).
-    #[arg(long, value_name = "X,Y")]
+    #[arg(long, value_name = "X,Y", allow_hyphen_values = true)]
     pub pixel: String,
     #[command(flatten)]
     pub image: ImageFlags,

@@ -36,9 +36,7 @@
 use crate::geometry::{Primitives, Ray};
 
 use super::walk_observer::{WalkEvent, WalkObserver};
-use super::walk_step::{
-    max_restarts, observed_descent_step, scene_segment, test_leaf, walk_done,
-};
+use super::walk_step::{max_restarts, observed_descent_step, scene_segment, test_leaf, walk_done};
 pub use super::walk_step::{Hit, WalkCost, WalkQuery};
 use super::KdTree;
 

@@ -44,7 +44,11 @@ pub enum WalkEvent {
     Restart { node: usize, t_min: f32 },
     /// The rope walk leaves its leaf through `face` (`2 * axis + 1` for the
     /// upper face) at `t_min` and descends from the rope's `node`.
-    Rope { face: usize, node: usize, t_min: f32 },
+    Rope {
+        face: usize,
+        node: usize,
+        t_min: f32,
+    },
 }
 
 /// Receives a walk's events in order. The default ignores them.

@@ -16,8 +16,8 @@ mod build;
 mod walks;
 
 use kdray_core::geometry::{Primitives, Ray, T_INFINITY};
-use kdray_core::kdtree::traverse::{any_hit_brute, closest_hit_brute, Hit};
 use kdray_core::kdtree::traverse::WalkCost;
+use kdray_core::kdtree::traverse::{any_hit_brute, closest_hit_brute, Hit};
 use kdray_core::kdtree::{
     build_primitives, BuildStrategy, KdTree, Ropes, Traversal, WalkEvent, WalkQuery, WalkScene,
 };
