@@ -461,10 +461,7 @@ pub fn wgsl_contract_without(chunks: SceneChunks, omitted: &[Binding]) -> String
 /// The constants the present pass and the host agree on: how a pixel's
 /// mean becomes its shown level (`PresentParams::tone_map`).
 pub const PRESENT_CONSTANTS: [(&str, SharedValue); 3] = [
-    (
-        "PRESENT_QUANTISE",
-        SharedValue::U32(super::PRESENT_QUANTISE),
-    ),
+    ("PRESENT_QUANTISE", SharedValue::U32(super::PRESENT_QUANTISE)),
     ("PRESENT_ACES", SharedValue::U32(super::PRESENT_ACES)),
     (
         "PRESENT_CLAMP_SRGB",

@@ -27,10 +27,10 @@
 
 use serde::Serialize;
 
-use crate::gpu::{Accel, PreparedScene};
 use crate::gpu::{FrameParams, PresentParams};
-use crate::kdtree::Traversal;
 use crate::scene::Integrator;
+use crate::gpu::{Accel, PreparedScene};
+use crate::kdtree::Traversal;
 
 /// The first 8 bytes of every bundle.
 pub const MAGIC: &[u8; 8] = b"KDRAYWEB";

@@ -9,7 +9,7 @@ use serde_json::{json, Value};
 
 use crate::gpu::bindings::{
     self, Access, Binding, SharedValue, ACCUMULATE_TILE, OPTIONAL_BINDINGS, PRESENT_BINDINGS,
-    PRESENT_CONSTANTS, SHARED_CONSTANTS, UNSPLIT,
+    SHARED_CONSTANTS, UNSPLIT, PRESENT_CONSTANTS,
 };
 use crate::gpu::kernel_variant::OVERRIDES;
 use crate::gpu::{FrameParams, PresentParams};
