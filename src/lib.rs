@@ -8,7 +8,7 @@
 //! -> [`kdtree`] (build, flat GPU layout, the CPU walks) -> [`gpu`] (the
 //! prepared and uploaded scene, the contract, pipelines, dispatch, readback)
 //! -> [`output`] (PNG). On top: [`render`] strings them together for one
-//! frame; [`window`] traces interactively; [`web`] exports a prepared scene
+//! frame; [`inspect`] shows the rays of one pixel and their walks; [`window`] traces interactively; [`web`] exports a prepared scene
 //! as a site that traces it in a browser; [`farm`] hands frames or bands to
 //! a Slurm cluster; [`bench`](mod@bench) measures. docs/design.md's Architecture is the
 //! map.
@@ -19,6 +19,7 @@ pub mod bench;
 pub mod error;
 pub mod farm;
 pub mod gpu;
+pub mod inspect;
 pub mod output;
 pub mod render;
 pub mod web;

@@ -22,6 +22,8 @@ mod golden;
 mod gpu_faults;
 mod gpu_ray_queries;
 mod gpu_render;
+mod inspect;
+mod inspect_cli;
 mod light_kinds;
 mod material_maps;
 mod open_model;

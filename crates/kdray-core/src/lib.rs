@@ -21,7 +21,6 @@ pub mod scene;
 #[cfg(feature = "test-support")]
 #[doc(hidden)]
 pub mod fuzz_support;
-/// The CPU mirror of the whole kernel, for checking GPU images.
-#[cfg(feature = "test-support")]
-#[doc(hidden)]
+/// The CPU mirror of the whole kernel, for checking GPU images and for
+/// `kdray inspect`.
 pub mod reference;

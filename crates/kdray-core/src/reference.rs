@@ -4,14 +4,20 @@
 //! texture at the hit, its mip level chosen by the ray cone of the path's
 //! length from the eye, multiplying diffuse and ambient), shading and f32 arithmetic over the CPU
 //! mirror of the traversal, so GPU images can be checked pixel by pixel and
-//! a single path can be inspected. Slow (one thread); for tests and
-//! debugging only.
+//! a single path can be inspected: [`ReferenceTracer::trace_recorded`]
+//! returns every ray a sample traces with its walk, step by step (what
+//! `kdray inspect` prints). Slow (one thread); for tests, debugging and
+//! inspection only.
+
+use std::cell::RefCell;
 
 use glam::Vec3;
 
 use crate::geometry::{spawn_offset, Primitives, Ray, T_INFINITY};
-use crate::kdtree::traverse::{any_hit, any_hit_brute, closest_hit, closest_hit_brute, Hit};
-use crate::kdtree::KdTree;
+use crate::kdtree::traverse::{brute_counted, Hit, WalkCost, SHORT_STACK_DEPTH};
+use crate::kdtree::{
+    traverse, KdTree, Ropes, Traversal, WalkEvent, WalkObserver, WalkQuery, WalkScene,
+};
 use crate::layout::{GpuTriangleNormals, GLASS_STACK_DEPTH, SHADOW_CROSSINGS};
 use crate::scene::texture::{pixel_spread_angle, texture_lod};
 use crate::scene::{LightKind, Scene, ShadowMode};
@@ -138,11 +144,54 @@ pub fn refraction_at(d: Vec3, s: &Surface, eta_i: f32, eta_t: f32) -> Refraction
     refract_fresnel(d, s.geometric, eta_i, eta_t)
 }
 
+/// Why a ray is traced.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum RayKind {
+    /// From the camera.
+    Primary,
+    /// Towards a light (with glass: each part between two glass surfaces).
+    Shadow,
+    /// The mirror ray of a hit.
+    Reflected,
+    /// Through a glass surface.
+    Refracted,
+}
+
+/// One ray a sample traced, in order, recorded by
+/// [`ReferenceTracer::trace_recorded`].
+#[derive(Debug, Clone, PartialEq)]
+pub struct TracedRay {
+    pub kind: RayKind,
+    pub ray: Ray,
+    /// How far the query looked (`T_INFINITY`: no limit).
+    pub t_limit: f32,
+    /// An any-hit query (a shadow ray without glass) rather than nearest hit.
+    pub any: bool,
+    pub hit: Option<Hit>,
+    /// The walk's counted work, as the kernel counts it.
+    pub cost: WalkCost,
+    /// The walk's steps (none for brute force).
+    pub walk: Vec<WalkEvent>,
+}
+
+/// How the tracer finds hits: brute force, or a k-d walk over a tree
+/// built over the tracer's objects.
+enum Search {
+    Brute,
+    Tree {
+        tree: KdTree,
+        /// Built for the rope walk only.
+        ropes: Option<Ropes>,
+        traversal: Traversal,
+    },
+}
+
 /// A ray a sample follows on the glass path: mirror of `PathRay` in
 /// shaders/glass.wgsl.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct PathRay {
     pub ray: Ray,
+    pub kind: RayKind,
     /// Its share of the sample's colour.
     pub weight: f32,
     /// Hits on its path before this ray.
@@ -166,7 +215,9 @@ pub struct ReferenceTracer<'a> {
     prims: Primitives,
     /// Per triangle, its vertex normals as the kernel decodes them (None: flat).
     normals: Vec<Option<[Vec3; 3]>>,
-    tree: Option<KdTree>,
+    search: Search,
+    /// While recording: the rays traced so far.
+    log: RefCell<Option<Vec<TracedRay>>>,
     /// Whether some material transmits: the kernel's GLASS variant.
     glass: bool,
     forward: Vec3,
@@ -179,10 +230,35 @@ pub struct ReferenceTracer<'a> {
 }
 
 impl<'a> ReferenceTracer<'a> {
-    /// `use_tree`: walk the k-d tree (else the brute-force loop).
+    /// `use_tree`: walk the k-d tree (built with the default parameters)
+    /// with the plain restart walk (else the brute-force loop).
     pub fn new(scene: &'a Scene, use_tree: bool) -> Self {
         let prims = Primitives::from_scene(scene);
-        let tree = use_tree.then(|| KdTree::for_primitives(&prims));
+        let search = match use_tree {
+            true => Search::Tree {
+                tree: KdTree::for_primitives(&prims),
+                ropes: None,
+                traversal: Traversal::Restart,
+            },
+            false => Search::Brute,
+        };
+        Self::with_search(scene, prims, search)
+    }
+
+    /// Walks `tree` (built over `Primitives::from_scene(scene)`, objects
+    /// numbered as there: spheres, then triangles) with `traversal`.
+    pub fn with_tree(scene: &'a Scene, tree: KdTree, traversal: Traversal) -> Self {
+        let prims = Primitives::from_scene(scene);
+        let ropes = (traversal == Traversal::Ropes).then(|| Ropes::build(&tree));
+        let search = Search::Tree {
+            tree,
+            ropes,
+            traversal,
+        };
+        Self::with_search(scene, prims, search)
+    }
+
+    fn with_search(scene: &'a Scene, prims: Primitives, search: Search) -> Self {
         let basis = scene.camera.basis();
         let normals = scene
             .triangles
@@ -197,7 +273,8 @@ impl<'a> ReferenceTracer<'a> {
             scene,
             prims,
             normals,
-            tree,
+            search,
+            log: RefCell::new(None),
             glass: scene.materials.iter().any(|m| m.transmission as f32 > 0.0),
             forward: basis.forward.as_vec3(),
             right: basis.right.as_vec3(),
@@ -208,18 +285,72 @@ impl<'a> ReferenceTracer<'a> {
         }
     }
 
-    fn closest(&self, ray: &Ray) -> Option<Hit> {
-        match &self.tree {
-            Some(tree) => closest_hit(tree, &self.prims, ray, T_INFINITY),
-            None => closest_hit_brute(&self.prims, ray, T_INFINITY),
+    /// The objects, numbered as hits name them.
+    pub fn primitives(&self) -> &Primitives {
+        &self.prims
+    }
+
+    /// The hit `query` asks for and the work the search did, each step
+    /// reported to `observer`.
+    fn search<O: WalkObserver>(
+        &self,
+        query: WalkQuery,
+        observer: &mut O,
+    ) -> (Option<Hit>, WalkCost) {
+        let prims = &self.prims;
+        match &self.search {
+            Search::Brute => brute_counted(prims, query.ray, query.t_limit, query.any),
+            Search::Tree {
+                tree,
+                ropes: Some(ropes),
+                traversal,
+            } => traversal.walk_observed(WalkScene { tree, ropes, prims }, query, observer),
+            Search::Tree {
+                tree, traversal, ..
+            } => {
+                let depth = match traversal {
+                    Traversal::ShortStack => SHORT_STACK_DEPTH,
+                    _ => 0,
+                };
+                traverse::walk_observed(tree, prims, query, depth, observer)
+            }
         }
     }
 
+    /// One query of the path, recorded while recording.
+    fn query(&self, kind: RayKind, ray: &Ray, t_limit: f32, any: bool) -> Option<Hit> {
+        let query = WalkQuery { ray, t_limit, any };
+        let mut log = self.log.borrow_mut();
+        let Some(log) = log.as_mut() else {
+            return self.search(query, &mut ()).0;
+        };
+        let mut walk = Vec::new();
+        let (hit, cost) = self.search(query, &mut walk);
+        log.push(TracedRay {
+            kind,
+            ray: *ray,
+            t_limit,
+            any,
+            hit,
+            cost,
+            walk,
+        });
+        hit
+    }
+
+    fn closest(&self, ray: &Ray, kind: RayKind) -> Option<Hit> {
+        self.query(kind, ray, T_INFINITY, false)
+    }
+
     fn blocked(&self, ray: &Ray, t_limit: f32) -> bool {
-        match &self.tree {
-            Some(tree) => any_hit(tree, &self.prims, ray, t_limit),
-            None => any_hit_brute(&self.prims, ray, t_limit),
-        }
+        self.query(RayKind::Shadow, ray, t_limit, true).is_some()
+    }
+
+    /// Every ray the path from `primary` traces, in order, with its walk.
+    pub fn trace_recorded(&self, primary: Ray) -> Vec<TracedRay> {
+        *self.log.borrow_mut() = Some(Vec::new());
+        self.trace_path(primary);
+        self.log.borrow_mut().take().unwrap_or_default()
     }
 
     /// Mirror of `shadow_transmittance` in shaders/glass.wgsl.
@@ -231,25 +362,11 @@ impl<'a> ReferenceTracer<'a> {
         let mut origin = ray.origin;
         let mut remaining = length;
         for crossing in 0..=SHADOW_CROSSINGS {
-            let hit = match &self.tree {
-                Some(tree) => closest_hit(
-                    tree,
-                    &self.prims,
-                    &Ray {
-                        origin,
-                        dir: ray.dir,
-                    },
-                    remaining,
-                ),
-                None => closest_hit_brute(
-                    &self.prims,
-                    &Ray {
-                        origin,
-                        dir: ray.dir,
-                    },
-                    remaining,
-                ),
+            let part = Ray {
+                origin,
+                dir: ray.dir,
             };
+            let hit = self.query(RayKind::Shadow, &part, remaining, false);
             let Some(hit) = hit.filter(|h| h.t < remaining) else {
                 return through;
             };
@@ -360,7 +477,11 @@ impl<'a> ReferenceTracer<'a> {
         let mut path_length = 0.0f32;
         let mut hits = Vec::new();
         while weight >= r.min_intensity as f32 && (hits.len() as u32) < r.max_depth {
-            let Some(hit) = self.closest(&ray) else {
+            let kind = match hits.is_empty() {
+                true => RayKind::Primary,
+                false => RayKind::Reflected,
+            };
+            let Some(hit) = self.closest(&ray, kind) else {
                 color += weight * r.background.as_vec3();
                 break;
             };
@@ -411,6 +532,7 @@ impl<'a> ReferenceTracer<'a> {
         let mut pending: Vec<PathRay> = Vec::new();
         let mut path = PathRay {
             ray: primary,
+            kind: RayKind::Primary,
             weight: 1.0,
             hits: 0,
             path_length: 0.0,
@@ -442,7 +564,7 @@ impl<'a> ReferenceTracer<'a> {
     ) -> bool {
         let r = &self.scene.render;
         let ray = path.ray;
-        let hit = self.closest(&ray);
+        let hit = self.closest(&ray, path.kind);
         steps.push(PathStep { ray: *path, hit });
         let Some(hit) = hit else {
             *color += path.weight * r.background.as_vec3();
@@ -483,6 +605,7 @@ impl<'a> ReferenceTracer<'a> {
                 origin,
                 dir: reflection_dir(ray.dir, &surface),
             },
+            kind: RayKind::Reflected,
             weight: path.weight * reflect_share,
             hits: path.hits,
             path_length,
@@ -500,6 +623,7 @@ impl<'a> ReferenceTracer<'a> {
                     origin: p - offset * surface.geometric,
                     dir: refracted,
                 },
+                kind: RayKind::Refracted,
                 weight: path.weight * transmit_share,
                 hits: path.hits,
                 path_length,
@@ -602,18 +726,25 @@ impl<'a> ReferenceTracer<'a> {
         (emission + ambient + direct, any_visible || emits)
     }
 
+    /// The camera ray of Whitted sample (`sx`, `sy`) of the k x k grid in
+    /// pixel (row, column): mirror of `trace_sample` in shaders/trace.wgsl.
+    pub fn sample_ray(&self, row: u32, column: u32, sx: u32, sy: u32) -> Ray {
+        let r = &self.scene.render;
+        let inv_k = 1.0 / r.samples_per_axis() as f32;
+        let u = (column as f32 + (sx as f32 + 0.5) * inv_k) / r.width as f32;
+        let v = (row as f32 + (sy as f32 + 0.5) * inv_k) / r.height as f32;
+        self.camera_ray(u, v)
+    }
+
     /// The 8-bit colour of pixel (row, column), as render_tile computes it.
     pub fn pixel(&self, row: u32, column: u32) -> [u8; 3] {
         let r = &self.scene.render;
         let k = r.samples_per_axis();
-        let inv_k = 1.0 / k as f32;
         let mut sum = Vec3::ZERO;
         for sy in 0..k {
             for sx in 0..k {
-                let u = (column as f32 + (sx as f32 + 0.5) * inv_k) / r.width as f32;
-                let v = (row as f32 + (sy as f32 + 0.5) * inv_k) / r.height as f32;
                 sum += self
-                    .trace_path(self.camera_ray(u, v))
+                    .trace_path(self.sample_ray(row, column, sx, sy))
                     .0
                     .clamp(Vec3::ZERO, Vec3::ONE);
             }

@@ -37,6 +37,9 @@ pub struct Cli {
 pub enum Command {
     /// Render a scene file (.toml or .json) to a PNG.
     Render(RenderArgs),
+    /// Print every ray one pixel's first sample traces, with the k-d walk of
+    /// each, step by step, as one JSON document (the Whitted integrator).
+    Inspect(InspectArgs),
     /// List the adapters wgpu sees and the one kdray picks.
     Info,
     /// Benchmark the k-d tree against brute force on random scenes of growing size
@@ -161,7 +164,21 @@ pub struct RenderArgs {
     pub play: bool,
 }
 
-/// The flags `render` and `farm` share: the scene's `[render]` overrides
+#[derive(clap::Args)]
+pub struct InspectArgs {
+    /// The scene file.
+    pub scene: PathBuf,
+    /// The pixel: column X, row Y, from the top-left (0,0).
+    #[arg(long, value_name = "X,Y", allow_hyphen_values = true)]
+    pub pixel: String,
+    #[command(flatten)]
+    pub image: ImageFlags,
+    /// The frame of the scene's animation (0-based) [default: 0].
+    #[arg(long, value_name = "N")]
+    pub frame: Option<u32>,
+}
+
+/// The flags `render`, `farm` and `inspect` share: the scene's `[render]` overrides
 /// and the search, as the library's [`RenderFlags`].
 #[derive(clap::Args)]
 pub struct ImageFlags {

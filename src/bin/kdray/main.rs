@@ -1,4 +1,4 @@
-//! The `kdray` command line: `render` (to a PNG, or `--window`), `info`,
+//! The `kdray` command line: `render` (to a PNG, or `--window`), `inspect`, `info`,
 //! `bench`, `generate`, `web` and `farm` (with its hidden `farm-task` and
 //! `farm-finish`).
 
@@ -9,7 +9,7 @@ mod farm;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
-use args::{Cli, Command, RenderArgs};
+use args::{Cli, Command, InspectArgs, RenderArgs};
 use clap::Parser;
 use kdray::gpu::{GpuContext, TilePlan};
 use kdray::{Error, Result};
@@ -35,6 +35,7 @@ fn main() -> ExitCode {
             play,
         }),
         Command::Render(args) => render(args),
+        Command::Inspect(args) => inspect(args),
         Command::Info => info(),
         Command::Bench(args) => bench::bench(args),
         Command::Generate(args) => bench::generate(args),
@@ -250,6 +251,18 @@ fn same_file(a: &Path, b: &Path) -> bool {
             (std::fs::canonicalize(a), std::fs::canonicalize(b)),
             (Ok(x), Ok(y)) if x == y
         )
+}
+
+/// `kdray inspect`: the pixel's rays as one line of JSON on stdout.
+fn inspect(args: InspectArgs) -> Result<()> {
+    let request = kdray::inspect::InspectRequest {
+        pixel: kdray::inspect::parse_pixel(&args.pixel)?,
+        frame: args.frame.unwrap_or(0),
+        flags: args.image.into(),
+    };
+    let inspection = kdray::inspect::inspect_file(&args.scene, &request)?;
+    println!("{}", serde_json::to_string(&inspection)?);
+    Ok(())
 }
 
 fn info() -> Result<()> {

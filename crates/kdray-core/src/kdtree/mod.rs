@@ -20,6 +20,7 @@ mod strategy;
 pub mod traversal;
 pub mod traverse;
 pub mod traverse_ropes;
+pub mod walk_observer;
 pub mod walk_step;
 
 pub use build::{build, build_primitives, build_with_threads, KdTree};
@@ -29,6 +30,7 @@ pub use build_params::{
 };
 pub use ropes::Ropes;
 pub use traversal::Traversal;
+pub use walk_observer::{WalkEvent, WalkObserver};
 pub use walk_step::{WalkQuery, WalkScene};
 
 use crate::geometry::{Aabb, Primitives};

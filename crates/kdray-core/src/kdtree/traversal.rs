@@ -5,6 +5,7 @@
 use crate::geometry::Ray;
 
 use super::traverse::SHORT_STACK_DEPTH;
+use super::walk_observer::WalkObserver;
 use super::walk_step::{Hit, WalkCost, WalkQuery, WalkScene};
 use super::{traverse, traverse_ropes};
 
@@ -57,11 +58,23 @@ impl Traversal {
     /// The hit `query` asks for, and the work the walk did (as its shader
     /// counts it).
     pub fn walk_counted(self, scene: WalkScene, query: WalkQuery) -> (Option<Hit>, WalkCost) {
+        self.walk_observed(scene, query, &mut ())
+    }
+
+    /// [`Traversal::walk_counted`], reporting every step to `observer`.
+    pub fn walk_observed<O: WalkObserver>(
+        self,
+        scene: WalkScene,
+        query: WalkQuery,
+        observer: &mut O,
+    ) -> (Option<Hit>, WalkCost) {
         let WalkScene { tree, prims, .. } = scene;
         match self {
-            Traversal::Restart => traverse::walk_counted(tree, prims, query, 0),
-            Traversal::Ropes => traverse_ropes::walk_counted(scene, query),
-            Traversal::ShortStack => traverse::walk_counted(tree, prims, query, SHORT_STACK_DEPTH),
+            Traversal::Restart => traverse::walk_observed(tree, prims, query, 0, observer),
+            Traversal::Ropes => traverse_ropes::walk_observed(scene, query, observer),
+            Traversal::ShortStack => {
+                traverse::walk_observed(tree, prims, query, SHORT_STACK_DEPTH, observer)
+            }
         }
     }
 

@@ -35,7 +35,8 @@
 
 use crate::geometry::{Primitives, Ray};
 
-use super::walk_step::{descent_step, max_restarts, scene_segment, test_leaf, walk_done};
+use super::walk_observer::{WalkEvent, WalkObserver};
+use super::walk_step::{max_restarts, observed_descent_step, scene_segment, test_leaf, walk_done};
 pub use super::walk_step::{Hit, WalkCost, WalkQuery};
 use super::KdTree;
 
@@ -76,12 +77,23 @@ pub fn walk_counted(
     query: WalkQuery,
     stack_depth: usize,
 ) -> (Option<Hit>, WalkCost) {
+    walk_observed(tree, prims, query, stack_depth, &mut ())
+}
+
+/// [`walk_counted`], reporting every step to `observer`.
+pub fn walk_observed<O: WalkObserver>(
+    tree: &KdTree,
+    prims: &Primitives,
+    query: WalkQuery,
+    stack_depth: usize,
+    observer: &mut O,
+) -> (Option<Hit>, WalkCost) {
     assert!(
         stack_depth <= SHORT_STACK_DEPTH,
         "stack depth {stack_depth}"
     );
     let mut cost = WalkCost::default();
-    let hit = walk(tree, prims, query, stack_depth, &mut cost);
+    let hit = walk(tree, prims, query, stack_depth, &mut cost, observer);
     (hit, cost)
 }
 
@@ -92,15 +104,16 @@ struct Entry {
     t_max: f32,
 }
 
-fn walk(
+fn walk<O: WalkObserver>(
     tree: &KdTree,
     prims: &Primitives,
     query: WalkQuery,
     stack_depth: usize,
     cost: &mut WalkCost,
+    observer: &mut O,
 ) -> Option<Hit> {
     let WalkQuery { ray, t_limit, any } = query;
-    let (mut t_min, t_far) = scene_segment(tree, prims, ray, t_limit)?;
+    let (mut t_min, t_far) = scene_segment(tree, prims, ray, t_limit, observer)?;
     let nodes = &tree.nodes;
     let mut best: Option<Hit> = None;
     let mut restart_node = 0usize;
@@ -110,7 +123,7 @@ fn walk(
         t_max: 0.0,
     }; SHORT_STACK_DEPTH];
     let mut depth = 0usize;
-    for _ in 0..max_restarts(nodes.len()) {
+    for step in 0..max_restarts(nodes.len()) {
         let mut node;
         let mut t_max;
         let mut push_down;
@@ -120,14 +133,18 @@ fn walk(
             stack.copy_within(1.., 0);
             depth -= 1;
             push_down = false; // the rest of the ray may leave this node
+            observer.event(WalkEvent::Pop { node, t_max });
         } else {
             node = restart_node;
             t_max = t_far;
             push_down = true;
+            if step > 0 {
+                observer.event(WalkEvent::Restart { node, t_min });
+            }
         }
         cost.nodes_visited += 1;
         while !nodes[node].is_leaf() {
-            let step = descent_step(nodes[node], node, ray, t_min, t_max);
+            let step = observed_descent_step(nodes[node], node, ray, (t_min, t_max), observer);
             if step.crosses {
                 if stack_depth > 0 && step.t_split < t_max {
                     // Remember the far side; a full stack forgets its oldest.
@@ -137,6 +154,10 @@ fn walk(
                         t_max,
                     };
                     depth = (depth + 1).min(stack_depth);
+                    observer.event(WalkEvent::Push {
+                        node: step.far,
+                        t_max,
+                    });
                 }
                 t_max = step.t_split;
                 push_down = false;
@@ -148,7 +169,8 @@ fn walk(
             cost.nodes_visited += 1;
         }
         cost.leaves_visited += 1;
-        best = test_leaf(tree, prims, node, ray, t_limit, any, best, cost);
+        observer.event(WalkEvent::Leaf { node, t_min, t_max });
+        best = test_leaf(tree, prims, node, ray, t_limit, any, best, cost, observer);
         if walk_done(best, any, t_max, t_far) {
             return best;
         }

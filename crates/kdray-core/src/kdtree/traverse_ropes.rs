@@ -31,16 +31,26 @@
 use crate::geometry::{Ray, PARALLEL_EPSILON};
 use crate::layout::{KdNode, LeafRopes};
 
+use super::walk_observer::{WalkEvent, WalkObserver};
 use super::walk_step::{
-    descent_step, max_restarts, scene_segment, test_leaf, walk_done, Hit, WalkCost, WalkQuery,
-    WalkScene,
+    max_restarts, observed_descent_step, scene_segment, test_leaf, walk_done, Hit, WalkCost,
+    WalkQuery, WalkScene,
 };
 
 /// The nearest hit (`any` false) or any hit (`any` true) by the rope walk,
 /// and the work it did (`Traversal::closest_hit` and `any_hit` call it).
 pub fn walk_counted(scene: WalkScene, query: WalkQuery) -> (Option<Hit>, WalkCost) {
+    walk_observed(scene, query, &mut ())
+}
+
+/// [`walk_counted`], reporting every step to `observer`.
+pub fn walk_observed<O: WalkObserver>(
+    scene: WalkScene,
+    query: WalkQuery,
+    observer: &mut O,
+) -> (Option<Hit>, WalkCost) {
     let mut cost = WalkCost::default();
-    let hit = walk(scene, query, &mut cost);
+    let hit = walk(scene, query, &mut cost, observer);
     (hit, cost)
 }
 
@@ -48,16 +58,17 @@ pub fn walk_counted(scene: WalkScene, query: WalkQuery) -> (Option<Hit>, WalkCos
 /// the nodes read (`node` and the leaf included) and the leaf. Only the side
 /// of each plane matters: one crossed at or before `t_min` is behind the
 /// ray, any other ahead (`t_far` bounds nothing, the segment ends there).
-fn descend(
+fn descend<O: WalkObserver>(
     nodes: &[KdNode],
     mut node: usize,
     ray: &Ray,
     (t_min, t_far): (f32, f32),
     cost: &mut WalkCost,
+    observer: &mut O,
 ) -> usize {
     cost.nodes_visited += 1;
     while !nodes[node].is_leaf() {
-        node = descent_step(nodes[node], node, ray, t_min, t_far).near;
+        node = observed_descent_step(nodes[node], node, ray, (t_min, t_far), observer).near;
         cost.nodes_visited += 1;
     }
     cost.leaves_visited += 1;
@@ -89,10 +100,15 @@ fn rope_exit_on_axis(leaf: &LeafRopes, a: usize, ray: &Ray, exit: RopeExit) -> R
     exit
 }
 
-fn walk(scene: WalkScene, query: WalkQuery, cost: &mut WalkCost) -> Option<Hit> {
+fn walk<O: WalkObserver>(
+    scene: WalkScene,
+    query: WalkQuery,
+    cost: &mut WalkCost,
+    observer: &mut O,
+) -> Option<Hit> {
     let WalkScene { tree, ropes, prims } = scene;
     let WalkQuery { ray, t_limit, any } = query;
-    let (mut t_min, t_far) = scene_segment(tree, prims, ray, t_limit)?;
+    let (mut t_min, t_far) = scene_segment(tree, prims, ray, t_limit, observer)?;
     let nodes = &tree.nodes;
     let mut best: Option<Hit> = None;
     // Where the next descent starts: the root, or the rope of the face the
@@ -103,7 +119,7 @@ fn walk(scene: WalkScene, query: WalkQuery, cost: &mut WalkCost) -> Option<Hit> 
     // skipped is followed by a tested one, so node_count + 1 steps suffice
     // (see docs/design.md).
     for _ in 0..max_restarts(nodes.len()) {
-        let node = descend(nodes, start, ray, (t_min, t_far), cost);
+        let node = descend(nodes, start, ray, (t_min, t_far), cost, observer);
         let leaf = ropes.leaf(node);
         // The exit: the first face ahead, else t_far.
         let mut exit = RopeExit {
@@ -114,14 +130,17 @@ fn walk(scene: WalkScene, query: WalkQuery, cost: &mut WalkCost) -> Option<Hit> 
             exit = rope_exit_on_axis(leaf, a, ray, exit);
         }
         let t_max = exit.t;
+        observer.event(WalkEvent::Leaf { node, t_min, t_max });
         // A leaf the ray spends no time in: the rope led to the near side of
         // a plane crossed at t_min (an edge or a corner). Start over from the root.
         if t_max <= t_min && !from_root {
             start = 0;
             from_root = true;
+            observer.event(WalkEvent::SkippedLeaf { node });
+            observer.event(WalkEvent::Restart { node: 0, t_min });
             continue;
         }
-        best = test_leaf(tree, prims, node, ray, t_limit, any, best, cost);
+        best = test_leaf(tree, prims, node, ray, t_limit, any, best, cost, observer);
         if walk_done(best, any, t_max, t_far) {
             return best;
         }
@@ -133,6 +152,11 @@ fn walk(scene: WalkScene, query: WalkQuery, cost: &mut WalkCost) -> Option<Hit> 
         t_min = t_max;
         start = leaf.ropes[face] as usize;
         from_root = false;
+        observer.event(WalkEvent::Rope {
+            face,
+            node: start,
+            t_min,
+        });
     }
     debug_assert!(false, "the rope walk ran out of steps: {ray:?}");
     best

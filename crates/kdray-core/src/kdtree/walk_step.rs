@@ -11,6 +11,7 @@
 use crate::geometry::{Primitives, Ray, PARALLEL_EPSILON};
 use crate::layout::KdNode;
 
+use super::walk_observer::{WalkEvent, WalkObserver};
 use super::{KdTree, Ropes};
 
 /// What every walk searches: the tree, its ropes (read by the rope walk
@@ -89,11 +90,12 @@ pub fn max_restarts(node_count: usize) -> u32 {
 /// The part of the ray a walk searches, `(t_min, t_far)`: inside the
 /// scene's box, after the origin and up to `t_limit`. `None` when there is
 /// nothing to search (no objects, the box missed, or behind the origin).
-pub(super) fn scene_segment(
+pub(super) fn scene_segment<O: WalkObserver>(
     tree: &KdTree,
     prims: &Primitives,
     ray: &Ray,
     t_limit: f32,
+    observer: &mut O,
 ) -> Option<(f32, f32)> {
     if prims.is_empty() {
         return None;
@@ -104,6 +106,7 @@ pub(super) fn scene_segment(
     if t_min > t_far {
         return None;
     }
+    observer.event(WalkEvent::Segment { t_min, t_far });
     Some((t_min, t_far))
 }
 
@@ -163,14 +166,35 @@ pub(super) fn descent_step(
     }
 }
 
-/// Tests the objects of leaf `node`. Nearest hit (`any` false): `best`
+/// [`descent_step`], reported to `observer`.
+pub(super) fn observed_descent_step<O: WalkObserver>(
+    n: KdNode,
+    index: usize,
+    ray: &Ray,
+    (t_min, t_max): (f32, f32),
+    observer: &mut O,
+) -> DescentStep {
+    let step = descent_step(n, index, ray, t_min, t_max);
+    observer.event(WalkEvent::Node {
+        node: index,
+        t_min,
+        t_max,
+        near: step.near,
+        far: step.far,
+        t_split: step.t_split,
+        crosses: step.crosses,
+    });
+    step
+}
+
+/// Tests the objects of leaf `node`, reporting each test to `observer`. Nearest hit (`any` false): `best`
 /// improved by any hit with t <= t_limit, and at an equal t by the lower
 /// id, which is the hit brute force's loop keeps (two objects met at one
 /// point may lie in different leaves). Any hit: the first hit with
 /// t < t_limit (the caller returns it at once), else `best` (None). Counts
 /// each object it tests.
 #[allow(clippy::too_many_arguments)] // the shader's parameters, plus the cost
-pub(super) fn test_leaf(
+pub(super) fn test_leaf<O: WalkObserver>(
     tree: &KdTree,
     prims: &Primitives,
     node: usize,
@@ -179,12 +203,15 @@ pub(super) fn test_leaf(
     any: bool,
     mut best: Option<Hit>,
     cost: &mut WalkCost,
+    observer: &mut O,
 ) -> Option<Hit> {
     let leaf = tree.nodes[node];
     let ids = &tree.leaf_objects[leaf.index as usize..(leaf.index + leaf.count) as usize];
     for &id in ids {
         cost.objects_tested += 1;
-        if let Some(t) = prims.intersect(id, ray) {
+        let t = prims.intersect(id, ray);
+        observer.event(WalkEvent::Tested { object: id, t });
+        if let Some(t) = t {
             if any {
                 if t < t_limit {
                     return Some(Hit { object: id, t });

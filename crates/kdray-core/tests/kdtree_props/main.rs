@@ -16,8 +16,11 @@ mod build;
 mod walks;
 
 use kdray_core::geometry::{Primitives, Ray, T_INFINITY};
+use kdray_core::kdtree::traverse::WalkCost;
 use kdray_core::kdtree::traverse::{any_hit_brute, closest_hit_brute, Hit};
-use kdray_core::kdtree::{build_primitives, BuildStrategy, KdTree, Ropes, Traversal, WalkScene};
+use kdray_core::kdtree::{
+    build_primitives, BuildStrategy, KdTree, Ropes, Traversal, WalkEvent, WalkQuery, WalkScene,
+};
 use proptest::prelude::*;
 
 /// A tree and its ropes: what every walk needs.
@@ -79,6 +82,7 @@ fn check_closest(walks: &Walks, prims: &Primitives, ray: &Ray) -> Result<(), Tes
             }
             (k, b) => prop_assert!(false, "{}: kd {:?} brute {:?} ray {:?}", walk, k, b, ray),
         }
+        check_observed(walks, walk, prims, ray)?;
         prop_assert_eq!(
             kd,
             restart,
@@ -86,6 +90,55 @@ fn check_closest(walks: &Walks, prims: &Primitives, ray: &Ray) -> Result<(), Tes
             walk,
             ray
         );
+    }
+    Ok(())
+}
+
+/// A walk that reports its steps returns the hit and cost it returns
+/// unobserved, and its events account for that cost: a `Node` or `Leaf`
+/// per node read, a `Leaf` per leaf, a `Tested` per object test. The leaves
+/// it tests (all but the rope walk's skipped ones) follow each other front
+/// to back without a gap: each starts where the one before ends, the first
+/// where the segment starts.
+fn check_observed(
+    walks: &Walks,
+    walk: Traversal,
+    prims: &Primitives,
+    ray: &Ray,
+) -> Result<(), TestCaseError> {
+    let query = WalkQuery {
+        ray,
+        t_limit: T_INFINITY,
+        any: false,
+    };
+    let plain = walk.walk_counted(walks.scene(prims), query);
+    let mut events = Vec::new();
+    let observed = walk.walk_observed(walks.scene(prims), query, &mut events);
+    prop_assert_eq!(observed, plain, "{}: observing changed the walk", walk);
+    let mut counted = WalkCost::default();
+    let mut tested: Vec<(f32, f32)> = Vec::new();
+    let mut segment_start = None;
+    for e in &events {
+        match *e {
+            WalkEvent::Segment { t_min, .. } => segment_start = Some(t_min),
+            WalkEvent::Node { .. } => counted.nodes_visited += 1,
+            WalkEvent::Leaf { t_min, t_max, .. } => {
+                counted.nodes_visited += 1;
+                counted.leaves_visited += 1;
+                tested.push((t_min, t_max));
+            }
+            WalkEvent::SkippedLeaf { .. } => {
+                tested.pop();
+            }
+            WalkEvent::Tested { .. } => counted.objects_tested += 1,
+            _ => {}
+        }
+    }
+    prop_assert_eq!(counted, plain.1, "{}: events {:?}", walk, events);
+    let mut expected_start = segment_start;
+    for &(t_min, t_max) in &tested {
+        prop_assert_eq!(Some(t_min), expected_start, "{}: events {:?}", walk, events);
+        expected_start = Some(t_max);
     }
     Ok(())
 }

@@ -1,0 +1,431 @@
+//! `kdray inspect`: every ray one pixel's first sample traces, with the k-d
+//! walk that searched it, step by step, as one JSON document
+//! (docs/inspect.md describes the format, [`INSPECT_VERSION`]).
+//!
+//! The rays come from the CPU reference tracer
+//! ([`kdray_core::reference::ReferenceTracer::trace_recorded`]), which
+//! follows the Whitted kernel's path in f32 (primary, shadow, reflected and,
+//! with glass, refracted rays); the walks are the CPU mirrors of the
+//! kernel's, which report their steps to an observer
+//! ([`crate::kdtree::WalkObserver`]). The GPU tests hold each inspected
+//! ray's hit and counted work to the kernel's for the same ray.
+
+use std::path::Path;
+
+use serde::Serialize;
+
+use crate::error::{Error, Result};
+use crate::geometry::{Primitives, T_INFINITY};
+use crate::gpu::Accel;
+use crate::kdtree::traverse::Hit;
+use crate::kdtree::{BuildParams, BuildStrategy, KdTree, Traversal, WalkEvent};
+use crate::layout::KdNode;
+use crate::render::RenderFlags;
+use crate::scene::{Integrator, Scene};
+use kdray_core::reference::{RayKind, ReferenceTracer, TracedRay};
+
+/// The format's version: raised when a key changes meaning or goes.
+pub const INSPECT_VERSION: u32 = 1;
+
+/// What to inspect: a pixel (column, row from the top-left) of a frame,
+/// rendered with `flags` (size, samples, walk, build).
+#[derive(Debug, Clone)]
+pub struct InspectRequest {
+    pub pixel: (u32, u32),
+    pub frame: u32,
+    pub flags: RenderFlags,
+}
+
+/// The document `kdray inspect` prints.
+#[derive(Debug, Clone, Serialize)]
+pub struct Inspection {
+    pub version: u32,
+    pub scene: String,
+    /// Column, row; (0, 0) is the top-left pixel.
+    pub pixel: [u32; 2],
+    pub frame: u32,
+    pub width: u32,
+    pub height: u32,
+    /// Samples per pixel; the rays are those of sample 0 (the top-left
+    /// cell of the k x k grid).
+    pub samples: u32,
+    /// `kdtree` or `brute` (no walk: every object tested).
+    pub accel: &'static str,
+    pub traversal: &'static str,
+    pub build: &'static str,
+    pub walk_source: &'static str,
+    pub rays: Vec<InspectedRay>,
+}
+
+/// One traced ray.
+#[derive(Debug, Clone, Serialize)]
+pub struct InspectedRay {
+    /// `primary`, `shadow`, `reflected` or `refracted`.
+    pub kind: &'static str,
+    /// `nearest` (the closest hit) or `any` (a shadow ray's: any hit before
+    /// the light ends the search).
+    pub query: &'static str,
+    pub origin: [f32; 3],
+    /// Unit.
+    pub direction: [f32; 3],
+    /// How far the query looks (`null`: unbounded).
+    pub t_limit: Option<f32>,
+    /// The part of the ray the walk searches: inside the scene's box, past
+    /// the origin, up to `t_limit` (`null`: none, the walk never starts;
+    /// always with brute force, which clips nothing).
+    pub t_interval: Option<[f32; 2]>,
+    pub walk: Vec<Step>,
+    pub hit: Option<InspectedHit>,
+    pub counts: Counts,
+}
+
+/// One step of a walk: an inner node, a leaf, or how the walk moved on.
+#[derive(Debug, Clone, Serialize)]
+#[serde(untagged)]
+pub enum Step {
+    Node {
+        node: usize,
+        depth: u32,
+        axis: &'static str,
+        split: f32,
+        /// The segment still to search in this node.
+        t: [f32; 2],
+        /// The child the walk goes on in.
+        near: usize,
+        /// Where the segment crosses the plane into the other child, when
+        /// it does (`far`).
+        #[serde(skip_serializing_if = "Option::is_none")]
+        t_split: Option<f32>,
+        #[serde(skip_serializing_if = "Option::is_none")]
+        far: Option<usize>,
+    },
+    Leaf {
+        leaf: usize,
+        depth: u32,
+        objects: Vec<u32>,
+        /// Where the ray is inside the leaf.
+        t: [f32; 2],
+        tested: Vec<Tested>,
+        /// The rope walk's leaf the ray spends no time in: not tested.
+        #[serde(skip_serializing_if = "std::ops::Not::not")]
+        skipped: bool,
+    },
+    Push {
+        push: Resume,
+    },
+    Pop {
+        pop: Resume,
+    },
+    Restart {
+        restart: Restart,
+    },
+    Rope {
+        rope: Rope,
+    },
+}
+
+/// A short-stack entry: the far child and the segment's end there.
+#[derive(Debug, Clone, Serialize)]
+pub struct Resume {
+    pub node: usize,
+    pub t_max: f32,
+}
+
+/// A descent starting over from `node` at `t_min`.
+#[derive(Debug, Clone, Serialize)]
+pub struct Restart {
+    pub node: usize,
+    pub t_min: f32,
+}
+
+/// The rope walk leaving a leaf through `face` at `t_min` for `node`.
+#[derive(Debug, Clone, Serialize)]
+pub struct Rope {
+    /// `x-`, `x+`, `y-`, `y+`, `z-` or `z+`.
+    pub face: &'static str,
+    pub node: usize,
+    pub t_min: f32,
+}
+
+/// One object test in a leaf.
+#[derive(Debug, Clone, Serialize)]
+pub struct Tested {
+    pub object: u32,
+    pub hit: bool,
+    /// Where the ray meets the object (any t > 0, within the query's limit
+    /// or not).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub t: Option<f32>,
+}
+
+/// What the query returned.
+#[derive(Debug, Clone, Serialize)]
+pub struct InspectedHit {
+    pub object: u32,
+    /// `sphere` or `triangle`.
+    pub kind: &'static str,
+    pub t: f32,
+    pub point: [f32; 3],
+    /// Unit geometric normal, facing the ray.
+    pub normal: [f32; 3],
+}
+
+/// The walk's work, counted as the kernel counts it (`WalkCost`), and its
+/// restarts.
+#[derive(Debug, Clone, Copy, Serialize, PartialEq, Eq)]
+pub struct Counts {
+    pub nodes: u32,
+    pub leaves: u32,
+    pub tests: u32,
+    pub restarts: u32,
+}
+
+/// Loads `path` and inspects `request`'s pixel. Bad input (the scene, a
+/// flag, the pixel, the frame, the path integrator) is a usage or scene
+/// error (exit 2).
+pub fn inspect_file(path: &Path, request: &InspectRequest) -> Result<Inspection> {
+    let mut scene = crate::scene::load_scene(path)?;
+    let flags = &request.flags;
+    flags.check()?;
+    flags.apply(&mut scene)?;
+    if scene.render.integrator != Integrator::Whitted {
+        return Err(Error::Usage(
+            "--integrator path: inspect follows the Whitted integrator's rays only".into(),
+        ));
+    }
+    let frames = scene.frame_count();
+    if request.frame >= frames {
+        return Err(Error::Usage(format!(
+            "--frame: the scene has frames 0..{frames}, got {}",
+            request.frame
+        )));
+    }
+    let shown = scene.frame(request.frame);
+    (scene.camera, scene.lights) = (shown.camera, shown.lights);
+    let tree = match flags.accel {
+        Accel::Kdtree => Some(build_tree(&scene, flags.build)),
+        Accel::Brute => None,
+    };
+    let mut inspection = inspect_scene(&scene, tree, flags.traversal, request.pixel)?;
+    inspection.scene = path.display().to_string();
+    inspection.frame = request.frame;
+    inspection.build = flags.build.name();
+    Ok(inspection)
+}
+
+/// The tree `kdray render` builds for `scene` with `strategy`
+/// (`PreparedScene::built_by`), over `Primitives::from_scene`'s numbering.
+pub fn build_tree(scene: &Scene, strategy: BuildStrategy) -> KdTree {
+    let prims = Primitives::from_scene(scene);
+    let params = BuildParams {
+        strategy,
+        ..BuildParams::for_primitives(&prims)
+    };
+    KdTree::build_for(&prims, params)
+}
+
+/// Parses `--pixel`'s `X,Y` (two whole numbers).
+pub fn parse_pixel(text: &str) -> Result<(u32, u32)> {
+    let bad = || {
+        Error::Usage(format!(
+            "--pixel: expected X,Y (two whole numbers), got {text:?}"
+        ))
+    };
+    let (x, y) = text.split_once(',').ok_or_else(bad)?;
+    let number = |s: &str| s.trim().parse::<u32>().map_err(|_| bad());
+    Ok((number(x)?, number(y)?))
+}
+
+/// Inspects pixel (column, row) of `scene` as it stands (size, samples,
+/// camera and lights of the frame wanted), walking `tree` (built over
+/// `Primitives::from_scene(scene)`) with `traversal`, or brute force
+/// (`None`). The document's `scene`, `frame` and `build` are left for the
+/// caller (empty, 0 and the default build).
+pub fn inspect_scene(
+    scene: &Scene,
+    tree: Option<KdTree>,
+    traversal: Traversal,
+    (x, y): (u32, u32),
+) -> Result<Inspection> {
+    let r = &scene.render;
+    if x >= r.width || y >= r.height {
+        return Err(Error::Usage(format!(
+            "--pixel: {x},{y} is outside the {} x {} image (columns 0..{}, rows 0..{})",
+            r.width, r.height, r.width, r.height
+        )));
+    }
+    let depths = tree.as_ref().map(node_depths).unwrap_or_default();
+    let nodes = tree
+        .as_ref()
+        .map(|t| (t.nodes.clone(), t.leaf_objects.clone()));
+    let accel = if tree.is_some() { "kdtree" } else { "brute" };
+    let tracer = match tree {
+        Some(tree) => ReferenceTracer::with_tree(scene, tree, traversal),
+        None => ReferenceTracer::new(scene, false),
+    };
+    let primary = tracer.sample_ray(y, x, 0, 0);
+    let traced = tracer.trace_recorded(primary);
+    let view = TreeView {
+        nodes: nodes.as_ref().map_or(&[][..], |n| &n.0),
+        leaf_objects: nodes.as_ref().map_or(&[][..], |n| &n.1),
+        depths: &depths,
+    };
+    let rays = traced
+        .iter()
+        .map(|t| inspected_ray(&tracer, &view, t))
+        .collect();
+    Ok(Inspection {
+        version: INSPECT_VERSION,
+        scene: String::new(),
+        pixel: [x, y],
+        frame: 0,
+        width: r.width,
+        height: r.height,
+        samples: r.samples,
+        accel,
+        traversal: traversal.name(),
+        build: BuildStrategy::default().name(),
+        walk_source: "cpu mirror",
+        rays,
+    })
+}
+
+/// What a step needs to know of the tree.
+struct TreeView<'a> {
+    nodes: &'a [KdNode],
+    leaf_objects: &'a [u32],
+    depths: &'a [u32],
+}
+
+/// Each node's depth (the root's 0): children follow their parent in the
+/// flat layout, the lower at i + 1, the upper at `index`.
+fn node_depths(tree: &KdTree) -> Vec<u32> {
+    let mut depths = vec![0u32; tree.nodes.len()];
+    for (i, n) in tree.nodes.iter().enumerate() {
+        if !n.is_leaf() {
+            let child_depth = depths[i] + 1;
+            for child in [i + 1, n.index as usize] {
+                if let Some(d) = depths.get_mut(child) {
+                    *d = child_depth;
+                }
+            }
+        }
+    }
+    depths
+}
+
+const AXES: [&str; 3] = ["x", "y", "z"];
+const FACES: [&str; 6] = ["x-", "x+", "y-", "y+", "z-", "z+"];
+
+fn inspected_ray(tracer: &ReferenceTracer, view: &TreeView, traced: &TracedRay) -> InspectedRay {
+    let ray = traced.ray;
+    let mut walk: Vec<Step> = Vec::new();
+    let mut t_interval = None;
+    let mut restarts = 0;
+    for event in &traced.walk {
+        let depth = |node: usize| view.depths.get(node).copied().unwrap_or(0);
+        match *event {
+            WalkEvent::Segment { t_min, t_far } => t_interval = Some([t_min, t_far]),
+            WalkEvent::Node {
+                node,
+                t_min,
+                t_max,
+                near,
+                far,
+                t_split,
+                crosses,
+            } => {
+                let n = view.nodes[node];
+                walk.push(Step::Node {
+                    node,
+                    depth: depth(node),
+                    axis: AXES[(n.kind as usize).min(2)],
+                    split: n.split,
+                    t: [t_min, t_max],
+                    near,
+                    t_split: crosses.then_some(t_split),
+                    far: crosses.then_some(far),
+                });
+            }
+            WalkEvent::Leaf { node, t_min, t_max } => {
+                let n = view.nodes[node];
+                let objects = &view.leaf_objects[n.index as usize..(n.index + n.count) as usize];
+                walk.push(Step::Leaf {
+                    leaf: node,
+                    depth: depth(node),
+                    objects: objects.to_vec(),
+                    t: [t_min, t_max],
+                    tested: Vec::new(),
+                    skipped: false,
+                });
+            }
+            WalkEvent::SkippedLeaf { .. } => {
+                if let Some(Step::Leaf { skipped, .. }) = walk.last_mut() {
+                    *skipped = true;
+                }
+            }
+            WalkEvent::Tested { object, t } => {
+                if let Some(Step::Leaf { tested, .. }) = walk.last_mut() {
+                    tested.push(Tested {
+                        object,
+                        hit: t.is_some(),
+                        t,
+                    });
+                }
+            }
+            WalkEvent::Push { node, t_max } => walk.push(Step::Push {
+                push: Resume { node, t_max },
+            }),
+            WalkEvent::Pop { node, t_max } => walk.push(Step::Pop {
+                pop: Resume { node, t_max },
+            }),
+            WalkEvent::Restart { node, t_min } => {
+                restarts += 1;
+                walk.push(Step::Restart {
+                    restart: Restart { node, t_min },
+                });
+            }
+            WalkEvent::Rope { face, node, t_min } => walk.push(Step::Rope {
+                rope: Rope {
+                    face: FACES[face.min(5)],
+                    node,
+                    t_min,
+                },
+            }),
+        }
+    }
+    InspectedRay {
+        kind: match traced.kind {
+            RayKind::Primary => "primary",
+            RayKind::Shadow => "shadow",
+            RayKind::Reflected => "reflected",
+            RayKind::Refracted => "refracted",
+        },
+        query: if traced.any { "any" } else { "nearest" },
+        origin: ray.origin.to_array(),
+        direction: ray.dir.to_array(),
+        t_limit: (traced.t_limit < T_INFINITY).then_some(traced.t_limit),
+        t_interval,
+        walk,
+        hit: traced.hit.map(|h| inspected_hit(tracer, traced, h)),
+        counts: Counts {
+            nodes: traced.cost.nodes_visited,
+            leaves: traced.cost.leaves_visited,
+            tests: traced.cost.objects_tested,
+            restarts,
+        },
+    }
+}
+
+fn inspected_hit(tracer: &ReferenceTracer, traced: &TracedRay, hit: Hit) -> InspectedHit {
+    let ray = traced.ray;
+    let p = ray.origin + hit.t * ray.dir;
+    let sphere = (hit.object as usize) < tracer.primitives().spheres.len();
+    InspectedHit {
+        object: hit.object,
+        kind: if sphere { "sphere" } else { "triangle" },
+        t: hit.t,
+        point: p.to_array(),
+        normal: tracer.surface(hit.object, p, ray.dir).geometric.to_array(),
+    }
+}
