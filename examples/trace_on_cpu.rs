@@ -45,7 +45,11 @@ pub fn example_primitives() -> Primitives {
             ],
         },
     ];
-    Primitives { spheres, triangles }
+    Primitives {
+        spheres,
+        triangles,
+        alpha: None,
+    }
 }
 
 /// Rays from the origin through a `columns` x `rows` grid on the plane

@@ -165,7 +165,11 @@ fn test_object(id: u32, ray: Ray) -> ObjectTest {
         return ObjectTest(intersect_sphere(sphere(id), ray), objects[id].y);
     }
     let tri = triangle(id - params.sphere_count);
-    return ObjectTest(intersect_triangle(tri, ray), tri.scene_id);
+    var t = intersect_triangle(tri, ray);
+    if (ALPHA_TEST && t > 0.0 && alpha_hole(id, tri, ray, t)) {
+        t = NO_HIT;   // a hole in an alpha-tested surface: rays pass
+    }
+    return ObjectTest(t, tri.scene_id);
 }
 
 // Largest coordinate magnitude the object's intersection works with.

@@ -62,6 +62,12 @@ struct Material {
     emissive_texture: u32,
     normal_texture: u32,
     normal_scale: f32,
+    // The walks' alpha test (alpha.wgsl): ALPHA_OPAQUE, _MASK or _BLEND;
+    // alpha below the cutoff is a hole; the constant alpha.
+    alpha_mode: u32,
+    alpha_cutoff: f32,
+    alpha_factor: f32,
+    _pad0: u32,
 }
 
 // The lights buffer: `light_count` scene lights (kind LIGHT_POINT,

@@ -24,6 +24,9 @@ override GLASS: bool = true;
 // Whether a triangle may be textured (texture.wgsl): without it the
 // material is read as it was before textures.
 override TEXTURES: bool = true;
+// Whether a material may have an alpha mode (alpha.wgsl): without it the
+// walks' object test is the geometric one, so opaque scenes pay nothing.
+override ALPHA_TEST: bool = true;
 // Whether the walks count their work (walk_cost in traverse.wgsl): frames
 // that report it (--stats, the heatmap, bench's counted frame, the window)
 // and the ray-query kernel. Counting is private register adds, yet without

@@ -17,7 +17,7 @@
 
 use crate::geometry::{HIT_BOX_MARGIN, IN_PLANE_MARGIN, PARALLEL_EPSILON, T_INFINITY};
 use crate::layout::{
-    GpuMaterial, GpuTriangle, KdNode, LeafRopes, TextureWords, ACCEL_BRUTE, ACCEL_KDTREE,
+    GpuMaterial, ALPHA_BLEND, ALPHA_MASK, ALPHA_OPAQUE, GpuTriangle, KdNode, LeafRopes, TextureWords, ACCEL_BRUTE, ACCEL_KDTREE,
     GLASS_STACK_DEPTH, INTEGRATOR_PATH, INTEGRATOR_WHITTED, LIGHT_DIRECTIONAL, LIGHT_EMITTER,
     LIGHT_POINT, LIGHT_SPOT, MODEL_LAMBERTIAN, MODEL_METAL_ROUGH, SHADOW_AMBIENT, SHADOW_CROSSINGS,
     SHADOW_SEED, TRAVERSAL_RESTART, TRAVERSAL_ROPES, TRAVERSAL_SHORT_STACK,
@@ -232,7 +232,7 @@ pub enum SharedValue {
 }
 
 /// Every constant the kernel and the host must agree on, by WGSL name.
-pub const SHARED_CONSTANTS: [(&str, SharedValue); 43] = [
+pub const SHARED_CONSTANTS: [(&str, SharedValue); 46] = [
     ("KD_LEAF", SharedValue::U32(KdNode::LEAF)),
     ("ACCEL_KDTREE", SharedValue::U32(ACCEL_KDTREE)),
     ("ACCEL_BRUTE", SharedValue::U32(ACCEL_BRUTE)),
@@ -290,6 +290,10 @@ pub const SHARED_CONSTANTS: [(&str, SharedValue); 43] = [
     // material without a texture, and the words of the buffer's records.
     ("UNTEXTURED", SharedValue::U32(GpuTriangle::UNTEXTURED)),
     ("NO_TEXTURE", SharedValue::U32(GpuMaterial::NO_TEXTURE)),
+    // `Material::alpha_mode` (alpha.wgsl): none, MASK, BLEND.
+    ("ALPHA_OPAQUE", SharedValue::U32(ALPHA_OPAQUE)),
+    ("ALPHA_MASK", SharedValue::U32(ALPHA_MASK)),
+    ("ALPHA_BLEND", SharedValue::U32(ALPHA_BLEND)),
     (
         "TEXTURE_HEADER_WORDS",
         SharedValue::U32(TextureWords::HEADER_WORDS),

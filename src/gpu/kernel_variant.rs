@@ -62,6 +62,10 @@ pub struct KernelVariant {
     /// at its hits (shaders/texture.wgsl). Without it the material is read
     /// as it was before textures, instruction for instruction.
     pub textures: bool,
+    /// Whether a material may have an alpha mode: the walks' object test
+    /// then reads its alpha (shaders/alpha.wgsl). Without it the test is
+    /// the geometric one, instruction for instruction.
+    pub alpha_test: bool,
     /// Whether the walks count their work (nodes, leaves, objects) for the
     /// frame's cost buffer. Without, the counters are compiled out.
     pub count_costs: bool,
@@ -83,6 +87,7 @@ impl KernelVariant {
         smooth_triangles: true,
         glass: true,
         textures: true,
+        alpha_test: true,
         count_costs: true,
         integrator: FROM_PARAMS,
         radiance_output: false,
@@ -116,6 +121,7 @@ impl KernelVariant {
             smooth_triangles: scene.smooth_triangles,
             glass: scene.glass,
             textures: scene.textures,
+            alpha_test: scene.alpha_test,
             count_costs: true,
             integrator: crate::layout::INTEGRATOR_WHITTED,
             radiance_output: false,
@@ -163,7 +169,7 @@ impl KernelVariant {
 
     /// The pipeline constants that make this variant, by WGSL name
     /// (shaders/variant.wgsl declares each of [`OVERRIDES`]).
-    pub fn constants(&self) -> [(&'static str, f64); 11] {
+    pub fn constants(&self) -> [(&'static str, f64); 12] {
         let flag = |b: bool| if b { 1.0 } else { 0.0 };
         let (accel, traversal) = match self.walk {
             Walk::FromParams => (FROM_PARAMS, FROM_PARAMS),
@@ -183,6 +189,7 @@ impl KernelVariant {
             ("SMOOTH_TRIANGLES", flag(self.smooth_triangles)),
             ("GLASS", flag(self.glass)),
             ("TEXTURES", flag(self.textures)),
+            ("ALPHA_TEST", flag(self.alpha_test)),
             ("COUNT_COSTS", flag(self.count_costs)),
             ("INTEGRATOR", self.integrator as f64),
             ("RADIANCE_OUTPUT", flag(self.radiance_output)),
@@ -192,7 +199,7 @@ impl KernelVariant {
 
 /// The names of the kernel's pipeline-overridable constants, all of which
 /// [`KernelVariant::constants`] sets.
-pub const OVERRIDES: [&str; 11] = [
+pub const OVERRIDES: [&str; 12] = [
     "SPLIT_SCENE",
     "ACCEL",
     "TRAVERSAL",
@@ -201,6 +208,7 @@ pub const OVERRIDES: [&str; 11] = [
     "SMOOTH_TRIANGLES",
     "GLASS",
     "TEXTURES",
+    "ALPHA_TEST",
     "COUNT_COSTS",
     "INTEGRATOR",
     "RADIANCE_OUTPUT",
@@ -230,6 +238,7 @@ mod tests {
             count_costs: false,
             glass: false,
             textures: false,
+            alpha_test: false,
             integrator: crate::layout::INTEGRATOR_WHITTED,
             radiance_output: false,
         };

@@ -158,7 +158,11 @@ fn rust_types_match_wgsl_layout() {
             metal_rough_texture,
             emissive_texture,
             normal_texture,
-            normal_scale
+            normal_scale,
+            alpha_mode,
+            alpha_cutoff,
+            alpha_factor,
+            _pad0
         ]
     );
     layout_of!(

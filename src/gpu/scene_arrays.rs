@@ -6,11 +6,12 @@
 use crate::geometry::{Aabb, Primitives};
 use crate::kdtree::{KdTree, Ropes};
 use crate::layout::{
+    ALPHA_BLEND, ALPHA_MASK, ALPHA_OPAQUE,
     GpuKdNode, GpuLight, GpuMaterial, GpuSphere, GpuTriangle, GpuTriangleNormals, LeafRopes,
     TextureWords, LIGHT_DIRECTIONAL, LIGHT_EMITTER, LIGHT_POINT, LIGHT_SPOT, MODEL_LAMBERTIAN,
     MODEL_METAL_ROUGH,
 };
-use crate::scene::{Light, LightKind, Scene};
+use crate::scene::{AlphaMode, Light, LightKind, Scene};
 
 /// Host copies of every storage buffer, in the GPU layout.
 pub struct SceneArrays {
@@ -256,6 +257,14 @@ impl SceneArrays {
                     emissive_texture: texture_index(m.maps.emissive),
                     normal_texture: texture_index(m.maps.normal),
                     normal_scale: m.maps.normal_scale as f32,
+                    alpha_mode: match m.alpha.mode {
+                        AlphaMode::Opaque => ALPHA_OPAQUE,
+                        AlphaMode::Mask => ALPHA_MASK,
+                        AlphaMode::Blend => ALPHA_BLEND,
+                    },
+                    alpha_cutoff: m.alpha.fixed_cutoff() as f32,
+                    alpha_factor: m.alpha.factor as f32,
+                    _pad0: 0,
                 })
                 .collect(),
             lights: Self::lights_of(&scene.lights),

@@ -233,6 +233,8 @@ pub struct SceneBuffers {
     pub smooth_triangles: bool,
     /// Whether some material transmits (the kernel's glass path).
     pub glass: bool,
+    /// Whether some material has an alpha mode (the walks' ALPHA_TEST).
+    pub alpha_test: bool,
     /// Whether some triangle is textured (the kernel's TEXTURES path).
     pub textures: bool,
 }
@@ -345,6 +347,10 @@ impl SceneBuffers {
             split,
             smooth_triangles: !arrays.triangle_normals.is_empty(),
             glass: arrays.materials.iter().any(|m| m.transmission > 0.0),
+            alpha_test: arrays
+                .materials
+                .iter()
+                .any(|m| m.alpha_mode != crate::layout::ALPHA_OPAQUE),
             textures: !arrays.textures.is_empty(),
         }
     }

@@ -9,7 +9,7 @@ use super::bindings::{self, SceneChunks};
 
 /// Files of the trace kernel, in the order they are concatenated (after the
 /// declarations generated from [`bindings`]).
-pub const TRACE_PARTS: [(&str, &str); 19] = [
+pub const TRACE_PARTS: [(&str, &str); 20] = [
     ("types.wgsl", include_str!("../../shaders/types.wgsl")),
     (
         "frame_params.wgsl",
@@ -36,6 +36,7 @@ pub const TRACE_PARTS: [(&str, &str); 19] = [
     ),
     ("shade.wgsl", include_str!("../../shaders/shade.wgsl")),
     ("texture.wgsl", include_str!("../../shaders/texture.wgsl")),
+    ("alpha.wgsl", include_str!("../../shaders/alpha.wgsl")),
     ("glass.wgsl", include_str!("../../shaders/glass.wgsl")),
     (
         "environment.wgsl",

@@ -320,6 +320,7 @@ fn check_one_triangle(tri: kdray::geometry::TriangleF32, rays: &[(RayQuery, bool
     let prims = Primitives {
         spheres: Vec::new(),
         triangles: vec![tri],
+        alpha: None,
     };
     let tree = KdTree::for_primitives(&prims);
     let queries: Vec<RayQuery> = rays.iter().map(|&(q, _)| q).collect();

@@ -52,6 +52,7 @@ impl Mesh {
             triangles: (0..self.triangles.len())
                 .map(|i| self.triangle(i))
                 .collect(),
+            alpha: None,
         }
     }
 

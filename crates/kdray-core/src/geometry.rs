@@ -305,6 +305,9 @@ pub fn spawn_offset(hit_point: Vec3, object_magnitude: f32) -> f32 {
 pub struct Primitives {
     pub spheres: Vec<SphereF32>,
     pub triangles: Vec<TriangleF32>,
+    /// The alpha test of triangles whose material has an alpha mode
+    /// (crate::alpha_test); None where none has, as in most scenes.
+    pub alpha: Option<std::sync::Arc<crate::alpha_test::AlphaTest>>,
 }
 
 impl Primitives {
@@ -321,7 +324,12 @@ impl Primitives {
         triangles.par_extend(scene.triangles.par_iter().map(|t| TriangleF32 {
             v: t.vertices.map(|v| v.as_vec3()),
         }));
-        Primitives { spheres, triangles }
+        let alpha = crate::alpha_test::AlphaTest::for_scene(scene).map(std::sync::Arc::new);
+        Primitives {
+            spheres,
+            triangles,
+            alpha,
+        }
     }
 
     pub fn len(&self) -> usize {
@@ -340,11 +348,23 @@ impl Primitives {
         }
     }
 
+    /// The object test every walk runs: the hit's t, or None; a hit in a
+    /// hole of an alpha-tested triangle is none (mirror of `test_object`
+    /// in shaders/intersect.wgsl).
     pub fn intersect(&self, id: u32, ray: &Ray) -> Option<f32> {
+        let object = id;
         let id = id as usize;
         match self.spheres.get(id) {
             Some(s) => s.intersect(ray),
-            None => self.triangles[id - self.spheres.len()].intersect(ray),
+            None => {
+                let index = id - self.spheres.len();
+                let tri = &self.triangles[index];
+                let t = tri.intersect(ray)?;
+                match &self.alpha {
+                    Some(a) if a.is_hole(index, object, tri, ray, t) => None,
+                    _ => Some(t),
+                }
+            }
         }
     }
 

@@ -195,6 +195,7 @@ fn materials() -> Vec<Material> {
                 texture: None,
                 physical: crate::scene::Physical::LAMBERTIAN,
                 maps: crate::scene::MaterialMaps::NONE,
+                alpha: crate::scene::Alpha::OPAQUE,
             });
         }
     }

@@ -246,6 +246,7 @@ mod tests {
         let scene = |s: usize, t: usize| Primitives {
             spheres: vec![sphere; s],
             triangles: vec![triangle; t],
+            alpha: None,
         };
         let cost = |s, t| BuildParams::for_primitives(&scene(s, t)).intersection_cost;
         assert_eq!(cost(0, 0), SPHERE_TEST_COST);

@@ -239,12 +239,28 @@ pub struct GpuMaterial {
     pub emissive_texture: u32,
     pub normal_texture: u32,
     pub normal_scale: f32,
+    /// [`ALPHA_OPAQUE`], [`ALPHA_MASK`] or [`ALPHA_BLEND`]: whether the
+    /// walks' alpha test (shaders/alpha.wgsl) reads this material.
+    pub alpha_mode: u32,
+    /// Alpha below this is a hole (MASK; BLEND outside the path tracer).
+    pub alpha_cutoff: f32,
+    /// The constant alpha, times the base-colour texture's where textured.
+    pub alpha_factor: f32,
+    pub _pad0: u32,
 }
 
 impl GpuMaterial {
     /// `texture` of a material without one.
     pub const NO_TEXTURE: u32 = u32::MAX;
 }
+
+/// `GpuMaterial::alpha_mode`: alpha ignored, the surface everywhere.
+pub const ALPHA_OPAQUE: u32 = 0;
+/// `GpuMaterial::alpha_mode`: alpha below `alpha_cutoff` is a hole.
+pub const ALPHA_MASK: u32 = 1;
+/// `GpuMaterial::alpha_mode`: a ray passes with probability 1 - alpha in
+/// the path tracer; elsewhere as [`ALPHA_MASK`].
+pub const ALPHA_BLEND: u32 = 2;
 
 /// `GpuMaterial::model`: `diffuse` is a Lambertian albedo.
 pub const MODEL_LAMBERTIAN: u32 = 0;

@@ -50,6 +50,7 @@ impl MeshMaterial {
             texture: None,
             physical: super::Physical::LAMBERTIAN,
             maps: super::MaterialMaps::NONE,
+            alpha: super::Alpha::OPAQUE,
         }
     }
 }

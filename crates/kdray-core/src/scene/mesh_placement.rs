@@ -272,6 +272,7 @@ impl Validator<'_> {
                 texture,
                 physical: mm.physical,
                 maps,
+                alpha: mm.alpha,
             });
         }
         Ok(())

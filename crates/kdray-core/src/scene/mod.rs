@@ -12,6 +12,7 @@
 //! Units: positions in scene units, angles in degrees in files and radians
 //! nowhere in this module (the camera keeps `vfov_degrees`), colours linear.
 
+mod alpha;
 mod animation;
 mod camera_basis;
 mod document_errors;
@@ -38,6 +39,7 @@ mod validate;
 mod warning;
 mod write;
 
+pub use alpha::{Alpha, AlphaMode};
 pub use animation::{Animation, CameraKey, CameraPath, Frame, FramePath, LightKey, MAX_FRAMES};
 pub use camera_basis::CameraBasis;
 pub use environment::EnvironmentMap;
@@ -170,6 +172,8 @@ pub struct Material<T = u32> {
     pub physical: Physical,
     /// The path tracer's other texture maps (glTF's).
     pub maps: MaterialMaps<T>,
+    /// Where the surface is there at all (glTF's alphaMode; [`Alpha`]).
+    pub alpha: Alpha,
 }
 
 /// A glTF material's texture maps beside its base colour, read by the path

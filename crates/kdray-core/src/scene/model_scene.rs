@@ -292,6 +292,7 @@ fn ground() -> Material {
         ior: Material::DEFAULT_IOR,
         physical: super::Physical::LAMBERTIAN,
         maps: super::MaterialMaps::NONE,
+        alpha: super::Alpha::OPAQUE,
     }
 }
 

@@ -10,7 +10,8 @@
 //! bottom row, into 1 - v). Texel (i, j) of a level has its centre at
 //! ((i + 0.5) / width, (j + 0.5) / height) of that level. A texel multiplies
 //! a material's diffuse and ambient colours as stored in the file (byte /
-//! 255, no gamma curve); alpha is ignored.
+//! 255, no gamma curve); its alpha is read only where the material's
+//! alpha mode asks (alpha.rs, [`Texture::sample_alpha`]).
 //!
 //! Sampling at level of detail lambda ([`Texture::sample_lod`]): lambda <= 0
 //! reads the base level with the magnification filter; above 0 the
@@ -249,6 +250,40 @@ impl Texture {
                 let top = mix(at(x, y), at(x + 1, y), t.x);
                 let bottom = mix(at(x, y + 1), at(x + 1, y + 1), t.x);
                 mix(top, bottom, t.y)
+            }
+        }
+    }
+
+    /// The alpha at texture coordinate `uv` on the base level, read by the
+    /// magnification filter: the walks' alpha test (crate::alpha_test), the
+    /// rule `sample_alpha` in shaders/alpha.wgsl computes, in the same f32
+    /// steps. The base level whatever the distance: a walk has no ray cone.
+    pub fn sample_alpha(&self, uv: Vec2) -> f32 {
+        let level = self.level(0);
+        let size = Vec2::new(level.width as f32, level.height as f32);
+        let limit = TEXEL_COORDINATE_LIMIT;
+        let at = |x: i32, y: i32| {
+            let x = wrap_index(x, level.width as i32, self.wrap[0]);
+            let y = wrap_index(y, level.height as i32, self.wrap[1]);
+            let t = level.texels[(y as usize) * level.width as usize + x as usize];
+            (t >> 24) as f32 / 255.0
+        };
+        match self.filter {
+            TextureFilter::Nearest => {
+                let p = (uv * size)
+                    .floor()
+                    .clamp(Vec2::splat(-limit), Vec2::splat(limit));
+                at(p.x as i32, p.y as i32)
+            }
+            TextureFilter::Bilinear => {
+                let p = (uv * size - 0.5).clamp(Vec2::splat(-limit), Vec2::splat(limit));
+                let p0 = p.floor();
+                let t = p - p0;
+                let (x, y) = (p0.x as i32, p0.y as i32);
+                let lerp = |a: f32, b: f32, t: f32| a * (1.0 - t) + b * t;
+                let top = lerp(at(x, y), at(x + 1, y), t.x);
+                let bottom = lerp(at(x, y + 1), at(x + 1, y + 1), t.x);
+                lerp(top, bottom, t.y)
             }
         }
     }

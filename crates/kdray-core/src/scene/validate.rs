@@ -210,6 +210,7 @@ impl Validator<'_> {
                 texture: None,
                 physical,
                 maps: crate::scene::MaterialMaps::NONE,
+                alpha: crate::scene::Alpha::OPAQUE,
             });
         }
         let lookup = |key: KeyPath, name: &str| {

@@ -134,6 +134,7 @@ fn the_contract_example_has_every_value() {
             texture: None,
             physical: kdray_core::scene::Physical::LAMBERTIAN,
             maps: kdray_core::scene::MaterialMaps::NONE,
+            alpha: kdray_core::scene::Alpha::OPAQUE,
         }]
     );
     assert_eq!(

@@ -247,6 +247,7 @@ fn without_an_override_faces_use_their_mtl_materials() {
             texture: None,
             physical: kdray_core::scene::Physical::LAMBERTIAN,
             maps: kdray_core::scene::MaterialMaps::NONE,
+            alpha: kdray_core::scene::Alpha::OPAQUE,
         }
     );
     assert_eq!(
@@ -263,6 +264,7 @@ fn without_an_override_faces_use_their_mtl_materials() {
             texture: None,
             physical: kdray_core::scene::Physical::LAMBERTIAN,
             maps: kdray_core::scene::MaterialMaps::NONE,
+            alpha: kdray_core::scene::Alpha::OPAQUE,
         }
     );
     // Face for face, the same triangles and materials as the OBJ loader gives.

@@ -288,6 +288,7 @@ fn mtllib_is_relative_to_the_obj_folder() {
             texture: None,
             physical: kdray_core::scene::Physical::LAMBERTIAN,
             maps: kdray_core::scene::MaterialMaps::NONE,
+            alpha: kdray_core::scene::Alpha::OPAQUE,
         }
     );
     assert_eq!(
@@ -304,6 +305,7 @@ fn mtllib_is_relative_to_the_obj_folder() {
             texture: None,
             physical: kdray_core::scene::Physical::LAMBERTIAN,
             maps: kdray_core::scene::MaterialMaps::NONE,
+            alpha: kdray_core::scene::Alpha::OPAQUE,
         }
     );
     let used: Vec<_> = mesh.triangles.iter().map(|t| t.material()).collect();

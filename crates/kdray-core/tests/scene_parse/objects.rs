@@ -60,6 +60,7 @@ fn material_defaults_and_values() {
             texture: None,
             physical: kdray_core::scene::Physical::LAMBERTIAN,
             maps: kdray_core::scene::MaterialMaps::NONE,
+            alpha: kdray_core::scene::Alpha::OPAQUE,
         }
     );
     assert_eq!(
@@ -76,6 +77,7 @@ fn material_defaults_and_values() {
             texture: None,
             physical: kdray_core::scene::Physical::LAMBERTIAN,
             maps: kdray_core::scene::MaterialMaps::NONE,
+            alpha: kdray_core::scene::Alpha::OPAQUE,
         }
     );
     assert_eq!(scene.materials.len(), 2);

@@ -38,6 +38,7 @@ use crate::scene::mesh::{mesh_index, Mesh, MeshMaterial, MeshTriangle, NO_INDEX}
 use crate::scene::SceneError;
 
 mod accessors;
+mod alpha;
 mod buffers;
 mod draco;
 mod extensions;
@@ -48,6 +49,7 @@ mod texture_transform;
 mod unsupported;
 
 use accessors::Attribute;
+use alpha::alpha;
 use buffers::load_buffers;
 use unsupported::{extensions_warning, is_gltf_1, textures_warning, GLTF_1_UNSUPPORTED};
 
@@ -84,6 +86,9 @@ pub fn parse_gltf(
         if is_gltf_1(bytes) {
             return err(GLTF_1_UNSUPPORTED.to_string());
         }
+        if let Some(message) = alpha::cutoff_type_error(bytes) {
+            return err(message);
+        }
         err(format!(
             "not a valid glTF 2.0 file: {}",
             gltf_error_text(&e)
@@ -99,6 +104,7 @@ pub fn parse_gltf(
         return Err(err(GLTF_1_UNSUPPORTED.to_string()));
     }
     check_attribute_indices(&root).map_err(err)?;
+    alpha::check_cutoffs(&root).map_err(err)?;
     // The extensions kdray reads rewrite what the crate would refuse; one
     // it does not read is an error if required, a warning if used.
     let prepared = extensions::prepare(&mut root).map_err(err)?;
@@ -355,6 +361,12 @@ impl Reader<'_, '_> {
                 let local = *self.material_of.entry(key).or_insert(next);
                 if local == next {
                     let mut material = pbr_material(&primitive.material());
+                    if material.alpha.mode == crate::scene::AlphaMode::Blend {
+                        let warning = alpha::blend_warning(self.files.path);
+                        if !self.mesh.warnings.contains(&warning) {
+                            self.mesh.warnings.push(warning);
+                        }
+                    }
                     material.texture = self.images.base_colour(
                         &primitive.material(),
                         self.document,
@@ -501,7 +513,8 @@ pub const PBR_AMBIENT_FRACTION: f64 = 0.1;
 pub const PBR_MAX_SHININESS: f64 = 4.0 * 4096.0;
 
 /// glTF's metallic-roughness material in kdray's model (docs/scene-format.md):
-/// - diffuse = baseColorFactor (rgb; alpha ignored), ambient = 0.1 x that;
+/// - diffuse = baseColorFactor (rgb), ambient = 0.1 x that; its alpha,
+///   alphaMode and alphaCutoff are the material's [`Alpha`](crate::scene::Alpha);
 /// - reflection = metallic x (1 - roughness): a polished metal is a mirror,
 ///   a rough one (glTF's default material is metallic 1, roughness 1) is not;
 /// - specular = white x (1 - roughness);
@@ -516,9 +529,8 @@ pub const PBR_MAX_SHININESS: f64 = 4.0 * 4096.0;
 ///
 /// The path tracer reads glTF's own model: base colour, metallic and
 /// roughness as they are, and `emissiveFactor` (times
-/// `KHR_materials_emissive_strength`'s strength) as emitted radiance. Alpha
-/// is ignored; the base-colour texture is the reader's (`images`), here
-/// None.
+/// `KHR_materials_emissive_strength`'s strength) as emitted radiance. The
+/// base-colour texture is the reader's (`images`), here None.
 pub fn pbr_material(material: &gltf::Material) -> MeshMaterial {
     let pbr = material.pbr_metallic_roughness();
     let [r, g, b, _alpha] = pbr.base_color_factor().map(f64::from);
@@ -560,6 +572,7 @@ pub fn pbr_material(material: &gltf::Material) -> MeshMaterial {
             emission: emission(material),
         },
         maps: crate::scene::MaterialMaps::NONE,
+        alpha: alpha(material),
     }
 }
 

@@ -130,6 +130,7 @@ fn new_material(name: &str) -> MeshMaterial {
         texture: None,
         physical: crate::scene::Physical::LAMBERTIAN,
         maps: crate::scene::MaterialMaps::NONE,
+        alpha: crate::scene::Alpha::OPAQUE,
     }
 }
 
