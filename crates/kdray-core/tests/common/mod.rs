@@ -6,6 +6,7 @@
 //! include it by path and add the GPU helpers.
 #![allow(dead_code)]
 
+pub mod masked;
 pub mod strategies;
 pub mod textured;
 

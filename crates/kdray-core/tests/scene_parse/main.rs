@@ -20,6 +20,7 @@ mod bad_mesh_files;
 mod camera;
 mod examples;
 mod files_and_syntax;
+mod gltf_alpha;
 mod gltf_cameras;
 mod gltf_emission;
 mod gltf_lights;
