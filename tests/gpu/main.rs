@@ -12,6 +12,7 @@
 #[path = "../common/mod.rs"]
 mod common;
 
+mod alpha_mask;
 mod bench;
 mod cli;
 mod examples;
