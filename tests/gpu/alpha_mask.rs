@@ -87,19 +87,38 @@ fn assert_hole_shows_the_wall(integrator: &str, levels: u8) -> (Scene, Scene) {
     for (r, c) in through_hole() {
         let (a, b) = (pixel(&im, r, c), pixel(&ib, r, c));
         let d = a.iter().zip(&b).map(|(x, y)| x.abs_diff(*y)).max().unwrap();
-        assert!(d <= levels, "{integrator}: pixel ({r}, {c}): {a:?} with the quad, {b:?} without");
+        assert!(
+            d <= levels,
+            "{integrator}: pixel ({r}, {c}): {a:?} with the quad, {b:?} without"
+        );
         assert!(b[0] > 40, "{integrator}: the wall is lit there: {b:?}");
     }
-    let apart = |a: [u8; 3], b: [u8; 3]| a.iter().zip(&b).map(|(x, y)| x.abs_diff(*y)).max().unwrap() > 30;
-    let (solid, wall) = (pixel(&im, SIDE / 2, SIDE / 2 + 14), pixel(&ib, SIDE / 2, SIDE / 2 + 14));
-    assert!(apart(solid, wall), "{integrator}: the quad's solid part {solid:?}, the wall {wall:?}");
+    let apart =
+        |a: [u8; 3], b: [u8; 3]| a.iter().zip(&b).map(|(x, y)| x.abs_diff(*y)).max().unwrap() > 30;
+    let (solid, wall) = (
+        pixel(&im, SIDE / 2, SIDE / 2 + 14),
+        pixel(&ib, SIDE / 2, SIDE / 2 + 14),
+    );
+    assert!(
+        apart(solid, wall),
+        "{integrator}: the quad's solid part {solid:?}, the wall {wall:?}"
+    );
     for c in [54, 55] {
         let (a, b) = (pixel(&im, SIDE / 2, c), pixel(&ib, SIDE / 2, c));
-        assert!(a[0] + 20 < b[0], "{integrator}: column {c} shadowed {a:?}, unshadowed {b:?}");
+        assert!(
+            a[0] + 20 < b[0],
+            "{integrator}: column {c} shadowed {a:?}, unshadowed {b:?}"
+        );
     }
     let opaque = render(&wall_scene(&dir, Some(OPAQUE), integrator), Accel::Kdtree);
-    let (centre, wall) = (pixel(&opaque, SIDE / 2, SIDE / 2), pixel(&ib, SIDE / 2, SIDE / 2));
-    assert!(apart(centre, wall), "{integrator}: the OPAQUE quad {centre:?} hides the wall {wall:?}");
+    let (centre, wall) = (
+        pixel(&opaque, SIDE / 2, SIDE / 2),
+        pixel(&ib, SIDE / 2, SIDE / 2),
+    );
+    assert!(
+        apart(centre, wall),
+        "{integrator}: the OPAQUE quad {centre:?} hides the wall {wall:?}"
+    );
     (masked, bare)
 }
 

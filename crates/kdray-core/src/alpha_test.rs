@@ -159,6 +159,9 @@ mod tests {
             assert!(u > 0.0 && u <= 1.0, "{u}");
             below_half += usize::from(u < 0.5);
         }
-        assert!((1800..2200).contains(&below_half), "{below_half} of 4000 below 0.5");
+        assert!(
+            (1800..2200).contains(&below_half),
+            "{below_half} of 4000 below 0.5"
+        );
     }
 }

@@ -67,7 +67,11 @@ pub fn masked_scene(prims: &Primitives, alphas: &[u8], uv_scale: f64, integrator
             material: solid,
         })
         .collect();
-    let corners = [DVec2::ZERO, DVec2::new(uv_scale, 0.0), DVec2::new(0.0, uv_scale)];
+    let corners = [
+        DVec2::ZERO,
+        DVec2::new(uv_scale, 0.0),
+        DVec2::new(0.0, uv_scale),
+    ];
     scene.triangle_uvs.clear();
     scene.triangles = Vec::new();
     for (i, t) in prims.triangles.iter().enumerate() {
@@ -86,7 +90,13 @@ pub fn masked_scene(prims: &Primitives, alphas: &[u8], uv_scale: f64, integrator
 /// texel at 128 (solid: 128 / 255 is above 0.5) and one at 127 (a hole).
 pub fn checker_alphas() -> Vec<u8> {
     let mut a: Vec<u8> = (0..SIDE * SIDE)
-        .map(|i| if (i % SIDE + i / SIDE) % 2 == 0 { 255 } else { 0 })
+        .map(|i| {
+            if (i % SIDE + i / SIDE) % 2 == 0 {
+                255
+            } else {
+                0
+            }
+        })
         .collect();
     a[0] = 128;
     a[1] = 127;

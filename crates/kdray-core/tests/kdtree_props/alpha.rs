@@ -13,7 +13,8 @@ use super::{check_any, check_closest, Walks};
 
 /// `prims` with every second triangle masked by the checker, as walked.
 fn masked(prims: &Primitives, uv_scale: f64) -> Primitives {
-    let masked = Primitives::from_scene(&masked_scene(prims, &checker_alphas(), uv_scale, "whitted"));
+    let masked =
+        Primitives::from_scene(&masked_scene(prims, &checker_alphas(), uv_scale, "whitted"));
     assert!(prims.triangles.len() < 2 || masked.alpha.is_some());
     masked
 }
@@ -50,7 +51,11 @@ fn rays_pass_through_holes_and_stop_on_solid_texels() {
     use glam::Vec3;
     use kdray_core::geometry::TriangleF32;
     let tri = |z: f32, size: f32| TriangleF32 {
-        v: [Vec3::new(0.0, 0.0, z), Vec3::new(size, 0.0, z), Vec3::new(0.0, size, z)],
+        v: [
+            Vec3::new(0.0, 0.0, z),
+            Vec3::new(size, 0.0, z),
+            Vec3::new(0.0, size, z),
+        ],
     };
     // Triangle 0 the floor (opaque), triangle 1 the mask: texture
     // coordinates (0, 0), (1, 0), (0, 1) over a 4-unit side: one texel a unit.
@@ -64,13 +69,21 @@ fn rays_pass_through_holes_and_stop_on_solid_texels() {
     let mut holes = 0;
     for (x, y) in [(0, 0), (1, 0), (2, 0), (0, 1), (1, 1), (0, 2)] {
         let origin = Vec3::new(x as f32 + 0.5, y as f32 + 0.25, 5.0);
-        let ray = Ray { origin, dir: Vec3::NEG_Z };
+        let ray = Ray {
+            origin,
+            dir: Vec3::NEG_Z,
+        };
         let solid = alphas[(y * 4 + x) as usize] >= 128;
         let expected = if solid { 1 } else { 0 };
         for walk in kdray_core::kdtree::Traversal::ALL {
-            let hit = walks.closest_hit(walk, &prims, &ray, T_INFINITY).map(|h| h.object);
+            let hit = walks
+                .closest_hit(walk, &prims, &ray, T_INFINITY)
+                .map(|h| h.object);
             assert_eq!(hit, Some(expected), "{walk}: texel ({x}, {y})");
-            assert!(walks.any_hit(walk, &prims, &ray, 5.5) == solid, "{walk}: texel ({x}, {y})");
+            assert!(
+                walks.any_hit(walk, &prims, &ray, 5.5) == solid,
+                "{walk}: texel ({x}, {y})"
+            );
         }
         holes += usize::from(!solid);
     }

@@ -39,7 +39,11 @@ fn alpha_mode_cutoff_and_the_base_colour_alpha_are_read() {
     let (default_cutoff, _) = alpha_of(&dir, "default.gltf", json!({"alphaMode": "MASK"}));
     assert_eq!(default_cutoff.cutoff, 0.5);
     // A cutoff above 1 is valid glTF: every point is a hole.
-    let (high, _) = alpha_of(&dir, "high.gltf", json!({"alphaMode": "MASK", "alphaCutoff": 2}));
+    let (high, _) = alpha_of(
+        &dir,
+        "high.gltf",
+        json!({"alphaMode": "MASK", "alphaCutoff": 2}),
+    );
     assert_eq!(high.cutoff, 2.0);
 }
 
@@ -54,10 +58,17 @@ fn blend_is_read_and_warned_about_once_per_file() {
         {"attributes": {"POSITION": 0}, "material": 1}
     ]);
     let mesh = read_document(&dir, "blend.gltf", &doc);
-    assert!(mesh.materials.iter().all(|m| m.alpha.mode == AlphaMode::Blend));
+    assert!(mesh
+        .materials
+        .iter()
+        .all(|m| m.alpha.mode == AlphaMode::Blend));
     assert_eq!(mesh.materials.len(), 2);
     assert_eq!(mesh.warnings.len(), 1, "{:?}", mesh.warnings);
-    assert!(mesh.warnings[0].message.contains("BLEND"), "{:?}", mesh.warnings);
+    assert!(
+        mesh.warnings[0].message.contains("BLEND"),
+        "{:?}",
+        mesh.warnings
+    );
 }
 
 #[test]
@@ -68,7 +79,11 @@ fn an_alpha_cutoff_that_is_negative_or_not_a_number_is_an_error_naming_the_key()
         ("string.gltf", json!("half")),
         ("list.gltf", json!([0.5])),
     ] {
-        let e = error_of(&dir, name, json!({"alphaMode": "MASK", "alphaCutoff": cutoff}));
+        let e = error_of(
+            &dir,
+            name,
+            json!({"alphaMode": "MASK", "alphaCutoff": cutoff}),
+        );
         assert!(
             e.contains(name) && e.contains("materials[0].alphaCutoff") && e.contains(">= 0"),
             "{name}: {e}"
