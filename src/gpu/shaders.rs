@@ -9,7 +9,7 @@ use super::bindings::{self, SceneChunks};
 
 /// Files of the trace kernel, in the order they are concatenated (after the
 /// declarations generated from [`bindings`]).
-pub const TRACE_PARTS: [(&str, &str); 19] = [
+pub const TRACE_PARTS: [(&str, &str); 20] = [
     ("types.wgsl", include_str!("../../shaders/types.wgsl")),
     (
         "frame_params.wgsl",
@@ -24,6 +24,10 @@ pub const TRACE_PARTS: [(&str, &str); 19] = [
     (
         "walk_step.wgsl",
         include_str!("../../shaders/walk_step.wgsl"),
+    ),
+    (
+        WALK_RECORD_OFF,
+        include_str!("../../shaders/walk_record_off.wgsl"),
     ),
     ("traverse.wgsl", include_str!("../../shaders/traverse.wgsl")),
     (
@@ -48,6 +52,15 @@ pub const TRACE_PARTS: [(&str, &str); 19] = [
     ("trace.wgsl", include_str!("../../shaders/trace.wgsl")),
     ("query.wgsl", include_str!("../../shaders/query.wgsl")),
 ];
+
+/// The render kernel's walk recorder, which records nothing; the inspect
+/// kernel holds [`WALK_RECORD`] in its place.
+const WALK_RECORD_OFF: &str = "walk_record_off.wgsl";
+/// The inspect kernel's walk recorder and its entry point, `inspect_pixel`.
+const WALK_RECORD: (&str, &str) = (
+    "walk_record.wgsl",
+    include_str!("../../shaders/walk_record.wgsl"),
+);
 
 /// The window's present pass (fullscreen triangle over the accumulation
 /// buffers), a module of its own, without its generated bindings.
@@ -80,9 +93,24 @@ pub fn trace_module(
     chunks: SceneChunks,
     omitted: &[bindings::Binding],
 ) -> wgpu::ShaderModule {
+    kernel_module(device, bindings::RENDER_TILE, chunks, omitted)
+}
+
+/// The module holding `entry`: the inspect kernel for `inspect_pixel`,
+/// else the trace kernel ([`trace_module`], whose loop bounds it shares).
+pub fn kernel_module(
+    device: &wgpu::Device,
+    entry: bindings::EntryPoint,
+    chunks: SceneChunks,
+    omitted: &[bindings::Binding],
+) -> wgpu::ShaderModule {
+    let (label, source) = match entry == bindings::INSPECT_PIXEL {
+        true => ("inspect", inspect_source_without(chunks, omitted)),
+        false => ("trace", trace_source_without(chunks, omitted)),
+    };
     let desc = wgpu::ShaderModuleDescriptor {
-        label: Some("trace"),
-        source: wgpu::ShaderSource::Wgsl(trace_source_without(chunks, omitted).into()),
+        label: Some(label),
+        source: wgpu::ShaderSource::Wgsl(source.into()),
     };
     let checks = wgpu::ShaderRuntimeChecks {
         force_loop_bounding: false,
@@ -110,6 +138,23 @@ pub fn trace_source_without(chunks: SceneChunks, omitted: &[bindings::Binding]) 
         bindings::wgsl_contract_without(chunks, omitted)
     );
     for (name, text) in TRACE_PARTS {
+        source += &format!("// ---- {name}\n{text}\n");
+    }
+    source
+}
+
+/// The inspect kernel: [`trace_source_without`] with the walk recorder of
+/// shaders/walk_record.wgsl, its log binding and its entry point.
+pub fn inspect_source_without(chunks: SceneChunks, omitted: &[bindings::Binding]) -> String {
+    let mut source = format!(
+        "// ---- bindings.rs\n{}\n",
+        bindings::wgsl_contract_of(&bindings::INSPECT_ENTRY_POINTS, chunks, omitted)
+    );
+    for (name, text) in TRACE_PARTS {
+        let (name, text) = match name == WALK_RECORD_OFF {
+            true => WALK_RECORD,
+            false => (name, text),
+        };
         source += &format!("// ---- {name}\n{text}\n");
     }
     source
@@ -178,9 +223,12 @@ mod tests {
     /// uniform there costs llvmpipe a load per lane.
     #[test]
     fn every_entry_point_reads_the_frame_params_first() {
-        let (module, _) = parse_and_validate(&trace_source([MAX_CHUNKS; SPLIT_ARRAY_COUNT]));
+        let chunks = [MAX_CHUNKS; SPLIT_ARRAY_COUNT];
+        let (module, _) = parse_and_validate(&trace_source(chunks));
+        let (inspect, _) = parse_and_validate(&inspect_source_without(chunks, &[]));
         assert!(module.entry_points.len() >= 3);
-        for entry in &module.entry_points {
+        let entries = module.entry_points.iter().map(|e| (&module, e));
+        for (module, entry) in entries.chain(inspect.entry_points.iter().map(|e| (&inspect, e))) {
             let first = entry
                 .function
                 .body
@@ -196,13 +244,65 @@ mod tests {
         }
     }
 
+    /// The inspect kernel validates with the inspect entry points at their
+    /// workgroup sizes, binds its log as the contract says, and holds every
+    /// function of the trace kernel; the trace kernel declares no log.
+    #[test]
+    fn inspect_kernel_is_the_trace_kernel_with_its_recorder_and_log() {
+        let chunks = [MAX_CHUNKS; SPLIT_ARRAY_COUNT];
+        let (module, _) = parse_and_validate(&inspect_source_without(chunks, &[]));
+        for contract in bindings::INSPECT_ENTRY_POINTS {
+            let entry = module
+                .entry_points
+                .iter()
+                .find(|e| e.name == contract.name)
+                .unwrap_or_else(|| panic!("the inspect kernel lacks {}", contract.name));
+            assert_eq!(
+                entry.workgroup_size, contract.workgroup,
+                "{}",
+                contract.name
+            );
+        }
+        assert_eq!(
+            module.entry_points.len(),
+            bindings::INSPECT_ENTRY_POINTS.len()
+        );
+        let mut table = bindings::all(chunks);
+        table.push(bindings::INSPECT_LOG);
+        globals_are(&module, &table);
+        constants_equal_the_hosts(&module, &SHARED_CONSTANTS);
+        let render = kernel(chunks);
+        assert!(render
+            .global_variables
+            .iter()
+            .all(|(_, g)| g.name.as_deref() != Some(bindings::INSPECT_LOG.name)));
+        let names = |m: &naga::Module| -> Vec<String> {
+            m.functions
+                .iter()
+                .filter_map(|(_, f)| f.name.clone())
+                .collect()
+        };
+        let inspect_functions = names(&module);
+        for name in names(&render) {
+            assert!(
+                inspect_functions.contains(&name),
+                "the inspect kernel lacks {name}"
+            );
+        }
+    }
+
     /// Every .wgsl file in shaders/ is part of a validated module.
     #[test]
     fn every_shader_file_is_validated() {
         let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("shaders");
         let mut validated: Vec<&str> = TRACE_PARTS.iter().map(|(name, _)| *name).collect();
         validated.extend(STANDALONE_SHADERS.iter().map(|(name, _)| *name));
+        validated.push(WALK_RECORD.0);
         parse_and_validate(&present_source());
+        parse_and_validate(&inspect_source_without(
+            [MAX_CHUNKS; SPLIT_ARRAY_COUNT],
+            &[],
+        ));
         for entry in std::fs::read_dir(&dir).unwrap() {
             let name = entry.unwrap().file_name().into_string().unwrap();
             if name.ends_with(".wgsl") {
