@@ -4,11 +4,13 @@
 // with the Whitted integrator or path traced (URL `integrator`, key I);
 // plays an animated scene's frames (Space) from the bundle's cameras and
 // frame lights, and shows the cost heatmap (C). docs/web.md states its
-// contract: URL parameters, document.title, window.kdray.png(), keys.
+// contract: URL parameters, document.title, window.kdray.png() and
+// window.kdray.inspect(x, y), keys.
 
 import { parseBundle } from './bundle.js';
 import { Camera, attachPointer } from './controls.js';
 import { Tracer, PageError, openGpu, setField } from './tracer.js';
+import { decodeLog, inspectionDocument, treeOf } from './inspect.js';
 
 const WALKS = ['restart', 'ropes', 'short-stack'];
 const INTEGRATORS = ['whitted', 'path'];
@@ -268,6 +270,7 @@ function loadBundle(bytes) {
   const frameLights = frameLightsFrom(bundle, state.contract.bundle.frame_lights, frames);
   Object.assign(state, settings, {
     bundle, cameras, frameLights, playing: null, camera: new Camera(bundle.info), maxDepth: bundle.info.max_depth,
+    tree: null,
   });
   if (cameras) state.camera.setHome(cameras.at(state.frame));
   frameLights?.write(state.frame);
@@ -284,6 +287,27 @@ async function png() {
   out.width = state.width; out.height = state.height;
   out.getContext('2d').putImageData(new ImageData(rgba, state.width, state.height), 0, 0);
   return out.toDataURL('image/png');
+}
+
+// Pixel (column x, row y) of the image as it stands (camera, frame, walk,
+// integrator): every ray its first sample traces and the k-d walk of each,
+// logged by the inspect kernel, as the document `kdray inspect` prints.
+async function inspect(x, y) {
+  const { width, height, contract, bundle } = state;
+  const inside = [x, y].every(Number.isInteger) && x >= 0 && y >= 0 && x < width && y < height;
+  if (!inside) throw new PageError(`inspect(${x}, ${y}): the pixel is outside the ${width} x ${height} image`);
+  const params = frameParams(width, height, 0);
+  setField(contract.frame_params, params, 'tile_origin', [x, y]);
+  setField(contract.frame_params, params, 'tile_size', [1, 1]);
+  setField(contract.frame_params, params, 'sample_count', 1);
+  const words = await state.tracer.inspectPixel(params, walkName(), state.integrator);
+  state.tree ??= treeOf(bundle.arrays, contract.constants);
+  const meta = {
+    scene: bundle.info.name, pixel: [x, y], frame: state.frame, width, height, samples: state.samples,
+    integrator: state.integrator, accel: state.brute ? 'brute' : 'kdtree', traversal: state.walk,
+    build: bundle.info.build, spheres: bundle.info.spheres,
+  };
+  return inspectionDocument(decodeLog(words, contract.constants), state.tree, meta, contract);
 }
 
 async function screenshot() {
@@ -315,18 +339,19 @@ const KEYS = {
 };
 
 async function main() {
-  window.kdray = { png, state };
+  window.kdray = { png, inspect, state };
   const contract = await (await fetchOk('contract.json')).json();
   state.contract = contract;
-  const [kernel, present, bundle] = await Promise.all([
+  const [kernel, present, inspectKernel, bundle] = await Promise.all([
     fetchOk(contract.files.kernel).then((r) => r.text()),
     fetchOk(contract.files.present).then((r) => r.text()),
+    fetchOk(contract.files.inspect).then((r) => r.text()),
     fetchOk(query.get('bundle') ?? contract.files.bundle).then((r) => r.arrayBuffer()),
   ]);
   const gpu = await openGpu();
   gpu.device.lost.then((info) => showError(new PageError(`the GPU device was lost: ${info.message}`)));
   gpu.device.onuncapturederror = (e) => showError(new PageError(`WebGPU: ${e.error.message}`));
-  state.tracer = new Tracer(gpu, contract, kernel, present, canvas);
+  state.tracer = new Tracer(gpu, contract, kernel, present, canvas, inspectKernel);
   loadBundle(bundle);
   attachPointer(canvas, { // every move of the camera restarts refinement
     orbit: (x, y) => state.camera.orbit(x, y), pan: (x, y) => state.camera.pan(x, y),

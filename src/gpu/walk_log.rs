@@ -270,7 +270,7 @@ pub struct WalkRecorder {
 
 /// Words the log starts with room for: most pixels' rays fit; a pixel
 /// that needs more is traced again with the room it asked for.
-const FIRST_LOG_WORDS: u64 = 1 << 18;
+pub const FIRST_LOG_WORDS: u64 = 1 << 18;
 
 impl WalkRecorder {
     pub fn new(ctx: &GpuContext) -> Result<Self> {

@@ -221,3 +221,36 @@ pub fn path_pixels_allowed(scene: &Scene) -> usize {
         kdray::scene::Integrator::Path => (scene.render.width * scene.render.height) as usize / 50,
     }
 }
+
+/// Whether two JSON documents (`kdray inspect`'s, say) agree: the same keys, arrays of the same length,
+/// the same strings and whole numbers (kinds, node and object ids), and
+/// floats equal within the GPU's rounding (it may fuse a multiply-add or
+/// round a division or square root an ulp differently from the CPU).
+/// `None`, or where the first difference lies.
+pub fn json_disagreement(a: &serde_json::Value, b: &serde_json::Value, at: &str) -> Option<String> {
+    match (a, b) {
+        (serde_json::Value::Object(x), serde_json::Value::Object(y)) => {
+            if x.len() != y.len() {
+                return Some(format!("{at}: keys {:?} against {:?}", x.keys(), y.keys()));
+            }
+            x.iter().find_map(|(k, v)| match y.get(k) {
+                Some(w) => json_disagreement(v, w, &format!("{at}.{k}")),
+                None => Some(format!("{at}: no {k}")),
+            })
+        }
+        (serde_json::Value::Array(x), serde_json::Value::Array(y)) => {
+            if x.len() != y.len() {
+                return Some(format!("{at}: {} against {} entries", x.len(), y.len()));
+            }
+            (x.iter().zip(y).enumerate())
+                .find_map(|(i, (v, w))| json_disagreement(v, w, &format!("{at}[{i}]")))
+        }
+        (serde_json::Value::Number(x), serde_json::Value::Number(y)) if x.is_f64() || y.is_f64() => {
+            let (x, y) = (x.as_f64()?, y.as_f64()?);
+            let close = (x - y).abs() <= 1e-5 * x.abs().max(y.abs()).max(1.0);
+            (!close).then(|| format!("{at}: {x} against {y}"))
+        }
+        _ => (a != b).then(|| format!("{at}: {a} against {b}")),
+    }
+}
+

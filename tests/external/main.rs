@@ -19,4 +19,5 @@ mod farm_path;
 mod gpu_memory;
 mod tools;
 mod web;
+mod web_inspect;
 mod window;

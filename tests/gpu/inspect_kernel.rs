@@ -11,7 +11,6 @@ use kdray::inspect::{inspect_on_gpu, inspect_scene, Inspection};
 use kdray::kdtree::traverse::WalkCost;
 use kdray::kdtree::{BuildStrategy, Traversal};
 use kdray::scene::{load_scene, Scene};
-use serde_json::Value;
 
 /// The scenes of tests/gpu/inspect.rs.
 const SCENES: [&str; 6] = [
@@ -159,38 +158,6 @@ fn the_inspected_sample_is_the_rendered_pixel_with_its_counted_cost() {
     assert!(bounces > 0, "the path-traced pixels logged no bounce");
 }
 
-/// Whether two documents agree: the same keys, arrays of the same length,
-/// the same strings and whole numbers (kinds, node and object ids), and
-/// floats equal within the GPU's rounding (it may fuse a multiply-add or
-/// round a division or square root an ulp differently from the CPU).
-/// `None`, or where the first difference lies.
-fn disagreement(a: &Value, b: &Value, at: &str) -> Option<String> {
-    match (a, b) {
-        (Value::Object(x), Value::Object(y)) => {
-            if x.len() != y.len() {
-                return Some(format!("{at}: keys {:?} against {:?}", x.keys(), y.keys()));
-            }
-            x.iter().find_map(|(k, v)| match y.get(k) {
-                Some(w) => disagreement(v, w, &format!("{at}.{k}")),
-                None => Some(format!("{at}: no {k}")),
-            })
-        }
-        (Value::Array(x), Value::Array(y)) => {
-            if x.len() != y.len() {
-                return Some(format!("{at}: {} against {} entries", x.len(), y.len()));
-            }
-            (x.iter().zip(y).enumerate())
-                .find_map(|(i, (v, w))| disagreement(v, w, &format!("{at}[{i}]")))
-        }
-        (Value::Number(x), Value::Number(y)) if x.is_f64() || y.is_f64() => {
-            let (x, y) = (x.as_f64()?, y.as_f64()?);
-            let close = (x - y).abs() <= 1e-5 * x.abs().max(y.abs()).max(1.0);
-            (!close).then(|| format!("{at}: {x} against {y}"))
-        }
-        _ => (a != b).then(|| format!("{at}: {a} against {b}")),
-    }
-}
-
 /// The kernel's log and the CPU mirror tell the same story: the same rays
 /// in the same order (kind, query, origin, direction), each with the same
 /// walk, step for step (nodes, leaves, tests, pushes, pops, restarts,
@@ -227,7 +194,11 @@ fn the_kernels_logged_walks_are_the_cpu_mirrors_step_for_step() {
                     rays += 1;
                     steps += c.walk.len();
                     assert_eq!((g.kind, g.query), (c.kind, c.query), "{what} ray {i}");
-                    match disagreement(&to_json(g), &to_json(c), &format!("{what} ray {i}")) {
+                    match common::json_disagreement(
+                        &to_json(g),
+                        &to_json(c),
+                        &format!("{what} ray {i}"),
+                    ) {
                         None => agreeing += 1,
                         Some(d) => {
                             first_difference.get_or_insert(d);

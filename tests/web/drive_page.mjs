@@ -5,7 +5,9 @@
 // null), screenshot (a path, or null), play (bool: press Space, wait for
 // the next frame, press Space again), heatmap ({ png, restored }: press C,
 // save the heatmap's PNG, press C again, save the image's), toggle (a path:
-// press I, wait for the other integrator's image, save its PNG) }.
+// press I, wait for the other integrator's image, save its PNG), inspect
+// ([[x, y], ...]: window.kdray.inspect's document of each pixel, and the
+// error of a pixel outside the image) }.
 // The page's contract (docs/web.md): document.title starts with
 // "kdray: done" or "kdray: error"; window.kdray.png() is a PNG data URL.
 
@@ -84,6 +86,14 @@ for (const job of jobs) {
         from, { timeout: TIMEOUT_MS, polling: 50 });
       result.toggled_overlay = await overlayText(page);
       await savePng(page, job.toggle);
+    }
+    if (job.inspect && result.title.startsWith('kdray: done')) {
+      result.inspections = [];
+      for (const pixel of job.inspect) {
+        result.inspections.push(await page.evaluate(([x, y]) => window.kdray.inspect(x, y), pixel));
+      }
+      result.inspect_outside = await page.evaluate(
+        () => window.kdray.inspect(-1, 0).then(() => null, (e) => String(e.message)));
     }
     if (job.heatmap && result.title.startsWith('kdray: done')) {
       await page.keyboard.press('c');
