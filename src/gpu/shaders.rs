@@ -53,9 +53,16 @@ pub const TRACE_PARTS: [(&str, &str); 19] = [
 /// buffers), a module of its own, without its generated bindings.
 const PRESENT_FILE: &str = include_str!("../../shaders/present.wgsl");
 
+/// The window's line overlay (world-space segments over the image), a
+/// module of its own, without its generated binding.
+const OVERLAY_FILE: &str = include_str!("../../shaders/overlay.wgsl");
+
 /// Shader files compiled as modules of their own (not part of the trace
 /// kernel), validated by the same tests.
-pub const STANDALONE_SHADERS: [(&str, &str); 1] = [("present.wgsl", PRESENT_FILE)];
+pub const STANDALONE_SHADERS: [(&str, &str); 2] = [
+    ("present.wgsl", PRESENT_FILE),
+    ("overlay.wgsl", OVERLAY_FILE),
+];
 
 /// The trace kernel as a shader module on `device`.
 ///
@@ -131,6 +138,22 @@ pub fn present_module(device: &wgpu::Device) -> wgpu::ShaderModule {
     })
 }
 
+/// The line overlay: its generated binding, then shaders/overlay.wgsl.
+pub fn overlay_source() -> String {
+    format!(
+        "// ---- bindings.rs\n{}\n// ---- overlay.wgsl\n{OVERLAY_FILE}\n",
+        bindings::wgsl_overlay_contract()
+    )
+}
+
+/// The line overlay as a shader module on `device`.
+pub fn overlay_module(device: &wgpu::Device) -> wgpu::ShaderModule {
+    device.create_shader_module(wgpu::ShaderModuleDescriptor {
+        label: Some("overlay"),
+        source: wgpu::ShaderSource::Wgsl(overlay_source().into()),
+    })
+}
+
 #[cfg(test)]
 pub(crate) use tests::parse_and_validate;
 
@@ -203,6 +226,7 @@ mod tests {
         let mut validated: Vec<&str> = TRACE_PARTS.iter().map(|(name, _)| *name).collect();
         validated.extend(STANDALONE_SHADERS.iter().map(|(name, _)| *name));
         parse_and_validate(&present_source());
+        parse_and_validate(&overlay_source());
         for entry in std::fs::read_dir(&dir).unwrap() {
             let name = entry.unwrap().file_name().into_string().unwrap();
             if name.ends_with(".wgsl") {
@@ -270,6 +294,15 @@ mod tests {
     #[test]
     fn present_bindings_are_the_contract() {
         globals_are(&parse_and_validate(&present_source()).0, &PRESENT_BINDINGS);
+    }
+
+    /// The same for the window's line overlay.
+    #[test]
+    fn overlay_bindings_are_the_contract() {
+        globals_are(
+            &parse_and_validate(&overlay_source()).0,
+            &bindings::OVERLAY_BINDINGS,
+        );
     }
 
     /// Each shared constant, as naga evaluates the kernel's declaration, has
