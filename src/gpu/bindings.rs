@@ -224,6 +224,16 @@ pub const PRESENT_BINDINGS: [Binding; 3] = [PRESENT_PARAMS, PRESENT_IMAGE, PRESE
 pub const PRESENT_VERTEX_ENTRY_POINT: &str = "vs_main";
 pub const PRESENT_FRAGMENT_ENTRY_POINT: &str = "fs_main";
 
+/// The window's line overlay (shaders/overlay.wgsl, a module of its own):
+/// the camera's world-to-clip matrix (`window::overlay::OverlayParams`),
+/// read by its vertex stage.
+pub const OVERLAY_PARAMS: Binding = binding(0, "overlay", "OverlayParams", Uniform);
+/// The line overlay's bindings.
+pub const OVERLAY_BINDINGS: [Binding; 1] = [OVERLAY_PARAMS];
+/// Its entry points.
+pub const OVERLAY_VERTEX_ENTRY_POINT: &str = "vs_line";
+pub const OVERLAY_FRAGMENT_ENTRY_POINT: &str = "fs_line";
+
 /// Every binding the kernel declares with `chunks` bindings per split
 /// array: the parameters, the scene, and each entry point's own buffers.
 pub fn all(chunks: SceneChunks) -> Vec<Binding> {
@@ -545,6 +555,12 @@ pub fn wgsl_present_contract() -> String {
         );
     }
     text + &declarations(&PRESENT_BINDINGS)
+}
+
+/// The line overlay's generated declarations: its binding.
+pub fn wgsl_overlay_contract() -> String {
+    String::from("// Generated from src/gpu/bindings.rs: edit it there.\n")
+        + &declarations(&OVERLAY_BINDINGS)
 }
 
 /// `@group(0) @binding(index) var<...> name: type;` for each of `bindings`.

@@ -66,9 +66,16 @@ const WALK_RECORD: (&str, &str) = (
 /// buffers), a module of its own, without its generated bindings.
 const PRESENT_FILE: &str = include_str!("../../shaders/present.wgsl");
 
+/// The window's line overlay (world-space segments over the image), a
+/// module of its own, without its generated binding.
+const OVERLAY_FILE: &str = include_str!("../../shaders/overlay.wgsl");
+
 /// Shader files compiled as modules of their own (not part of the trace
 /// kernel), validated by the same tests.
-pub const STANDALONE_SHADERS: [(&str, &str); 1] = [("present.wgsl", PRESENT_FILE)];
+pub const STANDALONE_SHADERS: [(&str, &str); 2] = [
+    ("present.wgsl", PRESENT_FILE),
+    ("overlay.wgsl", OVERLAY_FILE),
+];
 
 /// The trace kernel as a shader module on `device`.
 ///
@@ -173,6 +180,22 @@ pub fn present_module(device: &wgpu::Device) -> wgpu::ShaderModule {
     device.create_shader_module(wgpu::ShaderModuleDescriptor {
         label: Some("present"),
         source: wgpu::ShaderSource::Wgsl(present_source().into()),
+    })
+}
+
+/// The line overlay: its generated binding, then shaders/overlay.wgsl.
+pub fn overlay_source() -> String {
+    format!(
+        "// ---- bindings.rs\n{}\n// ---- overlay.wgsl\n{OVERLAY_FILE}\n",
+        bindings::wgsl_overlay_contract()
+    )
+}
+
+/// The line overlay as a shader module on `device`.
+pub fn overlay_module(device: &wgpu::Device) -> wgpu::ShaderModule {
+    device.create_shader_module(wgpu::ShaderModuleDescriptor {
+        label: Some("overlay"),
+        source: wgpu::ShaderSource::Wgsl(overlay_source().into()),
     })
 }
 
@@ -303,6 +326,7 @@ mod tests {
             [MAX_CHUNKS; SPLIT_ARRAY_COUNT],
             &[],
         ));
+        parse_and_validate(&overlay_source());
         for entry in std::fs::read_dir(&dir).unwrap() {
             let name = entry.unwrap().file_name().into_string().unwrap();
             if name.ends_with(".wgsl") {
@@ -370,6 +394,15 @@ mod tests {
     #[test]
     fn present_bindings_are_the_contract() {
         globals_are(&parse_and_validate(&present_source()).0, &PRESENT_BINDINGS);
+    }
+
+    /// The same for the window's line overlay.
+    #[test]
+    fn overlay_bindings_are_the_contract() {
+        globals_are(
+            &parse_and_validate(&overlay_source()).0,
+            &bindings::OVERLAY_BINDINGS,
+        );
     }
 
     /// Each shared constant, as naga evaluates the kernel's declaration, has
