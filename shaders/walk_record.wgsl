@@ -6,12 +6,15 @@
 // code without the calls. src/gpu/walk_log.rs reads the log.
 //
 // The log: word INSPECT_WORDS_USED holds how many words the invocation
-// meant to write (past the buffer's end: the log is cut short), then
-// records from word INSPECT_HEADER_WORDS: a tag (INSPECT_RAY, ...), then
+// meant to write (past the buffer's end: the log is cut short), word
+// INSPECT_SINK takes the writes that are not the log's, then records from
+// word INSPECT_HEADER_WORDS: a tag (INSPECT_RAY, ...), then
 // its fields, floats as their bits. One invocation writes it.
 
 // Whether this invocation writes the log (the first of the workgroup).
 var<private> inspect_writes: bool;
+// The log's length, in words.
+var<private> inspect_length: u32;
 // The next word to write.
 var<private> inspect_at: u32 = INSPECT_HEADER_WORDS;
 // The kind of the next ray traced (RAY_PRIMARY, ...), set where the
@@ -20,10 +23,13 @@ var<private> inspect_kind: u32 = RAY_PRIMARY;
 // The walk's work counted before the ray's walk began.
 var<private> inspect_cost: vec3<u32>;
 
+// Writes word `w` at the next place, or, for the other lanes and past the
+// log's end, into the sink word (INSPECT_SINK), which nothing reads:
+// branch-free (`&`, not `&&`, which becomes a branch), since SwiftShader
+// took minutes to compile the kernel with a branch around each store.
 fn log_word(w: u32) {
-    if (inspect_writes && inspect_at < arrayLength(&inspect_log)) {
-        inspect_log[inspect_at] = w;
-    }
+    let room = inspect_writes & (inspect_at < inspect_length);
+    inspect_log[select(INSPECT_SINK, inspect_at, room)] = w;
     inspect_at += 1u;
 }
 
@@ -62,8 +68,12 @@ fn record_hit(ray: Ray, hit: Hit) {
     var point = vec3<f32>(0.0);
     var normal = vec3<f32>(0.0);
     if (hit.object != NO_OBJECT) {
+        // surface_at's geometric normal, without the shading normal.
         point = ray.origin + hit.t * ray.dir;
-        normal = surface_at(hit.object, point, ray.dir).geometric;
+        normal = object_normal(hit.object, point);
+        if (dot(normal, ray.dir) > 0.0) {
+            normal = -normal;
+        }
     }
     log_vec3(point);
     log_vec3(normal);
@@ -146,10 +156,9 @@ fn record_rope(face: u32, node: u32, t_min: f32) {
 fn inspect_pixel(@builtin(local_invocation_index) lane: u32) {
     read_params();
     inspect_writes = lane == 0u;
+    inspect_length = arrayLength(&inspect_log);
     let c = radiance_sample(params.tile_origin, 0u);
     log_word(INSPECT_SAMPLE);
     log_vec3(c);
-    if (inspect_writes) {
-        inspect_log[INSPECT_WORDS_USED] = inspect_at;
-    }
+    inspect_log[select(INSPECT_SINK, INSPECT_WORDS_USED, inspect_writes)] = inspect_at;
 }

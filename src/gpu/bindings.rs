@@ -268,7 +268,7 @@ pub enum SharedValue {
 }
 
 /// Every constant the kernel and the host must agree on, by WGSL name.
-pub const SHARED_CONSTANTS: [(&str, SharedValue); 63] = [
+pub const SHARED_CONSTANTS: [(&str, SharedValue); 64] = [
     ("KD_LEAF", SharedValue::U32(KdNode::LEAF)),
     ("ACCEL_KDTREE", SharedValue::U32(ACCEL_KDTREE)),
     ("ACCEL_BRUTE", SharedValue::U32(ACCEL_BRUTE)),
@@ -369,6 +369,7 @@ pub const SHARED_CONSTANTS: [(&str, SharedValue); 63] = [
     // header, the records' tags and the kinds of ray.
     ("INSPECT_LANES", SharedValue::U32(INSPECT_LANES)),
     ("INSPECT_WORDS_USED", SharedValue::U32(log::WORDS_USED)),
+    ("INSPECT_SINK", SharedValue::U32(log::SINK)),
     ("INSPECT_HEADER_WORDS", SharedValue::U32(log::HEADER_WORDS)),
     ("INSPECT_RAY", SharedValue::U32(log::RAY)),
     ("INSPECT_SEGMENT", SharedValue::U32(log::SEGMENT)),

@@ -24,8 +24,11 @@ use kdray_core::reference::RayKind;
 pub mod codes {
     /// The header word holding how many words the kernel meant to write.
     pub const WORDS_USED: u32 = 0;
+    /// The word the kernel's other lanes, and writes past the log's end,
+    /// go to; never read.
+    pub const SINK: u32 = 1;
     /// Words before the first record.
-    pub const HEADER_WORDS: u32 = 1;
+    pub const HEADER_WORDS: u32 = 2;
     /// kind, any-hit (0 or 1), origin (3), direction (3), t_limit.
     pub const RAY: u32 = 1;
     /// t_min, t_far: the segment the walk searches.
@@ -380,7 +383,7 @@ mod tests {
     /// hit and sample; one cut short or with an unknown tag is an error.
     #[test]
     fn logs_decode_into_rays_steps_and_hits() {
-        let mut words = vec![0u32];
+        let mut words = vec![0u32, 0];
         words.extend([codes::RAY, codes::RAY_SHADOW, 1]);
         words.extend([f(0.0), f(1.0), f(2.0), f(0.0), f(0.0), f(1.0), f(5.0)]);
         words.extend([codes::SEGMENT, f(0.5), f(4.0)]);
@@ -451,7 +454,7 @@ mod tests {
             .to_string()
             .contains("ends inside"));
         let mut odd = words.clone();
-        odd[11] = 99; // the SEGMENT record's tag
+        odd[12] = 99; // the SEGMENT record's tag
         assert!(decode(&odd).unwrap_err().to_string().contains("tag 99"));
     }
 }
