@@ -379,16 +379,32 @@ pub fn inspect_on_gpu(
     traversal: Traversal,
     pixel: (u32, u32),
 ) -> Result<Inspection> {
-    let loaded = scene.scene();
-    check_pixel(loaded, pixel)?;
-    let params = scene.frame_params().with_traversal(traversal);
+    let params = scene.frame_params();
+    inspect_frame_on_gpu(ctx, recorder, scene, scene.scene(), params, traversal, pixel)
+}
+
+/// [`inspect_on_gpu`] for the frame `params` describe (its camera, size
+/// and settings: the window's view) walked with `traversal`, with `shown`
+/// the scene as that frame sees it (its `[render]` names the document's
+/// size, samples and integrator).
+pub fn inspect_frame_on_gpu(
+    ctx: &GpuContext,
+    recorder: &WalkRecorder,
+    scene: &GpuScene,
+    shown: &Scene,
+    params: crate::gpu::FrameParams,
+    traversal: Traversal,
+    pixel: (u32, u32),
+) -> Result<Inspection> {
+    check_pixel(shown, pixel)?;
+    let params = params.with_traversal(traversal);
     let log = recorder.record(ctx, scene.buffers(), &params, pixel)?;
-    let mut inspection = document(loaded, pixel, scene.accel(), traversal);
+    let mut inspection = document(shown, pixel, scene.accel(), traversal);
     let tree = match scene.accel() {
         Accel::Kdtree => Some(&scene.prepared().tree),
         Accel::Brute => None,
     };
-    let view = TreeView::of(tree, loaded.spheres.len() as u32);
+    let view = TreeView::of(tree, shown.spheres.len() as u32);
     inspection.rays = log
         .rays
         .iter()

@@ -27,6 +27,8 @@ pub enum LineKind {
     Shadow,
     Reflected,
     Refracted,
+    /// A path tracer's sampled next ray.
+    Bounce,
 }
 
 impl LineKind {
@@ -40,6 +42,7 @@ impl LineKind {
             LineKind::Shadow => [1.0, 0.85, 0.1],
             LineKind::Reflected => [1.0, 0.25, 1.0],
             LineKind::Refracted => [0.1, 0.9, 1.0],
+            LineKind::Bounce => [1.0, 0.55, 0.1],
         }
     }
 
@@ -49,6 +52,7 @@ impl LineKind {
             "shadow" => LineKind::Shadow,
             "reflected" => LineKind::Reflected,
             "refracted" => LineKind::Refracted,
+            "bounce" => LineKind::Bounce,
             _ => LineKind::Primary,
         }
     }

@@ -1,16 +1,16 @@
 //! Inspection mode (X): a click inspects the image pixel under the cursor
-//! ([`crate::inspect::inspect_scene`], the rays of its first Whitted sample
-//! and their k-d walks) with the window's scene, frame, camera, walk, build
-//! and search, and the overlay draws its rays and cells from then on, from
-//! whatever viewpoint the camera moves to. Changing the walk, the search,
-//! the build (or reloading) or max_depth inspects the same pixel again as
-//! it was seen when clicked.
+//! ([`crate::inspect::inspect_frame_on_gpu`]: the rays of its first sample,
+//! Whitted or path traced as the window shows it, and their k-d walks, as
+//! the kernel logs them) with the window's scene, frame, camera, walk,
+//! build and search, and the overlay draws its rays and cells from then on,
+//! from whatever viewpoint the camera moves to. Changing the walk, the
+//! search, the build, the integrator (or reloading) or max_depth inspects
+//! the same pixel again as it was seen when clicked.
 //!
-//! The path integrator's samples are random, so while it is shown the
-//! pixel's Whitted rays through its centre are inspected (the title says
-//! so). The kernel's rays use the window's aspect ratio and the inspected
-//! ones the image's, which differ only when the device limits the image
-//! below the window's size (`Refinement::image_size`).
+//! The kernel's rays use the window's aspect ratio and the inspected ones
+//! the image's, which differ only when the device limits the image below
+//! the window's size (`Refinement::image_size`). The lights are those of
+//! the frame shown when it is inspected.
 
 use glam::DVec2;
 
@@ -22,8 +22,8 @@ use super::projection::{near_plane, ViewProjection};
 use super::session::Session;
 use super::title::InspectTitle;
 use crate::error::Result;
-use crate::gpu::{Accel, GpuScene};
-use crate::inspect::inspect_scene;
+use crate::gpu::{Accel, GpuContext, GpuScene, WalkRecorder};
+use crate::inspect::inspect_frame_on_gpu;
 use crate::kdtree::Traversal;
 use crate::scene::{Camera, Integrator, Light};
 
@@ -43,6 +43,7 @@ pub struct InspectSettings<'a> {
     pub accel: Accel,
     pub traversal: Traversal,
     pub max_depth: u32,
+    pub integrator: Integrator,
     /// Samples per pixel (sample 0's place in the pixel depends on it).
     pub samples: u32,
     pub lights: &'a [Light],
@@ -99,6 +100,8 @@ impl InspectMode {
 /// Inspects `at` in `scene` with `how`: the work summed over its rays, and
 /// the overlay's line vertices.
 pub fn inspect_pixel(
+    ctx: &GpuContext,
+    recorder: &WalkRecorder,
     scene: &GpuScene,
     at: &InspectAt,
     how: &InspectSettings,
@@ -109,7 +112,7 @@ pub fn inspect_pixel(
     (seen.render.width, seen.render.height) = at.image;
     seen.render.samples = how.samples.max(1);
     seen.render.max_depth = how.max_depth;
-    seen.render.integrator = Integrator::Whitted;
+    seen.render.integrator = how.integrator;
     // The tree the kernel walks (a single leaf for a scene prepared for
     // brute force); brute force walks none.
     let tree = match how.accel {
@@ -120,7 +123,9 @@ pub fn inspect_pixel(
         .as_ref()
         .map(|t| node_cells(&t.nodes, t.bounds))
         .unwrap_or_default();
-    let inspection = inspect_scene(&seen, tree, how.traversal, at.pixel)?;
+    let params = scene.view_params(&seen.camera, &seen.render, how.accel);
+    let inspection =
+        inspect_frame_on_gpu(ctx, recorder, scene, &seen, params, how.traversal, at.pixel)?;
     let lines = overlay_lines(&inspection, &cells, miss_length(&scene.bounds()));
     Ok((totals(&inspection), line_vertices(&lines)))
 }
@@ -168,13 +173,23 @@ impl Session {
             accel: self.accel,
             traversal: self.traversal,
             max_depth: self.max_depth,
-            samples: match self.integrator {
-                Integrator::Whitted => self.refinement.samples(),
-                Integrator::Path => 1,
-            },
+            integrator: self.integrator,
+            samples: self.refinement.samples(),
             lights: &lights,
         };
-        let outcome = inspect_pixel(&self.scene, &at, &how).and_then(|(totals, vertices)| {
+        if self.recorder.is_none() {
+            match WalkRecorder::new(&self.ctx) {
+                Ok(recorder) => self.recorder = Some(recorder),
+                Err(e) => {
+                    eprintln!("kdray: inspecting failed: {e}");
+                    self.inspect.outcome = Outcome::Failed(e.to_string());
+                    return;
+                }
+            }
+        }
+        let recorder = self.recorder.as_ref().expect("made above");
+        let outcome = inspect_pixel(&self.ctx, recorder, &self.scene, &at, &how);
+        let outcome = outcome.and_then(|(totals, vertices)| {
             self.viewer.overlay_mut().set_lines(&self.ctx, &vertices)?;
             Ok(totals)
         });

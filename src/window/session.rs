@@ -64,6 +64,8 @@ pub(super) struct Session {
     pub(super) title: TitleBar,
     /// Inspection mode (X) and the pixel it shows.
     pub(super) inspect: InspectMode,
+    /// The inspect kernel, made at the first inspection.
+    pub(super) recorder: Option<crate::gpu::WalkRecorder>,
     /// Left clicks (not drags), for inspection mode.
     pub(super) clicks: ClickTracker,
 }
@@ -217,6 +219,7 @@ impl Session {
             stats: FrameStats::new(now),
             title: TitleBar::new(now),
             inspect: InspectMode::default(),
+            recorder: None,
             clicks: ClickTracker::default(),
         })
     }

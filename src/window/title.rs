@@ -29,7 +29,7 @@ pub enum InspectTitle<'a> {
     /// The inspection failed (the reason, one line).
     Failed(&'a str),
     /// `pixel`'s rays and their summed work; `path`: the window traces the
-    /// path integrator, and the rays are the Whitted ones of that pixel.
+    /// path integrator, and the rays are its first path sample's.
     Shown {
         pixel: (u32, u32),
         totals: Totals,
@@ -49,7 +49,7 @@ impl InspectTitle<'_> {
                 path,
             } => format!(
                 "INSPECT {x},{y}{}: {} rays, {} nodes, {} leaves, {} tests, {} restarts",
-                if path { " (Whitted rays)" } else { "" },
+                if path { " (path sample)" } else { "" },
                 t.rays,
                 t.nodes,
                 t.leaves,
@@ -285,7 +285,7 @@ mod tests {
         });
         assert_eq!(
             says(&facts),
-            "INSPECT 0,7 (Whitted rays): 3 rays, 40 nodes, 12 leaves, 9 tests, 1 restarts"
+            "INSPECT 0,7 (path sample): 3 rays, 40 nodes, 12 leaves, 9 tests, 1 restarts"
         );
     }
 

@@ -22,7 +22,7 @@ use x11_dl::{keysym, xlib, xtest};
 
 use super::window::{kdray, read, stderr_lines, temp_dir, wait_for, Xvfb, H, SAMPLES, TIMEOUT, W};
 use kdray::gpu::Accel;
-use kdray::inspect::{build_tree, inspect_file, InspectRequest};
+use kdray::inspect::{build_tree, inspect_file, InspectRequest, WalkSource};
 use kdray::kdtree::{BuildStrategy, Traversal};
 use kdray::render::RenderFlags;
 use kdray::window::camera_controller::{Bounds, CameraController, ControlKey, Input};
@@ -351,6 +351,7 @@ fn an_inspected_pixels_rays_are_drawn_where_the_camera_projects_them() {
         pixel: PIXEL,
         frame: 0,
         flags: flags.clone(),
+        source: WalkSource::Kernel,
     };
     let inspection = inspect_file(&scene, &request).unwrap();
     let mut loaded = kdray::scene::load_scene(&scene).unwrap();
