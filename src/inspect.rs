@@ -380,7 +380,15 @@ pub fn inspect_on_gpu(
     pixel: (u32, u32),
 ) -> Result<Inspection> {
     let params = scene.frame_params();
-    inspect_frame_on_gpu(ctx, recorder, scene, scene.scene(), params, traversal, pixel)
+    inspect_frame_on_gpu(
+        ctx,
+        recorder,
+        scene,
+        scene.scene(),
+        params,
+        traversal,
+        pixel,
+    )
 }
 
 /// [`inspect_on_gpu`] for the frame `params` describe (its camera, size
