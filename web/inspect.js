@@ -89,7 +89,7 @@ export function treeOf(arrays, c) {
       const ids = Array.from(leafObjects.subarray(first, first + above), (id) => objects[2 * id + 1]);
       nodes.push({ leaf: true, objects: ids });
     } else {
-      nodes.push({ leaf: false, axis: AXES[Math.min(kind, 2)], split: splits.getFloat32(8 * i + 4, true) });
+      nodes.push({ leaf: false, axis: AXES[Math.min(kind, 2)], split: splits.getFloat32(8 * i + 4, true), upper: above });
       for (const child of [i + 1, above]) if (child < count) depths[child] = depths[i] + 1;
     }
   }

@@ -11,6 +11,7 @@ import { parseBundle } from './bundle.js';
 import { Camera, attachPointer } from './controls.js';
 import { Tracer, PageError, openGpu, setField } from './tracer.js';
 import { decodeLog, inspectionDocument, treeOf } from './inspect.js';
+import { drawLines, nodeCells, overlayLines, shownRect } from './overlay.js';
 
 const WALKS = ['restart', 'ropes', 'short-stack'];
 const INTEGRATORS = ['whitted', 'path'];
@@ -18,6 +19,7 @@ const INTEGRATORS = ['whitted', 'path'];
 // neither the URL nor a path-traced scene says how many, as the window.
 const DEFAULT_PATH_SAMPLES = 256;
 const canvas = document.getElementById('view');
+const linesLayer = document.getElementById('lines');
 const overlay = document.getElementById('overlay');
 const message = document.getElementById('message');
 const query = new URLSearchParams(location.search);
@@ -35,6 +37,11 @@ const state = {
   frameLights: null,
   // Show the cost heatmap instead of the image (C toggles it).
   heatmap: false,
+  // Inspection mode (X): on, and the pixel inspected last with its
+  // document and lines ({ pixel, doc, lines }), or null.
+  inspecting: false, inspected: null,
+  // The lines drawn last: { kind, a, b } in CSS pixels of the page.
+  drawn: [],
   // Each image pass's time (ms) since the refinement began, from its
   // submission to the GPU's done, present included; the first one also
   // compiles the pipeline (scripts/web_bench.sh reports the rest).
@@ -208,6 +215,7 @@ function updateOverlay() {
   if (state.cameras) {
     lines.push(`frame ${state.frame}/${state.cameras.frames} ${state.playing ? 'playing' : 'paused'}`);
   }
+  if (state.inspecting) lines.push(inspectLine());
   const scale = state.tracer.heatScale;
   if (state.heatmap && scale !== null) lines.push(`heatmap: nodes + objects per sample, 0 to ${scale}`);
   lines.push(`adapter ${state.tracer.gpu.name}`);
@@ -248,6 +256,7 @@ async function loop() {
       return;
     }
     updateOverlay();
+    drawInspection();
     if (state.sample >= state.samples && !state.done && performance.now() - state.lastMove >= MOVE_SETTLE_MS) {
       state.done = true;
       document.title = `kdray: done (${state.samples} samples)`;
@@ -310,6 +319,53 @@ async function inspect(x, y) {
   return inspectionDocument(decodeLog(words, contract.constants), state.tree, meta, contract);
 }
 
+// The overlay's line of inspection mode: the pixel and its rays' work.
+function inspectLine() {
+  if (!state.inspected) return 'inspect: click a pixel';
+  const { pixel, doc } = state.inspected;
+  const sum = (k) => doc.rays.reduce((t, r) => t + r.counts[k], 0);
+  return `inspect ${pixel[0]},${pixel[1]}: ${doc.rays.length} rays, ${sum('nodes')} nodes, ` +
+    `${sum('leaves')} leaves, ${sum('tests')} tests, ${sum('restarts')} restarts`;
+}
+
+// A click at (clientX, clientY) in inspection mode: inspects the image
+// pixel shown there and keeps its lines.
+async function inspectAt(clientX, clientY) {
+  const { width, height, bundle, contract } = state;
+  const rect = shownRect(canvas, [width, height]);
+  const x = Math.floor((clientX - rect.x) / rect.scale);
+  const y = Math.floor((clientY - rect.y) / rect.scale);
+  if (x < 0 || y < 0 || x >= width || y >= height) return;
+  const doc = await inspect(x, y);
+  const cells = state.brute ? [] : nodeCells(state.tree, bundle.info.bounds);
+  const [lo, hi] = bundle.info.bounds;
+  const far = 2 * Math.hypot(...hi.map((v, i) => v - lo[i]));
+  state.inspected = { pixel: [x, y], doc, lines: overlayLines(doc, cells, far) };
+  updateOverlay();
+  drawInspection();
+}
+
+// Draws the inspected lines with the camera as it is now.
+function drawInspection() {
+  const g = linesLayer.getContext('2d');
+  if (!state.inspecting || !state.inspected) {
+    g.clearRect(0, 0, linesLayer.width, linesLayer.height);
+    state.drawn = [];
+    return;
+  }
+  const b = state.camera.basis();
+  const near = 1e-3 * Math.hypot(...b.position.map((v, i) => v - state.camera.target[i]));
+  state.drawn = drawLines(linesLayer, canvas, state.inspected.lines, b, near, [state.width, state.height],
+    state.contract.inspect.colours);
+}
+
+function toggleInspecting() {
+  state.inspecting = !state.inspecting;
+  state.inspected = null;
+  drawInspection();
+  updateOverlay();
+}
+
 async function screenshot() {
   const link = document.createElement('a');
   link.href = await png();
@@ -336,6 +392,7 @@ const KEYS = {
   // The costs accumulate with the colours: refine again to show the other.
   c: () => { state.heatmap = !state.heatmap; restart(); },
   i: () => toggleIntegrator(),
+  x: () => toggleInspecting(),
 };
 
 async function main() {
@@ -357,6 +414,14 @@ async function main() {
     orbit: (x, y) => state.camera.orbit(x, y), pan: (x, y) => state.camera.pan(x, y),
     zoom: (f) => state.camera.zoom(f),
   }, moved);
+  // A click (a press and release within 3 pixels) inspects in inspection mode.
+  let pressed = null;
+  canvas.addEventListener('pointerdown', (e) => { pressed = [e.clientX, e.clientY]; });
+  canvas.addEventListener('pointerup', (e) => {
+    const still = pressed && Math.hypot(e.clientX - pressed[0], e.clientY - pressed[1]) <= 3;
+    pressed = null;
+    if (still && state.inspecting) inspectAt(e.clientX, e.clientY).catch(showError);
+  });
   window.addEventListener('keydown', (e) => {
     if (e.ctrlKey || e.metaKey || e.altKey) return;
     const action = KEYS[e.key.toLowerCase()];

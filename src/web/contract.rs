@@ -118,6 +118,27 @@ fn struct_json(size: usize, fields: &[Field]) -> Value {
     json!({"size": size, "fields": fields})
 }
 
+/// The window's line colours by the page's names of what they show.
+fn inspect_colours() -> Value {
+    use crate::window::inspect_lines::LineKind;
+    let kinds = [
+        ("leaf", LineKind::Leaf),
+        ("hit_leaf", LineKind::HitLeaf),
+        ("split_plane", LineKind::SplitPlane),
+        ("primary", LineKind::Primary),
+        ("shadow", LineKind::Shadow),
+        ("reflected", LineKind::Reflected),
+        ("refracted", LineKind::Refracted),
+        ("bounce", LineKind::Bounce),
+    ];
+    Value::Object(
+        kinds
+            .iter()
+            .map(|(name, kind)| (name.to_string(), json!(kind.colour())))
+            .collect(),
+    )
+}
+
 /// The contract as the page reads it.
 pub fn contract_json() -> Value {
     let constants: serde_json::Map<String, Value> = SHARED_CONSTANTS
@@ -175,6 +196,8 @@ pub fn contract_json() -> Value {
             "log": bindings::INSPECT_LOG.name,
             "first_log_words": crate::gpu::walk_log::FIRST_LOG_WORDS,
             "version": crate::inspect::INSPECT_VERSION,
+            // Inspection mode's line colours (linear RGB, as the window's).
+            "colours": inspect_colours(),
         },
         "optional_bindings": OPTIONAL_BINDINGS.iter().map(|(b, need)| json!({
             "name": b.name,

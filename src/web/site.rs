@@ -15,7 +15,7 @@ use crate::gpu::{Accel, PreparedScene};
 pub const SITE_MARKER: &str = "contract.json";
 
 /// The page's own files (web/), by name.
-pub const PAGE_FILES: [(&str, &str); 7] = [
+pub const PAGE_FILES: [(&str, &str); 8] = [
     ("index.html", include_str!("../../web/index.html")),
     ("kdray.js", include_str!("../../web/kdray.js")),
     ("bundle.js", include_str!("../../web/bundle.js")),
@@ -23,6 +23,7 @@ pub const PAGE_FILES: [(&str, &str); 7] = [
     ("controls.js", include_str!("../../web/controls.js")),
     ("heatmap.js", include_str!("../../web/heatmap.js")),
     ("inspect.js", include_str!("../../web/inspect.js")),
+    ("overlay.js", include_str!("../../web/overlay.js")),
 ];
 
 /// Loads the scene at `scene_path` (errors as `render`'s), builds its k-d
