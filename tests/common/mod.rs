@@ -12,7 +12,9 @@ mod core_common;
 
 // Each binary uses some of these.
 #[allow(unused_imports)]
-pub use core_common::{proptest_config, repo_path, repo_root, strategies, textured, TempDir};
+pub use core_common::{
+    proptest_config, repo_path, repo_root, strategies, temp_files_in, textured, TempDir,
+};
 
 use std::path::{Path, PathBuf};
 use std::process::Command;
