@@ -40,24 +40,8 @@ pub(in crate::scene) fn parse_reference(
         let err = statement_error(path, line_no, keyword);
 
         match keyword {
-            "v" => {
-                // x y z [w]; anything past x y z (w, or the vertex colours
-                // some exporters write) must be numbers too but is unused.
-                let (xyz, count) = first_three_numbers(tokens).map_err(err)?;
-                if count < 3 {
-                    return Err(err(format!(
-                        "expected 3 coordinates (x y z [w]), found {count}"
-                    )));
-                }
-                mesh.positions.push(DVec3::from_array(xyz));
-            }
-            "vn" => {
-                let (xyz, count) = first_three_numbers(tokens).map_err(err)?;
-                if count != 3 {
-                    return Err(err(format!("expected 3 numbers (x y z), found {count}")));
-                }
-                mesh.normals.push(DVec3::from_array(xyz));
-            }
+            "v" => mesh.positions.push(vertex_position(tokens).map_err(err)?),
+            "vn" => mesh.normals.push(vertex_normal(tokens).map_err(err)?),
             "vt" if with_materials => mesh.uvs.push(texture_coordinates(tokens)),
             "f" => {
                 *faces += 1;
@@ -123,6 +107,25 @@ pub(in crate::scene) fn parse_reference(
         }
     }
     Ok(mesh)
+}
+
+/// A `v` statement's position: x y z [w]; anything past x y z (w, or the
+/// vertex colours some exporters write) must be numbers too but is unused.
+fn vertex_position(tokens: SplitAsciiWhitespace) -> Result<DVec3, String> {
+    let (xyz, count) = first_three_numbers(tokens)?;
+    if count < 3 {
+        return Err(format!("expected 3 coordinates (x y z [w]), found {count}"));
+    }
+    Ok(DVec3::from_array(xyz))
+}
+
+/// A `vn` statement's normal: exactly x y z.
+fn vertex_normal(tokens: SplitAsciiWhitespace) -> Result<DVec3, String> {
+    let (xyz, count) = first_three_numbers(tokens)?;
+    if count != 3 {
+        return Err(format!("expected 3 numbers (x y z), found {count}"));
+    }
+    Ok(DVec3::from_array(xyz))
 }
 
 /// A `vt` statement's coordinates: u [v [w]], read leniently as before
