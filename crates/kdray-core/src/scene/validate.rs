@@ -169,14 +169,17 @@ impl Validator<'_> {
                 maps: crate::scene::MaterialMaps::NONE,
             });
         }
-        let lookup = |key: KeyPath, name: &str| self.material_index(&material_index, key, name);
-        let spheres = self.spheres(&raw, &lookup)?;
-        let mut triangles = self.triangles(&raw, &lookup)?;
+        let spheres = self.spheres(&raw, &material_index)?;
+        let mut triangles = self.triangles(&raw, &material_index)?;
 
         let mut parts = super::TriangleParts::default();
         for (i, m) in raw.meshes.iter().enumerate() {
             let override_material = match &m.material {
-                Some(name) => Some(lookup(&|| format!("meshes[{i}].material"), name)?),
+                Some(name) => Some(self.material_named(
+                    &material_index,
+                    &|| format!("meshes[{i}].material"),
+                    name,
+                )?),
                 None => None,
             };
             self.mesh(
@@ -260,10 +263,10 @@ impl Validator<'_> {
             .collect()
     }
 
-    /// The index of the material `name` (the one `key` names), by
-    /// `material_index` (index by name); unknown, an error listing the
-    /// defined ones.
-    fn material_index(
+    /// The index of the material `name` (the value of `key`) in
+    /// `material_index` (the scene's materials' indices by name); for an
+    /// unknown name, an error listing the defined ones.
+    fn material_named(
         &self,
         material_index: &BTreeMap<String, u32>,
         key: KeyPath,
@@ -286,11 +289,11 @@ impl Validator<'_> {
     }
 
     /// `[[spheres]]`: radius in (0, MAX_COORDINATE], centre a position,
-    /// material looked up by `lookup`.
+    /// material one of `material_index` (indices by name).
     fn spheres(
         &self,
         raw: &RawScene,
-        lookup: &dyn Fn(KeyPath, &str) -> Result<u32, SceneError>,
+        material_index: &BTreeMap<String, u32>,
     ) -> Result<Vec<Sphere>, SceneError> {
         let mut spheres = Vec::with_capacity(raw.spheres.len());
         for (i, s) in raw.spheres.iter().enumerate() {
@@ -308,18 +311,18 @@ impl Validator<'_> {
             spheres.push(Sphere {
                 center: self.position(&|| key("center"), s.center)?,
                 radius,
-                material: lookup(&|| key("material"), &s.material)?,
+                material: self.material_named(material_index, &|| key("material"), &s.material)?,
             });
         }
         Ok(spheres)
     }
 
-    /// `[[triangles]]`: three positions with area, material looked up by
-    /// `lookup`; shaded flat.
+    /// `[[triangles]]`: three positions with area, material one of
+    /// `material_index` (indices by name); shaded flat.
     fn triangles(
         &self,
         raw: &RawScene,
-        lookup: &dyn Fn(KeyPath, &str) -> Result<u32, SceneError>,
+        material_index: &BTreeMap<String, u32>,
     ) -> Result<Vec<Triangle>, SceneError> {
         let mut triangles = Vec::with_capacity(raw.triangles.len());
         for (i, t) in raw.triangles.iter().enumerate() {
@@ -333,7 +336,7 @@ impl Validator<'_> {
             }
             triangles.push(Triangle::flat(
                 vertices,
-                lookup(&|| key("material"), &t.material)?,
+                self.material_named(material_index, &|| key("material"), &t.material)?,
             ));
         }
         Ok(triangles)
