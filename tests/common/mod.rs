@@ -12,7 +12,9 @@ mod core_common;
 
 // Each binary uses some of these.
 #[allow(unused_imports)]
-pub use core_common::{proptest_config, repo_path, repo_root, strategies, textured, TempDir};
+pub use core_common::{
+    proptest_config, repo_path, repo_root, strategies, temp_files_in, textured, TempDir,
+};
 
 use std::path::{Path, PathBuf};
 use std::process::Command;
@@ -51,6 +53,27 @@ pub fn pixel(image: &RenderedImage, row: u32, column: u32) -> [u8; 3] {
 /// The spec's 8-bit quantisation of a linear colour.
 pub fn quantize(c: [f64; 3]) -> [u8; 3] {
     c.map(|x| (255.0 * x.clamp(0.0, 1.0) + 0.5).floor() as u8)
+}
+
+/// A model file opened two ways, each `side` x `side` pixels: as a scene
+/// (the file's own camera and lights, where it has them) and as kdray's
+/// default view of it (its framing camera and light rig), for a test that
+/// states by hand what the file gives.
+pub fn model_and_default_view(path: &Path, side: u32) -> (Scene, Scene) {
+    let sized = |mut scene: Scene| {
+        scene.render.width = side;
+        scene.render.height = side;
+        scene
+    };
+    let from_file = kdray::scene::load_scene(path).unwrap_or_else(|e| panic!("{e}"));
+    let default_view = kdray::scene::model_scene_viewed(
+        path,
+        kdray::scene::ModelCamera::Default,
+        &mut |_| {},
+        &mut |_| {},
+    )
+    .unwrap_or_else(|e| panic!("{e}"));
+    (sized(from_file), sized(default_view))
 }
 
 /// Every scene file shipped in scenes/.
