@@ -8,6 +8,7 @@
 #   scripts/glass_cost.sh [KDRAY] [OUT]   # KDRAY: default target/release/kdray
 set -euo pipefail
 cd "$(dirname "$0")/.."
+source scripts/results_json.sh
 kdray=${1:-target/release/kdray}
 out=${2:-docs/results/glass.json}
 rounds=${ROUNDS:-5}
@@ -26,20 +27,10 @@ for _ in $(seq "$rounds"); do
         runs+=("{\"scene\": \"$scene\", \"stats\": $json}")
     done
 done
-mkdir -p "$(dirname "$out")"
-{
-    echo "{"
-    echo "  \"machine\": \"$(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2 | sed 's/^ //'), $(nproc) cores\","
-    echo "  \"adapter\": \"$("$kdray" info 2>/dev/null | grep '^\*' | sed 's/^\* //;s/"/\\"/g')\","
-    echo "  \"commit\": \"$(git rev-parse --short HEAD)\","
-    echo "  \"load\": \"$load_before - $(cut -d' ' -f1 /proc/loadavg)\","
-    echo "  \"runs\": ["
-    for i in "${!runs[@]}"; do
-        sep=,
-        [ "$i" -eq $((${#runs[@]} - 1)) ] && sep=
-        echo "    ${runs[$i]}$sep"
-    done
-    echo "  ]"
-    echo "}"
-} >"$out"
+write_results_json "$out" runs \
+    machine="$(cpu_cores)" \
+    adapter="$(adapter_name "$kdray")" \
+    commit="$(git rev-parse --short HEAD)" \
+    load="$load_before - $(cut -d' ' -f1 /proc/loadavg)" \
+    -- "${runs[@]}"
 python3 scripts/glass_table.py "$out"

@@ -18,6 +18,7 @@
 # loop limit).
 set -euo pipefail
 cd "$(dirname "$0")/.."
+source scripts/results_json.sh
 kdray=${1:-target/release/kdray}
 out=${2:-docs/results/path-bench.json}
 repeat=${REPEAT:-3}
@@ -51,20 +52,10 @@ for _ in $(seq "$repeat"); do
     done
 done
 
-mkdir -p "$(dirname "$out")"
-{
-    echo "{"
-    echo "  \"machine\": \"$(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2 | sed 's/^ //'), $(nproc) cores\","
-    echo "  \"adapter\": \"$("$kdray" info 2>/dev/null | grep '^\*' | sed 's/^\* //;s/"/\\"/g')\","
-    echo "  \"commit\": \"$(git rev-parse --short HEAD)\","
-    echo "  \"uptime_after\": \"$(uptime | sed 's/^ *//')\","
-    echo "  \"runs\": ["
-    for i in "${!runs[@]}"; do
-        sep=,
-        [ "$i" -eq $((${#runs[@]} - 1)) ] && sep=
-        echo "    ${runs[$i]}$sep"
-    done
-    echo "  ]"
-    echo "}"
-} >"$out"
+write_results_json "$out" runs \
+    machine="$(cpu_cores)" \
+    adapter="$(adapter_name "$kdray")" \
+    commit="$(git rev-parse --short HEAD)" \
+    uptime_after="$(uptime | sed 's/^ *//')" \
+    -- "${runs[@]}"
 python3 scripts/path_table.py "$out"

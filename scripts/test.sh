@@ -51,6 +51,8 @@ external_packages=(
     # tests/external/window.rs runs the window under Xvfb; winit loads these
     # at run time.
     xvfb xauth libxkbcommon-x11-0 libx11-xcb1 libxcursor1 libxi6 libxrandr2
+    # tests/external/window_inspect.rs clicks and types in it through XTest.
+    libxtst6
     # tests/external/web.rs traces the exported site in headless Chromium
     # (WebGPU on its SwiftShader), driven from node by tests/web's npm
     # packages (node and npm below, from Debian unless the machine has its own).

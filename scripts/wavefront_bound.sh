@@ -11,6 +11,7 @@
 #   scripts/wavefront_bound.sh [KDRAY] [OUT]   # KDRAY: default target/release/kdray
 set -euo pipefail
 cd "$(dirname "$0")/.."
+source scripts/results_json.sh
 kdray=${1:-target/release/kdray}
 out=${2:-docs/results/wavefront-bound.json}
 repeat=${REPEAT:-5}
@@ -30,19 +31,9 @@ if [ -f /usr/share/glmark2/models/bunny.obj ]; then
     run "bunny_sky depth 6" scenes/bunny_sky.toml 160 90 6
 fi
 
-mkdir -p "$(dirname "$out")"
-{
-    echo "{"
-    echo "  \"machine\": \"$(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2 | sed 's/^ //'), $(nproc) cores\","
-    echo "  \"commit\": \"$(git rev-parse --short HEAD)\","
-    echo "  \"uptime_after\": \"$(uptime | sed 's/^ *//')\","
-    echo "  \"cases\": ["
-    for i in "${!cases[@]}"; do
-        sep=,
-        [ "$i" -eq $((${#cases[@]} - 1)) ] && sep=
-        echo "    ${cases[$i]}$sep"
-    done
-    echo "  ]"
-    echo "}"
-} >"$out"
+write_results_json "$out" cases \
+    machine="$(cpu_cores)" \
+    commit="$(git rev-parse --short HEAD)" \
+    uptime_after="$(uptime | sed 's/^ *//')" \
+    -- "${cases[@]}"
 python3 scripts/wavefront_table.py "$out"

@@ -106,6 +106,7 @@ fn trace_path_glass(primary: Ray) -> vec3<f32> {
     var path = PathRay(primary.origin, 1.0, primary.dir, 0u, 0.0, false);
     var color = vec3<f32>(0.0);
     ray_counts.x += 1u;
+    mark_ray(RAY_PRIMARY);
     loop {
         loop_iterations += 1u;
         var alive = path.weight >= params.min_intensity && path.hits < params.max_depth;
@@ -172,6 +173,7 @@ fn trace_path_glass(primary: Ray) -> vec3<f32> {
                             pending[pending_count] = reflected;
                             pending_count += 1u;
                         }
+                        mark_ray(RAY_REFRACTED);
                         path = PathRay(
                             p - offset * surface.geometric,
                             path.weight * transmit_share,
@@ -181,6 +183,7 @@ fn trace_path_glass(primary: Ray) -> vec3<f32> {
                             !path.inside
                         );
                     } else {
+                        mark_ray(RAY_REFLECTED);
                         path = reflected;
                     }
                     if (path.weight == 0.0) {
@@ -195,6 +198,7 @@ fn trace_path_glass(primary: Ray) -> vec3<f32> {
             }
             pending_count -= 1u;
             path = pending[pending_count];
+            mark_ray(RAY_REFLECTED);
         }
     }
     return color;

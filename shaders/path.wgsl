@@ -76,6 +76,7 @@ fn next_event(m: Material, s: Surface, v: vec3<f32>, p: vec3<f32>, origin: vec3<
         return vec3<f32>(0.0);
     }
     ray_counts.y += 1u;
+    mark_ray(RAY_SHADOW);
     if (trace_ray(Ray(origin, light.dir), limit, true).object != NO_OBJECT) {
         return vec3<f32>(0.0);
     }
@@ -94,6 +95,7 @@ fn trace_path_physical(primary: Ray) -> vec3<f32> {
     var inside = false;
     var path_length = 0.0;
     ray_counts.x += 1u;
+    mark_ray(RAY_PRIMARY);
     for (var hits = 0u; ; hits++) {
         loop_iterations += 1u;
         if (hits > 0u) {
@@ -152,6 +154,7 @@ fn trace_path_physical(primary: Ray) -> vec3<f32> {
         }
         last_pdf = b.pdf;
         ray = Ray(origin, b.dir);
+        mark_ray(RAY_BOUNCE);
     }
     return radiance;
 }

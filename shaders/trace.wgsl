@@ -29,6 +29,7 @@ fn trace_path(primary: Ray) -> vec3<f32> {
     var hits = 0u;
     var path_length = 0.0; // from the eye to the hit, for the texture's ray cone
     ray_counts.x += 1u;
+    mark_ray(RAY_PRIMARY);
     while (weight >= params.min_intensity && hits < params.max_depth) {
         loop_iterations += 1u;
         if (hits > 0u) {
@@ -56,6 +57,7 @@ fn trace_path(primary: Ray) -> vec3<f32> {
             break; // nothing further can add to the colour
         }
         ray = Ray(origin, reflection_dir(ray.dir, surface));
+        mark_ray(RAY_REFLECTED);
     }
     return color;
 }

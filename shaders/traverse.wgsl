@@ -15,6 +15,9 @@ fn trace_kdtree(ray: Ray, t_limit: f32, any_hit: bool, segment: vec2<f32>) -> Hi
     // Each restart moves t_min past one plane: node_count + 1 restarts suffice.
     for (var restarts = 0u; restarts <= params.node_count; restarts++) {
         loop_iterations += 1u;
+        if (restarts > 0u) {
+            record_restart(restart_node, t_min);
+        }
         var node_index = restart_node;
         var t_max = t_far;
         var push_down = true;
@@ -23,6 +26,7 @@ fn trace_kdtree(ray: Ray, t_limit: f32, any_hit: bool, segment: vec2<f32>) -> Hi
         while (node.kind != KD_LEAF) {
             loop_iterations += 1u;
             let step = descent_step(node, node_index, ray, t_min, t_max);
+            record_node(node_index, t_min, t_max, step);
             if (step.crosses) {
                 t_max = step.t_split;
                 push_down = false;
@@ -35,6 +39,7 @@ fn trace_kdtree(ray: Ray, t_limit: f32, any_hit: bool, segment: vec2<f32>) -> Hi
             count_node();
         }
         count_leaf();
+        record_leaf(node_index, t_min, t_max);
         best = test_leaf(node, ray, t_limit, any_hit, best);
         if (walk_done(best, any_hit, t_max, t_far)) {
             return best;
@@ -68,7 +73,15 @@ fn trace_brute(ray: Ray, t_limit: f32, any_hit: bool) -> Hit {
 }
 
 // The frame's walk; a specialised pipeline holds only that one (variant.wgsl).
+// The inspect kernel records the ray and what it hit (walk_record.wgsl).
 fn trace_ray(ray: Ray, t_limit: f32, any_hit: bool) -> Hit {
+    record_ray(ray, t_limit, any_hit);
+    let hit = walk_ray(ray, t_limit, any_hit);
+    record_hit(ray, hit);
+    return hit;
+}
+
+fn walk_ray(ray: Ray, t_limit: f32, any_hit: bool) -> Hit {
     if (frame_accel() == ACCEL_BRUTE) {
         return trace_brute(ray, t_limit, any_hit);
     }
@@ -76,6 +89,7 @@ fn trace_ray(ray: Ray, t_limit: f32, any_hit: bool) -> Hit {
     if (segment.x > segment.y) {
         return miss();
     }
+    record_segment(segment);
     let traversal = frame_traversal();
     if (traversal == TRAVERSAL_ROPES) {
         return trace_kdtree_ropes(ray, t_limit, any_hit, segment);

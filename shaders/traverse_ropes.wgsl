@@ -50,7 +50,9 @@ fn trace_kdtree_ropes(ray: Ray, t_limit: f32, any_hit: bool, segment: vec2<f32>)
             loop_iterations += 1u;
             // Only the side matters: planes crossed at or before t_min are
             // behind the ray, every other one ahead (t_far bounds nothing).
-            node_index = descent_step(node, node_index, ray, t_min, t_far).near;
+            let step = descent_step(node, node_index, ray, t_min, t_far);
+            record_node(node_index, t_min, t_far, step);
+            node_index = step.near;
             node = kd_node(node_index);
             count_node();
         }
@@ -62,10 +64,13 @@ fn trace_kdtree_ropes(ray: Ray, t_limit: f32, any_hit: bool, segment: vec2<f32>)
         exit = rope_exit_on_axis(r, 1u, ray, exit);
         exit = rope_exit_on_axis(r, 2u, ray, exit);
         let t_max = exit.t;
+        record_leaf(node_index, t_min, t_max);
         // A leaf the ray spends no time in: start over from the root.
         if (t_max <= t_min && !from_root) {
             start = 0u;
             from_root = true;
+            record_skipped_leaf(node_index);
+            record_restart(0u, t_min);
             continue;
         }
         best = test_leaf(node, ray, t_limit, any_hit, best);
@@ -77,6 +82,7 @@ fn trace_kdtree_ropes(ray: Ray, t_limit: f32, any_hit: bool, segment: vec2<f32>)
         t_min = t_max;
         start = rope_target(r, exit.face);
         from_root = false;
+        record_rope(exit.face, start, t_min);
     }
     return best;
 }

@@ -56,16 +56,21 @@ fn trace_kdtree_short_stack(ray: Ray, t_limit: f32, any_hit: bool, segment: vec2
                     stack1_t_max = stack2_t_max;
                     depth -= 1u;
                     push_down = false; // the rest of the ray may leave this node
+                    record_pop(node_index, t_max);
                 } else {
                     node_index = restart_node;
                     t_max = t_far;
                     push_down = true;
+                    if (leaves > 0u) {
+                        record_restart(node_index, t_min);
+                    }
                 }
             }
             let node = kd_node(node_index);
             count_node();
             if (node.kind == KD_LEAF) {
                 count_leaf();
+                record_leaf(node_index, t_min, t_max);
                 if (node.count != 0u) {
                     leaf_first = node.index;
                     leaf_count = node.count;
@@ -80,8 +85,10 @@ fn trace_kdtree_short_stack(ray: Ray, t_limit: f32, any_hit: bool, segment: vec2
                 resume = true;
             } else {
                 let step = descent_step(node, node_index, ray, t_min, t_max);
+                record_node(node_index, t_min, t_max, step);
                 if (step.crosses) {
                     if (step.t_split < t_max) {
+                        record_push(step.far, t_max);
                         // Remember the far side; a full stack forgets its oldest.
                         stack2_node = stack1_node;
                         stack2_t_max = stack1_t_max;

@@ -108,6 +108,7 @@ fn test_leaf(leaf: KdNode, ray: Ray, t_limit: f32, any_hit: bool, best_so_far: H
         let id = leaf_object(i);
         let test = test_object(id, ray);
         let t = test.t;
+        record_test(test.scene_id, t);
         if (t > 0.0) {
             if (any_hit) {
                 if (t < t_limit) {

@@ -2,38 +2,79 @@
 //! walk that searched it, step by step, as one JSON document
 //! (docs/inspect.md describes the format, [`INSPECT_VERSION`]).
 //!
-//! The rays come from the CPU reference tracer
-//! ([`kdray_core::reference::ReferenceTracer::trace_recorded`]), which
-//! follows the Whitted kernel's path in f32 (primary, shadow, reflected and,
-//! with glass, refracted rays); the walks are the CPU mirrors of the
-//! kernel's, which report their steps to an observer
-//! ([`crate::kdtree::WalkObserver`]). The GPU tests hold each inspected
-//! ray's hit and counted work to the kernel's for the same ray.
+//! Two sources give the same document ([`WalkSource`]):
+//! - the kernel: the inspect kernel ([`crate::gpu::WalkRecorder`]) traces
+//!   the pixel's sample on the GPU as the renderer does, with either
+//!   integrator, and logs every ray and walk step as it runs;
+//! - the CPU mirror: the reference tracer
+//!   ([`kdray_core::reference::ReferenceTracer::trace_recorded`]) follows
+//!   the Whitted kernel's path in f32, and the CPU mirrors of the walks
+//!   report their steps to an observer ([`crate::kdtree::WalkObserver`]).
+//!
+//! The GPU tests hold the two to each other, and each inspected ray's hit
+//! and counted work to the kernel's ray queries.
 
 use std::path::Path;
 
 use serde::Serialize;
 
+use crate::choice::Choice;
 use crate::error::{Error, Result};
-use crate::geometry::{Primitives, T_INFINITY};
-use crate::gpu::Accel;
-use crate::kdtree::traverse::Hit;
+use crate::geometry::{Primitives, Ray, T_INFINITY};
+use crate::gpu::{Accel, GpuContext, GpuScene, PreparedScene, RecordedRay, WalkRecorder};
+use crate::kdtree::traverse::WalkCost;
 use crate::kdtree::{BuildParams, BuildStrategy, KdTree, Traversal, WalkEvent};
 use crate::layout::KdNode;
 use crate::render::RenderFlags;
 use crate::scene::{Integrator, Scene};
+use glam::Vec3;
 use kdray_core::reference::{RayKind, ReferenceTracer, TracedRay};
 
 /// The format's version: raised when a key changes meaning or goes.
 pub const INSPECT_VERSION: u32 = 1;
 
 /// What to inspect: a pixel (column, row from the top-left) of a frame,
-/// rendered with `flags` (size, samples, walk, build).
+/// rendered with `flags` (size, samples, walk, build), and where the walk
+/// comes from.
 #[derive(Debug, Clone)]
 pub struct InspectRequest {
     pub pixel: (u32, u32),
     pub frame: u32,
     pub flags: RenderFlags,
+    pub source: WalkSource,
+}
+
+/// Where the rays and their walks come from.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum WalkSource {
+    /// Logged by the kernel on the GPU as it traces the pixel (either
+    /// integrator).
+    #[default]
+    Kernel,
+    /// Traced on the CPU by the reference tracer and the walks' mirrors
+    /// (the Whitted integrator; needs no GPU).
+    CpuMirror,
+}
+
+impl WalkSource {
+    /// The name `--walk-source` takes and the document's `walk_source`.
+    pub fn name(self) -> &'static str {
+        match self {
+            WalkSource::Kernel => "kernel",
+            WalkSource::CpuMirror => "cpu",
+        }
+    }
+
+    /// From `--walk-source`'s value.
+    pub fn parse(text: &str) -> Result<WalkSource> {
+        match text {
+            "kernel" => Ok(WalkSource::Kernel),
+            "cpu" => Ok(WalkSource::CpuMirror),
+            _ => Err(Error::Usage(format!(
+                "--walk-source: expected kernel or cpu, got {text:?}"
+            ))),
+        }
+    }
 }
 
 /// The document `kdray inspect` prints.
@@ -49,18 +90,25 @@ pub struct Inspection {
     /// Samples per pixel; the rays are those of sample 0 (the top-left
     /// cell of the k x k grid).
     pub samples: u32,
+    /// `whitted` or `path`.
+    pub integrator: &'static str,
     /// `kdtree` or `brute` (no walk: every object tested).
     pub accel: &'static str,
     pub traversal: &'static str,
     pub build: &'static str,
+    /// `kernel` or `cpu`.
     pub walk_source: &'static str,
     pub rays: Vec<InspectedRay>,
+    /// The sample's colour (Whitted, before clamping) or radiance (path)
+    /// as the kernel computed it; the kernel source only.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub sample: Option<[f32; 3]>,
 }
 
 /// One traced ray.
 #[derive(Debug, Clone, Serialize)]
 pub struct InspectedRay {
-    /// `primary`, `shadow`, `reflected` or `refracted`.
+    /// `primary`, `shadow`, `reflected`, `refracted` or (path) `bounce`.
     pub kind: &'static str,
     /// `nearest` (the closest hit) or `any` (a shadow ray's: any hit before
     /// the light ends the search).
@@ -181,16 +229,16 @@ pub struct Counts {
 }
 
 /// Loads `path` and inspects `request`'s pixel. Bad input (the scene, a
-/// flag, the pixel, the frame, the path integrator) is a usage or scene
-/// error (exit 2).
+/// flag, the pixel, the frame, the CPU mirror with the path integrator) is
+/// a usage or scene error (exit 2).
 pub fn inspect_file(path: &Path, request: &InspectRequest) -> Result<Inspection> {
     let mut scene = crate::scene::load_scene(path)?;
     let flags = &request.flags;
     flags.check()?;
     flags.apply(&mut scene)?;
-    if scene.render.integrator != Integrator::Whitted {
+    if request.source == WalkSource::CpuMirror && scene.render.integrator != Integrator::Whitted {
         return Err(Error::Usage(
-            "--integrator path: inspect follows the Whitted integrator's rays only".into(),
+            "--walk-source cpu follows the Whitted integrator's rays only; the kernel's (--walk-source kernel) follows the path tracer's too".into(),
         ));
     }
     let frames = scene.frame_count();
@@ -202,11 +250,23 @@ pub fn inspect_file(path: &Path, request: &InspectRequest) -> Result<Inspection>
     }
     let shown = scene.frame(request.frame);
     (scene.camera, scene.lights) = (shown.camera, shown.lights);
-    let tree = match flags.accel {
-        Accel::Kdtree => Some(build_tree(&scene, flags.build)),
-        Accel::Brute => None,
+    check_pixel(&scene, request.pixel)?;
+    let mut inspection = match request.source {
+        WalkSource::CpuMirror => {
+            let tree = match flags.accel {
+                Accel::Kdtree => Some(build_tree(&scene, flags.build)),
+                Accel::Brute => None,
+            };
+            inspect_scene(&scene, tree, flags.traversal, request.pixel)?
+        }
+        WalkSource::Kernel => {
+            let ctx = GpuContext::new()?;
+            let prepared = PreparedScene::built_by(scene, flags.accel, flags.build);
+            let gpu = GpuScene::upload(&ctx, prepared)?;
+            let recorder = WalkRecorder::new(&ctx)?;
+            inspect_on_gpu(&ctx, &recorder, &gpu, flags.traversal, request.pixel)?
+        }
     };
-    let mut inspection = inspect_scene(&scene, tree, flags.traversal, request.pixel)?;
     inspection.scene = path.display().to_string();
     inspection.frame = request.frame;
     inspection.build = flags.build.name();
@@ -236,17 +296,8 @@ pub fn parse_pixel(text: &str) -> Result<(u32, u32)> {
     Ok((number(x)?, number(y)?))
 }
 
-/// Inspects pixel (column, row) of `scene` as it stands (size, samples,
-/// camera and lights of the frame wanted), walking `tree` (built over
-/// `Primitives::from_scene(scene)`) with `traversal`, or brute force
-/// (`None`). The document's `scene`, `frame` and `build` are left for the
-/// caller (empty, 0 and the default build).
-pub fn inspect_scene(
-    scene: &Scene,
-    tree: Option<KdTree>,
-    traversal: Traversal,
-    (x, y): (u32, u32),
-) -> Result<Inspection> {
+/// A pixel outside `scene`'s image is a usage error.
+fn check_pixel(scene: &Scene, (x, y): (u32, u32)) -> Result<()> {
     let r = &scene.render;
     if x >= r.width || y >= r.height {
         return Err(Error::Usage(format!(
@@ -254,27 +305,15 @@ pub fn inspect_scene(
             r.width, r.height, r.width, r.height
         )));
     }
-    let depths = tree.as_ref().map(node_depths).unwrap_or_default();
-    let nodes = tree
-        .as_ref()
-        .map(|t| (t.nodes.clone(), t.leaf_objects.clone()));
-    let accel = if tree.is_some() { "kdtree" } else { "brute" };
-    let tracer = match tree {
-        Some(tree) => ReferenceTracer::with_tree(scene, tree, traversal),
-        None => ReferenceTracer::new(scene, false),
-    };
-    let primary = tracer.sample_ray(y, x, 0, 0);
-    let traced = tracer.trace_recorded(primary);
-    let view = TreeView {
-        nodes: nodes.as_ref().map_or(&[][..], |n| &n.0),
-        leaf_objects: nodes.as_ref().map_or(&[][..], |n| &n.1),
-        depths: &depths,
-    };
-    let rays = traced
-        .iter()
-        .map(|t| inspected_ray(&tracer, &view, t))
-        .collect();
-    Ok(Inspection {
+    Ok(())
+}
+
+/// The document's fields that do not depend on the source; `scene`,
+/// `frame` and `build` are left for the caller (empty, 0 and the default
+/// build).
+fn document(scene: &Scene, (x, y): (u32, u32), accel: Accel, traversal: Traversal) -> Inspection {
+    let r = &scene.render;
+    Inspection {
         version: INSPECT_VERSION,
         scene: String::new(),
         pixel: [x, y],
@@ -282,19 +321,185 @@ pub fn inspect_scene(
         width: r.width,
         height: r.height,
         samples: r.samples,
-        accel,
+        integrator: r.integrator.name(),
+        accel: match accel {
+            Accel::Kdtree => "kdtree",
+            Accel::Brute => "brute",
+        },
         traversal: traversal.name(),
         build: BuildStrategy::default().name(),
-        walk_source: "cpu mirror",
-        rays,
-    })
+        walk_source: WalkSource::CpuMirror.name(),
+        rays: Vec::new(),
+        sample: None,
+    }
+}
+
+/// Inspects pixel (column, row) of `scene` as it stands (size, samples,
+/// camera and lights of the frame wanted) with the CPU mirror, walking
+/// `tree` (built over `Primitives::from_scene(scene)`) with `traversal`, or
+/// brute force (`None`). The document's `scene`, `frame` and `build` are
+/// left for the caller (empty, 0 and the default build).
+pub fn inspect_scene(
+    scene: &Scene,
+    tree: Option<KdTree>,
+    traversal: Traversal,
+    (x, y): (u32, u32),
+) -> Result<Inspection> {
+    check_pixel(scene, (x, y))?;
+    let accel = if tree.is_some() {
+        Accel::Kdtree
+    } else {
+        Accel::Brute
+    };
+    let mut inspection = document(scene, (x, y), accel, traversal);
+    let kept = tree.clone();
+    let view = TreeView::of(kept.as_ref(), scene.spheres.len() as u32);
+    let tracer = match tree {
+        Some(tree) => ReferenceTracer::with_tree(scene, tree, traversal),
+        None => ReferenceTracer::new(scene, false),
+    };
+    let primary = tracer.sample_ray(y, x, 0, 0);
+    inspection.rays = tracer
+        .trace_recorded(primary)
+        .iter()
+        .map(|t| inspected_ray(&view, &cpu_record(&tracer, t)))
+        .collect();
+    Ok(inspection)
+}
+
+/// Inspects pixel (column, row) of `scene`'s own frame (its camera, lights
+/// and `[render]`) with the kernel: `recorder` traces the pixel's first
+/// sample on the GPU with the integrator the scene asks for and the walk
+/// `traversal`, logging its rays and walks. The document's `scene`, `frame`
+/// and `build` are left for the caller (empty, 0 and the default build).
+pub fn inspect_on_gpu(
+    ctx: &GpuContext,
+    recorder: &WalkRecorder,
+    scene: &GpuScene,
+    traversal: Traversal,
+    pixel: (u32, u32),
+) -> Result<Inspection> {
+    let params = scene.frame_params();
+    inspect_frame_on_gpu(
+        ctx,
+        recorder,
+        scene,
+        scene.scene(),
+        params,
+        traversal,
+        pixel,
+    )
+}
+
+/// [`inspect_on_gpu`] for the frame `params` describe (its camera, size
+/// and settings: the window's view) walked with `traversal`, with `shown`
+/// the scene as that frame sees it (its `[render]` names the document's
+/// size, samples and integrator).
+pub fn inspect_frame_on_gpu(
+    ctx: &GpuContext,
+    recorder: &WalkRecorder,
+    scene: &GpuScene,
+    shown: &Scene,
+    params: crate::gpu::FrameParams,
+    traversal: Traversal,
+    pixel: (u32, u32),
+) -> Result<Inspection> {
+    check_pixel(shown, pixel)?;
+    let params = params.with_traversal(traversal);
+    let log = recorder.record(ctx, scene.buffers(), &params, pixel)?;
+    let mut inspection = document(shown, pixel, scene.accel(), traversal);
+    let tree = match scene.accel() {
+        Accel::Kdtree => Some(&scene.prepared().tree),
+        Accel::Brute => None,
+    };
+    let view = TreeView::of(tree, shown.spheres.len() as u32);
+    inspection.rays = log
+        .rays
+        .iter()
+        .map(|r| inspected_ray(&view, &kernel_record(r)))
+        .collect();
+    inspection.walk_source = WalkSource::Kernel.name();
+    inspection.sample = Some(log.sample);
+    Ok(inspection)
+}
+
+/// One ray as either source gives it.
+struct RayRecord<'a> {
+    kind: RayKind,
+    any: bool,
+    ray: Ray,
+    t_limit: f32,
+    walk: &'a [WalkEvent],
+    hit: Option<HitRecord>,
+    cost: WalkCost,
+}
+
+/// A hit: the object, t, the point and the unit geometric normal facing
+/// the ray.
+struct HitRecord {
+    object: u32,
+    t: f32,
+    point: Vec3,
+    normal: Vec3,
+}
+
+fn cpu_record<'a>(tracer: &ReferenceTracer, traced: &'a TracedRay) -> RayRecord<'a> {
+    let ray = traced.ray;
+    RayRecord {
+        kind: traced.kind,
+        any: traced.any,
+        ray,
+        t_limit: traced.t_limit,
+        walk: &traced.walk,
+        hit: traced.hit.map(|h| {
+            let point = ray.origin + h.t * ray.dir;
+            HitRecord {
+                object: h.object,
+                t: h.t,
+                point,
+                normal: tracer.surface(h.object, point, ray.dir).geometric,
+            }
+        }),
+        cost: traced.cost,
+    }
+}
+
+fn kernel_record(recorded: &RecordedRay) -> RayRecord<'_> {
+    RayRecord {
+        kind: recorded.kind,
+        any: recorded.any,
+        ray: recorded.ray,
+        t_limit: recorded.t_limit,
+        walk: &recorded.walk,
+        hit: recorded.hit.map(|h| HitRecord {
+            object: h.object,
+            t: h.t,
+            point: h.point,
+            normal: h.normal,
+        }),
+        cost: recorded.cost,
+    }
 }
 
 /// What a step needs to know of the tree.
 struct TreeView<'a> {
     nodes: &'a [KdNode],
     leaf_objects: &'a [u32],
-    depths: &'a [u32],
+    depths: Vec<u32>,
+    /// Objects below this id are spheres.
+    spheres: u32,
+}
+
+impl<'a> TreeView<'a> {
+    /// `tree`'s nodes (none for brute force) in a scene of `spheres` spheres.
+    fn of(tree: Option<&'a KdTree>, spheres: u32) -> TreeView<'a> {
+        TreeView {
+            nodes: tree.map_or(&[][..], |t| &t.nodes),
+            leaf_objects: tree.map_or(&[][..], |t| &t.leaf_objects),
+            depths: tree.map(node_depths).unwrap_or_default(),
+            spheres,
+        }
+    }
 }
 
 /// Each node's depth (the root's 0): children follow their parent in the
@@ -317,12 +522,12 @@ fn node_depths(tree: &KdTree) -> Vec<u32> {
 const AXES: [&str; 3] = ["x", "y", "z"];
 const FACES: [&str; 6] = ["x-", "x+", "y-", "y+", "z-", "z+"];
 
-fn inspected_ray(tracer: &ReferenceTracer, view: &TreeView, traced: &TracedRay) -> InspectedRay {
+fn inspected_ray(view: &TreeView, traced: &RayRecord) -> InspectedRay {
     let ray = traced.ray;
     let mut walk: Vec<Step> = Vec::new();
     let mut t_interval = None;
     let mut restarts = 0;
-    for event in &traced.walk {
+    for event in traced.walk {
         let depth = |node: usize| view.depths.get(node).copied().unwrap_or(0);
         match *event {
             WalkEvent::Segment { t_min, t_far } => t_interval = Some([t_min, t_far]),
@@ -400,6 +605,7 @@ fn inspected_ray(tracer: &ReferenceTracer, view: &TreeView, traced: &TracedRay) 
             RayKind::Shadow => "shadow",
             RayKind::Reflected => "reflected",
             RayKind::Refracted => "refracted",
+            RayKind::Bounce => "bounce",
         },
         query: if traced.any { "any" } else { "nearest" },
         origin: ray.origin.to_array(),
@@ -407,7 +613,7 @@ fn inspected_ray(tracer: &ReferenceTracer, view: &TreeView, traced: &TracedRay) 
         t_limit: (traced.t_limit < T_INFINITY).then_some(traced.t_limit),
         t_interval,
         walk,
-        hit: traced.hit.map(|h| inspected_hit(tracer, traced, h)),
+        hit: traced.hit.as_ref().map(|h| inspected_hit(view, h)),
         counts: Counts {
             nodes: traced.cost.nodes_visited,
             leaves: traced.cost.leaves_visited,
@@ -417,15 +623,16 @@ fn inspected_ray(tracer: &ReferenceTracer, view: &TreeView, traced: &TracedRay) 
     }
 }
 
-fn inspected_hit(tracer: &ReferenceTracer, traced: &TracedRay, hit: Hit) -> InspectedHit {
-    let ray = traced.ray;
-    let p = ray.origin + hit.t * ray.dir;
-    let sphere = (hit.object as usize) < tracer.primitives().spheres.len();
+fn inspected_hit(view: &TreeView, hit: &HitRecord) -> InspectedHit {
     InspectedHit {
         object: hit.object,
-        kind: if sphere { "sphere" } else { "triangle" },
+        kind: if hit.object < view.spheres {
+            "sphere"
+        } else {
+            "triangle"
+        },
         t: hit.t,
-        point: p.to_array(),
-        normal: tracer.surface(hit.object, p, ray.dir).geometric.to_array(),
+        point: hit.point.to_array(),
+        normal: hit.normal.to_array(),
     }
 }

@@ -160,6 +160,22 @@ impl RenderFlags {
         Ok(())
     }
 }
+/// A farm plan's flags in tests: no overrides, the default search.
+#[cfg(test)]
+impl RenderFlags {
+    pub(crate) fn no_overrides() -> Self {
+        RenderFlags {
+            width: None,
+            height: None,
+            samples: None,
+            accel: Accel::Kdtree,
+            traversal: Default::default(),
+            build: Default::default(),
+            integrator: None,
+            seed: None,
+        }
+    }
+}
 
 /// An optional [`Choice`](crate::choice::Choice) written by its name.
 mod option_by_name {

@@ -4,11 +4,14 @@
 // with the Whitted integrator or path traced (URL `integrator`, key I);
 // plays an animated scene's frames (Space) from the bundle's cameras and
 // frame lights, and shows the cost heatmap (C). docs/web.md states its
-// contract: URL parameters, document.title, window.kdray.png(), keys.
+// contract: URL parameters, document.title, window.kdray.png() and
+// window.kdray.inspect(x, y), keys.
 
 import { parseBundle } from './bundle.js';
 import { Camera, attachPointer } from './controls.js';
 import { Tracer, PageError, openGpu, setField } from './tracer.js';
+import { decodeLog, inspectionDocument, treeOf } from './inspect.js';
+import { drawLines, nodeCells, overlayLines, shownRect } from './overlay.js';
 
 const WALKS = ['restart', 'ropes', 'short-stack'];
 const INTEGRATORS = ['whitted', 'path'];
@@ -16,6 +19,7 @@ const INTEGRATORS = ['whitted', 'path'];
 // neither the URL nor a path-traced scene says how many, as the window.
 const DEFAULT_PATH_SAMPLES = 256;
 const canvas = document.getElementById('view');
+const linesLayer = document.getElementById('lines');
 const overlay = document.getElementById('overlay');
 const message = document.getElementById('message');
 const query = new URLSearchParams(location.search);
@@ -33,6 +37,11 @@ const state = {
   frameLights: null,
   // Show the cost heatmap instead of the image (C toggles it).
   heatmap: false,
+  // Inspection mode (X): on, and the pixel inspected last with its
+  // document and lines ({ pixel, doc, lines }), or null.
+  inspecting: false, inspected: null,
+  // The lines drawn last: { kind, a, b } in CSS pixels of the page.
+  drawn: [],
   // Each image pass's time (ms) since the refinement began, from its
   // submission to the GPU's done, present included; the first one also
   // compiles the pipeline (scripts/web_bench.sh reports the rest).
@@ -206,6 +215,7 @@ function updateOverlay() {
   if (state.cameras) {
     lines.push(`frame ${state.frame}/${state.cameras.frames} ${state.playing ? 'playing' : 'paused'}`);
   }
+  if (state.inspecting) lines.push(inspectLine());
   const scale = state.tracer.heatScale;
   if (state.heatmap && scale !== null) lines.push(`heatmap: nodes + objects per sample, 0 to ${scale}`);
   lines.push(`adapter ${state.tracer.gpu.name}`);
@@ -246,6 +256,7 @@ async function loop() {
       return;
     }
     updateOverlay();
+    drawInspection();
     if (state.sample >= state.samples && !state.done && performance.now() - state.lastMove >= MOVE_SETTLE_MS) {
       state.done = true;
       document.title = `kdray: done (${state.samples} samples)`;
@@ -268,6 +279,7 @@ function loadBundle(bytes) {
   const frameLights = frameLightsFrom(bundle, state.contract.bundle.frame_lights, frames);
   Object.assign(state, settings, {
     bundle, cameras, frameLights, playing: null, camera: new Camera(bundle.info), maxDepth: bundle.info.max_depth,
+    tree: null,
   });
   if (cameras) state.camera.setHome(cameras.at(state.frame));
   frameLights?.write(state.frame);
@@ -284,6 +296,74 @@ async function png() {
   out.width = state.width; out.height = state.height;
   out.getContext('2d').putImageData(new ImageData(rgba, state.width, state.height), 0, 0);
   return out.toDataURL('image/png');
+}
+
+// Pixel (column x, row y) of the image as it stands (camera, frame, walk,
+// integrator): every ray its first sample traces and the k-d walk of each,
+// logged by the inspect kernel, as the document `kdray inspect` prints.
+async function inspect(x, y) {
+  const { width, height, contract, bundle } = state;
+  const inside = [x, y].every(Number.isInteger) && x >= 0 && y >= 0 && x < width && y < height;
+  if (!inside) throw new PageError(`inspect(${x}, ${y}): the pixel is outside the ${width} x ${height} image`);
+  const params = frameParams(width, height, 0);
+  setField(contract.frame_params, params, 'tile_origin', [x, y]);
+  setField(contract.frame_params, params, 'tile_size', [1, 1]);
+  setField(contract.frame_params, params, 'sample_count', 1);
+  const words = await state.tracer.inspectPixel(params, walkName(), state.integrator);
+  state.tree ??= treeOf(bundle.arrays, contract.constants);
+  const meta = {
+    scene: bundle.info.name, pixel: [x, y], frame: state.frame, width, height, samples: state.samples,
+    integrator: state.integrator, accel: state.brute ? 'brute' : 'kdtree', traversal: state.walk,
+    build: bundle.info.build, spheres: bundle.info.spheres,
+  };
+  return inspectionDocument(decodeLog(words, contract.constants), state.tree, meta, contract);
+}
+
+// The overlay's line of inspection mode: the pixel and its rays' work.
+function inspectLine() {
+  if (!state.inspected) return 'inspect: click a pixel';
+  const { pixel, doc } = state.inspected;
+  const sum = (k) => doc.rays.reduce((t, r) => t + r.counts[k], 0);
+  return `inspect ${pixel[0]},${pixel[1]}: ${doc.rays.length} rays, ${sum('nodes')} nodes, ` +
+    `${sum('leaves')} leaves, ${sum('tests')} tests, ${sum('restarts')} restarts`;
+}
+
+// A click at (clientX, clientY) in inspection mode: inspects the image
+// pixel shown there and keeps its lines.
+async function inspectAt(clientX, clientY) {
+  const { width, height, bundle, contract } = state;
+  const rect = shownRect(canvas, [width, height]);
+  const x = Math.floor((clientX - rect.x) / rect.scale);
+  const y = Math.floor((clientY - rect.y) / rect.scale);
+  if (x < 0 || y < 0 || x >= width || y >= height) return;
+  const doc = await inspect(x, y);
+  const cells = state.brute ? [] : nodeCells(state.tree, bundle.info.bounds);
+  const [lo, hi] = bundle.info.bounds;
+  const far = 2 * Math.hypot(...hi.map((v, i) => v - lo[i]));
+  state.inspected = { pixel: [x, y], doc, lines: overlayLines(doc, cells, far) };
+  updateOverlay();
+  drawInspection();
+}
+
+// Draws the inspected lines with the camera as it is now.
+function drawInspection() {
+  const g = linesLayer.getContext('2d');
+  if (!state.inspecting || !state.inspected) {
+    g.clearRect(0, 0, linesLayer.width, linesLayer.height);
+    state.drawn = [];
+    return;
+  }
+  const b = state.camera.basis();
+  const near = 1e-3 * Math.hypot(...b.position.map((v, i) => v - state.camera.target[i]));
+  state.drawn = drawLines(linesLayer, canvas, state.inspected.lines, b, near, [state.width, state.height],
+    state.contract.inspect.colours);
+}
+
+function toggleInspecting() {
+  state.inspecting = !state.inspecting;
+  state.inspected = null;
+  drawInspection();
+  updateOverlay();
 }
 
 async function screenshot() {
@@ -312,26 +392,36 @@ const KEYS = {
   // The costs accumulate with the colours: refine again to show the other.
   c: () => { state.heatmap = !state.heatmap; restart(); },
   i: () => toggleIntegrator(),
+  x: () => toggleInspecting(),
 };
 
 async function main() {
-  window.kdray = { png, state };
+  window.kdray = { png, inspect, state };
   const contract = await (await fetchOk('contract.json')).json();
   state.contract = contract;
-  const [kernel, present, bundle] = await Promise.all([
+  const [kernel, present, inspectKernel, bundle] = await Promise.all([
     fetchOk(contract.files.kernel).then((r) => r.text()),
     fetchOk(contract.files.present).then((r) => r.text()),
+    fetchOk(contract.files.inspect).then((r) => r.text()),
     fetchOk(query.get('bundle') ?? contract.files.bundle).then((r) => r.arrayBuffer()),
   ]);
   const gpu = await openGpu();
   gpu.device.lost.then((info) => showError(new PageError(`the GPU device was lost: ${info.message}`)));
   gpu.device.onuncapturederror = (e) => showError(new PageError(`WebGPU: ${e.error.message}`));
-  state.tracer = new Tracer(gpu, contract, kernel, present, canvas);
+  state.tracer = new Tracer(gpu, contract, kernel, present, canvas, inspectKernel);
   loadBundle(bundle);
   attachPointer(canvas, { // every move of the camera restarts refinement
     orbit: (x, y) => state.camera.orbit(x, y), pan: (x, y) => state.camera.pan(x, y),
     zoom: (f) => state.camera.zoom(f),
   }, moved);
+  // A click (a press and release within 3 pixels) inspects in inspection mode.
+  let pressed = null;
+  canvas.addEventListener('pointerdown', (e) => { pressed = [e.clientX, e.clientY]; });
+  canvas.addEventListener('pointerup', (e) => {
+    const still = pressed && Math.hypot(e.clientX - pressed[0], e.clientY - pressed[1]) <= 3;
+    pressed = null;
+    if (still && state.inspecting) inspectAt(e.clientX, e.clientY).catch(showError);
+  });
   window.addEventListener('keydown', (e) => {
     if (e.ctrlKey || e.metaKey || e.altKey) return;
     const action = KEYS[e.key.toLowerCase()];

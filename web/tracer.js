@@ -4,8 +4,10 @@
 // bindings the scene and walk read, the present pass, and the readback of
 // the traced image. With `costs` on, the kernel also counts each pixel's
 // walk work (COUNT_COSTS) and the present pass shows the cost heatmap made
-// from it (heatmap.js). Every binding, layout and constant comes from
-// contract.json; the WGSL is the site's kernel.wgsl and present.wgsl.
+// from it (heatmap.js). The inspect kernel's entry point traces one pixel's
+// sample and logs its rays and walks (inspectPixel). Every binding, layout
+// and constant comes from contract.json; the WGSL is the site's
+// kernel.wgsl, inspect.wgsl and present.wgsl.
 
 import { heatmapTexels } from './heatmap.js';
 
@@ -55,11 +57,12 @@ export function getField(layout, bytes, name) {
 }
 
 export class Tracer {
-  constructor(gpu, contract, kernelSource, presentSource, canvas) {
+  constructor(gpu, contract, kernelSource, presentSource, canvas, inspectSource) {
     this.gpu = gpu;
     this.device = gpu.device;
     this.contract = contract;
     this.kernelSource = kernelSource;
+    this.inspectSource = inspectSource;
     this.canvas = canvas;
     this.context = canvas.getContext('webgpu');
     this.format = navigator.gpu.getPreferredCanvasFormat();
@@ -109,6 +112,7 @@ export class Tracer {
     }
     this.needs = new Set(bundle.info.needs);
     this.glass = bundle.info.glass === true;
+    this.alphaTest = bundle.info.alpha_test === true;
     // How path radiance is shown ([render] tone_map and exposure).
     this.pathToneMap = bundle.info.path_tone_map;
     this.exposureScale = bundle.info.exposure_scale;
@@ -119,14 +123,15 @@ export class Tracer {
   // The accumulate bindings for `walk` ('brute', 'restart', 'ropes',
   // 'short-stack'), counting costs or not: every one of the contract's but
   // the optional ones the scene, the walk and `costs` do not need.
-  bindingsFor(walk, costs) {
+  // The inspect kernel's (`entry` 'inspect') are its own, chosen alike.
+  bindingsFor(walk, costs, entry = 'accumulate') {
     const needs = new Set(this.needs);
     if (walk !== 'brute') needs.add('kd_walk');
     if (walk === 'ropes') needs.add('rope_walk');
     if (costs) needs.add('costs');
     const omitted = this.contract.optional_bindings.filter((o) => !needs.has(o.need));
     const names = new Set(omitted.map((o) => o.name));
-    const bindings = this.contract.accumulate.bindings.filter((b) => !names.has(b.name));
+    const bindings = this.contract[entry].bindings.filter((b) => !names.has(b.name));
     const storage = bindings.filter((b) => b.access !== 'uniform').length;
     const most = this.device.limits.maxStorageBuffersPerShaderStage;
     if (storage > most) {
@@ -139,25 +144,27 @@ export class Tracer {
 
   // The kernel with `omitted` swapped for their placeholders, as
   // src/gpu/bindings.rs generates it.
-  moduleFor(omitted, key) {
-    if (!this.modules.has(key)) {
-      let code = this.kernelSource;
+  moduleFor(omitted, key, entry = 'accumulate') {
+    const id = `${entry}|${key}`;
+    if (!this.modules.has(id)) {
+      let code = entry === 'inspect' ? this.inspectSource : this.kernelSource;
       for (const o of omitted) {
         if (code.split(o.declaration).length !== 2) {
-          throw new PageError(`kernel.wgsl does not hold ${o.name}'s declaration once: it and contract.json disagree`);
+          throw new PageError(`the ${entry} kernel does not hold ${o.name}'s declaration once: it and contract.json disagree`);
         }
         code = code.replace(o.declaration, o.placeholder);
       }
-      this.modules.set(key, this.device.createShaderModule({ label: `trace ${key}`, code }));
+      this.modules.set(id, this.device.createShaderModule({ label: `${entry} ${key}`, code }));
     }
-    return this.modules.get(key);
+    return this.modules.get(id);
   }
 
   // The pipeline and its layout for `walk` on the loaded scene, counting
   // the walks' work if `costs`, tracing `integrator` ('whitted' or 'path').
-  pipelineFor(walk, costs = false, integrator = 'whitted') {
-    const { omitted, bindings, key } = this.bindingsFor(walk, costs);
-    const id = `${walk}|${key}|${costs}|${integrator}`;
+  // `entry`: 'accumulate', or 'inspect' (the inspect kernel's entry point).
+  pipelineFor(walk, costs = false, integrator = 'whitted', entry = 'accumulate') {
+    const { omitted, bindings, key } = this.bindingsFor(walk, costs, entry);
+    const id = `${entry}|${walk}|${key}|${costs}|${integrator}`;
     if (!this.pipelines.has(id)) {
       const c = this.contract.constants;
       const traversal = { restart: c.TRAVERSAL_RESTART, ropes: c.TRAVERSAL_ROPES, 'short-stack': c.TRAVERSAL_SHORT_STACK };
@@ -170,6 +177,7 @@ export class Tracer {
         SMOOTH_TRIANGLES: this.needs.has('smooth_triangles') ? 1 : 0,
         COUNT_COSTS: costs ? 1 : 0,
         GLASS: this.glass ? 1 : 0,
+        ALPHA_TEST: this.alphaTest ? 1 : 0,
         TEXTURES: this.needs.has('textures') ? 1 : 0,
         // Into the accumulation buffer, either integrator.
         INTEGRATOR: integrator === 'path' ? c.INTEGRATOR_PATH : c.INTEGRATOR_WHITTED,
@@ -183,11 +191,50 @@ export class Tracer {
       });
       const pipeline = this.device.createComputePipeline({
         layout: this.device.createPipelineLayout({ bindGroupLayouts: [layout] }),
-        compute: { module: this.moduleFor(omitted, key), entryPoint: this.contract.accumulate.entry_point, constants },
+        compute: { module: this.moduleFor(omitted, key, entry), entryPoint: this.contract[entry].entry_point, constants },
       });
       this.pipelines.set(id, { pipeline, layout, bindings, key });
     }
     return this.pipelines.get(id);
+  }
+
+  // The inspect kernel's log for the pixel and sample `params` (the frame's
+  // uniform bytes, its tile the pixel) say, traced with `walk` and
+  // `integrator` as a pass would trace them, counting the walks' work: the
+  // log's words (a log that runs out of room is traced again with the room
+  // it asked for, up to the adapter's binding size).
+  async inspectPixel(params, walk, integrator) {
+    const p = this.pipelineFor(walk, true, integrator, 'inspect');
+    const c = this.contract.constants;
+    const uniform = this.device.createBuffer({ size: params.byteLength, usage: GPUBufferUsage.UNIFORM | GPUBufferUsage.COPY_DST });
+    this.device.queue.writeBuffer(uniform, 0, params);
+    const limit = Math.floor(this.device.limits.maxStorageBufferBindingSize / 4);
+    let room = Math.min(this.contract.inspect.first_log_words, limit);
+    try {
+      for (;;) {
+        const log = this.device.createBuffer({ size: 4 * room, usage: GPUBufferUsage.STORAGE | GPUBufferUsage.COPY_SRC });
+        const entries = p.bindings.map((b) => ({
+          binding: b.index,
+          resource: { buffer: b.name === this.contract.accumulate.params ? uniform
+            : b.name === this.contract.inspect.log ? log : this.sceneBuffers.get(b.name) },
+        }));
+        const encoder = this.device.createCommandEncoder();
+        const compute = encoder.beginComputePass();
+        compute.setPipeline(p.pipeline);
+        compute.setBindGroup(0, this.device.createBindGroup({ layout: p.layout, entries }));
+        compute.dispatchWorkgroups(1);
+        compute.end();
+        this.device.queue.submit([encoder.finish()]);
+        const [data] = await this.readBuffers([log], [4 * room]);
+        log.destroy();
+        const words = new Uint32Array(data);
+        const used = words[c.INSPECT_WORDS_USED];
+        if (used <= room || room >= limit) return words;
+        room = Math.min(used, limit);
+      }
+    } finally {
+      uniform.destroy();
+    }
   }
 
   // Makes room for an image of width x height and a preview of pw x ph:

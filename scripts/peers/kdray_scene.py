@@ -242,6 +242,29 @@ def camera_basis(camera):
     return forward, right, true_up, math.tan(math.radians(camera["vfov"]) / 2.0)
 
 
+
+def mitsuba_sensor(mi, camera, width, height, spp):
+    """Mitsuba 3's sensor (a scene dict entry) for kdray's `camera`: the
+    same view and vertical field of view, a `width` x `height` RGB film
+    with a box filter and `spp` independent samples per pixel. `mi` is the
+    mitsuba module."""
+    return {
+        "type": "perspective",
+        "fov": float(camera["vfov"]),
+        "fov_axis": "y",
+        "to_world": mi.ScalarTransform4f().look_at(
+            origin=camera["position"], target=camera["look_at"], up=camera["up"]
+        ),
+        "film": {
+            "type": "hdrfilm",
+            "width": width,
+            "height": height,
+            "rfilter": {"type": "box"},
+            "pixel_format": "rgb",
+        },
+        "sampler": {"type": "independent", "sample_count": spp},
+    }
+
 def primary_rays(scene, width=None, height=None):
     """kdray's primary rays (shaders/trace.wgsl `camera_ray`): one per pixel
     centre, or the k x k sub-cell centres when samples = k * k; row-major,

@@ -67,22 +67,7 @@ def scene_dict(mi, dr, scene, width, height, spp):
     d = {
         "type": "scene",
         "integrator": {"type": "direct", "emitter_samples": 1, "bsdf_samples": 0},
-        "sensor": {
-            "type": "perspective",
-            "fov": float(cam["vfov"]),
-            "fov_axis": "y",
-            "to_world": mi.ScalarTransform4f().look_at(
-                origin=cam["position"], target=cam["look_at"], up=cam["up"]
-            ),
-            "film": {
-                "type": "hdrfilm",
-                "width": width,
-                "height": height,
-                "rfilter": {"type": "box"},
-                "pixel_format": "rgb",
-            },
-            "sampler": {"type": "independent", "sample_count": spp},
-        },
+        "sensor": kdray_scene.mitsuba_sensor(mi, cam, width, height, spp),
     }
     target = np.array(cam["look_at"], dtype=np.float64)
     for i, light in enumerate(scene.lights):

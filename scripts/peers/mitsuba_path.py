@@ -166,22 +166,7 @@ def scene_dict(mi, scene, width, height, spp, mesh_dir):
             "max_depth": int(scene.render["max_depth"]) + 1,
             "hide_emitters": False,
         },
-        "sensor": {
-            "type": "perspective",
-            "fov": float(cam["vfov"]),
-            "fov_axis": "y",
-            "to_world": mi.ScalarTransform4f().look_at(
-                origin=cam["position"], target=cam["look_at"], up=cam["up"]
-            ),
-            "film": {
-                "type": "hdrfilm",
-                "width": width,
-                "height": height,
-                "rfilter": {"type": "box"},
-                "pixel_format": "rgb",
-            },
-            "sampler": {"type": "independent", "sample_count": spp},
-        },
+        "sensor": kdray_scene.mitsuba_sensor(mi, cam, width, height, spp),
     }
     sky = sky_of(scene)
     if max(sky) > 0.0:

@@ -140,69 +140,7 @@ fn loglog_chart(
             .map_err(|e| plot_error(path, e))?;
 
         for s in series {
-            let colour = s.colour;
-            let line_style = colour.stroke_width(2);
-            // Predicted points are separate estimates: no line between them.
-            if s.points.len() > 1 && s.marker != Marker::Hollow {
-                if s.dashed {
-                    chart
-                        .draw_series(DashedLineSeries::new(
-                            s.points.iter().copied(),
-                            8,
-                            6,
-                            line_style,
-                        ))
-                        .map_err(|e| plot_error(path, e))?;
-                } else {
-                    chart
-                        .draw_series(LineSeries::new(s.points.iter().copied(), line_style))
-                        .map_err(|e| plot_error(path, e))?;
-                }
-            }
-            let points = s.points.iter().copied();
-            let anno = match s.marker {
-                Marker::Dot => chart
-                    .draw_series(points.map(|p| Circle::new(p, 5, colour.filled())))
-                    .map_err(|e| plot_error(path, e))?,
-                Marker::Hollow => chart
-                    .draw_series(points.map(|p| Circle::new(p, 6, colour.stroke_width(2))))
-                    .map_err(|e| plot_error(path, e))?,
-                Marker::Triangle => chart
-                    .draw_series(points.map(|p| TriangleMarker::new(p, 7, colour.filled())))
-                    .map_err(|e| plot_error(path, e))?,
-                Marker::Square => chart
-                    .draw_series(points.map(|p| {
-                        EmptyElement::at(p) + Rectangle::new([(-4, -4), (4, 4)], colour.filled())
-                    }))
-                    .map_err(|e| plot_error(path, e))?,
-                Marker::None => chart
-                    .draw_series(std::iter::empty::<Circle<(f64, f64), i32>>())
-                    .map_err(|e| plot_error(path, e))?,
-            };
-            let marker = s.marker;
-            let dashed = s.dashed;
-            let anno = anno.label(s.label.as_str());
-            let style = colour.stroke_width(2);
-            let line = move |(x, y): (i32, i32)| {
-                EmptyElement::at((x, y)) + PathElement::new(vec![(0, 0), (24, 0)], style)
-            };
-            match (dashed, marker) {
-                (true, _) => anno.legend(move |(x, y)| {
-                    DashedPathElement::new(vec![(x, y), (x + 24, y)], 5, 4, style)
-                }),
-                (false, Marker::Dot) => {
-                    anno.legend(move |p| line(p) + Circle::new((12, 0), 4, colour.filled()))
-                }
-                (false, Marker::Hollow) => {
-                    anno.legend(move |p| line(p) + Circle::new((12, 0), 5, style))
-                }
-                (false, Marker::Triangle) => {
-                    anno.legend(move |p| line(p) + TriangleMarker::new((12, 0), 6, colour.filled()))
-                }
-                (false, Marker::Square) => anno
-                    .legend(move |p| line(p) + Rectangle::new([(8, -4), (16, 4)], colour.filled())),
-                (false, Marker::None) => anno.legend(line),
-            };
+            draw_series(&mut chart, s, path)?;
         }
         chart
             .configure_series_labels()
@@ -221,6 +159,78 @@ fn loglog_chart(
         root.present().map_err(|e| plot_error(path, e))?;
     }
     crate::output::write_png_atomic(path, WIDTH, HEIGHT, &buf)
+}
+
+/// Draws one series on `chart`: its line (dashed or not; none between
+/// predicted points), its markers and its legend entry.
+fn draw_series<'a>(
+    chart: &mut ChartContext<'a, BitMapBackend<'a>, Cartesian2d<LogCoord<f64>, LogCoord<f64>>>,
+    s: &Series,
+    path: &Path,
+) -> Result<()> {
+    let colour = s.colour;
+    let line_style = colour.stroke_width(2);
+    // Predicted points are separate estimates: no line between them.
+    if s.points.len() > 1 && s.marker != Marker::Hollow {
+        if s.dashed {
+            chart
+                .draw_series(DashedLineSeries::new(
+                    s.points.iter().copied(),
+                    8,
+                    6,
+                    line_style,
+                ))
+                .map_err(|e| plot_error(path, e))?;
+        } else {
+            chart
+                .draw_series(LineSeries::new(s.points.iter().copied(), line_style))
+                .map_err(|e| plot_error(path, e))?;
+        }
+    }
+    let points = s.points.iter().copied();
+    let anno =
+        match s.marker {
+            Marker::Dot => chart
+                .draw_series(points.map(|p| Circle::new(p, 5, colour.filled())))
+                .map_err(|e| plot_error(path, e))?,
+            Marker::Hollow => chart
+                .draw_series(points.map(|p| Circle::new(p, 6, colour.stroke_width(2))))
+                .map_err(|e| plot_error(path, e))?,
+            Marker::Triangle => chart
+                .draw_series(points.map(|p| TriangleMarker::new(p, 7, colour.filled())))
+                .map_err(|e| plot_error(path, e))?,
+            Marker::Square => chart
+                .draw_series(points.map(|p| {
+                    EmptyElement::at(p) + Rectangle::new([(-4, -4), (4, 4)], colour.filled())
+                }))
+                .map_err(|e| plot_error(path, e))?,
+            Marker::None => chart
+                .draw_series(std::iter::empty::<Circle<(f64, f64), i32>>())
+                .map_err(|e| plot_error(path, e))?,
+        };
+    let marker = s.marker;
+    let dashed = s.dashed;
+    let anno = anno.label(s.label.as_str());
+    let style = colour.stroke_width(2);
+    let line = move |(x, y): (i32, i32)| {
+        EmptyElement::at((x, y)) + PathElement::new(vec![(0, 0), (24, 0)], style)
+    };
+    match (dashed, marker) {
+        (true, _) => anno
+            .legend(move |(x, y)| DashedPathElement::new(vec![(x, y), (x + 24, y)], 5, 4, style)),
+        (false, Marker::Dot) => {
+            anno.legend(move |p| line(p) + Circle::new((12, 0), 4, colour.filled()))
+        }
+        (false, Marker::Hollow) => anno.legend(move |p| line(p) + Circle::new((12, 0), 5, style)),
+        (false, Marker::Triangle) => {
+            anno.legend(move |p| line(p) + TriangleMarker::new((12, 0), 6, colour.filled()))
+        }
+        (false, Marker::Square) => {
+            anno.legend(move |p| line(p) + Rectangle::new([(8, -4), (16, 4)], colour.filled()))
+        }
+        (false, Marker::None) => anno.legend(line),
+    };
+    Ok(())
 }
 
 fn points(report: &BenchReport, accel: Accel) -> Vec<(f64, f64)> {

@@ -9,7 +9,7 @@ use super::matrix_plot;
 use super::numbers::{count, ms, opt, opt_f, ratio_text};
 use super::options::BenchMode;
 use super::record::RunRecord;
-use super::report::BenchReport;
+use super::report::{BenchReport, EmbreeScene};
 use crate::choice::Choice;
 use crate::gpu::Accel;
 use crate::kdtree::{BuildStrategy, Traversal};
@@ -23,6 +23,37 @@ fn scene_table(s: &mut String, report: &BenchReport, scene: &str, n: usize) {
     let Some(first) = runs.first() else {
         return;
     };
+    scene_heading(s, scene, n, &runs, first);
+    let embree = report.embree_for(scene, n);
+    let embree_mrays = embree.and_then(|e| e.mrays_per_s_median);
+    if report.embree.is_some() {
+        let _ = writeln!(s, "Embree (one thread): {}.  ", embree_line(embree));
+    }
+    let brute_ms = runs
+        .iter()
+        .find(|r| r.accel == Accel::Brute && r.is_ok())
+        .and_then(|r| r.gpu_ms);
+    let _ = writeln!(
+        s,
+        "\n| accel | build | walk | build ms | nodes | depth | refs/leaf | GPU ms median (min-max) | Mrays/s | nodes/ray | leaves/ray | objects/ray | peak MiB | px differing from brute | vs brute | vs Embree |"
+    );
+    let _ = writeln!(
+        s,
+        "|---|---|---|--:|--:|--:|--:|--:|--:|--:|--:|--:|--:|--:|--:|--:|"
+    );
+    for r in runs {
+        let _ = writeln!(s, "{}", run_row(r, brute_ms, embree_mrays));
+    }
+    let _ = writeln!(
+        s,
+        "\n![rays per second, {scene}](./{})",
+        matrix_plot::plot_file(scene, n)
+    );
+}
+
+/// The section's heading (scene, N, objects) and what a frame is: image
+/// size, samples, depth and the rays of the first run that counted them.
+fn scene_heading(s: &mut String, scene: &str, n: usize, runs: &[&RunRecord], first: &RunRecord) {
     let _ = writeln!(
         s,
         "\n### {scene}, N = {} ({} spheres, {} triangles)\n",
@@ -50,100 +81,84 @@ fn scene_table(s: &mut String, report: &BenchReport, scene: &str, n: usize) {
             count(r.reflection_rays.unwrap_or(0))
         ))
     );
-    let embree = report.embree_for(scene, n);
-    let embree_mrays = embree.and_then(|e| e.mrays_per_s_median);
-    if report.embree.is_some() {
-        let line = match embree {
-            None => "not measured".to_string(),
-            Some(e) => match (e.mrays_per_s_median, &e.unsupported) {
-                (Some(m), _) => format!(
-                    "{m:.2} M rays/s ({} primary + {} shadow rays, median of {} runs {} ms; BVH build {} ms)",
-                    count(e.primary_rays.unwrap_or(0)),
-                    count(e.shadow_rays.unwrap_or(0)),
-                    opt(e.repeat),
-                    ms(e.seconds_median.map(|v| v * 1e3)),
-                    ms(e.build_s.map(|v| v * 1e3))
-                ),
-                (None, Some(why)) => format!("n/a ({why})"),
-                (None, None) => "no figure".into(),
-            },
-        };
-        let _ = writeln!(s, "Embree (one thread): {line}.  ");
+}
+
+/// Embree's figure for the scene: its rate and how it was measured, why
+/// it has none, or that it was not measured.
+fn embree_line(embree: Option<&EmbreeScene>) -> String {
+    match embree {
+        None => "not measured".to_string(),
+        Some(e) => match (e.mrays_per_s_median, &e.unsupported) {
+            (Some(m), _) => format!(
+                "{m:.2} M rays/s ({} primary + {} shadow rays, median of {} runs {} ms; BVH build {} ms)",
+                count(e.primary_rays.unwrap_or(0)),
+                count(e.shadow_rays.unwrap_or(0)),
+                opt(e.repeat),
+                ms(e.seconds_median.map(|v| v * 1e3)),
+                ms(e.build_s.map(|v| v * 1e3))
+            ),
+            (None, Some(why)) => format!("n/a ({why})"),
+            (None, None) => "no figure".into(),
+        },
     }
-    let brute_ms = runs
-        .iter()
-        .find(|r| r.accel == Accel::Brute && r.is_ok())
-        .and_then(|r| r.gpu_ms);
-    let _ = writeln!(
-        s,
-        "\n| accel | build | walk | build ms | nodes | depth | refs/leaf | GPU ms median (min-max) | Mrays/s | nodes/ray | leaves/ray | objects/ray | peak MiB | px differing from brute | vs brute | vs Embree |"
+}
+
+/// One run's row of the scene's table: a failed run's status and note in
+/// place of its figures; ratios to brute force's GPU time (`brute_ms`)
+/// and to Embree's rate (`embree_mrays`) where both are known.
+fn run_row(r: &RunRecord, brute_ms: Option<f64>, embree_mrays: Option<f64>) -> String {
+    let head = format!(
+        "| {} | {} | {} |",
+        r.accel.name(),
+        r.build.map_or("", BuildStrategy::name),
+        r.traversal.map_or("", Traversal::name)
     );
-    let _ = writeln!(
-        s,
-        "|---|---|---|--:|--:|--:|--:|--:|--:|--:|--:|--:|--:|--:|--:|--:|"
-    );
-    for r in runs {
-        let head = format!(
-            "| {} | {} | {} |",
-            r.accel.name(),
-            r.build.map_or("", BuildStrategy::name),
-            r.traversal.map_or("", Traversal::name)
-        );
-        if !r.is_ok() {
-            let _ = writeln!(
-                s,
-                "{head} {} | {} | {} | {} | **{}**: {} | | | | | | | | |",
-                ms(r.build_ms),
-                r.kd_nodes.map_or(String::new(), |v| count(v as u64)),
-                opt(r.kd_max_depth),
-                opt_f(r.kd_refs_per_leaf, 2),
-                r.status.name(),
-                r.note.as_deref().unwrap_or("")
-            );
-            continue;
-        }
-        let ratio = |num: Option<f64>, den: Option<f64>| match (num, den) {
-            (Some(a), Some(b)) if b > 0.0 => ratio_text(a / b),
-            _ => "-".into(),
-        };
-        let _ = writeln!(
-            s,
-            "{head} {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} |",
+    if !r.is_ok() {
+        return format!(
+            "{head} {} | {} | {} | {} | **{}**: {} | | | | | | | | |",
             ms(r.build_ms),
-            r.kd_nodes.map_or("-".into(), |v| count(v as u64)),
+            r.kd_nodes.map_or(String::new(), |v| count(v as u64)),
             opt(r.kd_max_depth),
             opt_f(r.kd_refs_per_leaf, 2),
-            if r.gpu_ms_samples.len() > 1 {
-                format!(
-                    "{} ({}-{})",
-                    ms(r.gpu_ms),
-                    ms(r.gpu_ms_min),
-                    ms(r.gpu_ms_max)
-                )
-            } else {
-                ms(r.gpu_ms)
-            },
-            opt_f(r.mrays_per_s, 3),
-            opt_f(r.nodes_visited_per_ray, 1),
-            opt_f(r.leaves_visited_per_ray, 2),
-            opt_f(r.objects_tested_per_ray, 1),
-            opt_f(r.peak_host_mib, 0),
-            match r.accel {
-                Accel::Brute => "(reference)".into(),
-                Accel::Kdtree => opt(r.pixels_differing_from_brute),
-            },
-            match r.accel {
-                Accel::Brute => "1x".into(),
-                Accel::Kdtree => ratio(brute_ms, r.gpu_ms),
-            },
-            ratio(r.mrays_per_s, embree_mrays),
+            r.status.name(),
+            r.note.as_deref().unwrap_or("")
         );
     }
-    let _ = writeln!(
-        s,
-        "\n![rays per second, {scene}](./{})",
-        matrix_plot::plot_file(scene, n)
-    );
+    let ratio = |num: Option<f64>, den: Option<f64>| match (num, den) {
+        (Some(a), Some(b)) if b > 0.0 => ratio_text(a / b),
+        _ => "-".into(),
+    };
+    format!(
+        "{head} {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} |",
+        ms(r.build_ms),
+        r.kd_nodes.map_or("-".into(), |v| count(v as u64)),
+        opt(r.kd_max_depth),
+        opt_f(r.kd_refs_per_leaf, 2),
+        if r.gpu_ms_samples.len() > 1 {
+            format!(
+                "{} ({}-{})",
+                ms(r.gpu_ms),
+                ms(r.gpu_ms_min),
+                ms(r.gpu_ms_max)
+            )
+        } else {
+            ms(r.gpu_ms)
+        },
+        opt_f(r.mrays_per_s, 3),
+        opt_f(r.nodes_visited_per_ray, 1),
+        opt_f(r.leaves_visited_per_ray, 2),
+        opt_f(r.objects_tested_per_ray, 1),
+        opt_f(r.peak_host_mib, 0),
+        match r.accel {
+            Accel::Brute => "(reference)".into(),
+            Accel::Kdtree => opt(r.pixels_differing_from_brute),
+        },
+        match r.accel {
+            Accel::Brute => "1x".into(),
+            Accel::Kdtree => ratio(brute_ms, r.gpu_ms),
+        },
+        ratio(r.mrays_per_s, embree_mrays),
+    )
 }
 
 /// The report as Markdown: machine, a table per scene, speed-ups (of the

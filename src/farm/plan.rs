@@ -307,16 +307,7 @@ mod tests {
         let plan = FarmPlan {
             scene: "/scenes/cornell_box.toml".into(),
             kdray: "/bin/kdray".into(),
-            flags: RenderFlags {
-                width: None,
-                height: None,
-                samples: None,
-                accel: crate::gpu::Accel::Kdtree,
-                traversal: Default::default(),
-                build: Default::default(),
-                integrator: None,
-                seed: None,
-            },
+            flags: RenderFlags::no_overrides(),
             width: 64,
             height: 48,
             work: Work::Samples {

@@ -152,16 +152,7 @@ mod tests {
         FarmPlan {
             scene: "/scenes/seed.toml".into(),
             kdray: "/opt/kdray/bin/kdray".into(),
-            flags: RenderFlags {
-                width: None,
-                height: None,
-                samples: None,
-                accel: crate::gpu::Accel::Kdtree,
-                traversal: Default::default(),
-                build: Default::default(),
-                integrator: None,
-                seed: None,
-            },
+            flags: RenderFlags::no_overrides(),
             width: 64,
             height: 48,
             work: Work::Still { frame: 0, tiles: 4 },

@@ -64,6 +64,7 @@ impl Binding {
     }
 }
 
+use super::walk_log::codes as log;
 use Access::{StorageRead, StorageReadWrite, Uniform};
 
 mod split_arrays;
@@ -127,6 +128,10 @@ pub const QUERY_COSTS: Binding = binding(21, "query_costs", "array<u32>", Storag
 /// Words per pixel (or per query) in [`PIXEL_COSTS`] and [`QUERY_COSTS`].
 pub const COST_WORDS: usize = 3;
 
+/// `inspect_pixel` (the inspect kernel's entry point): the log of one
+/// pixel's rays and walks (shaders/walk_record.wgsl, [`crate::gpu::walk_log`]).
+pub const INSPECT_LOG: Binding = binding(22, "inspect_log", "array<u32>", StorageReadWrite);
+
 /// The scene's storage buffers, in the order [`crate::gpu::SceneArrays`]
 /// lists them, each split array with its first `chunks` bindings.
 pub fn scene(chunks: SceneChunks) -> Vec<Binding> {
@@ -149,6 +154,8 @@ pub const RENDER_OUTPUTS: [Binding; 2] = [TILE_OUTPUT, PIXEL_COSTS];
 pub const ACCUMULATE_OUTPUTS: [Binding; 2] = [ACCUMULATION, PIXEL_COSTS];
 /// `trace_rays`'s own buffers.
 pub const QUERY_OUTPUTS: [Binding; 3] = [QUERY_RAYS, QUERY_HITS, QUERY_COSTS];
+/// `inspect_pixel`'s own buffer.
+pub const INSPECT_OUTPUTS: [Binding; 1] = [INSPECT_LOG];
 
 /// Workgroup size of `render_tile` and `accumulate_tile` (pixels in x, y).
 pub const TRACE_WORKGROUP: (u32, u32) = (8, 8);
@@ -188,6 +195,20 @@ pub const TRACE_RAYS: EntryPoint = EntryPoint {
 };
 /// Every entry point of the trace kernel.
 pub const ENTRY_POINTS: [EntryPoint; 3] = [RENDER_TILE, ACCUMULATE_TILE, TRACE_RAYS];
+/// Traces one pixel's first sample and logs its rays and walks: the entry
+/// point of the inspect kernel, which is the trace kernel with
+/// shaders/walk_record.wgsl in place of walk_record_off.wgsl.
+pub const INSPECT_PIXEL: EntryPoint = EntryPoint {
+    name: "inspect_pixel",
+    outputs: &INSPECT_OUTPUTS,
+    workgroup: [INSPECT_LANES, 1, 1],
+};
+/// Invocations of `inspect_pixel`'s one workgroup, which all trace the
+/// inspected sample (shaders/walk_record.wgsl says why).
+pub const INSPECT_LANES: u32 = 8;
+/// Every entry point of the inspect kernel.
+pub const INSPECT_ENTRY_POINTS: [EntryPoint; 4] =
+    [RENDER_TILE, ACCUMULATE_TILE, TRACE_RAYS, INSPECT_PIXEL];
 
 /// The window's present pass (shaders/present.wgsl, a module of its own):
 /// what it shows ([`crate::gpu::PresentParams`]), and the two
@@ -203,11 +224,26 @@ pub const PRESENT_BINDINGS: [Binding; 3] = [PRESENT_PARAMS, PRESENT_IMAGE, PRESE
 pub const PRESENT_VERTEX_ENTRY_POINT: &str = "vs_main";
 pub const PRESENT_FRAGMENT_ENTRY_POINT: &str = "fs_main";
 
+/// The window's line overlay (shaders/overlay.wgsl, a module of its own):
+/// the camera's world-to-clip matrix (`window::overlay::OverlayParams`),
+/// read by its vertex stage.
+pub const OVERLAY_PARAMS: Binding = binding(0, "overlay", "OverlayParams", Uniform);
+/// The line overlay's bindings.
+pub const OVERLAY_BINDINGS: [Binding; 1] = [OVERLAY_PARAMS];
+/// Its entry points.
+pub const OVERLAY_VERTEX_ENTRY_POINT: &str = "vs_line";
+pub const OVERLAY_FRAGMENT_ENTRY_POINT: &str = "fs_line";
+
 /// Every binding the kernel declares with `chunks` bindings per split
 /// array: the parameters, the scene, and each entry point's own buffers.
 pub fn all(chunks: SceneChunks) -> Vec<Binding> {
+    declared(chunks, &ENTRY_POINTS)
+}
+
+/// The bindings a kernel of `entry_points` declares.
+fn declared(chunks: SceneChunks, entry_points: &[EntryPoint]) -> Vec<Binding> {
     let mut all = entry_point_bindings(chunks, &[]);
-    for b in ENTRY_POINTS.iter().flat_map(|e| e.outputs) {
+    for b in entry_points.iter().flat_map(|e| e.outputs) {
         if !all.contains(b) {
             all.push(*b);
         }
@@ -232,7 +268,7 @@ pub enum SharedValue {
 }
 
 /// Every constant the kernel and the host must agree on, by WGSL name.
-pub const SHARED_CONSTANTS: [(&str, SharedValue); 46] = [
+pub const SHARED_CONSTANTS: [(&str, SharedValue); 67] = [
     ("KD_LEAF", SharedValue::U32(KdNode::LEAF)),
     ("ACCEL_KDTREE", SharedValue::U32(ACCEL_KDTREE)),
     ("ACCEL_BRUTE", SharedValue::U32(ACCEL_BRUTE)),
@@ -333,6 +369,29 @@ pub const SHARED_CONSTANTS: [(&str, SharedValue); 46] = [
     // `@workgroup_size` of `render_tile` and `accumulate_tile`.
     ("TRACE_WORKGROUP_X", SharedValue::U32(TRACE_WORKGROUP.0)),
     ("TRACE_WORKGROUP_Y", SharedValue::U32(TRACE_WORKGROUP.1)),
+    // The inspect kernel's log (walk_record.wgsl, gpu::walk_log): the
+    // header, the records' tags and the kinds of ray.
+    ("INSPECT_LANES", SharedValue::U32(INSPECT_LANES)),
+    ("INSPECT_WORDS_USED", SharedValue::U32(log::WORDS_USED)),
+    ("INSPECT_SINK", SharedValue::U32(log::SINK)),
+    ("INSPECT_HEADER_WORDS", SharedValue::U32(log::HEADER_WORDS)),
+    ("INSPECT_RAY", SharedValue::U32(log::RAY)),
+    ("INSPECT_SEGMENT", SharedValue::U32(log::SEGMENT)),
+    ("INSPECT_NODE", SharedValue::U32(log::NODE)),
+    ("INSPECT_LEAF", SharedValue::U32(log::LEAF)),
+    ("INSPECT_SKIPPED", SharedValue::U32(log::SKIPPED)),
+    ("INSPECT_TESTED", SharedValue::U32(log::TESTED)),
+    ("INSPECT_PUSH", SharedValue::U32(log::PUSH)),
+    ("INSPECT_POP", SharedValue::U32(log::POP)),
+    ("INSPECT_RESTART", SharedValue::U32(log::RESTART)),
+    ("INSPECT_ROPE", SharedValue::U32(log::ROPE)),
+    ("INSPECT_HIT", SharedValue::U32(log::HIT)),
+    ("INSPECT_SAMPLE", SharedValue::U32(log::SAMPLE)),
+    ("RAY_PRIMARY", SharedValue::U32(log::RAY_PRIMARY)),
+    ("RAY_SHADOW", SharedValue::U32(log::RAY_SHADOW)),
+    ("RAY_REFLECTED", SharedValue::U32(log::RAY_REFLECTED)),
+    ("RAY_REFRACTED", SharedValue::U32(log::RAY_REFRACTED)),
+    ("RAY_BOUNCE", SharedValue::U32(log::RAY_BOUNCE)),
 ];
 
 /// An override's value (`gpu::kernel_variant`) meaning "read it from
@@ -447,6 +506,17 @@ pub fn wgsl_contract(chunks: SceneChunks) -> String {
 /// declared as a private one-element array, not a binding: for a kernel
 /// whose frames never read them.
 pub fn wgsl_contract_without(chunks: SceneChunks, omitted: &[Binding]) -> String {
+    wgsl_contract_of(&ENTRY_POINTS, chunks, omitted)
+}
+
+/// [`wgsl_contract_without`] for a kernel of `entry_points` (the trace
+/// kernel's [`ENTRY_POINTS`], or the inspect kernel's
+/// [`INSPECT_ENTRY_POINTS`]).
+pub fn wgsl_contract_of(
+    entry_points: &[EntryPoint],
+    chunks: SceneChunks,
+    omitted: &[Binding],
+) -> String {
     let mut text = String::from("// Generated from src/gpu/bindings.rs: edit it there.\n");
     for (name, value) in SHARED_CONSTANTS {
         text += &format!(
@@ -455,7 +525,7 @@ pub fn wgsl_contract_without(chunks: SceneChunks, omitted: &[Binding]) -> String
             value.wgsl_literal()
         );
     }
-    for b in all(chunks) {
+    for b in declared(chunks, entry_points) {
         text += &declaration(&b, !omitted.contains(&b));
     }
     for (array, chunks) in SPLIT_ARRAYS.iter().zip(chunks) {
@@ -467,7 +537,10 @@ pub fn wgsl_contract_without(chunks: SceneChunks, omitted: &[Binding]) -> String
 /// The constants the present pass and the host agree on: how a pixel's
 /// mean becomes its shown level (`PresentParams::tone_map`).
 pub const PRESENT_CONSTANTS: [(&str, SharedValue); 3] = [
-    ("PRESENT_QUANTISE", SharedValue::U32(super::PRESENT_QUANTISE)),
+    (
+        "PRESENT_QUANTISE",
+        SharedValue::U32(super::PRESENT_QUANTISE),
+    ),
     ("PRESENT_ACES", SharedValue::U32(super::PRESENT_ACES)),
     (
         "PRESENT_CLAMP_SRGB",
@@ -487,6 +560,12 @@ pub fn wgsl_present_contract() -> String {
         );
     }
     text + &declarations(&PRESENT_BINDINGS)
+}
+
+/// The line overlay's generated declarations: its binding.
+pub fn wgsl_overlay_contract() -> String {
+    String::from("// Generated from src/gpu/bindings.rs: edit it there.\n")
+        + &declarations(&OVERLAY_BINDINGS)
 }
 
 /// `@group(0) @binding(index) var<...> name: type;` for each of `bindings`.

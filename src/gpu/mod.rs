@@ -32,6 +32,7 @@ mod scene_arrays;
 pub mod scene_buffers;
 pub mod shaders;
 mod trace_pipelines;
+pub mod walk_log;
 
 pub use accumulate::{Accumulation, Target};
 pub use context::{max_binding_bytes, GpuContext};
@@ -51,3 +52,4 @@ pub use renderer::{
 pub use scene_arrays::SceneArrays;
 pub use scene_buffers::SceneBuffers;
 pub use trace_pipelines::{TraceBindGroup, TracePipeline, TracePipelines};
+pub use walk_log::{RecordedHit, RecordedRay, WalkLog, WalkRecorder};

@@ -9,7 +9,7 @@ use super::bindings::{self, SceneChunks};
 
 /// Files of the trace kernel, in the order they are concatenated (after the
 /// declarations generated from [`bindings`]).
-pub const TRACE_PARTS: [(&str, &str); 20] = [
+pub const TRACE_PARTS: [(&str, &str); 21] = [
     ("types.wgsl", include_str!("../../shaders/types.wgsl")),
     (
         "frame_params.wgsl",
@@ -24,6 +24,10 @@ pub const TRACE_PARTS: [(&str, &str); 20] = [
     (
         "walk_step.wgsl",
         include_str!("../../shaders/walk_step.wgsl"),
+    ),
+    (
+        WALK_RECORD_OFF,
+        include_str!("../../shaders/walk_record_off.wgsl"),
     ),
     ("traverse.wgsl", include_str!("../../shaders/traverse.wgsl")),
     (
@@ -50,13 +54,29 @@ pub const TRACE_PARTS: [(&str, &str); 20] = [
     ("query.wgsl", include_str!("../../shaders/query.wgsl")),
 ];
 
+/// The render kernel's walk recorder, which records nothing; the inspect
+/// kernel holds [`WALK_RECORD`] in its place.
+const WALK_RECORD_OFF: &str = "walk_record_off.wgsl";
+/// The inspect kernel's walk recorder and its entry point, `inspect_pixel`.
+const WALK_RECORD: (&str, &str) = (
+    "walk_record.wgsl",
+    include_str!("../../shaders/walk_record.wgsl"),
+);
+
 /// The window's present pass (fullscreen triangle over the accumulation
 /// buffers), a module of its own, without its generated bindings.
 const PRESENT_FILE: &str = include_str!("../../shaders/present.wgsl");
 
+/// The window's line overlay (world-space segments over the image), a
+/// module of its own, without its generated binding.
+const OVERLAY_FILE: &str = include_str!("../../shaders/overlay.wgsl");
+
 /// Shader files compiled as modules of their own (not part of the trace
 /// kernel), validated by the same tests.
-pub const STANDALONE_SHADERS: [(&str, &str); 1] = [("present.wgsl", PRESENT_FILE)];
+pub const STANDALONE_SHADERS: [(&str, &str); 2] = [
+    ("present.wgsl", PRESENT_FILE),
+    ("overlay.wgsl", OVERLAY_FILE),
+];
 
 /// The trace kernel as a shader module on `device`.
 ///
@@ -81,9 +101,24 @@ pub fn trace_module(
     chunks: SceneChunks,
     omitted: &[bindings::Binding],
 ) -> wgpu::ShaderModule {
+    kernel_module(device, bindings::RENDER_TILE, chunks, omitted)
+}
+
+/// The module holding `entry`: the inspect kernel for `inspect_pixel`,
+/// else the trace kernel ([`trace_module`], whose loop bounds it shares).
+pub fn kernel_module(
+    device: &wgpu::Device,
+    entry: bindings::EntryPoint,
+    chunks: SceneChunks,
+    omitted: &[bindings::Binding],
+) -> wgpu::ShaderModule {
+    let (label, source) = match entry == bindings::INSPECT_PIXEL {
+        true => ("inspect", inspect_source_without(chunks, omitted)),
+        false => ("trace", trace_source_without(chunks, omitted)),
+    };
     let desc = wgpu::ShaderModuleDescriptor {
-        label: Some("trace"),
-        source: wgpu::ShaderSource::Wgsl(trace_source_without(chunks, omitted).into()),
+        label: Some(label),
+        source: wgpu::ShaderSource::Wgsl(source.into()),
     };
     let checks = wgpu::ShaderRuntimeChecks {
         force_loop_bounding: false,
@@ -116,6 +151,23 @@ pub fn trace_source_without(chunks: SceneChunks, omitted: &[bindings::Binding]) 
     source
 }
 
+/// The inspect kernel: [`trace_source_without`] with the walk recorder of
+/// shaders/walk_record.wgsl, its log binding and its entry point.
+pub fn inspect_source_without(chunks: SceneChunks, omitted: &[bindings::Binding]) -> String {
+    let mut source = format!(
+        "// ---- bindings.rs\n{}\n",
+        bindings::wgsl_contract_of(&bindings::INSPECT_ENTRY_POINTS, chunks, omitted)
+    );
+    for (name, text) in TRACE_PARTS {
+        let (name, text) = match name == WALK_RECORD_OFF {
+            true => WALK_RECORD,
+            false => (name, text),
+        };
+        source += &format!("// ---- {name}\n{text}\n");
+    }
+    source
+}
+
 /// The present pass: its generated bindings, then shaders/present.wgsl.
 pub fn present_source() -> String {
     format!(
@@ -129,6 +181,22 @@ pub fn present_module(device: &wgpu::Device) -> wgpu::ShaderModule {
     device.create_shader_module(wgpu::ShaderModuleDescriptor {
         label: Some("present"),
         source: wgpu::ShaderSource::Wgsl(present_source().into()),
+    })
+}
+
+/// The line overlay: its generated binding, then shaders/overlay.wgsl.
+pub fn overlay_source() -> String {
+    format!(
+        "// ---- bindings.rs\n{}\n// ---- overlay.wgsl\n{OVERLAY_FILE}\n",
+        bindings::wgsl_overlay_contract()
+    )
+}
+
+/// The line overlay as a shader module on `device`.
+pub fn overlay_module(device: &wgpu::Device) -> wgpu::ShaderModule {
+    device.create_shader_module(wgpu::ShaderModuleDescriptor {
+        label: Some("overlay"),
+        source: wgpu::ShaderSource::Wgsl(overlay_source().into()),
     })
 }
 
@@ -179,9 +247,12 @@ mod tests {
     /// uniform there costs llvmpipe a load per lane.
     #[test]
     fn every_entry_point_reads_the_frame_params_first() {
-        let (module, _) = parse_and_validate(&trace_source([MAX_CHUNKS; SPLIT_ARRAY_COUNT]));
+        let chunks = [MAX_CHUNKS; SPLIT_ARRAY_COUNT];
+        let (module, _) = parse_and_validate(&trace_source(chunks));
+        let (inspect, _) = parse_and_validate(&inspect_source_without(chunks, &[]));
         assert!(module.entry_points.len() >= 3);
-        for entry in &module.entry_points {
+        let entries = module.entry_points.iter().map(|e| (&module, e));
+        for (module, entry) in entries.chain(inspect.entry_points.iter().map(|e| (&inspect, e))) {
             let first = entry
                 .function
                 .body
@@ -197,13 +268,66 @@ mod tests {
         }
     }
 
+    /// The inspect kernel validates with the inspect entry points at their
+    /// workgroup sizes, binds its log as the contract says, and holds every
+    /// function of the trace kernel; the trace kernel declares no log.
+    #[test]
+    fn inspect_kernel_is_the_trace_kernel_with_its_recorder_and_log() {
+        let chunks = [MAX_CHUNKS; SPLIT_ARRAY_COUNT];
+        let (module, _) = parse_and_validate(&inspect_source_without(chunks, &[]));
+        for contract in bindings::INSPECT_ENTRY_POINTS {
+            let entry = module
+                .entry_points
+                .iter()
+                .find(|e| e.name == contract.name)
+                .unwrap_or_else(|| panic!("the inspect kernel lacks {}", contract.name));
+            assert_eq!(
+                entry.workgroup_size, contract.workgroup,
+                "{}",
+                contract.name
+            );
+        }
+        assert_eq!(
+            module.entry_points.len(),
+            bindings::INSPECT_ENTRY_POINTS.len()
+        );
+        let mut table = bindings::all(chunks);
+        table.push(bindings::INSPECT_LOG);
+        globals_are(&module, &table);
+        constants_equal_the_hosts(&module, &SHARED_CONSTANTS);
+        let render = kernel(chunks);
+        assert!(render
+            .global_variables
+            .iter()
+            .all(|(_, g)| g.name.as_deref() != Some(bindings::INSPECT_LOG.name)));
+        let names = |m: &naga::Module| -> Vec<String> {
+            m.functions
+                .iter()
+                .filter_map(|(_, f)| f.name.clone())
+                .collect()
+        };
+        let inspect_functions = names(&module);
+        for name in names(&render) {
+            assert!(
+                inspect_functions.contains(&name),
+                "the inspect kernel lacks {name}"
+            );
+        }
+    }
+
     /// Every .wgsl file in shaders/ is part of a validated module.
     #[test]
     fn every_shader_file_is_validated() {
         let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("shaders");
         let mut validated: Vec<&str> = TRACE_PARTS.iter().map(|(name, _)| *name).collect();
         validated.extend(STANDALONE_SHADERS.iter().map(|(name, _)| *name));
+        validated.push(WALK_RECORD.0);
         parse_and_validate(&present_source());
+        parse_and_validate(&inspect_source_without(
+            [MAX_CHUNKS; SPLIT_ARRAY_COUNT],
+            &[],
+        ));
+        parse_and_validate(&overlay_source());
         for entry in std::fs::read_dir(&dir).unwrap() {
             let name = entry.unwrap().file_name().into_string().unwrap();
             if name.ends_with(".wgsl") {
@@ -271,6 +395,15 @@ mod tests {
     #[test]
     fn present_bindings_are_the_contract() {
         globals_are(&parse_and_validate(&present_source()).0, &PRESENT_BINDINGS);
+    }
+
+    /// The same for the window's line overlay.
+    #[test]
+    fn overlay_bindings_are_the_contract() {
+        globals_are(
+            &parse_and_validate(&overlay_source()).0,
+            &bindings::OVERLAY_BINDINGS,
+        );
     }
 
     /// Each shared constant, as naga evaluates the kernel's declaration, has

@@ -162,7 +162,7 @@ impl TracePipelines {
                     entries: &bindings::layout_entries(&bound, wgpu::ShaderStages::COMPUTE),
                 });
                 Kernel {
-                    module: super::shaders::trace_module(device, self.chunks, omitted),
+                    module: super::shaders::kernel_module(device, self.entry, self.chunks, omitted),
                     layout,
                     omitted: key,
                 }

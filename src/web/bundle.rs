@@ -27,10 +27,10 @@
 
 use serde::Serialize;
 
-use crate::gpu::{FrameParams, PresentParams};
-use crate::scene::Integrator;
 use crate::gpu::{Accel, PreparedScene};
+use crate::gpu::{FrameParams, PresentParams};
 use crate::kdtree::Traversal;
+use crate::scene::Integrator;
 
 /// The first 8 bytes of every bundle.
 pub const MAGIC: &[u8; 8] = b"KDRAYWEB";
@@ -91,6 +91,11 @@ pub struct SceneInfo {
     pub needs: Vec<&'static str>,
     /// The walk `frame_params` holds (`render`'s default).
     pub traversal: &'static str,
+    /// How the k-d tree was built (`sah`, ...).
+    pub build: &'static str,
+    /// Whether some material has an alpha mode (MASK or BLEND): the
+    /// kernel's alpha test (the `ALPHA_TEST` override) is needed.
+    pub alpha_test: bool,
     /// Whether some material transmits: the kernel's glass path (the
     /// `GLASS` override) is needed.
     pub glass: bool,
@@ -157,6 +162,11 @@ pub fn encode(prepared: &PreparedScene, name: &str) -> Vec<u8> {
         leaf_references: arrays.leaf_objects.len() as u32,
         needs,
         traversal: crate::choice::Choice::name(Traversal::default()),
+        build: prepared.strategy.name(),
+        alpha_test: arrays
+            .materials
+            .iter()
+            .any(|m| m.alpha_mode != crate::layout::ALPHA_OPAQUE),
         glass: arrays.materials.iter().any(|m| m.transmission > 0.0),
     };
     let info = serde_json::to_vec(&info).expect("the scene's figures serialise");

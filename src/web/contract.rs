@@ -9,7 +9,7 @@ use serde_json::{json, Value};
 
 use crate::gpu::bindings::{
     self, Access, Binding, SharedValue, ACCUMULATE_TILE, OPTIONAL_BINDINGS, PRESENT_BINDINGS,
-    SHARED_CONSTANTS, UNSPLIT, PRESENT_CONSTANTS,
+    PRESENT_CONSTANTS, SHARED_CONSTANTS, UNSPLIT,
 };
 use crate::gpu::kernel_variant::OVERRIDES;
 use crate::gpu::{FrameParams, PresentParams};
@@ -19,6 +19,8 @@ use super::bundle;
 /// File names of the site that the contract names.
 pub const KERNEL_FILE: &str = "kernel.wgsl";
 pub const PRESENT_FILE: &str = "present.wgsl";
+/// The inspect kernel (`gpu::shaders::inspect_source_without`).
+pub const INSPECT_FILE: &str = "inspect.wgsl";
 pub const BUNDLE_FILE: &str = "scene.kdray";
 
 fn binding_json(b: &Binding) -> Value {
@@ -116,6 +118,27 @@ fn struct_json(size: usize, fields: &[Field]) -> Value {
     json!({"size": size, "fields": fields})
 }
 
+/// The window's line colours by the page's names of what they show.
+fn inspect_colours() -> Value {
+    use crate::window::inspect_lines::LineKind;
+    let kinds = [
+        ("leaf", LineKind::Leaf),
+        ("hit_leaf", LineKind::HitLeaf),
+        ("split_plane", LineKind::SplitPlane),
+        ("primary", LineKind::Primary),
+        ("shadow", LineKind::Shadow),
+        ("reflected", LineKind::Reflected),
+        ("refracted", LineKind::Refracted),
+        ("bounce", LineKind::Bounce),
+    ];
+    Value::Object(
+        kinds
+            .iter()
+            .map(|(name, kind)| (name.to_string(), json!(kind.colour())))
+            .collect(),
+    )
+}
+
 /// The contract as the page reads it.
 pub fn contract_json() -> Value {
     let constants: serde_json::Map<String, Value> = SHARED_CONSTANTS
@@ -130,9 +153,10 @@ pub fn contract_json() -> Value {
         })
         .collect();
     let accumulate = bindings::entry_point_bindings(UNSPLIT, ACCUMULATE_TILE.outputs);
+    let inspect = bindings::entry_point_bindings(UNSPLIT, bindings::INSPECT_PIXEL.outputs);
     json!({
         "generator": format!("kdray {}", env!("CARGO_PKG_VERSION")),
-        "files": {"kernel": KERNEL_FILE, "present": PRESENT_FILE, "bundle": BUNDLE_FILE},
+        "files": {"kernel": KERNEL_FILE, "present": PRESENT_FILE, "inspect": INSPECT_FILE, "bundle": BUNDLE_FILE},
         "bundle": {
             "magic": std::str::from_utf8(bundle::MAGIC).expect("ASCII"),
             "version": bundle::FORMAT_VERSION,
@@ -161,6 +185,19 @@ pub fn contract_json() -> Value {
             "outputs": ACCUMULATE_TILE.outputs.iter().map(|b| b.name).collect::<Vec<_>>(),
             "texel_bytes": crate::gpu::accumulate::ACCUMULATION_TEXEL,
             "cost_words": bindings::COST_WORDS,
+        },
+        // window.kdray.inspect(x, y): the inspect kernel's entry point, its
+        // log (gpu::walk_log; the INSPECT_* and RAY_* constants) and the
+        // document it becomes (src/inspect.rs, docs/inspect.md).
+        "inspect": {
+            "entry_point": bindings::INSPECT_PIXEL.name,
+            "workgroup": bindings::INSPECT_PIXEL.workgroup,
+            "bindings": inspect.iter().map(binding_json).collect::<Vec<_>>(),
+            "log": bindings::INSPECT_LOG.name,
+            "first_log_words": crate::gpu::walk_log::FIRST_LOG_WORDS,
+            "version": crate::inspect::INSPECT_VERSION,
+            // Inspection mode's line colours (linear RGB, as the window's).
+            "colours": inspect_colours(),
         },
         "optional_bindings": OPTIONAL_BINDINGS.iter().map(|(b, need)| json!({
             "name": b.name,

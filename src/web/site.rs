@@ -15,13 +15,15 @@ use crate::gpu::{Accel, PreparedScene};
 pub const SITE_MARKER: &str = "contract.json";
 
 /// The page's own files (web/), by name.
-pub const PAGE_FILES: [(&str, &str); 6] = [
+pub const PAGE_FILES: [(&str, &str); 8] = [
     ("index.html", include_str!("../../web/index.html")),
     ("kdray.js", include_str!("../../web/kdray.js")),
     ("bundle.js", include_str!("../../web/bundle.js")),
     ("tracer.js", include_str!("../../web/tracer.js")),
     ("controls.js", include_str!("../../web/controls.js")),
     ("heatmap.js", include_str!("../../web/heatmap.js")),
+    ("inspect.js", include_str!("../../web/inspect.js")),
+    ("overlay.js", include_str!("../../web/overlay.js")),
 ];
 
 /// Loads the scene at `scene_path` (errors as `render`'s), builds its k-d
@@ -42,6 +44,7 @@ pub fn export_site(scene_path: &Path, dir: &Path) -> Result<()> {
     })?;
     let kernel = crate::gpu::shaders::trace_source(UNSPLIT);
     let present = crate::gpu::shaders::present_source();
+    let inspect = crate::gpu::shaders::inspect_source_without(UNSPLIT, &[]);
     let mut files: Vec<(&str, &[u8])> = PAGE_FILES
         .iter()
         .map(|(name, text)| (*name, text.as_bytes()))
@@ -49,6 +52,7 @@ pub fn export_site(scene_path: &Path, dir: &Path) -> Result<()> {
     files.extend([
         (contract::KERNEL_FILE, kernel.as_bytes()),
         (contract::PRESENT_FILE, present.as_bytes()),
+        (contract::INSPECT_FILE, inspect.as_bytes()),
         (contract::BUNDLE_FILE, &bundle[..]),
     ]);
     // The marker last: a site cut short is still refused... unless written

@@ -214,6 +214,7 @@ impl App {
                     Accel::Brute => Accel::Kdtree,
                 };
                 session.refinement.invalidate();
+                session.reinspect();
                 session.update_title(&self.name, true);
             }
             Action::CycleTraversal => {
@@ -221,6 +222,7 @@ impl App {
                 // and the heatmap are the new walk's.
                 session.traversal = session.traversal.next();
                 session.refinement.invalidate();
+                session.reinspect();
                 session.update_title(&self.name, true);
             }
             Action::CycleBuild => {
@@ -239,6 +241,7 @@ impl App {
             }
             Action::ToggleIntegrator => {
                 session.toggle_integrator(&self.options);
+                session.reinspect();
                 session.update_title(&self.name, true);
             }
             Action::DepthDown | Action::DepthUp => {
@@ -250,6 +253,7 @@ impl App {
                 // The scene format's range of render.max_depth.
                 session.max_depth = depth.clamp(1, 64);
                 session.refinement.invalidate();
+                session.reinspect();
                 session.update_title(&self.name, true);
             }
             Action::TogglePlay => {
@@ -257,6 +261,10 @@ impl App {
                     eprintln!("kdray: the scene has no [animation] to play");
                 }
                 session.playback.toggle(Instant::now());
+                session.update_title(&self.name, true);
+            }
+            Action::ToggleInspect => {
+                session.toggle_inspect();
                 session.update_title(&self.name, true);
             }
             Action::Help => eprintln!("{HELP}"),
@@ -332,6 +340,13 @@ impl ApplicationHandler for App {
         let Some(input) = controller_input(&event) else {
             return;
         };
+        // A click (no drag) inspects in inspection mode; a drag orbits.
+        if let Some(at) = session.clicks.handle(input) {
+            if session.inspect.on {
+                session.inspect_click(at);
+                session.update_title(&self.name, true);
+            }
+        }
         if session.controller.handle(input) {
             session.camera_moved(now);
         }

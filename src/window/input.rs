@@ -22,6 +22,8 @@ kdray window controls:
   C                  toggle the cost heatmap (work per sample, false colour)
   I                  toggle the integrator: whitted / path (progressive)
   [ ]                max_depth down / up
+  X                  inspection mode: a left click (no drag) on a pixel draws
+                     its rays and the k-d cells their walks visited
   Space              play / pause the scene's animation
   H                  this help
   Esc                quit";
@@ -47,6 +49,8 @@ pub enum Action {
     DepthUp,
     /// Space: play or pause the scene's animation.
     TogglePlay,
+    /// X: inspection mode on or off (a click inspects a pixel).
+    ToggleInspect,
     Help,
     Quit,
 }
@@ -54,7 +58,7 @@ pub enum Action {
 /// The window's own keys, by the character they type (lower case), each
 /// acting once per press. A new key is one line here, one in [`HELP`] and
 /// one arm in `App::handle_key`.
-const WINDOW_KEYS: [(&str, Action); 11] = [
+const WINDOW_KEYS: [(&str, Action); 12] = [
     ("f", Action::Camera(ControlKey::FrameAll)),
     ("r", Action::Camera(ControlKey::Reset)),
     ("p", Action::Screenshot),
@@ -65,6 +69,7 @@ const WINDOW_KEYS: [(&str, Action); 11] = [
     ("i", Action::ToggleIntegrator),
     ("[", Action::DepthDown),
     ("]", Action::DepthUp),
+    ("x", Action::ToggleInspect),
     ("h", Action::Help),
 ];
 
@@ -260,8 +265,9 @@ mod tests {
             (none, ch("["), Some(Action::DepthDown)),
             (none, ch("]"), Some(Action::DepthUp)),
             (none, ch("h"), Some(Action::Help)),
+            (none, ch("X"), Some(Action::ToggleInspect)),
             (none, Key::Named(NamedKey::Escape), Some(Action::Quit)),
-            (none, ch("x"), None),
+            (none, ch("v"), None),
             (none, ch("fr"), None),
             (none, Key::Named(NamedKey::Enter), None),
         ];

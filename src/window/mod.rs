@@ -7,8 +7,16 @@
 //!   own key actions.
 //! - `refinement`: which image each frame traces: preview scale, bands,
 //!   passes (pure, unit-tested).
+//! - `click`: left clicks (not drags) and the image pixel under the cursor
+//!   (pure, unit-tested).
 //! - `frame_stats`: frame figures and the exit report (pure, unit-tested).
 //! - `heatmap_view`: the cost heatmap's texels (pure, unit-tested).
+//! - [`inspect_lines`]: an inspected pixel's rays, cells and split planes as
+//!   world-space lines, and its counts (pure, unit-tested).
+//! - [`projection`]: the camera's projection that draws them, the inverse of
+//!   the kernel's camera rays (pure, unit-tested).
+//! - `inspection`: inspection mode (X): a click inspects a pixel.
+//! - `overlay`: the line pipeline that draws them over the image.
 //! - `title`: what the title bar says, and how often (pure, unit-tested).
 //! - [`reload`]: loading the scene, and polling its file and the files it
 //!   reads.
@@ -19,10 +27,15 @@
 
 mod app;
 pub mod camera_controller;
+mod click;
 mod frame_stats;
 mod heatmap_view;
 mod input;
+pub mod inspect_lines;
+mod inspection;
+mod overlay;
 mod playback;
+pub mod projection;
 mod refinement;
 pub mod reload;
 mod session;

@@ -14,7 +14,9 @@ use winit::event_loop::{ActiveEventLoop, OwnedDisplayHandle};
 use winit::window::Window;
 
 use super::camera_controller::{Bounds, CameraController};
+use super::click::ClickTracker;
 use super::frame_stats::{FrameStats, ReportContext};
+use super::inspection::InspectMode;
 use super::playback::Playback;
 use super::refinement::{FrameKind, FramePlan, Pass, Refinement, Samples};
 use super::surface::{Acquired, WindowSurface};
@@ -60,6 +62,12 @@ pub(super) struct Session {
     pub(super) last_update: Instant,
     pub(super) stats: FrameStats,
     pub(super) title: TitleBar,
+    /// Inspection mode (X) and the pixel it shows.
+    pub(super) inspect: InspectMode,
+    /// The inspect kernel, made at the first inspection.
+    pub(super) recorder: Option<crate::gpu::WalkRecorder>,
+    /// Left clicks (not drags), for inspection mode.
+    pub(super) clicks: ClickTracker,
 }
 
 /// Window size: --width/--height in physical pixels; one of them alone keeps
@@ -210,6 +218,9 @@ impl Session {
             last_update: now,
             stats: FrameStats::new(now),
             title: TitleBar::new(now),
+            inspect: InspectMode::default(),
+            recorder: None,
+            clicks: ClickTracker::default(),
         })
     }
 
@@ -240,6 +251,8 @@ impl Session {
             .set_samples(window_samples(options, scene.scene(), self.integrator));
         self.scene = scene;
         self.refinement.invalidate();
+        // The pixel's rays in the new scene (or tree).
+        self.reinspect();
         Ok(())
     }
 
@@ -326,6 +339,10 @@ impl Session {
         let window = self.surface.size();
         let plan = self.refinement.plan(now, window);
         let work = self.frame_work(&plan, window);
+        if self.viewer.overlay_mut().has_lines() {
+            let view = self.overlay_view().gpu_matrix();
+            self.viewer.overlay_mut().set_view(&self.ctx.queue, view);
+        }
         self.viewer
             .frame(&self.ctx, &frame.view, &work, self.heatmap)?;
         self.surface.present(&self.ctx, &self.window, frame);
@@ -409,6 +426,7 @@ impl Session {
                     self.playback.is_playing(),
                 )
             }),
+            inspect: self.inspect.title(self.integrator == Integrator::Path),
         });
         self.window.set_title(&text);
     }

@@ -3,6 +3,7 @@
 
 use std::time::{Duration, Instant};
 
+use super::inspect_lines::Totals;
 use crate::gpu::Accel;
 use crate::kdtree::{BuildStrategy, Traversal};
 
@@ -16,6 +17,47 @@ pub enum Progress {
     Moving { scale: u32 },
     /// `passes` of `samples` samples per pixel (path samples if `path`).
     Refining { passes: u32, samples: u32, path: bool },
+}
+
+/// What inspection mode (X) shows.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum InspectTitle<'a> {
+    /// On, nothing inspected yet.
+    Waiting,
+    /// The last click fell outside the image.
+    Outside,
+    /// The inspection failed (the reason, one line).
+    Failed(&'a str),
+    /// `pixel`'s rays and their summed work; `path`: the window traces the
+    /// path integrator, and the rays are its first path sample's.
+    Shown {
+        pixel: (u32, u32),
+        totals: Totals,
+        path: bool,
+    },
+}
+
+impl InspectTitle<'_> {
+    fn text(&self) -> String {
+        match *self {
+            InspectTitle::Waiting => "INSPECT: click a pixel".into(),
+            InspectTitle::Outside => "INSPECT: click inside the image".into(),
+            InspectTitle::Failed(why) => format!("INSPECT FAILED: {why}"),
+            InspectTitle::Shown {
+                pixel: (x, y),
+                totals: t,
+                path,
+            } => format!(
+                "INSPECT {x},{y}{}: {} rays, {} nodes, {} leaves, {} tests, {} restarts",
+                if path { " (path sample)" } else { "" },
+                t.rays,
+                t.nodes,
+                t.leaves,
+                t.tests,
+                t.restarts
+            ),
+        }
+    }
 }
 
 /// Everything the title says.
@@ -37,6 +79,8 @@ pub struct TitleFacts<'a> {
     /// An animation's shown frame (0-based), its frame count, and whether
     /// it plays.
     pub animation: Option<(u32, u32, bool)>,
+    /// Inspection mode, while it is on.
+    pub inspect: Option<InspectTitle<'a>>,
 }
 
 /// The title bar's state: when it may change next, and the reload status
@@ -111,6 +155,10 @@ impl TitleBar {
                 " - HEATMAP: nodes + objects per sample, 0 to {max}"
             ));
         }
+        if let Some(inspect) = facts.inspect {
+            title.push_str(" - ");
+            title.push_str(&inspect.text());
+        }
         if self.reloading {
             title.push_str(" - reloading");
         }
@@ -144,6 +192,7 @@ mod tests {
             max_depth: 5,
             heatmap: None,
             animation: None,
+            inspect: None,
         };
         assert_eq!(
             bar.text(&facts),
@@ -183,6 +232,60 @@ mod tests {
             bar.text(&facts),
             "seed.toml - moving, 1/4 resolution - 12.3 ms - 1.50 Mrays/s - brute - depth 5 \
              - reloading - RELOAD FAILED: scene.toml:3: camera.position: expected 3 numbers"
+        );
+    }
+
+    #[test]
+    fn the_title_says_what_inspection_mode_shows() {
+        let bar = TitleBar::new(Instant::now());
+        let mut facts = TitleFacts {
+            name: "seed.toml",
+            progress: Progress::Refining {
+                passes: 4,
+                samples: 4,
+                path: false,
+            },
+            frame_ms: 2.0,
+            mrays: 3.0,
+            accel: Accel::Brute,
+            traversal: Traversal::Ropes,
+            build: BuildStrategy::Sah,
+            max_depth: 5,
+            heatmap: None,
+            animation: None,
+            inspect: Some(InspectTitle::Waiting),
+        };
+        let start = "seed.toml - 4/4 spp - 2.0 ms - 3.00 Mrays/s - brute - depth 5 - ";
+        let says = |facts: &TitleFacts| bar.text(facts).strip_prefix(start).unwrap().to_string();
+        assert_eq!(says(&facts), "INSPECT: click a pixel");
+        facts.inspect = Some(InspectTitle::Outside);
+        assert_eq!(says(&facts), "INSPECT: click inside the image");
+        facts.inspect = Some(InspectTitle::Failed("no device"));
+        assert_eq!(says(&facts), "INSPECT FAILED: no device");
+        let totals = Totals {
+            rays: 3,
+            nodes: 40,
+            leaves: 12,
+            tests: 9,
+            restarts: 1,
+        };
+        facts.inspect = Some(InspectTitle::Shown {
+            pixel: (12, 34),
+            totals,
+            path: false,
+        });
+        assert_eq!(
+            says(&facts),
+            "INSPECT 12,34: 3 rays, 40 nodes, 12 leaves, 9 tests, 1 restarts"
+        );
+        facts.inspect = Some(InspectTitle::Shown {
+            pixel: (0, 7),
+            totals,
+            path: true,
+        });
+        assert_eq!(
+            says(&facts),
+            "INSPECT 0,7 (path sample): 3 rays, 40 nodes, 12 leaves, 9 tests, 1 restarts"
         );
     }
 

@@ -1,8 +1,10 @@
 //! The window's GPU side, around the progressive accumulation
 //! ([`crate::gpu::Accumulation`]): the present pass (shaders/present.wgsl)
 //! that shows the image or the preview, the cost heatmap shown instead of
-//! them, and screenshots of what the present pass shows.
+//! them, the line overlay drawn over them (`overlay.rs`), and screenshots of
+//! what the two show.
 
+use super::overlay::Overlay;
 use crate::error::{Error, Result};
 use crate::gpu::accumulate::ACCUMULATION_TEXEL;
 use crate::gpu::FrameParams;
@@ -47,6 +49,8 @@ pub struct Viewer {
     groups: PresentGroups,
     /// While the cost heatmap is shown: its scale's top (work per sample).
     heatmap: Option<u32>,
+    /// Lines drawn over the image (an inspected pixel's rays and cells).
+    overlay: Overlay,
 }
 
 fn present_pipeline(
@@ -130,6 +134,7 @@ impl Viewer {
                 target_format,
                 groups,
                 heatmap: None,
+                overlay: Overlay::new(device, target_format),
             }
         })
     }
@@ -203,9 +208,18 @@ impl Viewer {
         };
         ctx.queue
             .write_buffer(&self.present_params, 0, bytemuck::bytes_of(&present));
-        self.draw(&mut encoder, &self.present, target);
+        self.draw(
+            &mut encoder,
+            (&self.present, self.overlay.pipeline()),
+            target,
+        );
         ctx.queue.submit([encoder.finish()]);
         Ok(())
+    }
+
+    /// The lines drawn over the image.
+    pub fn overlay_mut(&mut self) -> &mut Overlay {
+        &mut self.overlay
     }
 
     /// The heatmap's scale while it is shown.
@@ -245,10 +259,12 @@ impl Viewer {
         Ok(scale.unwrap_or(1))
     }
 
+    /// The present pass with `pipelines` (the present pass's and the
+    /// overlay's, for `target`'s format): the image, then the lines.
     fn draw(
         &self,
         encoder: &mut wgpu::CommandEncoder,
-        pipeline: &wgpu::RenderPipeline,
+        (pipeline, lines): (&wgpu::RenderPipeline, &wgpu::RenderPipeline),
         target: &wgpu::TextureView,
     ) {
         let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
@@ -274,6 +290,7 @@ impl Viewer {
         };
         pass.set_bind_group(0, group, &[]);
         pass.draw(0..3, 0..1);
+        self.overlay.draw(&mut pass, lines);
     }
 
     /// Draws the present pass again, as the last frame showed it, into an
@@ -291,13 +308,14 @@ impl Viewer {
             * wgpu::COPY_BYTES_PER_ROW_ALIGNMENT;
         let size = padded_row as u64 * height as u64;
         let readback = ctx.checked("capturing the window", |device| {
-            let pipeline = (format != self.target_format).then(|| {
-                present_pipeline(
+            let pipelines = (format != self.target_format).then(|| {
+                let present = present_pipeline(
                     device,
                     &self.present_pipeline_layout,
                     &self.present_module,
                     format,
-                )
+                );
+                (present, self.overlay.pipeline_for(device, format))
             });
             let texture = device.create_texture(&wgpu::TextureDescriptor {
                 label: Some("screenshot"),
@@ -321,11 +339,11 @@ impl Viewer {
             });
             let view = texture.create_view(&Default::default());
             let mut encoder = device.create_command_encoder(&Default::default());
-            self.draw(
-                &mut encoder,
-                pipeline.as_ref().unwrap_or(&self.present),
-                &view,
-            );
+            let pipelines = match &pipelines {
+                Some((present, lines)) => (present, lines),
+                None => (&self.present, self.overlay.pipeline()),
+            };
+            self.draw(&mut encoder, pipelines, &view);
             encoder.copy_texture_to_buffer(
                 wgpu::TexelCopyTextureInfo {
                     texture: &texture,

@@ -13,7 +13,7 @@ mod core_common;
 // Each binary uses some of these.
 #[allow(unused_imports)]
 pub use core_common::{
-    masked, proptest_config, repo_path, repo_root, strategies, textured, TempDir,
+    masked, proptest_config, repo_path, repo_root, strategies, temp_files_in, textured, TempDir,
 };
 
 use std::path::{Path, PathBuf};
@@ -53,6 +53,27 @@ pub fn pixel(image: &RenderedImage, row: u32, column: u32) -> [u8; 3] {
 /// The spec's 8-bit quantisation of a linear colour.
 pub fn quantize(c: [f64; 3]) -> [u8; 3] {
     c.map(|x| (255.0 * x.clamp(0.0, 1.0) + 0.5).floor() as u8)
+}
+
+/// A model file opened two ways, each `side` x `side` pixels: as a scene
+/// (the file's own camera and lights, where it has them) and as kdray's
+/// default view of it (its framing camera and light rig), for a test that
+/// states by hand what the file gives.
+pub fn model_and_default_view(path: &Path, side: u32) -> (Scene, Scene) {
+    let sized = |mut scene: Scene| {
+        scene.render.width = side;
+        scene.render.height = side;
+        scene
+    };
+    let from_file = kdray::scene::load_scene(path).unwrap_or_else(|e| panic!("{e}"));
+    let default_view = kdray::scene::model_scene_viewed(
+        path,
+        kdray::scene::ModelCamera::Default,
+        &mut |_| {},
+        &mut |_| {},
+    )
+    .unwrap_or_else(|e| panic!("{e}"));
+    (sized(from_file), sized(default_view))
 }
 
 /// Every scene file shipped in scenes/.
@@ -223,3 +244,36 @@ pub fn path_pixels_allowed(scene: &Scene) -> usize {
         kdray::scene::Integrator::Path => (scene.render.width * scene.render.height) as usize / 50,
     }
 }
+
+/// Whether two JSON documents (`kdray inspect`'s, say) agree: the same keys, arrays of the same length,
+/// the same strings and whole numbers (kinds, node and object ids), and
+/// floats equal within the GPU's rounding (it may fuse a multiply-add or
+/// round a division or square root an ulp differently from the CPU).
+/// `None`, or where the first difference lies.
+pub fn json_disagreement(a: &serde_json::Value, b: &serde_json::Value, at: &str) -> Option<String> {
+    match (a, b) {
+        (serde_json::Value::Object(x), serde_json::Value::Object(y)) => {
+            if x.len() != y.len() {
+                return Some(format!("{at}: keys {:?} against {:?}", x.keys(), y.keys()));
+            }
+            x.iter().find_map(|(k, v)| match y.get(k) {
+                Some(w) => json_disagreement(v, w, &format!("{at}.{k}")),
+                None => Some(format!("{at}: no {k}")),
+            })
+        }
+        (serde_json::Value::Array(x), serde_json::Value::Array(y)) => {
+            if x.len() != y.len() {
+                return Some(format!("{at}: {} against {} entries", x.len(), y.len()));
+            }
+            (x.iter().zip(y).enumerate())
+                .find_map(|(i, (v, w))| json_disagreement(v, w, &format!("{at}[{i}]")))
+        }
+        (serde_json::Value::Number(x), serde_json::Value::Number(y)) if x.is_f64() || y.is_f64() => {
+            let (x, y) = (x.as_f64()?, y.as_f64()?);
+            let close = (x - y).abs() <= 1e-5 * x.abs().max(y.abs()).max(1.0);
+            (!close).then(|| format!("{at}: {x} against {y}"))
+        }
+        _ => (a != b).then(|| format!("{at}: {a} against {b}")),
+    }
+}
+

@@ -28,13 +28,13 @@ const MAX_MEAN_FLIP: f32 = 0.01;
 const MAX_PIXELS_OVER_PER_MILLE: usize = 1;
 
 /// A static file server for `root` on a free port, killed (by pid) on drop.
-struct Server {
+pub(crate) struct Server {
     child: Child,
-    port: u16,
+    pub(crate) port: u16,
 }
 
 impl Server {
-    fn start(root: &Path) -> Server {
+    pub(crate) fn start(root: &Path) -> Server {
         let port = TcpListener::bind("127.0.0.1:0")
             .unwrap()
             .local_addr()
@@ -86,7 +86,7 @@ fn browser_ready() -> PathBuf {
 static BROWSER: std::sync::Mutex<()> = std::sync::Mutex::new(());
 
 /// Runs the driver over `jobs`; its results.
-fn drive(jobs: &serde_json::Value, work: &Path) -> Vec<serde_json::Value> {
+pub(crate) fn drive(jobs: &serde_json::Value, work: &Path) -> Vec<serde_json::Value> {
     let _one_browser = BROWSER.lock().unwrap_or_else(|e| e.into_inner());
     let jobs_path = work.join("jobs.json");
     std::fs::write(&jobs_path, jobs.to_string()).unwrap();
@@ -104,7 +104,7 @@ fn drive(jobs: &serde_json::Value, work: &Path) -> Vec<serde_json::Value> {
     serde_json::from_str(stdout.lines().last().unwrap_or("")).unwrap()
 }
 
-fn title(r: &serde_json::Value) -> &str {
+pub(crate) fn title(r: &serde_json::Value) -> &str {
     r["title"].as_str().unwrap_or("")
 }
 
@@ -254,7 +254,7 @@ fn pages_trace_every_scene_as_the_native_renderer_does_and_show_their_errors() {
 }
 
 /// Writes the site of `scene` (a path under scenes/) into `out`/`name`.
-fn export(out: &Path, scene: &str, name: &str) {
+pub(crate) fn export(out: &Path, scene: &str, name: &str) {
     let path = repo_path(scene);
     let run = run_kdray(out, &["web", path.to_str().unwrap(), "-o", name], &[]);
     assert_eq!(run.code, 0, "{}", run.stderr_text());

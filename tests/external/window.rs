@@ -29,16 +29,16 @@ const MAX_MEAN_FLIP: f32 = 0.01;
 const MAX_PIXELS_OVER_PER_MILLE: usize = 1;
 /// Window size and samples of the tests: small, so each run takes a moment
 /// on lavapipe.
-const W: u32 = 96;
-const H: u32 = 64;
-const SAMPLES: &str = "4";
+pub(crate) const W: u32 = 96;
+pub(crate) const H: u32 = 64;
+pub(crate) const SAMPLES: &str = "4";
 /// Longest wait for anything the window should do.
-const TIMEOUT: Duration = Duration::from_secs(60);
+pub(crate) const TIMEOUT: Duration = Duration::from_secs(60);
 
 /// An X server for one test, stopped on drop.
-struct Xvfb {
+pub(crate) struct Xvfb {
     child: Child,
-    display: String,
+    pub(crate) display: String,
 }
 
 /// How long one Xvfb may take to make its socket before it is stopped
@@ -52,7 +52,7 @@ const XVFB_START: Duration = Duration::from_secs(30);
 const XVFB_HUNG_TRIES: usize = 3;
 
 impl Xvfb {
-    fn start() -> Xvfb {
+    pub(crate) fn start() -> Xvfb {
         static NEXT: AtomicU32 = AtomicU32::new(0);
         let mut hung = Vec::new();
         for _ in 0..50 {
@@ -143,7 +143,7 @@ impl Drop for Xvfb {
 }
 
 /// A fresh folder for one test's files (and its XDG_RUNTIME_DIR).
-fn temp_dir(name: &str) -> PathBuf {
+pub(crate) fn temp_dir(name: &str) -> PathBuf {
     let dir = std::env::temp_dir().join(format!("kdray-window-{name}-{}", std::process::id()));
     let _ = std::fs::remove_dir_all(&dir);
     std::fs::create_dir_all(dir.join("xdg")).unwrap();
@@ -152,7 +152,7 @@ fn temp_dir(name: &str) -> PathBuf {
     dir
 }
 
-fn kdray(dir: &Path) -> Command {
+pub(crate) fn kdray(dir: &Path) -> Command {
     let mut command = Command::new(env!("CARGO_BIN_EXE_kdray"));
     command
         .env("XDG_RUNTIME_DIR", dir.join("xdg"))
@@ -211,7 +211,7 @@ fn headless(dir: &Path, scene: &Path, out: &Path) -> Vec<u8> {
     headless_with(dir, scene, out, &[])
 }
 
-fn read(path: &Path) -> Vec<u8> {
+pub(crate) fn read(path: &Path) -> Vec<u8> {
     let (w, h, rgb) = read_png_rgb(path).unwrap_or_else(|e| panic!("{e}"));
     assert_eq!((w, h), (W, H), "{}", path.display());
     rgb
@@ -380,7 +380,7 @@ const RED: &str = "[0.8, 0.1, 0.1]";
 const BLUE: &str = "[0.1, 0.1, 0.85]";
 
 /// Lines the window prints on stderr, as they come.
-fn stderr_lines(child: &mut Child) -> Receiver<String> {
+pub(crate) fn stderr_lines(child: &mut Child) -> Receiver<String> {
     let (send, receive) = std::sync::mpsc::channel();
     let stderr = child.stderr.take().unwrap();
     std::thread::spawn(move || {
@@ -395,7 +395,7 @@ fn stderr_lines(child: &mut Child) -> Receiver<String> {
 }
 
 /// Waits for a line containing `needle`; returns every line read so far.
-fn wait_for(lines: &Receiver<String>, seen: &mut Vec<String>, needle: &str) {
+pub(crate) fn wait_for(lines: &Receiver<String>, seen: &mut Vec<String>, needle: &str) {
     let deadline = Instant::now() + TIMEOUT;
     loop {
         let left = deadline.saturating_duration_since(Instant::now());

@@ -167,11 +167,7 @@ fn bench_writes_csv_json_summary_and_plots() {
         .contains("speed-up"));
     check_plots(&out);
     // Atomic writes leave no temporary files behind.
-    let leftovers: Vec<_> = std::fs::read_dir(&out)
-        .unwrap()
-        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
-        .filter(|n| n.contains(".tmp-"))
-        .collect();
+    let leftovers = common::temp_files_in(&out);
     assert!(leftovers.is_empty(), "{leftovers:?}");
 }
 

@@ -1,7 +1,8 @@
 //! The examples of the library, run as tests: `render_to_image` renders
 //! scenes/seed.toml and is compared with its golden image as
 //! tests/gpu/golden.rs compares it; `trace_on_cpu`'s hits and shadows are
-//! checked against brute force and against values worked out by hand.
+//! checked against brute force and against values worked out by hand;
+//! `inspect_picture` draws an inspected pixel's lines over a side view.
 
 use crate::common;
 
@@ -12,6 +13,10 @@ mod render_to_image;
 #[allow(dead_code)]
 #[path = "../../examples/trace_on_cpu.rs"]
 mod trace_on_cpu;
+
+#[allow(dead_code)]
+#[path = "../../examples/inspect_picture.rs"]
+mod inspect_picture;
 
 use common::*;
 use glam::Vec3;
@@ -145,4 +150,46 @@ fn trace_on_cpu_finds_the_hits_worked_out_by_hand() {
 
     assert_eq!(probes[3].hit, None, "the ray up meets nothing");
     assert!(!probes[3].in_shadow);
+}
+
+/// The README's inspect picture: over the side view, the lines change
+/// pixels (a k-d walk of ten leaves draws hundreds), every changed pixel
+/// takes a line's colour, and the rest of the image is the plain render.
+#[test]
+fn inspect_picture_draws_the_pixels_rays_and_cells_over_the_side_view() {
+    use kdray::window::inspect_lines::LineKind;
+    let picture = inspect_picture::picture(
+        gpu(),
+        &repo_path("scenes/random_spheres.toml"),
+        (320, 180),
+        40.0,
+        1.0,
+    )
+    .unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!(picture.inspection.rays[0].kind, "primary");
+    assert!(picture.inspection.rays[0].hit.is_some());
+    let colours: Vec<[u8; 3]> = [
+        LineKind::Leaf,
+        LineKind::HitLeaf,
+        LineKind::SplitPlane,
+        LineKind::Primary,
+        LineKind::Shadow,
+        LineKind::Reflected,
+        LineKind::Refracted,
+        LineKind::Bounce,
+    ]
+    .iter()
+    .map(|k| k.colour().map(|c| (255.0 * c).round() as u8))
+    .collect();
+    let mut changed = 0;
+    for (plain, drawn) in picture.plain.chunks(3).zip(picture.with_lines.chunks(3)) {
+        if plain != drawn {
+            changed += 1;
+            assert!(
+                colours.iter().any(|c| c[..] == *drawn),
+                "pixel {drawn:?} is no line's colour"
+            );
+        }
+    }
+    assert!(changed > 300, "the lines changed only {changed} pixels");
 }

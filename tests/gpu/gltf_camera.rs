@@ -6,7 +6,7 @@ use crate::common;
 use common::*;
 use glam::DVec3;
 use kdray::gpu::Accel;
-use kdray::scene::{load_scene, model_scene_viewed, scene_text, Camera, ModelCamera, SceneFormat};
+use kdray::scene::{scene_text, Camera, SceneFormat};
 
 /// One triangle facing +z, and a camera node at `eye` looking down -z with
 /// a vertical field of view of `yfov` radians.
@@ -37,18 +37,9 @@ fn a_gltf_camera_renders_as_the_same_camera_stated_by_hand() {
     let dir = TempDir::new("gltf-camera-render");
     let (eye, yfov) = ([0.25, 0.125, 3.0], 0.75f32);
     let path = write_model(&dir, eye, yfov);
-    let size = |scene: &mut kdray::scene::Scene| {
-        scene.render.width = 48;
-        scene.render.height = 48;
-    };
-    let mut from_file = load_scene(&path).unwrap();
-    size(&mut from_file);
-
     // The default view's scene (ground, lights, model), its camera stated
     // by hand and written out as a TOML scene.
-    let mut by_hand =
-        model_scene_viewed(&path, ModelCamera::Default, &mut |_| {}, &mut |_| {}).unwrap();
-    size(&mut by_hand);
+    let (from_file, mut by_hand) = model_and_default_view(&path, 48);
     let framed = by_hand.camera;
     by_hand.camera = Camera {
         position: DVec3::from_array(eye),

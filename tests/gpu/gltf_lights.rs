@@ -7,9 +7,7 @@ use crate::common;
 use common::*;
 use glam::DVec3;
 use kdray::gpu::Accel;
-use kdray::scene::{
-    load_scene, model_scene_viewed, scene_text, Camera, Light, LightKind, ModelCamera, SceneFormat,
-};
+use kdray::scene::{scene_text, Camera, Light, LightKind, SceneFormat};
 
 /// A 4 x 4 square at y = 0 (two triangles facing +y), a camera 6 above it
 /// looking down (node turned -90 degrees about +x), a spot light 2 above
@@ -60,16 +58,7 @@ fn write_model(dir: &TempDir) -> std::path::PathBuf {
 fn gltf_punctual_lights_render_as_the_same_lights_stated_by_hand() {
     let dir = TempDir::new("gltf-lights-render");
     let path = write_model(&dir);
-    let size = |scene: &mut kdray::scene::Scene| {
-        scene.render.width = 48;
-        scene.render.height = 48;
-    };
-    let mut from_file = load_scene(&path).unwrap();
-    size(&mut from_file);
-
-    let mut by_hand =
-        model_scene_viewed(&path, ModelCamera::Default, &mut |_| {}, &mut |_| {}).unwrap();
-    size(&mut by_hand);
+    let (from_file, mut by_hand) = model_and_default_view(&path, 48);
     by_hand.camera = Camera {
         position: DVec3::new(0.0, 6.0, 0.0),
         look_at: DVec3::ZERO,

@@ -1,6 +1,7 @@
 //! `kdray inspect` end to end: one JSON document on stdout in the format
-//! docs/inspect.md gives, and bad input (pixel, scene, frame, integrator)
-//! refused with exit code 2 and one line naming the problem.
+//! docs/inspect.md gives, from the kernel (either integrator) or the CPU
+//! mirror, and bad input (pixel, scene, frame, walk source) refused with
+//! exit code 2 and one line naming the problem.
 
 use crate::common;
 
@@ -26,17 +27,24 @@ fn parse(run: &Run) -> serde_json::Value {
 fn inspect_prints_one_json_document_of_the_pixels_rays_and_walks() {
     let dir = TempDir::new("inspect");
     let mirrors = scene_path("mirrors.toml");
-    for traversal in ["restart", "ropes", "short-stack"] {
-        let run = inspect(
-            &dir,
-            &mirrors,
-            &["--pixel", "32,18", "--traversal", traversal],
-        );
-        let doc = parse(&run);
+    let walks = ["restart", "ropes", "short-stack"];
+    let sources = [
+        (None, "kernel"),
+        (Some("cpu"), "cpu"),
+        (Some("kernel"), "kernel"),
+    ];
+    for (traversal, (flag, source)) in walks.into_iter().flat_map(|w| sources.map(|s| (w, s))) {
+        let mut args = vec!["--pixel", "32,18", "--traversal", traversal];
+        if let Some(flag) = flag {
+            args.extend(["--walk-source", flag]);
+        }
+        let doc = parse(&inspect(&dir, &mirrors, &args));
         assert_eq!(doc["version"], 1, "{doc}");
         assert_eq!(doc["pixel"], serde_json::json!([32, 18]), "{doc}");
         assert_eq!(doc["traversal"], traversal, "{doc}");
-        assert_eq!(doc["walk_source"], "cpu mirror", "{doc}");
+        assert_eq!(doc["integrator"], "whitted", "{doc}");
+        assert_eq!(doc["walk_source"], source, "{doc}");
+        assert_eq!(doc.get("sample").is_some(), source == "kernel", "{doc}");
         let rays = doc["rays"].as_array().expect("rays is an array");
         assert_eq!(rays[0]["kind"], "primary", "{doc}");
         let primary = &rays[0];
@@ -89,7 +97,50 @@ fn inspect_refuses_bad_input_with_exit_2_and_one_line() {
         assert!(line.contains(named), "{extra:?}: {line}");
         assert!(run.stdout.is_empty(), "{extra:?}: {run:#?}");
     }
-    let run = inspect(&dir, &seed, &["--pixel", "1,1", "--integrator", "path"]);
+    let cpu_path = [
+        "--pixel",
+        "1,1",
+        "--integrator",
+        "path",
+        "--walk-source",
+        "cpu",
+    ];
+    let run = inspect(&dir, &seed, &cpu_path);
     assert_eq!(run.code, 2, "{run:#?}");
     assert!(run.one_error_line().contains("Whitted"), "{run:#?}");
+    let run = inspect(&dir, &seed, &["--pixel", "1,1", "--walk-source", "gpu"]);
+    assert_eq!(run.code, 2, "{run:#?}");
+    assert!(run.one_error_line().contains("--walk-source"), "{run:#?}");
+}
+
+/// The kernel inspects a path-traced pixel: the camera ray, then bounces
+/// and shadow rays of next-event estimation, with the sample's radiance.
+#[test]
+fn inspect_follows_a_path_traced_pixels_bounces() {
+    let dir = TempDir::new("inspect-path");
+    let cornell = scene_path("cornell_box.toml");
+    let doc = parse(&inspect(
+        &dir,
+        &cornell,
+        &["--pixel", "32,20", "--seed", "3"],
+    ));
+    assert_eq!(doc["integrator"], "path", "{doc}");
+    assert_eq!(doc["walk_source"], "kernel", "{doc}");
+    let kinds: Vec<&str> = doc["rays"]
+        .as_array()
+        .expect("rays is an array")
+        .iter()
+        .filter_map(|r| r["kind"].as_str())
+        .collect();
+    assert_eq!(kinds.first(), Some(&"primary"), "{doc}");
+    assert!(kinds.contains(&"bounce"), "{kinds:?}");
+    assert!(kinds.contains(&"shadow"), "{kinds:?}");
+    assert!(
+        kinds
+            .iter()
+            .all(|k| ["primary", "bounce", "shadow"].contains(k)),
+        "{kinds:?}"
+    );
+    let sample = doc["sample"].as_array().expect("the sample's radiance");
+    assert_eq!(sample.len(), 3, "{doc}");
 }

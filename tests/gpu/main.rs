@@ -25,6 +25,7 @@ mod gpu_ray_queries;
 mod gpu_render;
 mod inspect;
 mod inspect_cli;
+mod inspect_kernel;
 mod light_kinds;
 mod material_maps;
 mod open_model;

@@ -5,7 +5,12 @@
 // null), screenshot (a path, or null), play (bool: press Space, wait for
 // the next frame, press Space again), heatmap ({ png, restored }: press C,
 // save the heatmap's PNG, press C again, save the image's), toggle (a path:
-// press I, wait for the other integrator's image, save its PNG) }.
+// press I, wait for the other integrator's image, save its PNG), inspect
+// ([[x, y], ...]: window.kdray.inspect's document of each pixel, and the
+// error of a pixel outside the image), click ({ pixel: [x, y], before,
+// after }: press X, click the image pixel, wait for its lines, drag to orbit
+// the camera, screenshot when refined (`after`; the lines drawn come back
+// in `drawn`), press X (lines off), screenshot (`before`)) }.
 // The page's contract (docs/web.md): document.title starts with
 // "kdray: done" or "kdray: error"; window.kdray.png() is a PNG data URL.
 
@@ -84,6 +89,42 @@ for (const job of jobs) {
         from, { timeout: TIMEOUT_MS, polling: 50 });
       result.toggled_overlay = await overlayText(page);
       await savePng(page, job.toggle);
+    }
+    if (job.inspect && result.title.startsWith('kdray: done')) {
+      result.inspections = [];
+      for (const pixel of job.inspect) {
+        result.inspections.push(await page.evaluate(([x, y]) => window.kdray.inspect(x, y), pixel));
+      }
+      result.inspect_outside = await page.evaluate(
+        () => window.kdray.inspect(-1, 0).then(() => null, (e) => String(e.message)));
+    }
+    if (job.click && result.title.startsWith('kdray: done')) {
+      await page.keyboard.press('x');
+      await page.waitForFunction(() => window.kdray.state.inspecting, null, { timeout: TIMEOUT_MS });
+      const at = await page.evaluate(([x, y]) => {
+        const r = document.getElementById('view').getBoundingClientRect();
+        const { width, height } = window.kdray.state;
+        const s = Math.min(r.width / width, r.height / height);
+        return [r.left + (r.width - s * width) / 2 + (x + 0.5) * s, r.top + (r.height - s * height) / 2 + (y + 0.5) * s];
+      }, job.click.pixel);
+      await page.mouse.click(at[0], at[1]);
+      await page.waitForFunction(() => window.kdray.state.drawn.length > 0, null, { timeout: TIMEOUT_MS, polling: 50 });
+      result.clicked = await page.evaluate(() => window.kdray.state.inspected.pixel);
+      await page.mouse.move(at[0], at[1]);
+      await page.mouse.down();
+      await page.mouse.move(at[0] + 120, at[1] + 30, { steps: 5 });
+      await page.mouse.up();
+      await page.waitForTimeout(300);
+      await finished(page);
+      await page.waitForFunction(() => window.kdray.state.done, null, { timeout: TIMEOUT_MS, polling: 50 });
+      await page.waitForTimeout(300);
+      await page.screenshot({ path: job.click.after });
+      result.drawn = await page.evaluate(() => window.kdray.state.drawn);
+      result.inspect_overlay = await overlayText(page);
+      await page.keyboard.press('x');
+      await page.waitForFunction(() => window.kdray.state.drawn.length === 0, null, { timeout: TIMEOUT_MS, polling: 50 });
+      await page.waitForTimeout(300);
+      await page.screenshot({ path: job.click.before });
     }
     if (job.heatmap && result.title.startsWith('kdray: done')) {
       await page.keyboard.press('c');

@@ -155,6 +155,10 @@ pub enum RayKind {
     Reflected,
     /// Through a glass surface.
     Refracted,
+    /// A path tracer's next ray, sampled from the surface's scattering
+    /// (the GPU's inspect kernel records these; this tracer follows the
+    /// Whitted integrator only).
+    Bounce,
 }
 
 /// One ray a sample traced, in order, recorded by
@@ -342,10 +346,6 @@ impl<'a> ReferenceTracer<'a> {
         self.query(kind, ray, T_INFINITY, false)
     }
 
-    fn blocked(&self, ray: &Ray, t_limit: f32) -> bool {
-        self.query(RayKind::Shadow, ray, t_limit, true).is_some()
-    }
-
     /// Every ray the path from `primary` traces, in order, with its walk.
     pub fn trace_recorded(&self, primary: Ray) -> Vec<TracedRay> {
         *self.log.borrow_mut() = Some(Vec::new());
@@ -353,10 +353,15 @@ impl<'a> ReferenceTracer<'a> {
         self.log.borrow_mut().take().unwrap_or_default()
     }
 
-    /// Mirror of `shadow_transmittance` in shaders/glass.wgsl.
+    /// Mirror of `shadow_transmittance` in shaders/glass.wgsl: an any-hit
+    /// query first; only a ray whose first blocker found is glass is walked
+    /// again, surface by surface.
     fn shadow_transmittance(&self, ray: &Ray, length: f32) -> f32 {
-        if !self.glass {
-            return if self.blocked(ray, length) { 0.0 } else { 1.0 };
+        let Some(first) = self.query(RayKind::Shadow, ray, length, true) else {
+            return 1.0;
+        };
+        if !self.glass || self.material(first.object).transmission == 0.0 {
+            return 0.0;
         }
         let mut through = 1.0f32;
         let mut origin = ray.origin;

@@ -176,6 +176,11 @@ pub struct InspectArgs {
     /// The frame of the scene's animation (0-based) [default: 0].
     #[arg(long, value_name = "N")]
     pub frame: Option<u32>,
+    /// Where the rays and walks come from: `kernel` (logged by the GPU
+    /// kernel as it traces the pixel; either integrator) or `cpu` (the CPU
+    /// reference tracer and walk mirrors; Whitted only) [default: kernel].
+    #[arg(long, value_name = "kernel|cpu")]
+    pub walk_source: Option<String>,
 }
 
 /// The flags `render`, `farm` and `inspect` share: the scene's `[render]` overrides

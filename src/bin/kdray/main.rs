@@ -259,6 +259,10 @@ fn inspect(args: InspectArgs) -> Result<()> {
         pixel: kdray::inspect::parse_pixel(&args.pixel)?,
         frame: args.frame.unwrap_or(0),
         flags: args.image.into(),
+        source: match &args.walk_source {
+            Some(name) => kdray::inspect::WalkSource::parse(name)?,
+            None => kdray::inspect::WalkSource::default(),
+        },
     };
     let inspection = kdray::inspect::inspect_file(&args.scene, &request)?;
     println!("{}", serde_json::to_string(&inspection)?);

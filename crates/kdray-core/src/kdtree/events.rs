@@ -229,114 +229,153 @@ impl EventLists {
         parallel: bool,
         side: &mut Vec<u8>,
     ) -> (EventLists, EventLists) {
-        let (a, p, eps) = (axis, position, shapes.tolerance());
         if side.len() < shapes.len() {
             side.resize(shapes.len(), 0);
         }
-        let on_axis = &self.axes[a];
-        // One pass sets each object's side: its start (or planar) event
-        // comes before its end event in the sorted list.
-        for &e in on_axis {
-            let x = value(position_key(e));
-            let id = id(e) as usize;
-            match kind(e) {
-                START => {
-                    let (below, _) = sides(x, f32::INFINITY, p, eps);
-                    side[id] = if below { BOTH } else { ABOVE };
-                }
-                END => {
-                    let (_, above) = sides(f32::NEG_INFINITY, x, p, eps);
-                    if !above {
-                        side[id] &= BELOW;
-                    }
-                }
-                _ => {
-                    side[id] = match sides(x, x, p, eps) {
-                        (true, true) => BOTH,
-                        (true, false) => BELOW,
-                        _ => ABOVE,
-                    };
-                }
-            }
-        }
-        let (mut only_below, mut only_above) = (0, 0);
-        let mut straddling: Vec<u32> = Vec::new();
-        for &e in on_axis {
-            if kind(e) == END {
-                continue;
-            }
-            match side[id(e) as usize] {
-                BELOW => only_below += 1,
-                ABOVE => only_above += 1,
-                _ => straddling.push(id(e)),
-            }
-        }
-
-        let mut below_cell = *cell;
-        below_cell.max[a] = position;
-        let mut above_cell = *cell;
-        above_cell.min[a] = position;
-        let mut new_below: [Vec<u64>; 3] = Default::default();
-        let mut new_above: [Vec<u64>; 3] = Default::default();
-        let (mut n_below, mut n_above) = (0, 0);
-        let below_reach = shapes.reach(&below_cell);
-        let above_reach = shapes.reach(&above_cell);
-        for &id in &straddling {
-            let (below, above) = shapes.clip_across(id, a, &below_reach, &above_reach);
-            if let Some(b) = below {
-                push_box(&mut new_below, id, &b);
-                n_below += 1;
-            }
-            if let Some(b) = above {
-                push_box(&mut new_above, id, &b);
-                n_above += 1;
-            }
-        }
+        let on_axis = &self.axes[axis];
+        set_sides(on_axis, position, shapes.tolerance(), side);
+        let (only_below, only_above, straddling) = count_sides(on_axis, side);
+        let (new_below, new_above) = clip_straddlers(shapes, &straddling, (axis, position), cell);
         // Each axis's list splits apart from the others: its events of
         // objects on one side, merged with the straddlers' new events.
         let side: &[u8] = side;
-        let split_list = |list: Vec<u64>, mut new_below: Vec<u64>, mut new_above: Vec<u64>| {
-            let mut below = Vec::with_capacity(2 * only_below + new_below.len());
-            let mut above = Vec::with_capacity(2 * only_above + new_above.len());
-            for &e in &list {
-                match side[id(e) as usize] {
-                    BELOW => below.push(e),
-                    ABOVE => above.push(e),
-                    _ => {}
-                }
-            }
-            drop(list);
-            new_below.sort_unstable();
-            new_above.sort_unstable();
-            (merge(below, new_below), merge(above, new_above))
+        let split = |list, new_below, new_above| {
+            split_list(side, (only_below, only_above), list, new_below, new_above)
         };
         let [lx, ly, lz] = self.axes;
-        let [bx, by, bz] = new_below;
-        let [ax, ay, az] = new_above;
+        let [bx, by, bz] = new_below.axes;
+        let [ax, ay, az] = new_above.axes;
         let ((x, y), z) = if parallel {
             rayon::join(
-                || rayon::join(|| split_list(lx, bx, ax), || split_list(ly, by, ay)),
-                || split_list(lz, bz, az),
+                || rayon::join(|| split(lx, bx, ax), || split(ly, by, ay)),
+                || split(lz, bz, az),
             )
         } else {
-            (
-                (split_list(lx, bx, ax), split_list(ly, by, ay)),
-                split_list(lz, bz, az),
-            )
+            ((split(lx, bx, ax), split(ly, by, ay)), split(lz, bz, az))
         };
-        let below_axes = [x.0, y.0, z.0];
-        let above_axes = [x.1, y.1, z.1];
         (
             EventLists {
-                axes: below_axes,
-                count: only_below + n_below,
+                axes: [x.0, y.0, z.0],
+                count: only_below + new_below.count,
             },
             EventLists {
-                axes: above_axes,
-                count: only_above + n_above,
+                axes: [x.1, y.1, z.1],
+                count: only_above + new_above.count,
             },
         )
     }
+}
+
+/// Sets each object's side of the plane at `p` (tolerance `eps`) in one
+/// pass over the axis's sorted events `on_axis`: an object's start (or
+/// planar) event comes before its end event.
+#[inline]
+fn set_sides(on_axis: &[u64], p: f32, eps: f32, side: &mut [u8]) {
+    for &e in on_axis {
+        let x = value(position_key(e));
+        let id = id(e) as usize;
+        match kind(e) {
+            START => {
+                let (below, _) = sides(x, f32::INFINITY, p, eps);
+                side[id] = if below { BOTH } else { ABOVE };
+            }
+            END => {
+                let (_, above) = sides(f32::NEG_INFINITY, x, p, eps);
+                if !above {
+                    side[id] &= BELOW;
+                }
+            }
+            _ => {
+                side[id] = match sides(x, x, p, eps) {
+                    (true, true) => BOTH,
+                    (true, false) => BELOW,
+                    _ => ABOVE,
+                };
+            }
+        }
+    }
+}
+
+/// The objects only below, only above, and the ids of those on both
+/// sides, in the order of the axis's events `on_axis`.
+#[inline]
+fn count_sides(on_axis: &[u64], side: &[u8]) -> (usize, usize, Vec<u32>) {
+    let (mut only_below, mut only_above) = (0, 0);
+    let mut straddling: Vec<u32> = Vec::new();
+    for &e in on_axis {
+        if kind(e) == END {
+            continue;
+        }
+        match side[id(e) as usize] {
+            BELOW => only_below += 1,
+            ABOVE => only_above += 1,
+            _ => straddling.push(id(e)),
+        }
+    }
+    (only_below, only_above, straddling)
+}
+
+/// One child's share of the straddling objects: the events of their boxes
+/// clipped to its cell, unsorted, per axis, and how many reach it.
+#[derive(Default)]
+struct Reclipped {
+    axes: [Vec<u64>; 3],
+    count: usize,
+}
+
+/// The `straddling` objects clipped again to the cells below and above
+/// the plane `position` on `axis` through `cell`.
+fn clip_straddlers(
+    shapes: &Shapes<'_>,
+    straddling: &[u32],
+    (axis, position): (usize, f32),
+    cell: &Aabb,
+) -> (Reclipped, Reclipped) {
+    let mut below_cell = *cell;
+    below_cell.max[axis] = position;
+    let mut above_cell = *cell;
+    above_cell.min[axis] = position;
+    let (mut new_below, mut new_above) = (Reclipped::default(), Reclipped::default());
+    let below_reach = shapes.reach(&below_cell);
+    let above_reach = shapes.reach(&above_cell);
+    for &id in straddling {
+        let (below, above) = shapes.clip_across(id, axis, &below_reach, &above_reach);
+        if let Some(b) = below {
+            push_box(&mut new_below.axes, id, &b);
+            new_below.count += 1;
+        }
+        if let Some(b) = above {
+            push_box(&mut new_above.axes, id, &b);
+            new_above.count += 1;
+        }
+    }
+    (new_below, new_above)
+}
+
+/// One axis's sorted `list` split by `side`: (below, above), each with the
+/// straddlers' `new_below` or `new_above` events sorted and merged in.
+/// `only` counts the objects only below and only above (for the room).
+#[inline]
+fn split_list(
+    side: &[u8],
+    (only_below, only_above): (usize, usize),
+    list: Vec<u64>,
+    mut new_below: Vec<u64>,
+    mut new_above: Vec<u64>,
+) -> (Vec<u64>, Vec<u64>) {
+    let mut below = Vec::with_capacity(2 * only_below + new_below.len());
+    let mut above = Vec::with_capacity(2 * only_above + new_above.len());
+    for &e in &list {
+        match side[id(e) as usize] {
+            BELOW => below.push(e),
+            ABOVE => above.push(e),
+            _ => {}
+        }
+    }
+    drop(list);
+    new_below.sort_unstable();
+    new_above.sort_unstable();
+    (merge(below, new_below), merge(above, new_above))
 }
 
 #[cfg(test)]

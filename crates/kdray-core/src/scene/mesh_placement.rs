@@ -43,16 +43,7 @@ impl Validator<'_> {
             textures,
         } = parts;
         let key = |k: &str| format!("meshes[{i}].{k}");
-        let scale = match m.scale {
-            RawScale::Uniform(s) => DVec3::splat(self.number(&|| key("scale"), s)?),
-            RawScale::PerAxis(v) => self.vector(&|| key("scale"), v)?,
-        };
-        if scale.abs().min_element() == 0.0 {
-            return Err(self.error(&key("scale"), "must be non-zero on every axis"));
-        }
-        let rotate = self.vector(&|| key("rotate"), m.rotate)?;
-        let translate = self.position(&|| key("translate"), m.translate)?;
-        let transform = mesh_transform(scale, rotate);
+        let (transform, translate) = self.entry_transform(i, m)?;
 
         let mesh_path = self.file.parent().unwrap_or(Path::new("")).join(&m.path);
         let mesh = self.load_entry_mesh(i, &mesh_path, override_material.is_none())?;
@@ -89,57 +80,13 @@ impl Validator<'_> {
             (None, Some(local)) => Some(first_material + local as u32),
             (None, None) => None,
         };
-        // Usually every triangle is kept (none collapsed, every index in
-        // range): then they are built on all threads, straight into the
-        // scene's vector (rayon writes an indexed iterator in place), which
-        // on two cores also halves the wait for its fresh pages. Built first
-        // and checked on the way (a separate pass of checks took 15 ms of
-        // the 1.1 M-triangle bunny's 0.22 s load); where one is not kept,
-        // they are dropped and built again below.
-        let (first, first_normals) = (triangles.len(), normals.len());
-        let all_kept = std::sync::atomic::AtomicBool::new(true);
-        let kept = |t: &MeshTriangle| {
-            let vertices = t.corners_in(&world).filter(has_area);
-            let kept = vertices.zip(material_of(t));
-            if kept.is_none() {
-                all_kept.store(false, std::sync::atomic::Ordering::Relaxed);
-            }
-            kept.unwrap_or_default()
+        let first = triangles.len();
+        let world_mesh = WorldMesh {
+            mesh: &mesh,
+            world: &world,
+            shading: &shading,
         };
-        triangles.reserve(mesh.triangles.len());
-        crate::huge_pages::advise(triangles);
-        if let MeshNormals::Flat = shading {
-            triangles.par_extend(mesh.triangles.par_iter().map(|t| {
-                let (vertices, material) = kept(t);
-                Triangle::flat(vertices, material)
-            }));
-        } else {
-            // Triangle i's normals at `first_normals + i` (left unused,
-            // zero, for the rare triangle shaded flat): so each triangle
-            // knows its index, and both vectors are written in place. (An
-            // index past u32 cannot arise: the tree holds at most 2^30
-            // objects.)
-            normals.reserve(mesh.triangles.len());
-            crate::huge_pages::advise(normals);
-            let pairs = mesh.triangles.par_iter().enumerate().map(|(i, t)| {
-                let (vertices, material) = kept(t);
-                let n = shading.of(t, &vertices);
-                let index = u32::try_from(first_normals + i)
-                    .ok()
-                    .filter(|_| n.is_some());
-                let triangle = Triangle {
-                    vertices,
-                    material,
-                    normals: index.unwrap_or(Triangle::FLAT),
-                    uvs: Triangle::UNTEXTURED,
-                };
-                (triangle, n.unwrap_or_default())
-            });
-            let mut both = (std::mem::take(triangles), std::mem::take(normals));
-            both.par_extend(pairs);
-            (*triangles, *normals) = both;
-        }
-        if all_kept.into_inner() {
+        if build_in_parallel(&world_mesh, material_of, triangles, normals) {
             if any_textured {
                 for (triangle, t) in triangles[first..].iter_mut().zip(&mesh.triangles) {
                     add_uvs(uvs, triangle, uvs_of(t));
@@ -148,31 +95,25 @@ impl Validator<'_> {
             crate::huge_pages::free_in_background((mesh, world, shading));
             return Ok(placed);
         }
-        triangles.truncate(first);
-        normals.truncate(first_normals);
-        // Otherwise one by one: collapsed triangles skipped, the first fault
-        // reported.
-        for t in &mesh.triangles {
-            let Some(vertices) = t.corners_in(&world) else {
-                // The readers write only indices in range.
-                return Err(self.error(&key("path"), "a face has a vertex index out of range"));
-            };
-            if !has_area(&vertices) {
-                continue; // collapsed by an extreme scale: it can never be hit
-            }
-            let Some(material) = material_of(t) else {
-                // The readers guarantee a material when asked for them.
-                return Err(self.error(&key("path"), "a face has no material"));
-            };
-            let mut triangle = Triangle::flat(vertices, material);
-            if let Some(n) = shading.of(t, &vertices) {
-                triangle.normals = u32::try_from(normals.len()).unwrap_or(Triangle::FLAT);
-                normals.push(n);
-            }
-            add_uvs(uvs, &mut triangle, uvs_of(t));
-            triangles.push(triangle);
-        }
+        build_one_by_one(&world_mesh, material_of, uvs_of, triangles, normals, uvs)
+            .map_err(|message| self.error(&key("path"), message))?;
         Ok(placed)
+    }
+
+    /// Mesh entry `i`'s `scale` (non-zero on every axis) and `rotate`, as
+    /// one matrix, and its `translate`.
+    fn entry_transform(&self, i: usize, m: &RawMesh) -> Result<(DMat3, DVec3), SceneError> {
+        let key = |k: &str| format!("meshes[{i}].{k}");
+        let scale = match m.scale {
+            RawScale::Uniform(s) => DVec3::splat(self.number(&|| key("scale"), s)?),
+            RawScale::PerAxis(v) => self.vector(&|| key("scale"), v)?,
+        };
+        if scale.abs().min_element() == 0.0 {
+            return Err(self.error(&key("scale"), "must be non-zero on every axis"));
+        }
+        let rotate = self.vector(&|| key("rotate"), m.rotate)?;
+        let translate = self.position(&|| key("translate"), m.translate)?;
+        Ok((mesh_transform(scale, rotate), translate))
     }
 
     /// Mesh entry `i`'s file, loaded (with its materials when
@@ -310,6 +251,126 @@ impl Validator<'_> {
         }
         Ok(world)
     }
+}
+
+/// A mesh file's triangles ready to be built: the file, its vertices in
+/// world space, and how its triangles are shaded.
+struct WorldMesh<'a> {
+    mesh: &'a Mesh,
+    world: &'a [DVec3],
+    shading: &'a MeshNormals,
+}
+
+/// Appends every triangle of `w` (material by `material_of`) to
+/// `triangles`, with its normals to `normals` unless flat, on all threads;
+/// whether every triangle was kept. Where one was not (collapsed, an index
+/// out of range, no material), nothing is appended.
+fn build_in_parallel(
+    w: &WorldMesh,
+    material_of: impl Fn(&MeshTriangle) -> Option<u32> + Sync,
+    triangles: &mut Vec<Triangle>,
+    normals: &mut Vec<[DVec3; 3]>,
+) -> bool {
+    let WorldMesh {
+        mesh,
+        world,
+        shading,
+    } = *w;
+    // Usually every triangle is kept (none collapsed, every index in
+    // range): then they are built on all threads, straight into the
+    // scene's vector (rayon writes an indexed iterator in place), which
+    // on two cores also halves the wait for its fresh pages. Built first
+    // and checked on the way (a separate pass of checks took 15 ms of
+    // the 1.1 M-triangle bunny's 0.22 s load); where one is not kept,
+    // they are dropped, and `build_one_by_one` builds them again.
+    let (first, first_normals) = (triangles.len(), normals.len());
+    let all_kept = std::sync::atomic::AtomicBool::new(true);
+    let kept = |t: &MeshTriangle| {
+        let vertices = t.corners_in(world).filter(has_area);
+        let kept = vertices.zip(material_of(t));
+        if kept.is_none() {
+            all_kept.store(false, std::sync::atomic::Ordering::Relaxed);
+        }
+        kept.unwrap_or_default()
+    };
+    triangles.reserve(mesh.triangles.len());
+    crate::huge_pages::advise(triangles);
+    if let MeshNormals::Flat = shading {
+        triangles.par_extend(mesh.triangles.par_iter().map(|t| {
+            let (vertices, material) = kept(t);
+            Triangle::flat(vertices, material)
+        }));
+    } else {
+        // Triangle i's normals at `first_normals + i` (left unused,
+        // zero, for the rare triangle shaded flat): so each triangle
+        // knows its index, and both vectors are written in place. (An
+        // index past u32 cannot arise: the tree holds at most 2^30
+        // objects.)
+        normals.reserve(mesh.triangles.len());
+        crate::huge_pages::advise(normals);
+        let pairs = mesh.triangles.par_iter().enumerate().map(|(i, t)| {
+            let (vertices, material) = kept(t);
+            let n = shading.of(t, &vertices);
+            let index = u32::try_from(first_normals + i)
+                .ok()
+                .filter(|_| n.is_some());
+            let triangle = Triangle {
+                vertices,
+                material,
+                normals: index.unwrap_or(Triangle::FLAT),
+                uvs: Triangle::UNTEXTURED,
+            };
+            (triangle, n.unwrap_or_default())
+        });
+        let mut both = (std::mem::take(triangles), std::mem::take(normals));
+        both.par_extend(pairs);
+        (*triangles, *normals) = both;
+    }
+    if all_kept.into_inner() {
+        return true;
+    }
+    triangles.truncate(first);
+    normals.truncate(first_normals);
+    false
+}
+
+/// Appends the triangles of `w` one by one, collapsed ones skipped, with
+/// their normals and texture coordinates (`uvs_of`); the first fault is
+/// the error: a vertex index out of range or a face without a material.
+fn build_one_by_one(
+    w: &WorldMesh,
+    material_of: impl Fn(&MeshTriangle) -> Option<u32>,
+    uvs_of: impl Fn(&MeshTriangle) -> Option<[DVec2; 3]>,
+    triangles: &mut Vec<Triangle>,
+    normals: &mut Vec<[DVec3; 3]>,
+    uvs: &mut Vec<[DVec2; 3]>,
+) -> Result<(), &'static str> {
+    let WorldMesh {
+        mesh,
+        world,
+        shading,
+    } = *w;
+    for t in &mesh.triangles {
+        let Some(vertices) = t.corners_in(world) else {
+            // The readers write only indices in range.
+            return Err("a face has a vertex index out of range");
+        };
+        if !has_area(&vertices) {
+            continue; // collapsed by an extreme scale: it can never be hit
+        }
+        let Some(material) = material_of(t) else {
+            // The readers guarantee a material when asked for them.
+            return Err("a face has no material");
+        };
+        let mut triangle = Triangle::flat(vertices, material);
+        if let Some(n) = shading.of(t, &vertices) {
+            triangle.normals = u32::try_from(normals.len()).unwrap_or(Triangle::FLAT);
+            normals.push(n);
+        }
+        add_uvs(uvs, &mut triangle, uvs_of(t));
+        triangles.push(triangle);
+    }
+    Ok(())
 }
 
 /// Gives `triangle` the texture coordinates `corners`, if any, at the end

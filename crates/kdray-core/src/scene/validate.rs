@@ -17,8 +17,8 @@ use super::animation::{Animation, CameraKey, CameraPath, FramePath, LightKey, MA
 use super::mesh::has_area;
 use super::normals::unit;
 use super::schema::{
-    RawAnimation, RawCamera, RawEnvironment, RawMaterial, RawRender, RawScene, RawShadowMode, Vec3,
-    DEFAULT_UP,
+    RawAnimation, RawCamera, RawCameraKey, RawEnvironment, RawLightKey, RawMaterial, RawRender,
+    RawScene, RawShadowMode, Vec3, DEFAULT_UP,
 };
 use super::source_map::LazySourceMap;
 use super::{
@@ -108,61 +108,18 @@ impl Validator<'_> {
         Ok(c)
     }
 
+    /// The whole file, checked in the order its errors are reported:
+    /// camera, render, sky, animation, lights, materials, spheres,
+    /// triangles, meshes.
     pub(super) fn scene(&self, raw: RawScene) -> Result<Scene, SceneError> {
         let camera = self.camera(&raw.camera)?;
         let mut render = self.render(&raw.render)?;
-        let environment = match &raw.environment {
-            Some(env) => {
-                if raw.render.background.is_some() {
-                    return Err(self.error(
-                        "environment",
-                        "give the sky as [environment] or as render.background, not both",
-                    ));
-                }
-                match (env.color, &env.image) {
-                    (Some(c), None) => {
-                        render.background = self.colour(&|| "environment.color".into(), c)?;
-                        None
-                    }
-                    (None, Some(image)) => Some(self.environment_map(env, image)?),
-                    _ => {
-                        return Err(self.error(
-                            "environment",
-                            "give one of color (a uniform sky) and image (an HDR or EXR file)",
-                        ))
-                    }
-                }
-            }
-            None => None,
-        };
+        let environment = self.environment(&raw, &mut render)?;
         let mut animation = match &raw.animation {
             Some(a) => Some(self.animation(a, &camera)?),
             None => None,
         };
-
-        if raw.lights.is_empty() && render.integrator == Integrator::Whitted {
-            // Names the line of `lights = []` when there is one.
-            return Err(self.error(
-                "lights",
-                "a scene needs at least one [[lights]] entry (the path tracer, integrator = \"path\", may do without)",
-            ));
-        }
-        let lights = raw
-            .lights
-            .iter()
-            .enumerate()
-            .map(|(i, l)| {
-                let key = |k: &str| format!("lights[{i}].{k}");
-                let (kind, position) = self.light_kind(i, l)?;
-                Ok(Light {
-                    kind,
-                    position: position.unwrap_or_default(),
-                    ambient: self.colour(&|| key("ambient"), l.ambient)?,
-                    diffuse: self.colour(&|| key("diffuse"), l.diffuse)?,
-                    specular: self.colour(&|| key("specular"), l.specular)?,
-                })
-            })
-            .collect::<Result<Vec<_>, SceneError>>()?;
+        let lights = self.lights(&raw, &render)?;
         if let (Some(raw), Some(animation)) = (&raw.animation, &mut animation) {
             animation.light_keys = self.light_keys(raw, animation, &camera, &lights)?;
         }
@@ -213,63 +170,17 @@ impl Validator<'_> {
                 alpha: crate::scene::Alpha::OPAQUE,
             });
         }
-        let lookup = |key: KeyPath, name: &str| {
-            material_index.get(name).copied().ok_or_else(|| {
-                let known: Vec<&str> = material_index.keys().map(String::as_str).collect();
-                self.error(
-                    &key(),
-                    format!(
-                        "unknown material \"{name}\" (defined: {})",
-                        if known.is_empty() {
-                            "none".to_string()
-                        } else {
-                            known.join(", ")
-                        }
-                    ),
-                )
-            })
-        };
-
-        let mut spheres = Vec::with_capacity(raw.spheres.len());
-        for (i, s) in raw.spheres.iter().enumerate() {
-            let key = |k: &str| format!("spheres[{i}].{k}");
-            let radius = self.number(&|| key("radius"), s.radius)?;
-            if radius <= 0.0 {
-                return Err(self.error(&key("radius"), format!("must be > 0, got {radius:?}")));
-            }
-            if radius > MAX_COORDINATE {
-                return Err(self.error(
-                    &key("radius"),
-                    format!("must be at most {MAX_COORDINATE:e} (the GPU computes in f32), got {radius:e}"),
-                ));
-            }
-            spheres.push(Sphere {
-                center: self.position(&|| key("center"), s.center)?,
-                radius,
-                material: lookup(&|| key("material"), &s.material)?,
-            });
-        }
-
-        let mut triangles = Vec::with_capacity(raw.triangles.len());
-        for (i, t) in raw.triangles.iter().enumerate() {
-            let key = |k: &str| format!("triangles[{i}].{k}");
-            let mut vertices = [DVec3::ZERO; 3];
-            for (j, (v, raw_v)) in vertices.iter_mut().zip(t.vertices.0).enumerate() {
-                *v = self.position(&|| format!("{}[{j}]", key("vertices")), raw_v)?;
-            }
-            if !has_area(&vertices) {
-                return Err(self.error(&key("vertices"), "triangle has zero area"));
-            }
-            triangles.push(Triangle::flat(
-                vertices,
-                lookup(&|| key("material"), &t.material)?,
-            ));
-        }
+        let spheres = self.spheres(&raw, &material_index)?;
+        let mut triangles = self.triangles(&raw, &material_index)?;
 
         let mut parts = super::TriangleParts::default();
         for (i, m) in raw.meshes.iter().enumerate() {
             let override_material = match &m.material {
-                Some(name) => Some(lookup(&|| format!("meshes[{i}].material"), name)?),
+                Some(name) => Some(self.material_named(
+                    &material_index,
+                    &|| format!("meshes[{i}].material"),
+                    name,
+                )?),
                 None => None,
             };
             self.mesh(
@@ -295,6 +206,141 @@ impl Validator<'_> {
             textures: parts.textures,
             animation,
         })
+    }
+
+    /// The sky: `[environment]` (a uniform colour, which becomes
+    /// `render.background`, or an image) or none; not both it and
+    /// `render.background`.
+    fn environment(
+        &self,
+        raw: &RawScene,
+        render: &mut RenderSettings,
+    ) -> Result<Option<EnvironmentMap>, SceneError> {
+        let Some(env) = &raw.environment else {
+            return Ok(None);
+        };
+        if raw.render.background.is_some() {
+            return Err(self.error(
+                "environment",
+                "give the sky as [environment] or as render.background, not both",
+            ));
+        }
+        match (env.color, &env.image) {
+            (Some(c), None) => {
+                render.background = self.colour(&|| "environment.color".into(), c)?;
+                Ok(None)
+            }
+            (None, Some(image)) => Ok(Some(self.environment_map(env, image)?)),
+            _ => Err(self.error(
+                "environment",
+                "give one of color (a uniform sky) and image (an HDR or EXR file)",
+            )),
+        }
+    }
+
+    /// `[[lights]]`: at least one for the Whitted integrator.
+    fn lights(&self, raw: &RawScene, render: &RenderSettings) -> Result<Vec<Light>, SceneError> {
+        if raw.lights.is_empty() && render.integrator == Integrator::Whitted {
+            // Names the line of `lights = []` when there is one.
+            return Err(self.error(
+                "lights",
+                "a scene needs at least one [[lights]] entry (the path tracer, integrator = \"path\", may do without)",
+            ));
+        }
+        raw.lights
+            .iter()
+            .enumerate()
+            .map(|(i, l)| {
+                let key = |k: &str| format!("lights[{i}].{k}");
+                let (kind, position) = self.light_kind(i, l)?;
+                Ok(Light {
+                    kind,
+                    position: position.unwrap_or_default(),
+                    ambient: self.colour(&|| key("ambient"), l.ambient)?,
+                    diffuse: self.colour(&|| key("diffuse"), l.diffuse)?,
+                    specular: self.colour(&|| key("specular"), l.specular)?,
+                })
+            })
+            .collect()
+    }
+
+    /// The index of the material `name` (the value of `key`) in
+    /// `material_index` (the scene's materials' indices by name); for an
+    /// unknown name, an error listing the defined ones.
+    fn material_named(
+        &self,
+        material_index: &BTreeMap<String, u32>,
+        key: KeyPath,
+        name: &str,
+    ) -> Result<u32, SceneError> {
+        material_index.get(name).copied().ok_or_else(|| {
+            let known: Vec<&str> = material_index.keys().map(String::as_str).collect();
+            self.error(
+                &key(),
+                format!(
+                    "unknown material \"{name}\" (defined: {})",
+                    if known.is_empty() {
+                        "none".to_string()
+                    } else {
+                        known.join(", ")
+                    }
+                ),
+            )
+        })
+    }
+
+    /// `[[spheres]]`: radius in (0, MAX_COORDINATE], centre a position,
+    /// material one of `material_index` (indices by name).
+    fn spheres(
+        &self,
+        raw: &RawScene,
+        material_index: &BTreeMap<String, u32>,
+    ) -> Result<Vec<Sphere>, SceneError> {
+        let mut spheres = Vec::with_capacity(raw.spheres.len());
+        for (i, s) in raw.spheres.iter().enumerate() {
+            let key = |k: &str| format!("spheres[{i}].{k}");
+            let radius = self.number(&|| key("radius"), s.radius)?;
+            if radius <= 0.0 {
+                return Err(self.error(&key("radius"), format!("must be > 0, got {radius:?}")));
+            }
+            if radius > MAX_COORDINATE {
+                return Err(self.error(
+                    &key("radius"),
+                    format!("must be at most {MAX_COORDINATE:e} (the GPU computes in f32), got {radius:e}"),
+                ));
+            }
+            spheres.push(Sphere {
+                center: self.position(&|| key("center"), s.center)?,
+                radius,
+                material: self.material_named(material_index, &|| key("material"), &s.material)?,
+            });
+        }
+        Ok(spheres)
+    }
+
+    /// `[[triangles]]`: three positions with area, material one of
+    /// `material_index` (indices by name); shaded flat.
+    fn triangles(
+        &self,
+        raw: &RawScene,
+        material_index: &BTreeMap<String, u32>,
+    ) -> Result<Vec<Triangle>, SceneError> {
+        let mut triangles = Vec::with_capacity(raw.triangles.len());
+        for (i, t) in raw.triangles.iter().enumerate() {
+            let key = |k: &str| format!("triangles[{i}].{k}");
+            let mut vertices = [DVec3::ZERO; 3];
+            for (j, (v, raw_v)) in vertices.iter_mut().zip(t.vertices.0).enumerate() {
+                *v = self.position(&|| format!("{}[{j}]", key("vertices")), raw_v)?;
+            }
+            if !has_area(&vertices) {
+                return Err(self.error(&key("vertices"), "triangle has zero area"));
+            }
+            triangles.push(Triangle::flat(
+                vertices,
+                self.material_named(material_index, &|| key("material"), &t.material)?,
+            ));
+        }
+        Ok(triangles)
     }
 
     fn camera(&self, c: &RawCamera) -> Result<Camera, SceneError> {
@@ -353,72 +399,7 @@ impl Validator<'_> {
         let orbit_degrees = self.number(&|| "animation.orbit".into(), a.orbit)?;
         let mut keys: Vec<CameraKey> = Vec::with_capacity(a.keys.len());
         for (i, k) in a.keys.iter().enumerate() {
-            let key = |field: &str| format!("animation.keys[{i}].{field}");
-            if k.frame >= frames {
-                return Err(self.error(
-                    &key("frame"),
-                    format!(
-                        "must be in 0..{frames} (animation.frames = {frames}), got {}",
-                        k.frame
-                    ),
-                ));
-            }
-            if let Some(previous) = keys.last() {
-                if k.frame <= previous.frame {
-                    let message = if k.frame == previous.frame {
-                        format!(
-                            "frame {} is keyed twice (animation.keys[{}] is at frame {} too)",
-                            k.frame,
-                            i - 1,
-                            previous.frame
-                        )
-                    } else {
-                        format!(
-                            "keys must be in increasing frame order: animation.keys[{}] is at frame {}, this one at {}",
-                            i - 1,
-                            previous.frame,
-                            k.frame
-                        )
-                    };
-                    return Err(self.error(&key("frame"), message));
-                }
-            }
-            let vfov_degrees = match k.vfov {
-                Some(v) => {
-                    let v = self.number(&|| key("vfov"), v)?;
-                    if !(v > 0.0 && v < 180.0) {
-                        return Err(self.error(
-                            &key("vfov"),
-                            format!("must be in (0, 180) degrees, got {v:?}"),
-                        ));
-                    }
-                    Some(v)
-                }
-                None => None,
-            };
-            let camera_key = CameraKey {
-                frame: k.frame,
-                position: k
-                    .position
-                    .map(|p| self.position(&|| key("position"), p))
-                    .transpose()?,
-                look_at: k
-                    .look_at
-                    .map(|p| self.position(&|| key("look_at"), p))
-                    .transpose()?,
-                up: k.up.map(|u| self.vector(&|| key("up"), u)).transpose()?,
-                vfov_degrees,
-            };
-            if camera_key.position.is_none()
-                && camera_key.look_at.is_none()
-                && camera_key.up.is_none()
-                && camera_key.vfov_degrees.is_none()
-            {
-                return Err(self.error(
-                    &format!("animation.keys[{i}]"),
-                    "sets none of position, look_at, up, vfov",
-                ));
-            }
+            let camera_key = self.camera_key(i, k, frames, keys.last())?;
             keys.push(camera_key);
         }
         let animation = Animation {
@@ -428,8 +409,97 @@ impl Validator<'_> {
             keys,
             light_keys: Vec::new(),
         };
-        let path = CameraPath::new(camera, Some(&animation));
-        for frame in 0..frames {
+        self.check_frame_cameras(camera, &animation)?;
+        Ok(animation)
+    }
+
+    /// `[[animation.keys]]` entry `i`, `k`, checked against the animation's
+    /// `frames` and the `previous` key (frames strictly increasing).
+    fn camera_key(
+        &self,
+        i: usize,
+        k: &RawCameraKey,
+        frames: u32,
+        previous: Option<&CameraKey>,
+    ) -> Result<CameraKey, SceneError> {
+        let key = |field: &str| format!("animation.keys[{i}].{field}");
+        if k.frame >= frames {
+            return Err(self.error(
+                &key("frame"),
+                format!(
+                    "must be in 0..{frames} (animation.frames = {frames}), got {}",
+                    k.frame
+                ),
+            ));
+        }
+        if let Some(previous) = previous {
+            if k.frame <= previous.frame {
+                let message = if k.frame == previous.frame {
+                    format!(
+                        "frame {} is keyed twice (animation.keys[{}] is at frame {} too)",
+                        k.frame,
+                        i - 1,
+                        previous.frame
+                    )
+                } else {
+                    format!(
+                        "keys must be in increasing frame order: animation.keys[{}] is at frame {}, this one at {}",
+                        i - 1,
+                        previous.frame,
+                        k.frame
+                    )
+                };
+                return Err(self.error(&key("frame"), message));
+            }
+        }
+        let vfov_degrees = match k.vfov {
+            Some(v) => {
+                let v = self.number(&|| key("vfov"), v)?;
+                if !(v > 0.0 && v < 180.0) {
+                    return Err(self.error(
+                        &key("vfov"),
+                        format!("must be in (0, 180) degrees, got {v:?}"),
+                    ));
+                }
+                Some(v)
+            }
+            None => None,
+        };
+        let camera_key = CameraKey {
+            frame: k.frame,
+            position: k
+                .position
+                .map(|p| self.position(&|| key("position"), p))
+                .transpose()?,
+            look_at: k
+                .look_at
+                .map(|p| self.position(&|| key("look_at"), p))
+                .transpose()?,
+            up: k.up.map(|u| self.vector(&|| key("up"), u)).transpose()?,
+            vfov_degrees,
+        };
+        if camera_key.position.is_none()
+            && camera_key.look_at.is_none()
+            && camera_key.up.is_none()
+            && camera_key.vfov_degrees.is_none()
+        {
+            return Err(self.error(
+                &format!("animation.keys[{i}]"),
+                "sets none of position, look_at, up, vfov",
+            ));
+        }
+        Ok(camera_key)
+    }
+
+    /// The camera of every frame of `animation` (keyed from `camera`) as
+    /// valid as `[camera]`.
+    fn check_frame_cameras(
+        &self,
+        camera: &Camera,
+        animation: &Animation,
+    ) -> Result<(), SceneError> {
+        let path = CameraPath::new(camera, Some(animation));
+        for frame in 0..animation.frames {
             if let Some(message) = camera_fault(&path.camera_at(frame)) {
                 // Blame the key whose segment holds the frame (the first key
                 // before it), or the orbit when there are no keys.
@@ -443,7 +513,7 @@ impl Validator<'_> {
                 return Err(self.error(&key, format!("at frame {frame} {message}")));
             }
         }
-        Ok(animation)
+        Ok(())
     }
 
     /// `[[animation.light_keys]]`: each key against `lights` (the
@@ -457,78 +527,12 @@ impl Validator<'_> {
         camera: &Camera,
         lights: &[Light],
     ) -> Result<Vec<LightKey>, SceneError> {
-        let (frames, count) = (animation.frames, lights.len());
         let mut keys: Vec<LightKey> = Vec::with_capacity(raw.light_keys.len());
         // Each light's latest key so far, by its index in `keys`.
         let mut latest: BTreeMap<u32, usize> = BTreeMap::new();
         for (i, k) in raw.light_keys.iter().enumerate() {
-            let key = |field: &str| format!("animation.light_keys[{i}].{field}");
-            if k.light as usize >= count {
-                return Err(self.error(
-                    &key("light"),
-                    format!(
-                        "must be in 0..{count} (the index of one of the scene's {count} [[lights]]), got {}",
-                        k.light
-                    ),
-                ));
-            }
-            if k.frame >= frames {
-                return Err(self.error(
-                    &key("frame"),
-                    format!(
-                        "must be in 0..{frames} (animation.frames = {frames}), got {}",
-                        k.frame
-                    ),
-                ));
-            }
-            if let Some(&j) = latest.get(&k.light) {
-                let previous = keys[j].frame;
-                if k.frame <= previous {
-                    let message = if k.frame == previous {
-                        format!(
-                            "light {}'s frame {previous} is keyed twice (animation.light_keys[{j}] is at frame {previous} too)",
-                            k.light
-                        )
-                    } else {
-                        format!(
-                            "the keys of a light must be in increasing frame order: animation.light_keys[{j}] (light {}) is at frame {previous}, this one at {}",
-                            k.light, k.frame
-                        )
-                    };
-                    return Err(self.error(&key("frame"), message));
-                }
-            }
-            let directional = matches!(
-                lights[k.light as usize].kind,
-                super::LightKind::Directional { .. }
-            );
-            if k.position.is_some() && directional {
-                return Err(self.error(
-                    &key("position"),
-                    format!(
-                        "light {} is directional: it has no position to key",
-                        k.light
-                    ),
-                ));
-            }
-            let light_key = LightKey {
-                frame: k.frame,
-                light: k.light,
-                position: k
-                    .position
-                    .map(|p| self.position(&|| key("position"), p))
-                    .transpose()?,
-                color: k
-                    .color
-                    .map(|c| self.colour(&|| key("color"), c))
-                    .transpose()?,
-            };
-            if light_key.position.is_none() && light_key.color.is_none() {
-                return Err(self.error(
-                    &format!("animation.light_keys[{i}]"),
-                    "sets neither position nor color",
-                ));
-            }
+            let previous = latest.get(&k.light).map(|&j| (j, keys[j].frame));
+            let light_key = self.light_key(i, k, animation.frames, lights, previous)?;
             latest.insert(k.light, keys.len());
             keys.push(light_key);
         }
@@ -539,8 +543,103 @@ impl Validator<'_> {
             light_keys: keys,
             ..animation.clone()
         };
-        let path = FramePath::new(camera, lights, Some(&keyed));
-        for frame in 0..frames {
+        self.check_keyed_lights(camera, lights, &keyed)?;
+        Ok(keyed.light_keys)
+    }
+
+    /// `[[animation.light_keys]]` entry `i`, `k`: a light of `lights`, a
+    /// frame of the animation's `frames` after its `previous` key (index
+    /// in the keys, frame) of the same light, no position for a
+    /// directional light, and something set.
+    fn light_key(
+        &self,
+        i: usize,
+        k: &RawLightKey,
+        frames: u32,
+        lights: &[Light],
+        previous: Option<(usize, u32)>,
+    ) -> Result<LightKey, SceneError> {
+        let count = lights.len();
+        let key = |field: &str| format!("animation.light_keys[{i}].{field}");
+        if k.light as usize >= count {
+            return Err(self.error(
+                &key("light"),
+                format!(
+                    "must be in 0..{count} (the index of one of the scene's {count} [[lights]]), got {}",
+                    k.light
+                ),
+            ));
+        }
+        if k.frame >= frames {
+            return Err(self.error(
+                &key("frame"),
+                format!(
+                    "must be in 0..{frames} (animation.frames = {frames}), got {}",
+                    k.frame
+                ),
+            ));
+        }
+        if let Some((j, previous)) = previous {
+            if k.frame <= previous {
+                let message = if k.frame == previous {
+                    format!(
+                        "light {}'s frame {previous} is keyed twice (animation.light_keys[{j}] is at frame {previous} too)",
+                        k.light
+                    )
+                } else {
+                    format!(
+                        "the keys of a light must be in increasing frame order: animation.light_keys[{j}] (light {}) is at frame {previous}, this one at {}",
+                        k.light, k.frame
+                    )
+                };
+                return Err(self.error(&key("frame"), message));
+            }
+        }
+        let directional = matches!(
+            lights[k.light as usize].kind,
+            super::LightKind::Directional { .. }
+        );
+        if k.position.is_some() && directional {
+            return Err(self.error(
+                &key("position"),
+                format!(
+                    "light {} is directional: it has no position to key",
+                    k.light
+                ),
+            ));
+        }
+        let light_key = LightKey {
+            frame: k.frame,
+            light: k.light,
+            position: k
+                .position
+                .map(|p| self.position(&|| key("position"), p))
+                .transpose()?,
+            color: k
+                .color
+                .map(|c| self.colour(&|| key("color"), c))
+                .transpose()?,
+        };
+        if light_key.position.is_none() && light_key.color.is_none() {
+            return Err(self.error(
+                &format!("animation.light_keys[{i}]"),
+                "sets neither position nor color",
+            ));
+        }
+        Ok(light_key)
+    }
+
+    /// Every light keyed in `keyed` (the animation with its light keys), at
+    /// every frame: its position within the coordinate range, its colours
+    /// finite.
+    fn check_keyed_lights(
+        &self,
+        camera: &Camera,
+        lights: &[Light],
+        keyed: &Animation,
+    ) -> Result<(), SceneError> {
+        let path = FramePath::new(camera, lights, Some(keyed));
+        for frame in 0..keyed.frames {
             for (l, light) in path.lights_at(frame).iter().enumerate() {
                 if let Some(message) = light_fault(light) {
                     // Blame the light's key whose segment holds the frame
@@ -560,7 +659,7 @@ impl Validator<'_> {
                 }
             }
         }
-        Ok(keyed.light_keys)
+        Ok(())
     }
 
     fn render(&self, r: &RawRender) -> Result<RenderSettings, SceneError> {

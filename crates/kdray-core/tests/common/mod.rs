@@ -78,12 +78,17 @@ impl TempDir {
 
     /// Leftover temporary files of atomic writes (`.NAME.tmp-PID`).
     pub fn temp_files(&self) -> Vec<String> {
-        std::fs::read_dir(&self.path)
-            .unwrap()
-            .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
-            .filter(|name| name.contains(".tmp-"))
-            .collect()
+        temp_files_in(&self.path)
     }
+}
+
+/// Leftover temporary files of atomic writes (`.NAME.tmp-PID`) in `dir`.
+pub fn temp_files_in(dir: &Path) -> Vec<String> {
+    std::fs::read_dir(dir)
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .filter(|name| name.contains(".tmp-"))
+        .collect()
 }
 
 impl Drop for TempDir {

@@ -100,6 +100,57 @@ pub fn write_gltf_quad(
     wrap: [u32; 2],
     uv_scale: f32,
 ) -> PathBuf {
+    let material = format!(
+        r#"{{"pbrMetallicRoughness":{{"baseColorFactor":[{},{},{},{}],"metallicFactor":0,"roughnessFactor":1,"baseColorTexture":{{"index":0}}}}}}"#,
+        factor[0], factor[1], factor[2], factor[3],
+    );
+    let sampler = (mag_filter, wrap);
+    let images = std::slice::from_ref(image);
+    write_quad_gltf(
+        &dir.join("quad.gltf"),
+        &material,
+        images,
+        sampler,
+        uv_scale,
+        None,
+    )
+}
+
+/// Writes `name` into `dir`: the quad as in [`write_gltf_quad`] with the
+/// material `material` (a glTF material's JSON, whose textures i are
+/// `images[i]`, nearest, clamped) and, if given, the vertex normal `normal`
+/// at every corner. Its path.
+pub fn write_gltf_quad_material(
+    dir: &Path,
+    name: &str,
+    material: &str,
+    images: &[image::RgbaImage],
+    normal: Option<[f32; 3]>,
+) -> PathBuf {
+    const NEAREST_CLAMPED: (u32, [u32; 2]) = (9728, [33071, 33071]);
+    write_quad_gltf(
+        &dir.join(name),
+        material,
+        images,
+        NEAREST_CLAMPED,
+        1.0,
+        normal,
+    )
+}
+
+/// Writes `path`: the quad with texture coordinates [`IMAGE_UVS`] times
+/// `uv_scale`, one primitive of material `material` (a glTF material's
+/// JSON, whose textures i are `images[i]`), one sampler (filter, [wrapS,
+/// wrapT]) for every texture and, if given, the vertex normal `normal` at
+/// every corner; buffer and images in data URIs. `path`, returned.
+fn write_quad_gltf(
+    path: &Path,
+    material: &str,
+    images: &[image::RgbaImage],
+    (filter, wrap): (u32, [u32; 2]),
+    uv_scale: f32,
+    normal: Option<[f32; 3]>,
+) -> PathBuf {
     let mut data = Vec::new();
     for c in CORNERS {
         for x in c {
@@ -114,61 +165,9 @@ pub fn write_gltf_quad(
     for i in [0u16, 1, 2, 0, 2, 3] {
         data.extend_from_slice(&i.to_le_bytes());
     }
-    let json = format!(
-        r#"{{"asset":{{"version":"2.0"}},"scene":0,"scenes":[{{"nodes":[0]}}],"nodes":[{{"mesh":0}}],
-"meshes":[{{"primitives":[{{"attributes":{{"POSITION":0,"TEXCOORD_0":1}},"indices":2,"material":0}}]}}],
-"materials":[{{"pbrMetallicRoughness":{{"baseColorFactor":[{},{},{},{}],"metallicFactor":0,"roughnessFactor":1,"baseColorTexture":{{"index":0}}}}}}],
-"textures":[{{"source":0,"sampler":0}}],
-"samplers":[{{"magFilter":{mag_filter},"minFilter":{mag_filter},"wrapS":{},"wrapT":{}}}],
-"images":[{{"uri":"data:image/png;base64,{}"}}],
-"buffers":[{{"byteLength":{},"uri":"data:application/octet-stream;base64,{}"}}],
-"bufferViews":[{{"buffer":0,"byteOffset":0,"byteLength":48}},{{"buffer":0,"byteOffset":48,"byteLength":32}},{{"buffer":0,"byteOffset":80,"byteLength":12}}],
-"accessors":[{{"bufferView":0,"componentType":5126,"count":4,"type":"VEC3","min":[-1,-1,0],"max":[1,1,0]}},
-{{"bufferView":1,"componentType":5126,"count":4,"type":"VEC2"}},
-{{"bufferView":2,"componentType":5123,"count":6,"type":"SCALAR"}}]}}"#,
-        factor[0],
-        factor[1],
-        factor[2],
-        factor[3],
-        wrap[0],
-        wrap[1],
-        base64(&png_bytes(image)),
-        data.len(),
-        base64(&data),
-    );
-    let path = dir.join("quad.gltf");
-    std::fs::write(&path, json).unwrap();
-    path
-}
-
-/// Writes `name` into `dir`: the quad as in [`write_gltf_quad`] with the
-/// material `material` (a glTF material's JSON, whose textures i are
-/// `images[i]`, nearest, clamped) and, if given, the vertex normal `normal`
-/// at every corner. Its path.
-pub fn write_gltf_quad_material(
-    dir: &Path,
-    name: &str,
-    material: &str,
-    images: &[image::RgbaImage],
-    normal: Option<[f32; 3]>,
-) -> PathBuf {
-    let mut data = Vec::new();
-    for c in CORNERS {
-        for x in c {
-            data.extend_from_slice(&x.to_le_bytes());
-        }
-    }
-    for uv in IMAGE_UVS {
-        for x in uv {
-            data.extend_from_slice(&x.to_le_bytes());
-        }
-    }
-    for i in [0u16, 1, 2, 0, 2, 3] {
-        data.extend_from_slice(&i.to_le_bytes());
-    }
-    data.extend_from_slice(&[0, 0]); // the normals' 4-byte alignment
     let (normal_attribute, normal_view, normal_accessor) = match normal {
         Some(n) => {
+            data.extend_from_slice(&[0, 0]); // the normals' 4-byte alignment
             for _ in 0..4 {
                 for x in n {
                     data.extend_from_slice(&x.to_le_bytes());
@@ -199,7 +198,7 @@ pub fn write_gltf_quad_material(
 "meshes":[{{"primitives":[{{"attributes":{{"POSITION":0,"TEXCOORD_0":1{normal_attribute}}},"indices":2,"material":0}}]}}],
 "materials":[{material}],
 "textures":[{}],
-"samplers":[{{"magFilter":9728,"minFilter":9728,"wrapS":33071,"wrapT":33071}}],
+"samplers":[{{"magFilter":{filter},"minFilter":{filter},"wrapS":{},"wrapT":{}}}],
 "images":[{}],
 "buffers":[{{"byteLength":{},"uri":"data:application/octet-stream;base64,{}"}}],
 "bufferViews":[{{"buffer":0,"byteOffset":0,"byteLength":48}},{{"buffer":0,"byteOffset":48,"byteLength":32}},{{"buffer":0,"byteOffset":80,"byteLength":12}}{normal_view}],
@@ -207,11 +206,12 @@ pub fn write_gltf_quad_material(
 {{"bufferView":1,"componentType":5126,"count":4,"type":"VEC2"}},
 {{"bufferView":2,"componentType":5123,"count":6,"type":"SCALAR"}}{normal_accessor}]}}"#,
         textures.join(","),
+        wrap[0],
+        wrap[1],
         image_list.join(","),
         data.len(),
         base64(&data),
     );
-    let path = dir.join(name);
-    std::fs::write(&path, json).unwrap();
-    path
+    std::fs::write(path, json).unwrap();
+    path.to_path_buf()
 }

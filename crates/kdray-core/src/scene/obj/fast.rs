@@ -19,9 +19,11 @@
 
 use std::mem::MaybeUninit;
 
+use glam::DVec3;
+
 use super::chunk::{Chunk, Resolved};
-use super::material_replay::{MaterialFiles, MaterialState};
-use crate::scene::mesh::{Mesh, MeshTriangle};
+use super::material_replay::{MaterialFiles, MaterialRuns, MaterialState};
+use crate::scene::mesh::{Mesh, MeshMaterial, MeshTriangle};
 
 /// Smallest chunk worth a thread: below this a thread's start and the merge
 /// cost more than they save (one thread parses 1 MiB in about 3 ms: the 43 MB
@@ -56,78 +58,21 @@ pub(super) enum Outcome {
 /// parser at an MTL statement, after it reads exactly the same files.
 pub(super) fn parse(text: &[u8], threads: usize, materials: Option<MaterialFiles>) -> Outcome {
     let declined = Outcome::Declined { mtl_reads: 0 };
-    let with_materials = materials.is_some();
-    // Each chunk's UTF-8 is checked on its thread (the pieces end at line
-    // ends, so the whole text is valid where they all are): checked whole
-    // on one thread, the bunny's 43 MB took 3 - 7 ms.
-    let Some(mut chunks) = on_threads(split_at_lines(text, threads), |piece| {
-        Chunk::parse(std::str::from_utf8(piece).ok()?, with_materials)
-    })
-    .into_iter()
-    .collect::<Option<Vec<Chunk>>>() else {
+    let Some(mut chunks) = parse_chunks(text, threads, materials.is_some()) else {
         return declined;
     };
-
-    // The file's vertices and normals: the first chunk's, which usually
-    // holds them all (exporters write vertices first), extended by the
-    // others'; and where each chunk's start.
-    let mut starts = Vec::with_capacity(chunks.len());
-    let mut positions = std::mem::take(&mut chunks[0].positions);
-    let mut normals = std::mem::take(&mut chunks[0].normals);
-    starts.push((0, 0));
-    for chunk in &chunks[1..] {
-        starts.push((positions.len(), normals.len()));
-        positions.extend_from_slice(&chunk.positions);
-        normals.extend_from_slice(&chunk.normals);
-    }
+    let (positions, normals, starts) = join_vertices(&mut chunks);
     let face_statements = chunks.iter().map(|c| c.face_statements).sum();
     let file = Resolved {
         positions: &positions,
     };
     let jobs: Vec<_> = chunks.iter().zip(&starts).collect();
-
-    // The faces are resolved and written in place into one vector, each
-    // chunk into its own part (writing a vector per chunk and appending
-    // would copy half the mesh again). A part's room is the chunk's fan
-    // triangles, `corners - 2` a face; zero-area ones are skipped, so a part
-    // may end short and the next ones move down after. With materials, a
-    // first pass counts the triangles exactly: it checks every index before
-    // the first MTL file is read (see above). Without, one pass does: the
-    // 1.1 M-triangle bunny's second pass took 20 ms of its 0.22 s load.
-    let no_material = [(0, None)];
-    let rooms: Vec<usize> = if materials.is_some() {
-        let Some(counts) = on_threads(jobs.clone(), |(chunk, &start)| {
-            let mut count = 0usize;
-            file.triangles(chunk, start, &no_material, |_| count += 1)
-                .map(|()| count)
-        })
-        .into_iter()
-        .collect::<Option<Vec<usize>>>() else {
-            return declined;
-        };
-        counts
-    } else {
-        chunks
-            .iter()
-            .map(|c| c.corners.len() - 2 * c.faces.len())
-            .collect()
+    let Some(rooms) = part_rooms(&file, &jobs, materials.is_some()) else {
+        return declined;
     };
-    let room: usize = rooms.iter().sum();
-
-    // Materials, in file order, reading the MTL files.
-    let (runs, materials, mtl_reads) = match materials {
-        None => (vec![no_material.to_vec(); chunks.len()], Vec::new(), 0),
-        Some(files) => {
-            let mut state = MaterialState::new(files);
-            match state.runs(&chunks) {
-                Some(runs) => (runs, state.used, state.reads),
-                None => {
-                    return Outcome::Declined {
-                        mtl_reads: state.reads,
-                    }
-                }
-            }
-        }
+    let (runs, materials, mtl_reads) = match replay_materials(materials, &chunks) {
+        Ok(replayed) => replayed,
+        Err(mtl_reads) => return Outcome::Declined { mtl_reads },
     };
 
     // Texture coordinates matter only for a textured material: such a
@@ -137,17 +82,128 @@ pub(super) fn parse(text: &[u8], threads: usize, materials: Option<MaterialFiles
     {
         return Outcome::Declined { mtl_reads };
     }
+    let Some(triangles) = write_triangles(&file, jobs, &runs, &rooms) else {
+        return Outcome::Declined { mtl_reads };
+    };
 
+    let mesh = Mesh {
+        positions,
+        normals,
+        uvs: Vec::new(),
+        triangles,
+        materials,
+        warnings: Vec::new(),
+        camera: None,
+        lights: Vec::new(),
+    };
+    let parsed: Vec<_> = chunks
+        .into_iter()
+        .map(|c| (c.positions, c.normals, c.corners, c.faces))
+        .collect();
+    crate::huge_pages::free_in_background(parsed);
+    Outcome::Mesh(Box::new(mesh), face_statements)
+}
+
+/// `text` cut at line ends into `threads` chunks, each parsed on a thread
+/// of its own; None where a chunk is left to the reference parser.
+fn parse_chunks(text: &[u8], threads: usize, with_materials: bool) -> Option<Vec<Chunk<'_>>> {
+    // Each chunk's UTF-8 is checked on its thread (the pieces end at line
+    // ends, so the whole text is valid where they all are): checked whole
+    // on one thread, the bunny's 43 MB took 3 - 7 ms.
+    on_threads(split_at_lines(text, threads), |piece| {
+        Chunk::parse(std::str::from_utf8(piece).ok()?, with_materials)
+    })
+    .into_iter()
+    .collect()
+}
+
+/// The file's vertices and normals: the first chunk's, which usually
+/// holds them all (exporters write vertices first), extended by the
+/// others'; and where each chunk's start (vertex, normal).
+fn join_vertices(chunks: &mut [Chunk]) -> (Vec<DVec3>, Vec<DVec3>, Vec<(usize, usize)>) {
+    let mut starts = Vec::with_capacity(chunks.len());
+    let mut positions = std::mem::take(&mut chunks[0].positions);
+    let mut normals = std::mem::take(&mut chunks[0].normals);
+    starts.push((0, 0));
+    for chunk in &chunks[1..] {
+        starts.push((positions.len(), normals.len()));
+        positions.extend_from_slice(&chunk.positions);
+        normals.extend_from_slice(&chunk.normals);
+    }
+    (positions, normals, starts)
+}
+
+/// The room each chunk's part of the triangle vector needs.
+///
+/// The faces are resolved and written in place into one vector, each
+/// chunk into its own part (writing a vector per chunk and appending
+/// would copy half the mesh again). A part's room is the chunk's fan
+/// triangles, `corners - 2` a face; zero-area ones are skipped, so a part
+/// may end short and the next ones move down after. With materials, a
+/// first pass counts the triangles exactly: it checks every index before
+/// the first MTL file is read (see `parse`); None where one is out of
+/// range. Without, one pass does: the 1.1 M-triangle bunny's second pass
+/// took 20 ms of its 0.22 s load.
+fn part_rooms(
+    file: &Resolved,
+    jobs: &[(&Chunk, &(usize, usize))],
+    with_materials: bool,
+) -> Option<Vec<usize>> {
+    if !with_materials {
+        return Some(
+            jobs.iter()
+                .map(|(c, _)| c.corners.len() - 2 * c.faces.len())
+                .collect(),
+        );
+    }
+    let no_material = [(0, None)];
+    on_threads(jobs.to_vec(), |(chunk, &start)| {
+        let mut count = 0usize;
+        file.triangles(chunk, start, &no_material, |_| count += 1)
+            .map(|()| count)
+    })
+    .into_iter()
+    .collect()
+}
+
+/// The chunks' material runs, the materials used and the number of MTL
+/// files read, replaying the material statements in file order (reading
+/// the MTL files); without `materials`, one run of no material a chunk.
+/// Declined: `Err` with the number of MTL files read.
+fn replay_materials(
+    materials: Option<MaterialFiles>,
+    chunks: &[Chunk],
+) -> Result<(Vec<MaterialRuns>, Vec<MeshMaterial>, usize), usize> {
+    let Some(files) = materials else {
+        return Ok((vec![vec![(0, None)]; chunks.len()], Vec::new(), 0));
+    };
+    let mut state = MaterialState::new(files);
+    match state.runs(chunks) {
+        Some(runs) => Ok((runs, state.used, state.reads)),
+        None => Err(state.reads),
+    }
+}
+
+/// Every chunk's triangles, resolved on its own thread into its part
+/// (`rooms`, see [`part_rooms`]) of one vector, the parts then closed up;
+/// None where a chunk's faces do not resolve, or overflow their part.
+fn write_triangles(
+    file: &Resolved,
+    jobs: Vec<(&Chunk, &(usize, usize))>,
+    runs: &[MaterialRuns],
+    rooms: &[usize],
+) -> Option<Vec<MeshTriangle>> {
+    let room: usize = rooms.iter().sum();
     let mut triangles: Vec<MeshTriangle> = crate::huge_pages::with_capacity(room);
     let mut parts = Vec::with_capacity(rooms.len());
     let mut rest = &mut triangles.spare_capacity_mut()[..room];
-    for &part_room in &rooms {
+    for &part_room in rooms {
         let (part, tail) = rest.split_at_mut(part_room);
         parts.push(part);
         rest = tail;
     }
     let written = on_threads(
-        parts.into_iter().zip(jobs).zip(&runs).collect(),
+        parts.into_iter().zip(jobs).zip(runs).collect(),
         |((part, (chunk, &start)), runs): ((&mut [MaybeUninit<MeshTriangle>], _), &Vec<_>)| {
             let mut slots = part.iter_mut();
             let (mut emitted, mut written) = (0usize, 0usize);
@@ -166,43 +222,34 @@ pub(super) fn parse(text: &[u8], threads: usize, materials: Option<MaterialFiles
             resolved.filter(|()| emitted == written).map(|()| written)
         },
     );
-    let Some(written) = written.into_iter().collect::<Option<Vec<usize>>>() else {
-        return Outcome::Declined { mtl_reads };
-    };
-    // Each part's written triangles moved down to follow the previous
-    // part's (none move when no triangle was skipped).
-    let spare = triangles.spare_capacity_mut();
+    let written = written.into_iter().collect::<Option<Vec<usize>>>()?;
+    let total = close_gaps(triangles.spare_capacity_mut(), rooms, &written);
+    // SAFETY: the first `total` slots are all written: each part's first
+    // `count` slots were written above (`written` counts the slots filled),
+    // and `close_gaps` put the parts' written slots end to end from slot 0,
+    // each moved before a later part can land on it. A panic in a thread
+    // propagates before this line, leaving the length 0.
+    unsafe { triangles.set_len(total) };
+    Some(triangles)
+}
+
+/// Moves each part's `written` slots down to follow the previous part's
+/// (none move when no triangle was skipped); the parts start `rooms`
+/// apart in `spare`. Returns the slots written in all.
+fn close_gaps(
+    spare: &mut [MaybeUninit<MeshTriangle>],
+    rooms: &[usize],
+    written: &[usize],
+) -> usize {
     let (mut part_start, mut total) = (0usize, 0usize);
-    for (&part_room, &count) in rooms.iter().zip(&written) {
+    for (&part_room, &count) in rooms.iter().zip(written) {
         if part_start != total {
             spare.copy_within(part_start..part_start + count, total);
         }
         part_start += part_room;
         total += count;
     }
-    // SAFETY: the first `total` slots are all written: each part's first
-    // `count` slots were written above (`written` counts the slots filled),
-    // and the moves put the parts' written slots end to end from slot 0,
-    // each moved before a later part can land on it. A panic in a thread
-    // propagates before this line, leaving the length 0.
-    unsafe { triangles.set_len(total) };
-
-    let mesh = Mesh {
-        positions,
-        normals,
-        uvs: Vec::new(),
-        triangles,
-        materials,
-        warnings: Vec::new(),
-        camera: None,
-        lights: Vec::new(),
-    };
-    let parsed: Vec<_> = chunks
-        .into_iter()
-        .map(|c| (c.positions, c.normals, c.corners, c.faces))
-        .collect();
-    crate::huge_pages::free_in_background(parsed);
-    Outcome::Mesh(Box::new(mesh), face_statements)
+    total
 }
 
 /// `text` cut into `parts` pieces of about equal size, each ending just

@@ -4,6 +4,7 @@
 
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
+use std::str::SplitAsciiWhitespace;
 
 use glam::{DVec2, DVec3};
 
@@ -39,67 +40,12 @@ pub(in crate::scene) fn parse_reference(
         let err = statement_error(path, line_no, keyword);
 
         match keyword {
-            "v" => {
-                // x y z [w]; anything past x y z (w, or the vertex colours
-                // some exporters write) must be numbers too but is unused.
-                let (xyz, count) = first_three_numbers(tokens).map_err(err)?;
-                if count < 3 {
-                    return Err(err(format!(
-                        "expected 3 coordinates (x y z [w]), found {count}"
-                    )));
-                }
-                mesh.positions.push(DVec3::from_array(xyz));
-            }
-            "vn" => {
-                let (xyz, count) = first_three_numbers(tokens).map_err(err)?;
-                if count != 3 {
-                    return Err(err(format!("expected 3 numbers (x y z), found {count}")));
-                }
-                mesh.normals.push(DVec3::from_array(xyz));
-            }
-            "vt" if with_materials => {
-                // u [v [w]], read leniently as before texture coordinates
-                // were read at all: a statement that is not numbers gives
-                // coordinates no triangle takes (its corners stay untextured).
-                let mut uv = [0.0f64; 2];
-                let mut count = 0usize;
-                let mut readable = true;
-                for token in tokens {
-                    match parse_number(token) {
-                        Ok(value) if count < 2 => uv[count] = value,
-                        Ok(_) => {}
-                        Err(_) => readable = false,
-                    }
-                    count += 1;
-                }
-                mesh.uvs.push(if readable && count >= 1 {
-                    // OBJ's v runs up from the image's bottom row.
-                    DVec2::new(uv[0], 1.0 - uv[1])
-                } else {
-                    DVec2::NAN
-                });
-            }
+            "v" => mesh.positions.push(vertex_position(tokens).map_err(err)?),
+            "vn" => mesh.normals.push(vertex_normal(tokens).map_err(err)?),
+            "vt" if with_materials => mesh.uvs.push(texture_coordinates(tokens)),
             "f" => {
                 *faces += 1;
-                face.clear();
-                for token in tokens {
-                    let index = resolve_index(token, mesh.positions.len()).map_err(err)?;
-                    let normal = resolve_normal(token, mesh.normals.len()).map_err(err)?;
-                    face.push((
-                        as_mesh_index(index, token, "vertex").map_err(err)?,
-                        match normal {
-                            Some(n) => as_mesh_index(n, token, "normal").map_err(err)?,
-                            None => NO_INDEX,
-                        },
-                        texture_coordinate(token, &mesh.uvs),
-                    ));
-                }
-                if face.len() < 3 {
-                    return Err(err(format!(
-                        "a face needs at least 3 vertices, found {}",
-                        face.len()
-                    )));
-                }
+                face_corners(tokens, &mesh, &mut face).map_err(err)?;
 
                 let material = if with_materials {
                     if current_index.is_none() {
@@ -121,59 +67,18 @@ pub(in crate::scene) fn parse_reference(
                     None => NO_INDEX,
                 };
 
-                let first = face[0];
-                for pair in face[1..].windows(2) {
-                    let corners = [first, pair[0], pair[1]];
-                    let [a, b, c] = corners.map(|(v, _, _)| mesh.positions[v as usize]);
-                    // Skip zero-area triangles: they cannot be hit and have no
-                    // normal. "Zero" is the cross product's f64 length, so a
-                    // cross product so small that its squared length underflows
-                    // counts as zero too (it could not be normalised).
-                    if (b - a).cross(c - a).length() == 0.0 {
-                        continue;
-                    }
-                    mesh.triangles.push(MeshTriangle {
-                        corners: corners.map(|(v, _, _)| v),
-                        normals: corners.map(|(_, n, _)| n),
-                        uvs: corners.map(|(_, _, t)| t),
-                        material,
-                    });
-                }
+                push_fan(&mut mesh, &face, material);
             }
             "mtllib" if with_materials => {
-                let mut any = false;
-                for name in tokens {
-                    any = true;
-                    let mtl_path = path.parent().unwrap_or_else(|| Path::new("")).join(name);
-                    if materials.loaded.contains(&mtl_path)
-                        || materials.unreadable.contains(&mtl_path)
-                    {
-                        continue;
-                    }
-                    on_read(&mtl_path);
-                    match crate::scene::input_file::read_input_file(&mtl_path) {
-                        Ok(mtl_text) => {
-                            parse_mtl(
-                                &super::text_of(&mtl_text),
-                                &mtl_path,
-                                &mut library,
-                                &mut mesh.warnings,
-                            )?;
-                            materials.loaded.push(mtl_path);
-                        }
-                        Err(e) => {
-                            mesh.warnings.push(Warning::new(
-                                path,
-                                Some(line_no),
-                                format!(
-                                    "cannot read MTL file {}: {e}; faces using its materials get the default grey material",
-                                    mtl_path.display()
-                                ),
-                            ));
-                            materials.unreadable.push(mtl_path);
-                        }
-                    }
-                }
+                let any = read_mtllib(
+                    tokens,
+                    path,
+                    line_no,
+                    on_read,
+                    &mut library,
+                    &mut materials,
+                    &mut mesh,
+                )?;
                 if !any {
                     return Err(err("expected the name of at least one MTL file".to_string()));
                 }
@@ -202,6 +107,148 @@ pub(in crate::scene) fn parse_reference(
         }
     }
     Ok(mesh)
+}
+
+/// A `v` statement's position: x y z [w]; anything past x y z (w, or the
+/// vertex colours some exporters write) must be numbers too but is unused.
+fn vertex_position(tokens: SplitAsciiWhitespace) -> Result<DVec3, String> {
+    let (xyz, count) = first_three_numbers(tokens)?;
+    if count < 3 {
+        return Err(format!("expected 3 coordinates (x y z [w]), found {count}"));
+    }
+    Ok(DVec3::from_array(xyz))
+}
+
+/// A `vn` statement's normal: exactly x y z.
+fn vertex_normal(tokens: SplitAsciiWhitespace) -> Result<DVec3, String> {
+    let (xyz, count) = first_three_numbers(tokens)?;
+    if count != 3 {
+        return Err(format!("expected 3 numbers (x y z), found {count}"));
+    }
+    Ok(DVec3::from_array(xyz))
+}
+
+/// A `vt` statement's coordinates: u [v [w]], read leniently as before
+/// texture coordinates were read at all: a statement that is not numbers
+/// gives coordinates no triangle takes (NaN: its corners stay untextured).
+/// OBJ's v runs up from the image's bottom row; the result's runs down.
+fn texture_coordinates(tokens: SplitAsciiWhitespace) -> DVec2 {
+    let mut uv = [0.0f64; 2];
+    let mut count = 0usize;
+    let mut readable = true;
+    for token in tokens {
+        match parse_number(token) {
+            Ok(value) if count < 2 => uv[count] = value,
+            Ok(_) => {}
+            Err(_) => readable = false,
+        }
+        count += 1;
+    }
+    if readable && count >= 1 {
+        DVec2::new(uv[0], 1.0 - uv[1])
+    } else {
+        DVec2::NAN
+    }
+}
+
+/// An `f` statement's corners into `face` (cleared first) as (v, vn, vt)
+/// mesh indices, resolved against what `mesh` defines so far; at least 3.
+fn face_corners(
+    tokens: SplitAsciiWhitespace,
+    mesh: &Mesh,
+    face: &mut Vec<(u32, u32, u32)>,
+) -> Result<(), String> {
+    face.clear();
+    for token in tokens {
+        let index = resolve_index(token, mesh.positions.len())?;
+        let normal = resolve_normal(token, mesh.normals.len())?;
+        face.push((
+            as_mesh_index(index, token, "vertex")?,
+            match normal {
+                Some(n) => as_mesh_index(n, token, "normal")?,
+                None => NO_INDEX,
+            },
+            texture_coordinate(token, &mesh.uvs),
+        ));
+    }
+    if face.len() < 3 {
+        return Err(format!(
+            "a face needs at least 3 vertices, found {}",
+            face.len()
+        ));
+    }
+    Ok(())
+}
+
+/// The face's fan triangles (around its first corner) appended to `mesh`
+/// with `material`, zero-area ones skipped.
+fn push_fan(mesh: &mut Mesh, face: &[(u32, u32, u32)], material: u32) {
+    let first = face[0];
+    for pair in face[1..].windows(2) {
+        let corners = [first, pair[0], pair[1]];
+        let [a, b, c] = corners.map(|(v, _, _)| mesh.positions[v as usize]);
+        // Skip zero-area triangles: they cannot be hit and have no
+        // normal. "Zero" is the cross product's f64 length, so a
+        // cross product so small that its squared length underflows
+        // counts as zero too (it could not be normalised).
+        if (b - a).cross(c - a).length() == 0.0 {
+            continue;
+        }
+        mesh.triangles.push(MeshTriangle {
+            corners: corners.map(|(v, _, _)| v),
+            normals: corners.map(|(_, n, _)| n),
+            uvs: corners.map(|(_, _, t)| t),
+            material,
+        });
+    }
+}
+
+/// An `mtllib` statement on line `line_no` of the OBJ file `path`: each
+/// MTL file it names (beside the OBJ file) not read before is read into
+/// `library`, `on_read` told first; one that cannot be read is a warning,
+/// and its faces get the default grey. Whether the statement names any
+/// file; an error in an MTL file is the error.
+fn read_mtllib(
+    tokens: SplitAsciiWhitespace,
+    path: &Path,
+    line_no: usize,
+    on_read: &mut dyn FnMut(&Path),
+    library: &mut HashMap<String, MeshMaterial>,
+    materials: &mut UsedMaterials,
+    mesh: &mut Mesh,
+) -> Result<bool, SceneError> {
+    let mut any = false;
+    for name in tokens {
+        any = true;
+        let mtl_path = path.parent().unwrap_or_else(|| Path::new("")).join(name);
+        if materials.loaded.contains(&mtl_path) || materials.unreadable.contains(&mtl_path) {
+            continue;
+        }
+        on_read(&mtl_path);
+        match crate::scene::input_file::read_input_file(&mtl_path) {
+            Ok(mtl_text) => {
+                parse_mtl(
+                    &super::text_of(&mtl_text),
+                    &mtl_path,
+                    library,
+                    &mut mesh.warnings,
+                )?;
+                materials.loaded.push(mtl_path);
+            }
+            Err(e) => {
+                mesh.warnings.push(Warning::new(
+                    path,
+                    Some(line_no),
+                    format!(
+                        "cannot read MTL file {}: {e}; faces using its materials get the default grey material",
+                        mtl_path.display()
+                    ),
+                ));
+                materials.unreadable.push(mtl_path);
+            }
+        }
+    }
+    Ok(any)
 }
 
 /// What the reference parser knows of the materials its faces use.

@@ -1,0 +1,44 @@
+# Sourced by the scripts that keep a measurement in docs/results
+# (glass_cost.sh, path_bench.sh, wavefront_bound.sh): the machine's and
+# adapter's names and the JSON file they all write.
+
+# The CPU's model name and the number of cores (Linux /proc/cpuinfo).
+cpu_cores() {
+    echo "$(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2 | sed 's/^ //'), $(nproc) cores"
+}
+
+# The adapter KDRAY renders with (the line `kdray info` marks with `*`),
+# its double quotes escaped for JSON.
+adapter_name() { # KDRAY
+    "$1" info 2>/dev/null | grep '^\*' | sed 's/^\* //;s/"/\\"/g'
+}
+
+# Writes OUT, its folder made as needed: a JSON object of the string fields
+# NAME=VALUE (in the order given; VALUE is written as it is, so it must
+# need no escaping), then LIST, an array of the ITEMs (JSON values), one a
+# line.
+write_results_json() { # OUT LIST NAME=VALUE... -- ITEM...
+    local out=$1 list=$2
+    shift 2
+    mkdir -p "$(dirname "$out")"
+    {
+        echo "{"
+        while [ "$1" != -- ]; do
+            echo "  \"${1%%=*}\": \"${1#*=}\","
+            shift
+        done
+        shift
+        echo "  \"$list\": ["
+        local i=0
+        for item in "$@"; do
+            i=$((i + 1))
+            if [ "$i" -lt $# ]; then
+                echo "    $item,"
+            else
+                echo "    $item"
+            fi
+        done
+        echo "  ]"
+        echo "}"
+    } >"$out"
+}
