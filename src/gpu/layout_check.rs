@@ -257,6 +257,14 @@ fn rust_types_match_wgsl_layout() {
         &present,
         "PresentParams",
         PresentParams,
-        [image_size, target_size, preview_size, show_image, tone_map, exposure_scale, _pad]
+        [
+            image_size,
+            target_size,
+            preview_size,
+            show_image,
+            tone_map,
+            exposure_scale,
+            _pad
+        ]
     );
 }

@@ -6,10 +6,9 @@
 use crate::geometry::{Aabb, Primitives};
 use crate::kdtree::{KdTree, Ropes};
 use crate::layout::{
-    ALPHA_BLEND, ALPHA_MASK, ALPHA_OPAQUE,
     GpuKdNode, GpuLight, GpuMaterial, GpuSphere, GpuTriangle, GpuTriangleNormals, LeafRopes,
-    TextureWords, LIGHT_DIRECTIONAL, LIGHT_EMITTER, LIGHT_POINT, LIGHT_SPOT, MODEL_LAMBERTIAN,
-    MODEL_METAL_ROUGH,
+    TextureWords, ALPHA_BLEND, ALPHA_MASK, ALPHA_OPAQUE, LIGHT_DIRECTIONAL, LIGHT_EMITTER,
+    LIGHT_POINT, LIGHT_SPOT, MODEL_LAMBERTIAN, MODEL_METAL_ROUGH,
 };
 use crate::scene::{AlphaMode, Light, LightKind, Scene};
 

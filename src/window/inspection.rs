@@ -177,18 +177,20 @@ impl Session {
             samples: self.refinement.samples(),
             lights: &lights,
         };
-        if self.recorder.is_none() {
-            match WalkRecorder::new(&self.ctx) {
-                Ok(recorder) => self.recorder = Some(recorder),
-                Err(e) => {
-                    eprintln!("kdray: inspecting failed: {e}");
-                    self.inspect.outcome = Outcome::Failed(e.to_string());
-                    return;
-                }
+        let made = self
+            .recorder
+            .take()
+            .map_or_else(|| WalkRecorder::new(&self.ctx), Ok);
+        let recorder = match made {
+            Ok(recorder) => recorder,
+            Err(e) => {
+                eprintln!("kdray: inspecting failed: {e}");
+                self.inspect.outcome = Outcome::Failed(e.to_string());
+                return;
             }
-        }
-        let recorder = self.recorder.as_ref().expect("made above");
-        let outcome = inspect_pixel(&self.ctx, recorder, &self.scene, &at, &how);
+        };
+        let outcome = inspect_pixel(&self.ctx, &recorder, &self.scene, &at, &how);
+        self.recorder = Some(recorder);
         let outcome = outcome.and_then(|(totals, vertices)| {
             self.viewer.overlay_mut().set_lines(&self.ctx, &vertices)?;
             Ok(totals)

@@ -16,7 +16,11 @@ pub enum Progress {
     /// The camera moves: previews at 1/`scale` of the resolution.
     Moving { scale: u32 },
     /// `passes` of `samples` samples per pixel (path samples if `path`).
-    Refining { passes: u32, samples: u32, path: bool },
+    Refining {
+        passes: u32,
+        samples: u32,
+        path: bool,
+    },
 }
 
 /// What inspection mode (X) shows.

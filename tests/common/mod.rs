@@ -268,7 +268,9 @@ pub fn json_disagreement(a: &serde_json::Value, b: &serde_json::Value, at: &str)
             (x.iter().zip(y).enumerate())
                 .find_map(|(i, (v, w))| json_disagreement(v, w, &format!("{at}[{i}]")))
         }
-        (serde_json::Value::Number(x), serde_json::Value::Number(y)) if x.is_f64() || y.is_f64() => {
+        (serde_json::Value::Number(x), serde_json::Value::Number(y))
+            if x.is_f64() || y.is_f64() =>
+        {
             let (x, y) = (x.as_f64()?, y.as_f64()?);
             let close = (x - y).abs() <= 1e-5 * x.abs().max(y.abs()).max(1.0);
             (!close).then(|| format!("{at}: {x} against {y}"))
@@ -276,4 +278,3 @@ pub fn json_disagreement(a: &serde_json::Value, b: &serde_json::Value, at: &str)
         _ => (a != b).then(|| format!("{at}: {a} against {b}")),
     }
 }
-

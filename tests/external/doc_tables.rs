@@ -50,7 +50,8 @@ fn generated_tables_are_what_their_scripts_print_from_the_committed_results() {
     for (doc, command, body) in &blocks {
         let words: Vec<&str> = command.split_whitespace().collect();
         assert!(
-            words.first() == Some(&"python3") && words.get(1).is_some_and(|s| s.starts_with("scripts/")),
+            words.first() == Some(&"python3")
+                && words.get(1).is_some_and(|s| s.starts_with("scripts/")),
             "{doc}: `{command}` is not a python3 script of scripts/"
         );
         let out = std::process::Command::new(words[0])

@@ -120,7 +120,11 @@ fn pages_trace_every_scene_as_the_native_renderer_does_and_show_their_errors() {
         let run = run_kdray(&out, &["web", path.to_str().unwrap(), "-o", &name], &[]);
         let scene = small_scene(&path);
         assert_eq!(run.code, 0, "{}", run.stderr_text());
-        let (w, h, n) = (scene.render.width, scene.render.height, scene.render.samples);
+        let (w, h, n) = (
+            scene.render.width,
+            scene.render.height,
+            scene.render.samples,
+        );
         jobs.push(serde_json::json!({
             "url": format!("/{name}/index.html?width={w}&height={h}&samples={n}"),
             "png": out.join(format!("{name}.page.png")),
@@ -240,7 +244,13 @@ fn pages_trace_every_scene_as_the_native_renderer_does_and_show_their_errors() {
     );
     let (_, _, whitted_page) = read_png_rgb(&out.join("seed-path.toggled.png")).unwrap();
     let whitted = render(&scenes[seed_index].1, Accel::Kdtree);
-    let d = compare(&whitted.rgb, &whitted_page, whitted.width, whitted.height, 0);
+    let d = compare(
+        &whitted.rgb,
+        &whitted_page,
+        whitted.width,
+        whitted.height,
+        0,
+    );
     assert_eq!(d.pixels_over, 0, "seed toggled to Whitted: {d:?}");
     let (_, _, path_page) = read_png_rgb(&out.join("seed-path.page.png")).unwrap();
     assert!(changed_pixels(&path_page, &whitted_page) > whitted_page.len() / 3 / 10);

@@ -192,15 +192,18 @@ fn run(mut command: Command) -> (ExitStatus, String, String) {
 /// `extra` flags.
 fn headless_with(dir: &Path, scene: &Path, out: &Path, extra: &[&str]) -> Vec<u8> {
     let mut command = kdray(dir);
-    command.args(["render".as_ref(), scene.as_os_str()]).args(extra).args([
-        "--width",
-        &W.to_string(),
-        "--height",
-        &H.to_string(),
-        "--samples",
-        SAMPLES,
-        "-o",
-    ]);
+    command
+        .args(["render".as_ref(), scene.as_os_str()])
+        .args(extra)
+        .args([
+            "--width",
+            &W.to_string(),
+            "--height",
+            &H.to_string(),
+            "--samples",
+            SAMPLES,
+            "-o",
+        ]);
     command.arg(out);
     let (status, _, stderr) = run(command);
     assert!(status.success(), "headless render failed: {stderr}");

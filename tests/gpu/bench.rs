@@ -377,7 +377,10 @@ fn wavefront_bound_measures_the_loop_and_the_queue_with_every_walk() {
     assert_eq!(run.code, 0, "{}", run.stderr_text());
     let report = read_json(&out.join("wavefront-bound.json"));
     let walks = report["scenes"][0]["walks"].as_array().unwrap();
-    let names: Vec<&str> = walks.iter().map(|w| w["traversal"].as_str().unwrap()).collect();
+    let names: Vec<&str> = walks
+        .iter()
+        .map(|w| w["traversal"].as_str().unwrap())
+        .collect();
     assert_eq!(names, ["restart", "ropes", "short-stack"]);
     let pixels = 16 * 12;
     for w in walks {
@@ -390,7 +393,11 @@ fn wavefront_bound_measures_the_loop_and_the_queue_with_every_walk() {
             assert!(w[key].as_f64().unwrap() > 0.0, "{key}: {w}");
         }
     }
-    assert!(run.stdout.contains("cornell_box.toml | restart"), "{}", run.stdout);
+    assert!(
+        run.stdout.contains("cornell_box.toml | restart"),
+        "{}",
+        run.stdout
+    );
 }
 
 #[test]

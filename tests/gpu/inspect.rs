@@ -37,8 +37,9 @@ fn small_scene(path: &str) -> Scene {
     scene
 }
 
-/// The centre and `PIXELS` pixels of a fixed pseudo-random sequence.
-fn pixels(salt: u64) -> Vec<(u32, u32)> {
+/// `count` pixels of a `width` x `height` image: the centre, then a fixed
+/// pseudo-random sequence.
+pub(crate) fn pixels(salt: u64, width: u32, height: u32, count: usize) -> Vec<(u32, u32)> {
     let mut state = 0x9e37_79b9_7f4a_7c15u64 ^ salt;
     let mut next = |n: u32| {
         state = state
@@ -46,8 +47,8 @@ fn pixels(salt: u64) -> Vec<(u32, u32)> {
             .wrapping_add(1_442_695_040_888_963_407);
         ((state >> 33) % n as u64) as u32
     };
-    let mut out = vec![(WIDTH / 2, HEIGHT / 2)];
-    out.extend((0..PIXELS).map(|_| (next(WIDTH), next(HEIGHT))));
+    let mut out = vec![(width / 2, height / 2)];
+    out.extend((1..count).map(|_| (next(width), next(height))));
     out
 }
 
@@ -129,7 +130,7 @@ fn inspected_walks_hit_what_brute_force_and_the_kernel_hit_at_the_kernels_cost()
         let ids = &uploaded.prepared().arrays.scene_ids;
         for traversal in Traversal::ALL {
             let mut rays = Vec::new();
-            for (x, y) in pixels(salt as u64) {
+            for (x, y) in pixels(salt as u64, WIDTH, HEIGHT, PIXELS + 1) {
                 let inspection = inspect_scene(&scene, Some(tree.clone()), traversal, (x, y))
                     .unwrap_or_else(|e| panic!("{e}"));
                 let primary = &inspection.rays[0];

@@ -5,6 +5,7 @@
 //! for step, on random pixels of the inspect tests' scenes with every walk.
 
 use crate::common;
+use crate::inspect::pixels;
 
 use kdray::gpu::{Accel, GpuScene, PreparedScene, TilePlan, WalkRecorder};
 use kdray::inspect::{inspect_on_gpu, inspect_scene, Inspection};
@@ -27,20 +28,6 @@ fn scene_at(path: &str, width: u32, height: u32) -> Scene {
     let mut scene = load_scene(full.as_ref()).unwrap_or_else(|e| panic!("{e}"));
     (scene.render.width, scene.render.height) = (width, height);
     scene
-}
-
-/// `count` pixels of a fixed pseudo-random sequence, the centre first.
-fn pixels(salt: u64, width: u32, height: u32, count: usize) -> Vec<(u32, u32)> {
-    let mut state = 0x2545_f491_4f6c_dd1du64 ^ salt;
-    let mut next = |n: u32| {
-        state = state
-            .wrapping_mul(6_364_136_223_846_793_005)
-            .wrapping_add(1_442_695_040_888_963_407);
-        ((state >> 33) % n as u64) as u32
-    };
-    let mut out = vec![(width / 2, height / 2)];
-    out.extend((1..count).map(|_| (next(width), next(height))));
-    out
 }
 
 fn upload(scene: &Scene) -> GpuScene {

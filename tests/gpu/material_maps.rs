@@ -41,7 +41,11 @@ fn texel(r: u8, g: u8, b: u8) -> image::RgbaImage {
 /// most `allowed`, and returns how many differ at all from `plain`.
 fn assert_alike(what: &str, a: &Scene, b: &Scene, levels: u8, plain: &Scene) -> usize {
     let _ = gpu();
-    let (ia, ib, ip) = (render(a, Accel::Kdtree), render(b, Accel::Kdtree), render(plain, Accel::Kdtree));
+    let (ia, ib, ip) = (
+        render(a, Accel::Kdtree),
+        render(b, Accel::Kdtree),
+        render(plain, Accel::Kdtree),
+    );
     let d = compare(&ia.rgb, &ib.rgb, SIDE, SIDE, levels);
     assert_eq!(d.pixels_over, 0, "{what}: {d:?}");
     compare(&ia.rgb, &ip.rgb, SIDE, SIDE, 2).pixels_over
@@ -77,7 +81,10 @@ fn a_one_texel_normal_map_equals_that_normal_given_at_the_vertices() {
     let mut plain = mapped.clone();
     plain.materials[0].maps.normal = None;
     let changed = assert_alike("normal map", &mapped, &given, 2, &plain);
-    assert!(changed > (SIDE * SIDE / 4) as usize, "the map changed {changed} pixels");
+    assert!(
+        changed > (SIDE * SIDE / 4) as usize,
+        "the map changed {changed} pixels"
+    );
 }
 
 #[test]
@@ -96,7 +103,10 @@ fn a_one_texel_metallic_roughness_map_equals_its_values_as_factors() {
     let mut plain = mapped.clone();
     plain.materials[0].maps.metal_rough = None;
     let changed = assert_alike("metallic-roughness map", &mapped, &given, 1, &plain);
-    assert!(changed > (SIDE * SIDE / 4) as usize, "the map changed {changed} pixels");
+    assert!(
+        changed > (SIDE * SIDE / 4) as usize,
+        "the map changed {changed} pixels"
+    );
 }
 
 #[test]
@@ -116,7 +126,10 @@ fn a_one_texel_emissive_map_equals_its_linear_colour_as_emission() {
     let mut plain = mapped.clone();
     plain.materials[0].maps.emissive = None;
     let changed = assert_alike("emissive map", &mapped, &given, 2, &plain);
-    assert!(changed > (SIDE * SIDE / 4) as usize, "the map changed {changed} pixels");
+    assert!(
+        changed > (SIDE * SIDE / 4) as usize,
+        "the map changed {changed} pixels"
+    );
 }
 
 #[test]
@@ -135,6 +148,8 @@ fn a_base_colour_texture_is_decoded_from_srgb_in_path_mode() {
     stored.materials[0].texture = None;
     stored.materials[0].diffuse = DVec3::from_array(bytes.map(|b| b as f64 / 255.0));
     let changed = assert_alike("base colour", &mapped, &given, 2, &stored);
-    assert!(changed > (SIDE * SIDE / 4) as usize, "decoding changed {changed} pixels");
+    assert!(
+        changed > (SIDE * SIDE / 4) as usize,
+        "decoding changed {changed} pixels"
+    );
 }
-

@@ -22,17 +22,26 @@ fn render(path: &Path) -> (Vec<u8>, Vec<Warning>) {
             .unwrap_or_else(|e| panic!("{e}"));
     scene.render.width = 96;
     scene.render.height = 96;
-    let rgb = kdray::render::render_scene(gpu(), &scene, Accel::Kdtree, TilePlan::DEFAULT_MAX_TILE_PIXELS)
-        .unwrap_or_else(|e| panic!("{}: {e}", path.display()))
-        .0
-        .rgb;
+    let rgb = kdray::render::render_scene(
+        gpu(),
+        &scene,
+        Accel::Kdtree,
+        TilePlan::DEFAULT_MAX_TILE_PIXELS,
+    )
+    .unwrap_or_else(|e| panic!("{}: {e}", path.display()))
+    .0
+    .rgb;
     (rgb, warnings)
 }
 
 /// Mean absolute difference per channel, in levels of 255.
 fn mean_difference(a: &[u8], b: &[u8]) -> f64 {
     assert_eq!(a.len(), b.len());
-    let total: u64 = a.iter().zip(b).map(|(x, y)| u64::from(x.abs_diff(*y))).sum();
+    let total: u64 = a
+        .iter()
+        .zip(b)
+        .map(|(x, y)| u64::from(x.abs_diff(*y)))
+        .sum();
     total as f64 / a.len() as f64
 }
 
@@ -41,8 +50,16 @@ fn quantized_meshopt_draco_and_webp_boxes_render_as_the_original() {
     let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/models/optimised");
     let (original, _) = render(&dir.join("box.glb"));
     // The original is not blank: the box and its texture show.
-    assert!(original.chunks(3).any(|p| p != &original[0..3]), "a blank image");
-    for name in ["box_quantized.glb", "box_meshopt.glb", "box_draco.glb", "box_webp.glb"] {
+    assert!(
+        original.chunks(3).any(|p| p != &original[0..3]),
+        "a blank image"
+    );
+    for name in [
+        "box_quantized.glb",
+        "box_meshopt.glb",
+        "box_draco.glb",
+        "box_webp.glb",
+    ] {
         let (rgb, warnings) = render(&dir.join(name));
         assert!(warnings.is_empty(), "{name}: {warnings:?}");
         // Measured on lavapipe: 0 for quantize and meshopt (the box's
@@ -67,10 +84,16 @@ fn a_latin1_obj_of_another_project_loads_with_its_materials() {
     let scene = kdray::scene::load_scene_with(path, &mut |_| {}, &mut |w| warnings.push(w))
         .unwrap_or_else(|e| panic!("{e}"));
     assert!(!scene.triangles.is_empty());
-    let latin1: Vec<&Warning> = warnings.iter().filter(|w| w.message.contains("Latin-1")).collect();
+    let latin1: Vec<&Warning> = warnings
+        .iter()
+        .filter(|w| w.message.contains("Latin-1"))
+        .collect();
     assert_eq!(latin1.len(), 1, "{warnings:?}");
     assert!(
-        scene.materials.iter().any(|m| m.name.contains("Terraind\u{e6}k")),
+        scene
+            .materials
+            .iter()
+            .any(|m| m.name.contains("Terraind\u{e6}k")),
         "{:?}",
         scene.materials.iter().map(|m| &m.name).collect::<Vec<_>>()
     );
