@@ -16,7 +16,7 @@
 // The alpha of texture `t` at uv, on its base level by its magnification
 // filter, texel centres at (i + 0.5) / size: sample_level's rule.
 fn sample_alpha(t: u32, uv: vec2<f32>) -> f32 {
-    let header = 1u + TEXTURE_HEADER_WORDS * t;
+    let header = TEXTURE_PREFIX_WORDS + TEXTURE_HEADER_WORDS * t;
     let level = texture_level(header, 0u);
     let size = vec2<f32>(f32(level.width), f32(level.height));
     let limit = vec2<f32>(TEXEL_COORDINATE_LIMIT);

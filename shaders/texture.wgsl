@@ -102,7 +102,7 @@ fn sample_level(header: u32, k: u32, filter_mode: u32, uv: vec2<f32>, srgb: bool
 // Texture `t` at texture coordinates uv (v down from the image's top row)
 // and level of detail lambda, its texels decoded from sRGB if `srgb`.
 fn sample_texture(t: u32, uv: vec2<f32>, lambda: f32, srgb: bool) -> vec3<f32> {
-    let header = 1u + TEXTURE_HEADER_WORDS * t;
+    let header = TEXTURE_PREFIX_WORDS + TEXTURE_HEADER_WORDS * t;
     if (lambda <= 0.0) {
         return sample_level(header, 0u, textures[header + 2u], uv, srgb);
     }
@@ -157,9 +157,9 @@ fn record_uv(word: u32) -> vec2<f32> {
     return vec2<f32>(bitcast<f32>(textures[word]), bitcast<f32>(textures[word + 1u]));
 }
 
-// Where a textured triangle's hit reads its textures: the coordinates
-// interpolated at the hit, the corners' coordinates and the ray cone's
-// width there; `found` false for a triangle without coordinates.
+// Where a triangle's hit reads its record: the coordinates interpolated
+// at the hit, the corners' coordinates, the hit's barycentrics and the
+// record's first word; `found` false for a triangle without a record.
 struct TextureHit {
     found: bool,
     tri: Triangle,
@@ -167,56 +167,64 @@ struct TextureHit {
     uv1: vec2<f32>,
     uv2: vec2<f32>,
     uv: vec2<f32>,
+    b: vec3<f32>,
+    record: u32,
 }
 
 fn texture_hit(i: u32, p: vec3<f32>) -> TextureHit {
     let record = triangle_uv_record(i);
     let tri = triangle(i);
     if (record == UNTEXTURED) {
-        return TextureHit(false, tri, vec2<f32>(0.0), vec2<f32>(0.0), vec2<f32>(0.0), vec2<f32>(0.0));
+        let zero = vec2<f32>(0.0);
+        return TextureHit(false, tri, zero, zero, zero, zero, vec3<f32>(0.0), 0u);
     }
     let b = barycentrics(tri, p);
-    let r = textures[0] + TEXTURE_RECORD_WORDS * record;
+    let r = textures[0] + textures[1] * record;
     let uv0 = record_uv(r);
     let uv1 = record_uv(r + 2u);
     let uv2 = record_uv(r + 4u);
-    return TextureHit(true, tri, uv0, uv1, uv2, b.x * uv0 + b.y * uv1 + b.z * uv2);
+    return TextureHit(true, tri, uv0, uv1, uv2, b.x * uv0 + b.y * uv1 + b.z * uv2, b, r);
 }
 
 // Texture `t` at the hit `h`, seen along `dir` with a cone `cone_width` wide.
 fn sample_at_hit(t: u32, h: TextureHit, dir: vec3<f32>, cone_width: f32, srgb: bool) -> vec3<f32> {
-    let base = texture_level(1u + TEXTURE_HEADER_WORDS * t, 0u);
+    let base = texture_level(TEXTURE_PREFIX_WORDS + TEXTURE_HEADER_WORDS * t, 0u);
     let size = vec2<f32>(f32(base.width), f32(base.height));
     let lambda = texture_lod(h.tri, h.uv0, h.uv1, h.uv2, size, dir, cone_width);
     return sample_texture(t, h.uv, lambda, srgb);
 }
 
 // The material of object `id` at hit point p, reached along unit `dir` by
-// a path `path_length` long from the eye: on a textured triangle, its
+// a path `path_length` long from the eye: on a triangle with a record, its
 // diffuse and ambient colours multiplied by its base-colour texture (as
 // stored for the Whitted integrator, decoded from sRGB for the path
-// tracer), and for the path tracer its metallic and roughness scaled by
-// the metallic-roughness map's blue and green, its emission by the
-// emissive map (sRGB).
+// tracer) and by its vertex colours; for the Whitted integrator its
+// ambient colour darkened by the occlusion map (red, by the map's
+// strength); for the path tracer its metallic and roughness scaled by the
+// metallic-roughness map's blue and green, its emission by the emissive
+// map (sRGB).
 fn material_at(id: u32, p: vec3<f32>, dir: vec3<f32>, path_length: f32) -> Material {
     var m = materials[objects[id].x];
     if (!TEXTURES || is_sphere(id)) {
-        return m;
-    }
-    let path = is_path();
-    let maps = path && (m.metal_rough_texture != NO_TEXTURE || m.emissive_texture != NO_TEXTURE);
-    if (m.texture == NO_TEXTURE && !maps) {
         return m;
     }
     let h = texture_hit(id - params.sphere_count, p);
     if (!h.found) {
         return m;
     }
+    let path = is_path();
     let cone_width = pixel_spread_angle() * path_length;
     if (m.texture != NO_TEXTURE) {
         let c = sample_at_hit(m.texture, h, dir, cone_width, path);
         m.diffuse *= c;
         m.ambient *= c;
+    }
+    let colour = vertex_colour(h).xyz;
+    m.diffuse *= colour;
+    m.ambient *= colour;
+    if (!path && m.occlusion_texture != NO_TEXTURE) {
+        let ao = sample_at_hit(m.occlusion_texture, h, dir, cone_width, false).x;
+        m.ambient *= 1.0 + m.occlusion_strength * (ao - 1.0);
     }
     if (path && m.metal_rough_texture != NO_TEXTURE) {
         let mr = sample_at_hit(m.metal_rough_texture, h, dir, cone_width, false);
@@ -244,44 +252,4 @@ fn emissive_scale(id: u32, p: vec3<f32>) -> vec3<f32> {
         return vec3<f32>(1.0);
     }
     return sample_texture(t, h.uv, 0.0, true);
-}
-
-// The shading normal n (unit, facing the ray) bent by the normal map of
-// object `id`'s material at p, in the tangent frame glTF's sample viewer
-// uses: T = dp/du of the triangle (its texture coordinates' gradient),
-// made orthogonal to n, B = n x T; the texel's 2c - 1 with x and y scaled
-// by the map's scale. n itself where there is no map or no frame.
-fn mapped_normal(id: u32, p: vec3<f32>, n: vec3<f32>) -> vec3<f32> {
-    if (!TEXTURES || is_sphere(id)) {
-        return n;
-    }
-    let m = materials[objects[id].x];
-    if (m.normal_texture == NO_TEXTURE) {
-        return n;
-    }
-    let h = texture_hit(id - params.sphere_count, p);
-    if (!h.found) {
-        return n;
-    }
-    let e1 = h.tri.v1 - h.tri.v0;
-    let e2 = h.tri.v2 - h.tri.v0;
-    let d1 = h.uv1 - h.uv0;
-    let d2 = h.uv2 - h.uv0;
-    let det = d1.x * d2.y - d2.x * d1.y;
-    if (det == 0.0) {
-        return n;
-    }
-    let t_raw = (e1 * d2.y - e2 * d1.y) / det;
-    let t = t_raw - n * dot(n, t_raw);
-    if (dot(t, t) <= 0.0) {
-        return n;
-    }
-    let tangent = normalize(t);
-    let bitangent = cross(n, tangent);
-    let c = sample_texture(m.normal_texture, h.uv, 0.0, false) * 2.0 - 1.0;
-    let bent = tangent * (c.x * m.normal_scale) + bitangent * (c.y * m.normal_scale) + n * c.z;
-    if (dot(bent, bent) <= 0.0) {
-        return n;
-    }
-    return normalize(bent);
 }

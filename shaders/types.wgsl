@@ -67,7 +67,13 @@ struct Material {
     alpha_mode: u32,
     alpha_cutoff: f32,
     alpha_factor: f32,
+    // The Whitted integrator's occlusion map (texture.wgsl), or NO_TEXTURE,
+    // and its strength in [0, 1].
+    occlusion_texture: u32,
+    occlusion_strength: f32,
     _pad0: u32,
+    _pad1: u32,
+    _pad2: u32,
 }
 
 // The lights buffer: `light_count` scene lights (kind LIGHT_POINT,

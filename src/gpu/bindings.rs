@@ -269,7 +269,7 @@ pub enum SharedValue {
 }
 
 /// Every constant the kernel and the host must agree on, by WGSL name.
-pub const SHARED_CONSTANTS: [(&str, SharedValue); 67] = [
+pub const SHARED_CONSTANTS: [(&str, SharedValue); 68] = [
     ("KD_LEAF", SharedValue::U32(KdNode::LEAF)),
     ("ACCEL_KDTREE", SharedValue::U32(ACCEL_KDTREE)),
     ("ACCEL_BRUTE", SharedValue::U32(ACCEL_BRUTE)),
@@ -336,8 +336,12 @@ pub const SHARED_CONSTANTS: [(&str, SharedValue); 67] = [
         SharedValue::U32(TextureWords::HEADER_WORDS),
     ),
     (
-        "TEXTURE_RECORD_WORDS",
-        SharedValue::U32(TextureWords::RECORD_WORDS),
+        "TEXTURE_PREFIX_WORDS",
+        SharedValue::U32(TextureWords::PREFIX_WORDS),
+    ),
+    (
+        "TEXTURE_TANGENT_PRESENT",
+        SharedValue::U32(TextureWords::TANGENT_PRESENT),
     ),
     // Words per mip level in a texture's level table, and the mip modes.
     (

@@ -162,7 +162,11 @@ fn rust_types_match_wgsl_layout() {
             alpha_mode,
             alpha_cutoff,
             alpha_factor,
-            _pad0
+            occlusion_texture,
+            occlusion_strength,
+            _pad0,
+            _pad1,
+            _pad2
         ]
     );
     layout_of!(

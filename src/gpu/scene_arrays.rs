@@ -175,26 +175,41 @@ impl SceneArrays {
                 }
                 None => GpuTriangle::FLAT,
             };
-        // Texture coordinates only where the triangle's material has a
-        // texture or a map (the kernel reads them only there).
+        // A record only where the triangle's material has a texture or a
+        // map, or the scene has vertex colours (the kernel reads them only
+        // there): its texture coordinates, colours and tangents.
+        let has_colours = !scene.triangle_colours.is_empty();
         let mut uv_records = Vec::new();
-        let mut uvs_of = |id: u32| {
+        let mut colour_records = Vec::new();
+        let mut tangent_records = Vec::new();
+        let mut record_of = |id: u32| {
             let t = &scene.triangles[id as usize - sphere_count];
             let textured = scene
                 .materials
                 .get(t.material as usize)
                 .is_some_and(|m| m.texture.is_some() || m.maps.any());
-            match scene.uvs_of(t).filter(|_| textured) {
-                Some(uvs) => {
-                    uv_records.push(uvs.map(|uv| uv.as_vec2()));
-                    uv_records.len() as u32 - 1
-                }
-                None => GpuTriangle::UNTEXTURED,
+            let Some(uvs) = scene.uvs_of(t).filter(|_| textured || has_colours) else {
+                return GpuTriangle::UNTEXTURED;
+            };
+            uv_records.push(uvs.map(|uv| uv.as_vec2()));
+            if has_colours {
+                let c = scene.colours_of(t).unwrap_or([glam::DVec4::ONE; 3]);
+                colour_records.push(c.map(|c| c.as_vec4()));
             }
+            if !scene.triangle_tangents.is_empty() {
+                let c = scene.tangents_of(t).unwrap_or([glam::DVec4::ZERO; 3]);
+                tangent_records.push(c.map(|c| c.as_vec4()));
+            }
+            uv_records.len() as u32 - 1
         };
+        let records: Vec<u32> = order[sphere_count..]
+            .iter()
+            .map(|&id| record_of(id))
+            .collect();
         let triangles = order[sphere_count..]
             .iter()
-            .map(|&id| {
+            .zip(records)
+            .map(|(&id, uvs)| {
                 let t = &prims.triangles[id as usize - sphere_count];
                 GpuTriangle {
                     v0: t.v[0].to_array(),
@@ -202,17 +217,18 @@ impl SceneArrays {
                     v1: t.v[1].to_array(),
                     scene_id: id,
                     v2: t.v[2].to_array(),
-                    uvs: if scene.textures.is_empty() {
-                        0
-                    } else {
-                        uvs_of(id)
-                    },
+                    uvs,
                 }
             })
             .collect();
         let textures = match uv_records.is_empty() {
             true => Vec::new(),
-            false => TextureWords::pack(&scene.textures, &uv_records),
+            false => TextureWords::pack(
+                &scene.textures,
+                &uv_records,
+                &colour_records,
+                &tangent_records,
+            ),
         };
         // A material's texture in the buffer, or none where no triangle is
         // textured (the buffer is then empty).
@@ -263,7 +279,11 @@ impl SceneArrays {
                     },
                     alpha_cutoff: m.alpha.fixed_cutoff() as f32,
                     alpha_factor: m.alpha.factor as f32,
+                    occlusion_texture: texture_index(m.maps.occlusion),
+                    occlusion_strength: m.maps.occlusion_strength as f32,
                     _pad0: 0,
+                    _pad1: 0,
+                    _pad2: 0,
                 })
                 .collect(),
             lights: Self::lights_of(&scene.lights),

@@ -9,7 +9,7 @@ use super::bindings::{self, SceneChunks};
 
 /// Files of the trace kernel, in the order they are concatenated (after the
 /// declarations generated from [`bindings`]).
-pub const TRACE_PARTS: [(&str, &str); 21] = [
+pub const TRACE_PARTS: [(&str, &str); 22] = [
     ("types.wgsl", include_str!("../../shaders/types.wgsl")),
     (
         "frame_params.wgsl",
@@ -40,6 +40,7 @@ pub const TRACE_PARTS: [(&str, &str); 21] = [
     ),
     ("shade.wgsl", include_str!("../../shaders/shade.wgsl")),
     ("texture.wgsl", include_str!("../../shaders/texture.wgsl")),
+    ("surface.wgsl", include_str!("../../shaders/surface.wgsl")),
     ("alpha.wgsl", include_str!("../../shaders/alpha.wgsl")),
     ("glass.wgsl", include_str!("../../shaders/glass.wgsl")),
     (

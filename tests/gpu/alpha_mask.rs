@@ -141,6 +141,57 @@ fn a_masked_quad_shows_and_lights_the_wall_through_its_hole_path_traced() {
     assert_hole_shows_the_wall("path", 3);
 }
 
+/// BLEND in the path tracer: a black quad of alpha 0.25 before a wall
+/// that emits 1 (a black sky, no lights, no glossy part) lets 3 of 4
+/// camera paths through. The mean radiance over the middle 20 x 20 pixels
+/// (64 paths each, decoded from the clamped sRGB bytes) is 0.75 within
+/// 0.02: five standard deviations of that mean, plus the bytes' rounding.
+#[test]
+fn a_blended_quad_passes_paths_at_one_minus_its_alpha() {
+    let _ = gpu();
+    let dir = TempDir::new("alpha-blend-rate");
+    let blend = r#"{"alphaMode":"BLEND","pbrMetallicRoughness":{"baseColorFactor":[0,0,0,0.25],
+        "baseColorTexture":{"index":0},"metallicFactor":0,"roughnessFactor":1}}"#;
+    let white = image::RgbaImage::from_pixel(1, 1, image::Rgba([255, 255, 255, 255]));
+    write_gltf_quad_material(&dir.path, "quad.gltf", blend, &[white], None);
+    let text = format!(
+        "[camera]\nposition = [0, 0, 3]\nlook_at = [0, 0, 0]\nvfov = 60\n\
+         [render]\nwidth = {SIDE}\nheight = {SIDE}\nintegrator = \"path\"\nsamples = 64\nmax_depth = 2\n\
+         background = [0, 0, 0]\ntone_map = \"clamp\"\n\
+         [materials.wall]\ndiffuse = [0, 0, 0]\nemission = [1, 1, 1]\n\
+         [[triangles]]\nvertices = [[-20, -20, -4], [20, -20, -4], [20, 20, -4]]\nmaterial = \"wall\"\n\
+         [[triangles]]\nvertices = [[-20, -20, -4], [20, 20, -4], [-20, 20, -4]]\nmaterial = \"wall\"\n\
+         [[meshes]]\npath = \"quad.gltf\"\n"
+    );
+    let path = dir.join("scene.toml");
+    std::fs::write(&path, text).unwrap();
+    let scene = load_scene(&path).unwrap_or_else(|e| panic!("{e}"));
+    let image = render(&scene, Accel::Kdtree);
+    let decode = |byte: u8| {
+        let c = byte as f64 / 255.0;
+        if c <= 0.04045 {
+            c / 12.92
+        } else {
+            ((c + 0.055) / 1.055).powf(2.4)
+        }
+    };
+    let c = SIDE / 2;
+    let (mut sum, mut n) = (0.0, 0.0);
+    for r in c - 10..c + 10 {
+        for col in c - 10..c + 10 {
+            sum += decode(pixel(&image, r, col)[1]);
+            n += 1.0;
+        }
+    }
+    let mean = sum / n;
+    assert!(
+        (mean - 0.75).abs() < 0.02,
+        "mean radiance {mean}, expected 0.75"
+    );
+    // Beside the quad the wall shows whole.
+    assert_eq!(pixel(&image, 1, 1), [255, 255, 255]);
+}
+
 fn queries() -> &'static RayQueries {
     static QUERIES: std::sync::OnceLock<RayQueries> = std::sync::OnceLock::new();
     QUERIES.get_or_init(|| RayQueries::new(gpu()).unwrap_or_else(|e| panic!("{e}")))

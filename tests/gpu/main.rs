@@ -38,5 +38,6 @@ mod swiftshader;
 mod textured_models;
 mod textures;
 mod triangle_edges;
+mod vertex_attributes;
 mod web_export;
 mod whitted_emission;

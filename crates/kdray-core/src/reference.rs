@@ -431,10 +431,12 @@ impl<'a> ReferenceTracer<'a> {
         &self.scene.materials[index as usize]
     }
 
-    /// Mirror of `material_at` in shaders/texture.wgsl: the material of
-    /// object `id` at hit point `p`, reached along unit `dir` by a path
-    /// `path_length` long from the eye, its diffuse and ambient colours
-    /// multiplied (in f32) by its texture where `id` is a textured triangle.
+    /// Mirror of `material_at` in shaders/texture.wgsl (the Whitted
+    /// integrator's reading): the material of object `id` at hit point `p`,
+    /// reached along unit `dir` by a path `path_length` long from the eye;
+    /// on a triangle with a record, its diffuse and ambient colours
+    /// multiplied (in f32) by its texture and its vertex colours, its
+    /// ambient colour darkened by its occlusion map.
     pub fn material_at(
         &self,
         id: u32,
@@ -447,24 +449,50 @@ impl<'a> ReferenceTracer<'a> {
             return std::borrow::Cow::Borrowed(m);
         };
         let triangle = &self.scene.triangles[t];
-        let (Some(texture), Some(uvs)) = (
-            self.scene.texture_of(triangle.material),
-            self.scene.uvs_of(triangle),
-        ) else {
+        let Some(uvs) = self.scene.uvs_of(triangle) else {
             return std::borrow::Cow::Borrowed(m);
         };
+        let textured = m.texture.is_some() || m.maps.any();
+        let colours = self.scene.colours_of(triangle);
+        if !textured && colours.is_none() {
+            return std::borrow::Cow::Borrowed(m);
+        }
         let v = &self.prims.triangles[t].v;
         let b = barycentrics(v, p);
         let uvs = uvs.map(|uv| uv.as_vec2());
         let uv = b.x * uvs[0] + b.y * uvs[1] + b.z * uvs[2];
-        let size = glam::Vec2::new(texture.width as f32, texture.height as f32);
         let cone_width = self.pixel_spread * path_length;
-        let lambda = texture_lod(v, uvs, size, dir, cone_width);
-        let c = texture.sample_lod(uv, lambda);
-        let mut textured = m.clone();
-        textured.diffuse = (m.diffuse.as_vec3() * c).as_dvec3();
-        textured.ambient = (m.ambient.as_vec3() * c).as_dvec3();
-        std::borrow::Cow::Owned(textured)
+        let sample = |texture: &crate::scene::Texture| {
+            let size = glam::Vec2::new(texture.width as f32, texture.height as f32);
+            let lambda = texture_lod(v, uvs, size, dir, cone_width);
+            texture.sample_lod(uv, lambda)
+        };
+        let texture = |i: Option<u32>| i.and_then(|i| self.scene.textures.get(i as usize));
+        let mut diffuse = m.diffuse.as_vec3();
+        let mut ambient = m.ambient.as_vec3();
+        if let Some(texture) = texture(m.texture) {
+            let c = sample(texture);
+            diffuse *= c;
+            ambient *= c;
+        }
+        if let Some(corners) = colours {
+            // As the kernel reads them: 16-bit unorm.
+            let q = |c: glam::DVec4| {
+                let c = (c.as_vec4().clamp(glam::Vec4::ZERO, glam::Vec4::ONE) * 65535.0).round();
+                c / 65535.0
+            };
+            let c = (b.x * q(corners[0]) + b.y * q(corners[1]) + b.z * q(corners[2])).truncate();
+            diffuse *= c;
+            ambient *= c;
+        }
+        if let Some(texture) = texture(m.maps.occlusion) {
+            let ao = sample(texture).x;
+            ambient *= 1.0 + m.maps.occlusion_strength as f32 * (ao - 1.0);
+        }
+        let mut read = m.clone();
+        read.diffuse = diffuse.as_dvec3();
+        read.ambient = ambient.as_dvec3();
+        std::borrow::Cow::Owned(read)
     }
 
     /// The colour of one path (unclamped), and the hits along it (with

@@ -246,7 +246,13 @@ pub struct GpuMaterial {
     pub alpha_cutoff: f32,
     /// The constant alpha, times the base-colour texture's where textured.
     pub alpha_factor: f32,
+    /// The Whitted integrator's occlusion map (red darkens the ambient
+    /// term), or [`GpuMaterial::NO_TEXTURE`], and its strength in [0, 1].
+    pub occlusion_texture: u32,
+    pub occlusion_strength: f32,
     pub _pad0: u32,
+    pub _pad1: u32,
+    pub _pad2: u32,
 }
 
 impl GpuMaterial {

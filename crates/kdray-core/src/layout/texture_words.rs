@@ -2,22 +2,38 @@
 //! tables, texture coordinate records and texels in one array of u32
 //! words, as shaders/texture.wgsl reads them.
 
+use super::GpuTriangleNormals;
+
 /// The `textures` buffer, one array of u32 words (shaders/texture.wgsl):
-/// word 0 the first word of the texture coordinate records; then per
-/// texture a header of [`TextureWords::HEADER_WORDS`] words (the first word
-/// of its level table, its level count, magnification filter, minification
+/// a prefix of [`TextureWords::PREFIX_WORDS`] words (the first word of the
+/// records, a record's length in words, where in a record its colours and
+/// its tangents begin, 0 where the scene has none); then per texture a
+/// header of [`TextureWords::HEADER_WORDS`] words (the first word of its
+/// level table, its level count, magnification filter, minification
 /// filter, mip mode, wrap along u, wrap along v); then each texture's level
 /// table, [`TextureWords::LEVEL_WORDS`] words per level from the base down
-/// to 1 x 1 (first texel word, width, height); then the records, six words
-/// per textured triangle (u, v of its three corners, f32 bits); then the
+/// to 1 x 1 (first texel word, width, height); then the records, one per
+/// triangle that has one: u, v of its three corners (f32 bits); where the
+/// scene has vertex colours, each corner's RGBA as two words of 16-bit
+/// unorm pairs (WGSL's pack2x16unorm: r g, then b a); where it has
+/// tangents, each corner's unit tangent octahedral-encoded (as vertex
+/// normals are) and one word of flags ([`TextureWords::TANGENT_PRESENT`],
+/// and bit k set where corner k's bitangent sign is negative); then the
 /// texels, per texture its levels in order, RGBA8 a word, row by row from
 /// the level's top row. Built by [`TextureWords::pack`].
 pub struct TextureWords;
 
 impl TextureWords {
+    pub const PREFIX_WORDS: u32 = 4;
     pub const HEADER_WORDS: u32 = 7;
     pub const LEVEL_WORDS: u32 = 3;
-    pub const RECORD_WORDS: u32 = 6;
+    /// A record's texture coordinates; the colours' and tangents' words
+    /// follow where the scene has them.
+    pub const UV_WORDS: u32 = 6;
+    pub const COLOUR_WORDS: u32 = 6;
+    pub const TANGENT_WORDS: u32 = 4;
+    /// In a record's tangent flags: the triangle has tangents.
+    pub const TANGENT_PRESENT: u32 = 1 << 4;
     pub const FILTER_NEAREST: u32 = 0;
     pub const FILTER_BILINEAR: u32 = 1;
     pub const MIP_NONE: u32 = 0;
@@ -27,18 +43,32 @@ impl TextureWords {
     pub const WRAP_CLAMP: u32 = 1;
     pub const WRAP_MIRROR: u32 = 2;
 
-    /// The buffer for `textures` and the texture coordinate records `uvs`
-    /// (in the order the triangles' `uvs` index them); empty without
-    /// textures.
-    pub fn pack(textures: &[crate::scene::Texture], uvs: &[[glam::Vec2; 3]]) -> Vec<u32> {
+    /// The buffer for `textures` and the records `uvs`, with `colours` and
+    /// `tangents` beside them where not empty (each then as long as
+    /// `uvs`; a tangent of zero w is none), in the order the triangles'
+    /// `uvs` index them; empty without textures and colours.
+    pub fn pack(
+        textures: &[crate::scene::Texture],
+        uvs: &[[glam::Vec2; 3]],
+        colours: &[[glam::Vec4; 3]],
+        tangents: &[[glam::Vec4; 3]],
+    ) -> Vec<u32> {
         use crate::scene::{MipMode, TextureFilter, TextureWrap};
-        if textures.is_empty() {
+        if textures.is_empty() && colours.is_empty() {
             return Vec::new();
         }
-        let level_tables = 1 + textures.len() as u32 * Self::HEADER_WORDS;
+        let level_tables = Self::PREFIX_WORDS + textures.len() as u32 * Self::HEADER_WORDS;
         let levels: u32 = textures.iter().map(|t| t.level_count()).sum();
         let records = level_tables + levels * Self::LEVEL_WORDS;
-        let mut words = vec![records];
+        let mut record_words = Self::UV_WORDS;
+        let mut part = |present: bool, words: u32| {
+            let at = if present { record_words } else { 0 };
+            record_words += if present { words } else { 0 };
+            at
+        };
+        let colour_at = part(!colours.is_empty(), Self::COLOUR_WORDS);
+        let tangent_at = part(!tangents.is_empty(), Self::TANGENT_WORDS);
+        let mut words = vec![records, record_words, colour_at, tangent_at];
         let filter = |f: TextureFilter| match f {
             TextureFilter::Nearest => Self::FILTER_NEAREST,
             TextureFilter::Bilinear => Self::FILTER_BILINEAR,
@@ -66,7 +96,7 @@ impl TextureWords {
             ]);
             table += t.level_count() * Self::LEVEL_WORDS;
         }
-        let mut texel_start = records + uvs.len() as u32 * Self::RECORD_WORDS;
+        let mut texel_start = records + uvs.len() as u32 * record_words;
         for t in textures {
             for k in 0..t.level_count() {
                 let level = t.level(k);
@@ -74,9 +104,17 @@ impl TextureWords {
                 texel_start = texel_start.wrapping_add(level.texels.len() as u32);
             }
         }
-        for corners in uvs {
+        for (i, corners) in uvs.iter().enumerate() {
             for uv in corners {
                 words.extend([uv.x.to_bits(), uv.y.to_bits()]);
+            }
+            if let Some(c) = colours.get(i) {
+                for rgba in c {
+                    words.extend([pack_unorm16(rgba.x, rgba.y), pack_unorm16(rgba.z, rgba.w)]);
+                }
+            }
+            if let Some(t) = tangents.get(i) {
+                words.extend(Self::tangent_words(t));
             }
         }
         for t in textures {
@@ -86,6 +124,35 @@ impl TextureWords {
         }
         words
     }
+}
+
+impl TextureWords {
+    /// A record's tangent words: three octahedral directions and the flags.
+    fn tangent_words(t: &[glam::Vec4; 3]) -> [u32; 4] {
+        if t.iter()
+            .any(|t| t.w == 0.0 || t.truncate().length_squared() == 0.0)
+        {
+            return [0; 4];
+        }
+        let mut flags = Self::TANGENT_PRESENT;
+        for (k, c) in t.iter().enumerate() {
+            if c.w < 0.0 {
+                flags |= 1 << k;
+            }
+        }
+        let oct = |c: glam::Vec4| {
+            let GpuTriangleNormals { n0, .. } =
+                GpuTriangleNormals::pack([c.truncate().as_dvec3().normalize(); 3]);
+            n0
+        };
+        [oct(t[0]), oct(t[1]), oct(t[2]), flags]
+    }
+}
+
+/// Two values in [0, 1] as WGSL's pack2x16unorm packs them (`a` low).
+fn pack_unorm16(a: f32, b: f32) -> u32 {
+    let q = |x: f32| (x.clamp(0.0, 1.0) * 65535.0).round() as u32;
+    q(a) | (q(b) << 16)
 }
 
 #[cfg(test)]
@@ -116,16 +183,45 @@ mod tests {
             [TextureWrap::MirroredRepeat; 2],
         );
         let uv = [glam::Vec2::new(0.5, 0.25); 3];
-        let words = TextureWords::pack(&[a, b], &[uv]);
-        // Word 0, two headers, 3 + 1 levels of 3 words: records at 27.
-        assert_eq!(words[0], 27);
-        assert_eq!(&words[1..8], &[15, 3, 0, 1, 2, 0, 1]);
-        assert_eq!(&words[8..15], &[24, 1, 1, 0, 1, 2, 2]);
-        // Texels after the one record (6 words): from 33.
-        assert_eq!(&words[15..27], &[33, 4, 2, 41, 2, 1, 43, 1, 1, 44, 1, 1]);
-        assert_eq!(words[27], 0.5f32.to_bits());
-        assert_eq!(words[28], 0.25f32.to_bits());
-        assert_eq!(&words[41..45], &[grey(25), grey(45), grey(35), grey(9)]);
-        assert_eq!(words.len(), 45);
+        let words = TextureWords::pack(&[a, b], &[uv], &[], &[]);
+        // The prefix, two headers, 3 + 1 levels of 3 words: records at 30,
+        // 6 words each, no colours, no tangents.
+        assert_eq!(&words[0..4], &[30, 6, 0, 0]);
+        assert_eq!(&words[4..11], &[18, 3, 0, 1, 2, 0, 1]);
+        assert_eq!(&words[11..18], &[27, 1, 1, 0, 1, 2, 2]);
+        // Texels after the one record: from 36.
+        assert_eq!(&words[18..30], &[36, 4, 2, 44, 2, 1, 46, 1, 1, 47, 1, 1]);
+        assert_eq!(words[30], 0.5f32.to_bits());
+        assert_eq!(words[31], 0.25f32.to_bits());
+        assert_eq!(&words[44..48], &[grey(25), grey(45), grey(35), grey(9)]);
+        assert_eq!(words.len(), 48);
+    }
+
+    #[test]
+    fn colours_and_tangents_follow_each_record_s_coordinates() {
+        let uv = [glam::Vec2::ZERO; 3];
+        let colour = [glam::Vec4::new(1.0, 0.0, 0.5, 1.0); 3];
+        let up = glam::Vec4::new(0.0, 0.0, 1.0, -1.0);
+        let tangents = [[up, up, up.truncate().extend(1.0)], [glam::Vec4::ZERO; 3]];
+        let words = TextureWords::pack(&[], &[uv, uv], &[colour; 2], &tangents);
+        // Records at 4, 16 words each: colours at 6, tangents at 12.
+        assert_eq!(&words[0..4], &[4, 16, 6, 12]);
+        assert_eq!(words.len(), 4 + 2 * 16);
+        assert_eq!(words[4 + 6], 65535);
+        assert_eq!(words[4 + 7], 32768 | (65535 << 16));
+        let oct_up = GpuTriangleNormals::pack([glam::DVec3::Z; 3]).n0;
+        assert_eq!(
+            &words[4 + 12..4 + 16],
+            &[
+                oct_up,
+                oct_up,
+                oct_up,
+                TextureWords::TANGENT_PRESENT | 0b011
+            ]
+        );
+        // The second triangle has none.
+        assert_eq!(&words[20 + 12..20 + 16], &[0; 4]);
+        // Without textures and colours there is no buffer.
+        assert!(TextureWords::pack(&[], &[uv], &[], &[]).is_empty());
     }
 }

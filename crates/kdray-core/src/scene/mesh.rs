@@ -11,7 +11,7 @@
 
 use std::sync::Arc;
 
-use glam::{DVec2, DVec3};
+use glam::{DVec2, DVec3, DVec4};
 
 use super::Warning;
 
@@ -92,7 +92,7 @@ impl MeshTriangle {
     /// Its three corners among `points` (a mesh's positions, or those
     /// positions placed in the scene); None where an index is out of range
     /// (the readers never write one).
-    pub fn corners_in(&self, points: &[DVec3]) -> Option<[DVec3; 3]> {
+    pub fn corners_in<T: Copy>(&self, points: &[T]) -> Option<[T; 3]> {
         let [a, b, c] = self.corners.map(|i| points.get(i as usize).copied());
         Some([a?, b?, c?])
     }
@@ -125,6 +125,14 @@ pub struct Mesh {
     /// [`texture`](super::texture) (OBJ: every `vt` statement, in order,
     /// v turned to 1 - v; kept only where a material has a texture).
     pub uvs: Vec<DVec2>,
+    /// glTF's `COLOR_0`, linear RGBA, one per position (empty: no primitive
+    /// has it; white for the vertices of primitives without it).
+    pub colours: Vec<DVec4>,
+    /// glTF's `TANGENT`, one per position, carried like the positions (xyz
+    /// by the node transforms, w the bitangent's sign, flipped by a
+    /// mirroring transform); empty: no primitive has it; all zero for the
+    /// vertices of primitives without it.
+    pub tangents: Vec<DVec4>,
     /// Only triangles with an area in the file's coordinates.
     pub triangles: Vec<MeshTriangle>,
     /// Deduplicated, in order of first use by a triangle; only materials some
@@ -151,5 +159,16 @@ impl Mesh {
     /// The file's normal at corner `k` of `t`, if it gives one.
     pub fn normal(&self, t: &MeshTriangle, k: usize) -> Option<DVec3> {
         self.normals.get(t.normal(k)?).copied()
+    }
+
+    /// The file's vertex colours at the corners of `t`, if it gives them.
+    pub fn colours_of(&self, t: &MeshTriangle) -> Option<[DVec4; 3]> {
+        t.corners_in(&self.colours)
+    }
+
+    /// The file's tangents at the corners of `t`, where all three have one.
+    pub fn tangents_of(&self, t: &MeshTriangle) -> Option<[DVec4; 3]> {
+        t.corners_in(&self.tangents)
+            .filter(|c| c.iter().all(|t| t.w != 0.0))
     }
 }

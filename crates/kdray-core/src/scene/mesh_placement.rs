@@ -7,7 +7,7 @@
 
 use std::path::Path;
 
-use glam::{DMat3, DVec2, DVec3};
+use glam::{DMat3, DVec3, DVec4};
 use rayon::prelude::*;
 
 use super::mesh::{has_area, Mesh, MeshTriangle};
@@ -15,7 +15,7 @@ use super::mesh_file;
 use super::normals::{self, unit};
 use super::schema::{RawMesh, RawScale};
 use super::validate::{Validator, MAX_COORDINATE};
-use super::{Material, SceneError, Texture, Triangle, TriangleParts};
+use super::{Material, SceneError, SurfaceRecord, Texture, Triangle, TriangleParts};
 
 /// What a mesh file places besides its triangles (glTF: a camera, lights).
 #[derive(Debug, Default)]
@@ -37,11 +37,6 @@ impl Validator<'_> {
         triangles: &mut Vec<Triangle>,
         parts: &mut TriangleParts,
     ) -> Result<Placed, SceneError> {
-        let TriangleParts {
-            normals,
-            uvs,
-            textures,
-        } = parts;
         let key = |k: &str| format!("meshes[{i}].{k}");
         let (transform, translate) = self.entry_transform(i, m)?;
 
@@ -54,25 +49,20 @@ impl Validator<'_> {
 
         let first_material = materials.len() as u32;
         if override_material.is_none() {
-            self.add_mesh_materials(i, &m.path, &mesh_path, &mesh, materials, textures)?;
+            self.add_mesh_materials(
+                i,
+                &m.path,
+                &mesh_path,
+                &mesh,
+                materials,
+                &mut parts.textures,
+            )?;
         }
-        // The texture coordinates of a triangle of a textured material.
-        let uvs_of = |t: &MeshTriangle| -> Option<[DVec2; 3]> {
-            if override_material.is_some() {
-                return None;
-            }
-            let m = mesh.materials.get(t.material()?)?;
-            if m.texture.is_none() && !m.maps.any() {
-                return None;
-            }
-            t.uvs_in(&mesh.uvs)
+        let records = SurfaceRecords {
+            mesh: &mesh,
+            transform,
+            with_materials: override_material.is_none(),
         };
-        let any_textured = override_material.is_none()
-            && !mesh.uvs.is_empty()
-            && mesh
-                .materials
-                .iter()
-                .any(|m| m.texture.is_some() || m.maps.any());
         let world = self.place(i, &mesh, transform, translate)?;
         let shading = MeshNormals::new(m.smooth, &mesh, &world, transform);
         let material_of = |t: &MeshTriangle| match (override_material, t.material()) {
@@ -86,17 +76,18 @@ impl Validator<'_> {
             world: &world,
             shading: &shading,
         };
-        if build_in_parallel(&world_mesh, material_of, triangles, normals) {
-            if any_textured {
+        if build_in_parallel(&world_mesh, material_of, triangles, &mut parts.normals) {
+            if records.any() {
                 for (triangle, t) in triangles[first..].iter_mut().zip(&mesh.triangles) {
-                    add_uvs(uvs, triangle, uvs_of(t));
+                    parts.add_record(triangle, records.of(t));
                 }
             }
-            crate::huge_pages::free_in_background((mesh, world, shading));
-            return Ok(placed);
+        } else {
+            build_one_by_one(&world_mesh, material_of, &records, triangles, parts)
+                .map_err(|message| self.error(&key("path"), message))?;
         }
-        build_one_by_one(&world_mesh, material_of, uvs_of, triangles, normals, uvs)
-            .map_err(|message| self.error(&key("path"), message))?;
+        super::tangents::generate_missing(&triangles[first..], materials, parts);
+        crate::huge_pages::free_in_background((mesh, world, shading));
         Ok(placed)
     }
 
@@ -335,15 +326,14 @@ fn build_in_parallel(
 }
 
 /// Appends the triangles of `w` one by one, collapsed ones skipped, with
-/// their normals and texture coordinates (`uvs_of`); the first fault is
-/// the error: a vertex index out of range or a face without a material.
+/// their normals and records (`records`); the first fault is the error: a
+/// vertex index out of range or a face without a material.
 fn build_one_by_one(
     w: &WorldMesh,
     material_of: impl Fn(&MeshTriangle) -> Option<u32>,
-    uvs_of: impl Fn(&MeshTriangle) -> Option<[DVec2; 3]>,
+    records: &SurfaceRecords,
     triangles: &mut Vec<Triangle>,
-    normals: &mut Vec<[DVec3; 3]>,
-    uvs: &mut Vec<[DVec2; 3]>,
+    parts: &mut TriangleParts,
 ) -> Result<(), &'static str> {
     let WorldMesh {
         mesh,
@@ -364,21 +354,58 @@ fn build_one_by_one(
         };
         let mut triangle = Triangle::flat(vertices, material);
         if let Some(n) = shading.of(t, &vertices) {
-            triangle.normals = u32::try_from(normals.len()).unwrap_or(Triangle::FLAT);
-            normals.push(n);
+            triangle.normals = u32::try_from(parts.normals.len()).unwrap_or(Triangle::FLAT);
+            parts.normals.push(n);
         }
-        add_uvs(uvs, &mut triangle, uvs_of(t));
+        if records.any() {
+            parts.add_record(&mut triangle, records.of(t));
+        }
         triangles.push(triangle);
     }
     Ok(())
 }
 
-/// Gives `triangle` the texture coordinates `corners`, if any, at the end
-/// of `uvs`.
-fn add_uvs(uvs: &mut Vec<[DVec2; 3]>, triangle: &mut Triangle, corners: Option<[DVec2; 3]>) {
-    if let (Some(corners), Ok(index)) = (corners, u32::try_from(uvs.len())) {
-        triangle.uvs = index;
-        uvs.push(corners);
+/// What a mesh entry's triangles keep beside their corners: the file's
+/// texture coordinates where the triangle's material has a texture or a
+/// map and every corner has them, its vertex colours, and its tangents
+/// (carried by the entry's transform) where its material has a normal map.
+/// None of them under an override material.
+struct SurfaceRecords<'a> {
+    mesh: &'a Mesh,
+    transform: DMat3,
+    with_materials: bool,
+}
+
+impl SurfaceRecords<'_> {
+    /// Whether some triangle may have a record.
+    fn any(&self) -> bool {
+        let textured = |m: &super::mesh::MeshMaterial| m.texture.is_some() || m.maps.any();
+        self.with_materials
+            && (!self.mesh.colours.is_empty()
+                || (!self.mesh.uvs.is_empty() && self.mesh.materials.iter().any(textured)))
+    }
+
+    /// Triangle `t`'s record.
+    fn of(&self, t: &MeshTriangle) -> SurfaceRecord {
+        let Some(m) = t
+            .material()
+            .and_then(|m| self.mesh.materials.get(m))
+            .filter(|_| self.with_materials)
+        else {
+            return SurfaceRecord::default();
+        };
+        let textured = m.texture.is_some() || m.maps.any();
+        let mirror = self.transform.determinant().signum();
+        let carry = |c: DVec4| (self.transform * c.truncate()).extend(c.w * mirror);
+        SurfaceRecord {
+            uvs: t.uvs_in(&self.mesh.uvs).filter(|_| textured),
+            colours: self.mesh.colours_of(t),
+            tangents: self
+                .mesh
+                .tangents_of(t)
+                .filter(|_| m.maps.normal.is_some())
+                .map(|c| c.map(carry)),
+        }
     }
 }
 

@@ -34,6 +34,7 @@ mod physical_keys_tests;
 mod scene_format;
 mod schema;
 mod source_map;
+pub mod tangents;
 pub mod texture;
 mod validate;
 mod warning;
@@ -55,7 +56,7 @@ pub use validate::{check_samples, MAX_IMAGE_SIDE};
 pub use warning::{print_warning, Warning};
 pub use write::scene_text;
 
-use glam::{DVec2, DVec3};
+use glam::{DVec2, DVec3, DVec4};
 
 /// A fully validated scene. All values are finite; materials are referred
 /// to by index into `materials`.
@@ -75,6 +76,19 @@ pub struct Scene {
     /// [`Triangle::uvs`] indexes ([`Scene::uvs_of`]); the convention of
     /// [`texture`].
     pub triangle_uvs: Vec<[DVec2; 3]>,
+    /// glTF's `COLOR_0` at the corners (linear RGBA), beside
+    /// `triangle_uvs` and indexed alike ([`Scene::colours_of`]): empty when
+    /// no triangle has vertex colours, else one per entry of `triangle_uvs`
+    /// (white where a triangle has none). A triangle with colours and no
+    /// texture coordinates has zero coordinates there.
+    pub triangle_colours: Vec<[DVec4; 3]>,
+    /// The tangent frame of the normal-mapped triangles at the corners,
+    /// beside `triangle_uvs` and indexed alike ([`Scene::tangents_of`]):
+    /// xyz the tangent in world space, w = +-1 the sign of the bitangent
+    /// `w * (n x t)`; glTF's `TANGENT` where the file gives it, else
+    /// MikkTSpace's ([`tangents`]). Empty when no triangle has one; all
+    /// zero (none) for the other entries.
+    pub triangle_tangents: Vec<[DVec4; 3]>,
     /// The base-colour textures that [`Material::texture`] indexes.
     pub textures: Vec<Texture>,
     /// `[environment] image`: the sky as an image (escaping rays see it
@@ -176,8 +190,9 @@ pub struct Material<T = u32> {
     pub alpha: Alpha,
 }
 
-/// A glTF material's texture maps beside its base colour, read by the path
-/// tracer on textured triangles (docs/scene-format.md, "glTF materials");
+/// A glTF material's texture maps beside its base colour, read on textured
+/// triangles (the occlusion map by the Whitted integrator, the others by the
+/// path tracer) (docs/scene-format.md, "glTF materials");
 /// `T` as [`Material`]'s texture.
 #[derive(Debug, Clone, PartialEq)]
 pub struct MaterialMaps<T = u32> {
@@ -190,6 +205,10 @@ pub struct MaterialMaps<T = u32> {
     /// and y scaled by `normal_scale`.
     pub normal: Option<T>,
     pub normal_scale: f64,
+    /// occlusionTexture: its red channel (linear) darkens the Whitted
+    /// integrator's ambient term, by `occlusion_strength` in [0, 1].
+    pub occlusion: Option<T>,
+    pub occlusion_strength: f64,
 }
 
 impl<T> MaterialMaps<T> {
@@ -199,11 +218,16 @@ impl<T> MaterialMaps<T> {
         emissive: None,
         normal: None,
         normal_scale: 1.0,
+        occlusion: None,
+        occlusion_strength: 1.0,
     };
 
     /// Whether any map is given.
     pub fn any(&self) -> bool {
-        self.metal_rough.is_some() || self.emissive.is_some() || self.normal.is_some()
+        self.metal_rough.is_some()
+            || self.emissive.is_some()
+            || self.normal.is_some()
+            || self.occlusion.is_some()
     }
 
     /// The same maps, each texture mapped by `f`.
@@ -213,6 +237,8 @@ impl<T> MaterialMaps<T> {
             emissive: self.emissive.as_ref().map(&mut f),
             normal: self.normal.as_ref().map(&mut f),
             normal_scale: self.normal_scale,
+            occlusion: self.occlusion.as_ref().map(&mut f),
+            occlusion_strength: self.occlusion_strength,
         }
     }
 }
@@ -319,6 +345,20 @@ impl Scene {
         self.triangle_uvs.get(t.uvs as usize).copied()
     }
 
+    /// The vertex colours of `t`, a triangle of this scene, if the scene
+    /// has any and `t` has a record of texture coordinates.
+    pub fn colours_of(&self, t: &Triangle) -> Option<[DVec4; 3]> {
+        self.triangle_colours.get(t.uvs as usize).copied()
+    }
+
+    /// The tangents of `t`, a triangle of this scene, if it has them.
+    pub fn tangents_of(&self, t: &Triangle) -> Option<[DVec4; 3]> {
+        self.triangle_tangents
+            .get(t.uvs as usize)
+            .copied()
+            .filter(|c| c[0].w != 0.0)
+    }
+
     /// The texture of material `m`, if it has one.
     pub fn texture_of(&self, m: u32) -> Option<&Texture> {
         let t = self.materials.get(m as usize)?.texture?;
@@ -334,5 +374,56 @@ impl Scene {
 struct TriangleParts {
     normals: Vec<[DVec3; 3]>,
     uvs: Vec<[DVec2; 3]>,
+    colours: Vec<[DVec4; 3]>,
+    tangents: Vec<[DVec4; 3]>,
     textures: Vec<Texture>,
+}
+
+/// What one triangle keeps beside its corners in [`Scene::triangle_uvs`]
+/// and its neighbours.
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub(crate) struct SurfaceRecord {
+    pub uvs: Option<[DVec2; 3]>,
+    pub colours: Option<[DVec4; 3]>,
+    pub tangents: Option<[DVec4; 3]>,
+}
+
+impl TriangleParts {
+    /// White: the colour of a vertex without `COLOR_0`.
+    const WHITE: [DVec4; 3] = [DVec4::ONE; 3];
+
+    /// Gives `triangle` the record `r` (texture coordinates, colours,
+    /// tangents) at the end of the tables, if it has texture coordinates or
+    /// colours; the colour and tangent tables are filled in (white, none)
+    /// for the entries before the first that has them.
+    fn add_record(&mut self, triangle: &mut Triangle, r: SurfaceRecord) {
+        if r.uvs.is_none() && r.colours.is_none() {
+            return;
+        }
+        let Ok(index) = u32::try_from(self.uvs.len()) else {
+            return;
+        };
+        triangle.uvs = index;
+        self.uvs.push(r.uvs.unwrap_or([DVec2::ZERO; 3]));
+        let n = self.uvs.len();
+        if r.colours.is_some() || !self.colours.is_empty() {
+            self.colours.resize(n - 1, Self::WHITE);
+            self.colours.push(r.colours.unwrap_or(Self::WHITE));
+        }
+        if r.tangents.is_some() || !self.tangents.is_empty() {
+            self.tangents.resize(n - 1, [DVec4::ZERO; 3]);
+            self.tangents.push(r.tangents.unwrap_or([DVec4::ZERO; 3]));
+        }
+    }
+
+    /// The tables filled to one entry per record (after the last triangle).
+    fn finish(&mut self) {
+        let n = self.uvs.len();
+        if !self.colours.is_empty() {
+            self.colours.resize(n, Self::WHITE);
+        }
+        if !self.tangents.is_empty() {
+            self.tangents.resize(n, [DVec4::ZERO; 3]);
+        }
+    }
 }

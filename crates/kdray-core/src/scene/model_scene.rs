@@ -122,6 +122,7 @@ pub fn model_scene_viewed(
     let mut triangles = Vec::new();
     let mut parts = super::TriangleParts::default();
     let placed = validator.mesh(0, &raw, None, &mut materials, &mut triangles, &mut parts)?;
+    parts.finish();
 
     let (min, max) = bounds(&triangles);
     let (width, height) = MODEL_IMAGE;
@@ -158,6 +159,8 @@ pub fn model_scene_viewed(
         triangles,
         triangle_normals: parts.normals,
         triangle_uvs: parts.uvs,
+        triangle_colours: parts.colours,
+        triangle_tangents: parts.tangents,
         textures: parts.textures,
     })
 }

@@ -192,6 +192,7 @@ impl Validator<'_> {
                 &mut parts,
             )?;
         }
+        parts.finish();
 
         Ok(Scene {
             camera,
@@ -203,6 +204,8 @@ impl Validator<'_> {
             triangles,
             triangle_normals: parts.normals,
             triangle_uvs: parts.uvs,
+            triangle_colours: parts.colours,
+            triangle_tangents: parts.tangents,
             textures: parts.textures,
             animation,
         })

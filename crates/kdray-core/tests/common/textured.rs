@@ -112,7 +112,7 @@ pub fn write_gltf_quad(
         images,
         sampler,
         uv_scale,
-        None,
+        &[],
     )
 }
 
@@ -127,6 +127,24 @@ pub fn write_gltf_quad_material(
     images: &[image::RgbaImage],
     normal: Option<[f32; 3]>,
 ) -> PathBuf {
+    let normals: Vec<Vec<f32>> = normal.iter().flat_map(|n| vec![n.to_vec(); 4]).collect();
+    let attributes: Vec<(&str, Vec<Vec<f32>>)> = match normal {
+        Some(_) => vec![("NORMAL", normals)],
+        None => Vec::new(),
+    };
+    write_gltf_quad_attributes(dir, name, material, images, &attributes)
+}
+
+/// Writes `name` into `dir` as [`write_gltf_quad_material`] does, with the
+/// vertex attributes `attributes` (a name such as `COLOR_0` or `TANGENT`,
+/// and per corner, in [`CORNERS`]' order, its 2, 3 or 4 floats). Its path.
+pub fn write_gltf_quad_attributes(
+    dir: &Path,
+    name: &str,
+    material: &str,
+    images: &[image::RgbaImage],
+    attributes: &[(&str, Vec<Vec<f32>>)],
+) -> PathBuf {
     const NEAREST_CLAMPED: (u32, [u32; 2]) = (9728, [33071, 33071]);
     write_quad_gltf(
         &dir.join(name),
@@ -134,22 +152,22 @@ pub fn write_gltf_quad_material(
         images,
         NEAREST_CLAMPED,
         1.0,
-        normal,
+        attributes,
     )
 }
 
 /// Writes `path`: the quad with texture coordinates [`IMAGE_UVS`] times
 /// `uv_scale`, one primitive of material `material` (a glTF material's
 /// JSON, whose textures i are `images[i]`), one sampler (filter, [wrapS,
-/// wrapT]) for every texture and, if given, the vertex normal `normal` at
-/// every corner; buffer and images in data URIs. `path`, returned.
+/// wrapT]) for every texture and the float vertex attributes `attributes`;
+/// buffer and images in data URIs. `path`, returned.
 fn write_quad_gltf(
     path: &Path,
     material: &str,
     images: &[image::RgbaImage],
     (filter, wrap): (u32, [u32; 2]),
     uv_scale: f32,
-    normal: Option<[f32; 3]>,
+    attributes: &[(&str, Vec<Vec<f32>>)],
 ) -> PathBuf {
     let mut data = Vec::new();
     for c in CORNERS {
@@ -165,22 +183,29 @@ fn write_quad_gltf(
     for i in [0u16, 1, 2, 0, 2, 3] {
         data.extend_from_slice(&i.to_le_bytes());
     }
-    let (normal_attribute, normal_view, normal_accessor) = match normal {
-        Some(n) => {
-            data.extend_from_slice(&[0, 0]); // the normals' 4-byte alignment
-            for _ in 0..4 {
-                for x in n {
-                    data.extend_from_slice(&x.to_le_bytes());
-                }
+    data.extend_from_slice(&[0, 0]); // the floats' 4-byte alignment
+    let (mut extra_attributes, mut extra_views, mut extra_accessors) =
+        (String::new(), String::new(), String::new());
+    for (k, (name, corners)) in attributes.iter().enumerate() {
+        let offset = data.len();
+        for c in corners {
+            for x in c {
+                data.extend_from_slice(&x.to_le_bytes());
             }
-            (
-                r#","NORMAL":3"#,
-                r#",{"buffer":0,"byteOffset":96,"byteLength":48}"#,
-                r#",{"bufferView":3,"componentType":5126,"count":4,"type":"VEC3"}"#,
-            )
         }
-        None => ("", "", ""),
-    };
+        let kind = ["", "SCALAR", "VEC2", "VEC3", "VEC4"][corners[0].len()];
+        extra_attributes += &format!(r#","{name}":{}"#, 3 + k);
+        extra_views += &format!(
+            r#",{{"buffer":0,"byteOffset":{offset},"byteLength":{}}}"#,
+            data.len() - offset
+        );
+        extra_accessors += &format!(
+            r#",{{"bufferView":{},"componentType":5126,"count":4,"type":"{kind}"}}"#,
+            3 + k
+        );
+    }
+    let (normal_attribute, normal_view, normal_accessor) =
+        (extra_attributes, extra_views, extra_accessors);
     let textures: Vec<String> = (0..images.len())
         .map(|i| format!(r#"{{"source":{i},"sampler":0}}"#))
         .collect();

@@ -5,7 +5,7 @@
 //! rules (a normalized signed integer c of n bits is max(c / (2^(n-1) - 1),
 //! -1), an unsigned one c / (2^n - 1); a plain integer is its value).
 
-use glam::{DVec2, DVec3};
+use glam::{DVec2, DVec3, DVec4};
 use gltf::accessor::{DataType, Dimensions};
 
 /// An accessor's component type and normalization.
@@ -68,6 +68,10 @@ pub(super) enum Attribute {
     Position,
     Normal,
     TexCoord,
+    /// COLOR_n: FLOAT, or normalized UNSIGNED_BYTE or UNSIGNED_SHORT (core glTF).
+    Colour,
+    /// TANGENT: FLOAT, or (KHR_mesh_quantization) normalized BYTE or SHORT.
+    Tangent,
 }
 
 impl Attribute {
@@ -76,7 +80,8 @@ impl Attribute {
         use DataType::*;
         match (self, c.data_type) {
             (_, F32) => !c.normalized,
-            (Attribute::Normal, I8 | I16) => c.normalized,
+            (Attribute::Normal | Attribute::Tangent, I8 | I16) => c.normalized,
+            (Attribute::Colour, U8 | U16) => c.normalized,
             (Attribute::Position | Attribute::TexCoord, I8 | U8 | I16 | U16) => true,
             _ => false,
         }
@@ -84,7 +89,10 @@ impl Attribute {
 
     fn types(self) -> &'static str {
         match self {
-            Attribute::Normal => "FLOAT, or (KHR_mesh_quantization) normalized BYTE or SHORT",
+            Attribute::Normal | Attribute::Tangent => {
+                "FLOAT, or (KHR_mesh_quantization) normalized BYTE or SHORT"
+            }
+            Attribute::Colour => "FLOAT, or normalized UNSIGNED_BYTE or UNSIGNED_SHORT",
             _ => "FLOAT, or (KHR_mesh_quantization) BYTE, UNSIGNED_BYTE, SHORT or UNSIGNED_SHORT, normalized or not",
         }
     }
@@ -298,6 +306,25 @@ impl super::Reader<'_, '_> {
         Ok(out.into_iter().map(DVec3::from_array).collect())
     }
 
+    /// Vertex colours: VEC3 (alpha 1) or VEC4, linear RGBA.
+    pub(super) fn read_colours(&self, accessor: &gltf::Accessor) -> Result<Vec<DVec4>, String> {
+        if accessor.dimensions() == Dimensions::Vec3 {
+            let out = self.read_vectors::<3>(accessor, Attribute::Colour, Dimensions::Vec3)?;
+            return Ok(out
+                .into_iter()
+                .map(|[r, g, b]| DVec4::new(r, g, b, 1.0))
+                .collect());
+        }
+        let out = self.read_vectors::<4>(accessor, Attribute::Colour, Dimensions::Vec4)?;
+        Ok(out.into_iter().map(DVec4::from_array).collect())
+    }
+
+    /// Tangents: VEC4, w the bitangent's sign.
+    pub(super) fn read_tangents(&self, accessor: &gltf::Accessor) -> Result<Vec<DVec4>, String> {
+        let out = self.read_vectors::<4>(accessor, Attribute::Tangent, Dimensions::Vec4)?;
+        Ok(out.into_iter().map(DVec4::from_array).collect())
+    }
+
     /// Texture coordinates: VEC2.
     pub(super) fn read_vec2(&self, accessor: &gltf::Accessor) -> Result<Vec<DVec2>, String> {
         let out = self.read_vectors::<2>(accessor, Attribute::TexCoord, Dimensions::Vec2)?;
@@ -387,5 +414,10 @@ mod tests {
         assert!(!Normal.allows(c(DataType::U8, true)));
         assert!(!Position.allows(c(DataType::U32, false)));
         assert!(!Position.allows(c(DataType::F32, true)));
+        assert!(Tangent.allows(c(DataType::I16, true)));
+        assert!(!Tangent.allows(c(DataType::U16, true)));
+        assert!(Colour.allows(c(DataType::U8, true)) && Colour.allows(c(DataType::U16, true)));
+        assert!(!Colour.allows(c(DataType::U8, false)));
+        assert!(!Colour.allows(c(DataType::I16, true)));
     }
 }

@@ -1,7 +1,7 @@
 //! `KHR_draco_mesh_compression`: a primitive whose triangles and
 //! attributes are one Draco stream in a buffer view, decoded with the
 //! pure-Rust `draco-core` decoder. The extension's `attributes` map glTF
-//! names (POSITION, NORMAL, TEXCOORD_n) to the stream's attribute ids; the
+//! names (POSITION, NORMAL, TEXCOORD_n, COLOR_0, TANGENT) to the stream's attribute ids; the
 //! stream's faces are the indices. The primitive's accessors give only
 //! the component type (a normalized integer is scaled as `accessors` does)
 //! and the counts, which bound the decode: at most twice the POSITION
@@ -12,7 +12,7 @@
 use std::collections::HashMap;
 
 use draco_core::{DecodeLimits, DecoderBuffer, Mesh as DracoMesh, MeshDecoder};
-use glam::{DVec2, DVec3};
+use glam::{DVec2, DVec3, DVec4};
 use serde_json::Value;
 
 use super::accessors::Component;
@@ -25,6 +25,9 @@ pub(super) struct DracoPrimitive {
     pub normals: Option<Vec<DVec3>>,
     /// TEXCOORD_n by n.
     pub tex_coords: HashMap<u32, Vec<DVec2>>,
+    /// COLOR_0 (RGB given alpha 1) and TANGENT, if the stream has them.
+    pub colours: Option<Vec<DVec4>>,
+    pub tangents: Option<Vec<DVec4>>,
     pub indices: Vec<usize>,
 }
 
@@ -129,6 +132,25 @@ impl super::Reader<'_, '_> {
                 }
             }
         }
+        let vec4 = |v: Vec<f64>| -> Vec<DVec4> {
+            v.chunks_exact(4)
+                .map(|c| DVec4::new(c[0], c[1], c[2], c[3]))
+                .collect()
+        };
+        let colour_components = ids
+            .get("COLOR_0")
+            .and_then(Value::as_u64)
+            .and_then(|id| mesh.attribute_by_unique_id(u32::try_from(id).ok()?))
+            .map_or(4, |a| usize::from(a.num_components()).min(4));
+        let colours = match colour_components {
+            3 => read("COLOR_0", gltf::Semantic::Colors(0), 3)?.map(|v| {
+                v.chunks_exact(3)
+                    .map(|c| DVec4::new(c[0], c[1], c[2], 1.0))
+                    .collect()
+            }),
+            _ => read("COLOR_0", gltf::Semantic::Colors(0), 4)?.map(vec4),
+        };
+        let tangents = read("TANGENT", gltf::Semantic::Tangents, 4)?.map(vec4);
         let indices = mesh
             .faces()
             .iter()
@@ -138,6 +160,8 @@ impl super::Reader<'_, '_> {
             positions,
             normals,
             tex_coords,
+            colours,
+            tangents,
             indices,
         }))
     }

@@ -133,8 +133,8 @@ impl DecodedImages {
         )
     }
 
-    /// The metallicRoughnessTexture, emissiveTexture and normalTexture of
-    /// `material`, each where it has one that decodes (a warning the first
+    /// The metallicRoughnessTexture, emissiveTexture, normalTexture and
+    /// occlusionTexture of `material`, each where it has one that decodes (a warning the first
     /// time one does not).
     pub(super) fn maps(
         &mut self,
@@ -163,6 +163,13 @@ impl DecodedImages {
             normal_scale: material
                 .normal_texture()
                 .map_or(1.0, |n| f64::from(n.scale())),
+            occlusion: decode(
+                material.occlusion_texture().map(|i| i.texture()),
+                "occlusionTexture",
+            ),
+            occlusion_strength: material
+                .occlusion_texture()
+                .map_or(1.0, |o| f64::from(o.strength()).clamp(0.0, 1.0)),
         }
     }
 

@@ -31,7 +31,7 @@
 use std::collections::HashMap;
 use std::path::Path;
 
-use glam::{DMat3, DMat4, DVec3};
+use glam::{DMat3, DMat4, DVec2, DVec3, DVec4};
 use gltf::mesh::Mode;
 
 use crate::scene::mesh::{mesh_index, Mesh, MeshMaterial, MeshTriangle, NO_INDEX};
@@ -51,7 +51,7 @@ mod unsupported;
 use accessors::Attribute;
 use alpha::alpha;
 use buffers::load_buffers;
-use unsupported::{extensions_warning, is_gltf_1, textures_warning, GLTF_1_UNSUPPORTED};
+use unsupported::{extensions_warning, is_gltf_1, GLTF_1_UNSUPPORTED};
 
 /// Reads a `.gltf` or `.glb` file (told apart by content: a GLB starts with
 /// `glTF`), calling `on_read` with it and each external buffer file just
@@ -213,9 +213,7 @@ pub fn parse_gltf(
             )
         }));
     }
-    if with_materials {
-        warnings.extend(textures_warning(document, path));
-    } else {
+    if !with_materials {
         mesh.materials.clear();
     }
     warnings.append(&mut mesh.warnings);
@@ -306,174 +304,256 @@ struct Reader<'a, 'r> {
     triangles_seen: usize,
 }
 
+/// One primitive's vertices as the file gives them, before placement.
+struct PrimitiveVertices {
+    positions: Vec<DVec3>,
+    normals: Option<Vec<DVec3>>,
+    colours: Option<Vec<DVec4>>,
+    tangents: Option<Vec<DVec4>>,
+    /// Three per triangle for TRIANGLES; as the mode says otherwise.
+    indices: Vec<usize>,
+}
+
 impl Reader<'_, '_> {
     /// Appends the triangles of `mesh` placed by `world`.
     fn mesh(&mut self, mesh: &gltf::Mesh, world: DMat4) -> Result<(), String> {
-        let normal_matrix = crate::scene::normals::normal_matrix(DMat3::from_mat4(world));
         for primitive in mesh.primitives() {
             let at = format!("mesh {} primitive {}", mesh.index(), primitive.index());
-            let mode = primitive.mode();
-            if !matches!(
-                mode,
-                Mode::Triangles | Mode::TriangleStrip | Mode::TriangleFan
-            ) {
-                return Err(format!(
-                    "{at}: mode {mode:?} is not a surface; kdray draws TRIANGLES, TRIANGLE_STRIP and TRIANGLE_FAN only"
-                ));
-            }
-            let draco = self
-                .draco_primitive(&primitive)
-                .map_err(|m| format!("{at}: {m}"))?;
-            let (positions, normals, indices) = match &draco {
-                Some(d) => (
-                    d.positions.clone(),
-                    d.normals.clone(),
-                    Some(d.indices.clone()),
-                ),
-                None => self.plain_primitive(&primitive, &at)?,
-            };
-            if let Some(n) = &normals {
-                if n.len() != positions.len() {
-                    return Err(format!(
-                        "{at}: {} normals for {} positions",
-                        n.len(),
-                        positions.len()
-                    ));
-                }
-            }
-            let indices: Vec<usize> = match indices {
-                Some(indices) => {
-                    if let Some(bad) = indices.iter().find(|&&i| i >= positions.len()) {
-                        return Err(format!(
-                            "{at}: index {bad} is out of range: {} vertices",
-                            positions.len()
-                        ));
-                    }
-                    indices
-                }
-                None => (0..positions.len()).collect(),
-            };
-            let corners = triangle_corners(mode, &indices).map_err(|m| format!("{at}: {m}"))?;
-
-            let material = if self.with_materials {
-                let key = primitive.material().index();
-                let next = self.mesh.materials.len();
-                let local = *self.material_of.entry(key).or_insert(next);
-                if local == next {
-                    let mut material = pbr_material(&primitive.material());
-                    if material.alpha.mode == crate::scene::AlphaMode::Blend {
-                        let warning = alpha::blend_warning(self.files.path);
-                        if !self.mesh.warnings.contains(&warning) {
-                            self.mesh.warnings.push(warning);
-                        }
-                    }
-                    material.texture = self.images.base_colour(
-                        &primitive.material(),
-                        self.document,
-                        &mut self.files,
-                        &mut self.mesh.warnings,
-                    );
-                    material.maps = self.images.maps(
-                        &primitive.material(),
-                        self.document,
-                        &mut self.files,
-                        &mut self.mesh.warnings,
-                    );
-                    self.mesh.materials.push(material);
-                }
-                mesh_index(local)
-                    .ok_or_else(|| format!("{at}: more materials than a mesh can index"))?
-            } else {
-                NO_INDEX
-            };
-
-            // This primitive's vertices (and normals) are appended to the
-            // mesh's, placed by the node; its indices are offset by what
-            // was there before. The bases are checked so that every index
-            // fits below NO_INDEX.
-            let too_many = || {
-                format!(
-                    "{at}: the scene places more than {NO_INDEX} vertices, more than a mesh can index"
-                )
-            };
-            let uvs = self.texture_coordinates(&primitive, draco.as_ref(), positions.len(), &at);
-            let uv_base = self.mesh.uvs.len();
-            if let Some(uvs) = &uvs {
-                mesh_index(uv_base + uvs.len()).ok_or_else(too_many)?;
-                self.mesh.uvs.extend_from_slice(uvs);
-            }
-            let vertex_base = self.mesh.positions.len();
-            mesh_index(vertex_base + positions.len()).ok_or_else(too_many)?;
-            let normal_base = self.mesh.normals.len();
-            if let Some(normals) = &normals {
-                mesh_index(normal_base + normals.len()).ok_or_else(too_many)?;
-                self.mesh
-                    .normals
-                    .extend(normals.iter().map(|&n| normal_matrix * n));
-            }
-            self.mesh
-                .positions
-                .extend(positions.iter().map(|&p| world.transform_point3(p)));
-            let placed = &self.mesh.positions[vertex_base..];
-            for c in corners {
-                self.triangles_seen += 1;
-                let vertices = c.map(|i| placed[i]);
-                if (vertices[1] - vertices[0])
-                    .cross(vertices[2] - vertices[0])
-                    .length()
-                    == 0.0
-                {
-                    continue; // cannot be hit, has no normal
-                }
-                // In range: the bases plus a count were checked above.
-                self.mesh.triangles.push(MeshTriangle {
-                    corners: c.map(|i| (vertex_base + i) as u32),
-                    normals: if normals.is_some() {
-                        c.map(|i| (normal_base + i) as u32)
-                    } else {
-                        [NO_INDEX; 3]
-                    },
-                    uvs: if uvs.is_some() {
-                        c.map(|i| (uv_base + i) as u32)
-                    } else {
-                        [NO_INDEX; 3]
-                    },
-                    material,
-                });
-            }
+            self.primitive(&primitive, world, &at)?;
         }
         Ok(())
     }
 
-    /// An uncompressed primitive's positions, normals and indices (None:
-    /// not indexed), from its accessors.
-    #[allow(clippy::type_complexity)]
+    /// Appends the triangles of `primitive` placed by `world`; `at` names
+    /// it in messages.
+    fn primitive(
+        &mut self,
+        primitive: &gltf::Primitive,
+        world: DMat4,
+        at: &str,
+    ) -> Result<(), String> {
+        let mode = primitive.mode();
+        if !matches!(
+            mode,
+            Mode::Triangles | Mode::TriangleStrip | Mode::TriangleFan
+        ) {
+            return Err(format!(
+                "{at}: mode {mode:?} is not a surface; kdray draws TRIANGLES, TRIANGLE_STRIP and TRIANGLE_FAN only"
+            ));
+        }
+        let draco = self
+            .draco_primitive(primitive)
+            .map_err(|m| format!("{at}: {m}"))?;
+        let vertices = self.primitive_vertices(primitive, draco.as_ref(), at)?;
+        let corners =
+            triangle_corners(mode, &vertices.indices).map_err(|m| format!("{at}: {m}"))?;
+        let material = self.primitive_material(primitive, at)?;
+        let uvs = self.texture_coordinates(primitive, draco.as_ref(), vertices.positions.len(), at);
+        self.append(vertices, uvs, &corners, material, world, at)
+    }
+
+    /// The positions, normals, colours, tangents and indices (0, 1, 2, ...
+    /// where the primitive has none) of `primitive`, from its Draco stream
+    /// or its accessors, every count and index checked.
+    fn primitive_vertices(
+        &self,
+        primitive: &gltf::Primitive,
+        draco: Option<&draco::DracoPrimitive>,
+        at: &str,
+    ) -> Result<PrimitiveVertices, String> {
+        let mut v = match draco {
+            Some(d) => PrimitiveVertices {
+                positions: d.positions.clone(),
+                normals: d.normals.clone(),
+                colours: d.colours.clone(),
+                tangents: d.tangents.clone(),
+                indices: d.indices.clone(),
+            },
+            None => self.plain_primitive(primitive, at)?,
+        };
+        let count = v.positions.len();
+        let lengths = [
+            ("normals", v.normals.as_ref().map(Vec::len)),
+            ("COLOR_0 colours", v.colours.as_ref().map(Vec::len)),
+            ("tangents", v.tangents.as_ref().map(Vec::len)),
+        ];
+        for (what, n) in lengths {
+            if let Some(n) = n.filter(|&n| n != count) {
+                return Err(format!("{at}: {n} {what} for {count} positions"));
+            }
+        }
+        if let Some(bad) = v.indices.iter().find(|&&i| i >= count) {
+            return Err(format!(
+                "{at}: index {bad} is out of range: {count} vertices"
+            ));
+        }
+        if v.indices.is_empty() && primitive.indices().is_none() && draco.is_none() {
+            v.indices = (0..count).collect();
+        }
+        Ok(v)
+    }
+
+    /// The index in the mesh's materials of `primitive`'s material, read
+    /// (with its textures) the first time a primitive uses it; NO_INDEX
+    /// when materials were not asked for.
+    fn primitive_material(&mut self, primitive: &gltf::Primitive, at: &str) -> Result<u32, String> {
+        if !self.with_materials {
+            return Ok(NO_INDEX);
+        }
+        let key = primitive.material().index();
+        let next = self.mesh.materials.len();
+        let local = *self.material_of.entry(key).or_insert(next);
+        if local == next {
+            let mut material = pbr_material(&primitive.material());
+            if material.alpha.mode == crate::scene::AlphaMode::Blend {
+                let warning = alpha::blend_warning(self.files.path);
+                if !self.mesh.warnings.contains(&warning) {
+                    self.mesh.warnings.push(warning);
+                }
+            }
+            material.texture = self.images.base_colour(
+                &primitive.material(),
+                self.document,
+                &mut self.files,
+                &mut self.mesh.warnings,
+            );
+            material.maps = self.images.maps(
+                &primitive.material(),
+                self.document,
+                &mut self.files,
+                &mut self.mesh.warnings,
+            );
+            self.mesh.materials.push(material);
+        }
+        mesh_index(local).ok_or_else(|| format!("{at}: more materials than a mesh can index"))
+    }
+
+    /// Appends a primitive's vertices (normals, colours, tangents and
+    /// texture coordinates) to the mesh's, placed by `world`, and its
+    /// triangles (`corners`, zero-area ones skipped) with their indices
+    /// offset by what was there before. The bases are checked so that every
+    /// index fits below NO_INDEX.
+    fn append(
+        &mut self,
+        v: PrimitiveVertices,
+        uvs: Option<Vec<DVec2>>,
+        corners: &[[usize; 3]],
+        material: u32,
+        world: DMat4,
+        at: &str,
+    ) -> Result<(), String> {
+        let too_many = || {
+            format!(
+                "{at}: the scene places more than {NO_INDEX} vertices, more than a mesh can index"
+            )
+        };
+        let linear = DMat3::from_mat4(world);
+        let normal_matrix = crate::scene::normals::normal_matrix(linear);
+        let uv_base = self.mesh.uvs.len();
+        if let Some(uvs) = &uvs {
+            mesh_index(uv_base + uvs.len()).ok_or_else(too_many)?;
+            self.mesh.uvs.extend_from_slice(uvs);
+        }
+        let vertex_base = self.mesh.positions.len();
+        let count = v.positions.len();
+        mesh_index(vertex_base + count).ok_or_else(too_many)?;
+        let normal_base = self.mesh.normals.len();
+        if let Some(normals) = &v.normals {
+            mesh_index(normal_base + normals.len()).ok_or_else(too_many)?;
+            self.mesh
+                .normals
+                .extend(normals.iter().map(|&n| normal_matrix * n));
+        }
+        // Colours and tangents lie beside the positions, once any
+        // primitive has them (white, and none, for the others').
+        if v.colours.is_some() || !self.mesh.colours.is_empty() {
+            let colours = v.colours.unwrap_or_else(|| vec![DVec4::ONE; count]);
+            self.mesh.colours.resize(vertex_base, DVec4::ONE);
+            self.mesh.colours.extend(colours);
+        }
+        if v.tangents.is_some() || !self.mesh.tangents.is_empty() {
+            let tangents = v.tangents.unwrap_or_else(|| vec![DVec4::ZERO; count]);
+            self.mesh.tangents.resize(vertex_base, DVec4::ZERO);
+            let mirror = linear.determinant().signum();
+            self.mesh.tangents.extend(tangents.iter().map(|t| {
+                let xyz = linear * t.truncate();
+                // A zero sign or direction is no tangent.
+                let w = if t.w == 0.0 {
+                    0.0
+                } else {
+                    t.w.signum() * mirror
+                };
+                xyz.extend(if xyz.length_squared() > 0.0 { w } else { 0.0 })
+            }));
+        }
+        self.mesh
+            .positions
+            .extend(v.positions.iter().map(|&p| world.transform_point3(p)));
+        let placed = &self.mesh.positions[vertex_base..];
+        for c in corners {
+            self.triangles_seen += 1;
+            let vertices = c.map(|i| placed[i]);
+            if !crate::scene::mesh::has_area(&vertices) {
+                continue; // cannot be hit, has no normal
+            }
+            // In range: the bases plus a count were checked above.
+            self.mesh.triangles.push(MeshTriangle {
+                corners: c.map(|i| (vertex_base + i) as u32),
+                normals: if v.normals.is_some() {
+                    c.map(|i| (normal_base + i) as u32)
+                } else {
+                    [NO_INDEX; 3]
+                },
+                uvs: if uvs.is_some() {
+                    c.map(|i| (uv_base + i) as u32)
+                } else {
+                    [NO_INDEX; 3]
+                },
+                material,
+            });
+        }
+        Ok(())
+    }
+
+    /// An uncompressed primitive's attributes and indices (empty: not
+    /// indexed), from its accessors.
     fn plain_primitive(
         &self,
         primitive: &gltf::Primitive,
         at: &str,
-    ) -> Result<(Vec<DVec3>, Option<Vec<DVec3>>, Option<Vec<usize>>), String> {
+    ) -> Result<PrimitiveVertices, String> {
         let Some(positions) = primitive.get(&gltf::Semantic::Positions) else {
             return Err(format!("{at}: no POSITION attribute"));
         };
         let positions = self
             .read_vec3(&positions, Attribute::Position)
             .map_err(|m| format!("{at}: POSITION {m}"))?;
-        let normals = match primitive.get(&gltf::Semantic::Normals) {
-            Some(a) => Some(
-                self.read_vec3(&a, Attribute::Normal)
-                    .map_err(|m| format!("{at}: NORMAL {m}"))?,
-            ),
-            None => None,
-        };
-        let indices = match primitive.indices() {
-            Some(a) => Some(
-                self.read_indices(&a)
-                    .map_err(|m| format!("{at}: indices {m}"))?,
-            ),
-            None => None,
-        };
-        Ok((positions, normals, indices))
+        let read = |semantic: gltf::Semantic| primitive.get(&semantic);
+        let normals = read(gltf::Semantic::Normals)
+            .map(|a| self.read_vec3(&a, Attribute::Normal))
+            .transpose()
+            .map_err(|m| format!("{at}: NORMAL {m}"))?;
+        let colours = read(gltf::Semantic::Colors(0))
+            .map(|a| self.read_colours(&a))
+            .transpose()
+            .map_err(|m| format!("{at}: COLOR_0 {m}"))?;
+        let tangents = read(gltf::Semantic::Tangents)
+            .map(|a| self.read_tangents(&a))
+            .transpose()
+            .map_err(|m| format!("{at}: TANGENT {m}"))?;
+        let indices = primitive
+            .indices()
+            .map(|a| self.read_indices(&a))
+            .transpose()
+            .map_err(|m| format!("{at}: indices {m}"))?
+            .unwrap_or_default();
+        Ok(PrimitiveVertices {
+            positions,
+            normals,
+            colours,
+            tangents,
+            indices,
+        })
     }
 }
 

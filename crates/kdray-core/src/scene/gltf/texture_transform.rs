@@ -2,7 +2,7 @@
 //! `KHR_texture_transform` applied to them. kdray keeps one set of texture
 //! coordinates per triangle, which every texture of its material reads:
 //! those of the base colour's texture, else of the first map's
-//! (metallic-roughness, normal, emissive), with that texture's transform
+//! (metallic-roughness, normal, emissive, occlusion), with that texture's transform
 //! (its `offset`, `rotation` and `scale`, and its `texCoord` override) applied
 //! once, when the file is read. A material whose other textures ask for
 //! other coordinates or another transform gets one warning.
@@ -90,6 +90,13 @@ pub(super) fn uv_choice(material: &gltf::Material) -> Option<(UvChoice, bool)> {
         material
             .emissive_texture()
             .map(|i| info("emissiveTexture", i)),
+        material.occlusion_texture().map(|o| {
+            slot_choice(
+                "occlusionTexture",
+                o.tex_coord(),
+                o.extension_value(EXTENSION),
+            )
+        }),
     ]
     .into_iter()
     .flatten()

@@ -105,24 +105,3 @@ pub(super) fn extensions_warning(root: &gltf::json::Root, path: &Path) -> Option
         ),
     ))
 }
-
-/// One warning for the materials that give an occlusionTexture, which
-/// kdray does not read (the base colour, metallic-roughness, emissive and
-/// normal textures it reads): those surfaces show no baked occlusion.
-pub(super) fn textures_warning(document: &gltf::Document, path: &Path) -> Option<Warning> {
-    let textured = document
-        .materials()
-        .filter(|m| m.occlusion_texture().is_some())
-        .count();
-    if textured == 0 {
-        return None;
-    }
-    let plural = if textured == 1 { "" } else { "s" };
-    Some(Warning::new(
-        path,
-        None,
-        format!(
-            "{textured} material{plural} use an occlusionTexture, which kdray does not read: they show no baked occlusion"
-        ),
-    ))
-}

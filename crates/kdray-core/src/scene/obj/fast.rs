@@ -90,6 +90,8 @@ pub(super) fn parse(text: &[u8], threads: usize, materials: Option<MaterialFiles
         positions,
         normals,
         uvs: Vec::new(),
+        colours: Vec::new(),
+        tangents: Vec::new(),
         triangles,
         materials,
         warnings: Vec::new(),

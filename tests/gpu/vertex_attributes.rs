@@ -1,0 +1,256 @@
+//! What a glTF primitive carries beside positions and normals, on the GPU,
+//! each against the same surface stated another way: `COLOR_0` and the same
+//! colour as `baseColorFactor` (both integrators); a normal map in the
+//! frame of the file's `TANGENT`, and in MikkTSpace's frame of a mirrored
+//! texture mapping (read through `TEXCOORD_1`), and that normal given at the
+//! vertices; an occlusion map and the ambient colour it leaves (Whitted),
+//! and no change at all in the path tracer. The Whitted images also equal
+//! the CPU reference's. Each also differs from the
+//! plain surface, so an attribute the kernel ignored would fail.
+
+use crate::common;
+use crate::common::textured;
+
+use common::{compare, gpu, render, TempDir};
+use glam::Vec3;
+use kdray::gpu::Accel;
+use kdray::scene::{load_scene, Scene};
+use kdray_core::reference::ReferenceTracer;
+use textured::write_gltf_quad_attributes;
+
+const SIDE: u32 = 32;
+
+/// The quad of `material` (textures `images`, vertex attributes
+/// `attributes`), seen head-on by `integrator`, lit by a point light off to
+/// the side (with an ambient part) over a black sky.
+fn quad_scene(
+    dir: &TempDir,
+    integrator: &str,
+    material: &str,
+    images: &[image::RgbaImage],
+    attributes: &[(&str, Vec<Vec<f32>>)],
+) -> Scene {
+    let gltf = write_gltf_quad_attributes(&dir.path, "quad.gltf", material, images, attributes);
+    // The Whitted integrator's samples are a square grid, and its point
+    // light does not fall off with distance.
+    let (samples, power) = if integrator == "path" {
+        (8, 3.0)
+    } else {
+        (4, 0.5)
+    };
+    let text = format!(
+        "[camera]\nposition = [0, 0, 2.2]\nlook_at = [0, 0, 0]\nvfov = 60\n\
+         [render]\nwidth = {SIDE}\nheight = {SIDE}\nintegrator = \"{integrator}\"\nsamples = {samples}\nmax_depth = 3\n\
+         background = [0, 0, 0]\n\
+         [[lights]]\nposition = [1.5, 0.8, 1.2]\nambient = [0.6, 0.6, 0.6]\ndiffuse = [{power}, {power}, {power}]\nspecular = [0, 0, 0]\n\
+         [[meshes]]\npath = {:?}\n",
+        gltf.file_name().unwrap().to_str().unwrap()
+    );
+    let path = dir.join("scene.toml");
+    std::fs::write(&path, text).unwrap();
+    load_scene(&path).unwrap_or_else(|e| panic!("{e}"))
+}
+
+fn texel(r: u8, g: u8, b: u8) -> image::RgbaImage {
+    image::RgbaImage::from_pixel(1, 1, image::Rgba([r, g, b, 255]))
+}
+
+/// The same values at the quad's four corners.
+fn at_corners(v: &[f32]) -> Vec<Vec<f32>> {
+    vec![v.to_vec(); 4]
+}
+
+/// Asserts that `a` and `b` render alike (pixels at most `levels` apart),
+/// and returns how many pixels of `a` differ from `plain`'s.
+fn assert_alike(what: &str, a: &Scene, b: &Scene, levels: u8, plain: &Scene) -> usize {
+    let _ = gpu();
+    let (ia, ib, ip) = (
+        render(a, Accel::Kdtree),
+        render(b, Accel::Kdtree),
+        render(plain, Accel::Kdtree),
+    );
+    let d = compare(&ia.rgb, &ib.rgb, SIDE, SIDE, levels);
+    assert_eq!(d.pixels_over, 0, "{what}: {d:?}");
+    compare(&ia.rgb, &ip.rgb, SIDE, SIDE, 2).pixels_over
+}
+
+/// The Whitted image of `scene` equals the CPU reference's within a level.
+fn assert_matches_the_reference(what: &str, scene: &Scene) {
+    let gpu_image = render(scene, Accel::Kdtree);
+    let reference = ReferenceTracer::new(scene, true).image();
+    let d = compare(&gpu_image.rgb, &reference, SIDE, SIDE, 1);
+    assert_eq!(
+        d.pixels_over, 0,
+        "{what}: GPU against the CPU reference: {d:?}"
+    );
+}
+
+/// Most of the picture (the quad fills it) changed.
+fn assert_most_changed(what: &str, changed: usize) {
+    assert!(
+        changed > (SIDE * SIDE / 4) as usize,
+        "{what} changed {changed} pixels"
+    );
+}
+
+#[test]
+fn vertex_colours_equal_the_same_colour_as_base_colour_factor() {
+    let colour = [0.9f32, 0.4, 0.2];
+    for integrator in ["whitted", "path"] {
+        let dir = TempDir::new(&format!("colour-0-{integrator}"));
+        let material = |factor: [f32; 3]| {
+            format!(
+                r#"{{"pbrMetallicRoughness":{{"baseColorFactor":[{},{},{},1],"metallicFactor":0,
+                "roughnessFactor":1,"baseColorTexture":{{"index":0}}}}}}"#,
+                factor[0], factor[1], factor[2]
+            )
+        };
+        let white = [texel(255, 255, 255)];
+        let coloured = quad_scene(
+            &dir,
+            integrator,
+            &material([1.0; 3]),
+            &white,
+            &[(
+                "COLOR_0",
+                at_corners(&[colour[0], colour[1], colour[2], 1.0]),
+            )],
+        );
+        assert!(!coloured.triangle_colours.is_empty());
+        let factor = quad_scene(&dir, integrator, &material(colour), &white, &[]);
+        let plain = quad_scene(&dir, integrator, &material([1.0; 3]), &white, &[]);
+        let changed = assert_alike(
+            &format!("COLOR_0 ({integrator})"),
+            &coloured,
+            &factor,
+            1,
+            &plain,
+        );
+        assert_most_changed("COLOR_0", changed);
+    }
+}
+
+/// A quad without textures whose only attribute is `COLOR_0` gets a record
+/// too: its colour shows.
+#[test]
+fn vertex_colours_show_on_an_untextured_surface() {
+    let dir = TempDir::new("colour-0-untextured");
+    let material = |g: f32| {
+        format!(
+            r#"{{"pbrMetallicRoughness":{{"baseColorFactor":[1,{g},1,1],"metallicFactor":0,"roughnessFactor":1}}}}"#
+        )
+    };
+    let coloured = quad_scene(
+        &dir,
+        "whitted",
+        &material(1.0),
+        &[],
+        &[("COLOR_0", at_corners(&[1.0, 0.25, 1.0]))],
+    );
+    let factor = quad_scene(&dir, "whitted", &material(0.25), &[], &[]);
+    let plain = quad_scene(&dir, "whitted", &material(1.0), &[], &[]);
+    let changed = assert_alike("COLOR_0 without textures", &coloured, &factor, 1, &plain);
+    assert_most_changed("COLOR_0", changed);
+    assert_matches_the_reference("COLOR_0", &coloured);
+}
+
+/// The scene `mapped` with its normal map replaced by the normal `n` at
+/// every vertex.
+fn with_vertex_normal(mapped: &Scene, n: Vec3) -> Scene {
+    let mut given = mapped.clone();
+    given.materials[0].maps.normal = None;
+    given.triangle_normals.push([n.as_dvec3(); 3]);
+    let index = given.triangle_normals.len() as u32 - 1;
+    for t in &mut given.triangles {
+        t.normals = index;
+    }
+    given
+}
+
+const NORMAL_MAPPED: &str = r#"{"pbrMetallicRoughness":{"baseColorFactor":[0.8,0.8,0.8,1],"metallicFactor":0,
+    "roughnessFactor":1},"normalTexture":{"index":0,"scale":0.9}}"#;
+const NORMAL_TEXEL: [u8; 3] = [224, 96, 200];
+
+/// The normal NORMAL_TEXEL gives at scale 0.9 in the frame (t, b, +z).
+fn bent(t: Vec3, b: Vec3) -> Vec3 {
+    let c = NORMAL_TEXEL.map(|v| v as f32 / 255.0 * 2.0 - 1.0);
+    (t * (c[0] * 0.9) + b * (c[1] * 0.9) + Vec3::Z * c[2]).normalize()
+}
+
+#[test]
+fn a_normal_map_bends_the_normal_in_the_frame_of_the_file_s_tangents() {
+    let dir = TempDir::new("tangent-file");
+    let [r, g, b] = NORMAL_TEXEL;
+    // TANGENT +y with w = 1: the bitangent is n x t = z x y = -x.
+    let mapped = quad_scene(
+        &dir,
+        "path",
+        NORMAL_MAPPED,
+        &[texel(r, g, b)],
+        &[
+            ("NORMAL", at_corners(&[0.0, 0.0, 1.0])),
+            ("TANGENT", at_corners(&[0.0, 1.0, 0.0, 1.0])),
+        ],
+    );
+    let given = with_vertex_normal(&mapped, bent(Vec3::Y, -Vec3::X));
+    // The frame MikkTSpace would build (u along +x) gives another normal.
+    let other = with_vertex_normal(&mapped, bent(Vec3::X, Vec3::Y));
+    let changed = assert_alike("file tangents", &mapped, &given, 2, &other);
+    assert!(changed > 0, "the two frames rendered alike");
+}
+
+#[test]
+fn a_mirrored_texture_mapping_keeps_the_normal_map_s_green_up_the_image() {
+    let dir = TempDir::new("tangent-mirrored");
+    let [r, g, b] = NORMAL_TEXEL;
+    // The normal map reads TEXCOORD_1: u mirrored (it grows along -x), v
+    // as the image's. MikkTSpace's tangent is then -x, and the bitangent
+    // still points up the image (+y).
+    let mirrored: Vec<Vec<f32>> = textured::IMAGE_UVS
+        .iter()
+        .map(|uv| vec![1.0 - uv[0], uv[1]])
+        .collect();
+    let material =
+        NORMAL_MAPPED.replace(r#""index":0,"scale""#, r#""index":0,"texCoord":1,"scale""#);
+    let mapped = quad_scene(
+        &dir,
+        "path",
+        &material,
+        &[texel(r, g, b)],
+        &[("TEXCOORD_1", mirrored)],
+    );
+    let given = with_vertex_normal(&mapped, bent(-Vec3::X, Vec3::Y));
+    let unmirrored = with_vertex_normal(&mapped, bent(Vec3::X, Vec3::Y));
+    let changed = assert_alike("mirrored mapping", &mapped, &given, 2, &unmirrored);
+    assert!(changed > 0, "mirroring changed nothing");
+}
+
+#[test]
+fn an_occlusion_map_darkens_the_whitted_ambient_term_by_its_strength() {
+    let red = 90u8;
+    let strength = 0.6;
+    let material = format!(
+        r#"{{"pbrMetallicRoughness":{{"baseColorFactor":[0.9,0.9,0.9,1],"metallicFactor":0,
+        "roughnessFactor":1}},"occlusionTexture":{{"index":0,"strength":{strength}}}}}"#
+    );
+    let occlusion = [texel(red, 255, 255)];
+    let dir = TempDir::new("occlusion-whitted");
+    let mapped = quad_scene(&dir, "whitted", &material, &occlusion, &[]);
+    let mut given = mapped.clone();
+    given.materials[0].maps.occlusion = None;
+    let scale = 1.0 + strength * (red as f64 / 255.0 - 1.0);
+    given.materials[0].ambient *= scale;
+    let mut plain = mapped.clone();
+    plain.materials[0].maps.occlusion = None;
+    let changed = assert_alike("occlusion (Whitted)", &mapped, &given, 1, &plain);
+    assert_most_changed("the occlusion map", changed);
+    assert_matches_the_reference("occlusion", &mapped);
+
+    // The path tracer has no ambient term: the map changes nothing.
+    let dir = TempDir::new("occlusion-path");
+    let mapped = quad_scene(&dir, "path", &material, &occlusion, &[]);
+    let mut plain = mapped.clone();
+    plain.materials[0].maps.occlusion = None;
+    let changed = assert_alike("occlusion (path)", &mapped, &plain, 0, &plain);
+    assert_eq!(changed, 0);
+}
