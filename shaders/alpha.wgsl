@@ -6,7 +6,8 @@
 // crates/kdray-core/src/alpha_test.rs; compiled out without ALPHA_TEST.
 //
 // Alpha at a hit: the material's factor times, on a textured triangle,
-// its base-colour texture's alpha at the hit's texture coordinates, on the
+// its base-colour texture's alpha at the hit's texture coordinates (the
+// first channel, which the base colour always reads), on the
 // base level by the magnification filter (a walk has no ray cone). MASK,
 // and BLEND outside the path tracer, compare it with `alpha_cutoff`; BLEND
 // in the path tracer with a number in (0, 1] hashed from the ray and the

@@ -58,7 +58,7 @@ fn mapped_normal(id: u32, p: vec3<f32>, n: vec3<f32>) -> vec3<f32> {
     if (m.normal_texture == NO_TEXTURE) {
         return n;
     }
-    let h = texture_hit(id - params.sphere_count, p);
+    let h = slot_hit(texture_hit(id - params.sphere_count, p), m, UV_SLOT_NORMAL);
     if (!h.found) {
         return n;
     }

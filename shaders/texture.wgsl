@@ -186,6 +186,21 @@ fn texture_hit(i: u32, p: vec3<f32>) -> TextureHit {
     return TextureHit(true, tri, uv0, uv1, uv2, b.x * uv0 + b.y * uv1 + b.z * uv2, b, r);
 }
 
+// The hit `h` as material `m`'s texture slot `slot` (UV_SLOT_*) reads it:
+// on the second channel of texture coordinates where the material says so.
+fn slot_hit(h: TextureHit, m: Material, slot: u32) -> TextureHit {
+    let at = textures[4];
+    if ((m.uv_channels & slot) == 0u || at == 0u || !h.found) {
+        return h;
+    }
+    var s = h;
+    s.uv0 = record_uv(h.record + at);
+    s.uv1 = record_uv(h.record + at + 2u);
+    s.uv2 = record_uv(h.record + at + 4u);
+    s.uv = h.b.x * s.uv0 + h.b.y * s.uv1 + h.b.z * s.uv2;
+    return s;
+}
+
 // Texture `t` at the hit `h`, seen along `dir` with a cone `cone_width` wide.
 fn sample_at_hit(t: u32, h: TextureHit, dir: vec3<f32>, cone_width: f32, srgb: bool) -> vec3<f32> {
     let base = texture_level(TEXTURE_PREFIX_WORDS + TEXTURE_HEADER_WORDS * t, 0u);
@@ -215,7 +230,7 @@ fn material_at(id: u32, p: vec3<f32>, dir: vec3<f32>, path_length: f32) -> Mater
     let path = is_path();
     let cone_width = pixel_spread_angle() * path_length;
     if (m.texture != NO_TEXTURE) {
-        let c = sample_at_hit(m.texture, h, dir, cone_width, path);
+        let c = sample_at_hit(m.texture, slot_hit(h, m, UV_SLOT_BASE), dir, cone_width, path);
         m.diffuse *= c;
         m.ambient *= c;
     }
@@ -223,16 +238,19 @@ fn material_at(id: u32, p: vec3<f32>, dir: vec3<f32>, path_length: f32) -> Mater
     m.diffuse *= colour;
     m.ambient *= colour;
     if (!path && m.occlusion_texture != NO_TEXTURE) {
-        let ao = sample_at_hit(m.occlusion_texture, h, dir, cone_width, false).x;
+        let at = slot_hit(h, m, UV_SLOT_OCCLUSION);
+        let ao = sample_at_hit(m.occlusion_texture, at, dir, cone_width, false).x;
         m.ambient *= 1.0 + m.occlusion_strength * (ao - 1.0);
     }
     if (path && m.metal_rough_texture != NO_TEXTURE) {
-        let mr = sample_at_hit(m.metal_rough_texture, h, dir, cone_width, false);
+        let at = slot_hit(h, m, UV_SLOT_METAL_ROUGH);
+        let mr = sample_at_hit(m.metal_rough_texture, at, dir, cone_width, false);
         m.roughness *= mr.y;
         m.metallic *= mr.z;
     }
     if (path && m.emissive_texture != NO_TEXTURE) {
-        m.emission *= sample_at_hit(m.emissive_texture, h, dir, cone_width, true);
+        let at = slot_hit(h, m, UV_SLOT_EMISSIVE);
+        m.emission *= sample_at_hit(m.emissive_texture, at, dir, cone_width, true);
     }
     return m;
 }
@@ -243,13 +261,13 @@ fn emissive_scale(id: u32, p: vec3<f32>) -> vec3<f32> {
     if (!TEXTURES || is_sphere(id)) {
         return vec3<f32>(1.0);
     }
-    let t = materials[objects[id].x].emissive_texture;
-    if (t == NO_TEXTURE) {
+    let m = materials[objects[id].x];
+    if (m.emissive_texture == NO_TEXTURE) {
         return vec3<f32>(1.0);
     }
-    let h = texture_hit(id - params.sphere_count, p);
+    let h = slot_hit(texture_hit(id - params.sphere_count, p), m, UV_SLOT_EMISSIVE);
     if (!h.found) {
         return vec3<f32>(1.0);
     }
-    return sample_texture(t, h.uv, 0.0, true);
+    return sample_texture(m.emissive_texture, h.uv, 0.0, true);
 }

@@ -71,7 +71,9 @@ struct Material {
     // and its strength in [0, 1].
     occlusion_texture: u32,
     occlusion_strength: f32,
-    _pad0: u32,
+    // The texture slots (UV_SLOT_*) that read the second channel of
+    // texture coordinates (texture.wgsl).
+    uv_channels: u32,
     _pad1: u32,
     _pad2: u32,
 }

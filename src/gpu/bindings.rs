@@ -269,7 +269,7 @@ pub enum SharedValue {
 }
 
 /// Every constant the kernel and the host must agree on, by WGSL name.
-pub const SHARED_CONSTANTS: [(&str, SharedValue); 68] = [
+pub const SHARED_CONSTANTS: [(&str, SharedValue); 73] = [
     ("KD_LEAF", SharedValue::U32(KdNode::LEAF)),
     ("ACCEL_KDTREE", SharedValue::U32(ACCEL_KDTREE)),
     ("ACCEL_BRUTE", SharedValue::U32(ACCEL_BRUTE)),
@@ -342,6 +342,28 @@ pub const SHARED_CONSTANTS: [(&str, SharedValue); 68] = [
     (
         "TEXTURE_TANGENT_PRESENT",
         SharedValue::U32(TextureWords::TANGENT_PRESENT),
+    ),
+    // `Material::uv_channels`: the texture slots that read the second
+    // channel of texture coordinates.
+    (
+        "UV_SLOT_BASE",
+        SharedValue::U32(crate::layout::UV_SLOT_BASE),
+    ),
+    (
+        "UV_SLOT_METAL_ROUGH",
+        SharedValue::U32(crate::layout::UV_SLOT_METAL_ROUGH),
+    ),
+    (
+        "UV_SLOT_NORMAL",
+        SharedValue::U32(crate::layout::UV_SLOT_NORMAL),
+    ),
+    (
+        "UV_SLOT_EMISSIVE",
+        SharedValue::U32(crate::layout::UV_SLOT_EMISSIVE),
+    ),
+    (
+        "UV_SLOT_OCCLUSION",
+        SharedValue::U32(crate::layout::UV_SLOT_OCCLUSION),
     ),
     // Words per mip level in a texture's level table, and the mip modes.
     (

@@ -164,7 +164,7 @@ fn rust_types_match_wgsl_layout() {
             alpha_factor,
             occlusion_texture,
             occlusion_strength,
-            _pad0,
+            uv_channels,
             _pad1,
             _pad2
         ]

@@ -7,7 +7,7 @@ use crate::geometry::{Aabb, Primitives};
 use crate::kdtree::{KdTree, Ropes};
 use crate::layout::{
     GpuKdNode, GpuLight, GpuMaterial, GpuSphere, GpuTriangle, GpuTriangleNormals, LeafRopes,
-    TextureWords, ALPHA_BLEND, ALPHA_MASK, ALPHA_OPAQUE, LIGHT_DIRECTIONAL, LIGHT_EMITTER,
+    Records, TextureWords, ALPHA_BLEND, ALPHA_MASK, ALPHA_OPAQUE, LIGHT_DIRECTIONAL, LIGHT_EMITTER,
     LIGHT_POINT, LIGHT_SPOT, MODEL_LAMBERTIAN, MODEL_METAL_ROUGH,
 };
 use crate::scene::{AlphaMode, Light, LightKind, Scene};
@@ -177,11 +177,10 @@ impl SceneArrays {
             };
         // A record only where the triangle's material has a texture or a
         // map, or the scene has vertex colours (the kernel reads them only
-        // there): its texture coordinates, colours and tangents.
+        // there): its texture coordinates, colours, tangents and second
+        // channel of coordinates.
         let has_colours = !scene.triangle_colours.is_empty();
-        let mut uv_records = Vec::new();
-        let mut colour_records = Vec::new();
-        let mut tangent_records = Vec::new();
+        let mut records = Records::default();
         let mut record_of = |id: u32| {
             let t = &scene.triangles[id as usize - sphere_count];
             let textured = scene
@@ -191,24 +190,29 @@ impl SceneArrays {
             let Some(uvs) = scene.uvs_of(t).filter(|_| textured || has_colours) else {
                 return GpuTriangle::UNTEXTURED;
             };
-            uv_records.push(uvs.map(|uv| uv.as_vec2()));
+            records.uvs.push(uvs.map(|uv| uv.as_vec2()));
             if has_colours {
                 let c = scene.colours_of(t).unwrap_or([glam::DVec4::ONE; 3]);
-                colour_records.push(c.map(|c| c.as_vec4()));
+                records.colours.push(c.map(|c| c.as_vec4()));
             }
             if !scene.triangle_tangents.is_empty() {
                 let c = scene.tangents_of(t).unwrap_or([glam::DVec4::ZERO; 3]);
-                tangent_records.push(c.map(|c| c.as_vec4()));
+                records.tangents.push(c.map(|c| c.as_vec4()));
             }
-            uv_records.len() as u32 - 1
+            if !scene.triangle_second_uvs.is_empty() {
+                let c = scene.triangle_second_uvs.get(t.uvs as usize);
+                let c = c.copied().unwrap_or_default();
+                records.second_uvs.push(c.map(|uv| uv.as_vec2()));
+            }
+            records.uvs.len() as u32 - 1
         };
-        let records: Vec<u32> = order[sphere_count..]
+        let record_index: Vec<u32> = order[sphere_count..]
             .iter()
             .map(|&id| record_of(id))
             .collect();
         let triangles = order[sphere_count..]
             .iter()
-            .zip(records)
+            .zip(record_index)
             .map(|(&id, uvs)| {
                 let t = &prims.triangles[id as usize - sphere_count];
                 GpuTriangle {
@@ -221,14 +225,9 @@ impl SceneArrays {
                 }
             })
             .collect();
-        let textures = match uv_records.is_empty() {
+        let textures = match records.uvs.is_empty() {
             true => Vec::new(),
-            false => TextureWords::pack(
-                &scene.textures,
-                &uv_records,
-                &colour_records,
-                &tangent_records,
-            ),
+            false => TextureWords::pack(&scene.textures, &records),
         };
         // A material's texture in the buffer, or none where no triangle is
         // textured (the buffer is then empty).
@@ -281,7 +280,7 @@ impl SceneArrays {
                     alpha_factor: m.alpha.factor as f32,
                     occlusion_texture: texture_index(m.maps.occlusion),
                     occlusion_strength: m.maps.occlusion_strength as f32,
-                    _pad0: 0,
+                    uv_channels: m.maps.second_uv,
                     _pad1: 0,
                     _pad2: 0,
                 })

@@ -211,10 +211,10 @@ fn texture_bytes_count_in_the_scene_size_and_a_texture_past_the_limit_is_refused
     let textured = PreparedScene::new(scene.clone(), Accel::Kdtree);
     let plain = PreparedScene::new(untextured(&scene), Accel::Kdtree);
     // The texels of every mip level (64 x 32 halving down to 1 x 1), the
-    // 4-word prefix and the header, the level table (7 levels of 3 words),
+    // 5-word prefix and the header, the level table (7 levels of 3 words),
     // and two triangles' coordinates.
     let texels = 64 * 32 + 32 * 16 + 16 * 8 + 8 * 4 + 4 * 2 + 2 + 1;
-    let texture_bytes = texels * 4 + (4 + 7) * 4 + 7 * 3 * 4 + 2 * 6 * 4;
+    let texture_bytes = texels * 4 + (5 + 7) * 4 + 7 * 3 * 4 + 2 * 6 * 4;
     assert_eq!(
         textured.arrays.byte_size(),
         plain.arrays.byte_size() + texture_bytes

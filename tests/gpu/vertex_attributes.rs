@@ -254,3 +254,62 @@ fn an_occlusion_map_darkens_the_whitted_ambient_term_by_its_strength() {
     let changed = assert_alike("occlusion (path)", &mapped, &plain, 0, &plain);
     assert_eq!(changed, 0);
 }
+
+/// Each texture reads its own coordinates: a base colour texture on
+/// `TEXCOORD_0` beside an occlusion map on a mirrored `TEXCOORD_1`, or on
+/// `TEXCOORD_0` with a `KHR_texture_transform` that mirrors u, renders as the
+/// occlusion map's image mirrored on `TEXCOORD_0` does (Whitted, equal to the
+/// CPU reference), and unlike the unmirrored image.
+#[test]
+fn each_texture_reads_its_own_texture_coordinates_and_transform() {
+    let two = |a: [u8; 3], b: [u8; 3]| {
+        image::RgbaImage::from_fn(2, 1, |x, _| {
+            let c = if x == 0 { a } else { b };
+            image::Rgba([c[0], c[1], c[2], 255])
+        })
+    };
+    let base = two([200, 60, 60], [60, 200, 60]);
+    let occlusion = two([40, 0, 0], [250, 0, 0]);
+    let mirrored = two([250, 0, 0], [40, 0, 0]);
+    let material = |occlusion_info: &str| {
+        format!(
+            r#"{{"pbrMetallicRoughness":{{"baseColorFactor":[1,1,1,1],"metallicFactor":0,
+            "roughnessFactor":1,"baseColorTexture":{{"index":0}}}},
+            "occlusionTexture":{{"index":1{occlusion_info}}}}}"#
+        )
+    };
+    let mirrored_u: Vec<Vec<f32>> = textured::IMAGE_UVS
+        .iter()
+        .map(|uv| vec![1.0 - uv[0], uv[1]])
+        .collect();
+    let dir = TempDir::new("uv-channels");
+    let on_second = quad_scene(
+        &dir,
+        "whitted",
+        &material(r#","texCoord":1"#),
+        &[base.clone(), occlusion.clone()],
+        &[("TEXCOORD_1", mirrored_u)],
+    );
+    assert!(!on_second.triangle_second_uvs.is_empty());
+    let transformed = quad_scene(
+        &dir,
+        "whitted",
+        &material(r#","extensions":{"KHR_texture_transform":{"scale":[-1,1],"offset":[1,0]}}"#),
+        &[base.clone(), occlusion.clone()],
+        &[],
+    );
+    let given = quad_scene(
+        &dir,
+        "whitted",
+        &material(""),
+        &[base.clone(), mirrored],
+        &[],
+    );
+    let plain = quad_scene(&dir, "whitted", &material(""), &[base, occlusion], &[]);
+    let changed = assert_alike("TEXCOORD_1", &on_second, &given, 1, &plain);
+    assert_most_changed("mirroring the occlusion map", changed);
+    let changed = assert_alike("KHR_texture_transform", &transformed, &given, 1, &plain);
+    assert_most_changed("mirroring the occlusion map", changed);
+    assert_matches_the_reference("two channels", &on_second);
+    assert_matches_the_reference("a transformed channel", &transformed);
+}

@@ -280,6 +280,7 @@ pub fn random_scene(spec: &RandomSceneSpec) -> Scene {
         triangles,
         triangle_normals: Vec::new(),
         triangle_uvs: Vec::new(),
+        triangle_second_uvs: Vec::new(),
         triangle_colours: Vec::new(),
         triangle_tangents: Vec::new(),
         textures: Vec::new(),

@@ -449,9 +449,9 @@ impl<'a> ReferenceTracer<'a> {
             return std::borrow::Cow::Borrowed(m);
         };
         let triangle = &self.scene.triangles[t];
-        let Some(uvs) = self.scene.uvs_of(triangle) else {
+        if self.scene.uvs_of(triangle).is_none() {
             return std::borrow::Cow::Borrowed(m);
-        };
+        }
         let textured = m.texture.is_some() || m.maps.any();
         let colours = self.scene.colours_of(triangle);
         if !textured && colours.is_none() {
@@ -459,10 +459,12 @@ impl<'a> ReferenceTracer<'a> {
         }
         let v = &self.prims.triangles[t].v;
         let b = barycentrics(v, p);
-        let uvs = uvs.map(|uv| uv.as_vec2());
-        let uv = b.x * uvs[0] + b.y * uvs[1] + b.z * uvs[2];
         let cone_width = self.pixel_spread * path_length;
-        let sample = |texture: &crate::scene::Texture| {
+        // Texture `texture` of the slot `slot`, on that slot's coordinates.
+        let sample = |texture: &crate::scene::Texture, slot: u32| {
+            let uvs = self.scene.uvs_for(triangle, slot).unwrap_or_default();
+            let uvs = uvs.map(|uv| uv.as_vec2());
+            let uv = b.x * uvs[0] + b.y * uvs[1] + b.z * uvs[2];
             let size = glam::Vec2::new(texture.width as f32, texture.height as f32);
             let lambda = texture_lod(v, uvs, size, dir, cone_width);
             texture.sample_lod(uv, lambda)
@@ -471,7 +473,7 @@ impl<'a> ReferenceTracer<'a> {
         let mut diffuse = m.diffuse.as_vec3();
         let mut ambient = m.ambient.as_vec3();
         if let Some(texture) = texture(m.texture) {
-            let c = sample(texture);
+            let c = sample(texture, crate::layout::UV_SLOT_BASE);
             diffuse *= c;
             ambient *= c;
         }
@@ -486,7 +488,7 @@ impl<'a> ReferenceTracer<'a> {
             ambient *= c;
         }
         if let Some(texture) = texture(m.maps.occlusion) {
-            let ao = sample(texture).x;
+            let ao = sample(texture, crate::layout::UV_SLOT_OCCLUSION).x;
             ambient *= 1.0 + m.maps.occlusion_strength as f32 * (ao - 1.0);
         }
         let mut read = m.clone();

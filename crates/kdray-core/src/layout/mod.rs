@@ -6,7 +6,7 @@
 //! 4-byte field (a scalar that belongs with it, or explicit padding).
 
 mod texture_words;
-pub use texture_words::TextureWords;
+pub use texture_words::{Records, TextureWords};
 
 use bytemuck::{Pod, Zeroable};
 
@@ -250,7 +250,9 @@ pub struct GpuMaterial {
     /// term), or [`GpuMaterial::NO_TEXTURE`], and its strength in [0, 1].
     pub occlusion_texture: u32,
     pub occlusion_strength: f32,
-    pub _pad0: u32,
+    /// The slots ([`UV_SLOT_BASE`] ...) that read the second channel of
+    /// texture coordinates.
+    pub uv_channels: u32,
     pub _pad1: u32,
     pub _pad2: u32,
 }
@@ -272,6 +274,15 @@ pub const ALPHA_BLEND: u32 = 2;
 pub const MODEL_LAMBERTIAN: u32 = 0;
 /// `GpuMaterial::model`: glTF 2.0's metal/rough BRDF with base colour `diffuse`.
 pub const MODEL_METAL_ROUGH: u32 = 1;
+
+/// `GpuMaterial::uv_channels` (and [`crate::scene::MaterialMaps::second_uv`]):
+/// the texture slots that read a triangle's second channel of texture
+/// coordinates; the others read the first.
+pub const UV_SLOT_BASE: u32 = 1;
+pub const UV_SLOT_METAL_ROUGH: u32 = 2;
+pub const UV_SLOT_NORMAL: u32 = 4;
+pub const UV_SLOT_EMISSIVE: u32 = 8;
+pub const UV_SLOT_OCCLUSION: u32 = 16;
 
 #[repr(C)]
 #[derive(Debug, Clone, Copy, PartialEq, Pod, Zeroable)]

@@ -6,8 +6,9 @@ use super::GpuTriangleNormals;
 
 /// The `textures` buffer, one array of u32 words (shaders/texture.wgsl):
 /// a prefix of [`TextureWords::PREFIX_WORDS`] words (the first word of the
-/// records, a record's length in words, where in a record its colours and
-/// its tangents begin, 0 where the scene has none); then per texture a
+/// records, a record's length in words, where in a record its colours, its
+/// tangents and its second channel of texture coordinates begin, 0 where
+/// the scene has none); then per texture a
 /// header of [`TextureWords::HEADER_WORDS`] words (the first word of its
 /// level table, its level count, magnification filter, minification
 /// filter, mip mode, wrap along u, wrap along v); then each texture's level
@@ -18,13 +19,27 @@ use super::GpuTriangleNormals;
 /// unorm pairs (WGSL's pack2x16unorm: r g, then b a); where it has
 /// tangents, each corner's unit tangent octahedral-encoded (as vertex
 /// normals are) and one word of flags ([`TextureWords::TANGENT_PRESENT`],
-/// and bit k set where corner k's bitangent sign is negative); then the
+/// and bit k set where corner k's bitangent sign is negative); where some
+/// material reads a second channel of texture coordinates, those of its
+/// three corners (f32 bits, zero where it has none); then the
 /// texels, per texture its levels in order, RGBA8 a word, row by row from
 /// the level's top row. Built by [`TextureWords::pack`].
 pub struct TextureWords;
 
+/// What the records of [`TextureWords::pack`] hold, one entry per record:
+/// the texture coordinates, and beside them, where not empty (then as long
+/// as `uvs`), the vertex colours, the tangents (a zero w is none) and the
+/// second channel of coordinates.
+#[derive(Debug, Default)]
+pub struct Records {
+    pub uvs: Vec<[glam::Vec2; 3]>,
+    pub colours: Vec<[glam::Vec4; 3]>,
+    pub tangents: Vec<[glam::Vec4; 3]>,
+    pub second_uvs: Vec<[glam::Vec2; 3]>,
+}
+
 impl TextureWords {
-    pub const PREFIX_WORDS: u32 = 4;
+    pub const PREFIX_WORDS: u32 = 5;
     pub const HEADER_WORDS: u32 = 7;
     pub const LEVEL_WORDS: u32 = 3;
     /// A record's texture coordinates; the colours' and tangents' words
@@ -43,16 +58,15 @@ impl TextureWords {
     pub const WRAP_CLAMP: u32 = 1;
     pub const WRAP_MIRROR: u32 = 2;
 
-    /// The buffer for `textures` and the records `uvs`, with `colours` and
-    /// `tangents` beside them where not empty (each then as long as
-    /// `uvs`; a tangent of zero w is none), in the order the triangles'
-    /// `uvs` index them; empty without textures and colours.
-    pub fn pack(
-        textures: &[crate::scene::Texture],
-        uvs: &[[glam::Vec2; 3]],
-        colours: &[[glam::Vec4; 3]],
-        tangents: &[[glam::Vec4; 3]],
-    ) -> Vec<u32> {
+    /// The buffer for `textures` and the records `r`, in the order the
+    /// triangles' `uvs` index them; empty without textures and colours.
+    pub fn pack(textures: &[crate::scene::Texture], r: &Records) -> Vec<u32> {
+        let Records {
+            uvs,
+            colours,
+            tangents,
+            second_uvs,
+        } = r;
         use crate::scene::{MipMode, TextureFilter, TextureWrap};
         if textures.is_empty() && colours.is_empty() {
             return Vec::new();
@@ -68,7 +82,8 @@ impl TextureWords {
         };
         let colour_at = part(!colours.is_empty(), Self::COLOUR_WORDS);
         let tangent_at = part(!tangents.is_empty(), Self::TANGENT_WORDS);
-        let mut words = vec![records, record_words, colour_at, tangent_at];
+        let second_at = part(!second_uvs.is_empty(), Self::UV_WORDS);
+        let mut words = vec![records, record_words, colour_at, tangent_at, second_at];
         let filter = |f: TextureFilter| match f {
             TextureFilter::Nearest => Self::FILTER_NEAREST,
             TextureFilter::Bilinear => Self::FILTER_BILINEAR,
@@ -115,6 +130,11 @@ impl TextureWords {
             }
             if let Some(t) = tangents.get(i) {
                 words.extend(Self::tangent_words(t));
+            }
+            if let Some(second) = second_uvs.get(i) {
+                for uv in second {
+                    words.extend([uv.x.to_bits(), uv.y.to_bits()]);
+                }
             }
         }
         for t in textures {
@@ -183,18 +203,22 @@ mod tests {
             [TextureWrap::MirroredRepeat; 2],
         );
         let uv = [glam::Vec2::new(0.5, 0.25); 3];
-        let words = TextureWords::pack(&[a, b], &[uv], &[], &[]);
-        // The prefix, two headers, 3 + 1 levels of 3 words: records at 30,
-        // 6 words each, no colours, no tangents.
-        assert_eq!(&words[0..4], &[30, 6, 0, 0]);
-        assert_eq!(&words[4..11], &[18, 3, 0, 1, 2, 0, 1]);
-        assert_eq!(&words[11..18], &[27, 1, 1, 0, 1, 2, 2]);
-        // Texels after the one record: from 36.
-        assert_eq!(&words[18..30], &[36, 4, 2, 44, 2, 1, 46, 1, 1, 47, 1, 1]);
-        assert_eq!(words[30], 0.5f32.to_bits());
-        assert_eq!(words[31], 0.25f32.to_bits());
-        assert_eq!(&words[44..48], &[grey(25), grey(45), grey(35), grey(9)]);
-        assert_eq!(words.len(), 48);
+        let records = Records {
+            uvs: vec![uv],
+            ..Records::default()
+        };
+        let words = TextureWords::pack(&[a, b], &records);
+        // The prefix, two headers, 3 + 1 levels of 3 words: records at 31,
+        // 6 words each, no colours, tangents or second coordinates.
+        assert_eq!(&words[0..5], &[31, 6, 0, 0, 0]);
+        assert_eq!(&words[5..12], &[19, 3, 0, 1, 2, 0, 1]);
+        assert_eq!(&words[12..19], &[28, 1, 1, 0, 1, 2, 2]);
+        // Texels after the one record: from 37.
+        assert_eq!(&words[19..31], &[37, 4, 2, 45, 2, 1, 47, 1, 1, 48, 1, 1]);
+        assert_eq!(words[31], 0.5f32.to_bits());
+        assert_eq!(words[32], 0.25f32.to_bits());
+        assert_eq!(&words[45..49], &[grey(25), grey(45), grey(35), grey(9)]);
+        assert_eq!(words.len(), 49);
     }
 
     #[test]
@@ -203,15 +227,23 @@ mod tests {
         let colour = [glam::Vec4::new(1.0, 0.0, 0.5, 1.0); 3];
         let up = glam::Vec4::new(0.0, 0.0, 1.0, -1.0);
         let tangents = [[up, up, up.truncate().extend(1.0)], [glam::Vec4::ZERO; 3]];
-        let words = TextureWords::pack(&[], &[uv, uv], &[colour; 2], &tangents);
-        // Records at 4, 16 words each: colours at 6, tangents at 12.
-        assert_eq!(&words[0..4], &[4, 16, 6, 12]);
-        assert_eq!(words.len(), 4 + 2 * 16);
-        assert_eq!(words[4 + 6], 65535);
-        assert_eq!(words[4 + 7], 32768 | (65535 << 16));
+        let second = [glam::Vec2::new(0.75, 0.5); 3];
+        let records = Records {
+            uvs: vec![uv, uv],
+            colours: vec![colour; 2],
+            tangents: tangents.to_vec(),
+            second_uvs: vec![second; 2],
+        };
+        let words = TextureWords::pack(&[], &records);
+        // Records at 5, 22 words each: colours at 6, tangents at 12, the
+        // second coordinates at 16.
+        assert_eq!(&words[0..5], &[5, 22, 6, 12, 16]);
+        assert_eq!(words.len(), 5 + 2 * 22);
+        assert_eq!(words[5 + 6], 65535);
+        assert_eq!(words[5 + 7], 32768 | (65535 << 16));
         let oct_up = GpuTriangleNormals::pack([glam::DVec3::Z; 3]).n0;
         assert_eq!(
-            &words[4 + 12..4 + 16],
+            &words[5 + 12..5 + 16],
             &[
                 oct_up,
                 oct_up,
@@ -219,9 +251,15 @@ mod tests {
                 TextureWords::TANGENT_PRESENT | 0b011
             ]
         );
-        // The second triangle has none.
-        assert_eq!(&words[20 + 12..20 + 16], &[0; 4]);
+        assert_eq!(words[5 + 16], 0.75f32.to_bits());
+        assert_eq!(words[5 + 17], 0.5f32.to_bits());
+        // The second triangle has no tangents.
+        assert_eq!(&words[27 + 12..27 + 16], &[0; 4]);
         // Without textures and colours there is no buffer.
-        assert!(TextureWords::pack(&[], &[uv], &[], &[]).is_empty());
+        let bare = Records {
+            uvs: vec![uv],
+            ..Records::default()
+        };
+        assert!(TextureWords::pack(&[], &bare).is_empty());
     }
 }

@@ -125,6 +125,10 @@ pub struct Mesh {
     /// [`texture`](super::texture) (OBJ: every `vt` statement, in order,
     /// v turned to 1 - v; kept only where a material has a texture).
     pub uvs: Vec<DVec2>,
+    /// glTF: the second channel of texture coordinates (a set with a
+    /// transform, which the slots in a material's `maps.second_uv` read),
+    /// one per position; empty: no material reads one.
+    pub second_uvs: Vec<DVec2>,
     /// glTF's `COLOR_0`, linear RGBA, one per position (empty: no primitive
     /// has it; white for the vertices of primitives without it).
     pub colours: Vec<DVec4>,

@@ -399,6 +399,9 @@ impl SurfaceRecords<'_> {
         let carry = |c: DVec4| (self.transform * c.truncate()).extend(c.w * mirror);
         SurfaceRecord {
             uvs: t.uvs_in(&self.mesh.uvs).filter(|_| textured),
+            second_uvs: t
+                .corners_in(&self.mesh.second_uvs)
+                .filter(|_| textured && m.maps.second_uv != 0),
             colours: self.mesh.colours_of(t),
             tangents: self
                 .mesh

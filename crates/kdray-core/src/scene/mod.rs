@@ -82,6 +82,11 @@ pub struct Scene {
     /// (white where a triangle has none). A triangle with colours and no
     /// texture coordinates has zero coordinates there.
     pub triangle_colours: Vec<[DVec4; 3]>,
+    /// The second channel of texture coordinates, which the texture slots
+    /// in a material's [`MaterialMaps::second_uv`] read, beside
+    /// `triangle_uvs` and indexed alike: empty when no material reads one,
+    /// else one per entry (zero where a triangle has none).
+    pub triangle_second_uvs: Vec<[DVec2; 3]>,
     /// The tangent frame of the normal-mapped triangles at the corners,
     /// beside `triangle_uvs` and indexed alike ([`Scene::tangents_of`]):
     /// xyz the tangent in world space, w = +-1 the sign of the bitangent
@@ -209,6 +214,10 @@ pub struct MaterialMaps<T = u32> {
     /// integrator's ambient term, by `occlusion_strength` in [0, 1].
     pub occlusion: Option<T>,
     pub occlusion_strength: f64,
+    /// The slots ([`crate::layout::UV_SLOT_BASE`] ...) that read a
+    /// triangle's second channel of texture coordinates
+    /// ([`Scene::triangle_second_uvs`]); 0: all read the first.
+    pub second_uv: u32,
 }
 
 impl<T> MaterialMaps<T> {
@@ -220,6 +229,7 @@ impl<T> MaterialMaps<T> {
         normal_scale: 1.0,
         occlusion: None,
         occlusion_strength: 1.0,
+        second_uv: 0,
     };
 
     /// Whether any map is given.
@@ -239,6 +249,7 @@ impl<T> MaterialMaps<T> {
             normal_scale: self.normal_scale,
             occlusion: self.occlusion.as_ref().map(&mut f),
             occlusion_strength: self.occlusion_strength,
+            second_uv: self.second_uv,
         }
     }
 }
@@ -351,6 +362,20 @@ impl Scene {
         self.triangle_colours.get(t.uvs as usize).copied()
     }
 
+    /// The texture coordinates of `t` that the slots `slot` (of
+    /// [`crate::layout::UV_SLOT_BASE`] ...) of its material read, if it
+    /// has a record.
+    pub fn uvs_for(&self, t: &Triangle, slot: u32) -> Option<[DVec2; 3]> {
+        let second = self
+            .materials
+            .get(t.material as usize)
+            .is_some_and(|m| m.maps.second_uv & slot != 0);
+        match second {
+            true => self.triangle_second_uvs.get(t.uvs as usize).copied(),
+            false => self.uvs_of(t),
+        }
+    }
+
     /// The tangents of `t`, a triangle of this scene, if it has them.
     pub fn tangents_of(&self, t: &Triangle) -> Option<[DVec4; 3]> {
         self.triangle_tangents
@@ -374,6 +399,7 @@ impl Scene {
 struct TriangleParts {
     normals: Vec<[DVec3; 3]>,
     uvs: Vec<[DVec2; 3]>,
+    second_uvs: Vec<[DVec2; 3]>,
     colours: Vec<[DVec4; 3]>,
     tangents: Vec<[DVec4; 3]>,
     textures: Vec<Texture>,
@@ -384,6 +410,7 @@ struct TriangleParts {
 #[derive(Debug, Clone, Copy, Default, PartialEq)]
 pub(crate) struct SurfaceRecord {
     pub uvs: Option<[DVec2; 3]>,
+    pub second_uvs: Option<[DVec2; 3]>,
     pub colours: Option<[DVec4; 3]>,
     pub tangents: Option<[DVec4; 3]>,
 }
@@ -406,6 +433,11 @@ impl TriangleParts {
         triangle.uvs = index;
         self.uvs.push(r.uvs.unwrap_or([DVec2::ZERO; 3]));
         let n = self.uvs.len();
+        if r.second_uvs.is_some() || !self.second_uvs.is_empty() {
+            self.second_uvs.resize(n - 1, [DVec2::ZERO; 3]);
+            self.second_uvs
+                .push(r.second_uvs.unwrap_or([DVec2::ZERO; 3]));
+        }
         if r.colours.is_some() || !self.colours.is_empty() {
             self.colours.resize(n - 1, Self::WHITE);
             self.colours.push(r.colours.unwrap_or(Self::WHITE));
@@ -419,6 +451,9 @@ impl TriangleParts {
     /// The tables filled to one entry per record (after the last triangle).
     fn finish(&mut self) {
         let n = self.uvs.len();
+        if !self.second_uvs.is_empty() {
+            self.second_uvs.resize(n, [DVec2::ZERO; 3]);
+        }
         if !self.colours.is_empty() {
             self.colours.resize(n, Self::WHITE);
         }

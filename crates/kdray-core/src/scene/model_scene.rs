@@ -159,6 +159,7 @@ pub fn model_scene_viewed(
         triangles,
         triangle_normals: parts.normals,
         triangle_uvs: parts.uvs,
+        triangle_second_uvs: parts.second_uvs,
         triangle_colours: parts.colours,
         triangle_tangents: parts.tangents,
         textures: parts.textures,

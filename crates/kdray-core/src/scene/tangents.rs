@@ -3,7 +3,7 @@
 //! tools that bake normal maps use, so that a baked map bends the normals
 //! it was baked for. Computed per mesh entry in world space, from each
 //! triangle's corners, shading normals (the geometric normal where it is
-//! flat) and texture coordinates.
+//! flat) and the texture coordinates its normal map reads.
 //!
 //! glTF's texture coordinates have v pointing down the image and its normal
 //! maps +Y up the image; MikkTSpace's bitangent follows increasing v. So
@@ -35,8 +35,15 @@ pub(super) fn generate_missing(
     if faces.is_empty() {
         return;
     }
+    let second = |t: &Triangle| {
+        materials
+            .get(t.material as usize)
+            .is_some_and(|m| m.maps.second_uv & crate::layout::UV_SLOT_NORMAL != 0)
+    };
+    let on_second: Vec<bool> = faces.iter().map(second).collect();
     let mut frames = Frames {
         faces: &faces,
+        on_second: &on_second,
         parts,
         out: vec![[DVec4::ZERO; 3]; faces.len()],
     };
@@ -52,6 +59,8 @@ pub(super) fn generate_missing(
 /// The faces MikkTSpace reads, and the tangents it writes.
 struct Frames<'a> {
     faces: &'a [Triangle],
+    /// Whether face i's normal map reads the second channel.
+    on_second: &'a [bool],
     parts: &'a mut TriangleParts,
     out: Vec<[DVec4; 3]>,
 }
@@ -88,9 +97,12 @@ impl Geometry for Frames<'_> {
     }
 
     fn tex_coord(&self, face: usize, vert: usize) -> [f32; 2] {
-        self.parts.uvs[self.faces[face].uvs as usize][vert]
-            .as_vec2()
-            .to_array()
+        let record = self.faces[face].uvs as usize;
+        let uvs = match self.on_second[face] {
+            true => self.parts.second_uvs.get(record),
+            false => self.parts.uvs.get(record),
+        };
+        uvs.map_or([0.0; 2], |c| c[vert].as_vec2().to_array())
     }
 
     fn set_tangent(&mut self, space: Option<TangentSpace>, face: usize, vert: usize) {

@@ -204,6 +204,7 @@ impl Validator<'_> {
             triangles,
             triangle_normals: parts.normals,
             triangle_uvs: parts.uvs,
+            triangle_second_uvs: parts.second_uvs,
             triangle_colours: parts.colours,
             triangle_tangents: parts.tangents,
             textures: parts.textures,

@@ -186,8 +186,8 @@ fn gltf_material_maps_load_with_their_scale_and_strength() {
 
 /// KHR_texture_transform on the base colour's texture: the loaded texture
 /// coordinates are the file's transformed by hand (scale, then a rotation
-/// counter-clockwise in (u, v), then the offset), and a map asking for
-/// another transform gets one warning.
+/// counter-clockwise in (u, v), then the offset); a map asking for another
+/// transform reads a second channel, and a third choice gets one warning.
 #[test]
 fn khr_texture_transform_moves_the_texture_coordinates_as_specified() {
     let dir = TempDir::new("tex-transform");
@@ -229,15 +229,54 @@ fn khr_texture_transform_moves_the_texture_coordinates_as_specified() {
     let mesh = kdray_core::scene::gltf::load_gltf(&gltf, true, &mut |_| {}).unwrap();
     assert!(mesh.warnings.is_empty(), "{:?}", mesh.warnings);
 
-    // An emissive map with another transform: one warning naming the rule.
+    // An emissive map with another transform reads a second channel, the
+    // untransformed coordinates, without a warning; a third choice (an
+    // occlusion map on TEXCOORD_1) reads the first channel, with one
+    // warning naming the rule.
     let material = format!(
         r#"{{"pbrMetallicRoughness":{{"baseColorTexture":{{"index":0,"extensions":{transform}}}}},
             "emissiveFactor":[1,1,1],"emissiveTexture":{{"index":0}}}}"#
     );
-    let gltf =
-        crate::textured::write_gltf_quad_material(&dir.path, "t2.gltf", &material, &[texel], None);
+    let gltf = crate::textured::write_gltf_quad_material(
+        &dir.path,
+        "t2.gltf",
+        &material,
+        &[texel.clone()],
+        None,
+    );
+    let mesh = kdray_core::scene::gltf::load_gltf(&gltf, true, &mut |_| {}).unwrap();
+    assert!(mesh.warnings.is_empty(), "{:?}", mesh.warnings);
+    assert_eq!(
+        mesh.materials[0].maps.second_uv,
+        kdray_core::layout::UV_SLOT_EMISSIVE
+    );
+    let scene = scene_of(&dir, &gltf);
+    let second: Vec<DVec2> = scene
+        .triangle_second_uvs
+        .iter()
+        .flatten()
+        .copied()
+        .collect();
+    let file =
+        [0, 1, 2, 0, 2, 3].map(|i| DVec2::new(IMAGE_UVS[i][0].into(), IMAGE_UVS[i][1].into()));
+    assert_eq!(second, file);
+    let material = material.replace(
+        r#""emissiveTexture":{"index":0}}"#,
+        r#""emissiveTexture":{"index":0},"occlusionTexture":{"index":0,"texCoord":1}}"#,
+    );
+    let second_set = vec![vec![0.5f32, 0.5]; 4];
+    let gltf = crate::textured::write_gltf_quad_attributes(
+        &dir.path,
+        "t3.gltf",
+        &material,
+        &[texel],
+        &[("TEXCOORD_1", second_set)],
+    );
     let mesh = kdray_core::scene::gltf::load_gltf(&gltf, true, &mut |_| {}).unwrap();
     let shown: Vec<String> = mesh.warnings.iter().map(|w| w.to_string()).collect();
     assert_eq!(shown.len(), 1, "{shown:?}");
-    assert!(shown[0].contains("baseColorTexture's"), "{shown:?}");
+    assert!(
+        shown[0].contains("occlusionTexture with its baseColorTexture's"),
+        "{shown:?}"
+    );
 }

@@ -18,6 +18,7 @@ use glam::DVec2;
 use gltf::texture::{MagFilter, MinFilter as GltfMinFilter, WrappingMode};
 
 use super::buffers::{buffer_path, decode_data_uri};
+use super::texture_transform::UvChoice;
 use crate::scene::{MinFilter, MipMode, Texture, TextureFilter, TextureWrap, Warning};
 
 /// The textures decoded so far, by (image, sampler); None: it could not
@@ -27,28 +28,34 @@ pub(super) struct DecodedImages {
     by_source: HashMap<(usize, Option<usize>), Option<Arc<Texture>>>,
 }
 
+/// A primitive's texture coordinates: the first channel, and the second
+/// where its material reads one (texture_transform.rs).
+pub(super) struct PrimitiveUvs {
+    pub first: Vec<DVec2>,
+    pub second: Option<Vec<DVec2>>,
+}
+
 /// The texture coordinates, read where the reader walks the primitives.
 impl super::Reader<'_, '_> {
     /// The texture coordinates of a primitive whose material has a texture
-    /// that decoded (the set and transform of texture_transform.rs), one per
-    /// position; None otherwise. Coordinates that cannot be read
-    /// leave the primitive untextured, with a warning.
+    /// that decoded (the channels of texture_transform.rs), one per
+    /// position; None otherwise. Coordinates that cannot be read leave the
+    /// primitive untextured, with a warning.
     pub(super) fn texture_coordinates(
         &mut self,
         primitive: &gltf::Primitive,
         draco: Option<&super::draco::DracoPrimitive>,
         count: usize,
         at: &str,
-    ) -> Option<Vec<DVec2>> {
+    ) -> Option<PrimitiveUvs> {
         let material = primitive.material();
         let local = *self.material_of.get(&material.index())?;
         let read = self.mesh.materials.get(local)?;
         if read.texture.is_none() && !read.maps.any() {
             return None;
         }
-        // One set of coordinates serves every texture (texture_transform.rs).
-        let (choice, differ) = super::texture_transform::uv_choice(&material)?;
-        if differ {
+        let channels = super::texture_transform::uv_channels(&material)?;
+        if let Some(slot) = channels.unmatched {
             let name = material.index().map_or_else(
                 || "the default material".to_string(),
                 |i| format!("materials[{i}]"),
@@ -57,9 +64,9 @@ impl super::Reader<'_, '_> {
                 self.files.path,
                 None,
                 format!(
-                    "{name}: its textures ask for different texture coordinates or \
-                     KHR_texture_transform transforms; kdray reads all with its {}'s",
-                    choice.slot
+                    "{name}: its textures ask for more than two texture coordinate sets or \
+                     KHR_texture_transform transforms; kdray reads its {slot} with its {}'s",
+                    channels.first.slot
                 ),
             );
             // One line per material, however many primitives use it.
@@ -67,42 +74,52 @@ impl super::Reader<'_, '_> {
                 self.mesh.warnings.push(warning);
             }
         }
+        let mut channel = |choice: UvChoice| {
+            self.channel(primitive, draco, count, choice)
+                .map_err(|m| {
+                    let set = choice.set;
+                    self.mesh.warnings.push(crate::scene::Warning::new(
+                        self.files.path,
+                        None,
+                        format!("{at}: TEXCOORD_{set} {m}; the primitive is drawn untextured"),
+                    ))
+                })
+                .ok()
+        };
+        let first = channel(channels.first)?;
+        let second = match channels.second {
+            Some(choice) => Some(channel(choice)?),
+            None => None,
+        };
+        Some(PrimitiveUvs { first, second })
+    }
+
+    /// One channel's coordinates: the set `choice` names (from the Draco
+    /// stream or the accessor), one per position, with its transform.
+    fn channel(
+        &self,
+        primitive: &gltf::Primitive,
+        draco: Option<&super::draco::DracoPrimitive>,
+        count: usize,
+        choice: UvChoice,
+    ) -> Result<Vec<DVec2>, String> {
         let set = choice.set;
-        let decoded = draco.map(|d| {
-            d.tex_coords
+        let uvs = match (draco, primitive.get(&gltf::Semantic::TexCoords(set))) {
+            (Some(d), _) => d
+                .tex_coords
                 .get(&set)
                 .cloned()
-                .ok_or_else(|| "missing".to_string())
-        });
-        let read = match (decoded, primitive.get(&gltf::Semantic::TexCoords(set))) {
-            (Some(decoded), _) => decoded.and_then(|uvs| {
-                if uvs.len() == count {
-                    Ok(uvs)
-                } else {
-                    Err(format!("{} coordinates for {count} positions", uvs.len()))
-                }
-            }),
-            (None, Some(a)) => self.read_vec2(&a).and_then(|uvs| {
-                if uvs.len() == count {
-                    Ok(uvs)
-                } else {
-                    Err(format!("{} coordinates for {count} positions", uvs.len()))
-                }
-            }),
-            (None, None) => Err("missing".to_string()),
+                .ok_or_else(|| "missing".to_string())?,
+            (None, Some(a)) => self.read_vec2(&a)?,
+            (None, None) => return Err("missing".to_string()),
         };
-        read.map(|uvs| match choice.transform {
+        if uvs.len() != count {
+            return Err(format!("{} coordinates for {count} positions", uvs.len()));
+        }
+        Ok(match choice.transform {
             Some(t) => uvs.into_iter().map(|uv| t.apply(uv)).collect(),
             None => uvs,
         })
-        .map_err(|m| {
-            self.mesh.warnings.push(crate::scene::Warning::new(
-                self.files.path,
-                None,
-                format!("{at}: TEXCOORD_{set} {m}; the primitive is drawn untextured"),
-            ))
-        })
-        .ok()
     }
 }
 
@@ -170,6 +187,7 @@ impl DecodedImages {
             occlusion_strength: material
                 .occlusion_texture()
                 .map_or(1.0, |o| f64::from(o.strength()).clamp(0.0, 1.0)),
+            second_uv: 0,
         }
     }
 

@@ -423,6 +423,8 @@ impl Reader<'_, '_> {
                 &mut self.files,
                 &mut self.mesh.warnings,
             );
+            material.maps.second_uv =
+                texture_transform::uv_channels(&primitive.material()).map_or(0, |c| c.second_slots);
             self.mesh.materials.push(material);
         }
         mesh_index(local).ok_or_else(|| format!("{at}: more materials than a mesh can index"))
@@ -436,7 +438,7 @@ impl Reader<'_, '_> {
     fn append(
         &mut self,
         v: PrimitiveVertices,
-        uvs: Option<Vec<DVec2>>,
+        uvs: Option<images::PrimitiveUvs>,
         corners: &[[usize; 3]],
         material: u32,
         world: DMat4,
@@ -451,11 +453,24 @@ impl Reader<'_, '_> {
         let normal_matrix = crate::scene::normals::normal_matrix(linear);
         let uv_base = self.mesh.uvs.len();
         if let Some(uvs) = &uvs {
-            mesh_index(uv_base + uvs.len()).ok_or_else(too_many)?;
-            self.mesh.uvs.extend_from_slice(uvs);
+            mesh_index(uv_base + uvs.first.len()).ok_or_else(too_many)?;
+            self.mesh.uvs.extend_from_slice(&uvs.first);
         }
         let vertex_base = self.mesh.positions.len();
         let count = v.positions.len();
+        // The second channel lies beside the positions, once any primitive
+        // has one (zero for the others').
+        let second = uvs.as_ref().and_then(|u| u.second.as_ref());
+        if second.is_some() || !self.mesh.second_uvs.is_empty() {
+            self.mesh.second_uvs.resize(vertex_base, DVec2::ZERO);
+            match second {
+                Some(s) => self.mesh.second_uvs.extend_from_slice(s),
+                None => self
+                    .mesh
+                    .second_uvs
+                    .resize(vertex_base + count, DVec2::ZERO),
+            }
+        }
         mesh_index(vertex_base + count).ok_or_else(too_many)?;
         let normal_base = self.mesh.normals.len();
         if let Some(normals) = &v.normals {

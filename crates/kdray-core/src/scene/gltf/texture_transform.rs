@@ -1,11 +1,13 @@
 //! Which texture coordinates a glTF material's textures read, and
-//! `KHR_texture_transform` applied to them. kdray keeps one set of texture
-//! coordinates per triangle, which every texture of its material reads:
-//! those of the base colour's texture, else of the first map's
-//! (metallic-roughness, normal, emissive, occlusion), with that texture's transform
-//! (its `offset`, `rotation` and `scale`, and its `texCoord` override) applied
-//! once, when the file is read. A material whose other textures ask for
-//! other coordinates or another transform gets one warning.
+//! `KHR_texture_transform` applied to them. Each texture slot (base colour,
+//! metallic-roughness, normal, emissive, occlusion) reads a `TEXCOORD_n`
+//! set (its `texCoord`, or the transform's override) with its transform
+//! (`offset`, `rotation`, `scale`). A triangle keeps up to two channels of
+//! coordinates, each a set with a transform applied once, when the file is
+//! read: the first is the base colour texture's choice (else the first
+//! map's), the second the first other choice a slot makes. A slot that
+//! makes a third choice reads the first channel, and its material gets one
+//! warning.
 
 use glam::DVec2;
 use serde_json::Value;
@@ -72,40 +74,74 @@ fn slot_choice(slot: &'static str, tex_coord: u32, transform: Option<&Value>) ->
     }
 }
 
-/// The coordinates `material`'s textures read (None without a texture),
-/// and whether some other texture of it asked for other coordinates.
-pub(super) fn uv_choice(material: &gltf::Material) -> Option<(UvChoice, bool)> {
+/// The two channels of coordinates a material's textures read.
+#[derive(Debug, Clone, PartialEq)]
+pub(super) struct UvChannels {
+    pub first: UvChoice,
+    pub second: Option<UvChoice>,
+    /// The slots ([`crate::layout::UV_SLOT_BASE`] and its neighbours) that
+    /// read the second channel.
+    pub second_slots: u32,
+    /// A slot whose choice is neither channel's (it reads the first).
+    pub unmatched: Option<&'static str>,
+}
+
+/// The channels `material`'s textures read; None without a texture.
+pub(super) fn uv_channels(material: &gltf::Material) -> Option<UvChannels> {
+    use crate::layout::{
+        UV_SLOT_BASE, UV_SLOT_EMISSIVE, UV_SLOT_METAL_ROUGH, UV_SLOT_NORMAL, UV_SLOT_OCCLUSION,
+    };
     let pbr = material.pbr_metallic_roughness();
     let info = |slot, i: gltf::texture::Info| {
         slot_choice(slot, i.tex_coord(), i.extension_value(EXTENSION))
     };
-    let slots: Vec<UvChoice> = [
+    let slots: Vec<(u32, UvChoice)> = [
         pbr.base_color_texture()
-            .map(|i| info("baseColorTexture", i)),
+            .map(|i| (UV_SLOT_BASE, info("baseColorTexture", i))),
         pbr.metallic_roughness_texture()
-            .map(|i| info("metallicRoughnessTexture", i)),
-        material
-            .normal_texture()
-            .map(|n| slot_choice("normalTexture", n.tex_coord(), n.extension_value(EXTENSION))),
+            .map(|i| (UV_SLOT_METAL_ROUGH, info("metallicRoughnessTexture", i))),
+        material.normal_texture().map(|n| {
+            let c = slot_choice("normalTexture", n.tex_coord(), n.extension_value(EXTENSION));
+            (UV_SLOT_NORMAL, c)
+        }),
         material
             .emissive_texture()
-            .map(|i| info("emissiveTexture", i)),
+            .map(|i| (UV_SLOT_EMISSIVE, info("emissiveTexture", i))),
         material.occlusion_texture().map(|o| {
-            slot_choice(
+            let c = slot_choice(
                 "occlusionTexture",
                 o.tex_coord(),
                 o.extension_value(EXTENSION),
-            )
+            );
+            (UV_SLOT_OCCLUSION, c)
         }),
     ]
     .into_iter()
     .flatten()
     .collect();
-    let first = *slots.first()?;
-    let differ = slots
-        .iter()
-        .any(|s| s.set != first.set || s.transform != first.transform);
-    Some((first, differ))
+    let (_, first) = *slots.first()?;
+    let same = |a: &UvChoice, b: &UvChoice| a.set == b.set && a.transform == b.transform;
+    let mut channels = UvChannels {
+        first,
+        second: None,
+        second_slots: 0,
+        unmatched: None,
+    };
+    for (bit, choice) in &slots[1..] {
+        if same(choice, &first) {
+            continue;
+        }
+        match channels.second {
+            None => channels.second = Some(*choice),
+            Some(second) if !same(choice, &second) => {
+                channels.unmatched.get_or_insert(choice.slot);
+                continue;
+            }
+            Some(_) => {}
+        }
+        channels.second_slots |= bit;
+    }
+    Some(channels)
 }
 
 #[cfg(test)]

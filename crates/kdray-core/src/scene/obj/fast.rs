@@ -90,6 +90,7 @@ pub(super) fn parse(text: &[u8], threads: usize, materials: Option<MaterialFiles
         positions,
         normals,
         uvs: Vec::new(),
+        second_uvs: Vec::new(),
         colours: Vec::new(),
         tangents: Vec::new(),
         triangles,
