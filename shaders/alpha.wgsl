@@ -7,8 +7,9 @@
 //
 // Alpha at a hit: the material's factor times, on a textured triangle,
 // its base-colour texture's alpha at the hit's texture coordinates (the
-// first channel, which the base colour always reads), on the
-// base level by the magnification filter (a walk has no ray cone). MASK,
+// first channel, which the base colour always reads; on the base level by
+// the magnification filter: a walk has no ray cone), times its vertex
+// colours' alpha there. MASK,
 // and BLEND outside the path tracer, compare it with `alpha_cutoff`; BLEND
 // in the path tracer with a number in (0, 1] hashed from the ray and the
 // object, so a ray passes with probability 1 - alpha and every walk of
@@ -63,10 +64,13 @@ fn alpha_hole(id: u32, tri: Triangle, ray: Ray, t: f32) -> bool {
         return false;
     }
     var alpha = m.alpha_factor;
-    if (TEXTURES && m.texture != NO_TEXTURE) {
+    if (TEXTURES) {
         let h = texture_hit(id - params.sphere_count, ray.origin + t * ray.dir);
         if (h.found) {
-            alpha *= sample_alpha(m.texture, h.uv);
+            if (m.texture != NO_TEXTURE) {
+                alpha *= sample_alpha(m.texture, h.uv);
+            }
+            alpha *= vertex_colour(h).w;
         }
     }
     var cutoff = m.alpha_cutoff;

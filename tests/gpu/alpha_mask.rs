@@ -11,7 +11,7 @@ use crate::common;
 
 use common::masked::{checker_alphas, masked_scene};
 use common::strategies::{direction, ray_for, scene, traversal_cost, tree_for, vec3};
-use common::textured::write_gltf_quad_material;
+use common::textured::{write_gltf_quad_attributes, write_gltf_quad_material};
 use common::{compare, gpu, pixel, render, TempDir};
 use kdray::geometry::{Primitives, Ray, T_INFINITY};
 use kdray::gpu::{Accel, GpuScene, PreparedScene, RayQueries, RayQuery};
@@ -39,9 +39,19 @@ fn holed() -> image::RgbaImage {
 /// (the light's footprint through it reaches 1.5); beside the quad (|x| >
 /// 2.33) the wall up to |x| = 3 lies in the quad's shadow.
 fn wall_scene(dir: &TempDir, material: Option<&str>, integrator: &str) -> Scene {
+    wall_scene_with(dir, material, integrator, &[])
+}
+
+/// [`wall_scene`] with the quad's vertex attributes `attributes`.
+fn wall_scene_with(
+    dir: &TempDir,
+    material: Option<&str>,
+    integrator: &str,
+    attributes: &[(&str, Vec<Vec<f32>>)],
+) -> Scene {
     let mesh = match material {
         Some(m) => {
-            write_gltf_quad_material(&dir.path, "quad.gltf", m, &[holed()], None);
+            write_gltf_quad_attributes(&dir.path, "quad.gltf", m, &[holed()], attributes);
             "[[meshes]]\npath = \"quad.gltf\"\n"
         }
         None => "",
@@ -139,6 +149,35 @@ fn a_masked_quad_shows_and_lights_the_wall_through_its_hole_path_traced() {
     // Through the hole what differs is the paths that bounce off the
     // quad's black (only glossy) back: noise of a few levels.
     assert_hole_shows_the_wall("path", 3);
+}
+
+/// `COLOR_0`'s alpha multiplies the texture's: at 0.3 on every corner the
+/// masked quad (cutoff 0.5) is a hole everywhere, and the scene looks as it
+/// does without it (on the GPU and in the CPU reference); at 1 it is the
+/// masked quad.
+#[test]
+fn vertex_colour_alpha_multiplies_the_mask() {
+    let _ = gpu();
+    let dir = TempDir::new("alpha-colour");
+    let colour = |a: f32| vec![("COLOR_0", vec![vec![1.0, 1.0, 1.0, a]; 4])];
+    let faint_scene = wall_scene_with(&dir, Some(MASK), "whitted", &colour(0.3));
+    let faint = render(&faint_scene, Accel::Kdtree);
+    // The CPU mirror cuts the same holes.
+    let reference = ReferenceTracer::new(&faint_scene, true).image();
+    let d = compare(&faint.rgb, &reference, SIDE, SIDE, 1);
+    assert_eq!(d.pixels_over, 0, "GPU against the CPU reference: {d:?}");
+    let whole = render(
+        &wall_scene_with(&dir, Some(MASK), "whitted", &colour(1.0)),
+        Accel::Kdtree,
+    );
+    let masked = render(&wall_scene(&dir, Some(MASK), "whitted"), Accel::Kdtree);
+    let bare = render(&wall_scene(&dir, None, "whitted"), Accel::Kdtree);
+    assert!(
+        faint.rgb == bare.rgb,
+        "alpha 0.3 left something of the quad"
+    );
+    assert!(whole.rgb == masked.rgb, "alpha 1 changed the masked quad");
+    assert!(masked.rgb != bare.rgb);
 }
 
 /// BLEND in the path tracer: a black quad of alpha 0.25 before a wall

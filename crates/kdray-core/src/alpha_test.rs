@@ -8,7 +8,7 @@
 //! triangle, its base-colour texture's alpha at the hit's texture
 //! coordinates (the barycentrics of the hit point, as the shading reads
 //! them), on the base level by the magnification filter
-//! ([`Texture::sample_alpha`]). MASK, and BLEND in the Whitted integrator,
+//! ([`Texture::sample_alpha`]), times its vertex colours' alpha there. MASK, and BLEND in the Whitted integrator,
 //! compare it with a fixed cutoff; BLEND in the path tracer with a number
 //! in (0, 1] hashed from the ray and the object, so that a ray passes with
 //! probability 1 - alpha and every walk of that ray decides alike.
@@ -41,6 +41,9 @@ pub struct AlphaTest {
     /// Per triangle: its texture coordinates where its material's texture
     /// reads them.
     uvs: Vec<Option<[Vec2; 3]>>,
+    /// Per triangle: its vertex colours' alphas (as the kernel reads them,
+    /// 16-bit unorm) where its material is tested and the scene has them.
+    colour_alphas: Vec<Option<[f32; 3]>>,
     /// The tested materials' base-colour textures.
     textures: Vec<Texture>,
 }
@@ -94,10 +97,21 @@ impl AlphaTest {
                 _ => scene.uvs_of(t).map(|uv| uv.map(|c| c.as_vec2())),
             })
             .collect();
+        let unorm16 = |a: f64| ((a as f32).clamp(0.0, 1.0) * 65535.0).round() / 65535.0;
+        let colour_alphas = scene
+            .triangles
+            .iter()
+            .zip(&of_triangle)
+            .map(|(t, &m)| match m {
+                Self::UNTESTED => None,
+                _ => scene.colours_of(t).map(|c| c.map(|c| unorm16(c.w))),
+            })
+            .collect();
         Some(AlphaTest {
             of_triangle,
             materials,
             uvs,
+            colour_alphas,
             textures,
         })
     }
@@ -109,11 +123,15 @@ impl AlphaTest {
             return false;
         };
         let mut alpha = m.factor;
+        let b = || crate::reference::barycentrics(&tri.v, ray.origin + t * ray.dir);
         if let (Some(texture), Some(uvs)) = (m.texture, self.uvs[index]) {
-            let p = ray.origin + t * ray.dir;
-            let b = crate::reference::barycentrics(&tri.v, p);
+            let b = b();
             let uv = b.x * uvs[0] + b.y * uvs[1] + b.z * uvs[2];
             alpha *= self.textures[texture].sample_alpha(uv);
+        }
+        if let Some(a) = self.colour_alphas[index] {
+            let b = b();
+            alpha *= b.x * a[0] + b.y * a[1] + b.z * a[2];
         }
         let cutoff = match m.stochastic {
             true => coverage_hash(ray, object),

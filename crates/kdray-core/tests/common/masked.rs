@@ -1,8 +1,8 @@
 //! Scenes with alpha-masked triangles for the walks' tests: the objects of
 //! a [`Primitives`] (f32 -> f64 -> f32 is exact) with every second
 //! triangle in a MASK material whose base-colour texture is a small alpha
-//! pattern, read nearest and repeated, so rays meet holes and solid texels
-//! alike. Shared by the CPU walks' property tests and the GPU query tests.
+//! pattern, read nearest and repeated, and whose vertex colours' alphas
+//! multiply it, so rays meet holes and solid texels alike. Shared by the CPU walks' property tests and the GPU query tests.
 #![allow(dead_code)]
 
 use std::path::Path;
@@ -72,7 +72,11 @@ pub fn masked_scene(prims: &Primitives, alphas: &[u8], uv_scale: f64, integrator
         DVec2::new(uv_scale, 0.0),
         DVec2::new(0.0, uv_scale),
     ];
+    // Vertex colours' alphas, which multiply the texture's: some corners
+    // cut more holes.
+    let colour_alphas = [[1.0, 1.0, 1.0], [0.2, 1.0, 0.6], [1.0, 0.4, 0.9]];
     scene.triangle_uvs.clear();
+    scene.triangle_colours.clear();
     scene.triangles = Vec::new();
     for (i, t) in prims.triangles.iter().enumerate() {
         let mut tri = Triangle::flat(t.v.map(|v: Vec3| v.as_dvec3()), solid);
@@ -80,6 +84,10 @@ pub fn masked_scene(prims: &Primitives, alphas: &[u8], uv_scale: f64, integrator
             tri.material = masked;
             tri.uvs = scene.triangle_uvs.len() as u32;
             scene.triangle_uvs.push(corners);
+            let a: [f64; 3] = colour_alphas[(i / 2) % 3];
+            scene
+                .triangle_colours
+                .push(a.map(|a| glam::DVec4::new(1.0, 1.0, 1.0, a)));
         }
         scene.triangles.push(tri);
     }
