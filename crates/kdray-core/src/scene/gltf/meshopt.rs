@@ -244,102 +244,137 @@ fn decode_triangles(data: &[u8], count: usize) -> Result<Vec<u32>, String> {
             data.len()
         ));
     }
-    let codes = &data[1..1 + triangles];
     let end = data.len() - TRIANGLES_TAIL;
-    let codeaux = &data[end..];
-    let mut at = 1 + triangles;
-    let mut edges = Ring::<(u32, u32)>::default();
-    let mut vertices = Ring::<u32>::default();
-    let mut next = 0u32;
-    let mut last = 0u32;
+    let mut decoder = TriangleDecoder {
+        data,
+        end,
+        at: 1 + triangles,
+        edges: Ring::default(),
+        vertices: Ring::default(),
+        next: 0,
+        last: 0,
+    };
     let mut out = Vec::with_capacity(count);
-    // A zigzagged delta from `last`, read as a varint.
-    let explicit = |at: &mut usize, last: &mut u32| -> Result<u32, String> {
-        let v = read_varint(data, at, end)?;
-        let delta = if v & 1 != 0 { !(v >> 1) } else { v >> 1 };
-        *last = last.wrapping_add(delta);
-        Ok(*last)
-    };
-    let take_next = |next: &mut u32| {
-        *next = next.wrapping_add(1);
-        next.wrapping_sub(1)
-    };
-    for &code in codes {
+    for &code in &data[1..1 + triangles] {
         let (x, y) = (usize::from(code >> 4), code & 15);
-        let [a, b, c] = if x < 15 {
-            let (a, b) = edges.back(x);
-            let c = match y {
-                0 => take_next(&mut next),
-                1..=12 => vertices.back(usize::from(y)),
-                13 => {
-                    last = last.wrapping_sub(1);
-                    last
-                }
-                14 => {
-                    last = last.wrapping_add(1);
-                    last
-                }
-                _ => explicit(&mut at, &mut last)?,
-            };
-            edges.push((c, b));
-            edges.push((a, c));
-            if !(1..=12).contains(&y) {
-                vertices.push(c);
-            }
-            [a, b, c]
+        let triangle = if x < 15 {
+            decoder.on_edge(x, y)?
         } else {
-            // 0xfY (Y < 14): the table's nibbles; 0xfe / 0xff: a data byte's.
-            let (zw, a) = if y < 14 {
-                (codeaux[usize::from(y)], take_next(&mut next))
-            } else {
-                let zw = *data
-                    .get(at)
-                    .filter(|_| at < end)
-                    .ok_or("TRIANGLES stream ends inside its extra data")?;
-                at += 1;
-                if zw == 0 {
-                    next = 0;
-                }
-                let a = if y == 14 {
-                    take_next(&mut next)
-                } else {
-                    explicit(&mut at, &mut last)?
-                };
-                (zw, a)
-            };
-            let explicit_allowed = y >= 14;
-            let (z, w) = (zw >> 4, zw & 15);
-            let mut corner = |n: u8| -> Result<u32, String> {
-                Ok(match n {
-                    0 => take_next(&mut next),
-                    15 if explicit_allowed => explicit(&mut at, &mut last)?,
-                    _ => vertices.back(usize::from(n - 1)),
-                })
-            };
-            let b = corner(z)?;
-            let c = corner(w)?;
-            edges.push((b, a));
-            edges.push((c, b));
-            edges.push((a, c));
-            vertices.push(a);
-            let pushed = |n: u8| n == 0 || (explicit_allowed && n == 15);
-            if pushed(z) {
-                vertices.push(b);
-            }
-            if pushed(w) {
-                vertices.push(c);
-            }
-            [a, b, c]
+            decoder.free(y, &data[end..])?
         };
-        out.extend_from_slice(&[a, b, c]);
+        out.extend_from_slice(&triangle);
     }
-    if at != end {
+    if decoder.at != end {
         return Err(format!(
             "TRIANGLES stream has {} bytes of extra data left over",
-            end - at
+            end - decoder.at
         ));
     }
     Ok(out)
+}
+
+/// The state of a TRIANGLES stream's decoding (the extension's appendix):
+/// its extra data read from `at` up to `end`, the edge and vertex FIFOs,
+/// the next new vertex and the last explicit one.
+struct TriangleDecoder<'a> {
+    data: &'a [u8],
+    end: usize,
+    at: usize,
+    edges: Ring<(u32, u32)>,
+    vertices: Ring<u32>,
+    next: u32,
+    last: u32,
+}
+
+impl TriangleDecoder<'_> {
+    /// The next new vertex.
+    fn take_next(&mut self) -> u32 {
+        self.next = self.next.wrapping_add(1);
+        self.next.wrapping_sub(1)
+    }
+
+    /// A zigzagged delta from the last explicit vertex, read as a varint.
+    fn explicit(&mut self) -> Result<u32, String> {
+        let v = read_varint(self.data, &mut self.at, self.end)?;
+        let delta = if v & 1 != 0 { !(v >> 1) } else { v >> 1 };
+        self.last = self.last.wrapping_add(delta);
+        Ok(self.last)
+    }
+
+    /// Code 0xXY, X < 15: a triangle on edge X of the FIFO, its third
+    /// vertex by Y (new, from the vertex FIFO, the last explicit one -1,
+    /// +1, or explicit).
+    fn on_edge(&mut self, x: usize, y: u8) -> Result<[u32; 3], String> {
+        let (a, b) = self.edges.back(x);
+        let c = match y {
+            0 => self.take_next(),
+            1..=12 => self.vertices.back(usize::from(y)),
+            13 => {
+                self.last = self.last.wrapping_sub(1);
+                self.last
+            }
+            14 => {
+                self.last = self.last.wrapping_add(1);
+                self.last
+            }
+            _ => self.explicit()?,
+        };
+        self.edges.push((c, b));
+        self.edges.push((a, c));
+        if !(1..=12).contains(&y) {
+            self.vertices.push(c);
+        }
+        Ok([a, b, c])
+    }
+
+    /// Code 0xfY: a triangle on no edge. Y < 14 takes its two other
+    /// vertices' nibbles from the stream's table (`codeaux`); 0xfe and 0xff
+    /// from a data byte (0 restarts the new vertices), its first vertex new
+    /// or explicit.
+    fn free(&mut self, y: u8, codeaux: &[u8]) -> Result<[u32; 3], String> {
+        let (zw, a) = if y < 14 {
+            (codeaux[usize::from(y)], self.take_next())
+        } else {
+            let zw = *self
+                .data
+                .get(self.at)
+                .filter(|_| self.at < self.end)
+                .ok_or("TRIANGLES stream ends inside its extra data")?;
+            self.at += 1;
+            if zw == 0 {
+                self.next = 0;
+            }
+            let a = if y == 14 {
+                self.take_next()
+            } else {
+                self.explicit()?
+            };
+            (zw, a)
+        };
+        let explicit_allowed = y >= 14;
+        let (z, w) = (zw >> 4, zw & 15);
+        let mut corner = |n: u8| -> Result<u32, String> {
+            Ok(match n {
+                0 => self.take_next(),
+                15 if explicit_allowed => self.explicit()?,
+                _ => self.vertices.back(usize::from(n - 1)),
+            })
+        };
+        let b = corner(z)?;
+        let c = corner(w)?;
+        self.edges.push((b, a));
+        self.edges.push((c, b));
+        self.edges.push((a, c));
+        self.vertices.push(a);
+        let pushed = |n: u8| n == 0 || (explicit_allowed && n == 15);
+        if pushed(z) {
+            self.vertices.push(b);
+        }
+        if pushed(w) {
+            self.vertices.push(c);
+        }
+        Ok([a, b, c])
+    }
 }
 
 /// A 16-entry FIFO; entries never written read as the default.

@@ -81,42 +81,7 @@ pub fn parse_gltf(
     read_buffer: &mut dyn FnMut(&Path) -> std::io::Result<Vec<u8>>,
 ) -> Result<Mesh, SceneError> {
     let err = |message: String| SceneError::new(path, None, None, message);
-    check_glb_header(bytes).map_err(err)?;
-    let invalid = |e: gltf::Error| {
-        if is_gltf_1(bytes) {
-            return err(GLTF_1_UNSUPPORTED.to_string());
-        }
-        if let Some(message) = alpha::cutoff_type_error(bytes) {
-            return err(message);
-        }
-        err(format!(
-            "not a valid glTF 2.0 file: {}",
-            gltf_error_text(&e)
-        ))
-        .with_source(e)
-    };
-    // Parse, check what the crate's validation would index unchecked, then
-    // validate (gltf-json 1.4 panics on a POSITION accessor index out of
-    // range, found by crates/kdray-core/tests/fuzz_regressions.rs's bit flips).
-    let gltf = gltf::Gltf::from_slice_without_validation(bytes).map_err(invalid)?;
-    let mut root = gltf.document.into_json();
-    if root.asset.version.starts_with('1') {
-        return Err(err(GLTF_1_UNSUPPORTED.to_string()));
-    }
-    check_attribute_indices(&root).map_err(err)?;
-    alpha::check_cutoffs(&root).map_err(err)?;
-    // The extensions kdray reads rewrite what the crate would refuse; one
-    // it does not read is an error if required, a warning if used.
-    let prepared = extensions::prepare(&mut root).map_err(err)?;
-    let mut warnings = Vec::new();
-    if let Some(warning) = extensions_warning(&root, path) {
-        warnings.push(warning);
-    }
-    root.extensions_required.clear();
-    let gltf = gltf::Gltf {
-        document: gltf::Document::from_json(root).map_err(invalid)?,
-        blob: gltf.blob,
-    };
+    let (gltf, prepared, mut warnings) = parse_document(bytes, path)?;
     let document = &gltf.document;
     let buffers = load_buffers(
         document,
@@ -153,44 +118,7 @@ pub fn parse_gltf(
         material_of: HashMap::new(),
         triangles_seen: 0,
     };
-    // Depth-first over the node tree, each node with its world transform. A
-    // node reached twice (a cycle, or a node with two parents, both invalid
-    // glTF) is an error: it could make the walk endless or exponential.
-    let mut visited = vec![false; document.nodes().count()];
-    let mut orthographic_cameras = 0usize;
-    let mut stack: Vec<(gltf::Node, DMat4)> = scene.nodes().map(|n| (n, DMat4::IDENTITY)).collect();
-    stack.reverse();
-    while let Some((node, parent)) = stack.pop() {
-        let index = node.index();
-        if std::mem::replace(&mut visited[index], true) {
-            return Err(err(format!(
-                "node {index} is reached twice from the scene (glTF nodes must form a tree)"
-            )));
-        }
-        let local = node.transform().matrix().map(|c| c.map(f64::from));
-        let world = parent * DMat4::from_cols_array_2d(&local);
-        if !world.is_finite() {
-            return Err(err(format!(
-                "node {index}: the node transforms give a non-finite matrix"
-            )));
-        }
-        if let Some(mesh) = node.mesh() {
-            reader.mesh(&mesh, world).map_err(err)?;
-        }
-        if let Some(light) = node.light() {
-            let light = placed::punctual_light(&light, index, world).map_err(err)?;
-            reader.mesh.lights.push(light);
-        }
-        if let Some(camera) = node.camera().filter(|_| reader.mesh.camera.is_none()) {
-            match placed::perspective_camera(&camera, index, world).map_err(err)? {
-                Some(c) => reader.mesh.camera = Some(c),
-                None => orthographic_cameras += 1,
-            }
-        }
-        let children: Vec<_> = node.children().collect();
-        stack.extend(children.into_iter().rev().map(|c| (c, world)));
-    }
-
+    let orthographic_cameras = reader.place_nodes(&scene).map_err(err)?;
     let mut mesh = reader.mesh;
     if orthographic_cameras > 0 {
         warnings.push(crate::scene::Warning::new(
@@ -219,6 +147,49 @@ pub fn parse_gltf(
     warnings.append(&mut mesh.warnings);
     mesh.warnings = warnings;
     Ok(mesh)
+}
+
+/// The document of glTF bytes, validated, with the extensions kdray reads
+/// prepared (extensions.rs) and the warning for those it does not, if any.
+fn parse_document(
+    bytes: &[u8],
+    path: &Path,
+) -> Result<(gltf::Gltf, extensions::Prepared, Vec<crate::scene::Warning>), SceneError> {
+    let err = |message: String| SceneError::new(path, None, None, message);
+    check_glb_header(bytes).map_err(err)?;
+    let invalid = |e: gltf::Error| {
+        if is_gltf_1(bytes) {
+            return err(GLTF_1_UNSUPPORTED.to_string());
+        }
+        if let Some(message) = alpha::cutoff_type_error(bytes) {
+            return err(message);
+        }
+        err(format!(
+            "not a valid glTF 2.0 file: {}",
+            gltf_error_text(&e)
+        ))
+        .with_source(e)
+    };
+    // Parse, check what the crate's validation would index unchecked, then
+    // validate (gltf-json 1.4 panics on a POSITION accessor index out of
+    // range, found by crates/kdray-core/tests/fuzz_regressions.rs's bit flips).
+    let gltf = gltf::Gltf::from_slice_without_validation(bytes).map_err(invalid)?;
+    let mut root = gltf.document.into_json();
+    if root.asset.version.starts_with('1') {
+        return Err(err(GLTF_1_UNSUPPORTED.to_string()));
+    }
+    check_attribute_indices(&root).map_err(err)?;
+    alpha::check_cutoffs(&root).map_err(err)?;
+    // The extensions kdray reads rewrite what the crate would refuse; one
+    // it does not read is an error if required, a warning if used.
+    let prepared = extensions::prepare(&mut root).map_err(err)?;
+    let warnings = extensions_warning(&root, path).into_iter().collect();
+    root.extensions_required.clear();
+    let gltf = gltf::Gltf {
+        document: gltf::Document::from_json(root).map_err(invalid)?,
+        blob: gltf.blob,
+    };
+    Ok((gltf, prepared, warnings))
 }
 
 /// The crate subtracts the 12-byte header from a GLB's declared length
@@ -315,6 +286,50 @@ struct PrimitiveVertices {
 }
 
 impl Reader<'_, '_> {
+    /// Walks `scene`'s node tree depth first, each node with its world
+    /// transform, adding its mesh, its light and (the first) its perspective
+    /// camera; the number of orthographic cameras met. A node reached twice
+    /// (a cycle, or a node with two parents, both invalid glTF) is an
+    /// error: it could make the walk endless or exponential.
+    fn place_nodes(&mut self, scene: &gltf::Scene) -> Result<usize, String> {
+        let mut visited = vec![false; self.document.nodes().count()];
+        let mut orthographic_cameras = 0usize;
+        let mut stack: Vec<(gltf::Node, DMat4)> =
+            scene.nodes().map(|n| (n, DMat4::IDENTITY)).collect();
+        stack.reverse();
+        while let Some((node, parent)) = stack.pop() {
+            let index = node.index();
+            if std::mem::replace(&mut visited[index], true) {
+                return Err(format!(
+                    "node {index} is reached twice from the scene (glTF nodes must form a tree)"
+                ));
+            }
+            let local = node.transform().matrix().map(|c| c.map(f64::from));
+            let world = parent * DMat4::from_cols_array_2d(&local);
+            if !world.is_finite() {
+                return Err(format!(
+                    "node {index}: the node transforms give a non-finite matrix"
+                ));
+            }
+            if let Some(mesh) = node.mesh() {
+                self.mesh(&mesh, world)?;
+            }
+            if let Some(light) = node.light() {
+                let light = placed::punctual_light(&light, index, world)?;
+                self.mesh.lights.push(light);
+            }
+            if let Some(camera) = node.camera().filter(|_| self.mesh.camera.is_none()) {
+                match placed::perspective_camera(&camera, index, world)? {
+                    Some(c) => self.mesh.camera = Some(c),
+                    None => orthographic_cameras += 1,
+                }
+            }
+            let children: Vec<_> = node.children().collect();
+            stack.extend(children.into_iter().rev().map(|c| (c, world)));
+        }
+        Ok(orthographic_cameras)
+    }
+
     /// Appends the triangles of `mesh` placed by `world`.
     fn mesh(&mut self, mesh: &gltf::Mesh, world: DMat4) -> Result<(), String> {
         for primitive in mesh.primitives() {
