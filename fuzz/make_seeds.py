@@ -8,7 +8,8 @@ The glTF seeds are one unit quad (4 positions, 2 triangles) with texture
 coordinates and a base-colour texture, in the containers and encodings
 kdray reads: image in a data URI (PNG, JPEG), in a .glb buffer view;
 texture coordinates as floats, normalized bytes, or sparse; a sampler
-with NEAREST and the clamp and mirror wraps; the two glass extensions.
+with NEAREST and the clamp and mirror wraps; the two glass extensions;
+vertex colours, tangents and a second set of coordinates.
 """
 
 import base64
@@ -277,6 +278,37 @@ def gltf_seeds():
     doc = q.document(None, 0, glass, None, None, None)
     doc["extensionsUsed"] = ["KHR_materials_transmission", "KHR_materials_ior"]
     corpus("gltf", "seed_glass_extensions.gltf", gltf_text(doc, q))
+
+    # Vertex attributes: COLOR_0 as normalized unsigned shorts, TANGENT as
+    # floats, a normal map on TEXCOORD_1 and an occlusion map with a
+    # texture transform (two channels of coordinates).
+    q = Quad()
+    uvs = q.float_uvs()
+    second = q.byte_uvs()
+    colours = q.accessor(
+        q.view(struct.pack("<16H", *([65535, 32768, 0, 65535] * 4))), 5123, 4, "VEC4",
+        normalized=True,
+    )
+    tangents = q.accessor(q.view(struct.pack("<16f", *([1, 0, 0, -1] * 4))), 5126, 4, "VEC4")
+    material = textured_material()
+    material["normalTexture"] = {"index": 0, "texCoord": 1, "scale": 0.5}
+    material["occlusionTexture"] = {
+        "index": 0,
+        "strength": 0.5,
+        "extensions": {"KHR_texture_transform": {"offset": [0.5, 0], "rotation": 0.3}},
+    }
+    doc = q.document(
+        uvs,
+        0,
+        material,
+        [{"source": 0}],
+        [{"uri": data_uri("image/png", PNG_2X2)}],
+        None,
+    )
+    attributes = doc["meshes"][0]["primitives"][0]["attributes"]
+    attributes.update({"TEXCOORD_1": second, "COLOR_0": colours, "TANGENT": tangents})
+    doc["extensionsUsed"] = ["KHR_texture_transform"]
+    corpus("gltf", "seed_vertex_attributes.gltf", gltf_text(doc, q))
 
 
 OBJ_TEXTURED = """\
