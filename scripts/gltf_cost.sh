@@ -7,8 +7,9 @@
 #   - loading: the GLB and what glTF Transform's CLI makes of it (quantize,
 #     meshopt, draco), each opened as a model by `kdray bench --scene` at
 #     32x18 (its `scene_ms`, the load; `peak_host_mib`, the peak resident set);
-#   - the kernel: the same model plain, with a normal map and with an alpha
-#     mask (MASK, half its texels holes), `kdray render --stats` (`gpu_ms`),
+#   - the kernel: the same model plain, with a normal map, with an alpha
+#     mask whose every texel is solid (the test's own cost) and with half its
+#     texels holes, `kdray render --stats` (`gpu_ms`),
 #     Whitted at 640x360 and path traced at 320x180 with 16 samples;
 #   - with BASE=KDRAY2 (another build's binary): scenes/bunny.toml (Whitted,
 #     640x360) and scenes/cornell_box.toml (path, 160x160, 16 samples), this
@@ -40,13 +41,14 @@ python3 scripts/subdivide_obj.py "$bunny" 2 "$work/bunny.obj"
 python3 scripts/obj_to_glb.py "$work/bunny.obj" "$work/plain.glb"
 python3 scripts/obj_to_glb.py "$work/bunny.obj" "$work/normal.glb" --normal-map
 python3 scripts/obj_to_glb.py "$work/bunny.obj" "$work/mask.glb" --mask
+python3 scripts/obj_to_glb.py "$work/bunny.obj" "$work/solid.glb" --mask-solid
 npm install --silent --no-audit --no-fund --prefix "$work/npm" @gltf-transform/cli@4.5.1 >/dev/null
 for how in quantize meshopt draco; do
     "$work/npm/node_modules/.bin/gltf-transform" "$how" "$work/plain.glb" "$work/$how.glb" >/dev/null
 done
 # The kernel's scenes: the model under one light, seen as scenes/bunny.toml
 # sees the bunny (the light bright enough for the path tracer's falloff).
-for model in plain normal mask; do
+for model in plain normal solid mask; do
     cat >"$work/$model.toml" <<EOF
 [camera]
 position = [2.6, 1.9, 4.4]
@@ -88,7 +90,7 @@ for _ in $(seq "$rounds"); do
     for how in plain quantize meshopt draco; do
         load "$how" "$work/$how.glb"
     done
-    for model in plain normal mask; do
+    for model in plain normal solid mask; do
         frame kernel "$model, Whitted" "$kdray" "$work/$model.toml" --width 640 --height 360
         frame kernel "$model, path" "$kdray" "$work/$model.toml" --width 320 --height 180 \
             --integrator path --samples 16

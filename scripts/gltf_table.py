@@ -43,7 +43,8 @@ def main():
     base_w = median(runs, "kernel", "plain, Whitted", "gpu_ms")
     base_p = median(runs, "kernel", "plain, path", "gpu_ms")
     for case, name in [("plain", "textured"), ("normal", "textured, normal map"),
-                       ("mask", "textured, MASK (half the texels holes)")]:
+                       ("solid", "textured, MASK, every texel solid"),
+                       ("mask", "textured, MASK, half the texels holes")]:
         w = median(runs, "kernel", f"{case}, Whitted", "gpu_ms")
         p = median(runs, "kernel", f"{case}, path", "gpu_ms")
         print(f"| {name} | {w:.0f} ms | {w / base_w:.2f}x | {p:.0f} ms | {p / base_p:.2f}x |")

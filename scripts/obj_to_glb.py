@@ -8,8 +8,9 @@ material with a 64 x 64 checker base-colour texture, and as asked:
 
     --normal-map   a 64 x 64 normal map of bumps (normalTexture)
     --mask         the checker's dark squares at alpha 0, alphaMode MASK
+    --mask-solid   alphaMode MASK with every texel solid (the test, no hole)
 
-    python3 scripts/obj_to_glb.py IN.obj OUT.glb [--normal-map] [--mask]
+    python3 scripts/obj_to_glb.py IN.obj OUT.glb [--normal-map] [--mask | --mask-solid]
 
 numpy does the arithmetic; the PNGs are written with zlib.
 """
@@ -83,7 +84,7 @@ def bumps():
 def main():
     args = [a for a in sys.argv[1:] if not a.startswith("--")]
     flags = {a for a in sys.argv[1:] if a.startswith("--")}
-    if len(args) != 2 or flags - {"--normal-map", "--mask"}:
+    if len(args) != 2 or flags - {"--normal-map", "--mask", "--mask-solid"}:
         sys.exit(__doc__)
     p, f = read_obj(args[0])
     n = smooth_normals(p, f)
@@ -99,7 +100,7 @@ def main():
     if "--normal-map" in flags:
         images.append(bumps())
         material["normalTexture"] = {"index": 1}
-    if "--mask" in flags:
+    if flags & {"--mask", "--mask-solid"}:
         material["alphaMode"] = "MASK"
 
     blob = bytearray()

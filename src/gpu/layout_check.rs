@@ -118,10 +118,15 @@ macro_rules! layout_of {
     };
 }
 
-#[test]
-fn rust_types_match_wgsl_layout() {
+/// The kernel's shared types (shaders/types.wgsl), parsed and validated.
+fn types_module() -> naga::Module {
     let source = include_str!("../../shaders/types.wgsl");
-    let (module, _) = super::shaders::parse_and_validate(source);
+    super::shaders::parse_and_validate(source).0
+}
+
+#[test]
+fn scene_records_match_their_wgsl_structs() {
+    let module = types_module();
     layout_of!(&module, "KdNode", KdNode, [kind, split, index, count]);
     layout_of!(
         &module,
@@ -175,6 +180,11 @@ fn rust_types_match_wgsl_layout() {
         GpuLight,
         [position, kind, ambient, object, diffuse, cos_outer, specular, spot_scale, direction]
     );
+}
+
+#[test]
+fn frame_params_match_their_wgsl_struct() {
+    let module = types_module();
     layout_of!(
         &module,
         "FrameParams",
@@ -218,6 +228,11 @@ fn rust_types_match_wgsl_layout() {
             _pad0,
         ]
     );
+}
+
+#[test]
+fn ray_counters_and_queries_match_their_wgsl_structs() {
+    let module = types_module();
     // The host reads the counters as u32s; WGSL adds to them atomically.
     let atomic: fn(&naga::TypeInner) -> bool = atomic_u32;
     check_layout(
@@ -255,7 +270,10 @@ fn rust_types_match_wgsl_layout() {
         [origin, t_limit, dir, any_hit]
     );
     layout_of!(&module, "QueryHit", GpuQueryHit, [t, object]);
+}
 
+#[test]
+fn present_params_match_their_wgsl_struct() {
     let (present, _) = super::shaders::parse_and_validate(&super::shaders::present_source());
     layout_of!(
         &present,

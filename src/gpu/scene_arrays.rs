@@ -175,41 +175,7 @@ impl SceneArrays {
                 }
                 None => GpuTriangle::FLAT,
             };
-        // A record only where the triangle's material has a texture or a
-        // map, or the scene has vertex colours (the kernel reads them only
-        // there): its texture coordinates, colours, tangents and second
-        // channel of coordinates.
-        let has_colours = !scene.triangle_colours.is_empty();
-        let mut records = Records::default();
-        let mut record_of = |id: u32| {
-            let t = &scene.triangles[id as usize - sphere_count];
-            let textured = scene
-                .materials
-                .get(t.material as usize)
-                .is_some_and(|m| m.texture.is_some() || m.maps.any());
-            let Some(uvs) = scene.uvs_of(t).filter(|_| textured || has_colours) else {
-                return GpuTriangle::UNTEXTURED;
-            };
-            records.uvs.push(uvs.map(|uv| uv.as_vec2()));
-            if has_colours {
-                let c = scene.colours_of(t).unwrap_or([glam::DVec4::ONE; 3]);
-                records.colours.push(c.map(|c| c.as_vec4()));
-            }
-            if !scene.triangle_tangents.is_empty() {
-                let c = scene.tangents_of(t).unwrap_or([glam::DVec4::ZERO; 3]);
-                records.tangents.push(c.map(|c| c.as_vec4()));
-            }
-            if !scene.triangle_second_uvs.is_empty() {
-                let c = scene.triangle_second_uvs.get(t.uvs as usize);
-                let c = c.copied().unwrap_or_default();
-                records.second_uvs.push(c.map(|uv| uv.as_vec2()));
-            }
-            records.uvs.len() as u32 - 1
-        };
-        let record_index: Vec<u32> = order[sphere_count..]
-            .iter()
-            .map(|&id| record_of(id))
-            .collect();
+        let (record_index, records) = surface_records(scene, &order[sphere_count..], sphere_count);
         let triangles = order[sphere_count..]
             .iter()
             .zip(record_index)
@@ -251,39 +217,7 @@ impl SceneArrays {
             materials: scene
                 .materials
                 .iter()
-                .map(|m| GpuMaterial {
-                    ambient: f32x3(m.ambient),
-                    shininess: m.shininess as f32,
-                    diffuse: f32x3(m.diffuse),
-                    reflection: m.reflection as f32,
-                    specular: f32x3(m.specular),
-                    transmission: m.transmission as f32,
-                    ior: m.ior as f32,
-                    texture: texture_index(m.texture),
-                    metallic: m.physical.metal_rough.map_or(0.0, |p| p.metallic as f32),
-                    roughness: m.physical.metal_rough.map_or(1.0, |p| p.roughness as f32),
-                    emission: f32x3(m.physical.emission),
-                    model: match m.physical.metal_rough {
-                        Some(_) => MODEL_METAL_ROUGH,
-                        None => MODEL_LAMBERTIAN,
-                    },
-                    metal_rough_texture: texture_index(m.maps.metal_rough),
-                    emissive_texture: texture_index(m.maps.emissive),
-                    normal_texture: texture_index(m.maps.normal),
-                    normal_scale: m.maps.normal_scale as f32,
-                    alpha_mode: match m.alpha.mode {
-                        AlphaMode::Opaque => ALPHA_OPAQUE,
-                        AlphaMode::Mask => ALPHA_MASK,
-                        AlphaMode::Blend => ALPHA_BLEND,
-                    },
-                    alpha_cutoff: m.alpha.fixed_cutoff() as f32,
-                    alpha_factor: m.alpha.factor as f32,
-                    occlusion_texture: texture_index(m.maps.occlusion),
-                    occlusion_strength: m.maps.occlusion_strength as f32,
-                    uv_channels: m.maps.second_uv,
-                    _pad1: 0,
-                    _pad2: 0,
-                })
+                .map(|m| gpu_material(m, &texture_index))
                 .collect(),
             lights: Self::lights_of(&scene.lights),
             emitter_count: 0,
@@ -308,6 +242,84 @@ impl SceneArrays {
         arrays.emitter_count = emitters.len() as u32;
         arrays.lights.extend(emitters);
         arrays
+    }
+}
+
+/// The records (texture coordinates, vertex colours, tangents, second
+/// channel) of the triangles `ids` (scene ids, in GPU order), and each
+/// one's record index or [`GpuTriangle::UNTEXTURED`]: a record only where
+/// the triangle's material has a texture or a map, or the scene has vertex
+/// colours (the kernel reads them only there).
+fn surface_records(scene: &Scene, ids: &[u32], sphere_count: usize) -> (Vec<u32>, Records) {
+    let has_colours = !scene.triangle_colours.is_empty();
+    let mut records = Records::default();
+    let mut record_of = |id: u32| {
+        let t = &scene.triangles[id as usize - sphere_count];
+        let textured = scene
+            .materials
+            .get(t.material as usize)
+            .is_some_and(|m| m.texture.is_some() || m.maps.any());
+        let Some(uvs) = scene.uvs_of(t).filter(|_| textured || has_colours) else {
+            return GpuTriangle::UNTEXTURED;
+        };
+        records.uvs.push(uvs.map(|uv| uv.as_vec2()));
+        if has_colours {
+            let c = scene.colours_of(t).unwrap_or([glam::DVec4::ONE; 3]);
+            records.colours.push(c.map(|c| c.as_vec4()));
+        }
+        if !scene.triangle_tangents.is_empty() {
+            let c = scene.tangents_of(t).unwrap_or([glam::DVec4::ZERO; 3]);
+            records.tangents.push(c.map(|c| c.as_vec4()));
+        }
+        if !scene.triangle_second_uvs.is_empty() {
+            let c = scene.triangle_second_uvs.get(t.uvs as usize);
+            let c = c.copied().unwrap_or_default();
+            records.second_uvs.push(c.map(|uv| uv.as_vec2()));
+        }
+        records.uvs.len() as u32 - 1
+    };
+    let index = ids.iter().map(|&id| record_of(id)).collect();
+    (index, records)
+}
+
+/// Material `m` as the kernel reads it; `texture_index` gives a texture's
+/// place in the `textures` buffer (or none).
+fn gpu_material(
+    m: &crate::scene::Material,
+    texture_index: &dyn Fn(Option<u32>) -> u32,
+) -> GpuMaterial {
+    GpuMaterial {
+        ambient: f32x3(m.ambient),
+        shininess: m.shininess as f32,
+        diffuse: f32x3(m.diffuse),
+        reflection: m.reflection as f32,
+        specular: f32x3(m.specular),
+        transmission: m.transmission as f32,
+        ior: m.ior as f32,
+        texture: texture_index(m.texture),
+        metallic: m.physical.metal_rough.map_or(0.0, |p| p.metallic as f32),
+        roughness: m.physical.metal_rough.map_or(1.0, |p| p.roughness as f32),
+        emission: f32x3(m.physical.emission),
+        model: match m.physical.metal_rough {
+            Some(_) => MODEL_METAL_ROUGH,
+            None => MODEL_LAMBERTIAN,
+        },
+        metal_rough_texture: texture_index(m.maps.metal_rough),
+        emissive_texture: texture_index(m.maps.emissive),
+        normal_texture: texture_index(m.maps.normal),
+        normal_scale: m.maps.normal_scale as f32,
+        alpha_mode: match m.alpha.mode {
+            AlphaMode::Opaque => ALPHA_OPAQUE,
+            AlphaMode::Mask => ALPHA_MASK,
+            AlphaMode::Blend => ALPHA_BLEND,
+        },
+        alpha_cutoff: m.alpha.fixed_cutoff() as f32,
+        alpha_factor: m.alpha.factor as f32,
+        occlusion_texture: texture_index(m.maps.occlusion),
+        occlusion_strength: m.maps.occlusion_strength as f32,
+        uv_channels: m.maps.second_uv,
+        _pad1: 0,
+        _pad2: 0,
     }
 }
 
