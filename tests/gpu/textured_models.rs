@@ -1,6 +1,7 @@
 //! Textured models of another project, read as users open them: Debian's
 //! assimp-testmodels (Khronos' BoxTextured in its three glTF containers,
-//! and an OBJ whose MTL file names its images Windows-style). The README's
+//! Khronos' AnimatedMorphCube with its tangents, and an OBJ whose MTL file
+//! names its images Windows-style). The README's
 //! test command installs the package.
 
 use std::path::{Path, PathBuf};
@@ -102,4 +103,23 @@ fn an_mtl_naming_its_images_with_backslashes_finds_them() {
     assert!(scene.textures.iter().all(|t| t.width > 0 && t.height > 0));
     let rgb = image(&scene);
     assert!(rgb.chunks(3).any(|p| p != &rgb[0..3]), "a blank image");
+}
+
+/// Khronos' AnimatedMorphCube gives `TANGENT`s (and no normal map): they
+/// are read, one per vertex with a sign of +-1, carried by the node's
+/// rotation and scale of 100 as the positions are, and so still at right
+/// angles to the normals (carried by the inverse transpose).
+#[test]
+fn a_khronos_samples_tangents_are_read() {
+    let path = model("glTF2/glTF-Sample-Models/AnimatedMorphCube-glTF/AnimatedMorphCube.gltf");
+    let mesh = kdray::scene::gltf::load_gltf(&path, true, &mut |_| {})
+        .unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!(mesh.tangents.len(), mesh.positions.len());
+    assert_eq!(mesh.normals.len(), mesh.positions.len());
+    for (t, n) in mesh.tangents.iter().zip(&mesh.normals) {
+        let (t3, n) = (t.truncate(), n.normalize());
+        assert!((t3.length() - 100.0).abs() < 0.1, "{t}");
+        assert!(t3.normalize().dot(n).abs() < 1e-3, "{t} against {n}");
+        assert!(t.w == 1.0 || t.w == -1.0, "{t}");
+    }
 }
