@@ -5,7 +5,8 @@
 // for a direction that BSDF sampling found, for multiple importance
 // sampling. A sphere is sampled uniformly in the cone it subtends (it emits
 // outward), a triangle uniformly by area (it emits on its front side, the
-// side (v1 - v0) x (v2 - v0) points to).
+// side (v1 - v0) x (v2 - v0) points to, or on both where its material is
+// two-sided).
 
 struct LightSample {
     dir: vec3<f32>,
@@ -39,6 +40,17 @@ fn sphere_cone_width(s: Sphere, p: vec3<f32>) -> f32 {
 
 fn triangle_front(tri: Triangle) -> vec3<f32> {
     return cross(tri.v1 - tri.v0, tri.v2 - tri.v0);
+}
+
+// The cosine at emitter triangle `id` (front `front`, |front| = twice its
+// area) of the direction `dir` toward it: positive where it emits that way,
+// from its front side, or either side where its material is two-sided.
+fn emitting_cosine(id: u32, front: vec3<f32>, dir: vec3<f32>, twice_area: f32) -> f32 {
+    let c = -dot(front, dir) / twice_area;
+    if (materials[objects[id].x].two_sided != 0u) {
+        return abs(c);
+    }
+    return c;
 }
 
 fn no_light() -> LightSample {
@@ -114,7 +126,7 @@ fn sample_light(p: vec3<f32>) -> LightSample {
     }
     let d = sqrt(d2);
     let dir = to / d;
-    let cos_l = -dot(front, dir) / twice_area;
+    let cos_l = emitting_cosine(id, front, dir, twice_area);
     if (cos_l <= 0.0) {
         return no_light(); // its back faces p
     }
@@ -136,7 +148,7 @@ fn light_pdf(id: u32, p: vec3<f32>, dir: vec3<f32>, t: f32) -> f32 {
     let tri = triangle(id - params.sphere_count);
     let front = triangle_front(tri);
     let twice_area = length(front);
-    let cos_l = -dot(front, dir) / twice_area;
+    let cos_l = emitting_cosine(id, front, dir, twice_area);
     if (cos_l <= 0.0) {
         return 0.0;
     }
@@ -144,7 +156,7 @@ fn light_pdf(id: u32, p: vec3<f32>, dir: vec3<f32>, t: f32) -> f32 {
 }
 
 // The radiance emitter `id` sends back along -dir from its hit at p (0 from
-// a sphere's inside or a triangle's back).
+// a sphere's inside or a one-sided triangle's back).
 fn emitted(id: u32, p: vec3<f32>, dir: vec3<f32>) -> vec3<f32> {
     let e = emitter_radiance(id);
     if (is_sphere(id)) {
@@ -154,7 +166,8 @@ fn emitted(id: u32, p: vec3<f32>, dir: vec3<f32>) -> vec3<f32> {
         return e;
     }
     let tri = triangle(id - params.sphere_count);
-    if (dot(triangle_front(tri), dir) >= 0.0) {
+    let two_sided = materials[objects[id].x].two_sided != 0u;
+    if (!two_sided && dot(triangle_front(tri), dir) >= 0.0) {
         return vec3<f32>(0.0);
     }
     return e * emissive_scale(id, p);

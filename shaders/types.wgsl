@@ -74,7 +74,7 @@ struct Material {
     // The texture slots (UV_SLOT_*) that read the second channel of
     // texture coordinates (texture.wgsl).
     uv_channels: u32,
-    _pad1: u32,
+    two_sided: u32,       // 1: an emitting triangle emits on both sides (emitters.wgsl)
     _pad2: u32,
 }
 

@@ -170,7 +170,7 @@ fn scene_records_match_their_wgsl_structs() {
             occlusion_texture,
             occlusion_strength,
             uv_channels,
-            _pad1,
+            two_sided,
             _pad2
         ]
     );

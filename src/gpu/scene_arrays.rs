@@ -318,7 +318,7 @@ fn gpu_material(
         occlusion_texture: texture_index(m.maps.occlusion),
         occlusion_strength: m.maps.occlusion_strength as f32,
         uv_channels: m.maps.second_uv,
-        _pad1: 0,
+        two_sided: u32::from(m.physical.two_sided),
         _pad2: 0,
     }
 }

@@ -15,6 +15,7 @@ mod common;
 mod alpha_mask;
 mod bench;
 mod cli;
+mod double_sided;
 mod examples;
 mod glass;
 mod gltf_camera;

@@ -112,8 +112,8 @@ fn an_mtl_naming_its_images_with_backslashes_finds_them() {
 #[test]
 fn a_khronos_samples_tangents_are_read_and_carried_by_the_node() {
     let path = model("glTF2/glTF-Sample-Models/AnimatedMorphCube-glTF/AnimatedMorphCube.gltf");
-    let mesh = kdray::scene::gltf::load_gltf(&path, true, &mut |_| {})
-        .unwrap_or_else(|e| panic!("{e}"));
+    let mesh =
+        kdray::scene::gltf::load_gltf(&path, true, &mut |_| {}).unwrap_or_else(|e| panic!("{e}"));
     assert_eq!(mesh.tangents.len(), mesh.positions.len());
     let expected = glam::DVec4::new(-100.0, 0.0, 0.0, 1.0);
     for t in &mesh.tangents {

@@ -253,7 +253,8 @@ pub struct GpuMaterial {
     /// The slots ([`UV_SLOT_BASE`] ...) that read the second channel of
     /// texture coordinates.
     pub uv_channels: u32,
-    pub _pad1: u32,
+    /// 1: an emitting triangle emits from both sides; 0: its front only.
+    pub two_sided: u32,
     pub _pad2: u32,
 }
 

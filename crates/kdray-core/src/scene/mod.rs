@@ -263,8 +263,10 @@ pub struct Physical {
     pub metal_rough: Option<MetalRough>,
     /// Emitted radiance, per channel, >= 0 (zero: not a light). A sphere
     /// emits outward, a triangle on its front side (the side its corners
-    /// wind counter-clockwise seen from).
+    /// wind counter-clockwise seen from), or on both with `two_sided`.
     pub emission: DVec3,
+    /// A triangle emits from both sides (glTF's `doubleSided`).
+    pub two_sided: bool,
 }
 
 impl Physical {
@@ -272,6 +274,7 @@ impl Physical {
     pub const LAMBERTIAN: Physical = Physical {
         metal_rough: None,
         emission: DVec3::ZERO,
+        two_sided: false,
     };
 }
 

@@ -812,6 +812,7 @@ impl Validator<'_> {
             Physical {
                 metal_rough,
                 emission,
+                two_sided: false,
             },
         ))
     }

@@ -680,6 +680,7 @@ pub fn pbr_material(material: &gltf::Material) -> MeshMaterial {
                 roughness,
             }),
             emission: emission(material),
+            two_sided: material.double_sided(),
         },
         maps: crate::scene::MaterialMaps::NONE,
         alpha: alpha(material),
