@@ -1,6 +1,8 @@
 # Sourced by the scripts that keep a measurement in docs/results
-# (glass_cost.sh, path_bench.sh, wavefront_bound.sh): the machine's and
-# adapter's names and the JSON file they all write.
+# (glass_cost.sh, path_bench.sh, wavefront_bound.sh, obj_load.sh,
+# triangle_memory.sh, window_bench.sh, animation_cost.sh, web_bench.sh,
+# texture_cost.sh, lavapipe_variants.sh): the machine's and adapter's names
+# and the JSON file they all write.
 
 # The CPU's model name and the number of cores (Linux /proc/cpuinfo).
 cpu_cores() {

@@ -2,24 +2,28 @@
 # The page's frame time beside native kdray's, same machine, same run
 # (docs/benchmarks.md, "In the browser"):
 #   - the page (`kdray web`) in headless Chromium, WebGPU on SwiftShader:
-#     the median image pass after the first (which also compiles the
-#     pipeline), driven by tests/web/bench_page.mjs;
+#     every image pass's time (the first also compiles the pipeline),
+#     driven by tests/web/bench_page.mjs;
 #   - native `kdray bench` on lavapipe (Vulkan), and on SwiftShader's Vulkan
-#     from Debian's chromium package (VK_ICD_FILENAMES): the median frame
-#     after one warm-up frame.
+#     from Debian's chromium package (VK_ICD_FILENAMES): every frame after
+#     one warm-up frame.
 # Each is one sample per pixel of the seed scene and the bunny at 640x360
-# with the short-stack walk; the ratios are page / native.
+# with the short-stack walk. ROUNDS rounds (default 3) of the three, one
+# after the other. Writes OUT (default docs/results/web.json) with the
+# machine, the adapters, Chromium's version, its load and the commit, and
+# prints the table scripts/web_table.py makes of it.
 #
-# Usage: scripts/web_bench.sh [OUT_DIR]   (default: web-bench-results)
+#   scripts/web_bench.sh [KDRAY] [OUT]   # KDRAY: default target/release/kdray
 # Needs what scripts/test.sh installs (chromium, node and tests/web's npm
-# packages, glmark2-data for the bunny) and a release build, made here.
-# Environment: WEB_BENCH_SAMPLES (page passes per scene, a perfect square;
-# default 9), WEB_BENCH_REPEAT (native timed frames; default 5), KDRAY (a
-# kdray binary to use instead of building target/release/kdray).
+# packages, glmark2-data for the bunny). Environment: WEB_BENCH_SAMPLES
+# (page passes per scene, a perfect square; default 9), WEB_BENCH_REPEAT
+# (native timed frames; default 5).
 set -euo pipefail
 cd "$(dirname "$0")/.."
-
-out=${1:-web-bench-results}
+source scripts/results_json.sh
+kdray=$(realpath "${1:-target/release/kdray}")
+out=${2:-docs/results/web.json}
+rounds=${ROUNDS:-3}
 samples=${WEB_BENCH_SAMPLES:-9}
 repeat=${WEB_BENCH_REPEAT:-5}
 width=640
@@ -29,94 +33,71 @@ scenes=(scenes/seed.toml scenes/bunny.toml)
 
 [ -f "$swiftshader_icd" ] || { echo "web_bench.sh: no $swiftshader_icd (apt-get install chromium)" >&2; exit 1; }
 [ -d tests/web/node_modules/playwright-core ] || npm ci --prefix tests/web --no-audit --no-fund >/dev/null
-
-if [ -z "${KDRAY:-}" ]; then
-    cargo build --release --locked --quiet
-    KDRAY=$PWD/target/release/kdray
+# The figures name the checkout: measure its own release build.
+if [ $# -eq 0 ]; then
+    cargo build --release --locked -q
 fi
-kdray=$(realpath "$KDRAY")
-mkdir -p "$out"
-out=$(cd "$out" && pwd)
-{
-    echo "# $(uname -srm), $(nproc) CPUs, $(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2 | sed 's/^ //')"
-    echo "# chromium: $(chromium --version 2>/dev/null || echo unknown)"
-    "$kdray" info
-    VK_ICD_FILENAMES=$swiftshader_icd "$kdray" info
-} >"$out/machine.txt" 2>&1
-
+work=$(mktemp -d)
 server_pid=
 stop_server() { [ -z "$server_pid" ] || kill "$server_pid" 2>/dev/null || true; }
-trap stop_server EXIT
+trap 'stop_server; rm -rf "$work"' EXIT
 
 urls=()
 for scene in "${scenes[@]}"; do
     name=$(basename "$scene" .toml)
-    rm -rf "$out/site-$name"
-    "$kdray" web "$scene" -o "$out/site-$name"
+    "$kdray" web "$scene" -o "$work/site-$name" >/dev/null
     urls+=("site-$name/?width=$width&height=$height&samples=$samples&traversal=short-stack")
 done
 
 # One static server for every site, on a free port.
 port=$(python3 -c 'import socket; s = socket.socket(); s.bind(("127.0.0.1", 0)); print(s.getsockname()[1])')
-python3 -m http.server "$port" --bind 127.0.0.1 -d "$out" >/dev/null 2>&1 &
+python3 -m http.server "$port" --bind 127.0.0.1 -d "$work" >/dev/null 2>&1 &
 server_pid=$!
 for _ in $(seq 100); do
     python3 -c "import socket; socket.create_connection(('127.0.0.1', $port))" 2>/dev/null && break
     sleep 0.1
 done
 
-echo "web_bench.sh: the page in headless Chromium" >&2
-node tests/web/bench_page.mjs "${urls[@]/#/http://127.0.0.1:$port/}" >"$out/page.json"
+native() { # NAME [ENV...]: kdray bench on both scenes into $work/NAME
+    local name=$1
+    shift
+    local args=()
+    for scene in "${scenes[@]}"; do args+=(--scene "$scene"); done
+    rm -rf "${work:?}/$name"
+    env "$@" "$kdray" bench "${args[@]}" --width "$width" --height "$height" \
+        --accel kdtree --traversal short-stack --repeat "$repeat" --out "$work/$name" >/dev/null 2>&1
+}
+
+runs=()
+load_before=$(cut -d' ' -f1 /proc/loadavg)
+for round in $(seq "$rounds"); do
+    echo "web_bench.sh: round $round: the page in headless Chromium, native on lavapipe and SwiftShader" >&2
+    node tests/web/bench_page.mjs "${urls[@]/#/http://127.0.0.1:$port/}" >"$work/page.json"
+    native lavapipe
+    native swiftshader VK_ICD_FILENAMES=$swiftshader_icd WGPU_ADAPTER_NAME=SwiftShader
+    # One round: per scene, the page's passes and the native runs' records.
+    runs+=("$(python3 - "$work" <<'PY'
+import json, sys
+work = sys.argv[1]
+page = json.load(open(f"{work}/page.json"))
+for p in page:
+    p["scene"] = p.pop("url").split("/site-")[1].split("/")[0] + ".toml"
+native = {name: json.load(open(f"{work}/{name}/bench.json"))["runs"] for name in ("lavapipe", "swiftshader")}
+print(json.dumps({"page": page, "lavapipe": native["lavapipe"], "swiftshader": native["swiftshader"]}))
+PY
+)")
+done
 stop_server
 server_pid=
 
-native() { # native NAME [ENV...]: kdray bench on both scenes into $out/NAME
-    local name=$1
-    shift
-    echo "web_bench.sh: native kdray, $name" >&2
-    local args=()
-    for scene in "${scenes[@]}"; do args+=(--scene "$scene"); done
-    env "$@" "$kdray" bench "${args[@]}" --width "$width" --height "$height" \
-        --accel kdtree --traversal short-stack --repeat "$repeat" --out "$out/$name" >"$out/$name.log" 2>&1
-}
-native lavapipe
-native swiftshader VK_ICD_FILENAMES=$swiftshader_icd WGPU_ADAPTER_NAME=SwiftShader
-
-python3 - "$out" <<'PY' | tee "$out/summary.md"
-import json, statistics, sys
-out = sys.argv[1]
-
-def runs(name):
-    data = json.load(open(f"{out}/{name}/bench.json"))["runs"]
-    found = {}
-    def walk(v):
-        if isinstance(v, dict):
-            if v.get("scene") and v.get("frame_wall_ms") is not None:
-                found[v["scene"]] = v
-            for x in v.values():
-                walk(x)
-        elif isinstance(v, list):
-            for x in v:
-                walk(x)
-    walk(data)
-    return found
-
-lavapipe, swiftshader = runs("lavapipe"), runs("swiftshader")
-page = json.load(open(f"{out}/page.json"))
-print("| scene | page (Chromium, SwiftShader) | native, SwiftShader's Vulkan | native, lavapipe | page / native SwiftShader | page / native lavapipe |")
-print("|---|---|---|---|---|---|")
-for p in page:
-    name = p["url"].split("/site-")[1].split("/")[0] + ".toml"
-    if "failure" in p or not p.get("pass_ms"):
-        print(f"| {name} | failed: {p.get('failure') or p.get('title')} | | | | |")
-        continue
-    steady = p["pass_ms"][1:] or p["pass_ms"]
-    page_ms = statistics.median(steady)
-    ss = swiftshader.get(name, {}).get("frame_wall_ms")
-    lp = lavapipe.get(name, {}).get("frame_wall_ms")
-    fmt = lambda ms: f"{ms:.0f} ms" if ms else "n/a"
-    ratio = lambda ms: f"{page_ms / ms:.2f}" if ms else "n/a"
-    print(f"| {name} | {fmt(page_ms)} (first pass {p['pass_ms'][0]:.0f} ms) | {fmt(ss)} | {fmt(lp)} | {ratio(ss)} | {ratio(lp)} |")
-print()
-print("page adapter: " + "; ".join(sorted({p.get('adapter', '?') for p in page})))
-PY
+swiftshader_adapter=$(VK_ICD_FILENAMES=$swiftshader_icd WGPU_ADAPTER_NAME=SwiftShader "$kdray" info 2>/dev/null |
+    grep '^\*' | sed 's/^\* //;s/"/\\"/g')
+write_results_json "$out" runs \
+    machine="$(cpu_cores)" \
+    adapter="$(adapter_name "$kdray")" \
+    swiftshader_adapter="$swiftshader_adapter" \
+    chromium="$(chromium --version 2>/dev/null | sed 's/"/\\"/g')" \
+    commit="$(git rev-parse --short HEAD)" \
+    load="$load_before - $(cut -d' ' -f1 /proc/loadavg)" \
+    -- "${runs[@]}"
+python3 scripts/web_table.py "$out"
