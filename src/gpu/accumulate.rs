@@ -38,7 +38,7 @@ struct TargetBuffers {
 /// The accumulation pass and its buffers.
 pub struct Accumulation {
     /// `accumulate_tile`, one pipeline per kernel variant.
-    pipelines: TracePipelines,
+    pipelines: std::sync::Arc<TracePipelines>,
     /// The kernel variant of the scene traced, its walk left to each pass.
     scene_variant: KernelVariant,
     params: wgpu::Buffer,
@@ -63,7 +63,7 @@ fn storage_buffer(device: &wgpu::Device, label: &str, bytes: u64) -> wgpu::Buffe
 impl Accumulation {
     /// The pass and buffers for images of up to `pixels` pixels of `scene`.
     pub fn new(ctx: &GpuContext, scene: &SceneBuffers, pixels: u64) -> Result<Self> {
-        let pipelines = TracePipelines::new(ctx, ACCUMULATE_TILE)?;
+        let pipelines = ctx.trace_pipelines(ACCUMULATE_TILE)?;
         let params = FrameParams::uniform_buffer(ctx, "window frame params")?;
         let pixels = pixels.max(1);
         let [image, preview] = ctx.checked("allocating the accumulation buffers", |device| {

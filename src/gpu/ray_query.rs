@@ -27,7 +27,7 @@ pub struct RayQuery {
 /// from the frame's uniforms, so the tests hold that form of the kernel to
 /// the CPU (the renderer's tests hold the specialised ones to it).
 pub struct RayQueries {
-    pipelines: TracePipelines,
+    pipelines: std::sync::Arc<TracePipelines>,
     pipeline: TracePipeline,
 }
 
@@ -36,7 +36,7 @@ const MAX_GROUPS_PER_DIMENSION: u32 = 65_535;
 
 impl RayQueries {
     pub fn new(ctx: &GpuContext) -> Result<Self> {
-        let pipelines = TracePipelines::new(ctx, bindings::TRACE_RAYS)?;
+        let pipelines = ctx.trace_pipelines(bindings::TRACE_RAYS)?;
         let pipeline = pipelines.get(ctx, KernelVariant::GENERAL)?;
         Ok(RayQueries {
             pipelines,

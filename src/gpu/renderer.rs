@@ -186,7 +186,7 @@ pub struct RenderedImage {
 
 pub struct Renderer {
     /// `render_tile`, one pipeline per kernel variant.
-    pipelines: TracePipelines,
+    pipelines: std::sync::Arc<TracePipelines>,
     /// Every frame with the general variant (tests).
     general: bool,
     params_buffer: wgpu::Buffer,
@@ -203,7 +203,7 @@ pub struct Renderer {
 impl Renderer {
     /// Each frame runs a pipeline specialised for its scene and walk.
     pub fn new(ctx: &GpuContext) -> Result<Self> {
-        let pipelines = TracePipelines::new(ctx, bindings::RENDER_TILE)?;
+        let pipelines = ctx.trace_pipelines(bindings::RENDER_TILE)?;
         let params_buffer = FrameParams::uniform_buffer(ctx, "frame params")?;
         Ok(Renderer {
             pipelines,
@@ -275,7 +275,7 @@ impl Renderer {
     /// Makes the pipeline that frames of `scene` with `params` run (counting
     /// their work if `with_cost`) and has the driver compile it, by tracing
     /// one workgroup's pixels: llvmpipe compiles a pipeline at its first
-    /// dispatch (about 0.35 s, docs/design.md), which would otherwise fall
+    /// dispatch (seconds: gpu/trace_pipelines.rs), which would otherwise fall
     /// into the next frame's GPU time. For timings.
     pub fn compile(
         &self,

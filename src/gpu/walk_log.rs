@@ -268,7 +268,7 @@ impl Reader<'_> {
 
 /// The inspect kernel's pipelines, made once and reused for every pixel.
 pub struct WalkRecorder {
-    pipelines: TracePipelines,
+    pipelines: std::sync::Arc<TracePipelines>,
 }
 
 /// Words the log starts with room for: most pixels' rays fit; a pixel
@@ -278,7 +278,7 @@ pub const FIRST_LOG_WORDS: u64 = 1 << 18;
 impl WalkRecorder {
     pub fn new(ctx: &GpuContext) -> Result<Self> {
         Ok(WalkRecorder {
-            pipelines: TracePipelines::new(ctx, INSPECT_PIXEL)?,
+            pipelines: ctx.trace_pipelines(INSPECT_PIXEL)?,
         })
     }
 

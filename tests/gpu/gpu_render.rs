@@ -426,3 +426,22 @@ fn specialised_pipelines_render_what_the_general_kernel_renders() {
     }
     assert!(kinds_seen.iter().any(|k| k.2), "no smooth scene");
 }
+
+/// Every renderer made on one context shares each entry point's pipelines,
+/// so that llvmpipe compiles a kernel variant once per process, not once
+/// per frame of an animation or band of a farm task.
+#[test]
+fn renderers_on_one_context_share_their_compiled_pipelines() {
+    let ctx = gpu();
+    let first = ctx
+        .trace_pipelines(kdray::gpu::bindings::RENDER_TILE)
+        .unwrap_or_else(|e| panic!("{e}"));
+    let again = ctx
+        .trace_pipelines(kdray::gpu::bindings::RENDER_TILE)
+        .unwrap_or_else(|e| panic!("{e}"));
+    assert!(std::sync::Arc::ptr_eq(&first, &again));
+    let queries = ctx
+        .trace_pipelines(kdray::gpu::bindings::TRACE_RAYS)
+        .unwrap_or_else(|e| panic!("{e}"));
+    assert!(!std::sync::Arc::ptr_eq(&first, &queries));
+}
