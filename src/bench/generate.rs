@@ -10,8 +10,8 @@ use crate::error::{Error, Result};
 use crate::scene::{Scene, SceneFormat};
 
 /// From this many objects a TOML scene loads slowly and JSON is the better
-/// format (docs/scene-format.md: 3.1 GB and 8.5 s to load a million spheres
-/// as TOML, 267 MB and 5.5 s as JSON).
+/// format (a million spheres: about ten times the time and three times the
+/// memory from TOML; docs/benchmarks.md, "OBJ load").
 pub const BIG_TOML_OBJECTS: usize = 100_000;
 
 /// Generates the scene of `spec` and writes it to `output` (.json for
