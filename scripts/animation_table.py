@@ -66,7 +66,7 @@ def tasks(doc):
     rows = [
         ("reading the plan and the scene, hashing the inputs (`load_ms`)", "load_ms"),
         ("opening the adapter (`adapter_ms`)", "adapter_ms"),
-        ("building the k-d tree, flattening, uploading (`prepare_ms`)", "prepare_ms"),
+        ("building the k-d tree, flattening, uploading, compiling the kernel (`prepare_ms`)", "prepare_ms"),
     ]
     print("| part of a task | ms, median (range) |")
     print("| --- | --: |")

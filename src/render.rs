@@ -305,6 +305,36 @@ impl FramePart {
     }
 }
 
+/// The renderer `render_streaming` renders `scene` with (its radiance read
+/// back if `radiance`).
+fn renderer_for(ctx: &GpuContext, scene: &Scene, radiance: bool) -> Result<Renderer> {
+    let renderer = Renderer::new(ctx)?.with_settings(&scene.render);
+    Ok(match radiance {
+        true => renderer.with_radiance(),
+        false => renderer,
+    })
+}
+
+/// Has the driver compile the pipeline that [`render_streaming`] runs for
+/// frames of `uploaded` seen from `camera` with `traversal` (and
+/// `radiance`), by tracing one workgroup's pixels: llvmpipe compiles a
+/// pipeline at its first dispatch, in seconds, and every later render on
+/// `ctx` shares it. A farm task does this while it prepares, so that its
+/// fixed cost holds the compilation and its frames do not.
+pub fn compile_for(
+    ctx: &GpuContext,
+    uploaded: &GpuScene,
+    camera: &crate::scene::Camera,
+    traversal: Traversal,
+    radiance: bool,
+) -> Result<()> {
+    let scene = &uploaded.prepared().scene;
+    let params = uploaded
+        .view_params(camera, &scene.render, uploaded.accel())
+        .with_traversal(traversal);
+    renderer_for(ctx, scene, radiance)?.compile(ctx, uploaded.buffers(), params, false)
+}
+
 /// Renders `part` of the frame of `uploaded` (the scene's own camera and
 /// lights, every row, when `None`: a farm task's band of rows, or an
 /// animation's frame without rebuilding the tree, name theirs; the part's
@@ -329,10 +359,7 @@ pub fn render_streaming(
     let (accel, upload_ms) = (uploaded.accel(), uploaded.upload_ms());
     let scene = &prepared.scene;
 
-    let mut renderer = Renderer::new(ctx)?.with_settings(&scene.render);
-    if radiance {
-        renderer = renderer.with_radiance();
-    }
+    let mut renderer = renderer_for(ctx, scene, radiance)?;
     // Flattening and the pipelines' creation count as upload.
     let transfer_ms = upload_ms;
     let upload_ms = prepared.flatten_ms + transfer_ms + ms_since(total);

@@ -30,7 +30,8 @@ pub struct TaskReport {
     pub load_ms: f64,
     /// Opening the adapter (device and queue).
     pub adapter_ms: f64,
-    /// Building the tree, flattening and uploading it.
+    /// Building the tree, flattening and uploading it, and compiling the
+    /// kernel its frames run.
     pub prepare_ms: f64,
     /// Rendering and writing the items, all together.
     pub render_ms: f64,
@@ -134,6 +135,16 @@ pub fn run_task(dir: &Path, task: u32) -> Result<TaskReport> {
         &ctx,
         PreparedScene::built_by(scene, plan.flags.accel, plan.flags.build),
     )?;
+    if let Some(first) = frames.first() {
+        let samples = matches!(plan.work, Work::Samples { .. });
+        crate::render::compile_for(
+            &ctx,
+            &uploaded,
+            &first.camera,
+            plan.flags.traversal,
+            samples,
+        )?;
+    }
     report.prepare_ms = ms_since(t);
 
     let t = Instant::now();
