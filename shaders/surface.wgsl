@@ -7,7 +7,7 @@
 // The vertex colour at the hit `h` (linear RGBA, the corners' interpolated
 // by the hit's barycentrics): white where the scene has none.
 fn vertex_colour(h: TextureHit) -> vec4<f32> {
-    let at = textures[2];
+    let at = texture_prefix(2u);
     if (at == 0u) {
         return vec4<f32>(1.0);
     }
@@ -22,7 +22,7 @@ fn vertex_colour(h: TextureHit) -> vec4<f32> {
 // tangents interpolated and made orthogonal to n, and the bitangent's
 // sign (that of the interpolated w); w = 0 where the triangle has none.
 fn record_tangent(h: TextureHit, n: vec3<f32>) -> vec4<f32> {
-    let at = textures[3];
+    let at = texture_prefix(3u);
     if (at == 0u) {
         return vec4<f32>(0.0);
     }

@@ -153,6 +153,15 @@ fn texture_lod(
     return 0.5 * log2(texel_area / world_area) + log2(cone_width) - log2(cosine);
 }
 
+// Word k of the buffer's prefix (TextureWords): the records' first word,
+// a record's length, where its colours, tangents and second coordinates
+// begin. Read through a parameter: where `textures` is a one-word
+// placeholder (an adapter short of storage buffers, a frame that reads no
+// texture), a constant index past 0 would not validate.
+fn texture_prefix(k: u32) -> u32 {
+    return textures[k];
+}
+
 fn record_uv(word: u32) -> vec2<f32> {
     return vec2<f32>(bitcast<f32>(textures[word]), bitcast<f32>(textures[word + 1u]));
 }
@@ -179,7 +188,7 @@ fn texture_hit(i: u32, p: vec3<f32>) -> TextureHit {
         return TextureHit(false, tri, zero, zero, zero, zero, vec3<f32>(0.0), 0u);
     }
     let b = barycentrics(tri, p);
-    let r = textures[0] + textures[1] * record;
+    let r = texture_prefix(0u) + texture_prefix(1u) * record;
     let uv0 = record_uv(r);
     let uv1 = record_uv(r + 2u);
     let uv2 = record_uv(r + 4u);
@@ -189,7 +198,7 @@ fn texture_hit(i: u32, p: vec3<f32>) -> TextureHit {
 // The hit `h` as material `m`'s texture slot `slot` (UV_SLOT_*) reads it:
 // on the second channel of texture coordinates where the material says so.
 fn slot_hit(h: TextureHit, m: Material, slot: u32) -> TextureHit {
-    let at = textures[4];
+    let at = texture_prefix(4u);
     if ((m.uv_channels & slot) == 0u || at == 0u || !h.found) {
         return h;
     }

@@ -452,8 +452,19 @@ mod tests {
         use bindings::{declaration, OPTIONAL_BINDINGS};
         let full = trace_source(UNSPLIT);
         let optional: Vec<Binding> = OPTIONAL_BINDINGS.iter().map(|(b, _)| *b).collect();
+        // Each alone at either end, some mixes, and all of them.
+        let last = 1u32 << (optional.len() - 1);
         for mask in [
-            0u32, 0b1, 0b10, 0b100, 0b11000, 0b1100000, 0b10000000, 0b11111111, 0b10111001,
+            0u32,
+            0b1,
+            0b10,
+            0b100,
+            0b11000,
+            0b1100000,
+            0b10000000,
+            0b10111001,
+            last,
+            (last << 1) - 1,
         ] {
             let omitted: Vec<Binding> = optional
                 .iter()
