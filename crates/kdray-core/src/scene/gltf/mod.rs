@@ -5,19 +5,21 @@
 //! scene) places through its node hierarchy, with the nodes' transforms
 //! applied; TRIANGLES, TRIANGLE_STRIP and TRIANGLE_FAN primitives, indexed or
 //! not; NORMAL attributes, carried by the inverse transpose of the node
-//! transforms; and each material's PBR factors mapped to kdray's model
-//! ([`pbr_material`]); the base-colour texture with its texture
-//! coordinates (`images`); the files the web's optimisers write:
+//! transforms, TANGENT and COLOR_0 beside the positions; each material's
+//! PBR factors mapped to kdray's model ([`pbr_material`]); its textures
+//! (base colour, metallic-roughness, normal, emissive, occlusion) with up
+//! to two channels of texture coordinates (`images`,
+//! `texture_transform`); the files the web's optimisers write:
 //! quantized attributes (`accessors`), meshopt-compressed buffer views
 //! (`extensions`, `meshopt`), Draco-compressed primitives (`draco`) and
 //! WebP textures; the first perspective camera the walk meets and the
 //! `KHR_lights_punctual` lights (`placed`), for a model opened on its own.
-//! Other textures, skins, morph
-//! targets and animations are ignored; points and lines are an error (they are not
-//! surfaces, and a file of them would draw nothing). Sparse accessors are
+//! Skins, morph targets and animations are ignored; points and lines are
+//! an error (they are not surfaces, and a file of them would draw nothing). Sparse accessors are
 //! read wherever accessors are. An extension the file requires that kdray
 //! does not read is an error naming it. What a file asks for that kdray
-//! ignores (an extension, a texture) gets one [`Warning`](crate::scene::Warning) each on
+//! ignores (an extension, a third set of texture coordinates) gets one
+//! [`Warning`](crate::scene::Warning) each on
 //! [`Mesh::warnings`](super::mesh::Mesh::warnings); a glTF 1.0 file is
 //! named as such.
 //!
