@@ -4,7 +4,7 @@
 //! texture at the hit, its mip level chosen by the ray cone of the path's
 //! length from the eye, multiplying diffuse and ambient), shading and f32 arithmetic over the CPU
 //! mirror of the traversal, so GPU images can be checked pixel by pixel and
-//! a single path can be inspected: [`ReferenceTracer::trace_recorded`]
+//! a single path can be inspected: [`ReferenceTracer::trace_recorded`](crate::reference::ReferenceTracer::trace_recorded)
 //! returns every ray a sample traces with its walk, step by step (what
 //! `kdray inspect` prints). Slow (one thread); for tests, debugging and
 //! inspection only.

@@ -25,7 +25,7 @@
 //! undefined name, an MTL file that cannot be read) gets
 //! [`MeshMaterial::default_grey`](super::mesh::MeshMaterial::default_grey)
 //! and MTL texture statements other than `map_Kd` are ignored, each cause with one
-//! [`Warning`](super::Warning) on [`Mesh::warnings`] naming the file and
+//! [`Warning`] on [`Mesh::warnings`] naming the file and
 //! line. Only the reference parser words warnings; the fast path declines
 //! any file that would have one. No input makes this module panic.
 
