@@ -14,9 +14,10 @@
     python3 scripts/animation_table.py tasks docs/results/animation.json
 """
 
-import json
 import statistics
 import sys
+
+import results_table
 
 
 def spread(values, scale=1.0, digits=2):
@@ -25,7 +26,7 @@ def spread(values, scale=1.0, digits=2):
 
 
 def heading(doc):
-    print(f"Commit {doc['commit']}; {doc['adapter']}; {doc['machine']}; load {doc['load']}.")
+    print(results_table.provenance(doc))
     print()
 
 
@@ -83,8 +84,7 @@ def tasks(doc):
 
 
 def main():
-    with open(sys.argv[2]) as f:
-        doc = json.load(f)
+    doc = results_table.load(sys.argv[2])
     {"ways": ways, "tasks": tasks}[sys.argv[1]](doc)
 
 

@@ -7,9 +7,10 @@ upload, and the peak resident set.
     python3 scripts/obj_load_table.py docs/results/obj-load.json
 """
 
-import json
 import statistics
 import sys
+
+import results_table
 
 
 def seconds(values):
@@ -19,12 +20,11 @@ def seconds(values):
 
 
 def main():
-    with open(sys.argv[1]) as f:
-        doc = json.load(f)
+    doc = results_table.load(sys.argv[1])
     cases = {}
     for run in doc["runs"]:
         cases.setdefault(run["case"], []).append(run)
-    print(f"Commit {doc['commit']}; {doc['adapter']}; {doc['machine']}; load {doc['load']}.")
+    print(results_table.provenance(doc))
     print()
     print("| scene | objects | file | load | k-d build | upload | peak resident set | runs |")
     print("| --- | --: | --: | --: | --: | --: | --: | --: |")

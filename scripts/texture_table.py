@@ -7,18 +7,18 @@ its rays, and its frame's ratio to the untextured scene's.
     python3 scripts/texture_table.py docs/results/textures.json
 """
 
-import json
 import statistics
 import sys
 
+import results_table
+
 
 def main():
-    with open(sys.argv[1]) as f:
-        doc = json.load(f)
+    doc = results_table.load(sys.argv[1])
     scenes = {}
     for run in doc["runs"]:
         scenes.setdefault(run["scene"], []).append(run["stats"])
-    print(f"Commit {doc['commit']}; {doc['adapter']}; {doc['machine']}; load {doc['load']}.")
+    print(results_table.provenance(doc))
     print()
     print("| floor | GPU ms, median (range) | renders | texture bytes | rays | vs untextured |")
     print("| --- | --: | --: | --: | --: | --: |")

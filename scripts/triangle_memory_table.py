@@ -8,19 +8,19 @@ and the k-d tree's references per leaf.
     python3 scripts/triangle_memory_table.py docs/results/triangle-memory.json
 """
 
-import json
 import sys
+
+import results_table
 
 NAMES = {0: "bunny", 1: "bunny, subdivided once", 2: "bunny, subdivided twice"}
 
 
 def main():
-    with open(sys.argv[1]) as f:
-        doc = json.load(f)
+    doc = results_table.load(sys.argv[1])
     meshes = {}
     for run in doc["runs"]:
         meshes.setdefault(run["subdivisions"], []).append(run)
-    print(f"Commit {doc['commit']}; {doc['adapter']}; {doc['machine']}; load {doc['load']}.")
+    print(results_table.provenance(doc))
     print()
     print("| mesh | triangles | peak resident set | GPU arrays | GPU bytes a triangle | bytes a triangle added | references per leaf | runs |")
     print("| --- | --: | --: | --: | --: | --: | --: | --: |")

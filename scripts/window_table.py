@@ -10,9 +10,10 @@ the window reported.
     python3 scripts/window_table.py docs/results/window.json
 """
 
-import json
 import statistics
 import sys
+
+import results_table
 
 
 def figures(stats):
@@ -24,12 +25,11 @@ def figures(stats):
 
 
 def main():
-    with open(sys.argv[1]) as f:
-        doc = json.load(f)
+    doc = results_table.load(sys.argv[1])
     cases = {}
     for run in doc["runs"]:
         cases.setdefault(run["case"], []).append(run)
-    print(f"Commit {doc['commit']}; {doc['adapter']}; {doc['machine']}; load {doc['load']}.")
+    print(results_table.provenance(doc))
     print()
     print("| case | window | frames | frame rate | mean frame, longest left out | longest frame "
           "| resolution while moving | all samples in | reloads | runs |")
