@@ -7,48 +7,16 @@
 //! ignored would fail.
 
 use crate::common;
-use crate::common::textured;
+use crate::quad_pairs::{assert_alike, assert_most_changed, quad_scene, texel};
 
-use common::{compare, gpu, render, TempDir};
+use common::TempDir;
 use glam::{DVec3, Vec3};
-use kdray::gpu::Accel;
-use kdray::scene::{load_scene, MetalRough, Scene};
-use textured::write_gltf_quad_material;
-
-const SIDE: u32 = 32;
+use kdray::scene::{MetalRough, Scene};
 
 /// The quad in `material` (textures `images`), seen head-on, path traced,
 /// lit by a point light off to the side over a black sky.
-fn quad_scene(dir: &TempDir, material: &str, images: &[image::RgbaImage]) -> Scene {
-    let gltf = write_gltf_quad_material(&dir.path, "quad.gltf", material, images, None);
-    let text = format!(
-        "[camera]\nposition = [0, 0, 2.2]\nlook_at = [0, 0, 0]\nvfov = 60\n\
-         [render]\nwidth = {SIDE}\nheight = {SIDE}\nintegrator = \"path\"\nsamples = 8\nmax_depth = 3\n\
-         [[lights]]\nposition = [1.5, 0.8, 1.2]\nambient = [0, 0, 0]\ndiffuse = [3, 3, 3]\nspecular = [0, 0, 0]\n\
-         [[meshes]]\npath = {:?}\n",
-        gltf.file_name().unwrap().to_str().unwrap()
-    );
-    let path = dir.join("scene.toml");
-    std::fs::write(&path, text).unwrap();
-    load_scene(&path).unwrap_or_else(|e| panic!("{e}"))
-}
-
-fn texel(r: u8, g: u8, b: u8) -> image::RgbaImage {
-    image::RgbaImage::from_pixel(1, 1, image::Rgba([r, g, b, 255]))
-}
-
-/// Pixels of `a` and `b` more than `levels` apart; asserts they are at
-/// most `allowed`, and returns how many differ at all from `plain`.
-fn assert_alike(what: &str, a: &Scene, b: &Scene, levels: u8, plain: &Scene) -> usize {
-    let _ = gpu();
-    let (ia, ib, ip) = (
-        render(a, Accel::Kdtree),
-        render(b, Accel::Kdtree),
-        render(plain, Accel::Kdtree),
-    );
-    let d = compare(&ia.rgb, &ib.rgb, SIDE, SIDE, levels);
-    assert_eq!(d.pixels_over, 0, "{what}: {d:?}");
-    compare(&ia.rgb, &ip.rgb, SIDE, SIDE, 2).pixels_over
+fn path_traced_quad(dir: &TempDir, material: &str, images: &[image::RgbaImage]) -> Scene {
+    quad_scene(dir, "path", material, images, &[])
 }
 
 /// The sRGB transfer function's inverse, as the kernel decodes texels.
@@ -67,7 +35,7 @@ fn a_one_texel_normal_map_equals_that_normal_given_at_the_vertices() {
     let bytes = [224u8, 96, 200];
     let material = r#"{"pbrMetallicRoughness":{"baseColorFactor":[0.8,0.8,0.8,1],"metallicFactor":0,
         "roughnessFactor":1},"normalTexture":{"index":0,"scale":0.9}}"#;
-    let mapped = quad_scene(&dir, material, &[texel(bytes[0], bytes[1], bytes[2])]);
+    let mapped = path_traced_quad(&dir, material, &[texel(bytes[0], bytes[1], bytes[2])]);
     // The tangent frame: T = dp/du = +x (u grows with x), n = +z, B = n x T = +y.
     let c = bytes.map(|b| b as f32 / 255.0 * 2.0 - 1.0);
     let n = (Vec3::X * (c[0] * 0.9) + Vec3::Y * (c[1] * 0.9) + Vec3::Z * c[2]).normalize();
@@ -81,10 +49,7 @@ fn a_one_texel_normal_map_equals_that_normal_given_at_the_vertices() {
     let mut plain = mapped.clone();
     plain.materials[0].maps.normal = None;
     let changed = assert_alike("normal map", &mapped, &given, 2, &plain);
-    assert!(
-        changed > (SIDE * SIDE / 4) as usize,
-        "the map changed {changed} pixels"
-    );
+    assert_most_changed("the map", changed);
 }
 
 #[test]
@@ -93,7 +58,7 @@ fn a_one_texel_metallic_roughness_map_equals_its_values_as_factors() {
     let (g, b) = (70u8, 230u8);
     let material = r#"{"pbrMetallicRoughness":{"baseColorFactor":[0.9,0.6,0.3,1],"metallicFactor":1,
         "roughnessFactor":1,"metallicRoughnessTexture":{"index":0}}}"#;
-    let mapped = quad_scene(&dir, material, &[texel(0, g, b)]);
+    let mapped = path_traced_quad(&dir, material, &[texel(0, g, b)]);
     let mut given = mapped.clone();
     given.materials[0].maps.metal_rough = None;
     given.materials[0].physical.metal_rough = Some(MetalRough {
@@ -103,10 +68,7 @@ fn a_one_texel_metallic_roughness_map_equals_its_values_as_factors() {
     let mut plain = mapped.clone();
     plain.materials[0].maps.metal_rough = None;
     let changed = assert_alike("metallic-roughness map", &mapped, &given, 1, &plain);
-    assert!(
-        changed > (SIDE * SIDE / 4) as usize,
-        "the map changed {changed} pixels"
-    );
+    assert_most_changed("the map", changed);
 }
 
 #[test]
@@ -115,7 +77,7 @@ fn a_one_texel_emissive_map_equals_its_linear_colour_as_emission() {
     let bytes = [200u8, 120, 40];
     let material = r#"{"pbrMetallicRoughness":{"baseColorFactor":[0.2,0.2,0.2,1],"metallicFactor":0,
         "roughnessFactor":1},"emissiveFactor":[1,0.5,1],"emissiveTexture":{"index":0}}"#;
-    let mapped = quad_scene(&dir, material, &[texel(bytes[0], bytes[1], bytes[2])]);
+    let mapped = path_traced_quad(&dir, material, &[texel(bytes[0], bytes[1], bytes[2])]);
     let mut given = mapped.clone();
     given.materials[0].maps.emissive = None;
     given.materials[0].physical.emission = DVec3::new(
@@ -126,10 +88,7 @@ fn a_one_texel_emissive_map_equals_its_linear_colour_as_emission() {
     let mut plain = mapped.clone();
     plain.materials[0].maps.emissive = None;
     let changed = assert_alike("emissive map", &mapped, &given, 2, &plain);
-    assert!(
-        changed > (SIDE * SIDE / 4) as usize,
-        "the map changed {changed} pixels"
-    );
+    assert_most_changed("the map", changed);
 }
 
 #[test]
@@ -138,7 +97,7 @@ fn a_base_colour_texture_is_decoded_from_srgb_in_path_mode() {
     let bytes = [180u8, 120, 60];
     let material = r#"{"pbrMetallicRoughness":{"baseColorFactor":[1,1,1,1],"metallicFactor":0,
         "roughnessFactor":1,"baseColorTexture":{"index":0}}}"#;
-    let mapped = quad_scene(&dir, material, &[texel(bytes[0], bytes[1], bytes[2])]);
+    let mapped = path_traced_quad(&dir, material, &[texel(bytes[0], bytes[1], bytes[2])]);
     let mut given = mapped.clone();
     given.materials[0].texture = None;
     given.materials[0].diffuse = DVec3::from_array(bytes.map(srgb_to_linear));
@@ -148,8 +107,5 @@ fn a_base_colour_texture_is_decoded_from_srgb_in_path_mode() {
     stored.materials[0].texture = None;
     stored.materials[0].diffuse = DVec3::from_array(bytes.map(|b| b as f64 / 255.0));
     let changed = assert_alike("base colour", &mapped, &given, 2, &stored);
-    assert!(
-        changed > (SIDE * SIDE / 4) as usize,
-        "decoding changed {changed} pixels"
-    );
+    assert_most_changed("decoding", changed);
 }
