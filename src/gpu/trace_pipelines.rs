@@ -16,10 +16,9 @@
 //! builds) and are left out of its layout and bind groups. A variant that
 //! still needs more is refused in one line naming the limit.
 //!
-//! llvmpipe compiles a variant at its first dispatch, in seconds (the
-//! seed's frames of `render --all-frames`: 2.66 s each while every frame
-//! made its own pipelines, Mesa's shader cache filled; 48 frames in 3.3 s
-//! with one set), so each entry point's pipelines are made once per
+//! llvmpipe compiles a variant at its first dispatch, in seconds (about
+//! 2.7 s for the seed's `render_tile` on the 2-core machine, Mesa's shader
+//! cache or not), so each entry point's pipelines are made once per
 //! context and shared ([`GpuContext::trace_pipelines`]).
 
 use std::collections::HashMap;

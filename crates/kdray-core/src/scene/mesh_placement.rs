@@ -61,6 +61,7 @@ impl Validator<'_> {
         let records = SurfaceRecords {
             mesh: &mesh,
             transform,
+            mirror: transform.determinant().signum(),
             with_materials: override_material.is_none(),
         };
         let world = self.place(i, &mesh, transform, translate)?;
@@ -373,6 +374,9 @@ fn build_one_by_one(
 struct SurfaceRecords<'a> {
     mesh: &'a Mesh,
     transform: DMat3,
+    /// -1 where `transform` mirrors (a tangent's bitangent sign flips), 1
+    /// elsewhere.
+    mirror: f64,
     with_materials: bool,
 }
 
@@ -395,8 +399,7 @@ impl SurfaceRecords<'_> {
             return SurfaceRecord::default();
         };
         let textured = m.texture.is_some() || m.maps.any();
-        let mirror = self.transform.determinant().signum();
-        let carry = |c: DVec4| (self.transform * c.truncate()).extend(c.w * mirror);
+        let carry = |c: DVec4| (self.transform * c.truncate()).extend(c.w * self.mirror);
         SurfaceRecord {
             uvs: t.uvs_in(&self.mesh.uvs).filter(|_| textured),
             second_uvs: t
