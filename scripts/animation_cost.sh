@@ -71,10 +71,6 @@ for _ in $(seq "$rounds"); do
     tasks_json=$(IFS=,; echo "${reports[*]}")
     runs+=("{\"way\": \"farm\", \"frames\": $frames, \"wall_ms\": $wall, \"tasks\": [$tasks_json], \"same_pngs\": $same}")
 done
-write_results_json "$out" runs \
-    machine="$(cpu_cores)" \
-    adapter="$(adapter_name "$kdray")" \
-    commit="$(git rev-parse --short HEAD)" \
-    load="$load_before - $(cut -d' ' -f1 /proc/loadavg)" \
+write_kept_results "$out" runs "$kdray" "$load_before" \
     -- "${runs[@]}"
 python3 scripts/animation_table.py ways "$out"

@@ -27,10 +27,6 @@ for _ in $(seq "$rounds"); do
         runs+=("{\"scene\": \"$scene\", \"stats\": $json}")
     done
 done
-write_results_json "$out" runs \
-    machine="$(cpu_cores)" \
-    adapter="$(adapter_name "$kdray")" \
-    commit="$(git rev-parse --short HEAD)" \
-    load="$load_before - $(cut -d' ' -f1 /proc/loadavg)" \
+write_kept_results "$out" runs "$kdray" "$load_before" \
     -- "${runs[@]}"
 python3 scripts/glass_table.py "$out"

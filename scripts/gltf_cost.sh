@@ -105,11 +105,7 @@ for _ in $(seq "$rounds"); do
         done
     fi
 done
-write_results_json "$out" runs \
-    machine="$(cpu_cores)" \
-    adapter="$(adapter_name "$kdray")" \
-    commit="$(git rev-parse --short HEAD)" \
+write_kept_results "$out" runs "$kdray" "$load_before" \
     base="${BASE_COMMIT:-}" \
-    load="$load_before - $(cut -d' ' -f1 /proc/loadavg)" \
     -- "${runs[@]}"
 python3 scripts/gltf_table.py "$out"

@@ -62,10 +62,6 @@ for _ in $(seq "$rounds"); do
         fi
     done
 done
-write_results_json "$out" runs \
-    machine="$(cpu_cores)" \
-    adapter="$(adapter_name "$kdray")" \
-    commit="$(git rev-parse --short HEAD)" \
-    load="$load_before - $(cut -d' ' -f1 /proc/loadavg)" \
+write_kept_results "$out" runs "$kdray" "$load_before" \
     -- "${runs[@]}"
 python3 scripts/lavapipe_variants_table.py "$out"

@@ -65,10 +65,6 @@ for _ in $(seq "$rounds"); do
     measure "random spheres, JSON" "$work/spheres-1m.json" "$work/spheres-1m.json"
     measure "random spheres, TOML" "$work/spheres-1m.toml" "$work/spheres-1m.toml"
 done
-write_results_json "$out" runs \
-    machine="$(cpu_cores)" \
-    adapter="$(adapter_name "$kdray")" \
-    commit="$(git rev-parse --short HEAD)" \
-    load="$load_before - $(cut -d' ' -f1 /proc/loadavg)" \
+write_kept_results "$out" runs "$kdray" "$load_before" \
     -- "${runs[@]}"
 python3 scripts/obj_load_table.py "$out"

@@ -44,3 +44,25 @@ write_results_json() { # OUT LIST NAME=VALUE... -- ITEM...
         echo "}"
     } >"$out"
 }
+
+# write_results_json with the fields every kept measurement names: the
+# machine, the adapter KDRAY renders with, the commit, then the NAME=VALUE
+# fields given, then the load average from LOAD_BEFORE (taken when the runs
+# began) to now.
+write_kept_results() { # OUT LIST KDRAY LOAD_BEFORE NAME=VALUE... -- ITEM...
+    local out=$1 list=$2 kdray=$3 load_before=$4
+    shift 4
+    local fields=()
+    while [ "$1" != -- ]; do
+        fields+=("$1")
+        shift
+    done
+    shift
+    write_results_json "$out" "$list" \
+        machine="$(cpu_cores)" \
+        adapter="$(adapter_name "$kdray")" \
+        commit="$(git rev-parse --short HEAD)" \
+        "${fields[@]}" \
+        load="$load_before - $(cut -d' ' -f1 /proc/loadavg)" \
+        -- "$@"
+}

@@ -47,10 +47,6 @@ for _ in $(seq "$rounds"); do
         runs+=("{\"subdivisions\": $level, \"peak_rss_kib\": $peak_kib, \"stats\": $(cat "$work/stats.json")}")
     done
 done
-write_results_json "$out" runs \
-    machine="$(cpu_cores)" \
-    adapter="$(adapter_name "$kdray")" \
-    commit="$(git rev-parse --short HEAD)" \
-    load="$load_before - $(cut -d' ' -f1 /proc/loadavg)" \
+write_kept_results "$out" runs "$kdray" "$load_before" \
     -- "${runs[@]}"
 python3 scripts/triangle_memory_table.py "$out"

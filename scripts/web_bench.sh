@@ -92,12 +92,8 @@ server_pid=
 
 swiftshader_adapter=$(VK_ICD_FILENAMES=$swiftshader_icd WGPU_ADAPTER_NAME=SwiftShader "$kdray" info 2>/dev/null |
     grep '^\*' | sed 's/^\* //;s/"/\\"/g')
-write_results_json "$out" runs \
-    machine="$(cpu_cores)" \
-    adapter="$(adapter_name "$kdray")" \
+write_kept_results "$out" runs "$kdray" "$load_before" \
     swiftshader_adapter="$swiftshader_adapter" \
     chromium="$(chromium --version 2>/dev/null | sed 's/"/\\"/g')" \
-    commit="$(git rev-parse --short HEAD)" \
-    load="$load_before - $(cut -d' ' -f1 /proc/loadavg)" \
     -- "${runs[@]}"
 python3 scripts/web_table.py "$out"

@@ -67,10 +67,6 @@ for _ in $(seq "$rounds"); do
     window "200,000 spheres, orbiting, reloaded" 3 1 "$work/spheres-200k.toml" --width 320 --height 240 \
         --frames 150
 done
-write_results_json "$out" runs \
-    machine="$(cpu_cores)" \
-    adapter="$(adapter_name "$kdray")" \
-    commit="$(git rev-parse --short HEAD)" \
-    load="$load_before - $(cut -d' ' -f1 /proc/loadavg)" \
+write_kept_results "$out" runs "$kdray" "$load_before" \
     -- "${runs[@]}"
 python3 scripts/window_table.py "$out"
