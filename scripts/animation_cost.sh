@@ -17,18 +17,11 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 source scripts/results_json.sh
-kdray=$(realpath "${1:-target/release/kdray}")
-out=${2:-docs/results/animation.json}
+measure_setup docs/results/animation.json "$@"
 rounds=${ROUNDS:-3}
 frames=${FRAMES:-12}
 tasks=3
 [ -f /usr/share/glmark2/models/bunny.obj ] || { echo "animation_cost.sh: no bunny (apt-get install glmark2-data)" >&2; exit 1; }
-work=$(mktemp -d)
-trap 'rm -rf "$work"' EXIT
-# The figures name the checkout: measure its own release build.
-if [ $# -eq 0 ]; then
-    cargo build --release --locked -q
-fi
 scene=$work/bunny-orbit.toml
 {
     cat scenes/bunny.toml

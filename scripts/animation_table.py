@@ -31,9 +31,7 @@ def heading(doc):
 
 
 def ways(doc):
-    by_way = {}
-    for run in doc["runs"]:
-        by_way.setdefault(run["way"], []).append(run)
+    by_way = results_table.grouped(doc["runs"], "way")
     heading(doc)
     one = statistics.median(r["wall_ms"] for r in by_way["one process"])
     labels = {

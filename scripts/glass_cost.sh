@@ -9,15 +9,8 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 source scripts/results_json.sh
-kdray=${1:-target/release/kdray}
-out=${2:-docs/results/glass.json}
+measure_setup docs/results/glass.json "$@"
 rounds=${ROUNDS:-5}
-work=$(mktemp -d)
-trap 'rm -rf "$work"' EXIT
-# The figures name the checkout: measure its own release build.
-if [ $# -eq 0 ]; then
-    cargo build --release --locked -q
-fi
 
 runs=()
 load_before=$(cut -d' ' -f1 /proc/loadavg)

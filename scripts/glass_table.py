@@ -15,9 +15,7 @@ import results_table
 
 def main():
     doc = results_table.load(sys.argv[1])
-    scenes = {}
-    for run in doc["runs"]:
-        scenes.setdefault(run["scene"], []).append(run["stats"])
+    scenes = results_table.grouped(doc["runs"], "scene", lambda run: run["stats"])
     print(results_table.provenance(doc))
     print()
     print("| scene | GPU ms (median) | renders | shadow rays | reflection and refraction rays | vs seed |")

@@ -24,18 +24,11 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 source scripts/results_json.sh
-kdray=${1:-target/release/kdray}
-out=${2:-docs/results/gltf-cost.json}
+measure_setup docs/results/gltf-cost.json "$@"
 rounds=${ROUNDS:-3}
 base=${BASE:-}
 bunny=/usr/share/glmark2/models/bunny.obj
 [ -f "$bunny" ] || { echo "gltf_cost.sh: no $bunny (apt-get install glmark2-data)" >&2; exit 1; }
-work=$(mktemp -d)
-trap 'rm -rf "$work"' EXIT
-# The figures name the checkout: measure its own release build.
-if [ $# -eq 0 ]; then
-    cargo build --release --locked -q
-fi
 
 python3 scripts/subdivide_obj.py "$bunny" 2 "$work/bunny.obj"
 python3 scripts/obj_to_glb.py "$work/bunny.obj" "$work/plain.glb"

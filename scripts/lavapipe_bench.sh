@@ -11,24 +11,12 @@
 #   scripts/lavapipe_bench.sh [KDRAY] [OUT]   # KDRAY: default target/release/kdray
 set -euo pipefail
 cd "$(dirname "$0")/.."
-kdray=${1:-target/release/kdray}
-out=${2:-docs/results/lavapipe}
+source scripts/results_json.sh
+measure_setup docs/results/lavapipe "$@"
 repeat=${REPEAT:-3}
-work=$(mktemp -d)
-trap 'rm -rf "$work"' EXIT
-# The figures name the checkout: measure its own release build.
-if [ $# -eq 0 ]; then
-    cargo build --release --locked -q
-fi
 
 keep() { # NAME: the run's bench.json into OUT/NAME.json
-    mkdir -p "$out"
-    python3 - "$work/$1/bench.json" "$out/$1.json" "$(git rev-parse --short HEAD)" <<'PY'
-import json, sys
-doc = json.load(open(sys.argv[1]))
-doc["commit"] = sys.argv[3]
-json.dump(doc, open(sys.argv[2], "w"), indent=1)
-PY
+    keep_bench_json "$work/$1/bench.json" "$out/$1.json"
 }
 
 "$kdray" bench --kind spheres --sizes 1000,10000,1000000 --traversal all --repeat "$repeat" \

@@ -15,15 +15,8 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 source scripts/results_json.sh
-kdray=${1:-target/release/kdray}
-out=${2:-docs/results/lavapipe-variants.json}
+measure_setup docs/results/lavapipe-variants.json "$@"
 rounds=${ROUNDS:-3}
-work=$(mktemp -d)
-trap 'rm -rf "$work"' EXIT
-# The figures name the checkout: measure its own release build.
-if [ $# -eq 0 ]; then
-    cargo build --release --locked -q
-fi
 
 runs=()
 # bench SETTING ENV... -- ARGS...: one `kdray bench` per scene, its records

@@ -17,17 +17,10 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 source scripts/results_json.sh
-kdray=${1:-target/release/kdray}
-out=${2:-docs/results/obj-load.json}
+measure_setup docs/results/obj-load.json "$@"
 rounds=${ROUNDS:-3}
 bunny=/usr/share/glmark2/models/bunny.obj
 [ -f "$bunny" ] || { echo "obj_load.sh: no $bunny (apt-get install glmark2-data)" >&2; exit 1; }
-work=$(mktemp -d)
-trap 'rm -rf "$work"' EXIT
-# The figures name the checkout: measure its own release build.
-if [ $# -eq 0 ]; then
-    cargo build --release --locked -q
-fi
 
 python3 scripts/subdivide_obj.py "$bunny" 2 "$work/bunny-1m.obj"
 cat >"$work/bunny-1m.toml" <<'EOF'

@@ -21,9 +21,7 @@ def seconds(values):
 
 def main():
     doc = results_table.load(sys.argv[1])
-    cases = {}
-    for run in doc["runs"]:
-        cases.setdefault(run["case"], []).append(run)
+    cases = results_table.grouped(doc["runs"], "case")
     print(results_table.provenance(doc))
     print()
     print("| scene | objects | file | load | k-d build | upload | peak resident set | runs |")

@@ -1,8 +1,32 @@
-# Sourced by the scripts that keep a measurement in docs/results
-# (glass_cost.sh, path_bench.sh, wavefront_bound.sh, obj_load.sh,
-# triangle_memory.sh, window_bench.sh, animation_cost.sh, web_bench.sh,
-# texture_cost.sh, lavapipe_variants.sh): the machine's and adapter's names
-# and the JSON file they all write.
+# Sourced by the scripts that keep a measurement in docs/results: their
+# arguments and temporary folder, the machine's and adapter's names, and
+# the JSON files they write.
+
+# The measuring scripts' `[KDRAY] [OUT]`: sets `kdray` (absolute; by
+# default this checkout's release build, built first, since the figures
+# name the checkout), `out` (default DEFAULT_OUT) and `work`, a temporary
+# folder removed on exit (a script with more to clean up sets its own
+# trap after this).
+measure_setup() { # DEFAULT_OUT [KDRAY] [OUT]
+    out=${3:-$1}
+    kdray=$(realpath "${2:-target/release/kdray}")
+    work=$(mktemp -d)
+    trap 'rm -rf "$work"' EXIT
+    if [ $# -lt 2 ]; then
+        cargo build --release --locked -q
+    fi
+}
+
+# Copies kdray bench's BENCH_JSON to OUT with the checkout's commit added.
+keep_bench_json() { # BENCH_JSON OUT
+    mkdir -p "$(dirname "$2")"
+    python3 - "$1" "$2" "$(git rev-parse --short HEAD)" <<'PY'
+import json, sys
+doc = json.load(open(sys.argv[1]))
+doc["commit"] = sys.argv[3]
+json.dump(doc, open(sys.argv[2], "w"), indent=1)
+PY
+}
 
 # The CPU's model name and the number of cores (Linux /proc/cpuinfo).
 cpu_cores() {

@@ -11,6 +11,15 @@ def load(path):
         return json.load(f)
 
 
+def grouped(runs, key, value=lambda run: run):
+    """`value` of each of `runs`, in lists by `run[key]`, in the order the
+    keys first come."""
+    groups = {}
+    for run in runs:
+        groups.setdefault(run[key], []).append(value(run))
+    return groups
+
+
 def provenance(doc):
     """The commit, adapter, machine and load a result file names."""
     return f"Commit {doc['commit']}; {doc['adapter']}; {doc['machine']}; load {doc['load']}."

@@ -11,15 +11,8 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 source scripts/results_json.sh
-kdray=${1:-target/release/kdray}
-out=${2:-docs/results/textures.json}
+measure_setup docs/results/textures.json "$@"
 rounds=${ROUNDS:-5}
-work=$(mktemp -d)
-trap 'rm -rf "$work"' EXIT
-# The figures name the checkout: measure its own release build.
-if [ $# -eq 0 ]; then
-    cargo build --release --locked -q
-fi
 
 # The floor without its texture: scenes/models/board.mtl's colours, no map_Kd.
 {

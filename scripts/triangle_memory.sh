@@ -14,18 +14,11 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 source scripts/results_json.sh
-kdray=${1:-target/release/kdray}
-out=${2:-docs/results/triangle-memory.json}
+measure_setup docs/results/triangle-memory.json "$@"
 rounds=${ROUNDS:-3}
 levels=${LEVELS:-0 1 2 3}
 bunny=/usr/share/glmark2/models/bunny.obj
 [ -f "$bunny" ] || { echo "triangle_memory.sh: no $bunny (apt-get install glmark2-data)" >&2; exit 1; }
-work=$(mktemp -d)
-trap 'rm -rf "$work"' EXIT
-# The figures name the checkout: measure its own release build.
-if [ $# -eq 0 ]; then
-    cargo build --release --locked -q
-fi
 
 for level in $levels; do
     if [ "$level" = 0 ]; then

@@ -17,9 +17,7 @@ NAMES = {0: "bunny", 1: "bunny, subdivided once", 2: "bunny, subdivided twice"}
 
 def main():
     doc = results_table.load(sys.argv[1])
-    meshes = {}
-    for run in doc["runs"]:
-        meshes.setdefault(run["subdivisions"], []).append(run)
+    meshes = results_table.grouped(doc["runs"], "subdivisions")
     print(results_table.provenance(doc))
     print()
     print("| mesh | triangles | peak resident set | GPU arrays | GPU bytes a triangle | bytes a triangle added | references per leaf | runs |")

@@ -21,8 +21,7 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 source scripts/results_json.sh
-kdray=$(realpath "${1:-target/release/kdray}")
-out=${2:-docs/results/web.json}
+measure_setup docs/results/web.json "$@"
 rounds=${ROUNDS:-3}
 samples=${WEB_BENCH_SAMPLES:-9}
 repeat=${WEB_BENCH_REPEAT:-5}
@@ -33,11 +32,6 @@ scenes=(scenes/seed.toml scenes/bunny.toml)
 
 [ -f "$swiftshader_icd" ] || { echo "web_bench.sh: no $swiftshader_icd (apt-get install chromium)" >&2; exit 1; }
 [ -d tests/web/node_modules/playwright-core ] || npm ci --prefix tests/web --no-audit --no-fund >/dev/null
-# The figures name the checkout: measure its own release build.
-if [ $# -eq 0 ]; then
-    cargo build --release --locked -q
-fi
-work=$(mktemp -d)
 server_pid=
 stop_server() { [ -z "$server_pid" ] || kill "$server_pid" 2>/dev/null || true; }
 trap 'stop_server; rm -rf "$work"' EXIT

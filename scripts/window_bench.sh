@@ -19,16 +19,9 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 source scripts/results_json.sh
-kdray=$(realpath "${1:-target/release/kdray}")
-out=${2:-docs/results/window.json}
+measure_setup docs/results/window.json "$@"
 rounds=${ROUNDS:-3}
 command -v xvfb-run >/dev/null || { echo "window_bench.sh: no xvfb-run (apt-get install xvfb xauth)" >&2; exit 1; }
-work=$(mktemp -d)
-trap 'rm -rf "$work"' EXIT
-# The figures name the checkout: measure its own release build.
-if [ $# -eq 0 ]; then
-    cargo build --release --locked -q
-fi
 export XDG_RUNTIME_DIR=$work/xdg
 mkdir -m 700 "$XDG_RUNTIME_DIR"
 "$kdray" generate --kind spheres --count 200000 -o "$work/spheres-200k.toml" >/dev/null 2>&1

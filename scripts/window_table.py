@@ -26,9 +26,7 @@ def figures(stats):
 
 def main():
     doc = results_table.load(sys.argv[1])
-    cases = {}
-    for run in doc["runs"]:
-        cases.setdefault(run["case"], []).append(run)
+    cases = results_table.grouped(doc["runs"], "case")
     print(results_table.provenance(doc))
     print()
     print("| case | window | frames | frame rate | mean frame, longest left out | longest frame "

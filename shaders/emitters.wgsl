@@ -79,8 +79,8 @@ fn sample_light(p: vec3<f32>) -> LightSample {
     let light = lights[k];
     if (k < params.light_count) {
         // Delta lights: a directional light's `diffuse` is the irradiance it
-        // gives a surface facing it; a point or spot light's its radiant
-        // intensity, a spot's times its falloff.
+        // gives a surface facing it; a point or spot light's radiant
+        // intensity is `diffuse * path_scale`, a spot's times its falloff.
         if (light.kind == LIGHT_DIRECTIONAL) {
             return LightSample(-light.direction, T_INFINITY, light.diffuse, choice, true, NO_OBJECT);
         }
@@ -90,7 +90,7 @@ fn sample_light(p: vec3<f32>) -> LightSample {
             return no_light();
         }
         let d = sqrt(d2);
-        var intensity = light.diffuse;
+        var intensity = light.diffuse * light.path_scale;
         if (light.kind == LIGHT_SPOT) {
             intensity *= spot_factor(light, dot(-to / d, light.direction));
         }

@@ -91,6 +91,7 @@ struct Light {
     specular: vec3<f32>,
     spot_scale: f32,      // spot: 1 / max(cos inner - cos outer, 0.001)
     direction: vec3<f32>, // spot: its axis; directional: where the light travels (unit)
+    path_scale: f32,      // point and spot: the path tracer's intensity is diffuse * path_scale
 }
 
 struct FrameParams {

@@ -252,19 +252,15 @@ pub fn render_scene(
     let r = &scene.render;
     let mut rgb = Vec::with_capacity(r.width as usize * r.height as usize * 3);
     let uploaded = GpuScene::upload(ctx, PreparedScene::new(scene.clone(), accel))?;
-    let (stats, summary) = render_streaming(
-        ctx,
-        &uploaded,
-        None,
-        Traversal::default(),
+    let options = StreamOptions {
         max_tile_pixels,
-        true,
-        false,
-        &mut |band| {
-            rgb.extend_from_slice(band.rgb);
-            Ok(())
-        },
-    )?;
+        with_cost: true,
+        ..StreamOptions::new(Traversal::default())
+    };
+    let (stats, summary) = render_streaming(ctx, &uploaded, None, options, &mut |band| {
+        rgb.extend_from_slice(band.rgb);
+        Ok(())
+    })?;
     let image = RenderedImage {
         width: r.width,
         height: r.height,
@@ -335,25 +331,52 @@ pub fn compile_for(
     renderer_for(ctx, scene, radiance)?.compile(ctx, uploaded.buffers(), params, false)
 }
 
+/// How [`render_streaming`] traces and what its bands carry.
+#[derive(Debug, Clone, Copy)]
+pub struct StreamOptions {
+    /// The k-d tree's walk.
+    pub traversal: Traversal,
+    /// The most pixels one dispatch traces.
+    pub max_tile_pixels: u64,
+    /// The bands carry each pixel's walk cost, and the stats their totals.
+    pub with_cost: bool,
+    /// The bands carry linear radiance beside the 8-bit colours.
+    pub radiance: bool,
+}
+
+impl StreamOptions {
+    /// `traversal`, in tiles of the default size, colours only.
+    pub fn new(traversal: Traversal) -> Self {
+        StreamOptions {
+            traversal,
+            max_tile_pixels: TilePlan::DEFAULT_MAX_TILE_PIXELS,
+            with_cost: false,
+            radiance: false,
+        }
+    }
+}
+
 /// Renders `part` of the frame of `uploaded` (the scene's own camera and
 /// lights, every row, when `None`: a farm task's band of rows, or an
 /// animation's frame without rebuilding the tree, name theirs; the part's
 /// lights are written into the lights buffer first) with the search it was
-/// prepared for and, for the k-d tree, the walk `traversal`. Bands of rows
-/// go to `sink` top to bottom as they are read back (for images too big to
-/// hold, and progress bars), numbered in the whole image; the stats count
-/// the rays of the rendered rows. With `with_cost`, the bands carry each
-/// pixel's walk cost and the stats their totals.
+/// prepared for and, for the k-d tree, the walk `options` names. Bands of
+/// rows go to `sink` top to bottom as they are read back (for images too
+/// big to hold, and progress bars), numbered in the whole image; the stats
+/// count the rays of the rendered rows.
 pub fn render_streaming(
     ctx: &GpuContext,
     uploaded: &GpuScene,
     part: Option<&FramePart>,
-    traversal: Traversal,
-    max_tile_pixels: u64,
-    with_cost: bool,
-    radiance: bool,
+    options: StreamOptions,
     sink: &mut dyn FnMut(RowBand<'_>) -> Result<()>,
 ) -> Result<(RenderStats, RenderSummary)> {
+    let StreamOptions {
+        traversal,
+        max_tile_pixels,
+        with_cost,
+        radiance,
+    } = options;
     let total = Instant::now();
     let (prepared, buffers) = (uploaded.prepared(), uploaded.buffers());
     let (accel, upload_ms) = (uploaded.accel(), uploaded.upload_ms());

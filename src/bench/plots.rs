@@ -313,7 +313,8 @@ pub fn write_plots(report: &BenchReport, out: &Path) -> Result<Vec<PathBuf>> {
 
 /// The time plot's series (seed figures 7 and 9): the k-d tree's and brute
 /// force's GPU time against N, brute force's linear fit, and its
-/// prediction for the sizes skipped as over budget.
+/// prediction for the sizes it skipped (over the budget or past the
+/// adapter's loop limit).
 fn time_series(report: &BenchReport, kd: &[(f64, f64)], brute: &[(f64, f64)]) -> Vec<Series> {
     let mut series = vec![Series {
         label: "k-d tree".into(),
@@ -369,7 +370,7 @@ fn time_series(report: &BenchReport, kd: &[(f64, f64)], brute: &[(f64, f64)]) ->
             let predicted: Vec<(f64, f64)> = skipped.iter().map(|&n| (n, a + b * n)).collect();
             if !predicted.is_empty() {
                 series.push(Series {
-                    label: "brute force skipped (over budget): fit's prediction".into(),
+                    label: "brute force skipped: fit's prediction".into(),
                     points: predicted,
                     colour: BRUTE_COLOUR,
                     dashed: false,

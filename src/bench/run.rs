@@ -189,7 +189,7 @@ impl<'a> Sweep<'a> {
             let uploaded = GpuScene::try_upload(self.timer.ctx, prepared);
             let (prepared, upload_ms) = match &uploaded {
                 Ok(gpu) => (gpu.prepared(), flatten_ms + gpu.upload_ms()),
-                Err(failed) => (&failed.prepared, flatten_ms),
+                Err(failed) => (&*failed.prepared, flatten_ms),
             };
             let stats = prepared.tree.stats();
             for &traversal in &self.config.traversals {
@@ -232,7 +232,7 @@ impl<'a> Sweep<'a> {
             }
             scene = match uploaded {
                 Ok(gpu) => gpu.into_prepared(),
-                Err(failed) => failed.prepared,
+                Err(failed) => *failed.prepared,
             }
             .into_scene();
         }
@@ -299,7 +299,7 @@ impl<'a> Sweep<'a> {
                 );
                 (result, gpu.into_prepared())
             }
-            Err(failed) => (Err(failed.error), failed.prepared),
+            Err(failed) => (Err(failed.error), *failed.prepared),
         };
         record.upload_ms = Some(flatten_ms);
         let scene = prepared.into_scene();

@@ -18,7 +18,7 @@ use serde::Serialize;
 
 use crate::error::Result;
 use crate::geometry::{Primitives, Ray};
-use crate::gpu::{GpuContext, GpuScene, PreparedScene, RayQueries, RayQuery, TilePlan};
+use crate::gpu::{GpuContext, GpuScene, PreparedScene, RayQueries, RayQuery};
 use crate::kdtree::traverse::closest_hit;
 use crate::kdtree::Traversal;
 use crate::scene::{Integrator, Scene};
@@ -67,10 +67,7 @@ pub fn measure(ctx: &GpuContext, scene: &Scene, repeats: u32) -> Result<Vec<Wave
                 ctx,
                 &uploaded,
                 None,
-                traversal,
-                TilePlan::DEFAULT_MAX_TILE_PIXELS,
-                false,
-                false,
+                crate::render::StreamOptions::new(traversal),
                 &mut |_| Ok(()),
             )?;
             rays = summary.rays.total();

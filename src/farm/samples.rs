@@ -14,9 +14,10 @@ use std::path::Path;
 
 use super::plan::{FarmPlan, Finished};
 use crate::error::{Error, Result};
-use crate::gpu::{GpuContext, GpuScene, TilePlan};
+use crate::gpu::{GpuContext, GpuScene};
 use crate::output::exr::{read_exr_rgb, write_exr_atomic};
 use crate::render::FramePart;
+use crate::render::StreamOptions;
 use crate::scene::{Frame, RenderSettings};
 
 /// Renders share `share` of the plan's samples of `frame` and writes its
@@ -46,10 +47,10 @@ pub fn render_share(
         ctx,
         uploaded,
         Some(&part),
-        plan.flags.traversal,
-        TilePlan::DEFAULT_MAX_TILE_PIXELS,
-        false,
-        true,
+        StreamOptions {
+            radiance: true,
+            ..StreamOptions::new(plan.flags.traversal)
+        },
         &mut |band| {
             let radiance = band.radiance.ok_or_else(|| {
                 Error::Output("the renderer returned no radiance for a share of samples".into())

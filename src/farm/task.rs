@@ -12,9 +12,10 @@ use serde::Serialize;
 use super::plan::{self, FarmPlan, Finished, Work};
 use super::scripts::INDEX_VARIABLES;
 use crate::error::{Error, Result};
-use crate::gpu::{GpuContext, GpuScene, PreparedScene, TilePlan};
+use crate::gpu::{GpuContext, GpuScene, PreparedScene};
 use crate::output::PngStream;
 use crate::render::FramePart;
+use crate::render::StreamOptions;
 use crate::scene::{Frame, Scene};
 
 /// What a task did and what it cost, printed as one JSON line into its log
@@ -166,10 +167,7 @@ pub fn run_task(dir: &Path, task: u32) -> Result<TaskReport> {
             &ctx,
             &uploaded,
             Some(&part),
-            plan.flags.traversal,
-            TilePlan::DEFAULT_MAX_TILE_PIXELS,
-            false,
-            false,
+            StreamOptions::new(plan.flags.traversal),
             &mut |band| png.write_rows(band.rgb),
         )?;
         png.finish()?;

@@ -14,7 +14,8 @@ use crate::scene::{Camera, Light, RenderSettings, Scene};
 /// An upload that failed, and the prepared scene it was given.
 pub struct UploadFailed {
     pub error: crate::Error,
-    pub prepared: PreparedScene,
+    /// Boxed: a prepared scene is large, and this travels in a Result.
+    pub prepared: Box<PreparedScene>,
 }
 
 /// A prepared scene and its buffers on one device.
@@ -46,7 +47,10 @@ impl GpuScene {
                 buffers,
                 upload_ms: started.elapsed().as_secs_f64() * 1e3,
             }),
-            Err(error) => Err(UploadFailed { error, prepared }),
+            Err(error) => Err(UploadFailed {
+                error,
+                prepared: Box::new(prepared),
+            }),
         }
     }
 

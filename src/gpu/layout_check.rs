@@ -178,7 +178,10 @@ fn scene_records_match_their_wgsl_structs() {
         &module,
         "Light",
         GpuLight,
-        [position, kind, ambient, object, diffuse, cos_outer, specular, spot_scale, direction]
+        [
+            position, kind, ambient, object, diffuse, cos_outer, specular, spot_scale, direction,
+            path_scale
+        ]
     );
 }
 

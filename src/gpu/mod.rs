@@ -21,6 +21,7 @@ pub mod bindings;
 pub mod context;
 mod frame_params;
 mod gpu_scene;
+mod gpu_timer;
 mod kernel_io;
 pub mod kernel_variant;
 #[cfg(test)]
@@ -31,6 +32,7 @@ pub mod renderer;
 mod scene_arrays;
 pub mod scene_buffers;
 pub mod shaders;
+mod tile_plan;
 mod trace_pipelines;
 pub mod walk_log;
 
@@ -47,9 +49,10 @@ pub use prepared_scene::PreparedScene;
 pub use ray_query::{RayQueries, RayQuery};
 pub use renderer::{
     CostTotals, GpuTimeSource, RayTotals, RenderSummary, RenderedImage, Renderer, RowBand,
-    TilePlan, SAMPLES_PER_DISPATCH,
+    SAMPLES_PER_DISPATCH,
 };
 pub use scene_arrays::SceneArrays;
 pub use scene_buffers::SceneBuffers;
+pub use tile_plan::TilePlan;
 pub use trace_pipelines::{TraceBindGroup, TracePipeline, TracePipelines};
 pub use walk_log::{RecordedHit, RecordedRay, WalkLog, WalkRecorder};

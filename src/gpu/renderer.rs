@@ -5,75 +5,15 @@ use std::time::Instant;
 
 use super::bindings;
 use super::context::GpuContext;
+use super::gpu_timer::GpuTimer;
 use super::scene_buffers::SceneBuffers;
+use super::tile_plan::TilePlan;
 use super::{KernelVariant, TracePipelines};
-use crate::error::{Error, Result};
+use crate::error::Result;
 use crate::gpu::{FrameParams, RayCounters};
 use crate::kdtree::traverse::WalkCost;
 use crate::layout::INTEGRATOR_PATH;
 use crate::scene::{RenderSettings, ToneMap};
-
-/// How the image is cut into dispatches: bands of whole rows, each band one
-/// or more tiles of at most `tile_width` x `max_rows` pixels. Band heights
-/// adapt so that one dispatch takes about `target_dispatch_ms` (real GPUs
-/// reset dispatches that run for seconds); buffers never exceed the
-/// adapter's storage binding size. `rows` (all by default) limits the
-/// render to rows `rows.0..rows.1` of the image, whose pixels are those of
-/// the whole image's render (a farm task's band).
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct TilePlan {
-    pub tile_width: u32,
-    pub max_rows: u32,
-    pub target_dispatch_ms: f64,
-    pub rows: (u32, u32),
-}
-
-impl TilePlan {
-    /// Default bound on one dispatch's pixels (about one megapixel).
-    pub const DEFAULT_MAX_TILE_PIXELS: u64 = 1 << 20;
-    /// Default time one dispatch should take.
-    pub const DEFAULT_TARGET_DISPATCH_MS: f64 = 250.0;
-    /// Pixels in the first band, which measures the adapter's speed.
-    const FIRST_BAND_PIXELS: u64 = 1 << 16;
-
-    pub fn new(width: u32, height: u32, max_tile_pixels: u64, max_binding_bytes: u64) -> Self {
-        // The output buffer holds the ray counters, then 4 bytes per pixel
-        // (16 with radiance); the cost buffer (when asked for) 12 bytes per pixel.
-        let max_pixels = max_tile_pixels
-            .min(max_binding_bytes.saturating_sub(64) / output_bytes_per_pixel(true))
-            .max(1);
-        let tile_width = width.min(max_pixels as u32).max(1);
-        let max_rows = (max_pixels / tile_width as u64).clamp(1, height.max(1) as u64) as u32;
-        TilePlan {
-            tile_width,
-            max_rows,
-            target_dispatch_ms: Self::DEFAULT_TARGET_DISPATCH_MS,
-            rows: (0, u32::MAX),
-        }
-    }
-
-    /// This plan for rows `first..end` of the image only.
-    pub fn with_rows(self, first: u32, end: u32) -> Self {
-        TilePlan {
-            rows: (first, end),
-            ..self
-        }
-    }
-
-    /// Rows of the first band: small, to measure before committing to more.
-    fn first_band_rows(&self, width: u32) -> u32 {
-        ((Self::FIRST_BAND_PIXELS / width.max(1) as u64) as u32).clamp(1, self.max_rows)
-    }
-
-    /// Rows of the next band, given how long the last one took per row.
-    #[allow(clippy::neg_cmp_op_on_partial_ord)] // NaN counts as not positive
-    fn next_band_rows(&self, ms_per_row: f64) -> u32 {
-        if !(ms_per_row > 0.0) {
-            return self.max_rows;
-        }
-        ((self.target_dispatch_ms / ms_per_row) as u64).clamp(1, self.max_rows as u64) as u32
-    }
-}
 
 /// Rows `y..y + rows` of the image, 8-bit RGB, as they come off the GPU.
 pub struct RowBand<'a> {
@@ -558,7 +498,7 @@ struct TileRun<'a> {
 
 /// Bytes per pixel of `render_tile`'s output: packed RGBA8, or four words
 /// of radiance sums.
-fn output_bytes_per_pixel(radiance: bool) -> u64 {
+pub(super) fn output_bytes_per_pixel(radiance: bool) -> u64 {
     match radiance {
         true => 16,
         false => 4,
@@ -770,91 +710,5 @@ impl BandBuffers {
                 totals.add(d);
             }
         }
-    }
-}
-
-/// Two timestamps around each tile's compute pass.
-struct GpuTimer {
-    queries: wgpu::QuerySet,
-    resolved: wgpu::Buffer,
-    readback: wgpu::Buffer,
-}
-
-impl GpuTimer {
-    fn new(device: &wgpu::Device) -> Self {
-        GpuTimer {
-            queries: device.create_query_set(&wgpu::QuerySetDescriptor {
-                label: Some("tile time"),
-                ty: wgpu::QueryType::Timestamp,
-                count: 2,
-            }),
-            resolved: device.create_buffer(&wgpu::BufferDescriptor {
-                label: Some("timestamps"),
-                size: 16,
-                usage: wgpu::BufferUsages::QUERY_RESOLVE | wgpu::BufferUsages::COPY_SRC,
-                mapped_at_creation: false,
-            }),
-            readback: device.create_buffer(&wgpu::BufferDescriptor {
-                label: Some("timestamps readback"),
-                size: 16,
-                usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
-                mapped_at_creation: false,
-            }),
-        }
-    }
-
-    fn writes(&self) -> wgpu::ComputePassTimestampWrites<'_> {
-        wgpu::ComputePassTimestampWrites {
-            query_set: &self.queries,
-            beginning_of_pass_write_index: Some(0),
-            end_of_pass_write_index: Some(1),
-        }
-    }
-
-    fn resolve(&self, encoder: &mut wgpu::CommandEncoder) {
-        encoder.resolve_query_set(&self.queries, 0..2, &self.resolved, 0);
-        encoder.copy_buffer_to_buffer(&self.resolved, 0, &self.readback, 0, 16);
-    }
-
-    fn read_ms(&self, ctx: &GpuContext) -> Result<f64> {
-        let bytes = ctx.read_buffer(&self.readback, 16)?;
-        let ticks: &[u64] = bytemuck::cast_slice(&bytes);
-        let ns = ticks[1].saturating_sub(ticks[0]) as f64 * ctx.queue.get_timestamp_period() as f64;
-        Ok(ns * 1e-6)
-    }
-}
-
-impl GpuContext {
-    /// Waits until the GPU has run every submission (a dispatch's wall time
-    /// where there are no timestamps; a check for device loss).
-    pub(crate) fn wait_idle(&self) -> Result<()> {
-        self.device
-            .poll(wgpu::PollType::wait_indefinitely())
-            .map_err(|e| Error::Gpu(format!("waiting for the GPU failed: {e}")))?;
-        self.check_health()
-    }
-
-    /// Maps `buffer` (after the last submission), copies out `size` bytes, unmaps.
-    pub(crate) fn read_buffer(&self, buffer: &wgpu::Buffer, size: u64) -> Result<Vec<u8>> {
-        let slice = buffer.slice(..size);
-        let (sender, receiver) = std::sync::mpsc::channel();
-        slice.map_async(wgpu::MapMode::Read, move |r| {
-            let _ = sender.send(r);
-        });
-        self.device
-            .poll(wgpu::PollType::wait_indefinitely())
-            .map_err(|e| Error::Gpu(format!("waiting for the GPU failed: {e}")))?;
-        self.check_health()?;
-        match receiver.recv() {
-            Ok(Ok(())) => {}
-            Ok(Err(e)) => return Err(Error::Gpu(format!("reading back from the GPU failed: {e}"))),
-            Err(_) => return Err(Error::Gpu("the GPU never finished the readback".into())),
-        }
-        let bytes = slice
-            .get_mapped_range()
-            .map_err(|e| Error::Gpu(format!("reading back from the GPU failed: {e}")))?
-            .to_vec();
-        buffer.unmap();
-        Ok(bytes)
     }
 }

@@ -63,6 +63,7 @@ impl SceneArrays {
                     ambient: f32x3(l.ambient),
                     diffuse: f32x3(l.diffuse),
                     specular: f32x3(l.specular),
+                    path_scale: l.path_intensity_scale() as f32,
                     ..bytemuck::Zeroable::zeroed()
                 };
                 match l.kind {

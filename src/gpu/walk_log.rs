@@ -305,7 +305,7 @@ impl WalkRecorder {
             ..KernelVariant::for_frame(scene, &params, true)
         };
         let pipeline = self.pipelines.get(ctx, variant)?;
-        let limit = ctx.device.limits().max_storage_buffer_binding_size as u64 / 4;
+        let limit = ctx.device.limits().max_storage_buffer_binding_size / 4;
         let mut room = FIRST_LOG_WORDS.min(limit);
         loop {
             let words = self.dispatch(ctx, scene, &params, &pipeline, room)?;

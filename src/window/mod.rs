@@ -17,6 +17,8 @@
 //!   the kernel's camera rays (pure, unit-tested).
 //! - `inspection`: inspection mode (X): a click inspects a pixel.
 //! - `overlay`: the line pipeline that draws them over the image.
+//! - `draw_pipeline`: what the present and overlay pipelines share: layouts
+//!   from a binding table, and a pipeline for any target format.
 //! - `title`: what the title bar says, and how often (pure, unit-tested).
 //! - [`reload`]: loading the scene, and polling its file and the files it
 //!   reads.
@@ -28,6 +30,7 @@
 mod app;
 pub mod camera_controller;
 mod click;
+mod draw_pipeline;
 mod frame_stats;
 mod heatmap_view;
 mod input;

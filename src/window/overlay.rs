@@ -6,6 +6,7 @@
 
 use bytemuck::{Pod, Zeroable};
 
+use super::draw_pipeline::{uniform_buffer, DrawPipeline, DrawPipelineDesc};
 use super::inspect_lines::LineVertex;
 use crate::error::Result;
 use crate::gpu::{bindings, shaders, GpuContext};
@@ -20,8 +21,7 @@ pub struct OverlayParams {
 
 /// The overlay's pipeline, uniform and lines.
 pub struct Overlay {
-    layout: wgpu::PipelineLayout,
-    module: wgpu::ShaderModule,
+    lines: DrawPipeline,
     /// For the format the present pass draws to.
     pipeline: wgpu::RenderPipeline,
     params: wgpu::Buffer,
@@ -37,37 +37,41 @@ const VERTEX_ATTRIBUTES: [wgpu::VertexAttribute; 2] =
 impl Overlay {
     /// The overlay for a target of `format`, with no lines.
     pub fn new(device: &wgpu::Device, format: wgpu::TextureFormat) -> Self {
-        let bind_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-            label: Some("overlay"),
-            entries: &bindings::layout_entries(
-                &bindings::OVERLAY_BINDINGS,
-                wgpu::ShaderStages::VERTEX,
-            ),
-        });
-        let layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
-            label: Some("overlay"),
-            bind_group_layouts: &[Some(&bind_layout)],
-            immediate_size: 0,
-        });
-        let module = shaders::overlay_module(device);
-        let params = device.create_buffer(&wgpu::BufferDescriptor {
-            label: Some("overlay params"),
-            size: std::mem::size_of::<OverlayParams>() as u64,
-            usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
-            mapped_at_creation: false,
-        });
+        let lines = DrawPipeline::new(
+            device,
+            DrawPipelineDesc {
+                label: "overlay",
+                table: &bindings::OVERLAY_BINDINGS,
+                stages: wgpu::ShaderStages::VERTEX,
+                entry_points: (
+                    bindings::OVERLAY_VERTEX_ENTRY_POINT,
+                    bindings::OVERLAY_FRAGMENT_ENTRY_POINT,
+                ),
+                topology: wgpu::PrimitiveTopology::LineList,
+                vertices: Some(wgpu::VertexBufferLayout {
+                    array_stride: std::mem::size_of::<LineVertex>() as u64,
+                    step_mode: wgpu::VertexStepMode::Vertex,
+                    attributes: &VERTEX_ATTRIBUTES,
+                }),
+            },
+            shaders::overlay_module(device),
+        );
+        let params = uniform_buffer(
+            device,
+            "overlay params",
+            std::mem::size_of::<OverlayParams>(),
+        );
         let group = device.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some("overlay"),
-            layout: &bind_layout,
+            layout: lines.bind_layout(),
             entries: &[wgpu::BindGroupEntry {
                 binding: bindings::OVERLAY_PARAMS.index,
                 resource: params.as_entire_binding(),
             }],
         });
-        let pipeline = line_pipeline(device, &layout, &module, format);
+        let pipeline = lines.for_format(device, format);
         Overlay {
-            layout,
-            module,
+            lines,
             pipeline,
             params,
             group,
@@ -81,7 +85,7 @@ impl Overlay {
         device: &wgpu::Device,
         format: wgpu::TextureFormat,
     ) -> wgpu::RenderPipeline {
-        line_pipeline(device, &self.layout, &self.module, format)
+        self.lines.for_format(device, format)
     }
 
     pub fn pipeline(&self) -> &wgpu::RenderPipeline {
@@ -137,46 +141,6 @@ impl Overlay {
         pass.set_vertex_buffer(0, buffer.slice(..));
         pass.draw(0..*count, 0..1);
     }
-}
-
-fn line_pipeline(
-    device: &wgpu::Device,
-    layout: &wgpu::PipelineLayout,
-    module: &wgpu::ShaderModule,
-    format: wgpu::TextureFormat,
-) -> wgpu::RenderPipeline {
-    device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
-        label: Some("overlay"),
-        layout: Some(layout),
-        vertex: wgpu::VertexState {
-            module,
-            entry_point: Some(bindings::OVERLAY_VERTEX_ENTRY_POINT),
-            compilation_options: Default::default(),
-            buffers: &[Some(wgpu::VertexBufferLayout {
-                array_stride: std::mem::size_of::<LineVertex>() as u64,
-                step_mode: wgpu::VertexStepMode::Vertex,
-                attributes: &VERTEX_ATTRIBUTES,
-            })],
-        },
-        primitive: wgpu::PrimitiveState {
-            topology: wgpu::PrimitiveTopology::LineList,
-            ..Default::default()
-        },
-        depth_stencil: None,
-        multisample: wgpu::MultisampleState::default(),
-        fragment: Some(wgpu::FragmentState {
-            module,
-            entry_point: Some(bindings::OVERLAY_FRAGMENT_ENTRY_POINT),
-            compilation_options: Default::default(),
-            targets: &[Some(wgpu::ColorTargetState {
-                format,
-                blend: None,
-                write_mask: wgpu::ColorWrites::ALL,
-            })],
-        }),
-        multiview_mask: None,
-        cache: None,
-    })
 }
 
 #[cfg(test)]

@@ -4,6 +4,7 @@
 //! them, the line overlay drawn over them (`overlay.rs`), and screenshots of
 //! what the two show.
 
+use super::draw_pipeline::{uniform_buffer, DrawPipeline, DrawPipelineDesc};
 use super::overlay::Overlay;
 use crate::error::{Error, Result};
 use crate::gpu::accumulate::ACCUMULATION_TEXEL;
@@ -39,9 +40,8 @@ struct PresentGroups {
 
 pub struct Viewer {
     accumulation: Accumulation,
-    present_layout: wgpu::BindGroupLayout,
-    present_pipeline_layout: wgpu::PipelineLayout,
-    present_module: wgpu::ShaderModule,
+    /// The present pass's layouts, for the surface's format and others.
+    present_parts: DrawPipeline,
     present: wgpu::RenderPipeline,
     present_params: wgpu::Buffer,
     /// The format `present` draws to (the surface's view format).
@@ -51,39 +51,6 @@ pub struct Viewer {
     heatmap: Option<u32>,
     /// Lines drawn over the image (an inspected pixel's rays and cells).
     overlay: Overlay,
-}
-
-fn present_pipeline(
-    device: &wgpu::Device,
-    layout: &wgpu::PipelineLayout,
-    module: &wgpu::ShaderModule,
-    format: wgpu::TextureFormat,
-) -> wgpu::RenderPipeline {
-    device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
-        label: Some("present"),
-        layout: Some(layout),
-        vertex: wgpu::VertexState {
-            module,
-            entry_point: Some(bindings::PRESENT_VERTEX_ENTRY_POINT),
-            compilation_options: Default::default(),
-            buffers: &[],
-        },
-        primitive: wgpu::PrimitiveState::default(),
-        depth_stencil: None,
-        multisample: wgpu::MultisampleState::default(),
-        fragment: Some(wgpu::FragmentState {
-            module,
-            entry_point: Some(bindings::PRESENT_FRAGMENT_ENTRY_POINT),
-            compilation_options: Default::default(),
-            targets: &[Some(wgpu::ColorTargetState {
-                format,
-                blend: None,
-                write_mask: wgpu::ColorWrites::ALL,
-            })],
-        }),
-        multiview_mask: None,
-        cache: None,
-    })
 }
 
 impl Viewer {
@@ -97,39 +64,36 @@ impl Viewer {
     ) -> Result<Self> {
         let accumulation = Accumulation::new(ctx, scene, pixels)?;
         ctx.checked("creating the window's present pass", |device| {
-            let present_layout =
-                device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-                    label: Some("present"),
-                    entries: &bindings::layout_entries(
-                        &bindings::PRESENT_BINDINGS,
-                        wgpu::ShaderStages::FRAGMENT,
+            let present_parts = DrawPipeline::new(
+                device,
+                DrawPipelineDesc {
+                    label: "present",
+                    table: &bindings::PRESENT_BINDINGS,
+                    stages: wgpu::ShaderStages::FRAGMENT,
+                    entry_points: (
+                        bindings::PRESENT_VERTEX_ENTRY_POINT,
+                        bindings::PRESENT_FRAGMENT_ENTRY_POINT,
                     ),
-                });
-            let present_pipeline_layout =
-                device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
-                    label: Some("present"),
-                    bind_group_layouts: &[Some(&present_layout)],
-                    immediate_size: 0,
-                });
-            let present_module = shaders::present_module(device);
-            let present_params = device.create_buffer(&wgpu::BufferDescriptor {
-                label: Some("present params"),
-                size: std::mem::size_of::<PresentParams>() as u64,
-                usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
-                mapped_at_creation: false,
-            });
-            let groups = present_groups(device, &present_layout, &present_params, &accumulation);
+                    topology: wgpu::PrimitiveTopology::TriangleList,
+                    vertices: None,
+                },
+                shaders::present_module(device),
+            );
+            let present_params = uniform_buffer(
+                device,
+                "present params",
+                std::mem::size_of::<PresentParams>(),
+            );
+            let groups = present_groups(
+                device,
+                present_parts.bind_layout(),
+                &present_params,
+                &accumulation,
+            );
             Viewer {
-                present: present_pipeline(
-                    device,
-                    &present_pipeline_layout,
-                    &present_module,
-                    target_format,
-                ),
+                present: present_parts.for_format(device, target_format),
                 accumulation,
-                present_layout,
-                present_pipeline_layout,
-                present_module,
+                present_parts,
                 present_params,
                 target_format,
                 groups,
@@ -151,7 +115,7 @@ impl Viewer {
             self.groups = ctx.checked("allocating the heatmap buffers", |device| {
                 present_groups(
                     device,
-                    &self.present_layout,
+                    self.present_parts.bind_layout(),
                     &self.present_params,
                     &self.accumulation,
                 )
@@ -309,13 +273,10 @@ impl Viewer {
         let size = padded_row as u64 * height as u64;
         let readback = ctx.checked("capturing the window", |device| {
             let pipelines = (format != self.target_format).then(|| {
-                let present = present_pipeline(
-                    device,
-                    &self.present_pipeline_layout,
-                    &self.present_module,
-                    format,
-                );
-                (present, self.overlay.pipeline_for(device, format))
+                (
+                    self.present_parts.for_format(device, format),
+                    self.overlay.pipeline_for(device, format),
+                )
             });
             let texture = device.create_texture(&wgpu::TextureDescriptor {
                 label: Some("screenshot"),

@@ -1,6 +1,6 @@
 //! The external tier (docs/testing.md, "Tiers"): tests that drive a tool
 //! beyond the GPU driver: headless Chromium (`web`), a Slurm cluster
-//! (`farm`, `farm_path`), an X server (`window`, `window_inspect`, under Xvfb) and lavapipe with its
+//! (`farm`, `farm_path`), an X server (`window`, `window_inspect`, under Xvfb: `x_window`) and lavapipe with its
 //! allocations made to fail (`gpu_memory`, through a preloaded library built
 //! with cc), and the docs' generated tables against the python3 scripts that
 //! print them (`doc_tables`). A missing tool fails the test that needs it, naming the tool
@@ -22,3 +22,4 @@ mod web;
 mod web_inspect;
 mod window;
 mod window_inspect;
+mod x_window;

@@ -54,9 +54,11 @@ impl Server {
             .stderr(Stdio::null())
             .spawn()
             .expect("python3 serves the site");
+        // Stopped on drop, also when it never answers.
+        let server = Server { child, port };
         for _ in 0..100 {
             if std::net::TcpStream::connect(("127.0.0.1", port)).is_ok() {
-                return Server { child, port };
+                return server;
             }
             std::thread::sleep(std::time::Duration::from_millis(50));
         }

@@ -11,8 +11,11 @@ use crate::web::{drive, export, title, Server};
 
 use common::*;
 
-/// (scene, the page's URL parameters and `kdray inspect`'s flags, pixels)
-const CASES: [(&str, &str, &[(u32, u32)]); 4] = [
+/// A scene, the page's URL parameters and `kdray inspect`'s flags, and
+/// the pixels inspected.
+type Case = (&'static str, &'static str, &'static [(u32, u32)]);
+
+const CASES: [Case; 4] = [
     ("seed", "traversal=restart", &[(32, 18), (5, 30)]),
     ("mirrors", "traversal=ropes", &[(32, 18), (50, 9)]),
     ("glass", "traversal=short-stack", &[(32, 18)]),

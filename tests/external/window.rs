@@ -7,160 +7,23 @@
 //! tests in src/window/camera_controller.rs (the same code path the event
 //! loop feeds).
 //!
-//! Each test starts its own Xvfb on a free display and stops it when done.
-//! Without Xvfb installed the tests fail, saying what to install (CI's
-//! .ci/run installs it).
+//! Each test starts its own Xvfb (`x_window`) on a free display and stops
+//! it when done. Without Xvfb installed the tests fail, saying what to
+//! install (CI's .ci/run installs it).
 
 use crate::common;
 
-use std::io::{BufRead, BufReader};
-use std::path::{Path, PathBuf};
-use std::process::{Child, Command, ExitStatus, Stdio};
-use std::sync::atomic::{AtomicU32, Ordering};
-use std::sync::mpsc::{Receiver, RecvTimeoutError};
+use std::path::Path;
+use std::process::{Command, ExitStatus, Stdio};
 use std::time::{Duration, Instant};
 
+use super::x_window::{kdray, read, temp_dir, RunningWindow, Xvfb, H, SAMPLES, TIMEOUT, W};
 use common::{compare, repo_path};
-use kdray::output::read_png_rgb;
 
 /// Mean FLIP error and share of pixels allowed to differ by more than 2
 /// levels, as in the golden tests.
 const MAX_MEAN_FLIP: f32 = 0.01;
 const MAX_PIXELS_OVER_PER_MILLE: usize = 1;
-/// Window size and samples of the tests: small, so each run takes a moment
-/// on lavapipe.
-pub(crate) const W: u32 = 96;
-pub(crate) const H: u32 = 64;
-pub(crate) const SAMPLES: &str = "4";
-/// Longest wait for anything the window should do.
-pub(crate) const TIMEOUT: Duration = Duration::from_secs(60);
-
-/// An X server for one test, stopped on drop.
-pub(crate) struct Xvfb {
-    child: Child,
-    pub(crate) display: String,
-}
-
-/// How long one Xvfb may take to make its socket before it is stopped
-/// and another display tried. It takes well under a second alone; 20 s
-/// was once too short with the suite's other tests on both cores, and
-/// once, on a machine whose Xvfb had never run, one of two servers started
-/// together made no socket in 90 s while the other was up at once: a hung
-/// server is replaced, not waited on.
-const XVFB_START: Duration = Duration::from_secs(30);
-/// Servers that may hang before the test gives up.
-const XVFB_HUNG_TRIES: usize = 3;
-
-impl Xvfb {
-    pub(crate) fn start() -> Xvfb {
-        static NEXT: AtomicU32 = AtomicU32::new(0);
-        let mut hung = Vec::new();
-        for _ in 0..50 {
-            let n = 100 + (std::process::id() * 7 + NEXT.fetch_add(1, Ordering::SeqCst)) % 30000;
-            let socket = PathBuf::from(format!("/tmp/.X11-unix/X{n}"));
-            if socket.exists() || Path::new(&format!("/tmp/.X{n}-lock")).exists() {
-                continue;
-            }
-            // Its own words, for the failure message if it hangs.
-            let log = std::env::temp_dir().join(format!("kdray-xvfb-{n}.log"));
-            let stderr = std::fs::File::create(&log)
-                .map(Stdio::from)
-                .unwrap_or_else(|_| Stdio::null());
-            let spawned = Command::new("Xvfb")
-                .args([
-                    &format!(":{n}"),
-                    "-screen",
-                    "0",
-                    "1024x768x24",
-                    "-nolisten",
-                    "tcp",
-                ])
-                .stdin(Stdio::null())
-                .stdout(Stdio::null())
-                .stderr(stderr)
-                .spawn();
-            let child = match spawned {
-                Ok(child) => child,
-                Err(e) if e.kind() == std::io::ErrorKind::NotFound => panic!(
-                    "the window tests need Xvfb, which is not installed: \
-                     apt-get install xvfb xauth libxkbcommon-x11-0 (CI's .ci/run installs them)"
-                ),
-                Err(e) => panic!("cannot start Xvfb: {e}"),
-            };
-            let mut server = Xvfb {
-                child,
-                display: format!(":{n}"),
-            };
-            let deadline = Instant::now() + XVFB_START;
-            let started = loop {
-                if socket.exists() {
-                    break true;
-                }
-                // Exited: most likely another server took this display; try the next.
-                if server.child.try_wait().unwrap().is_some() {
-                    break false;
-                }
-                if Instant::now() >= deadline {
-                    let said = std::fs::read_to_string(&log).unwrap_or_default();
-                    hung.push(format!("{}: {}", server.display, said.trim()));
-                    break false;
-                }
-                std::thread::sleep(Duration::from_millis(20));
-            };
-            let _ = std::fs::remove_file(&log);
-            if started {
-                return server;
-            }
-            drop(server); // stopped (SIGTERM, then SIGKILL) before the next try
-            assert!(
-                hung.len() < XVFB_HUNG_TRIES,
-                "{} Xvfb servers made no socket in {:?} each: {}",
-                hung.len(),
-                XVFB_START,
-                hung.join("; ")
-            );
-        }
-        panic!("found no free X display for Xvfb");
-    }
-}
-
-impl Drop for Xvfb {
-    fn drop(&mut self) {
-        // SIGTERM lets Xvfb remove its socket and lock file; SIGKILL if it
-        // does not stop.
-        // SAFETY: kill(2) on our own child's pid.
-        unsafe { libc::kill(self.child.id() as libc::pid_t, libc::SIGTERM) };
-        let deadline = Instant::now() + Duration::from_secs(5);
-        while Instant::now() < deadline {
-            if let Ok(Some(_)) = self.child.try_wait() {
-                return;
-            }
-            std::thread::sleep(Duration::from_millis(10));
-        }
-        let _ = self.child.kill();
-        let _ = self.child.wait();
-    }
-}
-
-/// A fresh folder for one test's files (and its XDG_RUNTIME_DIR).
-pub(crate) fn temp_dir(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("kdray-window-{name}-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(dir.join("xdg")).unwrap();
-    use std::os::unix::fs::PermissionsExt;
-    std::fs::set_permissions(dir.join("xdg"), std::fs::Permissions::from_mode(0o700)).unwrap();
-    dir
-}
-
-pub(crate) fn kdray(dir: &Path) -> Command {
-    let mut command = Command::new(env!("CARGO_BIN_EXE_kdray"));
-    command
-        .env("XDG_RUNTIME_DIR", dir.join("xdg"))
-        .env_remove("KDRAY_AUTO_ORBIT")
-        .stdin(Stdio::null());
-    command
-}
-
 /// Runs to completion within [`TIMEOUT`]: (status, stdout, stderr).
 fn run(mut command: Command) -> (ExitStatus, String, String) {
     let mut child = command
@@ -212,12 +75,6 @@ fn headless_with(dir: &Path, scene: &Path, out: &Path, extra: &[&str]) -> Vec<u8
 
 fn headless(dir: &Path, scene: &Path, out: &Path) -> Vec<u8> {
     headless_with(dir, scene, out, &[])
-}
-
-pub(crate) fn read(path: &Path) -> Vec<u8> {
-    let (w, h, rgb) = read_png_rgb(path).unwrap_or_else(|e| panic!("{e}"));
-    assert_eq!((w, h), (W, H), "{}", path.display());
-    rgb
 }
 
 fn window_args(scene: &Path, screenshot: &Path) -> Vec<std::ffi::OsString> {
@@ -281,10 +138,8 @@ fn still_window_screenshot_matches_the_headless_render() {
         // presented again. A pass is one frame, or on a slow (loaded)
         // machine bands of at least 8 rows: at most 4 x 8 frames.
         let shot = dir.join(format!("{name}-window.png"));
-        let mut command = kdray(&dir);
+        let mut command = x.kdray(&dir);
         command
-            .env("DISPLAY", &x.display)
-            .env_remove("WAYLAND_DISPLAY")
             .args(window_args(&scene, &shot))
             .args(extra)
             .args(["--frames", "40", "--stats"]);
@@ -324,10 +179,8 @@ fn still_window_screenshot_matches_the_headless_render() {
         // The first frame is the reduced-resolution preview, not yet the
         // refined image.
         let first = dir.join(format!("{name}-first.png"));
-        let mut command = kdray(&dir);
+        let mut command = x.kdray(&dir);
         command
-            .env("DISPLAY", &x.display)
-            .env_remove("WAYLAND_DISPLAY")
             .args(window_args(&scene, &first))
             .args(extra)
             .args(["--frames", "1"]);
@@ -382,48 +235,6 @@ const BIGGER_TRIANGLE: &str = "v 0.2 -0.8 0.5\nv 1.4 -0.8 0.5\nv 0.8 1.05 0.5\nf
 const RED: &str = "[0.8, 0.1, 0.1]";
 const BLUE: &str = "[0.1, 0.1, 0.85]";
 
-/// Lines the window prints on stderr, as they come.
-pub(crate) fn stderr_lines(child: &mut Child) -> Receiver<String> {
-    let (send, receive) = std::sync::mpsc::channel();
-    let stderr = child.stderr.take().unwrap();
-    std::thread::spawn(move || {
-        for line in BufReader::new(stderr).lines() {
-            let Ok(line) = line else { break };
-            if send.send(line).is_err() {
-                break;
-            }
-        }
-    });
-    receive
-}
-
-/// Waits for a line containing `needle`; returns every line read so far.
-pub(crate) fn wait_for(lines: &Receiver<String>, seen: &mut Vec<String>, needle: &str) {
-    let deadline = Instant::now() + TIMEOUT;
-    loop {
-        let left = deadline.saturating_duration_since(Instant::now());
-        match lines.recv_timeout(left) {
-            Ok(line) => {
-                let found = line.contains(needle);
-                seen.push(line);
-                if found {
-                    return;
-                }
-            }
-            Err(RecvTimeoutError::Timeout) => {
-                panic!(
-                    "no line with {needle:?} on stderr; got:\n{}",
-                    seen.join("\n")
-                )
-            }
-            Err(RecvTimeoutError::Disconnected) => panic!(
-                "the window exited before printing {needle:?}; stderr:\n{}",
-                seen.join("\n")
-            ),
-        }
-    }
-}
-
 #[test]
 fn hot_reload_follows_the_scene_and_its_obj_and_survives_a_broken_file() {
     let x = Xvfb::start();
@@ -435,59 +246,28 @@ fn hot_reload_follows_the_scene_and_its_obj_and_survives_a_broken_file() {
     std::fs::write(&scene, reload_scene(RED)).unwrap();
     let shot = dir.join("window.png");
 
-    let mut command = kdray(&dir);
-    command
-        .env("DISPLAY", &x.display)
-        .env_remove("WAYLAND_DISPLAY")
-        .args(window_args(&scene, &shot))
-        .stdout(Stdio::null())
-        .stderr(Stdio::piped());
-    let mut child = command.spawn().unwrap();
-    let lines = stderr_lines(&mut child);
-    let mut seen = Vec::new();
-    let outcome = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
-        wait_for(&lines, &mut seen, "window on");
-        // A changed colour in the scene file.
-        std::fs::write(&scene, reload_scene(BLUE)).unwrap();
-        wait_for(&lines, &mut seen, "reloaded");
-        // A changed OBJ.
-        std::fs::write(&obj, BIGGER_TRIANGLE).unwrap();
-        wait_for(&lines, &mut seen, "reloaded");
-        // A broken scene file: reported, and the window goes on.
-        std::fs::write(&scene, reload_scene("[0.1, 0.1")).unwrap();
-        wait_for(&lines, &mut seen, &format!("kdray: {}:", scene.display()));
-        // Time to finish refining the last good scene (4 frames).
-        std::thread::sleep(Duration::from_millis(1500));
-        assert!(
-            child.try_wait().unwrap().is_none(),
-            "the window exited after the broken file; stderr:\n{}",
-            seen.join("\n")
-        );
-    }));
-    if let Err(e) = outcome {
-        let _ = child.kill();
-        let _ = child.wait();
-        std::panic::resume_unwind(e);
-    }
-    // Close it (SIGTERM closes the window like Esc, saving --screenshot).
-    // SAFETY: kill(2) on our own child's pid.
-    assert_eq!(
-        unsafe { libc::kill(child.id() as libc::pid_t, libc::SIGTERM) },
-        0
+    let mut command = x.kdray(&dir);
+    command.args(window_args(&scene, &shot));
+    let mut window = RunningWindow::spawn(command);
+    window.line_with("window on");
+    // A changed colour in the scene file.
+    std::fs::write(&scene, reload_scene(BLUE)).unwrap();
+    window.line_with("reloaded");
+    // A changed OBJ.
+    std::fs::write(&obj, BIGGER_TRIANGLE).unwrap();
+    window.line_with("reloaded");
+    // A broken scene file: reported, and the window goes on.
+    std::fs::write(&scene, reload_scene("[0.1, 0.1")).unwrap();
+    window.line_with(&format!("kdray: {}:", scene.display()));
+    // Time to finish refining the last good scene (4 frames).
+    std::thread::sleep(Duration::from_millis(1500));
+    assert!(
+        window.running(),
+        "the window exited after the broken file; stderr:\n{}",
+        window.seen.join("\n")
     );
-    let deadline = Instant::now() + TIMEOUT;
-    let status = loop {
-        if let Some(status) = child.try_wait().unwrap() {
-            break status;
-        }
-        if Instant::now() > deadline {
-            let _ = child.kill();
-            panic!("the window did not close on SIGTERM");
-        }
-        std::thread::sleep(Duration::from_millis(20));
-    };
-    seen.extend(lines.iter());
-    let stderr = seen.join("\n");
+    // Closed as Esc closes it, saving --screenshot.
+    let (status, stderr) = window.close();
     assert!(status.success(), "exit {status}; stderr:\n{stderr}");
     let prefix = format!("kdray: {}:", scene.display());
     let names_line = stderr.lines().any(|l| {
@@ -562,10 +342,8 @@ fn the_window_prints_no_xdg_runtime_dir_error_without_the_variable() {
     let scene = repo_path("scenes/seed.toml");
     for value in [None, Some("relative/runtime")] {
         let shot = dir.join("shot.png");
-        let mut command = kdray(&dir);
+        let mut command = x.kdray(&dir);
         command
-            .env("DISPLAY", &x.display)
-            .env_remove("WAYLAND_DISPLAY")
             .env_remove("XDG_RUNTIME_DIR")
             // The private folder goes here, not in the shared /tmp.
             .env("TMPDIR", &dir)
@@ -614,10 +392,8 @@ fn play_moves_the_camera_through_the_animation() {
     let mut moving = Vec::new();
     for play in [false, true] {
         let shot = dir.join(format!("orbit-play-{play}.png"));
-        let mut command = kdray(&dir);
+        let mut command = x.kdray(&dir);
         command
-            .env("DISPLAY", &x.display)
-            .env_remove("WAYLAND_DISPLAY")
             .args(window_args(&scene, &shot))
             .args(["--frames", "30", "--stats"]);
         if play {
@@ -666,10 +442,8 @@ fn the_window_shows_the_lights_of_its_frame() {
         "the key at frame 0 changes the image"
     );
     let shot = dir.join("keyed-window.png");
-    let mut command = kdray(&dir);
+    let mut command = x.kdray(&dir);
     command
-        .env("DISPLAY", &x.display)
-        .env_remove("WAYLAND_DISPLAY")
         .args(window_args(&scene, &shot))
         .args(["--frames", "40"]);
     let (status, _, stderr) = run(command);

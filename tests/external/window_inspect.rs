@@ -13,14 +13,13 @@ use crate::common;
 
 use std::ffi::CString;
 use std::path::{Path, PathBuf};
-use std::process::{Child, Stdio};
-use std::sync::mpsc::Receiver;
+
 use std::time::{Duration, Instant};
 
 use glam::DVec2;
 use x11_dl::{keysym, xlib, xtest};
 
-use super::window::{kdray, read, stderr_lines, temp_dir, wait_for, Xvfb, H, SAMPLES, TIMEOUT, W};
+use super::x_window::{read, temp_dir, RunningWindow, Xvfb, H, SAMPLES, TIMEOUT, W};
 use kdray::gpu::Accel;
 use kdray::inspect::{build_tree, inspect_file, InspectRequest, WalkSource};
 use kdray::kdtree::{BuildStrategy, Traversal};
@@ -188,26 +187,16 @@ impl Drop for XInput {
     }
 }
 
-/// The window process, killed if the test fails before it exits.
+/// The window process and the folder its screenshots go to.
 struct Window {
-    child: Child,
-    lines: Receiver<String>,
-    seen: Vec<String>,
+    process: RunningWindow,
     dir: PathBuf,
-}
-
-impl Drop for Window {
-    fn drop(&mut self) {
-        let _ = self.child.kill();
-        let _ = self.child.wait();
-    }
 }
 
 impl Window {
     /// Waits for a line with `needle` on stderr and returns it.
     fn line_with(&mut self, needle: &str) -> String {
-        wait_for(&self.lines, &mut self.seen, needle);
-        self.seen.last().cloned().unwrap_or_default()
+        self.process.line_with(needle)
     }
 
     /// P: a screenshot of what the window shows, and how many of the
@@ -238,23 +227,21 @@ impl Window {
             assert!(
                 Instant::now() < deadline,
                 "the window did not refine: {}",
-                self.seen.join("\n")
+                self.process.seen.join("\n")
             );
             std::thread::sleep(Duration::from_millis(150));
         }
     }
 }
 
-/// Opens the window on `scene`, optionally turns inspection on and clicks
+/// Opens the window on `server` showing `scene`, optionally turns inspection on and clicks
 /// [`PIXEL`], then presses F; the refined screenshot after F.
-fn window_after_f(x: &XInput, dir: &Path, display: &str, scene: &Path, inspect: bool) -> Vec<u8> {
+fn window_after_f(x: &XInput, server: &Xvfb, dir: &Path, scene: &Path, inspect: bool) -> Vec<u8> {
     let run = dir.join(if inspect { "inspected" } else { "plain" });
     std::fs::create_dir_all(&run).unwrap();
-    let mut command = kdray(dir);
+    let mut command = server.kdray(dir);
     command
         .current_dir(&run)
-        .env("DISPLAY", display)
-        .env_remove("WAYLAND_DISPLAY")
         .arg("render")
         .arg(scene)
         .args([
@@ -271,15 +258,9 @@ fn window_after_f(x: &XInput, dir: &Path, display: &str, scene: &Path, inspect: 
             "ropes",
             "--build",
             "sah",
-        ])
-        .stdout(Stdio::null())
-        .stderr(Stdio::piped());
-    let mut child = command.spawn().unwrap();
-    let lines = stderr_lines(&mut child);
+        ]);
     let mut window = Window {
-        child,
-        lines,
-        seen: Vec::new(),
+        process: RunningWindow::spawn(command),
         dir: run,
     };
     window.line_with("window on");
@@ -288,7 +269,11 @@ fn window_after_f(x: &XInput, dir: &Path, display: &str, scene: &Path, inspect: 
         if let Some(at) = x.window_of_size(W, H) {
             break at;
         }
-        assert!(Instant::now() < deadline, "no {W}x{H} window on {display}");
+        assert!(
+            Instant::now() < deadline,
+            "no {W}x{H} window on {}",
+            server.display
+        );
         std::thread::sleep(Duration::from_millis(50));
     };
     x.focus(id);
@@ -303,10 +288,8 @@ fn window_after_f(x: &XInput, dir: &Path, display: &str, scene: &Path, inspect: 
     let before = window.refined_screenshot(x, None);
     x.key(keysym::XK_f);
     let after = window.refined_screenshot(x, Some(&before));
-    // SAFETY: kill(2) on our own child's pid; SIGTERM closes the window.
-    unsafe { libc::kill(window.child.id() as libc::pid_t, libc::SIGTERM) };
-    let status = window.child.wait().unwrap();
-    assert!(status.success(), "{}", window.seen.join("\n"));
+    let (status, stderr) = window.process.close();
+    assert!(status.success(), "{stderr}");
     after
 }
 
@@ -332,8 +315,8 @@ fn an_inspected_pixels_rays_are_drawn_where_the_camera_projects_them() {
     let scene = dir.join("spheres.toml");
     std::fs::write(&scene, SCENE).unwrap();
     let x = XInput::open(&x11.display);
-    let plain = window_after_f(&x, &dir, &x11.display, &scene, false);
-    let inspected = window_after_f(&x, &dir, &x11.display, &scene, true);
+    let plain = window_after_f(&x, &x11, &dir, &scene, false);
+    let inspected = window_after_f(&x, &x11, &dir, &scene, true);
 
     // What the window drew: the pixel's lines, seen from the camera that F
     // moved to.

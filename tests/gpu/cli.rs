@@ -689,7 +689,7 @@ fn all_frames_writes_each_frame_as_render_frame_k_does() {
     names.sort();
     assert_eq!(names, ["0000.png", "0001.png", "0002.png"]);
     let mut images = Vec::new();
-    for k in 0..3 {
+    for (k, name) in names.iter().enumerate() {
         let one = format!("frame{k}.png");
         let run = kdray(
             &dir.path,
@@ -697,7 +697,7 @@ fn all_frames_writes_each_frame_as_render_frame_k_does() {
         );
         assert_eq!(run.code, 0, "{run:#?}");
         let single = std::fs::read(dir.path.join(&one)).expect("single frame");
-        let from_all = std::fs::read(dir.path.join("frames").join(&names[k])).expect("frame");
+        let from_all = std::fs::read(dir.path.join("frames").join(name)).expect("frame");
         assert!(
             single == from_all,
             "frame {k} differs from render --frame {k}"

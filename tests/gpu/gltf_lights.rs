@@ -78,6 +78,7 @@ fn gltf_punctual_lights_render_as_the_same_lights_stated_by_hand() {
                 inner_degrees: f64::from(0.3f32).to_degrees(),
                 outer_degrees: f64::from(0.6f32).to_degrees(),
             },
+            reference_distance: None,
         },
         Light {
             position: DVec3::ZERO,
@@ -87,6 +88,7 @@ fn gltf_punctual_lights_render_as_the_same_lights_stated_by_hand() {
             kind: LightKind::Directional {
                 direction: DVec3::NEG_Y,
             },
+            reference_distance: None,
         },
     ];
     let by_hand = scene_from_toml(&scene_text(&by_hand, SceneFormat::Toml).unwrap());

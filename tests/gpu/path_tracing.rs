@@ -15,7 +15,7 @@ use kdray::gpu::{Accel, GpuScene, PreparedScene, Renderer, TilePlan};
 use kdray::kdtree::Traversal;
 use kdray::scene::Scene;
 
-/// A path-traced frame's mean radiance per pixel (r, g, b, row-major) and
+/// A frame's mean radiance per pixel (r, g, b, row-major) and
 /// its dropped samples, through the k-d tree with `traversal`, in
 /// dispatches of at most `max_tile_pixels`.
 fn radiance(scene: &Scene, traversal: Traversal, max_tile_pixels: u64) -> (Vec<f32>, u64) {
@@ -35,9 +35,11 @@ fn radiance_with(
     let ctx = gpu();
     let prepared = PreparedScene::new(scene.clone(), accel);
     let uploaded = GpuScene::upload(ctx, prepared).unwrap_or_else(|e| panic!("{e}"));
+    // Whitted frames' radiance too (path frames always carry theirs).
     let mut renderer = Renderer::new(ctx)
         .unwrap_or_else(|e| panic!("{e}"))
-        .with_settings(&scene.render);
+        .with_settings(&scene.render)
+        .with_radiance();
     if let Some((first, count)) = samples {
         renderer = renderer.with_sample_range(first, count);
     }
@@ -224,6 +226,72 @@ fn a_sphere_light_lights_a_plane_by_its_solid_angle() {
         }
     }
     assert_close(sum as f32, expected_sum, 0.005, "the image's sum");
+}
+
+/// A plane of albedo a seen straight down through a narrow view, lit from
+/// height h above by a point light of `diffuse` D: the path tracer shows
+/// a D / (pi h^2) there, and with `reference_distance = h` the Whitted
+/// integrator's a D (its lights do not fall off), which the Whitted
+/// integrator shows too.
+#[test]
+fn a_point_light_with_a_reference_distance_matches_the_whitted_integrator_there() {
+    let (a, d, h) = (0.5, 0.6, 3.0);
+    let scene = |integrator: &str, reference: &str| {
+        scene_from_toml(&format!(
+            r#"
+            [camera]
+            position = [0, 10, 0]
+            look_at = [0, 0, 0]
+            up = [0, 0, -1]
+            vfov = 1
+            [render]
+            width = 4
+            height = 4
+            integrator = "{integrator}"
+            samples = 16
+            max_depth = 1
+            [materials.plane]
+            diffuse = [{a}, {a}, {a}]
+            ambient = [0, 0, 0]
+            specular = [0, 0, 0]
+            [[lights]]
+            position = [0, {h}, 0]
+            ambient = [0, 0, 0]
+            diffuse = [{d}, {d}, {d}]
+            specular = [0, 0, 0]
+            {reference}
+            [[triangles]]
+            vertices = [[-1000, 0, -1000], [1000, 0, 1000], [1000, 0, -1000]]
+            material = "plane"
+            [[triangles]]
+            vertices = [[-1000, 0, -1000], [-1000, 0, 1000], [1000, 0, 1000]]
+            material = "plane"
+            "#
+        ))
+    };
+    let mean = |scene: &Scene| {
+        let image = default_radiance(scene);
+        image.iter().map(|&x| x as f64).sum::<f64>() / image.len() as f64
+    };
+    let pi = std::f64::consts::PI;
+    let tolerance = 0.002;
+    let plain = mean(&scene("path", ""));
+    assert_close(
+        plain as f32,
+        a * d / (pi * h * h),
+        tolerance,
+        "path, no reference distance",
+    );
+    let reference = format!("reference_distance = {h}");
+    let matched = mean(&scene("path", &reference));
+    assert_close(
+        matched as f32,
+        a * d,
+        tolerance,
+        "path, reference distance h",
+    );
+    let whitted = mean(&scene("whitted", &reference));
+    assert_close(whitted as f32, a * d, tolerance, "Whitted");
 }
 
 /// The Cornell box at test size, with a few samples.
@@ -522,7 +590,7 @@ fn a_plane_under_a_sky_image_gets_the_irradiance_of_its_texels() {
     }
     let image = default_radiance(&scene);
     let pixels = (image.len() / 3) as f64;
-    for c in 0..3 {
+    for (c, channel_irradiance) in irradiance.iter().enumerate() {
         let mean: f64 = image
             .iter()
             .skip(c)
@@ -530,7 +598,7 @@ fn a_plane_under_a_sky_image_gets_the_irradiance_of_its_texels() {
             .map(|&x| x as f64)
             .sum::<f64>()
             / pixels;
-        let expected = a / std::f64::consts::PI * irradiance[c];
+        let expected = a / std::f64::consts::PI * channel_irradiance;
         assert_close(mean as f32, expected, 0.01, &format!("channel {c}"));
     }
 }

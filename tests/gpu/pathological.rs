@@ -131,7 +131,7 @@ fn rays_exactly_along_split_planes() {
 /// scene id.
 #[test]
 fn every_build_breaks_ties_as_brute_force_does() {
-    use kdray::gpu::{GpuScene, PreparedScene, TilePlan};
+    use kdray::gpu::{GpuScene, PreparedScene};
     use kdray::kdtree::{BuildStrategy, Traversal};
     let scene = load("rays_on_split_planes");
     let brute = render(&scene, Accel::Brute);
@@ -144,10 +144,7 @@ fn every_build_breaks_ties_as_brute_force_does() {
                 gpu(),
                 &uploaded,
                 None,
-                traversal,
-                TilePlan::DEFAULT_MAX_TILE_PIXELS,
-                false,
-                false,
+                kdray::render::StreamOptions::new(traversal),
                 &mut |band| {
                     rgb.extend_from_slice(band.rgb);
                     Ok(())

@@ -274,6 +274,7 @@ pub fn random_scene(spec: &RandomSceneSpec) -> Scene {
             diffuse: DVec3::ONE,
             specular: DVec3::ONE,
             kind: Default::default(),
+            reference_distance: None,
         }],
         materials: materials(),
         spheres,

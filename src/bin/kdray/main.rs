@@ -11,7 +11,8 @@ use std::process::ExitCode;
 
 use args::{Cli, Command, InspectArgs, RenderArgs};
 use clap::Parser;
-use kdray::gpu::{GpuContext, TilePlan};
+use kdray::gpu::GpuContext;
+use kdray::render::StreamOptions;
 use kdray::{Error, Result};
 
 fn main() -> ExitCode {
@@ -142,10 +143,11 @@ fn render(args: RenderArgs) -> Result<()> {
         &ctx,
         &uploaded,
         None,
-        flags.traversal,
-        TilePlan::DEFAULT_MAX_TILE_PIXELS,
-        stats || heatmap.is_some(),
-        image.wants_radiance(),
+        StreamOptions {
+            with_cost: stats || heatmap.is_some(),
+            radiance: image.wants_radiance(),
+            ..StreamOptions::new(flags.traversal)
+        },
         &mut |band| {
             progress.inc(band.rows as u64);
             if let (Some(_), Some(costs)) = (&heatmap, band.costs) {
@@ -204,10 +206,7 @@ fn render_all_frames(
             &ctx,
             &uploaded,
             Some(&part),
-            flags.traversal,
-            TilePlan::DEFAULT_MAX_TILE_PIXELS,
-            false,
-            false,
+            StreamOptions::new(flags.traversal),
             &mut |band| {
                 progress.inc(band.rows as u64);
                 png.write_rows(band.rgb)
@@ -288,7 +287,8 @@ fn info() -> Result<()> {
 /// Where `render` writes its image: a PNG fed band by band, or an EXR of
 /// linear radiance, written whole once the last band is in.
 enum ImageOut {
-    Png(kdray::output::PngStream),
+    /// Boxed: the encoder's state is large beside the other variant.
+    Png(Box<kdray::output::PngStream>),
     Exr {
         path: PathBuf,
         width: u32,
@@ -307,9 +307,9 @@ impl ImageOut {
                 rgb: Vec::with_capacity(width as usize * height as usize * 3),
             });
         }
-        Ok(ImageOut::Png(kdray::output::PngStream::create(
+        Ok(ImageOut::Png(Box::new(kdray::output::PngStream::create(
             path, width, height,
-        )?))
+        )?)))
     }
 
     fn wants_radiance(&self) -> bool {

@@ -305,7 +305,9 @@ pub struct GpuLight {
     pub spot_scale: f32,
     /// A spot light's axis, a directional light's travel: unit.
     pub direction: [f32; 3],
-    pub _pad4: f32,
+    /// A point or spot light: the path tracer's radiant intensity is
+    /// `diffuse * path_scale` (`scene::Light::path_intensity_scale`).
+    pub path_scale: f32,
 }
 
 /// `GpuLight::kind`: a point light of the scene's `[[lights]]`.

@@ -267,7 +267,7 @@ impl LightPath {
             ambient: self.light.ambient * factor,
             diffuse: self.light.diffuse * factor,
             specular: self.light.specular * factor,
-            kind: self.light.kind,
+            ..self.light
         }
     }
 }
@@ -404,6 +404,7 @@ mod tests {
             diffuse: DVec3::new(0.5, 1.0, 1.0),
             specular: DVec3::ONE,
             kind: Default::default(),
+            reference_distance: None,
         }
     }
 

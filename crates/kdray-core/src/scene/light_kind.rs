@@ -93,6 +93,39 @@ pub const DEFAULT_INNER_CONE_DEGREES: f64 = 0.0;
 pub const DEFAULT_OUTER_CONE_DEGREES: f64 = 45.0;
 
 impl Validator<'_> {
+    /// Light `i`'s `reference_distance`: a positive distance within the
+    /// coordinates the GPU takes, for a point or spot light only.
+    pub(super) fn reference_distance(
+        &self,
+        i: usize,
+        l: &RawLight,
+    ) -> Result<Option<f64>, SceneError> {
+        let key = || format!("lights[{i}].reference_distance");
+        let Some(d) = l.reference_distance else {
+            return Ok(None);
+        };
+        if l.kind
+            .as_ref()
+            .is_some_and(|n| n.0 == LightShape::Directional)
+        {
+            return Err(self.error(
+                &key(),
+                "a directional light has no reference_distance (its diffuse is the irradiance it gives)",
+            ));
+        }
+        let d = self.number(&key, d)?;
+        if !(d > 0.0 && d <= super::validate::MAX_COORDINATE) {
+            return Err(self.error(
+                &key(),
+                format!(
+                    "must be greater than 0 and at most {:e}, got {d:?}",
+                    super::validate::MAX_COORDINATE
+                ),
+            ));
+        }
+        Ok(Some(d))
+    }
+
     /// Light `i`'s kind and its position (None for a directional light,
     /// which must not give one; point and spot lights must).
     pub(super) fn light_kind(

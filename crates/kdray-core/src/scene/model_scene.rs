@@ -252,7 +252,10 @@ pub(super) fn framing_camera(min: DVec3, max: DVec3) -> Camera {
 
 /// Key (bright, above and to the camera's right), fill (dim, low on the
 /// left) and rim (behind and above, for an outline), at a few radii from the
-/// centre. Only the key adds ambient light.
+/// centre. Only the key adds ambient light. Each light's reference distance
+/// is its distance to the centre, so that the path tracer, whose lights
+/// fall off, lights the model as brightly as the Whitted integrator at any
+/// scale.
 pub(super) fn light_rig(min: DVec3, max: DVec3) -> Vec<Light> {
     let (centre, radius) = sphere(min, max);
     let toward_camera = view_direction();
@@ -263,6 +266,7 @@ pub(super) fn light_rig(min: DVec3, max: DVec3) -> Vec<Light> {
         diffuse: DVec3::splat(diffuse),
         specular: DVec3::splat(specular),
         kind: Default::default(),
+        reference_distance: Some(radius * offset.length()),
     };
     vec![
         light(

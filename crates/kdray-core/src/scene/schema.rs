@@ -307,6 +307,10 @@ pub(super) struct RawLight {
     pub(super) diffuse: Vec3,
     #[serde(default = "white")]
     pub(super) specular: Vec3,
+    /// Point and spot lights: where the path tracer matches the Whitted
+    /// integrator's brightness.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub(super) reference_distance: Option<f64>,
 }
 
 #[derive(Deserialize, Serialize)]

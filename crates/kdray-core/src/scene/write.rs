@@ -148,6 +148,7 @@ fn raw_light(l: &Light) -> RawLight {
         ambient: exact(l.ambient),
         diffuse: exact(l.diffuse),
         specular: exact(l.specular),
+        reference_distance: l.reference_distance,
     }
 }
 

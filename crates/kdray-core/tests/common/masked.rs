@@ -99,7 +99,7 @@ pub fn masked_scene(prims: &Primitives, alphas: &[u8], uv_scale: f64, integrator
 pub fn checker_alphas() -> Vec<u8> {
     let mut a: Vec<u8> = (0..SIDE * SIDE)
         .map(|i| {
-            if (i % SIDE + i / SIDE) % 2 == 0 {
+            if (i % SIDE + i / SIDE).is_multiple_of(2) {
                 255
             } else {
                 0

@@ -118,6 +118,7 @@ fn the_contract_example_has_every_value() {
             diffuse: DVec3::ONE,
             specular: DVec3::ONE,
             kind: LightKind::Point,
+            reference_distance: None,
         }]
     );
     assert_eq!(

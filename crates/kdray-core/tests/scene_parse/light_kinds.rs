@@ -1,6 +1,7 @@
 //! `[[lights]]` kinds: point (the default), spot (`direction`, `inner_cone`,
 //! `outer_cone` in degrees) and directional (`direction`, no position); each
-//! bad key is a one-line error naming its file, line and key.
+//! bad key is a one-line error naming its file, line and key; a point or
+//! spot light's `reference_distance`.
 
 use super::*;
 
@@ -138,5 +139,45 @@ fn bad_light_kind_keys_are_refused_naming_the_key() {
         &keyed.set("animation.light_keys[0].position", "[1, 2, 3]"),
         "animation.light_keys[0].position",
         &["light 1 is directional"],
+    );
+}
+
+/// `reference_distance`: kept for point and spot lights (the path tracer's
+/// intensity scale `pi r^2`), written back, refused for a directional
+/// light and when not a positive distance, naming the key.
+#[test]
+fn a_reference_distance_is_read_written_back_and_checked() {
+    let doc = base()
+        .set("lights[0].reference_distance", "2.5")
+        .set("lights[1].kind", "\"spot\"")
+        .set("lights[1].position", "[0, 4, 0]")
+        .set("lights[1].direction", "[0, -1, 0]")
+        .set("lights[1].reference_distance", "4");
+    let scene = assert_accepted(&doc);
+    assert_eq!(scene.lights[0].reference_distance, Some(2.5));
+    assert_eq!(scene.lights[1].reference_distance, Some(4.0));
+    let plain = assert_accepted(&base()).lights[0];
+    assert_eq!(plain.reference_distance, None);
+    let pi = std::f64::consts::PI;
+    assert_eq!(scene.lights[0].path_intensity_scale(), pi * 6.25);
+    assert_eq!(plain.path_intensity_scale(), 1.0);
+    for format in [SceneFormat::Toml, SceneFormat::Json] {
+        let text = kdray_core::scene::scene_text(&scene, format).unwrap();
+        assert_eq!(parse_ok(&text, format).lights, scene.lights, "{format:?}");
+    }
+    for bad in ["0", "-1", "2e15"] {
+        assert_rejected(
+            &base().set("lights[0].reference_distance", bad),
+            "lights[0].reference_distance",
+            &["greater than 0"],
+        );
+    }
+    assert_rejected(
+        &base()
+            .set("lights[1].kind", "\"directional\"")
+            .set("lights[1].direction", "[0, -1, 0]")
+            .set("lights[1].reference_distance", "3"),
+        "lights[1].reference_distance",
+        &["directional light has no reference_distance"],
     );
 }

@@ -364,7 +364,7 @@ fn faces_without_a_defined_material_get_the_default_grey_and_statements_without_
     std::fs::write(&obj, format!("mtllib m.mtl\n{tri}f 1 2 3\nf 1 2 3\n")).unwrap();
     let mesh = load_obj(&obj, true).unwrap();
     assert_warning(&mesh, &obj, 5, &["no usemtl"]);
-    assert_eq!(mesh.materials, [grey.clone()]);
+    assert_eq!(mesh.materials, std::slice::from_ref(&grey));
 
     // An unknown material: warned at the usemtl line, naming it; the
     // known one keeps its colour.

@@ -15,6 +15,7 @@ fn light_colours_default_to_one() {
             diffuse: DVec3::ONE,
             specular: DVec3::ONE,
             kind: LightKind::Point,
+            reference_distance: None,
         }]
     );
     let doc = base()

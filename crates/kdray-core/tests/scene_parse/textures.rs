@@ -204,7 +204,7 @@ fn khr_texture_transform_moves_the_texture_coordinates_as_specified() {
         &dir.path,
         "t.gltf",
         &material,
-        &[texel.clone()],
+        std::slice::from_ref(&texel),
         None,
     );
     let scene = scene_of(&dir, &gltf);
@@ -241,7 +241,7 @@ fn khr_texture_transform_moves_the_texture_coordinates_as_specified() {
         &dir.path,
         "t2.gltf",
         &material,
-        &[texel.clone()],
+        std::slice::from_ref(&texel),
         None,
     );
     let mesh = kdray_core::scene::gltf::load_gltf(&gltf, true, &mut |_| {}).unwrap();

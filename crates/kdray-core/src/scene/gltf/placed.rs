@@ -116,5 +116,6 @@ pub(super) fn punctual_light(
         diffuse: colour,
         specular: colour,
         kind,
+        reference_distance: None,
     })
 }
