@@ -42,7 +42,8 @@ fn shade(m: Material, p: vec3<f32>, n: vec3<f32>, v: vec3<f32>, origin: vec3<f32
         var shadow_ray = Ray(origin, vec3<f32>(0.0, 0.0, 1.0));
         var shadow_length = T_INFINITY;
         var strength = 1.0; // the spot falloff
-        if (light.kind == LIGHT_DIRECTIONAL) {
+        let kind = scene_light_kind(light.kind);
+        if (kind == LIGHT_DIRECTIONAL) {
             l = -light.direction;
             shadow_ray.dir = l;
         } else {
@@ -52,7 +53,7 @@ fn shade(m: Material, p: vec3<f32>, n: vec3<f32>, v: vec3<f32>, origin: vec3<f32
                 continue;
             }
             l = to_light / distance;
-            if (light.kind == LIGHT_SPOT) {
+            if (kind == LIGHT_SPOT) {
                 strength = spot_factor(light, dot(-l, light.direction));
                 if (strength == 0.0) {
                     continue;

@@ -113,6 +113,7 @@ export class Tracer {
     this.needs = new Set(bundle.info.needs);
     this.glass = bundle.info.glass === true;
     this.alphaTest = bundle.info.alpha_test === true;
+    this.spotOrDirectionalLights = bundle.info.spot_or_directional_lights === true;
     // How path radiance is shown ([render] tone_map and exposure).
     this.pathToneMap = bundle.info.path_tone_map;
     this.exposureScale = bundle.info.exposure_scale;
@@ -178,6 +179,7 @@ export class Tracer {
         COUNT_COSTS: costs ? 1 : 0,
         GLASS: this.glass ? 1 : 0,
         ALPHA_TEST: this.alphaTest ? 1 : 0,
+        SPOT_OR_DIRECTIONAL_LIGHTS: this.spotOrDirectionalLights ? 1 : 0,
         TEXTURES: this.needs.has('textures') ? 1 : 0,
         // Into the accumulation buffer, either integrator.
         INTEGRATOR: integrator === 'path' ? c.INTEGRATOR_PATH : c.INTEGRATOR_WHITTED,

@@ -1,8 +1,8 @@
 //! What one trace pipeline is specialised for: the scene's layout and kinds
-//! of object and material (glass or none, textured or not), the accel and the k-d walk, and whether the frame counts the
-//! walks' work, set as the kernel's
-//! pipeline-overridable constants (shaders/variant.wgsl), so that each
-//! pipeline holds only the code its frames can reach.
+//! of object, material (glass or none, textured or not) and light, the
+//! accel and the k-d walk, and whether the frame counts the walks' work,
+//! set as the kernel's pipeline-overridable constants (shaders/variant.wgsl),
+//! so that each pipeline holds only the code its frames can reach.
 //!
 //! Why: llvmpipe (lavapipe, Mesa 22.3) runs a branch of an 8-lane SIMD group
 //! by masking its lanes, not by jumping over it, so every instruction
@@ -66,6 +66,9 @@ pub struct KernelVariant {
     /// then reads its alpha (shaders/alpha.wgsl). Without it the test is
     /// the geometric one, instruction for instruction.
     pub alpha_test: bool,
+    /// Whether a scene light may be a spot or directional light; without,
+    /// every one is a point light to the Whitted shading (shaders/shade.wgsl).
+    pub spot_or_directional_lights: bool,
     /// Whether the walks count their work (nodes, leaves, objects) for the
     /// frame's cost buffer. Without, the counters are compiled out.
     pub count_costs: bool,
@@ -88,6 +91,7 @@ impl KernelVariant {
         glass: true,
         textures: true,
         alpha_test: true,
+        spot_or_directional_lights: true,
         count_costs: true,
         integrator: FROM_PARAMS,
         radiance_output: false,
@@ -122,6 +126,7 @@ impl KernelVariant {
             glass: scene.glass,
             textures: scene.textures,
             alpha_test: scene.alpha_test,
+            spot_or_directional_lights: scene.spot_or_directional_lights,
             count_costs: true,
             integrator: crate::layout::INTEGRATOR_WHITTED,
             radiance_output: false,
@@ -169,7 +174,7 @@ impl KernelVariant {
 
     /// The pipeline constants that make this variant, by WGSL name
     /// (shaders/variant.wgsl declares each of [`OVERRIDES`]).
-    pub fn constants(&self) -> [(&'static str, f64); 12] {
+    pub fn constants(&self) -> [(&'static str, f64); 13] {
         let flag = |b: bool| if b { 1.0 } else { 0.0 };
         let (accel, traversal) = match self.walk {
             Walk::FromParams => (FROM_PARAMS, FROM_PARAMS),
@@ -190,6 +195,10 @@ impl KernelVariant {
             ("GLASS", flag(self.glass)),
             ("TEXTURES", flag(self.textures)),
             ("ALPHA_TEST", flag(self.alpha_test)),
+            (
+                "SPOT_OR_DIRECTIONAL_LIGHTS",
+                flag(self.spot_or_directional_lights),
+            ),
             ("COUNT_COSTS", flag(self.count_costs)),
             ("INTEGRATOR", self.integrator as f64),
             ("RADIANCE_OUTPUT", flag(self.radiance_output)),
@@ -199,7 +208,7 @@ impl KernelVariant {
 
 /// The names of the kernel's pipeline-overridable constants, all of which
 /// [`KernelVariant::constants`] sets.
-pub const OVERRIDES: [&str; 12] = [
+pub const OVERRIDES: [&str; 13] = [
     "SPLIT_SCENE",
     "ACCEL",
     "TRAVERSAL",
@@ -209,6 +218,7 @@ pub const OVERRIDES: [&str; 12] = [
     "GLASS",
     "TEXTURES",
     "ALPHA_TEST",
+    "SPOT_OR_DIRECTIONAL_LIGHTS",
     "COUNT_COSTS",
     "INTEGRATOR",
     "RADIANCE_OUTPUT",
@@ -239,6 +249,7 @@ mod tests {
             glass: false,
             textures: false,
             alpha_test: false,
+            spot_or_directional_lights: false,
             integrator: crate::layout::INTEGRATOR_WHITTED,
             radiance_output: false,
         };

@@ -95,6 +95,15 @@ impl SceneArrays {
         self.lights.len() as u32 - self.emitter_count
     }
 
+    /// Whether a scene light is a spot or directional light (the kernel's
+    /// `SPOT_OR_DIRECTIONAL_LIGHTS`); an animation moves lights but keeps
+    /// their kinds.
+    pub fn spot_or_directional_lights(&self) -> bool {
+        self.lights[..self.point_light_count() as usize]
+            .iter()
+            .any(|l| l.kind != crate::layout::LIGHT_POINT)
+    }
+
     /// An entry of the lights buffer for each object (by GPU id, in
     /// `objects`) whose material emits, as f32: the path tracer's area lights.
     fn emitters_of(objects: &[[u32; 2]], materials: &[GpuMaterial]) -> Vec<GpuLight> {

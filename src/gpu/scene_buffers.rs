@@ -237,6 +237,9 @@ pub struct SceneBuffers {
     pub alpha_test: bool,
     /// Whether some triangle is textured (the kernel's TEXTURES path).
     pub textures: bool,
+    /// Whether a scene light is a spot or directional light (the kernel's
+    /// SPOT_OR_DIRECTIONAL_LIGHTS).
+    pub spot_or_directional_lights: bool,
 }
 
 impl SceneBuffers {
@@ -352,6 +355,7 @@ impl SceneBuffers {
                 .iter()
                 .any(|m| m.alpha_mode != crate::layout::ALPHA_OPAQUE),
             textures: !arrays.textures.is_empty(),
+            spot_or_directional_lights: arrays.spot_or_directional_lights(),
         }
     }
 }

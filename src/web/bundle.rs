@@ -99,6 +99,9 @@ pub struct SceneInfo {
     /// Whether some material transmits: the kernel's glass path (the
     /// `GLASS` override) is needed.
     pub glass: bool,
+    /// Whether a light is a spot or directional light: the kernel's light
+    /// kinds (the `SPOT_OR_DIRECTIONAL_LIGHTS` override) are needed.
+    pub spot_or_directional_lights: bool,
 }
 
 /// The scene's camera as written (the page orbits around `look_at`).
@@ -168,6 +171,7 @@ pub fn encode(prepared: &PreparedScene, name: &str) -> Vec<u8> {
             .iter()
             .any(|m| m.alpha_mode != crate::layout::ALPHA_OPAQUE),
         glass: arrays.materials.iter().any(|m| m.transmission > 0.0),
+        spot_or_directional_lights: arrays.spot_or_directional_lights(),
     };
     let info = serde_json::to_vec(&info).expect("the scene's figures serialise");
     let mut sections: Vec<(&str, &[u8])> = vec![

@@ -224,3 +224,46 @@ fn path_traced_delta_lights_give_the_radiance_their_units_predict() {
     );
     assert_eq!(pixel(&image, 31, 50), [0, 0, 0], "outside the outer cone");
 }
+
+/// A scene with a spot or a directional light gets a pipeline with the
+/// light kinds (`SPOT_OR_DIRECTIONAL_LIGHTS`), one with point lights only a
+/// pipeline without them; both render what the general kernel renders, bit
+/// for bit.
+#[test]
+fn the_pipeline_holds_the_light_kinds_only_where_the_scene_has_them() {
+    use kdray::gpu::{GpuScene, PreparedScene, Renderer, TilePlan};
+    let ctx = gpu();
+    let specialised = Renderer::new(ctx).unwrap_or_else(|e| panic!("{e}"));
+    let general = Renderer::general(ctx).unwrap_or_else(|e| panic!("{e}"));
+    let point = "[[lights]]\nposition = [1, 3, 0]\nambient = [0.1, 0.1, 0.1]\n";
+    let spot = "[[lights]]\nkind = \"spot\"\nposition = [0, 2, 0]\ndirection = [0, -1, 0]\ninner_cone = 20\nouter_cone = 30\n";
+    let directional = "[[lights]]\nkind = \"directional\"\ndirection = [0.3, -1, 0.2]\n";
+    let ball = "[[spheres]]\ncenter = [0.5, 1, 0.5]\nradius = 0.5\nmaterial = \"white\"\n";
+    for (lights, kinds) in [
+        (point.to_string(), false),
+        (format!("{point}{spot}"), true),
+        (format!("{directional}{point}"), true),
+    ] {
+        let scene = scene_from_toml(&plane_scene(&lights, ball, ""));
+        let uploaded = GpuScene::upload(ctx, PreparedScene::new(scene.clone(), Accel::Kdtree))
+            .unwrap_or_else(|e| panic!("{e}"));
+        let buffers = uploaded.buffers();
+        let params = uploaded.frame_params();
+        let variant = specialised.variant_for(buffers, &params, false);
+        assert_eq!(variant.spot_or_directional_lights, kinds, "{lights}");
+        let plan = TilePlan::new(
+            SIZE,
+            SIZE,
+            TilePlan::DEFAULT_MAX_TILE_PIXELS,
+            kdray::gpu::max_binding_bytes(&ctx.device.limits()),
+        );
+        let a = specialised
+            .render(ctx, buffers, params, plan)
+            .unwrap_or_else(|e| panic!("{e}"));
+        let b = general
+            .render(ctx, buffers, params, plan)
+            .unwrap_or_else(|e| panic!("{e}"));
+        assert!(a.rgb == b.rgb, "{lights}: the specialised image differs");
+        assert_eq!(a.rays, b.rays, "{lights}");
+    }
+}
