@@ -81,7 +81,8 @@ fn sample_light(p: vec3<f32>) -> LightSample {
         // Delta lights: a directional light's `diffuse` is the irradiance it
         // gives a surface facing it; a point or spot light's radiant
         // intensity is `diffuse * path_scale`, a spot's times its falloff.
-        if (light.kind == LIGHT_DIRECTIONAL) {
+        let kind = scene_light_kind(light.kind);
+        if (kind == LIGHT_DIRECTIONAL) {
             return LightSample(-light.direction, T_INFINITY, light.diffuse, choice, true, NO_OBJECT);
         }
         let to = light.position - p;
@@ -91,7 +92,7 @@ fn sample_light(p: vec3<f32>) -> LightSample {
         }
         let d = sqrt(d2);
         var intensity = light.diffuse * light.path_scale;
-        if (light.kind == LIGHT_SPOT) {
+        if (kind == LIGHT_SPOT) {
             intensity *= spot_factor(light, dot(-to / d, light.direction));
         }
         return LightSample(to / d, d, intensity / d2, choice, true, NO_OBJECT);

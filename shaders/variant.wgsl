@@ -27,8 +27,8 @@ override TEXTURES: bool = true;
 // Whether a material may have an alpha mode (alpha.wgsl): without it the
 // walks' object test is the geometric one, so opaque scenes pay nothing.
 override ALPHA_TEST: bool = true;
-// Whether a scene light may be a spot or directional light (shade.wgsl):
-// without, every one is a point light. Measured on lavapipe (release build,
+// Whether a scene light may be a spot or directional light (shade.wgsl,
+// emitters.wgsl): without, every one is a point light. Measured on lavapipe (release build,
 // 640 x 360), the kinds' branches cost the seed's and the mirrors' scenes,
 // which have point lights only, 4 - 7% of their frame.
 override SPOT_OR_DIRECTIONAL_LIGHTS: bool = true;

@@ -67,7 +67,8 @@ pub struct KernelVariant {
     /// the geometric one, instruction for instruction.
     pub alpha_test: bool,
     /// Whether a scene light may be a spot or directional light; without,
-    /// every one is a point light to the Whitted shading (shaders/shade.wgsl).
+    /// every one is a point light to both integrators (shaders/shade.wgsl,
+    /// shaders/emitters.wgsl).
     pub spot_or_directional_lights: bool,
     /// Whether the walks count their work (nodes, leaves, objects) for the
     /// frame's cost buffer. Without, the counters are compiled out.
