@@ -95,6 +95,16 @@ impl SceneArrays {
         self.lights.len() as u32 - self.emitter_count
     }
 
+    /// Whether some material transmits (the kernel's `GLASS`).
+    pub fn glass(&self) -> bool {
+        self.materials.iter().any(|m| m.transmission > 0.0)
+    }
+
+    /// Whether some material has an alpha mode (the kernel's `ALPHA_TEST`).
+    pub fn alpha_test(&self) -> bool {
+        self.materials.iter().any(|m| m.alpha_mode != ALPHA_OPAQUE)
+    }
+
     /// Whether a scene light is a spot or directional light (the kernel's
     /// `SPOT_OR_DIRECTIONAL_LIGHTS`); an animation moves lights but keeps
     /// their kinds.

@@ -349,11 +349,8 @@ impl SceneBuffers {
             node_count: arrays.nodes.len() as u32,
             split,
             smooth_triangles: !arrays.triangle_normals.is_empty(),
-            glass: arrays.materials.iter().any(|m| m.transmission > 0.0),
-            alpha_test: arrays
-                .materials
-                .iter()
-                .any(|m| m.alpha_mode != crate::layout::ALPHA_OPAQUE),
+            glass: arrays.glass(),
+            alpha_test: arrays.alpha_test(),
             textures: !arrays.textures.is_empty(),
             spot_or_directional_lights: arrays.spot_or_directional_lights(),
         }

@@ -166,11 +166,8 @@ pub fn encode(prepared: &PreparedScene, name: &str) -> Vec<u8> {
         needs,
         traversal: crate::choice::Choice::name(Traversal::default()),
         build: prepared.strategy.name(),
-        alpha_test: arrays
-            .materials
-            .iter()
-            .any(|m| m.alpha_mode != crate::layout::ALPHA_OPAQUE),
-        glass: arrays.materials.iter().any(|m| m.transmission > 0.0),
+        alpha_test: arrays.alpha_test(),
+        glass: arrays.glass(),
         spot_or_directional_lights: arrays.spot_or_directional_lights(),
     };
     let info = serde_json::to_vec(&info).expect("the scene's figures serialise");

@@ -45,6 +45,29 @@ pub fn render_tiled(scene: &Scene, accel: Accel, max_tile_pixels: u64) -> Render
         .0
 }
 
+/// One frame of an uploaded scene rendered by two renderers (a specialised
+/// one and the general kernel, say), whole, in the default tiles.
+pub fn render_pair(
+    first: &kdray::gpu::Renderer,
+    second: &kdray::gpu::Renderer,
+    buffers: &kdray::gpu::SceneBuffers,
+    params: kdray::gpu::FrameParams,
+) -> (RenderedImage, RenderedImage) {
+    let ctx = gpu();
+    let plan = TilePlan::new(
+        params.width,
+        params.height,
+        TilePlan::DEFAULT_MAX_TILE_PIXELS,
+        kdray::gpu::max_binding_bytes(&ctx.device.limits()),
+    );
+    let render = |renderer: &kdray::gpu::Renderer| {
+        renderer
+            .render(ctx, buffers, params, plan)
+            .unwrap_or_else(|e| panic!("{e}"))
+    };
+    (render(first), render(second))
+}
+
 pub fn pixel(image: &RenderedImage, row: u32, column: u32) -> [u8; 3] {
     let i = (row as usize * image.width as usize + column as usize) * 3;
     [image.rgb[i], image.rgb[i + 1], image.rgb[i + 2]]

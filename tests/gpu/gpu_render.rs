@@ -378,12 +378,7 @@ fn specialised_pipelines_render_what_the_general_kernel_renders() {
                 TilePlan::DEFAULT_MAX_TILE_PIXELS,
                 kdray::gpu::max_binding_bytes(&ctx.device.limits()),
             );
-            let a = specialised
-                .render(ctx, buffers, params, plan)
-                .unwrap_or_else(|e| panic!("{e}"));
-            let b = general
-                .render(ctx, buffers, params, plan)
-                .unwrap_or_else(|e| panic!("{e}"));
+            let (a, b) = render_pair(&specialised, &general, buffers, params);
             let what = format!("{} ({accel:?}, {traversal:?}, {variant:?})", path.display());
             let d = compare(&a.rgb, &b.rgb, a.width, a.height, 0);
             let allowed = path_pixels_allowed(&scene);

@@ -231,7 +231,7 @@ fn path_traced_delta_lights_give_the_radiance_their_units_predict() {
 /// for bit.
 #[test]
 fn the_pipeline_holds_the_light_kinds_only_where_the_scene_has_them() {
-    use kdray::gpu::{GpuScene, PreparedScene, Renderer, TilePlan};
+    use kdray::gpu::{GpuScene, PreparedScene, Renderer};
     let ctx = gpu();
     let specialised = Renderer::new(ctx).unwrap_or_else(|e| panic!("{e}"));
     let general = Renderer::general(ctx).unwrap_or_else(|e| panic!("{e}"));
@@ -251,18 +251,7 @@ fn the_pipeline_holds_the_light_kinds_only_where_the_scene_has_them() {
         let params = uploaded.frame_params();
         let variant = specialised.variant_for(buffers, &params, false);
         assert_eq!(variant.spot_or_directional_lights, kinds, "{lights}");
-        let plan = TilePlan::new(
-            SIZE,
-            SIZE,
-            TilePlan::DEFAULT_MAX_TILE_PIXELS,
-            kdray::gpu::max_binding_bytes(&ctx.device.limits()),
-        );
-        let a = specialised
-            .render(ctx, buffers, params, plan)
-            .unwrap_or_else(|e| panic!("{e}"));
-        let b = general
-            .render(ctx, buffers, params, plan)
-            .unwrap_or_else(|e| panic!("{e}"));
+        let (a, b) = render_pair(&specialised, &general, buffers, params);
         assert!(a.rgb == b.rgb, "{lights}: the specialised image differs");
         assert_eq!(a.rays, b.rays, "{lights}");
     }
