@@ -2,15 +2,16 @@
 # The README's test command: installs what the tests need on a Debian or
 # Ubuntu machine without a GPU, then runs the test tiers (docs/testing.md):
 #
-#   scripts/test.sh [--dry-run] [all|core|gpu|external] [cargo test arguments]
+#   scripts/test.sh [--dry-run] [all|lint|core|gpu|external] [cargo test arguments]
 #
+#   lint      cargo fmt --check and cargo clippy with warnings as errors
 #   core      cargo test -p kdray-core: the GPU-free core; nothing to install
 #   gpu       kdray's unit tests and tests/gpu/: lavapipe, llvmpipe GL,
 #             SwiftShader's Vulkan, the kdray binary
 #   external  tests/external/: Chromium, Slurm, Xvfb, out-of-memory runs
-#   all       the three, in that order (the default; what `.ci/run` runs)
+#   all       the four, in that order (the default; what `.ci/run` runs)
 #
-# Extra arguments go to every `cargo test` it runs. --dry-run prints the
+# Extra arguments go to every `cargo test` it runs (not to the lint tier). --dry-run prints the
 # packages it would install and the commands it would run, and does nothing.
 # apt-get runs only when a package below is missing, with sudo when not
 # root; on a machine without dpkg/apt-get it is skipped (install the
@@ -25,7 +26,7 @@ if [ "${1:-}" = --dry-run ]; then
 fi
 tier=all
 case "${1:-}" in
-    all | core | gpu | external) tier=$1; shift ;;
+    all | lint | core | gpu | external) tier=$1; shift ;;
 esac
 
 gpu_packages=(
@@ -74,19 +75,23 @@ if [ "$tier" = external ] || [ "$tier" = all ]; then
     command -v npm >/dev/null || packages+=(npm)
 fi
 
-# One line per tier: the cargo command that runs it.
+# One line per cargo command a tier runs.
 tier_command() {
     case $1 in
+        lint)
+            echo "cargo fmt --all --check"
+            echo "cargo clippy --locked --workspace --all-targets -- -D warnings"
+            ;;
         core) echo "cargo test --locked -p kdray-core" ;;
         gpu) echo "cargo test --locked -p kdray --lib --bins --test gpu" ;;
         external) echo "cargo test --locked -p kdray --test external" ;;
     esac
 }
-if [ "$tier" = all ]; then tiers=(core gpu external); else tiers=("$tier"); fi
+if [ "$tier" = all ]; then tiers=(lint core gpu external); else tiers=("$tier"); fi
 
 if $dry_run; then
     echo "packages: ${packages[*]}"
-    for t in "${tiers[@]}"; do echo "$(tier_command "$t")"; done
+    for t in "${tiers[@]}"; do tier_command "$t"; done
     exit 0
 fi
 
@@ -132,9 +137,13 @@ if [ -n "$free_kib" ] && [ "$free_kib" -lt $((3 * 1024 * 1024)) ]; then
 fi
 
 for t in "${tiers[@]}"; do
-    echo "scripts/test.sh: the $t tier: $(tier_command "$t")" >&2
     start=$SECONDS
-    # The command is plain words: split, not quoted.
-    $(tier_command "$t") "$@"
+    mapfile -t commands < <(tier_command "$t")
+    for command in "${commands[@]}"; do
+        echo "scripts/test.sh: the $t tier: $command" >&2
+        # The command is plain words: split, not quoted; the lint tier's
+        # commands take no test arguments.
+        if [ "$t" = lint ]; then $command; else $command "$@"; fi
+    done
     echo "scripts/test.sh: the $t tier passed in $((SECONDS - start)) s" >&2
 done

@@ -1,6 +1,6 @@
 //! The README's test command is one line, and CI (`.ci/run`) runs exactly
-//! that line: a new user who types it gets what CI gets. It runs the three
-//! tiers, and each tier's command is the one docs/testing.md gives.
+//! that line: a new user who types it gets what CI gets. It runs the four
+//! tiers, and each tier's commands are the ones docs/testing.md gives.
 
 use super::*;
 
@@ -80,9 +80,10 @@ fn dry_run(script: &Path, args: &[&str]) -> Vec<String> {
 }
 
 /// The command is an executable script in the repository (the README runs
-/// it by path) that parses, runs the core, GPU and external tiers in that
-/// order, and runs each alone when named; docs/testing.md gives each tier's
-/// cargo command.
+/// it by path) that parses, runs the lint, core, GPU and external tiers in
+/// that order, and runs each alone when named; docs/testing.md gives each
+/// tier's cargo commands. The lint tier fails on any unformatted file and
+/// on any clippy warning.
 #[test]
 fn the_test_command_is_a_script_that_runs_every_tier() {
     let readme = readme_block_after(&repo_file("README.md"), "## Run the tests");
@@ -104,18 +105,34 @@ fn the_test_command_is_a_script_that_runs_every_tier() {
         "bash -n {script}: {}",
         String::from_utf8_lossy(&syntax.stderr)
     );
+    let lint = dry_run(&path, &["lint"]);
+    assert!(
+        lint.iter()
+            .any(|c| c.starts_with("cargo fmt") && c.contains("--check"))
+            && lint.iter().any(|c| c.starts_with("cargo clippy")
+                && c.contains("--workspace")
+                && c.contains("--all-targets")
+                && c.ends_with("-D warnings")),
+        "{script} lint: {lint:?}"
+    );
     let tiers = ["core", "gpu", "external"].map(|t| {
         let commands = dry_run(&path, &[t]);
         assert_eq!(commands.len(), 1, "{script} {t}: {commands:?}");
         commands[0].clone()
     });
+    let every: Vec<String> = lint.iter().chain(&tiers).cloned().collect();
     assert_eq!(
         dry_run(&path, &[]),
-        tiers,
+        every,
         "{script} without a tier runs every tier in order"
     );
-    assert_eq!(dry_run(&path, &["all"]), tiers);
-    assert!(tiers.iter().all(|c| c.contains(" --locked")), "{tiers:?}");
+    assert_eq!(dry_run(&path, &["all"]), every);
+    assert!(
+        every
+            .iter()
+            .all(|c| c.contains(" --locked") || c.starts_with("cargo fmt")),
+        "{every:?}"
+    );
     assert!(
         tiers[0].contains("-p kdray-core")
             && tiers[1].contains("--test gpu")
@@ -123,7 +140,7 @@ fn the_test_command_is_a_script_that_runs_every_tier() {
         "{tiers:?}"
     );
     let testing = repo_file("docs/testing.md");
-    for command in &tiers {
+    for command in &every {
         let documented = command.replace(" --locked", "");
         assert!(
             testing.contains(&documented),
