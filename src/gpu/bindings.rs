@@ -13,7 +13,8 @@
 //!
 //! The arrays that may lie in several bindings (their chunk bindings,
 //! readers and share of the adapter's storage buffers) are in
-//! bindings/split_arrays.rs, re-exported here.
+//! bindings/split_arrays.rs, re-exported here; the inspect kernel's log
+//! layout is in bindings/walk_codes.rs.
 
 use crate::geometry::{HIT_BOX_MARGIN, IN_PLANE_MARGIN, PARALLEL_EPSILON, T_INFINITY};
 use crate::layout::{
@@ -65,10 +66,11 @@ impl Binding {
     }
 }
 
-use super::walk_log::codes as log;
+use walk_codes as log;
 use Access::{StorageRead, StorageReadWrite, Uniform};
 
 mod split_arrays;
+pub mod walk_codes;
 pub use split_arrays::{
     scene_chunks, ElementPart, SceneChunks, SplitArray, MAX_CHUNKS, SPLIT_ARRAYS,
     SPLIT_ARRAY_COUNT, UNSPLIT,
@@ -396,7 +398,7 @@ pub const SHARED_CONSTANTS: [(&str, SharedValue); 73] = [
     // `@workgroup_size` of `render_tile` and `accumulate_tile`.
     ("TRACE_WORKGROUP_X", SharedValue::U32(TRACE_WORKGROUP.0)),
     ("TRACE_WORKGROUP_Y", SharedValue::U32(TRACE_WORKGROUP.1)),
-    // The inspect kernel's log (walk_record.wgsl, gpu::walk_log): the
+    // The inspect kernel's log (walk_record.wgsl, bindings/walk_codes.rs): the
     // header, the records' tags and the kinds of ray.
     ("INSPECT_LANES", SharedValue::U32(INSPECT_LANES)),
     ("INSPECT_WORDS_USED", SharedValue::U32(log::WORDS_USED)),
@@ -561,18 +563,19 @@ pub fn wgsl_contract_of(
     text
 }
 
+/// [`crate::gpu::PresentParams::tone_map`]: the mean clamped to [0, 1] and quantised.
+pub const PRESENT_QUANTISE: u32 = 0;
+/// [`crate::gpu::PresentParams::tone_map`]: ACES, then sRGB (`ToneMap::Aces`).
+pub const PRESENT_ACES: u32 = 1;
+/// [`crate::gpu::PresentParams::tone_map`]: clamped, then sRGB (`ToneMap::Clamp`).
+pub const PRESENT_CLAMP_SRGB: u32 = 2;
+
 /// The constants the present pass and the host agree on: how a pixel's
 /// mean becomes its shown level (`PresentParams::tone_map`).
 pub const PRESENT_CONSTANTS: [(&str, SharedValue); 3] = [
-    (
-        "PRESENT_QUANTISE",
-        SharedValue::U32(super::PRESENT_QUANTISE),
-    ),
-    ("PRESENT_ACES", SharedValue::U32(super::PRESENT_ACES)),
-    (
-        "PRESENT_CLAMP_SRGB",
-        SharedValue::U32(super::PRESENT_CLAMP_SRGB),
-    ),
+    ("PRESENT_QUANTISE", SharedValue::U32(PRESENT_QUANTISE)),
+    ("PRESENT_ACES", SharedValue::U32(PRESENT_ACES)),
+    ("PRESENT_CLAMP_SRGB", SharedValue::U32(PRESENT_CLAMP_SRGB)),
 ];
 
 /// The present pass's generated constants and declarations (the struct

@@ -5,11 +5,9 @@
 //! rest, Vulkan comes first, then the other native APIs, then GL; within a
 //! backend, real GPUs before software ones.
 
+use std::any::Any;
 use std::collections::HashMap;
 use std::sync::{Arc, Mutex};
-
-use super::bindings::EntryPoint;
-use super::TracePipelines;
 
 use crate::error::{Error, Result};
 
@@ -27,10 +25,11 @@ pub struct GpuContext {
     pub has_timestamps: bool,
     /// The first uncaptured error or device loss, reported by wgpu's callbacks.
     fault: Arc<Mutex<Option<String>>>,
-    /// Each entry point's pipelines, shared by every renderer, query and
-    /// inspector made on this context: a pipeline is compiled once per
-    /// process (llvmpipe takes seconds), not once per frame.
-    trace_pipelines: Mutex<HashMap<&'static str, Arc<TracePipelines>>>,
+    /// Each entry point's pipelines by its name, shared by every renderer,
+    /// query and inspector made on this context: a pipeline is compiled
+    /// once per process (llvmpipe takes seconds), not once per frame.
+    /// Kept and read by gpu/trace_pipelines.rs (`trace_pipelines`).
+    pub(super) trace_pipelines: Mutex<HashMap<&'static str, Arc<dyn Any + Send + Sync>>>,
 }
 
 fn instance(backends: wgpu::Backends) -> wgpu::Instance {
@@ -260,21 +259,6 @@ impl GpuContext {
             fault,
             trace_pipelines: Mutex::new(HashMap::new()),
         })
-    }
-
-    /// The pipelines of the trace kernel's entry point `entry` on this
-    /// context, made the first time they are asked for.
-    pub fn trace_pipelines(&self, entry: EntryPoint) -> Result<Arc<TracePipelines>> {
-        let mut made = self
-            .trace_pipelines
-            .lock()
-            .map_err(|_| Error::Gpu("the trace pipelines' lock was poisoned".to_string()))?;
-        if let Some(pipelines) = made.get(entry.name) {
-            return Ok(pipelines.clone());
-        }
-        let pipelines = Arc::new(TracePipelines::new(self, entry)?);
-        made.insert(entry.name, pipelines.clone());
-        Ok(pipelines)
     }
 
     /// Whether the adapter is Mesa's llvmpipe (lavapipe, or GL on llvmpipe),

@@ -5,6 +5,8 @@
 
 use bytemuck::{Pod, Zeroable};
 
+use super::bindings::{PRESENT_ACES, PRESENT_CLAMP_SRGB, PRESENT_QUANTISE};
+
 /// Everything one dispatch needs besides the scene buffers (a uniform).
 #[repr(C)]
 #[derive(Debug, Clone, Copy, PartialEq, Pod, Zeroable)]
@@ -130,13 +132,6 @@ pub struct PresentParams {
     pub exposure_scale: f32,
     pub _pad: u32,
 }
-
-/// [`PresentParams::tone_map`]: the mean clamped to [0, 1] and quantised.
-pub const PRESENT_QUANTISE: u32 = 0;
-/// [`PresentParams::tone_map`]: ACES, then sRGB (`ToneMap::Aces`).
-pub const PRESENT_ACES: u32 = 1;
-/// [`PresentParams::tone_map`]: clamped, then sRGB (`ToneMap::Clamp`).
-pub const PRESENT_CLAMP_SRGB: u32 = 2;
 
 impl PresentParams {
     /// The `tone_map` and `exposure_scale` that show frames of `render`

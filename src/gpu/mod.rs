@@ -37,13 +37,11 @@ mod trace_pipelines;
 pub mod walk_log;
 
 pub use accumulate::{Accumulation, Target};
+pub use bindings::{PRESENT_ACES, PRESENT_CLAMP_SRGB, PRESENT_QUANTISE};
 pub use context::{max_binding_bytes, GpuContext};
 pub use frame_params::Accel;
 pub use gpu_scene::{GpuScene, UploadFailed};
-pub use kernel_io::{
-    FrameParams, GpuQueryHit, GpuQueryRay, PresentParams, RayCounters, PRESENT_ACES,
-    PRESENT_CLAMP_SRGB, PRESENT_QUANTISE,
-};
+pub use kernel_io::{FrameParams, GpuQueryHit, GpuQueryRay, PresentParams, RayCounters};
 pub use kernel_variant::KernelVariant;
 pub use prepared_scene::PreparedScene;
 pub use ray_query::{RayQueries, RayQuery};

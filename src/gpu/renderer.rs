@@ -7,7 +7,7 @@ use super::bindings;
 use super::context::GpuContext;
 use super::gpu_timer::GpuTimer;
 use super::scene_buffers::SceneBuffers;
-use super::tile_plan::TilePlan;
+use super::tile_plan::{output_bytes_per_pixel, TilePlan};
 use super::{KernelVariant, TracePipelines};
 use crate::error::Result;
 use crate::gpu::{FrameParams, RayCounters};
@@ -494,15 +494,6 @@ struct TileRun<'a> {
     params: FrameParams,
     with_cost: bool,
     radiance: bool,
-}
-
-/// Bytes per pixel of `render_tile`'s output: packed RGBA8, or four words
-/// of radiance sums.
-pub(super) fn output_bytes_per_pixel(radiance: bool) -> u64 {
-    match radiance {
-        true => 16,
-        false => 4,
-    }
 }
 
 /// One tile's buffers on the GPU: the kernel's output and costs, the

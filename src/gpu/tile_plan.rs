@@ -1,8 +1,6 @@
 //! How an image is cut into dispatches, each small enough for the
 //! adapter's storage bindings and for a real GPU's watchdog.
 
-use super::renderer::output_bytes_per_pixel;
-
 /// How the image is cut into dispatches: bands of whole rows, each band one
 /// or more tiles of at most `tile_width` x `max_rows` pixels. Band heights
 /// adapt so that one dispatch takes about `target_dispatch_ms` (real GPUs
@@ -62,5 +60,14 @@ impl TilePlan {
             return self.max_rows;
         }
         ((self.target_dispatch_ms / ms_per_row) as u64).clamp(1, self.max_rows as u64) as u32
+    }
+}
+
+/// Bytes per pixel of `render_tile`'s output: packed RGBA8, or four words
+/// of radiance sums.
+pub(super) fn output_bytes_per_pixel(radiance: bool) -> u64 {
+    match radiance {
+        true => 16,
+        false => 4,
     }
 }

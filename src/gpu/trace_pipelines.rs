@@ -21,6 +21,7 @@
 //! cache or not), so each entry point's pipelines are made once per
 //! context and shared ([`GpuContext::trace_pipelines`]).
 
+use std::any::Any;
 use std::collections::HashMap;
 use std::hash::Hash;
 use std::sync::{Arc, Mutex};
@@ -97,6 +98,18 @@ fn cached<K: Eq + Hash, V: Clone>(
     let made = make()?;
     map.insert(key, made.clone());
     Ok(made)
+}
+
+impl GpuContext {
+    /// The pipelines of the trace kernel's entry point `entry` on this
+    /// context, made the first time they are asked for.
+    pub fn trace_pipelines(&self, entry: EntryPoint) -> Result<Arc<TracePipelines>> {
+        let made = cached(&self.trace_pipelines, "trace pipelines", entry.name, || {
+            Ok(Arc::new(TracePipelines::new(self, entry)?) as Arc<dyn Any + Send + Sync>)
+        })?;
+        made.downcast()
+            .map_err(|_| Error::Gpu(format!("{} has pipelines of another type", entry.name)))
+    }
 }
 
 impl TracePipelines {

@@ -1,5 +1,5 @@
 //! The open window's state: its surface and device, the uploaded scene, the
-//! camera controls, refinement, playback, statistics and title, and what a
+//! camera controls, refinement, playback, inspection, statistics and title, and what a
 //! frame does with them. `app.rs` feeds it winit's events. Each frame is one
 //! submission and one present: [`Refinement`] plans it, `pass_params` turns
 //! its pass over the [`GpuScene`] into the shader's parameters, [`Viewer`]
@@ -9,15 +9,17 @@ use std::path::{Path, PathBuf};
 use std::sync::Arc;
 use std::time::Instant;
 
+use glam::DVec2;
 use winit::dpi::{LogicalSize, PhysicalSize, Size};
 use winit::event_loop::{ActiveEventLoop, OwnedDisplayHandle};
 use winit::window::Window;
 
 use super::camera_controller::{Bounds, CameraController};
-use super::click::ClickTracker;
+use super::click::{image_pixel, ClickTracker};
 use super::frame_stats::{FrameStats, ReportContext};
-use super::inspection::InspectMode;
+use super::inspection::{inspect_pixel, InspectAt, InspectMode, InspectSettings, Outcome};
 use super::playback::Playback;
+use super::projection::{near_plane, ViewProjection};
 use super::refinement::{FrameKind, FramePlan, Pass, Refinement, Samples};
 use super::surface::{Acquired, WindowSurface};
 use super::title::{Progress, TitleBar, TitleFacts};
@@ -25,7 +27,7 @@ use super::view::{FrameWork, PresentParams, Target, Viewer};
 use super::{WindowOptions, DEFAULT_WINDOW_PATH_SAMPLES, DEFAULT_WINDOW_SAMPLES};
 use crate::error::{Error, Result};
 use crate::gpu::FrameParams;
-use crate::gpu::{Accel, GpuContext, GpuScene, PreparedScene};
+use crate::gpu::{Accel, GpuContext, GpuScene, PreparedScene, WalkRecorder};
 use crate::kdtree::Traversal;
 use crate::scene::{Camera, FramePath, Integrator, RenderSettings, Scene};
 
@@ -459,5 +461,98 @@ impl Session {
             println!("{}", serde_json::to_string(&stats)?);
         }
         Ok(())
+    }
+
+    /// X: inspection mode on or off (off forgets the pixel and its lines).
+    pub(super) fn toggle_inspect(&mut self) {
+        self.inspect.on = !self.inspect.on;
+        if !self.inspect.on {
+            self.inspect = InspectMode::default();
+            self.viewer.overlay_mut().clear();
+        }
+    }
+
+    /// A click at window position `at` in inspection mode: inspects the
+    /// image pixel there, as the window shows it now.
+    pub(super) fn inspect_click(&mut self, at: DVec2) {
+        if !self.inspect.on {
+            return;
+        }
+        let window = self.surface.size();
+        let image = self.refinement.image_size(window);
+        let Some(pixel) = image_pixel(at, window, image) else {
+            self.inspect.outcome = Outcome::Outside;
+            return;
+        };
+        self.inspect.at = Some(InspectAt {
+            pixel,
+            camera: self.controller.camera(),
+            image,
+            frame: self.playback.frame(),
+        });
+        self.reinspect();
+    }
+
+    /// Inspects the last clicked pixel again with the window's current
+    /// walk, search, scene and max_depth; reports a failure in the title
+    /// (and on stderr), keeping the window going.
+    pub(super) fn reinspect(&mut self) {
+        let Some(at) = self.inspect.at.clone() else {
+            return;
+        };
+        let lights = self.path.lights_at(at.frame);
+        let how = InspectSettings {
+            accel: self.accel,
+            traversal: self.traversal,
+            max_depth: self.max_depth,
+            integrator: self.integrator,
+            samples: self.refinement.samples(),
+            lights: &lights,
+        };
+        let made = self
+            .recorder
+            .take()
+            .map_or_else(|| WalkRecorder::new(&self.ctx), Ok);
+        let recorder = match made {
+            Ok(recorder) => recorder,
+            Err(e) => {
+                eprintln!("kdray: inspecting failed: {e}");
+                self.inspect.outcome = Outcome::Failed(e.to_string());
+                return;
+            }
+        };
+        let outcome = inspect_pixel(&self.ctx, &recorder, &self.scene, &at, &how);
+        self.recorder = Some(recorder);
+        let outcome = outcome.and_then(|(totals, vertices)| {
+            self.viewer.overlay_mut().set_lines(&self.ctx, &vertices)?;
+            Ok(totals)
+        });
+        self.inspect.outcome = match outcome {
+            Ok(totals) => {
+                let (x, y) = at.pixel;
+                eprintln!(
+                    "kdray: inspected pixel {x},{y}: {} rays, {} nodes, {} leaves, {} tests, {} restarts",
+                    totals.rays, totals.nodes, totals.leaves, totals.tests, totals.restarts
+                );
+                Outcome::Shown(totals)
+            }
+            Err(e) => {
+                eprintln!("kdray: inspecting failed: {e}");
+                self.viewer.overlay_mut().clear();
+                Outcome::Failed(e.to_string())
+            }
+        };
+    }
+
+    /// The overlay's projection for the camera shown now, in the window's
+    /// aspect ratio (as the kernel's frames use it).
+    pub(super) fn overlay_view(&self) -> ViewProjection {
+        let (w, h) = self.surface.size();
+        let camera = self.controller.camera();
+        ViewProjection::new(
+            &camera,
+            w.max(1) as f64 / h.max(1) as f64,
+            near_plane(&camera),
+        )
     }
 }
