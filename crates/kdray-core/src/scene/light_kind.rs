@@ -6,39 +6,7 @@
 
 use glam::DVec3;
 
-use super::normals::unit;
-use super::schema::RawLight;
-use super::validate::Validator;
-use super::SceneError;
-
-/// What `kind` names, before its keys are read.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
-pub enum LightShape {
-    #[default]
-    Point,
-    Spot,
-    Directional,
-}
-
-impl crate::choice::Choice for LightShape {
-    const ALL: &'static [Self] = &[Self::Point, Self::Spot, Self::Directional];
-
-    fn name(self) -> &'static str {
-        match self {
-            Self::Point => "point",
-            Self::Spot => "spot",
-            Self::Directional => "directional",
-        }
-    }
-
-    fn help(self) -> &'static str {
-        match self {
-            Self::Point => "a point light shining every way",
-            Self::Spot => "a point light shining into a cone about `direction`",
-            Self::Directional => "parallel light travelling along `direction`, from infinitely far",
-        }
-    }
-}
+use super::light_shape::LightShape;
 
 /// A light's kind and the keys only that kind has.
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
@@ -92,136 +60,6 @@ pub fn spot_factor(cos_angle: f64, cos_inner: f64, cos_outer: f64) -> f64 {
 pub const DEFAULT_INNER_CONE_DEGREES: f64 = 0.0;
 pub const DEFAULT_OUTER_CONE_DEGREES: f64 = 45.0;
 
-impl Validator<'_> {
-    /// Light `i`'s `reference_distance`: a positive distance within the
-    /// coordinates the GPU takes, for a point or spot light only.
-    pub(super) fn reference_distance(
-        &self,
-        i: usize,
-        l: &RawLight,
-    ) -> Result<Option<f64>, SceneError> {
-        let key = || format!("lights[{i}].reference_distance");
-        let Some(d) = l.reference_distance else {
-            return Ok(None);
-        };
-        if l.kind
-            .as_ref()
-            .is_some_and(|n| n.0 == LightShape::Directional)
-        {
-            return Err(self.error(
-                &key(),
-                "a directional light has no reference_distance (its diffuse is the irradiance it gives)",
-            ));
-        }
-        let d = self.number(&key, d)?;
-        if !(d > 0.0 && d <= super::validate::MAX_COORDINATE) {
-            return Err(self.error(
-                &key(),
-                format!(
-                    "must be greater than 0 and at most {:e}, got {d:?}",
-                    super::validate::MAX_COORDINATE
-                ),
-            ));
-        }
-        Ok(Some(d))
-    }
-
-    /// Light `i`'s kind and its position (None for a directional light,
-    /// which must not give one; point and spot lights must).
-    pub(super) fn light_kind(
-        &self,
-        i: usize,
-        l: &RawLight,
-    ) -> Result<(LightKind, Option<DVec3>), SceneError> {
-        let key = |k: &str| format!("lights[{i}].{k}");
-        let shape = l.kind.as_ref().map_or(LightShape::Point, |n| n.0);
-        let name = crate::choice::Choice::name(shape);
-        // A key the kind does not read is an error, not silently ignored.
-        let refuse = |k: &str, given: bool| -> Result<(), SceneError> {
-            if given {
-                return Err(self.error(&key(k), format!("a {name} light has no {k}")));
-            }
-            Ok(())
-        };
-        let direction = |v: Option<super::schema::Vec3>| -> Result<DVec3, SceneError> {
-            let Some(v) = v else {
-                return Err(self.error(
-                    &format!("lights[{i}]"),
-                    format!("missing field `direction`: a {name} light needs one"),
-                ));
-            };
-            let d = self.vector(&|| key("direction"), v)?;
-            unit(d).ok_or_else(|| {
-                self.error(
-                    &key("direction"),
-                    format!("must not be zero, got {:?}", v.0),
-                )
-            })
-        };
-        let position = |p: Option<super::schema::Vec3>| -> Result<DVec3, SceneError> {
-            let Some(p) = p else {
-                return Err(self.error(
-                    &format!("lights[{i}]"),
-                    format!("missing field `position`: a {name} light needs one"),
-                ));
-            };
-            self.position(&|| key("position"), p)
-        };
-        match shape {
-            LightShape::Point => {
-                refuse("direction", l.direction.is_some())?;
-                refuse("inner_cone", l.inner_cone.is_some())?;
-                refuse("outer_cone", l.outer_cone.is_some())?;
-                Ok((LightKind::Point, Some(position(l.position)?)))
-            }
-            LightShape::Directional => {
-                refuse("position", l.position.is_some())?;
-                refuse("inner_cone", l.inner_cone.is_some())?;
-                refuse("outer_cone", l.outer_cone.is_some())?;
-                let direction = direction(l.direction)?;
-                Ok((LightKind::Directional { direction }, None))
-            }
-            LightShape::Spot => {
-                let p = position(l.position)?;
-                let direction = direction(l.direction)?;
-                let cone = |k: &str, x: Option<f64>, default: f64| -> Result<f64, SceneError> {
-                    let degrees = self.number(&|| key(k), x.unwrap_or(default))?;
-                    if !(0.0..=90.0).contains(&degrees) {
-                        return Err(self.error(
-                            &key(k),
-                            format!("must be between 0 and 90 degrees, got {degrees:?}"),
-                        ));
-                    }
-                    Ok(degrees)
-                };
-                let inner = cone("inner_cone", l.inner_cone, DEFAULT_INNER_CONE_DEGREES)?;
-                let outer = cone("outer_cone", l.outer_cone, DEFAULT_OUTER_CONE_DEGREES)?;
-                if inner >= outer {
-                    let at = if l.inner_cone.is_some() {
-                        "inner_cone"
-                    } else {
-                        "outer_cone"
-                    };
-                    return Err(self.error(
-                        &key(at),
-                        format!(
-                            "inner_cone must be less than outer_cone, got {inner:?} and {outer:?}"
-                        ),
-                    ));
-                }
-                Ok((
-                    LightKind::Spot {
-                        direction,
-                        inner_degrees: inner,
-                        outer_degrees: outer,
-                    },
-                    Some(p),
-                ))
-            }
-        }
-    }
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -235,10 +73,5 @@ mod tests {
         assert_eq!(spot_factor(45f64.to_radians().cos(), ci, co), 0.0);
         let middle = spot_factor((ci + co) / 2.0, ci, co);
         assert!((middle - 0.25).abs() < 1e-12, "{middle}");
-    }
-
-    #[test]
-    fn light_shapes_round_trip_by_name() {
-        crate::choice::assert_names_round_trip::<LightShape>();
     }
 }

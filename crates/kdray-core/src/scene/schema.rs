@@ -11,6 +11,8 @@ use std::marker::PhantomData;
 use serde::de::{self, Deserializer, MapAccess, SeqAccess, Visitor};
 use serde::{Deserialize, Serialize, Serializer};
 
+use super::light_shape::LightShape;
+
 /// `[x, y, z]` (or `[r, g, b]`).
 pub(super) type Vec3 = Exact<f64, 3>;
 
@@ -290,7 +292,7 @@ impl<'de> Deserialize<'de> for RawShadowMode {
 #[serde(deny_unknown_fields)]
 pub(super) struct RawLight {
     #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub(super) kind: Option<Named<super::light_kind::LightShape>>,
+    pub(super) kind: Option<Named<LightShape>>,
     /// Required for point and spot lights; a directional light has none.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub(super) position: Option<Vec3>,

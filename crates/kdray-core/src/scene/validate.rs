@@ -238,33 +238,6 @@ impl Validator<'_> {
         }
     }
 
-    /// `[[lights]]`: at least one for the Whitted integrator.
-    fn lights(&self, raw: &RawScene, render: &RenderSettings) -> Result<Vec<Light>, SceneError> {
-        if raw.lights.is_empty() && render.integrator == Integrator::Whitted {
-            // Names the line of `lights = []` when there is one.
-            return Err(self.error(
-                "lights",
-                "a scene needs at least one [[lights]] entry (the path tracer, integrator = \"path\", may do without)",
-            ));
-        }
-        raw.lights
-            .iter()
-            .enumerate()
-            .map(|(i, l)| {
-                let key = |k: &str| format!("lights[{i}].{k}");
-                let (kind, position) = self.light_kind(i, l)?;
-                Ok(Light {
-                    kind,
-                    position: position.unwrap_or_default(),
-                    ambient: self.colour(&|| key("ambient"), l.ambient)?,
-                    diffuse: self.colour(&|| key("diffuse"), l.diffuse)?,
-                    specular: self.colour(&|| key("specular"), l.specular)?,
-                    reference_distance: self.reference_distance(i, l)?,
-                })
-            })
-            .collect()
-    }
-
     /// The index of the material `name` (the value of `key`) in
     /// `material_index` (the scene's materials' indices by name); for an
     /// unknown name, an error listing the defined ones.
