@@ -8,7 +8,7 @@
 // the declaration, gives it. Every walk, the shading and the query
 // kernel read these six arrays through the functions below, never directly.
 // The bindings, the counts and the `<array>_chunk(k, j)` readers are
-// generated (src/gpu/bindings.rs); the host cuts the arrays in
+// generated (src/gpu/bindings/); the host cuts the arrays in
 // src/gpu/scene_buffers.rs (`split`).
 
 // Whether the scene's arrays may be split is SPLIT_SCENE (variant.wgsl): the

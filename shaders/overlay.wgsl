@@ -2,7 +2,7 @@
 // pixel's rays, the k-d cells its walks visited and the split planes they
 // crossed; src/window/inspect_lines.rs) drawn over the present pass with the
 // window camera's projection (src/window/projection.rs), without a depth
-// test. Compiled on its own, after the binding gpu/bindings.rs generates
+// test. Compiled on its own, after the binding gpu/bindings/ generates
 // (OVERLAY_BINDINGS: `overlay`).
 
 struct OverlayParams {

@@ -1,6 +1,6 @@
 // The interactive window's present pass: a fullscreen triangle whose
 // fragments show the accumulation buffer that trace.wgsl's accumulate_tile
-// fills. Compiled on its own, after the bindings gpu/bindings.rs generates
+// fills. Compiled on its own, after the bindings gpu/bindings/ generates
 // (PRESENT_BINDINGS: `present`, `accumulation`, `preview`).
 //
 // Each pixel's mean (sum / count) becomes the level the headless PNG would

@@ -170,4 +170,4 @@ struct QueryHit {
 }
 
 // Bindings and the constants shared with the host are generated from
-// src/gpu/bindings.rs and prepended to the kernel.
+// src/gpu/bindings/ and prepended to the kernel.

@@ -1,5 +1,5 @@
 //! The WGSL sources, each assembled with the declarations that
-//! gpu/bindings.rs generates. WGSL has no includes, so the trace kernel is
+//! gpu/bindings/ generates. WGSL has no includes, so the trace kernel is
 //! the generated contract followed by its files, in dependency order, and the
 //! present pass is its generated bindings followed by shaders/present.wgsl.
 //! The tests here read the assembled shaders with naga and hold them to the
@@ -143,7 +143,7 @@ pub fn trace_source(chunks: SceneChunks) -> String {
 /// read them, on an adapter with fewer storage buffers per stage.
 pub fn trace_source_without(chunks: SceneChunks, omitted: &[bindings::Binding]) -> String {
     let mut source = format!(
-        "// ---- bindings.rs\n{}\n",
+        "// ---- bindings/mod.rs\n{}\n",
         bindings::wgsl_contract_without(chunks, omitted)
     );
     for (name, text) in TRACE_PARTS {
@@ -156,7 +156,7 @@ pub fn trace_source_without(chunks: SceneChunks, omitted: &[bindings::Binding]) 
 /// shaders/walk_record.wgsl, its log binding and its entry point.
 pub fn inspect_source_without(chunks: SceneChunks, omitted: &[bindings::Binding]) -> String {
     let mut source = format!(
-        "// ---- bindings.rs\n{}\n",
+        "// ---- bindings/mod.rs\n{}\n",
         bindings::wgsl_contract_of(&bindings::INSPECT_ENTRY_POINTS, chunks, omitted)
     );
     for (name, text) in TRACE_PARTS {
@@ -172,7 +172,7 @@ pub fn inspect_source_without(chunks: SceneChunks, omitted: &[bindings::Binding]
 /// The present pass: its generated bindings, then shaders/present.wgsl.
 pub fn present_source() -> String {
     format!(
-        "// ---- bindings.rs\n{}\n// ---- present.wgsl\n{PRESENT_FILE}\n",
+        "// ---- bindings/mod.rs\n{}\n// ---- present.wgsl\n{PRESENT_FILE}\n",
         bindings::wgsl_present_contract()
     )
 }
@@ -188,7 +188,7 @@ pub fn present_module(device: &wgpu::Device) -> wgpu::ShaderModule {
 /// The line overlay: its generated binding, then shaders/overlay.wgsl.
 pub fn overlay_source() -> String {
     format!(
-        "// ---- bindings.rs\n{}\n// ---- overlay.wgsl\n{OVERLAY_FILE}\n",
+        "// ---- bindings/mod.rs\n{}\n// ---- overlay.wgsl\n{OVERLAY_FILE}\n",
         bindings::wgsl_overlay_contract()
     )
 }
@@ -354,7 +354,7 @@ mod tests {
             let b = table
                 .iter()
                 .find(|b| b.name == name)
-                .unwrap_or_else(|| panic!("the shader binds `{name}`, which bindings.rs lacks"));
+                .unwrap_or_else(|| panic!("the shader binds `{name}`, which gpu/bindings/ lacks"));
             assert_eq!((res.group, res.binding), (0, b.index), "binding of {name}");
             let access = match global.space {
                 naga::AddressSpace::Uniform => Access::Uniform,

@@ -1,6 +1,6 @@
 //! The one place a compute pipeline of the trace kernel is assembled: the
 //! kernel's module, an explicit bind group layout of one entry point's
-//! bindings from the contract (gpu/bindings.rs), its bind groups, and one
+//! bindings from the contract (gpu/bindings/), its bind groups, and one
 //! pipeline per [`KernelVariant`], each made the first time a frame needs
 //! it. The headless renderer (`render_tile`), the window's accumulation
 //! (`accumulate_tile`) and the ray queries (`trace_rays`) all use it.

@@ -1,7 +1,7 @@
 //! The scene's arrays that may lie in several bindings, each but the last
 //! full (shaders/chunks.wgsl): their bindings, the WGSL reader the contract
 //! generates for each, and how many bindings each gets on an adapter
-//! ([`scene_chunks`]). Part of the contract in gpu/bindings.rs, which
+//! ([`scene_chunks`]). Part of the contract in gpu/bindings/, which
 //! re-exports all of it.
 
 use super::{

@@ -546,7 +546,7 @@ pub fn wgsl_contract_of(
     chunks: SceneChunks,
     omitted: &[Binding],
 ) -> String {
-    let mut text = String::from("// Generated from src/gpu/bindings.rs: edit it there.\n");
+    let mut text = String::from("// Generated from src/gpu/bindings/mod.rs: edit it there.\n");
     for (name, value) in SHARED_CONSTANTS {
         text += &format!(
             "const {name}: {} = {};\n",
@@ -581,7 +581,7 @@ pub const PRESENT_CONSTANTS: [(&str, SharedValue); 3] = [
 /// The present pass's generated constants and declarations (the struct
 /// they name is in shaders/present.wgsl).
 pub fn wgsl_present_contract() -> String {
-    let mut text = String::from("// Generated from src/gpu/bindings.rs: edit it there.\n");
+    let mut text = String::from("// Generated from src/gpu/bindings/mod.rs: edit it there.\n");
     for (name, value) in PRESENT_CONSTANTS {
         text += &format!(
             "const {name}: {} = {};\n",
@@ -594,7 +594,7 @@ pub fn wgsl_present_contract() -> String {
 
 /// The line overlay's generated declarations: its binding.
 pub fn wgsl_overlay_contract() -> String {
-    String::from("// Generated from src/gpu/bindings.rs: edit it there.\n")
+    String::from("// Generated from src/gpu/bindings/mod.rs: edit it there.\n")
         + &declarations(&OVERLAY_BINDINGS)
 }
 
