@@ -11,6 +11,7 @@
 
 pub mod alpha_test;
 pub mod choice;
+pub mod denoise;
 pub mod geometry;
 mod huge_pages;
 pub mod kdtree;
