@@ -100,7 +100,7 @@ struct PathRay {
 // (transmit_share). The sample follows the refracted ray and pushes the
 // reflected one, if it would be traced and the stack has room; a path that
 // ends resumes from the last ray pushed.
-fn trace_path_glass(primary: Ray) -> vec3<f32> {
+fn trace_whitted_glass(primary: Ray) -> vec3<f32> {
     var pending: array<PathRay, GLASS_STACK_DEPTH>;
     var pending_count = 0u;
     var path = PathRay(primary.origin, 1.0, primary.dir, 0u, 0.0, false);

@@ -87,7 +87,8 @@ fn next_event(m: Material, s: Surface, v: vec3<f32>, p: vec3<f32>, origin: vec3<
     return share * e.value * light.radiance * (weight / light.pdf);
 }
 
-fn trace_path_physical(primary: Ray) -> vec3<f32> {
+// The path tracer: the radiance one path from `primary` brings back.
+fn path_trace_sample(primary: Ray) -> vec3<f32> {
     var ray = primary;
     var throughput = vec3<f32>(1.0);
     var radiance = vec3<f32>(0.0);

@@ -92,21 +92,6 @@ fn shade(m: Material, p: vec3<f32>, n: vec3<f32>, v: vec3<f32>, origin: vec3<f32
     return Shading(m.emission + ambient + direct, visible_any || emits);
 }
 
-// Where a path meets a surface, seen from the incoming ray (mirrored by
-// `Surface` in src/reference.rs).
-struct Surface {
-    // Unit geometric normal, facing the incoming ray: the side rays leave
-    // from, and the direction of the spawn offset.
-    geometric: vec3<f32>,
-    // Unit shading normal, on the geometric normal's side: the vertex
-    // normals interpolated at the hit for a smooth triangle, else `geometric`.
-    shading: vec3<f32>,
-    // Where secondary rays start before the offset along `geometric`: the
-    // hit moved out to the smooth surface the vertex normals describe
-    // (Hanika 2021), so that shadow rays clear the neighbouring facets.
-    spawn_point: vec3<f32>,
-}
-
 // A unit vector from its octahedral encoding (Cigolle et al. 2014): two
 // 16-bit snorm coordinates, x in the low half. Mirrors decode_octahedral in
 // src/layout/.
@@ -136,53 +121,4 @@ fn barycentrics(tri: Triangle, p: vec3<f32>) -> vec3<f32> {
     let b1 = clamp(dot(cross(w, e2), n) * inv, 0.0, 1.0);
     let b2 = clamp(dot(cross(e1, w), n) * inv, 0.0, 1.0 - b1);
     return vec3<f32>(1.0 - b1 - b2, b1, b2);
-}
-
-// The surface at hit point p of object `id`, hit by a ray along `ray_dir`.
-fn surface_at(id: u32, p: vec3<f32>, ray_dir: vec3<f32>) -> Surface {
-    var g = object_normal(id, p);
-    if (dot(g, ray_dir) > 0.0) {
-        g = -g;
-    }
-    if (is_sphere(id)) {
-        return Surface(g, g, p);
-    }
-    let tri = triangle(id - params.sphere_count);
-    if (!SMOOTH_TRIANGLES || tri.normals == FLAT_TRIANGLE) {
-        return Surface(g, g, p);
-    }
-    let record = triangle_normals_record(tri.normals);
-    let b = barycentrics(tri, p);
-    var n0 = decode_normal(record.n0);
-    var n1 = decode_normal(record.n1);
-    var n2 = decode_normal(record.n2);
-    var n = b.x * n0 + b.y * n1 + b.z * n2;
-    // Triangles are two-sided: the vertex normals turn with the face.
-    if (dot(n, g) < 0.0) {
-        n = -n;
-        n0 = -n0;
-        n1 = -n1;
-        n2 = -n2;
-    }
-    if (dot(n, n) < 1e-12) {
-        return Surface(g, g, p); // the vertex normals cancel out here
-    }
-    // Hanika 2021: p projected onto each vertex's tangent plane where it lies
-    // below it, the projections weighted like the normals.
-    let d0 = min(dot(p - tri.v0, n0), 0.0);
-    let d1 = min(dot(p - tri.v1, n1), 0.0);
-    let d2 = min(dot(p - tri.v2, n2), 0.0);
-    let lifted = p - (b.x * d0 * n0 + b.y * d1 * n1 + b.z * d2 * n2);
-    return Surface(g, normalize(n), lifted);
-}
-
-// The mirror direction about the shading normal, or about the geometric
-// normal where that one would send the ray into the surface (grazing rays
-// on a coarse smooth mesh).
-fn reflection_dir(dir: vec3<f32>, s: Surface) -> vec3<f32> {
-    let r = normalize(reflect(dir, s.shading));
-    if (dot(r, s.geometric) > 0.0) {
-        return r;
-    }
-    return normalize(reflect(dir, s.geometric));
 }

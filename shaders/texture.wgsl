@@ -218,52 +218,6 @@ fn sample_at_hit(t: u32, h: TextureHit, dir: vec3<f32>, cone_width: f32, srgb: b
     return sample_texture(t, h.uv, lambda, srgb);
 }
 
-// The material of object `id` at hit point p, reached along unit `dir` by
-// a path `path_length` long from the eye: on a triangle with a record, its
-// diffuse and ambient colours multiplied by its base-colour texture (as
-// stored for the Whitted integrator, decoded from sRGB for the path
-// tracer) and by its vertex colours; for the Whitted integrator its
-// ambient colour darkened by the occlusion map (red, by the map's
-// strength); for the path tracer its metallic and roughness scaled by the
-// metallic-roughness map's blue and green, its emission by the emissive
-// map (sRGB).
-fn material_at(id: u32, p: vec3<f32>, dir: vec3<f32>, path_length: f32) -> Material {
-    var m = materials[objects[id].x];
-    if (!TEXTURES || is_sphere(id)) {
-        return m;
-    }
-    let h = texture_hit(id - params.sphere_count, p);
-    if (!h.found) {
-        return m;
-    }
-    let path = is_path();
-    let cone_width = pixel_spread_angle() * path_length;
-    if (m.texture != NO_TEXTURE) {
-        let c = sample_at_hit(m.texture, slot_hit(h, m, UV_SLOT_BASE), dir, cone_width, path);
-        m.diffuse *= c;
-        m.ambient *= c;
-    }
-    let colour = vertex_colour(h).xyz;
-    m.diffuse *= colour;
-    m.ambient *= colour;
-    if (!path && m.occlusion_texture != NO_TEXTURE) {
-        let at = slot_hit(h, m, UV_SLOT_OCCLUSION);
-        let ao = sample_at_hit(m.occlusion_texture, at, dir, cone_width, false).x;
-        m.ambient *= 1.0 + m.occlusion_strength * (ao - 1.0);
-    }
-    if (path && m.metal_rough_texture != NO_TEXTURE) {
-        let at = slot_hit(h, m, UV_SLOT_METAL_ROUGH);
-        let mr = sample_at_hit(m.metal_rough_texture, at, dir, cone_width, false);
-        m.roughness *= mr.y;
-        m.metallic *= mr.z;
-    }
-    if (path && m.emissive_texture != NO_TEXTURE) {
-        let at = slot_hit(h, m, UV_SLOT_EMISSIVE);
-        m.emission *= sample_at_hit(m.emissive_texture, at, dir, cone_width, true);
-    }
-    return m;
-}
-
 // What the emissive map makes of emitter `id`'s emission at p, on the
 // base level (a light sample has no ray cone): 1 without one.
 fn emissive_scale(id: u32, p: vec3<f32>) -> vec3<f32> {

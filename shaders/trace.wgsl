@@ -17,11 +17,12 @@ fn camera_ray(u: f32, v: f32) -> Ray {
     return Ray(params.camera_position, normalize(dir));
 }
 
-// The seed's loop: colour += (1 - reflection) * weight * local; weight *= reflection.
-// A scene with glass follows trace_path_glass (glass.wgsl) instead.
-fn trace_path(primary: Ray) -> vec3<f32> {
+// The Whitted integrator, the seed's loop: colour += (1 - reflection) * weight * local;
+// weight *= reflection.
+// A scene with glass follows trace_whitted_glass (glass.wgsl) instead.
+fn trace_whitted(primary: Ray) -> vec3<f32> {
     if (GLASS) {
-        return trace_path_glass(primary);
+        return trace_whitted_glass(primary);
     }
     var ray = primary;
     var color = vec3<f32>(0.0);
@@ -72,7 +73,7 @@ fn trace_sample(pixel: vec2<u32>, sx: u32, sy: u32, k: u32) -> vec3<f32> {
     let inv_k = 1.0 / f32(k);
     let u = (f32(pixel.x) + (f32(sx) + 0.5) * inv_k) / f32(params.width);
     let v = (f32(pixel.y) + (f32(sy) + 0.5) * inv_k) / f32(params.height);
-    return clamp(trace_path(camera_ray(u, v)), vec3<f32>(0.0), vec3<f32>(1.0));
+    return clamp(trace_whitted(camera_ray(u, v)), vec3<f32>(0.0), vec3<f32>(1.0));
 }
 
 // Sample `s` of `pixel`, unclamped: path: a uniformly random position in
@@ -83,7 +84,7 @@ fn radiance_sample(pixel: vec2<u32>, s: u32) -> vec3<f32> {
         seed_random(pixel.y * params.width + pixel.x, s);
         let u = (f32(pixel.x) + random()) / f32(params.width);
         let v = (f32(pixel.y) + random()) / f32(params.height);
-        let c = trace_path_physical(camera_ray(u, v));
+        let c = path_trace_sample(camera_ray(u, v));
         if (!is_finite3(c)) {
             nonfinite_samples += 1u;
             return vec3<f32>(0.0);
@@ -96,7 +97,7 @@ fn radiance_sample(pixel: vec2<u32>, s: u32) -> vec3<f32> {
     let inv_k = 1.0 / f32(k);
     let u = (f32(pixel.x) + (f32(sx) + 0.5) * inv_k) / f32(params.width);
     let v = (f32(pixel.y) + (f32(sy) + 0.5) * inv_k) / f32(params.height);
-    return trace_path(camera_ray(u, v));
+    return trace_whitted(camera_ray(u, v));
 }
 
 // render_tile with RADIANCE_OUTPUT: adds samples sample_index ..
