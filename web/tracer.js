@@ -144,7 +144,7 @@ export class Tracer {
   }
 
   // The kernel with `omitted` swapped for their placeholders, as
-  // src/gpu/bindings.rs generates it.
+  // src/gpu/bindings/ generates it.
   moduleFor(omitted, key, entry = 'accumulate') {
     const id = `${entry}|${key}`;
     if (!this.modules.has(id)) {
