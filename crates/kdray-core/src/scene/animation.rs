@@ -17,8 +17,10 @@ use std::ops::{Add, Mul, Sub};
 
 use glam::DVec3;
 
+use super::camera::Camera;
+use super::light::Light;
 use super::normals::unit;
-use super::{Camera, Light, Scene};
+use super::validated_scene::Scene;
 
 /// Most frames an animation may have.
 pub const MAX_FRAMES: u32 = 100_000;

@@ -4,7 +4,7 @@
 
 use glam::DVec3;
 
-use super::Camera;
+use super::camera::Camera;
 
 /// A right-handed orthonormal frame: `forward` looks at the target, `right`
 /// is `forward x up` normalised, and `up` is `right x forward` (the scene's

@@ -5,8 +5,8 @@
 
 use std::path::Path;
 
+use super::error::SceneError;
 use super::source_map::SourceMap;
-use super::SceneError;
 
 /// A syntax or schema error from the toml crate, located by its byte span.
 pub(super) fn toml_error(

@@ -12,12 +12,14 @@ use std::cell::{OnceCell, RefCell};
 use std::path::Path;
 
 use super::document_errors::{json_error, toml_error};
+use super::error::SceneError;
 use super::mesh_file::MeshFormat;
 use super::scene_format::SceneFormat;
 use super::schema::{RawScene, TableOf};
 use super::source_map::LazySourceMap;
 use super::validate::Validator;
-use super::{print_warning, Scene, SceneError, Warning};
+use super::validated_scene::Scene;
+use super::warning::{print_warning, Warning};
 
 /// Reads and validates a scene file; mesh paths are relative to its folder.
 /// A model file (`.obj`, `.gltf`, `.glb`) becomes the scene of

@@ -13,7 +13,7 @@ use std::sync::Arc;
 
 use glam::{DVec2, DVec3, DVec4};
 
-use super::Warning;
+use super::warning::Warning;
 
 /// The index that stands for "none": in `MeshTriangle::normals`, a corner
 /// without a file normal; in `MeshTriangle::material`, a triangle of a mesh
@@ -30,7 +30,7 @@ pub fn mesh_index(i: usize) -> Option<u32> {
 /// Ns and no reflection; for glTF: the rule in docs/scene-format.md), with
 /// its base-colour texture decoded (MTL `map_Kd`, glTF `baseColorTexture`)
 /// and shared by the materials that name one image.
-pub type MeshMaterial = super::Material<Arc<super::Texture>>;
+pub type MeshMaterial = super::material::Material<Arc<super::texture::Texture>>;
 
 impl MeshMaterial {
     /// The material of an OBJ face that names none that kdray can find (no
@@ -46,11 +46,11 @@ impl MeshMaterial {
             shininess: 0.0,
             reflection: 0.0,
             transmission: 0.0,
-            ior: super::Material::DEFAULT_IOR,
+            ior: super::material::Material::DEFAULT_IOR,
             texture: None,
-            physical: super::Physical::LAMBERTIAN,
-            maps: super::MaterialMaps::NONE,
-            alpha: super::Alpha::OPAQUE,
+            physical: super::material::Physical::LAMBERTIAN,
+            maps: super::material::MaterialMaps::NONE,
+            alpha: super::alpha::Alpha::OPAQUE,
         }
     }
 }
@@ -147,10 +147,10 @@ pub struct Mesh {
     pub warnings: Vec<Warning>,
     /// glTF: the first perspective camera the scene's node walk meets
     /// (depth first, children in order), in the file's coordinates.
-    pub camera: Option<super::Camera>,
+    pub camera: Option<super::camera::Camera>,
     /// glTF: the `KHR_lights_punctual` lights the node walk meets, in the
     /// file's coordinates.
-    pub lights: Vec<super::Light>,
+    pub lights: Vec<super::light::Light>,
 }
 
 impl Mesh {

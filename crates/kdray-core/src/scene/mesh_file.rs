@@ -5,8 +5,8 @@
 
 use std::path::Path;
 
+use super::error::SceneError;
 use super::mesh::Mesh;
-use super::SceneError;
 
 /// The mesh formats, by extension (case-insensitive).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]

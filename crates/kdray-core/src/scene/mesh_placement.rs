@@ -10,18 +10,22 @@ use std::path::Path;
 use glam::{DMat3, DVec3, DVec4};
 use rayon::prelude::*;
 
+use super::error::SceneError;
+use super::material::Material;
 use super::mesh::{has_area, Mesh, MeshTriangle};
 use super::mesh_file;
 use super::normals::{self, unit};
+use super::objects::Triangle;
 use super::schema::{RawMesh, RawScale};
+use super::texture::Texture;
+use super::triangle_parts::{SurfaceRecord, TriangleParts};
 use super::validate::{Validator, MAX_COORDINATE};
-use super::{Material, SceneError, SurfaceRecord, Texture, Triangle, TriangleParts};
 
 /// What a mesh file places besides its triangles (glTF: a camera, lights).
 #[derive(Debug, Default)]
 pub(super) struct Placed {
-    pub camera: Option<super::Camera>,
-    pub lights: Vec<super::Light>,
+    pub camera: Option<super::camera::Camera>,
+    pub lights: Vec<super::light::Light>,
 }
 
 impl Validator<'_> {

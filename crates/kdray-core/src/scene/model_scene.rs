@@ -16,14 +16,18 @@ use std::path::Path;
 
 use glam::DVec3;
 
+use super::camera::Camera;
+use super::error::SceneError;
+use super::light::Light;
+use super::material::Material;
+use super::objects::Triangle;
+use super::render_settings::{RenderSettings, ShadowMode};
 use super::scene_format::SceneFormat;
 use super::schema::{RawMesh, RawScale};
 use super::source_map::LazySourceMap;
 use super::validate::Validator;
-use super::{
-    print_warning, Camera, Light, Material, RenderSettings, Scene, SceneError, ShadowMode,
-    Triangle, Warning,
-};
+use super::validated_scene::Scene;
+use super::warning::{print_warning, Warning};
 
 /// Vertical field of view of the model camera, in degrees.
 pub const MODEL_VFOV_DEGREES: f64 = 40.0;
@@ -120,7 +124,7 @@ pub fn model_scene_viewed(
     };
     let mut materials = Vec::new();
     let mut triangles = Vec::new();
-    let mut parts = super::TriangleParts::default();
+    let mut parts = super::triangle_parts::TriangleParts::default();
     let placed = validator.mesh(0, &raw, None, &mut materials, &mut triangles, &mut parts)?;
     parts.finish();
 
@@ -298,9 +302,9 @@ fn ground() -> Material {
         transmission: 0.0,
         texture: None,
         ior: Material::DEFAULT_IOR,
-        physical: super::Physical::LAMBERTIAN,
-        maps: super::MaterialMaps::NONE,
-        alpha: super::Alpha::OPAQUE,
+        physical: super::material::Physical::LAMBERTIAN,
+        maps: super::material::MaterialMaps::NONE,
+        alpha: super::alpha::Alpha::OPAQUE,
     }
 }
 

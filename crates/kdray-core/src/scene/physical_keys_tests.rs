@@ -7,11 +7,14 @@ use std::path::Path;
 
 use glam::DVec3;
 
-use super::{parse_scene, Integrator, MetalRough, SceneFormat, ToneMap};
+use super::integrator::{Integrator, ToneMap};
+use super::load::parse_scene;
+use super::material::MetalRough;
+use super::scene_format::SceneFormat;
 
 const CAMERA: &str = "[camera]\nposition = [0, 0, 5]\nlook_at = [0, 0, 0]\n";
 
-fn parse(text: &str) -> Result<super::Scene, String> {
+fn parse(text: &str) -> Result<super::validated_scene::Scene, String> {
     parse_scene(text, Path::new("s.toml"), SceneFormat::Toml).map_err(|e| e.to_string())
 }
 
@@ -65,7 +68,10 @@ fn the_path_keys_are_read_with_their_defaults() {
     assert_eq!(d.render.samples, 1);
     assert_eq!(d.render.tone_map, ToneMap::Aces);
     let lambert = parse(&path_scene("", "diffuse = [1, 1, 1]")).unwrap();
-    assert_eq!(lambert.materials[0].physical, super::Physical::LAMBERTIAN);
+    assert_eq!(
+        lambert.materials[0].physical,
+        super::material::Physical::LAMBERTIAN
+    );
 }
 
 #[test]
@@ -157,6 +163,6 @@ fn path_scenes_round_trip_through_scene_text() {
         "base_color = [0.9, 0.5, 0.1]\nmetallic = 0.5\nemission = [1, 2, 3]",
     ))
     .unwrap();
-    let text = super::scene_text(&s, SceneFormat::Toml).unwrap();
+    let text = super::write::scene_text(&s, SceneFormat::Toml).unwrap();
     assert_eq!(parse(&text).unwrap(), s);
 }

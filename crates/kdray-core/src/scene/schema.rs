@@ -193,11 +193,11 @@ pub(super) struct RawRender {
     #[serde(skip_serializing_if = "Option::is_none")]
     pub(super) samples: Option<u32>,
     #[serde(skip_serializing_if = "Option::is_none")]
-    pub(super) integrator: Option<Named<super::Integrator>>,
+    pub(super) integrator: Option<Named<super::integrator::Integrator>>,
     #[serde(skip_serializing_if = "Option::is_none")]
     pub(super) seed: Option<u32>,
     #[serde(skip_serializing_if = "Option::is_none")]
-    pub(super) tone_map: Option<Named<super::ToneMap>>,
+    pub(super) tone_map: Option<Named<super::integrator::ToneMap>>,
     #[serde(skip_serializing_if = "Option::is_none")]
     pub(super) exposure: Option<f64>,
 }
@@ -348,11 +348,11 @@ fn is_zero(x: &f64) -> bool {
 }
 
 fn default_ior() -> f64 {
-    super::Material::DEFAULT_IOR
+    super::material::Material::DEFAULT_IOR
 }
 
 fn is_default_ior(x: &f64) -> bool {
-    *x == super::Material::DEFAULT_IOR
+    *x == super::material::Material::DEFAULT_IOR
 }
 
 #[derive(Deserialize, Serialize)]

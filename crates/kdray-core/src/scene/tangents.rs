@@ -13,7 +13,9 @@
 use bevy_mikktspace::{Geometry, TangentSpace};
 use glam::{DVec3, DVec4};
 
-use super::{Material, Triangle, TriangleParts};
+use super::material::Material;
+use super::objects::Triangle;
+use super::triangle_parts::TriangleParts;
 
 /// Gives every triangle of `triangles` (the ones a mesh entry just
 /// appended) whose material has a normal map and which has texture
@@ -143,7 +145,7 @@ mod tests {
             let mut t = Triangle::flat(vertices, 0);
             parts.add_record(
                 &mut t,
-                super::super::SurfaceRecord {
+                super::super::triangle_parts::SurfaceRecord {
                     uvs: Some(vertices.map(uv)),
                     ..Default::default()
                 },
@@ -164,12 +166,12 @@ mod tests {
             transmission: 0.0,
             ior: 1.0,
             texture: None,
-            physical: crate::scene::Physical::LAMBERTIAN,
-            maps: crate::scene::MaterialMaps {
+            physical: crate::scene::material::Physical::LAMBERTIAN,
+            maps: crate::scene::material::MaterialMaps {
                 normal: Some(0),
-                ..crate::scene::MaterialMaps::NONE
+                ..crate::scene::material::MaterialMaps::NONE
             },
-            alpha: crate::scene::Alpha::OPAQUE,
+            alpha: crate::scene::alpha::Alpha::OPAQUE,
         }]
     }
 

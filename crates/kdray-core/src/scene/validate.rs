@@ -11,16 +11,21 @@ use std::path::Path;
 
 use glam::DVec3;
 
+use super::camera::Camera;
+use super::environment::EnvironmentMap;
+use super::error::SceneError;
+use super::integrator::{Integrator, ToneMap};
+use super::light::Light;
+use super::material::{Material, MetalRough, Physical};
 use super::mesh::has_area;
 use super::normals::unit;
+use super::objects::{Sphere, Triangle};
+use super::render_settings::{RenderSettings, ShadowMode};
 use super::schema::{
     RawCamera, RawEnvironment, RawMaterial, RawRender, RawScene, RawShadowMode, Vec3, DEFAULT_UP,
 };
 use super::source_map::LazySourceMap;
-use super::{
-    Camera, EnvironmentMap, Integrator, Light, Material, MetalRough, Physical, RenderSettings,
-    Scene, SceneError, ShadowMode, Sphere, ToneMap, Triangle,
-};
+use super::validated_scene::Scene;
 
 /// Largest accepted image side, in pixels.
 pub const MAX_IMAGE_SIDE: u32 = 16384;
@@ -36,7 +41,7 @@ pub(super) struct Validator<'a> {
     /// Told of each file just before it is read.
     pub(super) on_read: RefCell<&'a mut dyn FnMut(&Path)>,
     /// Given each warning of the mesh files.
-    pub(super) warn: RefCell<&'a mut dyn FnMut(super::Warning)>,
+    pub(super) warn: RefCell<&'a mut dyn FnMut(super::warning::Warning)>,
 }
 
 /// The path of a key, made only when an error names it: made for every
@@ -162,14 +167,14 @@ impl Validator<'_> {
                 ior,
                 texture: None,
                 physical,
-                maps: crate::scene::MaterialMaps::NONE,
-                alpha: crate::scene::Alpha::OPAQUE,
+                maps: crate::scene::material::MaterialMaps::NONE,
+                alpha: crate::scene::alpha::Alpha::OPAQUE,
             });
         }
         let spheres = self.spheres(&raw, &material_index)?;
         let mut triangles = self.triangles(&raw, &material_index)?;
 
-        let mut parts = super::TriangleParts::default();
+        let mut parts = super::triangle_parts::TriangleParts::default();
         for (i, m) in raw.meshes.iter().enumerate() {
             let override_material = match &m.material {
                 Some(name) => Some(self.material_named(

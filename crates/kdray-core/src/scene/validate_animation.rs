@@ -6,9 +6,11 @@
 use std::collections::BTreeMap;
 
 use super::animation::{Animation, CameraKey, CameraPath, FramePath, LightKey, MAX_FRAMES};
+use super::camera::Camera;
+use super::error::SceneError;
+use super::light::Light;
 use super::schema::{RawAnimation, RawCameraKey, RawLightKey};
 use super::validate::{camera_fault, light_fault, Validator};
-use super::{Camera, Light, SceneError};
 
 impl Validator<'_> {
     /// `[animation]`: its keys one by one, then the camera of every frame
@@ -230,7 +232,7 @@ impl Validator<'_> {
         }
         let directional = matches!(
             lights[k.light as usize].kind,
-            super::LightKind::Directional { .. }
+            super::light_kind::LightKind::Directional { .. }
         );
         if k.position.is_some() && directional {
             return Err(self.error(

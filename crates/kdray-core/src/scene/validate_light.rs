@@ -4,12 +4,15 @@
 
 use glam::DVec3;
 
+use super::error::SceneError;
+use super::integrator::Integrator;
+use super::light::Light;
 use super::light_kind::{LightKind, DEFAULT_INNER_CONE_DEGREES, DEFAULT_OUTER_CONE_DEGREES};
 use super::light_shape::LightShape;
 use super::normals::unit;
+use super::render_settings::RenderSettings;
 use super::schema::{RawLight, RawScene, Vec3};
 use super::validate::{Validator, MAX_COORDINATE};
-use super::{Integrator, Light, RenderSettings, SceneError};
 
 impl Validator<'_> {
     /// `[[lights]]`: at least one for the Whitted integrator.

@@ -7,15 +7,19 @@ use std::collections::BTreeMap;
 use glam::DVec3;
 
 use super::animation::Animation;
+use super::camera::Camera;
+use super::environment::EnvironmentMap;
+use super::light::Light;
+use super::light_kind::LightKind;
+use super::light_shape::LightShape;
+use super::material::Material;
+use super::render_settings::{RenderSettings, ShadowMode};
 use super::scene_format::SceneFormat;
 use super::schema::{
     Exact, Named, RawAnimation, RawCamera, RawCameraKey, RawEnvironment, RawLight, RawLightKey,
     RawMaterial, RawRender, RawScene, RawShadowMode, RawSphere, RawTriangle, TableOf, Vec3,
 };
-use super::{
-    Camera, EnvironmentMap, Light, LightKind, LightShape, Material, RenderSettings, Scene,
-    ShadowMode,
-};
+use super::validated_scene::Scene;
 
 /// `scene` as the text of a scene file that [`parse_scene`](super::parse_scene) reads back as an
 /// equal `Scene`, provided its material names are distinct and sort in index

@@ -2,7 +2,8 @@
 //! kdray's terms ([`Alpha`]); a cutoff that is not a number >= 0 is an
 //! error naming the material and the key.
 
-use crate::scene::{Alpha, AlphaMode, Warning};
+use crate::scene::alpha::{Alpha, AlphaMode};
+use crate::scene::warning::Warning;
 
 /// The material's alpha: its mode, its cutoff (glTF's default 0.5) and
 /// baseColorFactor's alpha, clamped into [0, 1].

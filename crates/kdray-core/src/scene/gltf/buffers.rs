@@ -4,7 +4,7 @@
 use std::collections::HashSet;
 use std::path::{Path, PathBuf};
 
-use crate::scene::SceneError;
+use crate::scene::error::SceneError;
 
 /// Every buffer's bytes, checked to be at least its declared `byteLength`;
 /// `placeholders` (meshopt fallback buffers) are left empty, unread.

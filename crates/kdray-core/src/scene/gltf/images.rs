@@ -19,7 +19,8 @@ use gltf::texture::{MagFilter, MinFilter as GltfMinFilter, WrappingMode};
 
 use super::buffers::{buffer_path, decode_data_uri};
 use super::texture_transform::UvChoice;
-use crate::scene::{MinFilter, MipMode, Texture, TextureFilter, TextureWrap, Warning};
+use crate::scene::texture::{MinFilter, MipMode, Texture, TextureFilter, TextureWrap};
+use crate::scene::warning::Warning;
 
 /// The textures decoded so far, by (image, sampler); None: it could not
 /// be (warned about once).
@@ -60,7 +61,7 @@ impl super::Reader<'_, '_> {
                 || "the default material".to_string(),
                 |i| format!("materials[{i}]"),
             );
-            let warning = crate::scene::Warning::new(
+            let warning = crate::scene::warning::Warning::new(
                 self.files.path,
                 None,
                 format!(
@@ -78,7 +79,7 @@ impl super::Reader<'_, '_> {
             self.channel(primitive, draco, count, choice)
                 .map_err(|m| {
                     let set = choice.set;
-                    self.mesh.warnings.push(crate::scene::Warning::new(
+                    self.mesh.warnings.push(crate::scene::warning::Warning::new(
                         self.files.path,
                         None,
                         format!("{at}: TEXCOORD_{set} {m}; the primitive is drawn untextured"),
@@ -159,12 +160,12 @@ impl DecodedImages {
         document: &gltf::Document,
         files: &mut ImageFiles,
         warnings: &mut Vec<Warning>,
-    ) -> crate::scene::MaterialMaps<Arc<Texture>> {
+    ) -> crate::scene::material::MaterialMaps<Arc<Texture>> {
         let pbr = material.pbr_metallic_roughness();
         let mut decode = |texture: Option<gltf::texture::Texture>, role: &str| {
             self.texture(texture?, role, document, files, warnings)
         };
-        crate::scene::MaterialMaps {
+        crate::scene::material::MaterialMaps {
             metal_rough: decode(
                 pbr.metallic_roughness_texture().map(|i| i.texture()),
                 "metallicRoughnessTexture",

@@ -36,8 +36,8 @@ use std::path::Path;
 use glam::{DMat3, DMat4, DVec2, DVec3, DVec4};
 use gltf::mesh::Mode;
 
+use crate::scene::error::SceneError;
 use crate::scene::mesh::{mesh_index, Mesh, MeshMaterial, MeshTriangle, NO_INDEX};
-use crate::scene::SceneError;
 
 mod accessors;
 mod alpha;
@@ -123,7 +123,7 @@ pub fn parse_gltf(
     let orthographic_cameras = reader.place_nodes(&scene).map_err(err)?;
     let mut mesh = reader.mesh;
     if orthographic_cameras > 0 {
-        warnings.push(crate::scene::Warning::new(
+        warnings.push(crate::scene::warning::Warning::new(
             path,
             None,
             format!(
@@ -156,7 +156,14 @@ pub fn parse_gltf(
 fn parse_document(
     bytes: &[u8],
     path: &Path,
-) -> Result<(gltf::Gltf, extensions::Prepared, Vec<crate::scene::Warning>), SceneError> {
+) -> Result<
+    (
+        gltf::Gltf,
+        extensions::Prepared,
+        Vec<crate::scene::warning::Warning>,
+    ),
+    SceneError,
+> {
     let err = |message: String| SceneError::new(path, None, None, message);
     check_glb_header(bytes).map_err(err)?;
     let invalid = |e: gltf::Error| {
@@ -422,7 +429,7 @@ impl Reader<'_, '_> {
         let local = *self.material_of.entry(key).or_insert(next);
         if local == next {
             let mut material = pbr_material(&primitive.material());
-            if material.alpha.mode == crate::scene::AlphaMode::Blend {
+            if material.alpha.mode == crate::scene::alpha::AlphaMode::Blend {
                 let warning = alpha::blend_warning(self.files.path);
                 if !self.mesh.warnings.contains(&warning) {
                     self.mesh.warnings.push(warning);
@@ -673,18 +680,18 @@ pub fn pbr_material(material: &gltf::Material) -> MeshMaterial {
         ior: match material.ior().map(f64::from) {
             Some(ior) if ior > 0.0 && ior.is_finite() => ior,
             Some(_) => 1.0,
-            None => crate::scene::Material::DEFAULT_IOR,
+            None => crate::scene::material::Material::DEFAULT_IOR,
         },
         texture: None,
-        physical: crate::scene::Physical {
-            metal_rough: Some(crate::scene::MetalRough {
+        physical: crate::scene::material::Physical {
+            metal_rough: Some(crate::scene::material::MetalRough {
                 metallic,
                 roughness,
             }),
             emission: emission(material),
             two_sided: material.double_sided(),
         },
-        maps: crate::scene::MaterialMaps::NONE,
+        maps: crate::scene::material::MaterialMaps::NONE,
         alpha: alpha(material),
     }
 }

@@ -4,7 +4,9 @@
 
 use glam::{DMat4, DVec3};
 
-use crate::scene::{Camera, Light, LightKind};
+use crate::scene::camera::Camera;
+use crate::scene::light::Light;
+use crate::scene::light_kind::LightKind;
 
 /// The camera of node `index` placed by `world`: the eye at the node's
 /// origin, looking down its -Z axis with +Y up (glTF's camera convention),

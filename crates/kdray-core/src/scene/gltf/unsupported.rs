@@ -5,7 +5,7 @@
 
 use std::path::Path;
 
-use crate::scene::Warning;
+use crate::scene::warning::Warning;
 
 /// The error for a glTF 1.0 file: its schema differs throughout (objects
 /// keyed by name instead of arrays), so the 2.0 parser's complaint would

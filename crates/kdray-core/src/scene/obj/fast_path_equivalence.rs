@@ -7,8 +7,8 @@ use super::fast::{parse, split_at_lines, Outcome};
 use super::material_replay::MaterialFiles;
 use super::reference::parse_reference;
 use super::{parse_obj, parse_obj_bytes};
+use crate::scene::error::SceneError;
 use crate::scene::mesh::Mesh;
-use crate::scene::SceneError;
 use proptest::prelude::*;
 use std::path::{Path, PathBuf};
 

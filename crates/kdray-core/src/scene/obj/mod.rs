@@ -41,8 +41,9 @@ mod tokens;
 use std::collections::HashMap;
 use std::path::Path;
 
+use super::error::SceneError;
 use super::mesh::{Mesh, MeshMaterial};
-use super::{SceneError, Warning};
+use super::warning::Warning;
 
 /// Reads an OBJ file. With `with_materials` false (the scene overrides the
 /// material) mtllib/usemtl are ignored entirely (an MTL file need not

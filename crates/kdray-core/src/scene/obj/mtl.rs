@@ -16,8 +16,10 @@ use std::sync::Arc;
 use glam::DVec3;
 
 use super::tokens::{first_three_numbers, parse_number, rest_of_line, statement_error, statements};
+use crate::scene::error::SceneError;
 use crate::scene::mesh::MeshMaterial;
-use crate::scene::{MinFilter, SceneError, Texture, TextureFilter, TextureWrap, Warning};
+use crate::scene::texture::{MinFilter, Texture, TextureFilter, TextureWrap};
+use crate::scene::warning::Warning;
 
 /// Parses an MTL file into `library`. A material already in `library`
 /// (defined by an earlier MTL file, or earlier in this one) keeps its first
@@ -126,11 +128,11 @@ fn new_material(name: &str) -> MeshMaterial {
         shininess: 0.0,
         reflection: 0.0,
         transmission: 0.0,
-        ior: crate::scene::Material::DEFAULT_IOR,
+        ior: crate::scene::material::Material::DEFAULT_IOR,
         texture: None,
-        physical: crate::scene::Physical::LAMBERTIAN,
-        maps: crate::scene::MaterialMaps::NONE,
-        alpha: crate::scene::Alpha::OPAQUE,
+        physical: crate::scene::material::Physical::LAMBERTIAN,
+        maps: crate::scene::material::MaterialMaps::NONE,
+        alpha: crate::scene::alpha::Alpha::OPAQUE,
     }
 }
 

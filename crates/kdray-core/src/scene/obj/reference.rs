@@ -10,8 +10,9 @@ use glam::{DVec2, DVec3};
 
 use super::mtl::parse_mtl;
 use super::tokens::{first_three_numbers, parse_number, rest_of_line, statement_error, statements};
+use crate::scene::error::SceneError;
 use crate::scene::mesh::{mesh_index, Mesh, MeshMaterial, MeshTriangle, NO_INDEX};
-use crate::scene::{SceneError, Warning};
+use crate::scene::warning::Warning;
 
 /// The reference parser, one line at a time: the meaning of every statement
 /// and every error message. `faces` counts the `f` statements.

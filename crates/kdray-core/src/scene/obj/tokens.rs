@@ -7,7 +7,7 @@
 use std::path::Path;
 use std::str::SplitAsciiWhitespace;
 
-use crate::scene::SceneError;
+use crate::scene::error::SceneError;
 
 /// The statements of `text` in order, past a leading byte-order mark, each
 /// as (1-based line number, the line without its comment, its keyword, the
