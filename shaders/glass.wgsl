@@ -1,10 +1,10 @@
 // Glass: refraction by Snell's law with the exact dielectric Fresnel
 // reflectance, total internal reflection, shadow rays through transmissive
-// surfaces, and the path that follows both the reflected and the refracted
-// ray with a small stack. Mirrored by src/reference.rs; the rules, exactly,
-// are in docs/scene-format.md (Semantics, "Glass"). Reached only in
-// pipelines with the GLASS override (variant.wgsl): a scene without glass
-// runs the opaque path of trace.wgsl.
+// surfaces, and the path that follows both the reflected and the refracted ray
+// with a small stack. Mirrored by crates/kdray-core/src/reference.rs; the
+// rules, exactly, are in docs/scene-format.md (Semantics, "Glass"). Reached
+// only in pipelines with the GLASS override (variant.wgsl): a scene without
+// glass runs the opaque path of trace.wgsl.
 
 // The refracted direction and the Fresnel reflectance at one interface.
 struct Refraction {

@@ -1,4 +1,5 @@
-// Rays, boxes, spheres and triangles. Mirrors src/geometry.rs line by line.
+// Rays, boxes, spheres and triangles. Mirrors crates/kdray-core/src/geometry.rs
+// line by line.
 
 const NO_HIT: f32 = -1.0;
 
@@ -57,9 +58,9 @@ fn intersect_sphere(s: Sphere, ray: Ray) -> f32 {
     return NO_HIT;
 }
 
-// The watertight test's per-ray constants (RayShear in src/geometry.rs):
-// kz the axis the ray runs most along, kx, ky the others; (sx, sy, sz) map
-// the direction onto (0, 0, 1).
+// The watertight test's per-ray constants (RayShear in
+// crates/kdray-core/src/geometry.rs): kz the axis the ray runs most along, kx,
+// ky the others; (sx, sy, sz) map the direction onto (0, 0, 1).
 struct RayShear {
     kx: u32,
     ky: u32,
@@ -197,7 +198,8 @@ fn max_component(v: vec3<f32>) -> f32 {
     return max(v.x, max(v.y, v.z));
 }
 
-// Offset of secondary ray origins along N: see spawn_offset in src/geometry.rs.
+// Offset of secondary ray origins along N: see spawn_offset in
+// crates/kdray-core/src/geometry.rs.
 fn spawn_offset(p: vec3<f32>, magnitude: f32) -> f32 {
     return max(1e-4 * max(max_component(abs(p)), 1.0), magnitude * (1.0 / 4194304.0));
 }

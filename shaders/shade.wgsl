@@ -94,7 +94,7 @@ fn shade(m: Material, p: vec3<f32>, n: vec3<f32>, v: vec3<f32>, origin: vec3<f32
 
 // A unit vector from its octahedral encoding (Cigolle et al. 2014): two
 // 16-bit snorm coordinates, x in the low half. Mirrors decode_octahedral in
-// src/layout/.
+// crates/kdray-core/src/layout/.
 fn decode_normal(w: u32) -> vec3<f32> {
     let x = max(f32(bitcast<i32>(w << 16u) >> 16u) * (1.0 / 32767.0), -1.0);
     let y = max(f32(bitcast<i32>(w) >> 16u) * (1.0 / 32767.0), -1.0);

@@ -1,16 +1,16 @@
-// Base-colour textures (src/scene/texture.rs states the rule; its
-// `sample_lod` is the CPU mirror, and src/scene/texture/ray_cone.rs mirrors
-// the level of detail): at a textured triangle's hit the texture
-// coordinates are interpolated with the hit's barycentrics; the level of
-// detail lambda comes from the ray cone's width there (the pixel's spread
-// angle times the path's length from the eye); lambda <= 0 reads the base
-// level with the magnification filter, above 0 the minification filter
-// reads the base level, the nearest mip level or the two nearest blended
-// (point or bilinear within a level, texel centres at (i + 0.5) / the
-// level's size, each axis wrapped by its mode); the texel multiplies the
-// material's diffuse and ambient colours. The `textures` buffer's layout:
-// src/layout/texture_words.rs, TextureWords. Without TEXTURES the material
-// is read as before.
+// Base-colour textures (crates/kdray-core/src/scene/texture/ states the
+// rule; its `sample_lod` is the CPU mirror, and its ray_cone.rs mirrors the
+// level of detail): at a textured triangle's hit the texture coordinates
+// are interpolated with the hit's barycentrics; the level of detail lambda
+// comes from the ray cone's width there (the pixel's spread angle times the
+// path's length from the eye); lambda <= 0 reads the base level with the
+// magnification filter, above 0 the minification filter reads the base
+// level, the nearest mip level or the two nearest blended (point or
+// bilinear within a level, texel centres at (i + 0.5) / the level's size,
+// each axis wrapped by its mode); the texel multiplies the material's
+// diffuse and ambient colours (`material_at`, surface.wgsl). The `textures`
+// buffer's layout: crates/kdray-core/src/layout/texture_words.rs,
+// TextureWords. Without TEXTURES the material is read as before.
 
 // The record of texture coordinates of triangle i (the third vertex's
 // padding), or UNTEXTURED.

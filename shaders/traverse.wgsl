@@ -1,7 +1,7 @@
 // Nearest-hit and any-hit queries: the stackless k-d walk (kd-restart with
-// push-down), the seed's brute-force loop, and the frame's choice between
-// the walks. Mirrors src/kdtree/traverse.rs; the steps the walks share are
-// in walk_step.wgsl.
+// push-down), the seed's brute-force loop, and the frame's choice between the
+// walks. Mirrors crates/kdray-core/src/kdtree/traverse.rs; the steps the walks
+// share are in walk_step.wgsl.
 
 // any_hit: return the first hit with t < t_limit; else the nearest hit with
 // t <= t_limit. `segment`: the non-empty part of the ray to search (scene_segment).

@@ -1,7 +1,7 @@
 // The rope walk (Popov, Günther, Seidel, Slusallek 2007). Mirrors
-// src/kdtree/traverse_ropes.rs, which explains the cases: the descent
-// classifies planes by t (crossed at or before t_min: past it), a leaf's
-// exit is its first face ahead (faces on the scene's boundary lie at
+// crates/kdray-core/src/kdtree/traverse_ropes.rs, which explains the cases: the
+// descent classifies planes by t (crossed at or before t_min: past it), a
+// leaf's exit is its first face ahead (faces on the scene's boundary lie at
 // infinity, so the ray leaves through them at t_far), and a leaf reached
 // through a rope that the ray spends no time in (an edge or a corner) is
 // skipped for a descent from the root.

@@ -1,9 +1,9 @@
 // kd-restart with a short stack (Horn, Sugerman, Houston, Hanrahan 2007).
-// Mirrors the short stack of src/kdtree/traverse.rs: the restart walk's descent,
-// which also remembers the far child (and the segment's end there) where it
-// crosses both; after a leaf it resumes from the last one remembered, and
-// restarts (with push-down) when none is left. The entries are named
-// variables, not an array: lavapipe keeps private arrays in memory; there
+// Mirrors the short stack of crates/kdray-core/src/kdtree/traverse.rs: the
+// restart walk's descent, which also remembers the far child (and the segment's
+// end there) where it crosses both; after a leaf it resumes from the last one
+// remembered, and restarts (with push-down) when none is left. The entries are
+// named variables, not an array: lavapipe keeps private arrays in memory; there
 // are SHORT_STACK_DEPTH (3, from the host's contract) of them.
 //
 // The loops are shaped for llvmpipe, which runs a loop body at least once

@@ -1,6 +1,6 @@
 // Data shared with the host. Every struct here mirrors a #[repr(C)] type in
-// src/layout/; a unit test checks sizes, offsets and field types against
-// naga's layout.
+// crates/kdray-core/src/layout/; a unit test checks sizes, offsets and field
+// types against naga's layout.
 
 struct KdNode {
     kind: u32,       // 0, 1, 2: inner node splitting x, y, z; 3: leaf
@@ -9,15 +9,15 @@ struct KdNode {
     count: u32,      // leaf: number of object ids
 }
 
-// A k-d node as stored (src/layout/ GpuKdNode), 8 bytes; kd_node()
-// unpacks it into a KdNode.
+// A k-d node as stored (crates/kdray-core/src/layout/ GpuKdNode), 8 bytes;
+// kd_node() unpacks it into a KdNode.
 struct PackedKdNode {
     tag_and_index: u32,   // kind in bits 0-1; inner: above child, leaf: count
     split_or_first: u32,  // inner: the plane (f32 bits); leaf: first entry
 }
 
-// A leaf's box and the node beyond each face (src/layout/ LeafRopes).
-// Face 2 * axis is the low side, 2 * axis + 1 the high side.
+// A leaf's box and the node beyond each face (crates/kdray-core/src/layout/
+// LeafRopes). Face 2 * axis is the low side, 2 * axis + 1 the high side.
 struct LeafRopes {
     faces: array<f32, 6>,   // plane coordinate of each face; -inf / +inf on the scene's boundary
     ropes: array<u32, 6>,   // node beyond each face; NO_ROPE on the scene's boundary
@@ -36,8 +36,9 @@ struct Triangle {
     v2: vec3<f32>,
 }
 
-// A smooth triangle's unit vertex normals, octahedral-encoded: two 16-bit
-// snorm coordinates each, x in the low half (src/layout/ GpuTriangleNormals).
+// A smooth triangle's unit vertex normals, octahedral-encoded: two 16-bit snorm
+// coordinates each, x in the low half (crates/kdray-core/src/layout/
+// GpuTriangleNormals).
 struct TriangleNormals {
     n0: u32,
     n1: u32,

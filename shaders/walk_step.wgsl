@@ -1,9 +1,10 @@
 // The steps every k-d walk shares (traverse.wgsl, traverse_ropes.wgsl,
-// traverse_short_stack.wgsl): the hit record, the work counters, the clip
-// of the ray to the scene's box, one descent step through an inner node,
-// the leaf test, and the "every leaf left lies beyond t_max" exit. Mirrors
-// src/kdtree/walk_step.rs. The compilers inline these functions; the walks
-// measured as fast as with the steps written out (design.md).
+// traverse_short_stack.wgsl): the hit record, the work counters, the clip of
+// the ray to the scene's box, one descent step through an inner node, the leaf
+// test, and the "every leaf left lies beyond t_max" exit. Mirrors
+// crates/kdray-core/src/kdtree/walk_step.rs. The compilers inline these
+// functions; the walks measured as fast as with the steps written out
+// (design.md).
 
 struct Hit {
     t: f32,
@@ -23,9 +24,9 @@ fn miss() -> Hit {
 var<private> loop_iterations: u32;
 
 // The work this invocation's walks did, over all its rays, counted as
-// src/kdtree/walk_step.rs WalkCost: x nodes visited (every k-d node record
-// read: the inner nodes of each descent and its leaf), y leaves visited,
-// z objects tested. Counted only where the pipeline is made to
+// crates/kdray-core/src/kdtree/walk_step.rs WalkCost: x nodes visited (every
+// k-d node record read: the inner nodes of each descent and its leaf), y leaves
+// visited, z objects tested. Counted only where the pipeline is made to
 // (COUNT_COSTS, variant.wgsl); elsewhere it stays zero.
 var<private> walk_cost: vec3<u32>;
 

@@ -1,7 +1,7 @@
 // The camera the page traces from, and how the mouse, touch, wheel and keys
-// move it: orbit around the look-at point, pan, zoom, fly. The camera basis
-// is made as the host makes it (src/scene/camera_basis.rs): forward to the
-// target, right = forward x up, up = right x forward.
+// move it: orbit around the look-at point, pan, zoom, fly. The camera basis is
+// made as the host makes it (crates/kdray-core/src/scene/camera_basis.rs):
+// forward to the target, right = forward x up, up = right x forward.
 
 const sub = (a, b) => a.map((x, i) => x - b[i]);
 const add = (a, b) => a.map((x, i) => x + b[i]);

@@ -1,14 +1,15 @@
 //! The documents say what the repository holds: README.md and docs/*.md
 //! checked against the code, so that a renamed file, module or test, or a
 //! scene example the loader no longer reads, fails here rather than
-//! misleading a reader. Also: the README's test command is what CI runs,
-//! every test file belongs to one of the tiers docs/testing.md describes,
-//! and docs/benchmarks.md types no measured figure outside its generated
-//! tables.
+//! misleading a reader; so are the paths the code's comments name. Also:
+//! the README's test command is what CI runs, every test file belongs to
+//! one of the tiers docs/testing.md describes, and docs/benchmarks.md types
+//! no measured figure outside its generated tables.
 
 #[path = "../common/mod.rs"]
 mod common;
 
+mod comment_paths;
 mod figures;
 mod names;
 mod paths;

@@ -5,15 +5,20 @@
 
 use super::*;
 
-const ROOTS: [&str; 5] = ["src/", "crates/", "shaders/", "scripts/", "tests/"];
+pub(super) const ROOTS: [&str; 5] = ["src/", "crates/", "shaders/", "scripts/", "tests/"];
 
 /// The paths under [`ROOTS`] that `text` names, with their lines.
 fn named_paths(text: &str) -> Vec<(usize, String)> {
+    named_paths_under(text, &ROOTS)
+}
+
+/// The paths under `roots` that `text` names, with their lines.
+pub(super) fn named_paths_under(text: &str, roots: &[&str]) -> Vec<(usize, String)> {
     let is_path_char = |c: char| c.is_ascii_alphanumeric() || "_-./*".contains(c);
     let mut out = Vec::new();
     for (i, line) in text.lines().enumerate() {
         let bytes = line.as_bytes();
-        for root in ROOTS {
+        for root in roots {
             for (at, _) in line.match_indices(root) {
                 // The start of a path, not the middle of one (`../src/`,
                 // `target/tests/`) nor a longer word (`tests/` in `mytests/`).
@@ -34,7 +39,7 @@ fn named_paths(text: &str) -> Vec<(usize, String)> {
 
 /// Whether `pattern` (a path, perhaps with `*` in its file names) names
 /// something under the root.
-fn exists(pattern: &str) -> bool {
+pub(super) fn exists(pattern: &str) -> bool {
     let mut candidates = vec![repo_root()];
     for part in pattern.trim_end_matches('/').split('/') {
         let mut next = Vec::new();
