@@ -20,11 +20,15 @@
 //! - `draw_pipeline`: what the present and overlay pipelines share: layouts
 //!   from a binding table, and a pipeline for any target format.
 //! - `title`: what the title bar says, and how often (pure, unit-tested).
+//! - `playback`: which frame of the scene's animation is shown (pure,
+//!   unit-tested).
 //! - [`reload`]: loading the scene, and polling its file and the files it
 //!   reads.
 //! - `surface`: the window's surface: device, format, resizing, present.
 //! - [`view`]: the present pass over the accumulation
 //!   ([`crate::gpu::Accumulation`]), the heatmap and screenshots.
+//! - `session`: the open window's state and what a frame does with it; its
+//!   inspection mode's clicks.
 //! - `app`: the winit event handler that ties them together.
 
 mod app;

@@ -1,9 +1,10 @@
 //! The open window's state: its surface and device, the uploaded scene, the
-//! camera controls, refinement, playback, inspection, statistics and title, and what a
-//! frame does with them. `app.rs` feeds it winit's events. Each frame is one
-//! submission and one present: [`Refinement`] plans it, `pass_params` turns
-//! its pass over the [`GpuScene`] into the shader's parameters, [`Viewer`]
-//! records it, [`WindowSurface`] shows it and [`FrameStats`] counts it.
+//! camera controls, refinement, playback, inspection mode, statistics and
+//! title, and what a frame does with them. `app.rs` feeds it winit's events.
+//! Each frame is one submission and one present: [`Refinement`] plans it,
+//! `pass_params` turns its pass over the [`GpuScene`] into the shader's
+//! parameters, [`Viewer`] records it, [`WindowSurface`] shows it and
+//! [`FrameStats`] counts it.
 
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
