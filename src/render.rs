@@ -444,18 +444,24 @@ pub fn render_streaming(
         primary_rays,
         shadow_rays: summary.rays.shadow,
         reflection_rays: summary.rays.reflection,
-        mrays_per_s: primary_rays as f64 / (summary.gpu_ms * 1e3).max(1e-9),
-        total_mrays_per_s: summary.rays.total() as f64 / (summary.gpu_ms * 1e3).max(1e-9),
+        mrays_per_s: millions_per_second(primary_rays, summary.gpu_ms),
+        total_mrays_per_s: millions_per_second(summary.rays.total(), summary.gpu_ms),
         loop_limited_pixels: if ctx.has_loop_limit() {
             summary.rays.loop_limited
         } else {
             0
         },
         nonfinite_samples: summary.rays.nonfinite,
-        msamples_per_s: primary_rays as f64 / (summary.gpu_ms * 1e3).max(1e-9),
+        // One primary ray per sample.
+        msamples_per_s: millions_per_second(primary_rays, summary.gpu_ms),
         cost: summary
             .cost
             .map(|totals| CostStats::new(totals, summary.rays.total())),
     };
     Ok((stats, summary))
+}
+
+/// `count` per second of `gpu_ms` milliseconds, in millions.
+pub(crate) fn millions_per_second(count: u64, gpu_ms: f64) -> f64 {
+    count as f64 / (gpu_ms * 1e3).max(1e-9)
 }

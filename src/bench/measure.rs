@@ -9,6 +9,7 @@ use super::record::RunRecord;
 use crate::error::Result;
 use crate::gpu::FrameParams;
 use crate::gpu::{Accel, GpuContext, GpuScene, RenderSummary, Renderer, SceneBuffers, TilePlan};
+use crate::render::millions_per_second;
 
 /// What every run of a sweep is timed with: the GPU, the renderer and the
 /// configuration's repeats and brute-force budget.
@@ -93,15 +94,14 @@ impl FrameTimer<'_> {
         }
         let r = &gpu.scene().render;
         let primary = r.width as u64 * r.height as u64 * r.samples as u64;
-        let per_us = (gpu_ms * 1e3).max(1e-9);
         record.primary_rays = Some(primary);
-        record.primary_mrays_per_s = Some(primary as f64 / per_us);
+        record.primary_mrays_per_s = Some(millions_per_second(primary, gpu_ms));
         // The shader's counters are cleared per tile and summed: exact.
         if rays.primary == primary {
             record.shadow_rays = Some(rays.shadow);
             record.reflection_rays = Some(rays.reflection);
             record.total_rays = Some(rays.total());
-            record.mrays_per_s = Some(rays.total() as f64 / per_us);
+            record.mrays_per_s = Some(millions_per_second(rays.total(), gpu_ms));
         }
         Ok(rgb)
     }
