@@ -300,14 +300,7 @@ mod tests {
     use super::*;
     use crate::inspect::{build_tree, inspect_scene};
     use crate::kdtree::{BuildStrategy, KdTree, Traversal};
-
-    fn scene(name: &str, width: u32, height: u32) -> crate::scene::Scene {
-        let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join(name);
-        let mut scene = crate::scene::load_scene(&path).unwrap();
-        (scene.render.width, scene.render.height) = (width, height);
-        scene.render.samples = 1;
-        scene
-    }
+    use crate::window::test_scenes::scene;
 
     fn inside(p: Vec3, cell: &Aabb, slack: f32) -> bool {
         p.cmpge(cell.min - slack).all() && p.cmple(cell.max + slack).all()

@@ -30,6 +30,7 @@
 //! - `session`: the open window's state and what a frame does with it; its
 //!   inspection mode's clicks.
 //! - `app`: the winit event handler that ties them together.
+//! - `test_scenes` (tests only): the unit tests' scenes, loaded at a size.
 
 mod app;
 pub mod camera_controller;
@@ -47,6 +48,8 @@ mod refinement;
 pub mod reload;
 mod session;
 mod surface;
+#[cfg(test)]
+mod test_scenes;
 mod title;
 pub mod view;
 

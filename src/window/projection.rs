@@ -122,15 +122,8 @@ mod tests {
     use super::*;
     use crate::inspect::{build_tree, inspect_scene};
     use crate::kdtree::{BuildStrategy, Traversal};
+    use crate::window::test_scenes::scene;
     use kdray_core::reference::ReferenceTracer;
-
-    fn scene(name: &str, width: u32, height: u32) -> crate::scene::Scene {
-        let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join(name);
-        let mut scene = crate::scene::load_scene(&path).unwrap();
-        (scene.render.width, scene.render.height) = (width, height);
-        scene.render.samples = 1;
-        scene
-    }
 
     /// A point on the kernel's camera ray through (u, v) projects to
     /// (u * width, v * height), at any distance along the ray.
