@@ -6,8 +6,10 @@
 // walk work (COUNT_COSTS) and the present pass shows the cost heatmap made
 // from it (heatmap.js). The inspect kernel's entry point traces one pixel's
 // sample and logs its rays and walks (inspectPixel). Every binding, layout
-// and constant comes from contract.json; the WGSL is the site's
-// kernel.wgsl, inspect.wgsl and present.wgsl.
+// and constant comes from contract.json, and the kernel's overrides from
+// the bundle (those of the scene, as the native host sets them) and the
+// contract (those of the walk, costs, integrator and entry point); the WGSL
+// is the site's kernel.wgsl, inspect.wgsl and present.wgsl.
 
 import { heatmapTexels } from './heatmap.js';
 
@@ -111,9 +113,8 @@ export class Tracer {
       this.sceneBuffers.set(name, buffer);
     }
     this.needs = new Set(bundle.info.needs);
-    this.glass = bundle.info.glass === true;
-    this.alphaTest = bundle.info.alpha_test === true;
-    this.spotOrDirectionalLights = bundle.info.spot_or_directional_lights === true;
+    // The overrides that follow from the scene, as the native host sets them.
+    this.sceneOverrides = bundle.info.overrides ?? {};
     // How path radiance is shown ([render] tone_map and exposure).
     this.pathToneMap = bundle.info.path_tone_map;
     this.exposureScale = bundle.info.exposure_scale;
@@ -121,15 +122,27 @@ export class Tracer {
     this.groups = new Map();
   }
 
+  // The contract's pipeline choices for `walk`, `costs`, `integrator` and
+  // `entry`: each the overrides it sets and the bindings it needs.
+  choicesFor(walk, costs, integrator, entry) {
+    const all = this.contract.pipeline_choices;
+    const picked = [['walk', walk], ['costs', costs ? 'on' : 'off'], ['integrator', integrator], ['entry', entry]];
+    return picked.map(([choice, value]) => {
+      const made = all[choice][value];
+      if (!made) throw new PageError(`contract.json has no ${choice} ${value}`);
+      return made;
+    });
+  }
+
   // The accumulate bindings for `walk` ('brute', 'restart', 'ropes',
   // 'short-stack'), counting costs or not: every one of the contract's but
-  // the optional ones the scene, the walk and `costs` do not need.
+  // the optional ones the scene and the choices do not need.
   // The inspect kernel's (`entry` 'inspect') are its own, chosen alike.
-  bindingsFor(walk, costs, entry = 'accumulate') {
+  bindingsFor(walk, costs, integrator = 'whitted', entry = 'accumulate') {
     const needs = new Set(this.needs);
-    if (walk !== 'brute') needs.add('kd_walk');
-    if (walk === 'ropes') needs.add('rope_walk');
-    if (costs) needs.add('costs');
+    for (const made of this.choicesFor(walk, costs, integrator, entry)) {
+      for (const need of made.needs) needs.add(need);
+    }
     const omitted = this.contract.optional_bindings.filter((o) => !needs.has(o.need));
     const names = new Set(omitted.map((o) => o.name));
     const bindings = this.contract[entry].bindings.filter((b) => !names.has(b.name));
@@ -164,27 +177,17 @@ export class Tracer {
   // the walks' work if `costs`, tracing `integrator` ('whitted' or 'path').
   // `entry`: 'accumulate', or 'inspect' (the inspect kernel's entry point).
   pipelineFor(walk, costs = false, integrator = 'whitted', entry = 'accumulate') {
-    const { omitted, bindings, key } = this.bindingsFor(walk, costs, entry);
+    const { omitted, bindings, key } = this.bindingsFor(walk, costs, integrator, entry);
     const id = `${entry}|${walk}|${key}|${costs}|${integrator}`;
     if (!this.pipelines.has(id)) {
-      const c = this.contract.constants;
-      const traversal = { restart: c.TRAVERSAL_RESTART, ropes: c.TRAVERSAL_ROPES, 'short-stack': c.TRAVERSAL_SHORT_STACK };
-      const constants = {
-        SPLIT_SCENE: 0,
-        ACCEL: walk === 'brute' ? c.ACCEL_BRUTE : c.ACCEL_KDTREE,
-        TRAVERSAL: walk === 'brute' ? c.TRAVERSAL_RESTART : traversal[walk],
-        SPHERES: this.needs.has('spheres') ? 1 : 0,
-        TRIANGLES: this.needs.has('triangles') ? 1 : 0,
-        SMOOTH_TRIANGLES: this.needs.has('smooth_triangles') ? 1 : 0,
-        COUNT_COSTS: costs ? 1 : 0,
-        GLASS: this.glass ? 1 : 0,
-        ALPHA_TEST: this.alphaTest ? 1 : 0,
-        SPOT_OR_DIRECTIONAL_LIGHTS: this.spotOrDirectionalLights ? 1 : 0,
-        TEXTURES: this.needs.has('textures') ? 1 : 0,
-        // Into the accumulation buffer, either integrator.
-        INTEGRATOR: integrator === 'path' ? c.INTEGRATOR_PATH : c.INTEGRATOR_WHITTED,
-        RADIANCE_OUTPUT: 0,
-      };
+      // The scene's overrides from the bundle, the choices' from the contract.
+      const constants = { ...this.sceneOverrides };
+      for (const made of this.choicesFor(walk, costs, integrator, entry)) {
+        for (const [name, value] of Object.entries(made.overrides)) {
+          if (name in constants) throw new PageError(`the override ${name} is set twice: contract.json and the bundle disagree`);
+          constants[name] = value;
+        }
+      }
       for (const name of this.contract.overrides) {
         if (!(name in constants)) throw new PageError(`the kernel has an override ${name} this page does not set`);
       }
@@ -195,7 +198,7 @@ export class Tracer {
         layout: this.device.createPipelineLayout({ bindGroupLayouts: [layout] }),
         compute: { module: this.moduleFor(omitted, key, entry), entryPoint: this.contract[entry].entry_point, constants },
       });
-      this.pipelines.set(id, { pipeline, layout, bindings, key });
+      this.pipelines.set(id, { pipeline, layout, bindings, key, entry, walk, costs, integrator, constants });
     }
     return this.pipelines.get(id);
   }

@@ -25,7 +25,7 @@
 pub use super::bindings::FROM_PARAMS;
 use super::bindings::{Binding, Need, OPTIONAL_BINDINGS};
 use super::frame_params::{accel_value, traversal_value};
-use super::{Accel, SceneBuffers};
+use super::{Accel, SceneArrays, SceneBuffers};
 use crate::gpu::FrameParams;
 use crate::kdtree::Traversal;
 
@@ -114,20 +114,28 @@ impl KernelVariant {
     }
 
     /// The variant for `scene`, its walk left to the frame's uniforms,
-    /// counting the walks' work.
+    /// counting the walks' work ([`Self::for_arrays`] of its arrays).
     pub fn for_scene(scene: &SceneBuffers) -> KernelVariant {
-        let spheres = scene.sphere_count > 0;
-        let triangles = scene.object_count > scene.sphere_count;
+        scene.variant
+    }
+
+    /// The variant for a scene of `arrays`, whose split arrays lie in
+    /// several bindings if `split_scene`, its walk left to the frame's
+    /// uniforms, counting the walks' work. The host's scene buffers and the
+    /// page's bundle (`web::bundle`) both take theirs from here.
+    pub fn for_arrays(arrays: &SceneArrays, split_scene: bool) -> KernelVariant {
+        let spheres = !arrays.spheres.is_empty();
+        let triangles = arrays.objects.len() > arrays.spheres.len();
         KernelVariant {
-            split_scene: scene.split,
+            split_scene,
             walk: Walk::FromParams,
             spheres: spheres || !triangles,
             triangles: triangles || !spheres,
-            smooth_triangles: scene.smooth_triangles,
-            glass: scene.glass,
-            textures: scene.textures,
-            alpha_test: scene.alpha_test,
-            spot_or_directional_lights: scene.spot_or_directional_lights,
+            smooth_triangles: !arrays.triangle_normals.is_empty(),
+            glass: arrays.glass(),
+            textures: !arrays.textures.is_empty(),
+            alpha_test: arrays.alpha_test(),
+            spot_or_directional_lights: arrays.spot_or_directional_lights(),
             count_costs: true,
             integrator: crate::layout::INTEGRATOR_WHITTED,
             radiance_output: false,
@@ -223,6 +231,20 @@ pub const OVERRIDES: [&str; 13] = [
     "COUNT_COSTS",
     "INTEGRATOR",
     "RADIANCE_OUTPUT",
+];
+
+/// The overrides that follow from the scene ([`KernelVariant::for_arrays`]);
+/// the others are each pipeline's choices: its walk, whether it counts
+/// costs, its integrator and its output.
+pub const SCENE_OVERRIDES: [&str; 8] = [
+    "SPLIT_SCENE",
+    "SPHERES",
+    "TRIANGLES",
+    "SMOOTH_TRIANGLES",
+    "GLASS",
+    "TEXTURES",
+    "ALPHA_TEST",
+    "SPOT_OR_DIRECTIONAL_LIGHTS",
 ];
 
 #[cfg(test)]

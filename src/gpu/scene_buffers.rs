@@ -229,17 +229,9 @@ pub struct SceneBuffers {
     /// ropes, rope index, vertex normals) lies in more than one binding (the kernel must then select
     /// the chunk: `gpu::KernelVariant::split_scene`).
     pub split: bool,
-    /// Whether some triangle has vertex normals (smooth shading).
-    pub smooth_triangles: bool,
-    /// Whether some material transmits (the kernel's glass path).
-    pub glass: bool,
-    /// Whether some material has an alpha mode (the walks' ALPHA_TEST).
-    pub alpha_test: bool,
-    /// Whether some triangle is textured (the kernel's TEXTURES path).
-    pub textures: bool,
-    /// Whether a scene light is a spot or directional light (the kernel's
-    /// SPOT_OR_DIRECTIONAL_LIGHTS).
-    pub spot_or_directional_lights: bool,
+    /// The scene's kernel variant (`KernelVariant::for_arrays`): its kinds
+    /// of object, material and light, and `split`.
+    pub variant: super::KernelVariant,
 }
 
 impl SceneBuffers {
@@ -348,11 +340,7 @@ impl SceneBuffers {
             environment: arrays.environment,
             node_count: arrays.nodes.len() as u32,
             split,
-            smooth_triangles: !arrays.triangle_normals.is_empty(),
-            glass: arrays.glass(),
-            alpha_test: arrays.alpha_test(),
-            textures: !arrays.textures.is_empty(),
-            spot_or_directional_lights: arrays.spot_or_directional_lights(),
+            variant: super::KernelVariant::for_arrays(arrays, split),
         }
     }
 }

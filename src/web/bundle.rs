@@ -11,10 +11,11 @@
 //! ...              the sections, each at a multiple of 16 bytes
 //! ```
 //!
-//! Sections: `scene` (UTF-8 JSON: camera, render settings, counts and the
-//! bindings the scene needs), `frame_params` (the kernel's `FrameParams` for
-//! the scene's own view), then every scene array by its binding name
-//! (`spheres`, `triangles`, `objects`, ... in the order of
+//! Sections: `scene` (UTF-8 JSON: camera, render settings, counts, the
+//! bindings the scene needs and the kernel overrides that follow from the
+//! scene, as the native host sets them), `frame_params` (the kernel's
+//! `FrameParams` for the scene's own view), then every scene array by its
+//! binding name (`spheres`, `triangles`, `objects`, ... in the order of
 //! `gpu::bindings::scene`), each in the GPU layout, and for an animated
 //! scene `cameras` (every frame's camera, computed here from
 //! `Scene::frame_path`, so the page interpolates nothing) and, where some
@@ -25,9 +26,13 @@
 //! and `frame_lights` are optional and need no new version (the page and
 //! its bundle are written together by `kdray web`).
 
+use std::collections::BTreeMap;
+
 use serde::Serialize;
 
-use crate::gpu::{Accel, PreparedScene};
+use crate::gpu::bindings::OPTIONAL_BINDINGS;
+use crate::gpu::kernel_variant::{Walk, SCENE_OVERRIDES};
+use crate::gpu::{Accel, ArrayBindings, KernelVariant, PreparedScene};
 use crate::gpu::{FrameParams, PresentParams};
 use crate::kdtree::Traversal;
 use crate::scene::Integrator;
@@ -85,23 +90,18 @@ pub struct SceneInfo {
     pub emitters: u32,
     pub kd_nodes: u32,
     pub leaf_references: u32,
-    /// The storage buffers the scene's kernel reads: `gpu::bindings::Need`
-    /// names of the scene's objects and materials (spheres, triangles,
-    /// smooth_triangles, textures).
+    /// The storage buffers the scene's kernel reads whatever the walk:
+    /// `gpu::bindings::Need` names (spheres, triangles, smooth_triangles,
+    /// textures), those its variant reads.
     pub needs: Vec<&'static str>,
     /// The walk `frame_params` holds (`render`'s default).
     pub traversal: &'static str,
     /// How the k-d tree was built (`sah`, ...).
     pub build: &'static str,
-    /// Whether some material has an alpha mode (MASK or BLEND): the
-    /// kernel's alpha test (the `ALPHA_TEST` override) is needed.
-    pub alpha_test: bool,
-    /// Whether some material transmits: the kernel's glass path (the
-    /// `GLASS` override) is needed.
-    pub glass: bool,
-    /// Whether a light is a spot or directional light: the kernel's light
-    /// kinds (the `SPOT_OR_DIRECTIONAL_LIGHTS` override) are needed.
-    pub spot_or_directional_lights: bool,
+    /// The kernel's overrides that follow from the scene
+    /// (`kernel_variant::SCENE_OVERRIDES`), by name, as the native host sets
+    /// them (`KernelVariant::for_arrays`, the arrays in one binding each).
+    pub overrides: BTreeMap<&'static str, f64>,
 }
 
 /// The scene's camera as written (the page orbits around `look_at`).
@@ -123,22 +123,8 @@ pub fn encode(prepared: &PreparedScene, name: &str) -> Vec<u8> {
             .with_traversal(Traversal::default());
     let spheres = arrays.spheres.len() as u32;
     let triangles = arrays.triangles.len() as u32;
-    let mut needs = Vec::new();
-    // As `KernelVariant::for_scene`: a scene with neither may have either.
-    if spheres > 0 || triangles == 0 {
-        needs.push(crate::gpu::bindings::Need::Spheres.name());
-    }
-    if triangles > 0 || spheres == 0 {
-        needs.push(crate::gpu::bindings::Need::Triangles.name());
-    }
-    if !arrays.triangle_normals.is_empty() {
-        needs.push(crate::gpu::bindings::Need::SmoothTriangles.name());
-    }
-    // Some triangle is textured: the `textures` binding and the TEXTURES
-    // override (the page sets it from this need).
-    if !arrays.textures.is_empty() {
-        needs.push(crate::gpu::bindings::Need::Textures.name());
-    }
+    // The page binds every array whole.
+    let variant = KernelVariant::for_arrays(arrays, false);
     let c = &scene.camera;
     let info = SceneInfo {
         name: name.to_string(),
@@ -163,12 +149,10 @@ pub fn encode(prepared: &PreparedScene, name: &str) -> Vec<u8> {
         emitters: arrays.emitter_count,
         kd_nodes: arrays.nodes.len() as u32,
         leaf_references: arrays.leaf_objects.len() as u32,
-        needs,
+        needs: scene_needs(variant),
         traversal: crate::choice::Choice::name(Traversal::default()),
         build: prepared.strategy.name(),
-        alpha_test: arrays.alpha_test(),
-        glass: arrays.glass(),
-        spot_or_directional_lights: arrays.spot_or_directional_lights(),
+        overrides: scene_overrides(variant),
     };
     let info = serde_json::to_vec(&info).expect("the scene's figures serialise");
     let mut sections: Vec<(&str, &[u8])> = vec![
@@ -188,6 +172,32 @@ pub fn encode(prepared: &PreparedScene, name: &str) -> Vec<u8> {
         sections.push((FRAME_LIGHTS_SECTION, frame_lights));
     }
     write_sections(&sections)
+}
+
+/// The needs of the optional bindings that `variant`'s scene reads with
+/// any walk, counting costs or not.
+fn scene_needs(variant: KernelVariant) -> Vec<&'static str> {
+    let least = KernelVariant {
+        walk: Walk::Brute,
+        count_costs: false,
+        ..variant
+    };
+    let mut needs = Vec::new();
+    for (_, need) in OPTIONAL_BINDINGS {
+        if least.reads(need) && !needs.contains(&need.name()) {
+            needs.push(need.name());
+        }
+    }
+    needs
+}
+
+/// `variant`'s constants of [`SCENE_OVERRIDES`].
+fn scene_overrides(variant: KernelVariant) -> BTreeMap<&'static str, f64> {
+    variant
+        .constants()
+        .into_iter()
+        .filter(|(name, _)| SCENE_OVERRIDES.contains(name))
+        .collect()
 }
 
 /// The `cameras` section: the frame count, `fps`, then each frame's camera

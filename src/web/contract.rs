@@ -7,12 +7,16 @@
 
 use serde_json::{json, Value};
 
+use crate::choice::Choice;
 use crate::gpu::bindings::{
     self, Access, Binding, SharedValue, ACCUMULATE_TILE, OPTIONAL_BINDINGS, PRESENT_BINDINGS,
     PRESENT_CONSTANTS, SHARED_CONSTANTS, UNSPLIT,
 };
-use crate::gpu::kernel_variant::OVERRIDES;
-use crate::gpu::{FrameParams, PresentParams};
+use crate::gpu::kernel_variant::{Walk, OVERRIDES};
+use crate::gpu::{Accel, FrameParams, KernelVariant, PresentParams};
+use crate::kdtree::Traversal;
+use crate::layout::{INTEGRATOR_PATH, INTEGRATOR_WHITTED};
+use crate::scene::Integrator;
 
 use super::bundle;
 
@@ -139,6 +143,91 @@ fn inspect_colours() -> Value {
     )
 }
 
+/// The overrides each of the page's pipeline choices sets; the bundle's
+/// `overrides` set the rest (`kernel_variant::SCENE_OVERRIDES`).
+pub const CHOICE_OVERRIDES: [(&str, &[&str]); 4] = [
+    ("walk", &["ACCEL", "TRAVERSAL"]),
+    ("costs", &["COUNT_COSTS"]),
+    ("integrator", &["INTEGRATOR"]),
+    ("entry", &["RADIANCE_OUTPUT"]),
+];
+
+/// A variant that reads no optional binding: the choices are made on it.
+const LEAST: KernelVariant = KernelVariant {
+    split_scene: false,
+    walk: Walk::Brute,
+    spheres: false,
+    triangles: false,
+    smooth_triangles: false,
+    glass: false,
+    textures: false,
+    alpha_test: false,
+    spot_or_directional_lights: false,
+    count_costs: false,
+    integrator: INTEGRATOR_WHITTED,
+    radiance_output: false,
+};
+
+/// The page's pipeline choices, each value by the page's name for it, as
+/// `KernelVariant` makes it: the overrides the choice sets (`constants`)
+/// and the needs of the optional bindings it reads (`reads`).
+fn pipeline_choices() -> Value {
+    let made = |choice: &str, v: KernelVariant| {
+        let (_, names) = CHOICE_OVERRIDES.iter().find(|(c, _)| *c == choice).unwrap();
+        let overrides: serde_json::Map<String, Value> = v
+            .constants()
+            .into_iter()
+            .filter(|(name, _)| names.contains(name))
+            .map(|(name, value)| (name.to_string(), json!(value)))
+            .collect();
+        let mut needs: Vec<&str> = Vec::new();
+        for (_, need) in OPTIONAL_BINDINGS {
+            if v.reads(need) && !needs.contains(&need.name()) {
+                needs.push(need.name());
+            }
+        }
+        json!({"overrides": overrides, "needs": needs})
+    };
+    let walk = |walk| KernelVariant { walk, ..LEAST };
+    let mut walks = serde_json::Map::new();
+    walks.insert(Accel::Brute.name().into(), made("walk", walk(Walk::Brute)));
+    for t in Traversal::ALL {
+        walks.insert(t.name().into(), made("walk", walk(Walk::Kdtree(t))));
+    }
+    let costs = |count_costs| {
+        made(
+            "costs",
+            KernelVariant {
+                count_costs,
+                ..LEAST
+            },
+        )
+    };
+    let integrators: serde_json::Map<String, Value> = Integrator::ALL
+        .iter()
+        .map(|&i| {
+            let integrator = match i {
+                Integrator::Whitted => INTEGRATOR_WHITTED,
+                Integrator::Path => INTEGRATOR_PATH,
+            };
+            let v = KernelVariant {
+                integrator,
+                ..LEAST
+            };
+            (i.name().to_string(), made("integrator", v))
+        })
+        .collect();
+    // RADIANCE_OUTPUT is render_tile's: off, as the window's and the
+    // inspector's pipelines have it.
+    let entry = made("entry", LEAST);
+    json!({
+        "walk": walks,
+        "costs": {"off": costs(false), "on": costs(true)},
+        "integrator": integrators,
+        "entry": {"accumulate": entry, "inspect": entry},
+    })
+}
+
 /// The contract as the page reads it.
 pub fn contract_json() -> Value {
     let constants: serde_json::Map<String, Value> = SHARED_CONSTANTS
@@ -206,6 +295,9 @@ pub fn contract_json() -> Value {
             "placeholder": bindings::declaration(b, false),
         })).collect::<Vec<_>>(),
         "overrides": OVERRIDES,
+        // What each pipeline choice (walk, costs, integrator, entry point)
+        // sets of them; the bundle's scene sets the others.
+        "pipeline_choices": pipeline_choices(),
         // The cost heatmap's colour map: [at, [r, g, b]] control points.
         "heatmap_stops": crate::output::heatmap::STOPS,
         "constants": constants,
@@ -241,6 +333,60 @@ mod tests {
                 at += 4 * count;
             }
             assert_eq!(at, size);
+        }
+    }
+
+    /// The bundle's scene overrides and the choices' overrides are the
+    /// kernel's, each once; a change of a scene fact of the variant changes
+    /// only scene overrides, and a change of one choice only that choice's.
+    #[test]
+    fn scene_and_choices_split_the_overrides() {
+        use crate::gpu::kernel_variant::SCENE_OVERRIDES;
+        let mut names: Vec<&str> = SCENE_OVERRIDES
+            .iter()
+            .chain(CHOICE_OVERRIDES.iter().flat_map(|(_, n)| n.iter()))
+            .copied()
+            .collect();
+        names.sort();
+        let mut all = OVERRIDES.to_vec();
+        all.sort();
+        assert_eq!(names, all);
+        let choice = |c: &str| CHOICE_OVERRIDES.iter().find(|(n, _)| *n == c).unwrap().1;
+        for base in [LEAST, KernelVariant::GENERAL] {
+            let flip = |f: fn(&mut KernelVariant)| {
+                let mut v = base;
+                f(&mut v);
+                v
+            };
+            let changes: Vec<(KernelVariant, &[&str])> = vec![
+                (flip(|v| v.split_scene ^= true), &SCENE_OVERRIDES),
+                (flip(|v| v.spheres ^= true), &SCENE_OVERRIDES),
+                (flip(|v| v.triangles ^= true), &SCENE_OVERRIDES),
+                (flip(|v| v.smooth_triangles ^= true), &SCENE_OVERRIDES),
+                (flip(|v| v.glass ^= true), &SCENE_OVERRIDES),
+                (flip(|v| v.textures ^= true), &SCENE_OVERRIDES),
+                (flip(|v| v.alpha_test ^= true), &SCENE_OVERRIDES),
+                (
+                    flip(|v| v.spot_or_directional_lights ^= true),
+                    &SCENE_OVERRIDES,
+                ),
+                (
+                    flip(|v| v.walk = Walk::Kdtree(Traversal::Ropes)),
+                    choice("walk"),
+                ),
+                (flip(|v| v.walk = Walk::FromParams), choice("walk")),
+                (flip(|v| v.count_costs ^= true), choice("costs")),
+                (
+                    flip(|v| v.integrator = INTEGRATOR_PATH),
+                    choice("integrator"),
+                ),
+                (flip(|v| v.radiance_output ^= true), choice("entry")),
+            ];
+            for (i, (changed, allowed)) in changes.into_iter().enumerate() {
+                for ((name, a), (_, b)) in base.constants().iter().zip(changed.constants()) {
+                    assert!(a == &b || allowed.contains(name), "change {i} sets {name}");
+                }
+            }
         }
     }
 

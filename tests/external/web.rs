@@ -15,6 +15,7 @@
 
 use crate::common;
 
+use std::collections::BTreeMap;
 use std::net::TcpListener;
 use std::path::{Path, PathBuf};
 use std::process::{Child, Command, Stdio};
@@ -167,6 +168,13 @@ fn pages_trace_every_scene_as_the_native_renderer_does_and_show_their_errors() {
         std::fs::write(out.join("seed").join(file), bytes).unwrap();
         jobs.push(serde_json::json!({"url": format!("/seed/index.html?bundle={file}"), "png": null, "drag": null, "screenshot": null}));
     }
+    // A scene with every kind the scene's overrides turn on: its page's
+    // pipelines (its pass's, and the inspector's, counting costs) are held
+    // to the native host's below.
+    let kinds = kinds_scene(&out.join("kinds-scene"));
+    let run = run_kdray(&out, &["web", kinds.to_str().unwrap(), "-o", "kinds"], &[]);
+    assert_eq!(run.code, 0, "{}", run.stderr_text());
+    jobs.push(serde_json::json!({"url": "/kinds/index.html", "png": null, "drag": null, "screenshot": null, "inspect": [[8, 8]]}));
     let server = Server::start(&out);
     for job in &mut jobs {
         let url = job["url"].as_str().unwrap();
@@ -198,8 +206,15 @@ fn pages_trace_every_scene_as_the_native_renderer_does_and_show_their_errors() {
             overlay.contains("adapter google swiftshader"),
             "{name}: overlay {overlay}"
         );
+        assert_pipelines_are_native(name, scene, r);
     }
     assert!(failures.is_empty(), "{}", failures.join("\n"));
+    let kinds_r = results.last().unwrap();
+    assert!(title(kinds_r).starts_with("kdray: done"), "{kinds_r}");
+    let kinds = kdray::scene::load_scene(&kinds).unwrap();
+    assert_pipelines_are_native("kinds", &kinds, kinds_r);
+    let made = kinds_r["pipelines"].as_array().unwrap();
+    assert!(made.iter().any(|p| p["entry"] == "inspect"), "{kinds_r}");
 
     // The drag: the view changed, refinement restarted and finished again.
     let seed = &results[0];
@@ -262,6 +277,77 @@ fn pages_trace_every_scene_as_the_native_renderer_does_and_show_their_errors() {
         assert!(title(r).starts_with("kdray: error"), "{file}: {r}");
         let message = r["message"].as_str().unwrap_or("");
         assert!(message.contains(expected), "{file}: message {message:?}");
+    }
+}
+
+/// Writes into `dir` a small scene with spheres, glass, triangles, a quad
+/// with vertex normals and an alpha-masked texture, and a spot and a
+/// directional light; its path.
+fn kinds_scene(dir: &Path) -> PathBuf {
+    std::fs::create_dir_all(dir).unwrap();
+    let mask = r#"{"alphaMode":"MASK","pbrMetallicRoughness":{"baseColorTexture":{"index":0}}}"#;
+    let image = image::RgbaImage::from_fn(4, 4, |x, _| image::Rgba([200, 90, 40, (x * 80) as u8]));
+    textured::write_gltf_quad_material(dir, "quad.gltf", mask, &[image], Some([0.0, 0.0, 1.0]));
+    let path = dir.join("kinds.toml");
+    std::fs::write(
+        &path,
+        "[camera]\nposition = [0, 1, 4]\nlook_at = [0, 0, 0]\n\
+         [render]\nwidth = 32\nheight = 24\nsamples = 1\n\
+         [materials.white]\ndiffuse = [1, 1, 1]\n\
+         [materials.glass]\ndiffuse = [0, 0, 0]\ntransmission = 1.0\nior = 1.5\n\
+         [[spheres]]\ncenter = [1, 0, 0]\nradius = 0.5\nmaterial = \"glass\"\n\
+         [[triangles]]\nvertices = [[-5, -1, -5], [5, -1, 5], [5, -1, -5]]\nmaterial = \"white\"\n\
+         [[meshes]]\npath = \"quad.gltf\"\n\
+         [[lights]]\nkind = \"spot\"\nposition = [0, 3, 0]\ndirection = [0, -1, 0]\n\
+         [[lights]]\nkind = \"directional\"\ndirection = [1, -1, 0]\n",
+    )
+    .unwrap();
+    path
+}
+
+/// Every pipeline the page made for `scene` (the driver's `pipelines` of
+/// `r`) sets the kernel's overrides as the native host's pipeline for the
+/// same walk, costs and integrator does (the window's and the inspector's).
+fn assert_pipelines_are_native(name: &str, scene: &kdray::scene::Scene, r: &serde_json::Value) {
+    use kdray::choice::Choice;
+    use kdray::gpu::kernel_variant::Walk;
+    use kdray::gpu::{KernelVariant, PreparedScene, SceneBuffers};
+    // The scene's kinds do not depend on the tree: the brute-force arrays.
+    let prepared = PreparedScene::new(scene.clone(), Accel::Brute);
+    let buffers = SceneBuffers::upload(gpu(), &prepared.arrays).unwrap_or_else(|e| panic!("{e}"));
+    let made = r["pipelines"]
+        .as_array()
+        .map(Vec::as_slice)
+        .unwrap_or_default();
+    assert!(!made.is_empty(), "{name}: the page made no pipeline: {r}");
+    for p in made {
+        let walk = match p["walk"].as_str().unwrap() {
+            "brute" => Walk::Brute,
+            t => Walk::Kdtree(kdray::kdtree::Traversal::from_name(t).unwrap()),
+        };
+        let integrator = match p["integrator"].as_str().unwrap() {
+            "whitted" => kdray::layout::INTEGRATOR_WHITTED,
+            _ => kdray::layout::INTEGRATOR_PATH,
+        };
+        let variant = KernelVariant {
+            walk,
+            count_costs: p["costs"].as_bool().unwrap(),
+            integrator,
+            radiance_output: false,
+            ..KernelVariant::for_scene(&buffers)
+        };
+        let native: BTreeMap<String, f64> = variant
+            .constants()
+            .iter()
+            .map(|(n, v)| (n.to_string(), *v))
+            .collect();
+        let page: BTreeMap<String, f64> = p["constants"]
+            .as_object()
+            .unwrap()
+            .iter()
+            .map(|(n, v)| (n.clone(), v.as_f64().unwrap()))
+            .collect();
+        assert_eq!(page, native, "{name}: the page's pipeline {p}");
     }
 }
 

@@ -3,6 +3,8 @@
 
 use crate::common;
 
+use std::collections::{BTreeMap, BTreeSet};
+
 use common::*;
 use kdray::web::bundle;
 
@@ -92,7 +94,7 @@ fn a_site_is_written_and_written_again() {
     );
 }
 
-use kdray::gpu::Accel;
+use kdray::gpu::{Accel, ArrayBindings};
 
 #[test]
 fn bad_scenes_exit_2_with_renders_error() {
@@ -103,4 +105,166 @@ fn bad_scenes_exit_2_with_renders_error() {
     assert_eq!(web.code, 2);
     assert_eq!(web.one_error_line(), render.one_error_line());
     assert!(!dir.join("site").exists(), "nothing written");
+}
+
+/// The kernel overrides of a page pipeline as web/tracer.js makes them:
+/// the bundle's scene overrides and the contract's choices of `walk`,
+/// `costs`, `integrator` and `entry`; with the optional bindings' needs.
+fn page_pipeline(
+    info: &serde_json::Value,
+    contract: &serde_json::Value,
+    (walk, costs, integrator, entry): (&str, bool, &str, &str),
+) -> (BTreeMap<String, f64>, BTreeSet<String>) {
+    let mut constants: BTreeMap<String, f64> = info["overrides"]
+        .as_object()
+        .expect("the bundle's overrides")
+        .iter()
+        .map(|(n, v)| (n.clone(), v.as_f64().unwrap()))
+        .collect();
+    let mut needs: BTreeSet<String> = info["needs"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|n| n.as_str().unwrap().to_string())
+        .collect();
+    let choices = &contract["pipeline_choices"];
+    let costs = if costs { "on" } else { "off" };
+    for (choice, value) in [
+        ("walk", walk),
+        ("costs", costs),
+        ("integrator", integrator),
+        ("entry", entry),
+    ] {
+        let made = &choices[choice][value];
+        assert!(made.is_object(), "the contract has no {choice} {value}");
+        for (name, v) in made["overrides"].as_object().unwrap() {
+            let old = constants.insert(name.clone(), v.as_f64().unwrap());
+            assert!(old.is_none(), "{name} set twice");
+        }
+        needs.extend(
+            made["needs"]
+                .as_array()
+                .unwrap()
+                .iter()
+                .map(|n| n.as_str().unwrap().to_string()),
+        );
+    }
+    (constants, needs)
+}
+
+/// The native host's pipeline for the same choices: the uploaded scene's
+/// variant with the walk, costs and integrator, as the window's
+/// accumulation and the inspector make theirs; with the needs it reads.
+fn native_pipeline(
+    buffers: &kdray::gpu::SceneBuffers,
+    (walk, costs, integrator, _entry): (&str, bool, &str, &str),
+) -> (BTreeMap<String, f64>, BTreeSet<String>) {
+    use kdray::choice::Choice;
+    use kdray::gpu::kernel_variant::Walk;
+    use kdray::gpu::KernelVariant;
+    let walk = match walk {
+        "brute" => Walk::Brute,
+        t => Walk::Kdtree(kdray::kdtree::Traversal::from_name(t).unwrap()),
+    };
+    let integrator = match integrator {
+        "whitted" => kdray::layout::INTEGRATOR_WHITTED,
+        _ => kdray::layout::INTEGRATOR_PATH,
+    };
+    let variant = KernelVariant {
+        walk,
+        count_costs: costs,
+        integrator,
+        radiance_output: false,
+        ..KernelVariant::for_scene(buffers)
+    };
+    let constants = variant
+        .constants()
+        .iter()
+        .map(|(n, v)| (n.to_string(), *v))
+        .collect();
+    let needs = kdray::gpu::bindings::OPTIONAL_BINDINGS
+        .iter()
+        .filter(|(_, need)| variant.reads(*need))
+        .map(|(_, need)| need.name().to_string())
+        .collect();
+    (constants, needs)
+}
+
+/// Every pipeline the page may make for a scene sets the kernel's
+/// overrides as the native host's pipeline for the same choices does, and
+/// binds what it reads: for scenes that turn on each of the scene's
+/// overrides (spheres only, triangles only, glass, textures, an alpha
+/// mask, vertex normals, spot and directional lights).
+#[test]
+fn page_pipelines_set_the_overrides_the_native_host_sets() {
+    let dir = TempDir::new("web-overrides");
+    let mask = r#"{"alphaMode":"MASK","pbrMetallicRoughness":{"baseColorTexture":{"index":0}}}"#;
+    let holed = image::RgbaImage::from_fn(4, 4, |x, _| image::Rgba([200, 90, 40, (x * 80) as u8]));
+    common::textured::write_gltf_quad_material(
+        &dir.path,
+        "quad.gltf",
+        mask,
+        &[holed],
+        Some([0.0, 0.0, 1.0]),
+    );
+    dir.write(
+        "masked.toml",
+        "[camera]\nposition = [0, 0, 3]\nlook_at = [0, 0, 0]\n\
+         [[lights]]\nposition = [0, 0, 2]\n[[meshes]]\npath = \"quad.gltf\"\n",
+    );
+    dir.write(
+        "lights.toml",
+        "[camera]\nposition = [0, 5, 0]\nlook_at = [0, 0, 0]\nup = [0, 0, -1]\n\
+         [materials.white]\ndiffuse = [1, 1, 1]\n\
+         [[triangles]]\nvertices = [[-5, 0, -5], [5, 0, 5], [5, 0, -5]]\nmaterial = \"white\"\n\
+         [[lights]]\nkind = \"spot\"\nposition = [0, 2, 0]\ndirection = [0, -1, 0]\n\
+         [[lights]]\nkind = \"directional\"\ndirection = [1, -1, 0]\n",
+    );
+    let scenes = [
+        repo_path("scenes/seed.toml"),
+        repo_path("scenes/glass.toml"),
+        repo_path("scenes/textured.toml"),
+        dir.join("masked.toml"),
+        dir.join("lights.toml"),
+    ];
+    let contract = kdray::web::contract::contract_json();
+    let mut walks = vec!["brute"];
+    walks.extend(kdray::kdtree::Traversal::ALL.map(|t| t.name()));
+    // Each scene override's values over the scenes.
+    let mut seen: BTreeMap<String, BTreeSet<u64>> = BTreeMap::new();
+    for path in &scenes {
+        let scene = kdray::scene::load_scene(path).unwrap_or_else(|e| panic!("{e}"));
+        let prepared = kdray::gpu::PreparedScene::new(scene, Accel::Kdtree);
+        let bytes = bundle::encode(&prepared, "scene");
+        let sections = bundle::read_sections(&bytes).unwrap();
+        let info: serde_json::Value = serde_json::from_slice(sections[0].1).unwrap();
+        // The page binds every array whole, as this upload does.
+        let buffers = kdray::gpu::SceneBuffers::upload(gpu(), &prepared.arrays)
+            .unwrap_or_else(|e| panic!("{e}"));
+        assert!(!buffers.split, "{path:?}");
+        for (name, v) in info["overrides"].as_object().unwrap() {
+            seen.entry(name.clone())
+                .or_default()
+                .insert(v.as_f64().unwrap() as u64);
+        }
+        for &walk in &walks {
+            for costs in [false, true] {
+                for integrator in ["whitted", "path"] {
+                    for entry in ["accumulate", "inspect"] {
+                        let choices = (walk, costs, integrator, entry);
+                        assert_eq!(
+                            page_pipeline(&info, &contract, choices),
+                            native_pipeline(&buffers, choices),
+                            "{path:?} {choices:?}"
+                        );
+                    }
+                }
+            }
+        }
+    }
+    for name in kdray::gpu::kernel_variant::SCENE_OVERRIDES {
+        let values = &seen[name];
+        let want: &[u64] = if name == "SPLIT_SCENE" { &[0] } else { &[0, 1] };
+        assert!(values.iter().eq(want), "{name}: {values:?} over the scenes");
+    }
 }

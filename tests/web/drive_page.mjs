@@ -11,6 +11,8 @@
 // after }: press X, click the image pixel, wait for its lines, drag to orbit
 // the camera, screenshot when refined (`after`; the lines drawn come back
 // in `drawn`), press X (lines off), screenshot (`before`)) }.
+// Every result has `pipelines`: the entry point, walk, costs, integrator
+// and override constants of each kernel pipeline the page made.
 // The page's contract (docs/web.md): document.title starts with
 // "kdray: done" or "kdray: error"; window.kdray.png() is a PNG data URL.
 
@@ -136,6 +138,8 @@ for (const job of jobs) {
       result.restored_overlay = await overlayText(page);
       await savePng(page, job.heatmap.restored);
     }
+    result.pipelines = await page.evaluate(() => [...(window.kdray.state.tracer?.pipelines.values() ?? [])]
+      .map(({ entry, walk, costs, integrator, constants }) => ({ entry, walk, costs, integrator, constants })));
   } catch (e) {
     result.failure = String(e);
     result.title = await page.title().catch(() => null);
