@@ -131,6 +131,23 @@ pub fn small_scene(path: &Path) -> Scene {
     scene
 }
 
+/// A shipped scene at test size for the tests that render one frame two
+/// ways and compare (two walks, two kernel variants, the page and native):
+/// [`small_scene`], path-traced scenes at [`PAIR_TEST_SAMPLES`].
+pub fn small_pair_scene(path: &Path) -> Scene {
+    let mut scene = small_scene(path);
+    if scene.render.integrator == kdray::scene::Integrator::Path {
+        scene.render.samples = scene.render.samples.min(PAIR_TEST_SAMPLES);
+    }
+    scene
+}
+
+/// Samples per pixel, at most, of a path-traced shipped scene in a paired
+/// test: each pixel's paths meet every surface kind the scene has (160x160
+/// pixels of the Cornell box are 102,400 paths a walk), and each sample is
+/// a pass on lavapipe.
+pub const PAIR_TEST_SAMPLES: u32 = 4;
+
 /// Samples per pixel, at most, of a path-traced shipped scene at test size:
 /// its images are compared exactly, or with goldens made from the same
 /// samples, so noise does not matter, and each sample is a pass on lavapipe.

@@ -121,7 +121,7 @@ fn pages_trace_every_scene_as_the_native_renderer_does_and_show_their_errors() {
     for path in shipped_scenes() {
         let name = path.file_stem().unwrap().to_string_lossy().into_owned();
         let run = run_kdray(&out, &["web", path.to_str().unwrap(), "-o", &name], &[]);
-        let scene = small_scene(&path);
+        let scene = small_pair_scene(&path);
         assert_eq!(run.code, 0, "{}", run.stderr_text());
         let (w, h, n) = (
             scene.render.width,

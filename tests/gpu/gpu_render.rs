@@ -42,7 +42,7 @@ fn render_walk(scene: &Scene, traversal: Traversal, max_tile_pixels: u64) -> Ren
 fn kdtree_equals_brute_force_on_every_scene() {
     const BRUTE_FORCE_MAX_OBJECTS: usize = 10_000;
     for path in shipped_scenes() {
-        let scene = small_scene(&path);
+        let scene = small_pair_scene(&path);
         let brute = if scene.object_count() <= BRUTE_FORCE_MAX_OBJECTS {
             render(&scene, Accel::Brute)
         } else {
@@ -347,7 +347,7 @@ fn specialised_pipelines_render_what_the_general_kernel_renders() {
     let general = Renderer::general(ctx).unwrap_or_else(|e| panic!("{e}"));
     let mut kinds_seen = std::collections::HashSet::new();
     for path in shipped_scenes() {
-        let scene = small_scene(&path);
+        let scene = small_pair_scene(&path);
         let mut frames: Vec<(Accel, Option<Traversal>)> = Traversal::ALL
             .iter()
             .map(|&t| (Accel::Kdtree, Some(t)))

@@ -135,7 +135,7 @@ mod on_swiftshader {
     fn kdtree_equals_brute_force_on_every_scene_on_swiftshader() {
         const BRUTE_FORCE_MAX_OBJECTS: usize = 10_000;
         for path in shipped_scenes() {
-            let scene = small_scene(&path);
+            let scene = small_pair_scene(&path);
             let reference = if scene.object_count() <= BRUTE_FORCE_MAX_OBJECTS {
                 render_walk(&scene, Accel::Brute, Traversal::default())
             } else {
