@@ -274,7 +274,7 @@ fn a_coarse_sphere_has_no_black_facets_at_the_terminator() {
                 (column as f32 + 0.5) / w as f32,
                 (row as f32 + 0.5) / h as f32,
             );
-            let (_, hits) = reference.trace_path(ray);
+            let (_, hits) = reference.trace_whitted(ray);
             let Some(hit) = hits.first() else { continue };
             let p = ray.origin + hit.t * ray.dir;
             let s = reference.surface(hit.object, p, ray.dir);

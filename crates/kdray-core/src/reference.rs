@@ -23,7 +23,7 @@ use crate::scene::texture::{pixel_spread_angle, texture_lod};
 use crate::scene::{LightKind, Scene, ShadowMode};
 
 /// Where a path meets a surface, seen from the incoming ray: mirror of
-/// `Surface` in shaders/shade.wgsl.
+/// `Surface` in shaders/surface.wgsl.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Surface {
     /// Unit geometric normal facing the incoming ray.
@@ -53,7 +53,7 @@ pub fn barycentrics(v: &[Vec3; 3], p: Vec3) -> Vec3 {
 
 /// The surface of a smooth triangle (vertices `v`, unit vertex normals `n`)
 /// at `p`, given its geometric normal `g` facing the ray: mirror of the
-/// triangle branch of `surface_at` in shaders/shade.wgsl (interpolated
+/// triangle branch of `surface_at` in shaders/surface.wgsl (interpolated
 /// normal; the hit lifted onto the smooth surface, Hanika 2021).
 pub fn smooth_surface(v: &[Vec3; 3], n: [Vec3; 3], p: Vec3, g: Vec3) -> Surface {
     let flat = Surface {
@@ -84,7 +84,7 @@ pub fn smooth_surface(v: &[Vec3; 3], n: [Vec3; 3], p: Vec3, g: Vec3) -> Surface 
     }
 }
 
-/// Mirror of `reflection_dir` in shaders/shade.wgsl.
+/// Mirror of `reflection_dir` in shaders/surface.wgsl.
 pub fn reflection_dir(dir: Vec3, s: &Surface) -> Vec3 {
     let reflect = |n: Vec3| (dir - 2.0 * dir.dot(n) * n).normalize();
     let r = reflect(s.shading);
@@ -349,7 +349,7 @@ impl<'a> ReferenceTracer<'a> {
     /// Every ray the path from `primary` traces, in order, with its walk.
     pub fn trace_recorded(&self, primary: Ray) -> Vec<TracedRay> {
         *self.log.borrow_mut() = Some(Vec::new());
-        self.trace_path(primary);
+        self.trace_whitted(primary);
         self.log.borrow_mut().take().unwrap_or_default()
     }
 
@@ -401,7 +401,7 @@ impl<'a> ReferenceTracer<'a> {
         }
     }
 
-    /// Mirror of `surface_at` in shaders/shade.wgsl.
+    /// Mirror of `surface_at` in shaders/surface.wgsl.
     pub fn surface(&self, id: u32, p: Vec3, ray_dir: Vec3) -> Surface {
         let id = id as usize;
         let triangle = id.checked_sub(self.prims.spheres.len());
@@ -431,7 +431,7 @@ impl<'a> ReferenceTracer<'a> {
         &self.scene.materials[index as usize]
     }
 
-    /// Mirror of `material_at` in shaders/texture.wgsl (the Whitted
+    /// Mirror of `material_at` in shaders/surface.wgsl (the Whitted
     /// integrator's reading): the material of object `id` at hit point `p`,
     /// reached along unit `dir` by a path `path_length` long from the eye;
     /// on a triangle with a record, its diffuse and ambient colours
@@ -497,12 +497,13 @@ impl<'a> ReferenceTracer<'a> {
         std::borrow::Cow::Owned(read)
     }
 
-    /// The colour of one path (unclamped), and the hits along it (with
-    /// glass: of every ray the sample traced, in order).
-    pub fn trace_path(&self, primary: Ray) -> (Vec3, Vec<Hit>) {
+    /// Mirror of `trace_whitted` in shaders/trace.wgsl: the colour of one
+    /// path (unclamped), and the hits along it (with glass: of every ray the
+    /// sample traced, in order).
+    pub fn trace_whitted(&self, primary: Ray) -> (Vec3, Vec<Hit>) {
         if self.glass {
             let mut steps = Vec::new();
-            let color = self.trace_path_glass(primary, &mut steps);
+            let color = self.trace_whitted_glass(primary, &mut steps);
             return (color, steps.iter().filter_map(|s| s.hit).collect());
         }
         let r = &self.scene.render;
@@ -547,20 +548,20 @@ impl<'a> ReferenceTracer<'a> {
     }
 
     /// The rays one sample traces on the glass path, in order (for a scene
-    /// with glass; see `trace_path_glass`).
+    /// with glass; see `trace_whitted_glass`).
     pub fn path_steps(&self, primary: Ray) -> (Vec3, Vec<PathStep>) {
         let mut steps = Vec::new();
-        let color = self.trace_path_glass(primary, &mut steps);
+        let color = self.trace_whitted_glass(primary, &mut steps);
         (color, steps)
     }
 
-    /// Mirror of `trace_path_glass` in shaders/glass.wgsl: each hit adds
+    /// Mirror of `trace_whitted_glass` in shaders/glass.wgsl: each hit adds
     /// `local_share * weight * local` and splits the rest of the weight into
     /// the mirror ray and the refracted ray; the sample follows the
     /// refracted ray and pushes the mirror ray on a stack of at most
     /// [`GLASS_STACK_DEPTH`] (if it would be traced and there is room), and
     /// resumes from the stack's top when a path ends.
-    fn trace_path_glass(&self, primary: Ray, steps: &mut Vec<PathStep>) -> Vec3 {
+    fn trace_whitted_glass(&self, primary: Ray, steps: &mut Vec<PathStep>) -> Vec3 {
         let r = &self.scene.render;
         let min_intensity = r.min_intensity as f32;
         let traced = |p: &PathRay| p.weight >= min_intensity && p.hits < r.max_depth;
@@ -589,7 +590,7 @@ impl<'a> ReferenceTracer<'a> {
         }
     }
 
-    /// One traced ray of [`Self::trace_path_glass`]: false when its path ends.
+    /// One traced ray of [`Self::trace_whitted_glass`]: false when its path ends.
     fn glass_step(
         &self,
         path: &mut PathRay,
@@ -779,7 +780,7 @@ impl<'a> ReferenceTracer<'a> {
         for sy in 0..k {
             for sx in 0..k {
                 sum += self
-                    .trace_path(self.sample_ray(row, column, sx, sy))
+                    .trace_whitted(self.sample_ray(row, column, sx, sy))
                     .0
                     .clamp(Vec3::ZERO, Vec3::ONE);
             }
