@@ -1,8 +1,8 @@
 // The sky: `params.background` (a uniform radiance), or `[environment] image`,
 // an equirectangular image of linear radiance in the `textures` buffer from
-// `params.env_offset` (src/gpu/scene_arrays.rs, EnvironmentWords: the texels,
-// three f32 each, then the rows' and each row's cumulative distributions for
-// importance sampling). The layout and the direction -> texel rule mirror
+// `params.env_offset` (crates/kdray-core/src/layout/scene_arrays.rs,
+// EnvironmentWords: the texels, three f32 each, then the rows' and each row's
+// cumulative distributions for importance sampling). The layout and the direction -> texel rule mirror
 // crates/kdray-core/src/scene/environment.rs: the top row looks up (+y), the
 // centre column along -z, u grows toward +x; the image is turned by `rotation`
 // about +y; nearest texel.

@@ -13,7 +13,7 @@
 //! a Slurm cluster; [`bench`](mod@bench) measures. docs/design.md's Architecture is the
 //! map.
 
-pub use kdray_core::{choice, geometry, kdtree, layout, scene};
+pub use kdray_core::{choice, geometry, kdtree, layout, prepare, scene};
 
 pub mod bench;
 pub mod error;

@@ -4,45 +4,18 @@
 //! window. [`FrameParams::uniform_buffer`] makes the buffer it is written
 //! to.
 
-use super::scene_arrays::EnvironmentWords;
-use super::{GpuContext, SceneArrays, SceneBuffers};
+use super::{GpuContext, SceneBuffers};
 use crate::geometry::Aabb;
 use crate::gpu::FrameParams;
 use crate::kdtree::Traversal;
+use crate::layout::{EnvironmentWords, SceneArrays};
 use crate::layout::{
     ACCEL_BRUTE, ACCEL_KDTREE, SHADOW_AMBIENT, SHADOW_SEED, TRAVERSAL_RESTART, TRAVERSAL_ROPES,
     TRAVERSAL_SHORT_STACK,
 };
 use crate::layout::{INTEGRATOR_PATH, INTEGRATOR_WHITTED};
+use crate::prepare::{Accel, PreparedScene};
 use crate::scene::{CameraBasis, Integrator, RenderSettings, ShadowMode};
-
-/// Which nearest-hit search the kernel runs.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
-#[serde(rename_all = "lowercase")]
-pub enum Accel {
-    /// The stackless k-d tree walk.
-    Kdtree,
-    /// The seed's loop over every object.
-    Brute,
-}
-
-impl crate::choice::Choice for Accel {
-    const ALL: &'static [Self] = &[Self::Kdtree, Self::Brute];
-
-    fn name(self) -> &'static str {
-        match self {
-            Self::Kdtree => "kdtree",
-            Self::Brute => "brute",
-        }
-    }
-
-    fn help(self) -> &'static str {
-        match self {
-            Self::Kdtree => "the stackless k-d tree walk",
-            Self::Brute => "the seed's loop over every object",
-        }
-    }
-}
 
 impl FrameParams {
     /// A uniform buffer for one `FrameParams`, written before each dispatch
@@ -91,6 +64,20 @@ impl FrameParams {
             environment: scene.environment,
         };
         Self::with_counts(camera, render, &counts, accel)
+    }
+
+    /// [`FrameParams::new`] for `prepared`'s own camera and settings,
+    /// searching with the accel it was prepared for, over `buffers`
+    /// uploaded from it ([`super::GpuScene::frame_params`] for a scene
+    /// uploaded whole; this for buffers uploaded another way).
+    pub fn for_prepared(prepared: &PreparedScene, buffers: &SceneBuffers) -> FrameParams {
+        let scene = &prepared.scene;
+        Self::new(
+            &scene.camera.basis(),
+            &scene.render,
+            buffers,
+            prepared.accel,
+        )
     }
 
     /// [`FrameParams::new`] for arrays not uploaded (the web export writes

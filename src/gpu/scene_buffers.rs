@@ -1,7 +1,8 @@
-//! The scene's arrays ([`SceneArrays`], gpu/scene_arrays.rs) as storage
-//! buffers at the bindings of [`super::bindings::scene`]: each split array
-//! cut into chunks for its bindings, the check that everything fits the
-//! adapter, and the upload ([`SceneBuffers`]).
+//! The scene's arrays ([`SceneArrays`],
+//! crates/kdray-core/src/layout/scene_arrays.rs) as storage buffers at the
+//! bindings of [`super::bindings::scene`]: each split array cut into chunks
+//! for its bindings, the check that everything fits the adapter, and the
+//! upload ([`SceneBuffers`]).
 
 use super::bindings;
 use super::context::buffer_holding;
@@ -23,132 +24,137 @@ pub const EMPTY_ARRAY_BYTES: usize = {
     }
 };
 
-impl SceneArrays {
-    /// The bytes of each split array, in the order of
-    /// [`bindings::SPLIT_ARRAYS`].
-    fn split_arrays(&self) -> [&[u8]; bindings::SPLIT_ARRAY_COUNT] {
-        [
-            bytemuck::cast_slice(&self.triangles),
-            bytemuck::cast_slice(&self.nodes),
-            bytemuck::cast_slice(&self.leaf_objects),
-            bytemuck::cast_slice(&self.leaf_ropes),
-            bytemuck::cast_slice(&self.leaf_rope_index),
-            bytemuck::cast_slice(&self.triangle_normals),
-        ]
-    }
-
-    /// (binding name, bytes) of every storage buffer, in the order of
-    /// [`bindings::scene`] with `chunks` bindings per split array: each
-    /// split array cut into pieces of at most its `chunk_bytes` (`split`;
-    /// the pieces past the data are empty), the other arrays whole. Err
-    /// names the first split array that needs more than `chunks` pieces.
-    fn buffers(
-        &self,
-        chunk_bytes: ChunkBytes,
-        chunks: bindings::SceneChunks,
-    ) -> Result<Vec<(&'static str, &[u8])>, &'static str> {
-        let arrays = self.split_arrays();
-        let mut pieces: [Vec<&[u8]>; bindings::SPLIT_ARRAY_COUNT] = Default::default();
-        for (i, array) in bindings::SPLIT_ARRAYS.iter().enumerate() {
-            pieces[i] = split(arrays[i], array.element_bytes, chunk_bytes[i], chunks[i])
-                .ok_or(array.chunks[0].name)?;
-        }
-        let [triangles, nodes, leaf_objects, ropes, rope_index, normals] = pieces;
-        let bytes: Vec<&[u8]> = [bytemuck::cast_slice(&self.spheres)]
-            .into_iter()
-            .chain(triangles)
-            .chain([
-                bytemuck::cast_slice(&self.objects),
-                bytemuck::cast_slice(&self.materials),
-                bytemuck::cast_slice(&self.lights),
-            ])
-            .chain(nodes)
-            .chain(leaf_objects)
-            .chain(ropes)
-            .chain(rope_index)
-            .chain(normals)
-            .chain([bytemuck::cast_slice(&self.textures)])
-            .collect();
-        let names = bindings::scene(chunks);
-        debug_assert_eq!(bytes.len(), names.len());
-        Ok(names.iter().map(|b| b.name).zip(bytes).collect())
-    }
-
+/// The scene's arrays as the kernel's bindings hold them
+/// ([`bindings::scene`]): the web export's bundle, and the check against
+/// the adapter's limits.
+pub trait ArrayBindings {
     /// (binding name, bytes) of every storage buffer, each array in one
     /// binding, in the order of [`bindings::scene`] (the web export's
     /// bundle holds them so).
-    pub fn whole_buffers(&self) -> Vec<(&'static str, &[u8])> {
-        self.buffers(WHOLE, bindings::UNSPLIT).unwrap_or_default()
-    }
-
-    /// Total bytes the scene needs on the GPU (storage buffers only).
-    pub fn byte_size(&self) -> u64 {
-        self.buffers(WHOLE, bindings::UNSPLIT)
-            .unwrap_or_default()
-            .iter()
-            .map(|(_, b)| b.len() as u64)
-            .sum()
-    }
+    fn whole_buffers(&self) -> Vec<(&'static str, &[u8])>;
 
     /// Refuses, before anything is uploaded, a scene one of whose buffers
     /// exceeds what the adapter can bind (`max_storage_buffer_binding_size`,
     /// `max_buffer_size`), even split over the bindings the kernel has for
     /// it on this adapter ([`bindings::scene_chunks`]): the message names
     /// the buffer, its size and the limit.
-    pub fn check_fits(&self, limits: &wgpu::Limits) -> crate::Result<()> {
+    fn check_fits(&self, limits: &wgpu::Limits) -> crate::Result<()>;
+}
+
+impl ArrayBindings for SceneArrays {
+    fn whole_buffers(&self) -> Vec<(&'static str, &[u8])> {
+        buffers(self, WHOLE, bindings::UNSPLIT).unwrap_or_default()
+    }
+
+    fn check_fits(&self, limits: &wgpu::Limits) -> crate::Result<()> {
         let limit = super::max_binding_bytes(limits);
-        self.check_fits_in(
+        check_fits_in(
+            self,
             limit,
             [limit; bindings::SPLIT_ARRAY_COUNT],
             bindings::scene_chunks(limits),
         )
     }
+}
 
-    /// Every buffer within `limit` bytes, the split ones cut into at most
-    /// `chunks` pieces of at most their `chunk_bytes` (<= `limit`).
-    fn check_fits_in(
-        &self,
-        limit: u64,
-        chunk_bytes: ChunkBytes,
-        chunks: bindings::SceneChunks,
-    ) -> crate::Result<()> {
-        packed_nodes_fit(self.nodes.len(), self.leaf_objects.len())?;
-        let whole = self.buffers(WHOLE, bindings::UNSPLIT).unwrap_or_default();
-        let split_array = |name: &str| {
-            (0..chunks.len()).find(|&i| bindings::SPLIT_ARRAYS[i].chunks[0].name == name)
-        };
-        // The first buffer, in binding order, that no binding (or none of a
-        // split array's bindings) can hold.
-        let too_big = whole.iter().find(|(name, bytes)| match split_array(name) {
-            Some(i) => split(
-                bytes,
-                bindings::SPLIT_ARRAYS[i].element_bytes,
-                chunk_bytes[i],
-                chunks[i],
-            )
-            .is_none(),
-            None => bytes.len() as u64 > limit,
-        });
-        let Some(&(name, bytes)) = too_big else {
-            return Ok(());
-        };
-        let bytes = bytes.len() as u64;
-        let split_note = match split_array(name).map(|i| chunks[i]) {
-            None => String::new(),
-            Some(1) => " (1 binding for it on this adapter)".to_string(),
-            Some(n) => format!(" ({n} bindings for it)"),
-        };
-        Err(crate::Error::Gpu(format!(
-            "the scene is too large for this adapter: its {name} buffer needs {} but the adapter binds at most {} \
-             per storage buffer{split_note} ({} spheres, {} triangles, {} k-d nodes, {} leaf references)",
-            human_bytes(bytes),
-            human_bytes(limit),
-            self.spheres.len(),
-            self.triangles.len(),
-            self.nodes.len(),
-            self.leaf_objects.len()
-        )))
+/// The bytes of each split array, in the order of
+/// [`bindings::SPLIT_ARRAYS`].
+fn split_arrays(arrays: &SceneArrays) -> [&[u8]; bindings::SPLIT_ARRAY_COUNT] {
+    [
+        bytemuck::cast_slice(&arrays.triangles),
+        bytemuck::cast_slice(&arrays.nodes),
+        bytemuck::cast_slice(&arrays.leaf_objects),
+        bytemuck::cast_slice(&arrays.leaf_ropes),
+        bytemuck::cast_slice(&arrays.leaf_rope_index),
+        bytemuck::cast_slice(&arrays.triangle_normals),
+    ]
+}
+
+/// (binding name, bytes) of every storage buffer, in the order of
+/// [`bindings::scene`] with `chunks` bindings per split array: each
+/// split array cut into pieces of at most its `chunk_bytes` (`split`;
+/// the pieces past the data are empty), the other arrays whole. Err
+/// names the first split array that needs more than `chunks` pieces.
+fn buffers(
+    arrays: &SceneArrays,
+    chunk_bytes: ChunkBytes,
+    chunks: bindings::SceneChunks,
+) -> Result<Vec<(&'static str, &[u8])>, &'static str> {
+    let split_arrays = split_arrays(arrays);
+    let mut pieces: [Vec<&[u8]>; bindings::SPLIT_ARRAY_COUNT] = Default::default();
+    for (i, array) in bindings::SPLIT_ARRAYS.iter().enumerate() {
+        pieces[i] = split(
+            split_arrays[i],
+            array.element_bytes,
+            chunk_bytes[i],
+            chunks[i],
+        )
+        .ok_or(array.chunks[0].name)?;
     }
+    let [triangles, nodes, leaf_objects, ropes, rope_index, normals] = pieces;
+    let bytes: Vec<&[u8]> = [bytemuck::cast_slice(&arrays.spheres)]
+        .into_iter()
+        .chain(triangles)
+        .chain([
+            bytemuck::cast_slice(&arrays.objects),
+            bytemuck::cast_slice(&arrays.materials),
+            bytemuck::cast_slice(&arrays.lights),
+        ])
+        .chain(nodes)
+        .chain(leaf_objects)
+        .chain(ropes)
+        .chain(rope_index)
+        .chain(normals)
+        .chain([bytemuck::cast_slice(&arrays.textures)])
+        .collect();
+    let names = bindings::scene(chunks);
+    debug_assert_eq!(bytes.len(), names.len());
+    Ok(names.iter().map(|b| b.name).zip(bytes).collect())
+}
+
+/// Every buffer within `limit` bytes, the split ones cut into at most
+/// `chunks` pieces of at most their `chunk_bytes` (<= `limit`).
+fn check_fits_in(
+    arrays: &SceneArrays,
+    limit: u64,
+    chunk_bytes: ChunkBytes,
+    chunks: bindings::SceneChunks,
+) -> crate::Result<()> {
+    packed_nodes_fit(arrays.nodes.len(), arrays.leaf_objects.len())?;
+    let whole = buffers(arrays, WHOLE, bindings::UNSPLIT).unwrap_or_default();
+    let split_array =
+        |name: &str| (0..chunks.len()).find(|&i| bindings::SPLIT_ARRAYS[i].chunks[0].name == name);
+    // The first buffer, in binding order, that no binding (or none of a
+    // split array's bindings) can hold.
+    let too_big = whole.iter().find(|(name, bytes)| match split_array(name) {
+        Some(i) => split(
+            bytes,
+            bindings::SPLIT_ARRAYS[i].element_bytes,
+            chunk_bytes[i],
+            chunks[i],
+        )
+        .is_none(),
+        None => bytes.len() as u64 > limit,
+    });
+    let Some(&(name, bytes)) = too_big else {
+        return Ok(());
+    };
+    let bytes = bytes.len() as u64;
+    let split_note = match split_array(name).map(|i| chunks[i]) {
+        None => String::new(),
+        Some(1) => " (1 binding for it on this adapter)".to_string(),
+        Some(n) => format!(" ({n} bindings for it)"),
+    };
+    Err(crate::Error::Gpu(format!(
+        "the scene is too large for this adapter: its {name} buffer needs {} but the adapter binds at most {} \
+         per storage buffer{split_note} ({} spheres, {} triangles, {} k-d nodes, {} leaf references)",
+        human_bytes(bytes),
+        human_bytes(limit),
+        arrays.spheres.len(),
+        arrays.triangles.len(),
+        arrays.nodes.len(),
+        arrays.leaf_objects.len()
+    )))
 }
 
 /// Whether a tree of `nodes` nodes and `leaf_references` leaf references
@@ -223,7 +229,7 @@ pub struct SceneBuffers {
     /// Emissive objects, after the point lights in the lights buffer.
     pub emitter_count: u32,
     /// Where the sky image lies in the textures buffer, if any.
-    pub environment: super::scene_arrays::EnvironmentWords,
+    pub environment: crate::layout::EnvironmentWords,
     pub node_count: u32,
     /// Whether a split array (triangles, k-d nodes, leaf object lists, leaf
     /// ropes, rope index, vertex normals) lies in more than one binding (the kernel must then select
@@ -257,9 +263,9 @@ impl SceneBuffers {
         let limit = super::max_binding_bytes(&limits);
         let chunks = bindings::scene_chunks(&limits);
         let chunk_bytes = chunk_bytes.map(|b| b.min(limit));
-        arrays.check_fits_in(limit, chunk_bytes, chunks)?;
+        check_fits_in(arrays, limit, chunk_bytes, chunks)?;
         // check_fits_in names what does not fit; this only guards the split.
-        let parts = arrays.buffers(chunk_bytes, chunks).map_err(|name| {
+        let parts = buffers(arrays, chunk_bytes, chunks).map_err(|name| {
             crate::Error::Gpu(format!("the scene's {name} do not fit in their bindings"))
         })?;
         let what = format!(

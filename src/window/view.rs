@@ -407,7 +407,7 @@ mod tests {
         scene: &SceneBuffers,
     ) -> Vec<u8> {
         let (w, h) = (prepared.scene.render.width, prepared.scene.render.height);
-        let mut params = prepared.frame_params(scene);
+        let mut params = FrameParams::for_prepared(prepared, scene);
         params.samples_per_axis = 1;
         params.sample_index = 0;
         params.tile_origin = [0, 0];

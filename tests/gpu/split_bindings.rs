@@ -12,7 +12,8 @@ use kdray::geometry::Ray;
 use kdray::gpu::bindings::{self, SPLIT_ARRAY_COUNT};
 use kdray::gpu::scene_buffers::{ChunkBytes, WHOLE};
 use kdray::gpu::{
-    Accel, PreparedScene, RayQueries, RayQuery, RenderedImage, Renderer, SceneBuffers, TilePlan,
+    Accel, FrameParams, PreparedScene, RayQueries, RayQuery, RenderedImage, Renderer, SceneBuffers,
+    TilePlan,
 };
 use kdray::kdtree::Traversal;
 
@@ -32,7 +33,7 @@ fn render_with_chunks(
     let ctx = gpu();
     let buffers = upload(prepared, chunk_bytes);
     let renderer = Renderer::new(ctx).unwrap_or_else(|e| panic!("{e}"));
-    let params = prepared.frame_params(&buffers).with_traversal(walk);
+    let params = FrameParams::for_prepared(prepared, &buffers).with_traversal(walk);
     let scene = &prepared.scene;
     let plan = TilePlan::new(
         scene.render.width,

@@ -14,7 +14,7 @@ use std::path::Path;
 
 use common::{gpu, pixel, render, TempDir};
 use glam::{Vec2, Vec3};
-use kdray::gpu::{Accel, RenderedImage};
+use kdray::gpu::{Accel, ArrayBindings, RenderedImage};
 use kdray::scene::{load_scene, MinFilter, MipMode, Scene, TextureFilter};
 use kdray_core::reference::ReferenceTracer;
 use textured::{gradient, write_gltf_quad, write_obj_quad};

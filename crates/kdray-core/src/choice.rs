@@ -1,7 +1,7 @@
 //! Named choices: the enums that the command line, `--stats`, the bench's
 //! JSON and its reports spell by name (`kdtree`, `brute`, `spheres`, ...).
 //! Each choice lists its names and help beside its own type (`Accel` in
-//! gpu/frame_params.rs, `BuildStrategy` in kdtree/build_params.rs, `Traversal` in
+//! prepare.rs, `BuildStrategy` in kdtree/build_params.rs, `Traversal` in
 //! kdtree/traversal.rs, `SceneKind` in random_scene.rs); the command
 //! line (src/bin/kdray) turns them into its flags without the library
 //! knowing about the command line.

@@ -4,8 +4,10 @@
 //! Data flows one way: [`scene`] (parse, validate, OBJ and glTF, animation)
 //! -> [`geometry`] (the objects in f32, with the kernel's intersection
 //! arithmetic) -> [`kdtree`] (build, ropes, the CPU walks and brute force)
-//! -> [`layout`] (the `#[repr(C)]` types the kernel reads). The `kdray`
-//! crate uploads them and traces them on the GPU. Beside them,
+//! -> [`layout`] (the `#[repr(C)]` types the kernel reads, and the scene
+//! flattened into them) -> [`prepare`] (a scene with its tree and arrays,
+//! ready to upload). The `kdray` crate uploads them and traces them on the
+//! GPU. Beside them,
 //! [`random_scene`] generates the deterministic random scenes of
 //! `kdray bench` and `kdray generate` (and of the k-d tree's tests).
 
@@ -16,6 +18,7 @@ pub mod geometry;
 mod huge_pages;
 pub mod kdtree;
 pub mod layout;
+pub mod prepare;
 pub mod random_scene;
 pub mod scene;
 

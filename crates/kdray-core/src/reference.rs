@@ -707,7 +707,7 @@ impl<'a> ReferenceTracer<'a> {
                     } = light.kind
                     {
                         // In f32 from the values the lights buffer holds
-                        // (src/gpu/scene_arrays.rs).
+                        // (crates/kdray-core/src/layout/scene_arrays.rs).
                         let cos_inner = inner_degrees.to_radians().cos();
                         let cos_outer = outer_degrees.to_radians().cos();
                         let scale = (1.0 / (cos_inner - cos_outer).max(0.001)) as f32;

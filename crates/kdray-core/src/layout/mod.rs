@@ -1,11 +1,14 @@
 //! The GPU data layout: `#[repr(C)]` Pod types that mirror the structs of
-//! shaders/types.wgsl byte for byte. A unit test checks every size and field
+//! shaders/types.wgsl byte for byte, and [`SceneArrays`], a scene and its
+//! tree flattened into them. A unit test checks every size and field
 //! offset against naga's layout of the WGSL declarations.
 //!
 //! WGSL's `vec3<f32>` is 16-byte aligned, so each `[f32; 3]` is followed by a
 //! 4-byte field (a scalar that belongs with it, or explicit padding).
 
+mod scene_arrays;
 mod texture_words;
+pub use scene_arrays::{EnvironmentWords, SceneArrays};
 pub use texture_words::{Records, TextureWords};
 
 use bytemuck::{Pod, Zeroable};

@@ -1,18 +1,44 @@
-//! "This scene, prepared": everything the CPU does before a frame (the f32
-//! primitives, the k-d tree, the arrays in the GPU layout), in one value
-//! that can be made on any thread (the window's hot reload makes it on a
-//! worker). Uploaded, it becomes a [`super::GpuScene`], which `render` and
-//! the window trace.
+//! A scene prepared on the CPU for a kernel ([`PreparedScene`]): the search
+//! it runs ([`Accel`]), the f32 primitives, the k-d tree and the arrays in
+//! the GPU layout, in one value that can be made on any thread (the
+//! window's hot reload makes it on a worker). The `kdray` crate uploads it.
 
 use std::time::Instant;
 
-use super::{Accel, SceneArrays, SceneBuffers};
 use crate::geometry::Primitives;
-use crate::gpu::FrameParams;
 use crate::kdtree::{BuildParams, BuildStrategy, KdTree};
+use crate::layout::SceneArrays;
 use crate::scene::Scene;
 
-/// A scene with its tree and GPU arrays, ready to upload.
+/// Which nearest-hit search the kernel runs.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Accel {
+    /// The stackless k-d tree walk.
+    Kdtree,
+    /// The seed's loop over every object.
+    Brute,
+}
+
+impl crate::choice::Choice for Accel {
+    const ALL: &'static [Self] = &[Self::Kdtree, Self::Brute];
+
+    fn name(self) -> &'static str {
+        match self {
+            Self::Kdtree => "kdtree",
+            Self::Brute => "brute",
+        }
+    }
+
+    fn help(self) -> &'static str {
+        match self {
+            Self::Kdtree => "the stackless k-d tree walk",
+            Self::Brute => "the seed's loop over every object",
+        }
+    }
+}
+
+/// A scene with its tree and arrays in the GPU layout, ready to upload.
 pub struct PreparedScene {
     pub scene: Scene,
     /// The search it was prepared for, which its frames run unless told
@@ -108,18 +134,5 @@ impl PreparedScene {
     /// The scene back, without its tree and arrays.
     pub fn into_scene(self) -> Scene {
         self.scene
-    }
-
-    /// The kernel's parameters for the scene's own camera and settings,
-    /// searching with the accel it was prepared for, over `buffers`
-    /// uploaded from it ([`super::GpuScene::frame_params`] for a scene
-    /// uploaded whole; this for buffers uploaded another way).
-    pub fn frame_params(&self, buffers: &SceneBuffers) -> FrameParams {
-        FrameParams::new(
-            &self.scene.camera.basis(),
-            &self.scene.render,
-            buffers,
-            self.accel,
-        )
     }
 }

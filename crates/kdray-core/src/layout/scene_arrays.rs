@@ -1,23 +1,23 @@
 //! The scene flattened into the GPU's layout on the host ([`SceneArrays`]):
 //! the objects in the order the tree's leaves name them, materials,
 //! lights, the tree's nodes and ropes, vertex normals and textures, each
-//! array as the kernel reads it. gpu/scene_buffers.rs uploads them.
+//! array as the kernel reads it. The `kdray` crate uploads them.
 
-use crate::geometry::{Aabb, Primitives};
-use crate::kdtree::{KdTree, Ropes};
-use crate::layout::{
+use super::{
     GpuKdNode, GpuLight, GpuMaterial, GpuSphere, GpuTriangle, GpuTriangleNormals, LeafRopes,
     Records, TextureWords, ALPHA_BLEND, ALPHA_MASK, ALPHA_OPAQUE, LIGHT_DIRECTIONAL, LIGHT_EMITTER,
     LIGHT_POINT, LIGHT_SPOT, MODEL_LAMBERTIAN, MODEL_METAL_ROUGH,
 };
+use crate::geometry::{Aabb, Primitives};
+use crate::kdtree::{KdTree, Ropes};
 use crate::scene::{AlphaMode, Light, LightKind, Scene};
 
 /// Host copies of every storage buffer, in the GPU layout.
 pub struct SceneArrays {
     pub spheres: Vec<GpuSphere>,
     pub triangles: Vec<GpuTriangle>,
-    /// Per GPU object: its material index and its scene id
-    /// ([`super::bindings::OBJECTS`]).
+    /// Per GPU object: its material index and its scene id (the kernel's
+    /// `objects` binding).
     pub objects: Vec<[u32; 2]>,
     pub materials: Vec<GpuMaterial>,
     /// The scene's point lights, then one entry per emissive object
@@ -53,7 +53,7 @@ fn f32x3(v: glam::DVec3) -> [f32; 3] {
 
 impl SceneArrays {
     /// `lights` in the GPU layout: the `lights` buffer, which an
-    /// animation's frame rewrites ([`super::GpuScene::write_lights`]).
+    /// animation's frame rewrites.
     pub fn lights_of(lights: &[Light]) -> Vec<GpuLight> {
         lights
             .iter()
@@ -90,6 +90,27 @@ impl SceneArrays {
             .collect()
     }
 
+    /// Total bytes of the storage arrays: what the scene needs on the GPU.
+    pub fn byte_size(&self) -> u64 {
+        use std::mem::size_of_val;
+        [
+            size_of_val(self.spheres.as_slice()),
+            size_of_val(self.triangles.as_slice()),
+            size_of_val(self.objects.as_slice()),
+            size_of_val(self.materials.as_slice()),
+            size_of_val(self.lights.as_slice()),
+            size_of_val(self.nodes.as_slice()),
+            size_of_val(self.leaf_objects.as_slice()),
+            size_of_val(self.leaf_ropes.as_slice()),
+            size_of_val(self.leaf_rope_index.as_slice()),
+            size_of_val(self.triangle_normals.as_slice()),
+            size_of_val(self.textures.as_slice()),
+        ]
+        .iter()
+        .map(|&b| b as u64)
+        .sum()
+    }
+
     /// The point lights at the head of `lights`.
     pub fn point_light_count(&self) -> u32 {
         self.lights.len() as u32 - self.emitter_count
@@ -111,7 +132,7 @@ impl SceneArrays {
     pub fn spot_or_directional_lights(&self) -> bool {
         self.lights[..self.point_light_count() as usize]
             .iter()
-            .any(|l| l.kind != crate::layout::LIGHT_POINT)
+            .any(|l| l.kind != LIGHT_POINT)
     }
 
     /// An entry of the lights buffer for each object (by GPU id, in
@@ -382,14 +403,15 @@ impl EnvironmentWords {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::random_scene::{random_scene, RandomSceneSpec, SceneKind};
 
     /// Smooth triangles carry their own vertex normals to the GPU, whatever
     /// order the leaves put them in, and flat ones none: the normals array
     /// holds one record per smooth triangle.
     #[test]
     fn vertex_normals_follow_their_triangle_into_leaf_order() {
-        let mut scene = crate::bench::random_scene(&crate::bench::RandomSceneSpec {
-            kind: crate::bench::SceneKind::Triangles,
+        let mut scene = random_scene(&RandomSceneSpec {
+            kind: SceneKind::Triangles,
             count: 300,
             seed: 5,
             width: 8,
@@ -437,8 +459,8 @@ mod tests {
     /// material, and the leaves name the same objects as the tree's.
     #[test]
     fn objects_are_stored_in_leaf_order_and_stay_themselves() {
-        let scene = crate::bench::random_scene(&crate::bench::RandomSceneSpec {
-            kind: crate::bench::SceneKind::Mixed,
+        let scene = random_scene(&RandomSceneSpec {
+            kind: SceneKind::Mixed,
             count: 500,
             seed: 3,
             width: 8,
