@@ -1,7 +1,7 @@
 // Glass: refraction by Snell's law with the exact dielectric Fresnel
 // reflectance, total internal reflection, shadow rays through transmissive
 // surfaces, and the path that follows both the reflected and the refracted ray
-// with a small stack. Mirrored by crates/kdray-core/src/reference.rs; the
+// with a small stack. Mirrored by crates/kdray-core/src/reference/whitted.rs; the
 // rules, exactly, are in docs/scene-format.md (Semantics, "Glass"). Reached
 // only in pipelines with the GLASS override (variant.wgsl): a scene without
 // glass runs the opaque path of trace.wgsl.

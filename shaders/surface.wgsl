@@ -8,7 +8,7 @@
 // materials", states both rules.
 
 // Where a path meets a surface, seen from the incoming ray (mirrored by
-// `Surface` in crates/kdray-core/src/reference.rs).
+// `Surface` in crates/kdray-core/src/reference/surface.rs).
 struct Surface {
     // Unit geometric normal, facing the incoming ray: the side rays leave
     // from, and the direction of the spawn offset.

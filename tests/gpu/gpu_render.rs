@@ -302,7 +302,7 @@ material = "ball"
     );
 }
 
-/// The GPU kernel against its CPU mirror (crates/kdray-core/src/reference.rs:
+/// The GPU kernel against its CPU mirror (crates/kdray-core/src/reference/:
 /// the same path loop, shading and f32 arithmetic over the CPU traversal) on
 /// every scene of the Whitted integrator, which it mirrors: pixels may
 /// differ only where float rounding (e.g. fused multiply-adds on the GPU)
