@@ -1,6 +1,6 @@
 //! Animation: the validated `[animation]` table ([`Animation`], its
 //! [`CameraKey`]s and [`LightKey`]s) and what each frame shows ([`Frame`]:
-//! the camera and the lights, from [`FramePath`] or [`Scene::frame`]).
+//! the camera and the lights, from [`FramePath`] or `Scene::frame`).
 //! The math follows docs/scene-format.md's "Animation" section formula for
 //! formula, so that another program can compute the same frames: each
 //! camera field, and each keyed light's position and colour, has a track
@@ -20,7 +20,6 @@ use glam::DVec3;
 use super::camera::Camera;
 use super::light::Light;
 use super::normals::unit;
-use super::validated_scene::Scene;
 
 /// Most frames an animation may have.
 pub const MAX_FRAMES: u32 = 100_000;
@@ -45,7 +44,7 @@ pub struct Animation {
     pub keys: Vec<CameraKey>,
     /// In file order; the keys of each light in strictly increasing frame
     /// order, every frame below `frames`, every light an index into
-    /// [`Scene::lights`]; each sets at least one field.
+    /// `Scene::lights`; each sets at least one field.
     pub light_keys: Vec<LightKey>,
 }
 
@@ -66,7 +65,7 @@ pub struct CameraKey {
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct LightKey {
     pub frame: u32,
-    /// Index into [`Scene::lights`].
+    /// Index into `Scene::lights`.
     pub light: u32,
     pub position: Option<DVec3>,
     /// A factor, components >= 0, on the light's ambient, diffuse and
@@ -172,7 +171,7 @@ fn rotate(v: DVec3, k: DVec3, radians: f64) -> DVec3 {
     v * cos + k.cross(v) * sin + k * k.dot(v) * (1.0 - cos)
 }
 
-/// The camera at every frame of a scene, made once ([`Scene::camera_path`])
+/// The camera at every frame of a scene, made once (`Scene::camera_path`)
 /// and then asked frame by frame in O(log keys).
 #[derive(Debug, Clone)]
 pub struct CameraPath {
@@ -279,12 +278,12 @@ impl LightPath {
 #[derive(Debug, Clone, PartialEq)]
 pub struct Frame {
     pub camera: Camera,
-    /// One per [`Scene::lights`], in its order.
+    /// One per `Scene::lights`, in its order.
     pub lights: Vec<Light>,
 }
 
 /// The camera and lights at every frame of a scene, made once
-/// ([`Scene::frame_path`]) and then asked frame by frame.
+/// (`Scene::frame_path`) and then asked frame by frame.
 #[derive(Debug, Clone)]
 pub struct FramePath {
     camera: CameraPath,
@@ -319,7 +318,7 @@ impl FramePath {
         self.camera.camera_at(frame)
     }
 
-    /// The lights at `frame`, in [`Scene::lights`] order.
+    /// The lights at `frame`, in `Scene::lights` order.
     pub fn lights_at(&self, frame: u32) -> Vec<Light> {
         self.lights.iter().map(|l| l.light_at(frame)).collect()
     }
@@ -328,37 +327,6 @@ impl FramePath {
     /// scene's `[[lights]]`.
     pub fn lights_move(&self) -> bool {
         self.lights.iter().any(|l| l.tracks.is_some())
-    }
-}
-
-impl Scene {
-    /// Number of frames: the animation's, or 1 for a still scene.
-    pub fn frame_count(&self) -> u32 {
-        self.animation.as_ref().map_or(1, |a| a.frames)
-    }
-
-    /// The camera and lights of every frame, for asking about many frames.
-    pub fn frame_path(&self) -> FramePath {
-        FramePath::new(&self.camera, &self.lights, self.animation.as_ref())
-    }
-
-    /// The camera and lights at `frame` (0-based): `self.camera` and
-    /// `self.lights` for a still scene. Builds the path anew (O(keys)); use
-    /// [`Scene::frame_path`] for many frames.
-    pub fn frame(&self, frame: u32) -> Frame {
-        self.frame_path().frame(frame)
-    }
-
-    /// The camera of every frame, for asking about many frames.
-    pub fn camera_path(&self) -> CameraPath {
-        CameraPath::new(&self.camera, self.animation.as_ref())
-    }
-
-    /// The camera at `frame` (0-based): `self.camera` for a still scene, and
-    /// at frame 0 of an animation without a key at frame 0. Builds the path
-    /// anew (O(keys)); use [`Scene::camera_path`] for many frames.
-    pub fn camera_at(&self, frame: u32) -> Camera {
-        self.camera_path().camera_at(frame)
     }
 }
 

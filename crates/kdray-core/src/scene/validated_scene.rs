@@ -3,7 +3,7 @@
 
 use glam::{DVec2, DVec3, DVec4};
 
-use super::animation::Animation;
+use super::animation::{Animation, CameraPath, Frame, FramePath};
 use super::camera::Camera;
 use super::environment::EnvironmentMap;
 use super::light::Light;
@@ -110,5 +110,37 @@ impl Scene {
     pub fn texture_of(&self, m: u32) -> Option<&Texture> {
         let t = self.materials.get(m as usize)?.texture?;
         self.textures.get(t as usize)
+    }
+}
+
+/// The frames of an `[animation]` ([`Animation`]).
+impl Scene {
+    /// Number of frames: the animation's, or 1 for a still scene.
+    pub fn frame_count(&self) -> u32 {
+        self.animation.as_ref().map_or(1, |a| a.frames)
+    }
+
+    /// The camera and lights of every frame, for asking about many frames.
+    pub fn frame_path(&self) -> FramePath {
+        FramePath::new(&self.camera, &self.lights, self.animation.as_ref())
+    }
+
+    /// The camera and lights at `frame` (0-based): `self.camera` and
+    /// `self.lights` for a still scene. Builds the path anew (O(keys)); use
+    /// [`Scene::frame_path`] for many frames.
+    pub fn frame(&self, frame: u32) -> Frame {
+        self.frame_path().frame(frame)
+    }
+
+    /// The camera of every frame, for asking about many frames.
+    pub fn camera_path(&self) -> CameraPath {
+        CameraPath::new(&self.camera, self.animation.as_ref())
+    }
+
+    /// The camera at `frame` (0-based): `self.camera` for a still scene, and
+    /// at frame 0 of an animation without a key at frame 0. Builds the path
+    /// anew (O(keys)); use [`Scene::camera_path`] for many frames.
+    pub fn camera_at(&self, frame: u32) -> Camera {
+        self.camera_path().camera_at(frame)
     }
 }
