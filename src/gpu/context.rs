@@ -9,6 +9,7 @@ use std::any::Any;
 use std::collections::HashMap;
 use std::sync::{Arc, Mutex};
 
+use super::pipeline_cache::PipelineCacheFile;
 use crate::error::{Error, Result};
 
 /// What to install when no adapter is found.
@@ -30,6 +31,9 @@ pub struct GpuContext {
     /// once per process (llvmpipe takes seconds), not once per frame.
     /// Kept and read by gpu/trace_pipelines.rs (`trace_pipelines`).
     pub(super) trace_pipelines: Mutex<HashMap<&'static str, Arc<dyn Any + Send + Sync>>>,
+    /// Compiled pipelines kept between processes, where the adapter offers
+    /// a pipeline cache (gpu/pipeline_cache.rs).
+    pub pipeline_cache: Option<PipelineCacheFile>,
 }
 
 fn instance(backends: wgpu::Backends) -> wgpu::Instance {
@@ -219,11 +223,14 @@ impl GpuContext {
     fn open_device(adapter: wgpu::Adapter) -> Result<Self> {
         let info = adapter.get_info();
         let has_timestamps = adapter.features().contains(wgpu::Features::TIMESTAMP_QUERY);
-        let required_features = if has_timestamps {
-            wgpu::Features::TIMESTAMP_QUERY
-        } else {
-            wgpu::Features::empty()
-        };
+        let mut required_features = wgpu::Features::empty();
+        if has_timestamps {
+            required_features |= wgpu::Features::TIMESTAMP_QUERY;
+        }
+        let cached = PipelineCacheFile::wanted(&adapter);
+        if cached {
+            required_features |= wgpu::Features::PIPELINE_CACHE;
+        }
         let (device, queue) = pollster::block_on(adapter.request_device(&wgpu::DeviceDescriptor {
             label: Some("kdray"),
             required_features,
@@ -250,6 +257,9 @@ impl GpuContext {
         device.set_device_lost_callback(move |reason, message| {
             record(&f, format!("GPU device lost ({reason:?}): {message}"))
         });
+        let pipeline_cache = cached
+            .then(|| PipelineCacheFile::open(&device, &info))
+            .flatten();
         Ok(GpuContext {
             adapter,
             device,
@@ -258,6 +268,7 @@ impl GpuContext {
             has_timestamps,
             fault,
             trace_pipelines: Mutex::new(HashMap::new()),
+            pipeline_cache,
         })
     }
 

@@ -3,7 +3,8 @@
 //! - [`bindings`]: the host-shader contract (bindings, entry points,
 //!   shared constants) and the WGSL it generates.
 //! - [`shaders`]: the WGSL sources assembled with that generated text.
-//! - [`context`]: the adapter and device.
+//! - [`context`]: the adapter and device; [`pipeline_cache`]: compiled
+//!   pipelines kept between processes where the driver keeps them.
 //! - [`scene_buffers`]: the scene's arrays in the GPU layout
 //!   ([`SceneArrays`]) cut into chunks for their bindings, checked against
 //!   the adapter and uploaded ([`SceneBuffers`]); [`ArrayBindings`]: the
@@ -31,6 +32,7 @@ mod kernel_io;
 pub mod kernel_variant;
 #[cfg(test)]
 mod layout_check;
+pub mod pipeline_cache;
 mod ray_query;
 pub mod renderer;
 pub mod scene_buffers;

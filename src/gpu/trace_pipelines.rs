@@ -242,9 +242,13 @@ impl TracePipelines {
     pub fn get(&self, ctx: &GpuContext, variant: KernelVariant) -> Result<TracePipeline> {
         cached(&self.made, "trace pipelines", variant, || {
             let kernel = self.kernel(ctx, &self.omitted(variant))?;
+            let cache = ctx.pipeline_cache.as_ref();
             let pipeline = ctx.checked("creating a trace pipeline", |device| {
-                self.pipeline(device, &kernel, variant)
+                self.pipeline(device, &kernel, variant, cache.map(|c| c.cache()))
             })?;
+            if let Some(cache) = cache {
+                cache.save();
+            }
             Ok(TracePipeline { pipeline, kernel })
         })
     }
@@ -257,6 +261,7 @@ impl TracePipelines {
         device: &wgpu::Device,
         kernel: &Kernel,
         variant: KernelVariant,
+        cache: Option<&wgpu::PipelineCache>,
     ) -> wgpu::ComputePipeline {
         let name = self.entry.name;
         let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
@@ -273,7 +278,7 @@ impl TracePipelines {
                 constants: &variant.constants(),
                 ..Default::default()
             },
-            cache: None,
+            cache,
         })
     }
 

@@ -33,6 +33,7 @@ mod open_model;
 mod optimised_gltf;
 mod path_tracing;
 mod pathological;
+mod pipeline_cache;
 mod quad_pairs;
 mod smooth_shading;
 mod split_bindings;
