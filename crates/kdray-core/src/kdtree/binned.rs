@@ -16,9 +16,9 @@ use glam::Vec3A;
 
 use crate::geometry::Aabb;
 
+use super::build_params::BuildParams;
 use super::clip::{clear_above, clear_below, sides, Shapes};
 use super::split::{inverse_area, AxisCost, Split};
-use super::BuildParams;
 
 /// Bins per axis.
 pub const BINS: usize = 32;

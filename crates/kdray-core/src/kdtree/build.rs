@@ -55,7 +55,57 @@ pub fn build_primitives(prims: &Primitives, params: BuildParams, threads: usize)
     build_shapes(Shapes::primitives(prims), params, threads)
 }
 
-pub(super) fn available_threads() -> usize {
+impl KdTree {
+    /// Builds the tree over all objects of `prims` with the default parameters.
+    pub fn for_primitives(prims: &Primitives) -> KdTree {
+        Self::build_for(prims, BuildParams::for_primitives(prims))
+    }
+
+    /// Builds the tree over all objects of `prims` (triangles clipped to the
+    /// cells as polygons, spheres by their boxes) on every core.
+    pub fn build_for(prims: &Primitives, params: BuildParams) -> KdTree {
+        build_primitives(prims, params, available_threads())
+    }
+
+    /// One leaf holding objects `0..object_count`, in `bounds`: a valid tree
+    /// that any walk searches like brute force (what a brute-force render
+    /// uploads, since the kernel needs some tree bound).
+    pub fn single_leaf(object_count: u32, bounds: Aabb) -> KdTree {
+        KdTree {
+            nodes: vec![KdNode {
+                kind: KdNode::LEAF,
+                split: 0.0,
+                index: 0,
+                count: object_count,
+            }],
+            leaf_objects: (0..object_count).collect(),
+            bounds,
+            max_depth: 0,
+        }
+    }
+
+    /// Calls `f(node, cell)` for every node with the cell it covers,
+    /// parents before children (the root's cell is `bounds`).
+    pub fn visit_cells(&self, mut f: impl FnMut(&KdNode, &Aabb)) {
+        let mut pending = vec![(0usize, self.bounds)];
+        while let Some((i, cell)) = pending.pop() {
+            let Some(node) = self.nodes.get(i) else {
+                continue;
+            };
+            f(node, &cell);
+            if !node.is_leaf() {
+                let axis = node.kind as usize;
+                let (mut below, mut above) = (cell, cell);
+                below.max[axis] = node.split;
+                above.min[axis] = node.split;
+                pending.push((node.index as usize, above));
+                pending.push((i + 1, below));
+            }
+        }
+    }
+}
+
+fn available_threads() -> usize {
     std::thread::available_parallelism().map_or(1, |n| n.get())
 }
 
@@ -396,5 +446,42 @@ mod tests {
         let n = boxes.len();
         assert!(tree(params(BuildStrategy::Sah, n - 1)) == binned);
         assert!(tree(params(BuildStrategy::Sah, n)) == exact);
+    }
+
+    /// One split of the cube [0, 2]^3 at x = 0.5: the walk visits parents
+    /// first, below first, each with its cell.
+    #[test]
+    fn the_cells_are_visited_parents_first_with_their_boxes() {
+        let tree = KdTree {
+            nodes: vec![
+                KdNode {
+                    kind: 0,
+                    split: 0.5,
+                    index: 2,
+                    count: 0,
+                },
+                KdNode {
+                    kind: KdNode::LEAF,
+                    split: 0.0,
+                    index: 0,
+                    count: 1,
+                },
+                KdNode {
+                    kind: KdNode::LEAF,
+                    split: 0.0,
+                    index: 1,
+                    count: 3,
+                },
+            ],
+            leaf_objects: vec![0, 1, 2, 3],
+            bounds: Aabb {
+                min: Vec3::ZERO,
+                max: Vec3::splat(2.0),
+            },
+            max_depth: 1,
+        };
+        let mut cells = Vec::new();
+        tree.visit_cells(|n, c| cells.push((n.count, c.max.x, c.min.x)));
+        assert_eq!(cells, [(0, 2.0, 0.0), (1, 0.5, 0.0), (3, 2.0, 0.5)]);
     }
 }

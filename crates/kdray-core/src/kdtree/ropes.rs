@@ -15,7 +15,7 @@
 
 use crate::layout::{KdNode, LeafRopes};
 
-use super::KdTree;
+use super::build::KdTree;
 
 /// The rope data of a tree, in the layout the shader reads.
 #[derive(Debug, Clone, PartialEq)]

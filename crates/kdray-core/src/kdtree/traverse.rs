@@ -35,10 +35,10 @@
 
 use crate::geometry::{Primitives, Ray};
 
+use super::build::KdTree;
 use super::walk_observer::{WalkEvent, WalkObserver};
 use super::walk_step::{max_restarts, observed_descent_step, scene_segment, test_leaf, walk_done};
 pub use super::walk_step::{Hit, WalkCost, WalkQuery};
-use super::KdTree;
 
 /// Entries of the short stack. The shader keeps them in named variables
 /// (lavapipe keeps private arrays in memory), and reads this value from the

@@ -11,8 +11,9 @@
 use crate::geometry::{Primitives, Ray, PARALLEL_EPSILON};
 use crate::layout::KdNode;
 
+use super::build::KdTree;
+use super::ropes::Ropes;
 use super::walk_observer::{WalkEvent, WalkObserver};
-use super::{KdTree, Ropes};
 
 /// What every walk searches: the tree, its ropes (read by the rope walk
 /// only) and the objects.
