@@ -3,11 +3,13 @@
 //! lights, the tree's nodes and ropes, vertex normals and textures, each
 //! array as the kernel reads it. The `kdray` crate uploads them.
 
-use super::{
-    GpuKdNode, GpuLight, GpuMaterial, GpuSphere, GpuTriangle, GpuTriangleNormals, LeafRopes,
-    Records, TextureWords, ALPHA_BLEND, ALPHA_MASK, ALPHA_OPAQUE, LIGHT_DIRECTIONAL, LIGHT_EMITTER,
-    LIGHT_POINT, LIGHT_SPOT, MODEL_LAMBERTIAN, MODEL_METAL_ROUGH,
+use super::light::{GpuLight, LIGHT_DIRECTIONAL, LIGHT_EMITTER, LIGHT_POINT, LIGHT_SPOT};
+use super::material::{
+    GpuMaterial, ALPHA_BLEND, ALPHA_MASK, ALPHA_OPAQUE, MODEL_LAMBERTIAN, MODEL_METAL_ROUGH,
 };
+use super::objects::{GpuSphere, GpuTriangle, GpuTriangleNormals};
+use super::texture_words::{Records, TextureWords};
+use super::tree_nodes::{GpuKdNode, LeafRopes};
 use crate::geometry::{Aabb, Primitives};
 use crate::kdtree::{KdTree, Ropes};
 use crate::scene::{AlphaMode, Light, LightKind, Scene};

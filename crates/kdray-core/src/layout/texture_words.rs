@@ -2,7 +2,7 @@
 //! tables, texture coordinate records and texels in one array of u32
 //! words, as shaders/texture.wgsl reads them.
 
-use super::GpuTriangleNormals;
+use super::objects::GpuTriangleNormals;
 
 /// The `textures` buffer, one array of u32 words (shaders/texture.wgsl):
 /// a prefix of [`TextureWords::PREFIX_WORDS`] words (the first word of the

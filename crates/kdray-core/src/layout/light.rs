@@ -1,0 +1,38 @@
+//! A light as the kernel reads it ([`GpuLight`]), and the values of its kind.
+
+use bytemuck::{Pod, Zeroable};
+
+#[repr(C)]
+#[derive(Debug, Clone, Copy, PartialEq, Pod, Zeroable)]
+pub struct GpuLight {
+    pub position: [f32; 3],
+    /// [`LIGHT_POINT`], [`LIGHT_SPOT`], [`LIGHT_DIRECTIONAL`], or
+    /// [`LIGHT_EMITTER`]: an emissive object, `object`, whose radiance is
+    /// `diffuse` (the path tracer samples it).
+    pub kind: u32,
+    pub ambient: [f32; 3],
+    /// An emitter's GPU object id.
+    pub object: u32,
+    pub diffuse: [f32; 3],
+    /// A spot light: the cosine of its outer cone's half-angle.
+    pub cos_outer: f32,
+    pub specular: [f32; 3],
+    /// A spot light: 1 / max(cos inner - cos outer, 0.001), the falloff's
+    /// slope (`scene::spot_factor`).
+    pub spot_scale: f32,
+    /// A spot light's axis, a directional light's travel: unit.
+    pub direction: [f32; 3],
+    /// A point or spot light: the path tracer's radiant intensity is
+    /// `diffuse * path_scale` (`scene::Light::path_intensity_scale`).
+    pub path_scale: f32,
+}
+
+/// `GpuLight::kind`: a point light of the scene's `[[lights]]`.
+pub const LIGHT_POINT: u32 = 0;
+/// `GpuLight::kind`: an object whose material emits. The lights buffer
+/// holds the scene's lights first, then the emitters.
+pub const LIGHT_EMITTER: u32 = 1;
+/// `GpuLight::kind`: a spot light of the scene's `[[lights]]`.
+pub const LIGHT_SPOT: u32 = 2;
+/// `GpuLight::kind`: a directional light of the scene's `[[lights]]`.
+pub const LIGHT_DIRECTIONAL: u32 = 3;
