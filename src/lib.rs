@@ -16,6 +16,7 @@
 pub use kdray_core::{choice, geometry, kdtree, layout, prepare, scene};
 
 pub mod bench;
+pub mod denoise;
 pub mod error;
 pub mod farm;
 pub mod gpu;

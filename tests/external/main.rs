@@ -2,8 +2,9 @@
 //! beyond the GPU driver: headless Chromium (`web`), a Slurm cluster
 //! (`farm`, `farm_path`), an X server (`window`, `window_inspect`, under Xvfb: `x_window`) and lavapipe with its
 //! allocations made to fail (`gpu_memory`, through a preloaded library built
-//! with cc), and the docs' generated tables against the python3 scripts that
-//! print them (`doc_tables`). A missing tool fails the test that needs it, naming the tool
+//! with cc), the docs' generated tables against the python3 scripts that
+//! print them (`doc_tables`), and `kdray denoise` against native Open Image
+//! Denoise through python3's `oidn` wheel (`denoise_oidn`). A missing tool fails the test that needs it, naming the tool
 //! and how to install it (`scripts/test.sh external` installs them all).
 //! Run it with `scripts/test.sh external` or `cargo test -p kdray --test external`.
 //!
@@ -13,6 +14,7 @@
 #[path = "../common/mod.rs"]
 mod common;
 
+mod denoise_oidn;
 mod doc_tables;
 mod farm;
 mod farm_path;

@@ -15,6 +15,8 @@ mod common;
 mod alpha_mask;
 mod bench;
 mod cli;
+mod denoise;
+mod denoise_cli;
 mod double_sided;
 mod examples;
 mod glass;

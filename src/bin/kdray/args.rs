@@ -49,6 +49,9 @@ pub enum Command {
     Generate(GenerateArgs),
     /// Write a static site that traces the scene in a browser with WebGPU.
     Web(WebArgs),
+    /// Denoise an HDR image (OpenEXR), with or without albedo and normal, by
+    /// Open Image Denoise's trained network run in kdray's GPU kernels.
+    Denoise(crate::denoise::DenoiseArgs),
     /// Render on a cluster: write a Slurm job array and a finishing job into
     /// --out (a still in bands of rows, or an animation's frames), and
     /// optionally submit them and wait.

@@ -1,9 +1,10 @@
 //! The `kdray` command line: `render` (to a PNG, or `--window`), `inspect`, `info`,
-//! `bench`, `generate`, `web` and `farm` (with its hidden `farm-task` and
+//! `bench`, `generate`, `web`, `denoise` and `farm` (with its hidden `farm-task` and
 //! `farm-finish`).
 
 mod args;
 mod bench;
+mod denoise;
 mod farm;
 
 use std::path::{Path, PathBuf};
@@ -41,6 +42,7 @@ fn main() -> ExitCode {
         Command::Bench(args) => bench::bench(args),
         Command::Generate(args) => bench::generate(args),
         Command::Web(args) => kdray::web::export_site(&args.scene, &args.output),
+        Command::Denoise(args) => denoise::denoise(args),
         Command::Farm(args) => farm::farm(args),
         Command::FarmTask(args) => farm::farm_task(args),
         Command::FarmFinish(args) => farm::farm_finish(args),

@@ -172,12 +172,13 @@ mod tests {
     use super::super::tza::tests::write_tza;
     use super::*;
 
+    /// A tensor to write: name, dimensions, layout, values.
+    type Entry = (String, Vec<usize>, String, Vec<f32>);
+    type Edit = Box<dyn FnOnce(&mut Vec<Entry>)>;
+
     /// The archive of `weights`, through `edit` (which may drop or change
     /// tensors) before it is written.
-    fn archive(
-        weights: &Weights,
-        edit: impl FnOnce(&mut Vec<(String, Vec<usize>, String, Vec<f32>)>),
-    ) -> Vec<u8> {
+    fn archive(weights: &Weights, edit: impl FnOnce(&mut Vec<Entry>)) -> Vec<u8> {
         let mut tensors = Vec::new();
         for (layer, conv) in CONV_LAYERS.iter().zip(&weights.convs) {
             tensors.push((
@@ -213,27 +214,25 @@ mod tests {
     #[test]
     fn a_missing_reshaped_or_extra_tensor_is_one_line_naming_the_file() {
         let weights = Weights::pseudo_random(9, 1);
-        let cases: Vec<(Box<dyn FnOnce(&mut Vec<_>)>, &str)> = vec![
+        let cases: Vec<(Edit, &str)> = vec![
             (
-                Box::new(|t: &mut Vec<(String, _, _, _)>| t.retain(|x| x.0 != "dec_conv2b.bias")),
+                Box::new(|t: &mut Vec<Entry>| t.retain(|x| x.0 != "dec_conv2b.bias")),
                 "no tensor dec_conv2b.bias",
             ),
             (
-                Box::new(|t: &mut Vec<(String, Vec<usize>, _, Vec<f32>)>| {
+                Box::new(|t: &mut Vec<Entry>| {
                     t[4].1 = vec![48, 16, 3, 6];
                 }),
                 "enc_conv2.weight is [48, 16, 3, 6]",
             ),
             (
-                Box::new(|t: &mut Vec<(String, Vec<usize>, String, Vec<f32>)>| {
+                Box::new(|t: &mut Vec<Entry>| {
                     t.push(("extra".into(), vec![1], "x".into(), vec![0.0]))
                 }),
                 "unexpected tensor extra",
             ),
             (
-                Box::new(|t: &mut Vec<(String, Vec<usize>, String, Vec<f32>)>| {
-                    t[1].3[0] = f32::NAN
-                }),
+                Box::new(|t: &mut Vec<Entry>| t[1].3[0] = f32::NAN),
                 "non-finite",
             ),
         ];

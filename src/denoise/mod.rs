@@ -1,0 +1,21 @@
+//! The denoiser on the GPU: Open Image Denoise 1.4.3's RT filter (its U-Net
+//! and trained weights, Apache-2.0, assets/denoise/) run in kdray's own
+//! WGSL kernels (shaders/denoise/), f32 throughout, for HDR images with or
+//! without albedo and normal.
+//!
+//! The GPU-free half (weights, wiring, CPU reference, autoexposure,
+//! transfer function, tiling) is [`kdray_core::denoise`]. Here:
+//! `kernels` (the modules and pipelines), `gpu_weights` (weights laid out
+//! for the convolution and uploaded once per [`Denoiser`]), `tile_run`
+//! (one tile's buffers and its pass: pack, the network's steps, unpack),
+//! `layer_ops` (each layer kind alone, for tests) and [`Denoiser`], which
+//! cuts an image into tiles and runs them.
+
+mod denoiser;
+mod gpu_weights;
+mod kernels;
+mod layer_ops;
+mod tile_run;
+
+pub use denoiser::{shipped_weights, Denoiser};
+pub use gpu_weights::GpuWeights;

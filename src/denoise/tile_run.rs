@@ -1,0 +1,374 @@
+//! One tile size's buffers and bind groups, and the run of the network on
+//! one tile: the tile's source pixels uploaded, packed, the 24 steps of
+//! [`kdray_core::denoise::network::STEPS`] dispatched in one compute pass
+//! (one buffer per slot, each sized for the most that slot ever holds), the
+//! output rectangle unpacked and read back. Every tile of a plan has the
+//! same size, so a plan makes its buffers once.
+
+use bytemuck::{Pod, Zeroable};
+use kdray_core::denoise::layers::Tensor;
+use kdray_core::denoise::network::{
+    slot_index, step_channels, tensor_floats, Slot, Step, OUTPUT_CHANNELS, OUTPUT_SLOT, STEPS,
+};
+
+use super::gpu_weights::{groups, GpuWeights};
+use super::kernels::{Kernels, WORKGROUP};
+use crate::error::{Error, Result};
+use crate::gpu::context::buffer_holding;
+use crate::gpu::{max_binding_bytes, GpuContext};
+
+/// conv.wgsl's `ConvParams`.
+#[repr(C)]
+#[derive(Clone, Copy, Pod, Zeroable)]
+pub struct ConvParams {
+    pub width: u32,
+    pub height: u32,
+    pub src_channels: u32,
+    pub skip_channels: u32,
+    pub out_channels: u32,
+    pub weight_offset: u32,
+    pub bias_offset: u32,
+    pub relu: u32,
+}
+
+/// resample.wgsl's `ResampleParams` (the output's size).
+#[repr(C)]
+#[derive(Clone, Copy, Pod, Zeroable)]
+pub struct ResampleParams {
+    pub width: u32,
+    pub height: u32,
+    pub channels: u32,
+    pub pad: u32,
+}
+
+/// pack.wgsl's `PackParams`.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, Pod, Zeroable)]
+pub struct PackParams {
+    pub tile_width: u32,
+    pub tile_height: u32,
+    pub src_width: u32,
+    pub src_height: u32,
+    pub offset_x: u32,
+    pub offset_y: u32,
+    pub channels: u32,
+    pub out_x: u32,
+    pub out_y: u32,
+    pub out_width: u32,
+    pub out_height: u32,
+    pub input_scale: f32,
+    pub output_scale: f32,
+    pub pu_norm: f32,
+    pub pu_max: f32,
+    pub pad: u32,
+}
+
+/// One dispatch: its pipeline, bind group and workgroup counts (the
+/// unpacking's depend on the tile: [`Dispatch::record_with`]).
+struct Dispatch {
+    pipeline: wgpu::ComputePipeline,
+    group: wgpu::BindGroup,
+    workgroups: [u32; 3],
+}
+
+impl Dispatch {
+    fn record(&self, pass: &mut wgpu::ComputePass<'_>) {
+        self.record_with(pass, self.workgroups);
+    }
+
+    fn record_with(&self, pass: &mut wgpu::ComputePass<'_>, [x, y, z]: [u32; 3]) {
+        pass.set_pipeline(&self.pipeline);
+        pass.set_bind_group(0, &self.group, &[]);
+        pass.dispatch_workgroups(x, y, z);
+    }
+}
+
+pub struct TileRun {
+    pub tile_height: usize,
+    pub tile_width: usize,
+    input_channels: usize,
+    slots: Vec<wgpu::Buffer>,
+    images: wgpu::Buffer,
+    out: wgpu::Buffer,
+    readback: wgpu::Buffer,
+    pack_params: wgpu::Buffer,
+    pack: Dispatch,
+    steps: Vec<Dispatch>,
+    unpack: Dispatch,
+}
+
+fn storage(
+    device: &wgpu::Device,
+    label: &str,
+    floats: usize,
+    extra: wgpu::BufferUsages,
+) -> wgpu::Buffer {
+    device.create_buffer(&wgpu::BufferDescriptor {
+        label: Some(label),
+        size: (floats.max(1) * 4) as u64,
+        usage: wgpu::BufferUsages::STORAGE | extra,
+        mapped_at_creation: false,
+    })
+}
+
+fn uniform<T: Pod>(device: &wgpu::Device, value: &T) -> wgpu::Buffer {
+    buffer_holding(
+        device,
+        "denoise step parameters",
+        bytemuck::bytes_of(value),
+        wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+    )
+}
+
+fn bind(
+    device: &wgpu::Device,
+    pipeline: &wgpu::ComputePipeline,
+    buffers: &[&wgpu::Buffer],
+) -> wgpu::BindGroup {
+    let layout = pipeline.get_bind_group_layout(0);
+    let entries: Vec<wgpu::BindGroupEntry<'_>> = buffers
+        .iter()
+        .enumerate()
+        .map(|(i, b)| wgpu::BindGroupEntry {
+            binding: i as u32,
+            resource: b.as_entire_binding(),
+        })
+        .collect();
+    device.create_bind_group(&wgpu::BindGroupDescriptor {
+        label: Some("denoise step"),
+        layout: &layout,
+        entries: &entries,
+    })
+}
+
+fn workgroups(width: usize, height: usize, z: usize) -> [u32; 3] {
+    [
+        (width as u32).div_ceil(WORKGROUP),
+        (height as u32).div_ceil(WORKGROUP),
+        z as u32,
+    ]
+}
+
+impl TileRun {
+    /// The buffers and bind groups for tiles of `tile_height` x
+    /// `tile_width` (multiples of 16) through `weights`. Fails in one line
+    /// if a tensor would exceed the device's largest storage binding.
+    pub fn new(
+        ctx: &GpuContext,
+        kernels: &Kernels,
+        weights: &GpuWeights,
+        tile_height: usize,
+        tile_width: usize,
+    ) -> Result<Self> {
+        let input_channels = weights.input_channels;
+        let (largest, per_slot) = tensor_floats(input_channels, tile_height, tile_width);
+        let limit = max_binding_bytes(&ctx.device.limits());
+        if largest as u64 * 4 > limit {
+            return Err(Error::Gpu(format!(
+                "a {tile_width}x{tile_height} denoise tile needs a {} byte tensor, over the device's largest storage binding ({limit})",
+                largest * 4
+            )));
+        }
+        let channels = step_channels(input_channels);
+        ctx.checked("creating the denoiser's tile buffers", |device| {
+            let slots: Vec<wgpu::Buffer> = per_slot
+                .iter()
+                .map(|&floats| {
+                    storage(
+                        device,
+                        "denoise tensor",
+                        floats,
+                        wgpu::BufferUsages::COPY_DST | wgpu::BufferUsages::COPY_SRC,
+                    )
+                })
+                .collect();
+            let pixels = tile_height * tile_width;
+            let images = storage(
+                device,
+                "denoise tile images",
+                9 * pixels,
+                wgpu::BufferUsages::COPY_DST,
+            );
+            let out = storage(
+                device,
+                "denoise tile output",
+                OUTPUT_CHANNELS * pixels,
+                wgpu::BufferUsages::COPY_SRC,
+            );
+            let readback = device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some("denoise readback"),
+                size: (per_slot[slot_index(OUTPUT_SLOT)].max(OUTPUT_CHANNELS * pixels) * 4) as u64,
+                usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
+                mapped_at_creation: false,
+            });
+            let pack_params = uniform(device, &PackParams::default());
+            let slot = |s: Slot| &slots[slot_index(s)];
+            let mut held = [0usize; 6];
+            held[slot_index(Slot::Input)] = input_channels;
+            let mut steps = Vec::new();
+            for (step, out_channels) in STEPS.iter().zip(channels) {
+                let level = step.level();
+                let (h, w) = (tile_height >> level, tile_width >> level);
+                let dispatch = match *step {
+                    Step::Conv {
+                        layer,
+                        src,
+                        skip,
+                        dst,
+                        relu,
+                        ..
+                    } => {
+                        let offsets = weights.layers[layer];
+                        let params = ConvParams {
+                            width: w as u32,
+                            height: h as u32,
+                            src_channels: held[slot_index(src)] as u32,
+                            skip_channels: skip.map_or(0, |s| held[slot_index(s)]) as u32,
+                            out_channels: offsets.out_channels,
+                            weight_offset: offsets.weight_offset,
+                            bias_offset: offsets.bias_offset,
+                            relu: u32::from(relu),
+                        };
+                        let params = uniform(device, &params);
+                        let skip = slot(skip.unwrap_or(src));
+                        Dispatch {
+                            pipeline: kernels.conv.clone(),
+                            group: bind(
+                                device,
+                                &kernels.conv,
+                                &[&params, &weights.buffer, slot(src), skip, slot(dst)],
+                            ),
+                            workgroups: workgroups(w, h, groups(out_channels)),
+                        }
+                    }
+                    Step::Pool { src, dst, .. } | Step::Upsample { src, dst, .. } => {
+                        let pipeline = match step {
+                            Step::Pool { .. } => &kernels.pool,
+                            _ => &kernels.upsample,
+                        };
+                        let params = uniform(
+                            device,
+                            &ResampleParams {
+                                width: w as u32,
+                                height: h as u32,
+                                channels: out_channels as u32,
+                                pad: 0,
+                            },
+                        );
+                        Dispatch {
+                            pipeline: pipeline.clone(),
+                            group: bind(device, pipeline, &[&params, slot(src), slot(dst)]),
+                            workgroups: workgroups(w, h, out_channels),
+                        }
+                    }
+                };
+                held[slot_index(step.dst())] = out_channels;
+                steps.push(dispatch);
+            }
+            let pack = Dispatch {
+                pipeline: kernels.pack.clone(),
+                group: bind(
+                    device,
+                    &kernels.pack,
+                    &[&pack_params, &images, slot(Slot::Input)],
+                ),
+                workgroups: workgroups(tile_width, tile_height, 1),
+            };
+            let unpack = Dispatch {
+                pipeline: kernels.unpack.clone(),
+                group: bind(
+                    device,
+                    &kernels.unpack,
+                    &[&pack_params, slot(OUTPUT_SLOT), &out],
+                ),
+                workgroups: [0, 0, 1],
+            };
+            TileRun {
+                tile_height,
+                tile_width,
+                input_channels,
+                slots,
+                images,
+                out,
+                readback,
+                pack_params,
+                pack,
+                steps,
+                unpack,
+            }
+        })
+    }
+
+    /// Denoises one tile: `images` holds the source rectangle of each input
+    /// image in turn (three floats a pixel); returns the output rectangle
+    /// (`params.out_width` x `params.out_height`, three floats a pixel).
+    pub fn run_tile(
+        &self,
+        ctx: &GpuContext,
+        images: &[f32],
+        params: &PackParams,
+    ) -> Result<Vec<f32>> {
+        let floats = params.out_width as usize * params.out_height as usize * OUTPUT_CHANNELS;
+        ctx.checked("running a denoise tile", |device| {
+            ctx.queue
+                .write_buffer(&self.images, 0, bytemuck::cast_slice(images));
+            ctx.queue
+                .write_buffer(&self.pack_params, 0, bytemuck::bytes_of(params));
+            let mut encoder = device.create_command_encoder(&Default::default());
+            {
+                let mut pass = encoder.begin_compute_pass(&Default::default());
+                self.pack.record(&mut pass);
+                for step in &self.steps {
+                    step.record(&mut pass);
+                }
+                let groups = workgroups(params.out_width as usize, params.out_height as usize, 1);
+                self.unpack.record_with(&mut pass, groups);
+            }
+            encoder.copy_buffer_to_buffer(&self.out, 0, &self.readback, 0, (floats * 4) as u64);
+            ctx.queue.submit([encoder.finish()]);
+        })?;
+        let bytes = ctx.read_buffer(&self.readback, (floats * 4) as u64)?;
+        Ok(bytemuck::cast_slice(&bytes).to_vec())
+    }
+
+    /// The network alone on an already packed input tensor (tile-sized):
+    /// its raw output, [`OUTPUT_CHANNELS`] planes.
+    pub fn run_tensor(&self, ctx: &GpuContext, input: &Tensor) -> Result<Tensor> {
+        if (input.channels, input.height, input.width)
+            != (self.input_channels, self.tile_height, self.tile_width)
+        {
+            return Err(Error::Usage(format!(
+                "a {}x{}x{} tensor for a {}x{}x{} network input",
+                input.channels,
+                input.height,
+                input.width,
+                self.input_channels,
+                self.tile_height,
+                self.tile_width
+            )));
+        }
+        let floats = OUTPUT_CHANNELS * self.tile_height * self.tile_width;
+        ctx.checked("running the denoise network", |device| {
+            let input_slot = &self.slots[slot_index(Slot::Input)];
+            ctx.queue
+                .write_buffer(input_slot, 0, bytemuck::cast_slice(&input.data));
+            let mut encoder = device.create_command_encoder(&Default::default());
+            {
+                let mut pass = encoder.begin_compute_pass(&Default::default());
+                for step in &self.steps {
+                    step.record(&mut pass);
+                }
+            }
+            let output = &self.slots[slot_index(OUTPUT_SLOT)];
+            encoder.copy_buffer_to_buffer(output, 0, &self.readback, 0, (floats * 4) as u64);
+            ctx.queue.submit([encoder.finish()]);
+        })?;
+        let bytes = ctx.read_buffer(&self.readback, (floats * 4) as u64)?;
+        Ok(Tensor {
+            channels: OUTPUT_CHANNELS,
+            height: self.tile_height,
+            width: self.tile_width,
+            data: bytemuck::cast_slice(&bytes).to_vec(),
+        })
+    }
+}
