@@ -7,7 +7,7 @@ use glam::Vec3;
 
 use crate::scene::texture::texture_lod;
 
-use super::ReferenceTracer;
+use super::tracer::ReferenceTracer;
 
 /// Where a path meets a surface, seen from the incoming ray: mirror of
 /// `Surface` in shaders/surface.wgsl.

@@ -9,8 +9,9 @@ use crate::kdtree::traverse::Hit;
 use crate::layout::{GLASS_STACK_DEPTH, SHADOW_CROSSINGS};
 use crate::scene::{LightKind, ShadowMode};
 
+use super::rays::{PathRay, PathStep, RayKind};
 use super::surface::{reflection_dir, refraction_at};
-use super::{PathRay, PathStep, RayKind, ReferenceTracer};
+use super::tracer::ReferenceTracer;
 
 impl ReferenceTracer<'_> {
     /// Mirror of `shadow_transmittance` in shaders/glass.wgsl: an any-hit
