@@ -1,14 +1,18 @@
 // The denoiser's 3x3 convolution (src/denoise/): one invocation computes
-// eight output channels of one pixel. The input is `src`'s channels, then
-// `skip`'s (the U-Net's concatenation, never stored); zero padding of one
-// pixel; bias; ReLU unless it is the last layer. Tensors are planar CHW
-// f32. The weights of a layer are laid out for this loop: for output group
-// g (8 channels), input channel i and tap t (ky * 3 + kx), two vec4s at
-// ((g * in_channels + i) * 9 + t) * 2, the group's eight weights; the
-// bias's eight values at the layer's bias offset + g * 2. Every invocation
-// of a workgroup shares g (the z of the dispatch), so the weights are read
-// uniformly. Loops run over input channels only (at most 160 for the
-// U-Net: far under llvmpipe's 65,535 iterations).
+// eight output channels (one group) of one pixel; one dispatch computes
+// one group of every pixel. The input is `src`'s channels, then `skip`'s
+// (the U-Net's concatenation, never stored); zero padding of one pixel;
+// bias; ReLU unless it is the last layer. Tensors are planar CHW f32.
+//
+// The group's weights are a uniform block of at most 64 KiB (bound at the
+// group's offset in the network's weights buffer): the eight biases in
+// its first two vec4s, then for input channel i and tap t (ky * 3 + kx)
+// the eight weights in the two vec4s at 2 + (i * 9 + t) * 2. Every index
+// into it is the same for all invocations, so a weight is read once for
+// all of them: from a storage buffer llvmpipe read each weight per
+// invocation, and the whole denoise ran several times slower. Loops run
+// over input channels only (at most 160 for the U-Net: far under
+// llvmpipe's 65,535 iterations).
 
 struct ConvParams {
     width: u32,
@@ -17,14 +21,14 @@ struct ConvParams {
     skip_channels: u32,
     // Output channels stored (the last group may be partly padding).
     out_channels: u32,
-    // Start of the layer's weights and biases in `weights`, in vec4s.
-    weight_offset: u32,
-    bias_offset: u32,
+    // This dispatch's group: output channels 8 * group ..
+    group: u32,
     relu: u32,
+    pad: u32,
 }
 
 @group(0) @binding(0) var<uniform> p: ConvParams;
-@group(0) @binding(1) var<storage, read> weights: array<vec4<f32>>;
+@group(0) @binding(1) var<uniform> weights: array<vec4<f32>, 4096>;
 @group(0) @binding(2) var<storage, read> src: array<f32>;
 @group(0) @binding(3) var<storage, read> skip: array<f32>;
 @group(0) @binding(4) var<storage, read_write> dst: array<f32>;
@@ -121,24 +125,19 @@ fn store(o: u32, pixel: u32, v: f32) {
 }
 
 @compute @workgroup_size(8, 8, 1)
-fn conv3x3(@builtin(global_invocation_id) id: vec3<u32>, @builtin(workgroup_id) wg: vec3<u32>) {
+fn conv3x3(@builtin(global_invocation_id) id: vec3<u32>) {
     // Invocations past the edge compute the edge pixel and store nothing:
     // no early return, so every invocation runs the same loop in step.
     let inside = id.x < p.width && id.y < p.height;
     let x = min(id.x, p.width - 1u);
     let y = min(id.y, p.height - 1u);
-    // The group from the workgroup's id, not the invocation's: the
-    // compiler then knows every weight index is uniform and reads each
-    // weight once for all invocations (llvmpipe: a scalar load, not a
-    // gather), which made the convolution several times faster.
-    let g = wg.z;
+    let g = p.group;
     let t = taps(x, y);
     let plane = p.width * p.height;
-    let in_channels = p.src_channels + p.skip_channels;
     var acc: Acc;
-    acc.lo = weights[p.bias_offset + 2u * g];
-    acc.hi = weights[p.bias_offset + 2u * g + 1u];
-    let group_base = p.weight_offset + g * in_channels * 18u;
+    acc.lo = weights[0];
+    acc.hi = weights[1];
+    let group_base = 2u;
     for (var i = 0u; i < p.src_channels; i++) {
         acc = add_src(acc, i * plane, t, group_base + i * 18u);
     }

@@ -1,22 +1,26 @@
 //! A network's weights laid out for shaders/denoise/conv.wgsl and uploaded
-//! once: every layer's weights grouped by eight output channels (the
-//! invocation's vec4 pair), its biases after them, all layers in one
-//! storage buffer (about 3.7 MB for OIDN's RT networks).
+//! once: for each layer and each group of eight output channels, a block
+//! of the group's biases and weights that the convolution binds as a
+//! uniform buffer of [`BLOCK_BYTES`] at the block's offset. All blocks of a
+//! network share one buffer (about 3.7 MB for OIDN's RT networks).
 
 use kdray_core::denoise::{ConvWeights, Weights};
 
 use super::kernels::CONV_GROUP;
 use crate::error::{Error, Result};
 use crate::gpu::context::buffer_holding;
-use crate::gpu::{max_binding_bytes, GpuContext};
+use crate::gpu::GpuContext;
 
-/// Where one layer's weights and biases start in the buffer, in vec4s.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub struct LayerOffsets {
-    pub weight_offset: u32,
-    pub bias_offset: u32,
+/// The size of conv.wgsl's uniform weights array (4096 vec4s): WebGPU's
+/// smallest guaranteed uniform binding.
+pub const BLOCK_BYTES: u64 = 64 << 10;
+
+/// One layer's groups: where each group's block starts, in bytes.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct LayerBlocks {
     pub out_channels: u32,
     pub in_channels: u32,
+    pub group_offsets: Vec<u64>,
 }
 
 /// The output channel groups of a layer of `out_channels`.
@@ -24,18 +28,32 @@ pub fn groups(out_channels: usize) -> usize {
     out_channels.div_ceil(CONV_GROUP)
 }
 
-/// Appends one layer in conv.wgsl's order to `floats` (whose length is a
-/// multiple of 4) and returns its offsets: for group g, input channel i,
-/// tap t, the eight weights of outputs 8g..8g+7 (zero past the last),
-/// then the biases likewise.
-pub fn append_layer(floats: &mut Vec<f32>, conv: &ConvWeights) -> LayerOffsets {
+/// Appends one layer's blocks to `floats`, each starting at a multiple of
+/// `align` bytes: for group g, the biases of outputs 8g..8g+7, then for
+/// input channel i and tap t their eight weights (zero past the last
+/// output). Fails if a block would not fit [`BLOCK_BYTES`].
+pub fn append_layer(floats: &mut Vec<f32>, conv: &ConvWeights, align: u64) -> Result<LayerBlocks> {
     let (oc, ic) = (conv.out_channels, conv.in_channels);
-    let weight_offset = floats.len() / 4;
+    let block_floats = CONV_GROUP * (1 + ic * 9);
+    if (block_floats * 4) as u64 > BLOCK_BYTES {
+        return Err(Error::Gpu(format!(
+            "a convolution reading {ic} channels needs {} bytes of weights per group, over {BLOCK_BYTES}",
+            block_floats * 4
+        )));
+    }
+    let align_floats = (align.max(16) / 4) as usize;
+    let mut group_offsets = Vec::new();
     for g in 0..groups(oc) {
+        floats.resize(floats.len().div_ceil(align_floats) * align_floats, 0.0);
+        group_offsets.push(floats.len() as u64 * 4);
+        let output = |k: usize| g * CONV_GROUP + k;
+        for k in 0..CONV_GROUP {
+            floats.push(conv.bias.get(output(k)).copied().unwrap_or(0.0));
+        }
         for i in 0..ic {
             for t in 0..9 {
                 for k in 0..CONV_GROUP {
-                    let o = g * CONV_GROUP + k;
+                    let o = output(k);
                     floats.push(if o < oc {
                         conv.weight[(o * ic + i) * 9 + t]
                     } else {
@@ -45,69 +63,77 @@ pub fn append_layer(floats: &mut Vec<f32>, conv: &ConvWeights) -> LayerOffsets {
             }
         }
     }
-    let bias_offset = floats.len() / 4;
-    for o in 0..groups(oc) * CONV_GROUP {
-        floats.push(conv.bias.get(o).copied().unwrap_or(0.0));
-    }
-    LayerOffsets {
-        weight_offset: weight_offset as u32,
-        bias_offset: bias_offset as u32,
+    Ok(LayerBlocks {
         out_channels: oc as u32,
         in_channels: ic as u32,
-    }
+        group_offsets,
+    })
 }
 
 /// A network's weights on the GPU.
 pub struct GpuWeights {
     pub input_channels: usize,
-    pub layers: Vec<LayerOffsets>,
+    pub layers: Vec<LayerBlocks>,
     pub buffer: wgpu::Buffer,
 }
 
 impl GpuWeights {
     pub fn upload(ctx: &GpuContext, weights: &Weights) -> Result<Self> {
-        let mut floats = Vec::new();
-        let layers: Vec<LayerOffsets> = weights
-            .convs
-            .iter()
-            .map(|conv| append_layer(&mut floats, conv))
-            .collect();
-        Self::upload_floats(ctx, weights.input_channels, layers, &floats)
+        Self::upload_layers(ctx, weights.input_channels, &weights.convs)
     }
 
     /// One layer alone (the layer tests).
     pub fn upload_layer(ctx: &GpuContext, conv: &ConvWeights) -> Result<Self> {
-        let mut floats = Vec::new();
-        let layer = append_layer(&mut floats, conv);
-        Self::upload_floats(ctx, conv.in_channels, vec![layer], &floats)
+        Self::upload_layers(ctx, conv.in_channels, std::slice::from_ref(conv))
     }
 
-    fn upload_floats(
+    fn upload_layers(
         ctx: &GpuContext,
         input_channels: usize,
-        layers: Vec<LayerOffsets>,
-        floats: &[f32],
+        convs: &[ConvWeights],
     ) -> Result<Self> {
-        let bytes: &[u8] = bytemuck::cast_slice(floats);
-        let limit = max_binding_bytes(&ctx.device.limits());
-        if bytes.len() as u64 > limit {
+        let limits = ctx.device.limits();
+        if u64::from(limits.max_uniform_buffer_binding_size) < BLOCK_BYTES {
             return Err(Error::Gpu(format!(
-                "the denoiser's weights take {} bytes, over the device's largest storage binding ({limit})",
-                bytes.len()
+                "the denoiser binds {BLOCK_BYTES}-byte uniform buffers; the device allows {}",
+                limits.max_uniform_buffer_binding_size
             )));
         }
+        let align = u64::from(limits.min_uniform_buffer_offset_alignment);
+        let mut floats = Vec::new();
+        let layers = convs
+            .iter()
+            .map(|conv| append_layer(&mut floats, conv, align))
+            .collect::<Result<Vec<_>>>()?;
+        // The last block's binding is BLOCK_BYTES long too.
+        let end = layers
+            .iter()
+            .flat_map(|l| l.group_offsets.iter())
+            .max()
+            .map_or(0, |o| o + BLOCK_BYTES);
+        floats.resize(floats.len().max((end / 4) as usize), 0.0);
+        let bytes: &[u8] = bytemuck::cast_slice(&floats);
         let buffer = ctx.checked("uploading the denoiser's weights", |device| {
             buffer_holding(
                 device,
                 "denoise weights",
                 bytes,
-                wgpu::BufferUsages::STORAGE,
+                wgpu::BufferUsages::UNIFORM,
             )
         })?;
         Ok(GpuWeights {
             input_channels,
             layers,
             buffer,
+        })
+    }
+
+    /// The uniform binding of group `group` of layer `layer`.
+    pub fn block(&self, layer: usize, group: usize) -> wgpu::BindingResource<'_> {
+        wgpu::BindingResource::Buffer(wgpu::BufferBinding {
+            buffer: &self.buffer,
+            offset: self.layers[layer].group_offsets[group],
+            size: std::num::NonZeroU64::new(BLOCK_BYTES),
         })
     }
 }
@@ -117,7 +143,7 @@ mod tests {
     use super::*;
 
     /// Each weight lands where conv.wgsl reads it, padding outputs are
-    /// zero, and layers follow each other.
+    /// zero, and blocks start aligned.
     #[test]
     fn weights_are_grouped_by_eight_outputs() {
         let conv = ConvWeights {
@@ -127,23 +153,30 @@ mod tests {
             bias: (0..11).map(|i| -(i as f32)).collect(),
         };
         let mut floats = vec![0.0; 4];
-        let offsets = append_layer(&mut floats, &conv);
-        assert_eq!(offsets.weight_offset, 1);
-        let at = |g: usize, i: usize, t: usize, k: usize| {
-            floats[offsets.weight_offset as usize * 4 + ((g * 2 + i) * 9 + t) * 8 + k]
+        let blocks = append_layer(&mut floats, &conv, 256).unwrap();
+        assert_eq!(blocks.group_offsets, [256, 256 + 768]);
+        let at = |g: usize, vec4: usize, lane: usize| {
+            floats[blocks.group_offsets[g] as usize / 4 + vec4 * 4 + lane]
         };
         for o in 0..11 {
+            let (g, k) = (o / 8, o % 8);
+            assert_eq!(at(g, k / 4, k % 4), conv.bias[o]);
             for i in 0..2 {
                 for t in 0..9 {
-                    assert_eq!(at(o / 8, i, t, o % 8), conv.weight[(o * 2 + i) * 9 + t]);
+                    // conv.wgsl: vec4s 2 + (i * 9 + t) * 2 and the next.
+                    let v = 2 + (i * 9 + t) * 2 + k / 4;
+                    assert_eq!(at(g, v, k % 4), conv.weight[(o * 2 + i) * 9 + t]);
                 }
             }
         }
-        assert_eq!(at(1, 1, 8, 3), 0.0, "output 11 is padding");
-        let bias = offsets.bias_offset as usize * 4;
-        assert_eq!(bias, 4 + 2 * 2 * 9 * 8);
-        assert_eq!(floats[bias + 10], -10.0);
-        assert_eq!(floats[bias + 15], 0.0);
-        assert_eq!(floats.len(), bias + 16);
+        assert_eq!(at(1, 2 + 17 * 2 + 1, 3), 0.0, "output 15 is padding");
+        assert_eq!(at(1, 1, 3), 0.0);
+        let too_wide = ConvWeights {
+            out_channels: 8,
+            in_channels: 300,
+            weight: vec![0.0; 8 * 300 * 9],
+            bias: vec![0.0; 8],
+        };
+        assert!(append_layer(&mut floats, &too_wide, 256).is_err());
     }
 }

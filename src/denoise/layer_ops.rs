@@ -7,33 +7,27 @@
 use kdray_core::denoise::layers::Tensor;
 use kdray_core::denoise::ConvWeights;
 
-use super::gpu_weights::{groups, GpuWeights};
-use super::tile_run::{ConvParams, ResampleParams};
+use super::gpu_weights::GpuWeights;
+use super::tile_run::{bind_resources, ConvParams, ResampleParams};
 use super::Denoiser;
 use crate::error::{Error, Result};
 use crate::gpu::context::buffer_holding;
 use crate::gpu::GpuContext;
 
-/// Uploads `inputs`, runs `pipeline` once with `params` and the buffers in
-/// binding order (params, `leading`, the inputs, the output), and reads
-/// the output (`out_floats`) back.
+/// Uploads `inputs`, runs `pipeline` once per entry of `dispatches` (its
+/// parameters and, for a convolution, its group's weights) with the
+/// buffers in binding order (params, weights, the inputs, the output),
+/// and reads the output (`out_floats`) back.
 fn run_once(
     ctx: &GpuContext,
     pipeline: &wgpu::ComputePipeline,
-    params: &[u8],
-    leading: Option<&wgpu::Buffer>,
+    dispatches: Vec<(Vec<u8>, Option<wgpu::BindingResource<'_>>)>,
     inputs: &[&[f32]],
     out_floats: usize,
     workgroups: [u32; 3],
 ) -> Result<Vec<f32>> {
     let size = (out_floats.max(1) * 4) as u64;
     let readback = ctx.checked("running a denoise layer", |device| {
-        let params = buffer_holding(
-            device,
-            "layer parameters",
-            params,
-            wgpu::BufferUsages::UNIFORM,
-        );
         let inputs: Vec<wgpu::Buffer> = inputs
             .iter()
             .map(|data| {
@@ -58,31 +52,32 @@ fn run_once(
             usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
             mapped_at_creation: false,
         });
-        let buffers: Vec<&wgpu::Buffer> = std::iter::once(&params)
-            .chain(leading)
-            .chain(&inputs)
-            .chain(std::iter::once(&out))
-            .collect();
-        let layout = pipeline.get_bind_group_layout(0);
-        let entries: Vec<wgpu::BindGroupEntry<'_>> = buffers
-            .iter()
-            .enumerate()
-            .map(|(i, b)| wgpu::BindGroupEntry {
-                binding: i as u32,
-                resource: b.as_entire_binding(),
+        let groups: Vec<wgpu::BindGroup> = dispatches
+            .into_iter()
+            .map(|(params, weights)| {
+                let params = buffer_holding(
+                    device,
+                    "layer parameters",
+                    &params,
+                    wgpu::BufferUsages::UNIFORM,
+                );
+                let resources: Vec<wgpu::BindingResource<'_>> =
+                    std::iter::once(params.as_entire_binding())
+                        .chain(weights)
+                        .chain(inputs.iter().map(|b| b.as_entire_binding()))
+                        .chain(std::iter::once(out.as_entire_binding()))
+                        .collect();
+                bind_resources(device, pipeline, resources)
             })
             .collect();
-        let group = device.create_bind_group(&wgpu::BindGroupDescriptor {
-            label: Some("denoise layer"),
-            layout: &layout,
-            entries: &entries,
-        });
         let mut encoder = device.create_command_encoder(&Default::default());
         {
             let mut pass = encoder.begin_compute_pass(&Default::default());
             pass.set_pipeline(pipeline);
-            pass.set_bind_group(0, &group, &[]);
-            pass.dispatch_workgroups(workgroups[0], workgroups[1], workgroups[2]);
+            for group in &groups {
+                pass.set_bind_group(0, group, &[]);
+                pass.dispatch_workgroups(workgroups[0], workgroups[1], workgroups[2]);
+            }
         }
         encoder.copy_buffer_to_buffer(&out, 0, &readback, 0, size);
         ctx.queue.submit([encoder.finish()]);
@@ -119,27 +114,34 @@ impl Denoiser<'_> {
             ));
         }
         let weights = GpuWeights::upload_layer(self.ctx, w)?;
-        let layer = weights.layers[0];
-        let params = ConvParams {
-            width: src.width as u32,
-            height: src.height as u32,
-            src_channels: src.channels as u32,
-            skip_channels: skip_channels as u32,
-            out_channels: layer.out_channels,
-            weight_offset: layer.weight_offset,
-            bias_offset: layer.bias_offset,
-            relu: u32::from(relu),
-        };
+        let blocks = &weights.layers[0];
+        let dispatches = (0..blocks.group_offsets.len())
+            .map(|group| {
+                let params = ConvParams {
+                    width: src.width as u32,
+                    height: src.height as u32,
+                    src_channels: src.channels as u32,
+                    skip_channels: skip_channels as u32,
+                    out_channels: blocks.out_channels,
+                    group: group as u32,
+                    relu: u32::from(relu),
+                    pad: 0,
+                };
+                (
+                    bytemuck::bytes_of(&params).to_vec(),
+                    Some(weights.block(0, group)),
+                )
+            })
+            .collect();
         let skip_data = skip.map_or(&src.data, |s| &s.data);
         let out_floats = w.out_channels * src.height * src.width;
         let data = run_once(
             self.ctx,
             &self.kernels.conv,
-            bytemuck::bytes_of(&params),
-            Some(&weights.buffer),
+            dispatches,
             &[&src.data, skip_data],
             out_floats,
-            workgroups(src.width, src.height, groups(w.out_channels)),
+            workgroups(src.width, src.height, 1),
         )?;
         Ok(Tensor {
             channels: w.out_channels,
@@ -178,8 +180,7 @@ impl Denoiser<'_> {
         let data = run_once(
             self.ctx,
             pipeline,
-            bytemuck::bytes_of(&params),
-            None,
+            vec![(bytemuck::bytes_of(&params).to_vec(), None)],
             &[&src.data],
             out_floats,
             workgroups(width, height, src.channels),

@@ -11,7 +11,7 @@ use kdray_core::denoise::network::{
     slot_index, step_channels, tensor_floats, Slot, Step, OUTPUT_CHANNELS, OUTPUT_SLOT, STEPS,
 };
 
-use super::gpu_weights::{groups, GpuWeights};
+use super::gpu_weights::GpuWeights;
 use super::kernels::{Kernels, WORKGROUP};
 use crate::error::{Error, Result};
 use crate::gpu::context::buffer_holding;
@@ -26,9 +26,9 @@ pub struct ConvParams {
     pub src_channels: u32,
     pub skip_channels: u32,
     pub out_channels: u32,
-    pub weight_offset: u32,
-    pub bias_offset: u32,
+    pub group: u32,
     pub relu: u32,
+    pub pad: u32,
 }
 
 /// resample.wgsl's `ResampleParams` (the output's size).
@@ -125,13 +125,26 @@ fn bind(
     pipeline: &wgpu::ComputePipeline,
     buffers: &[&wgpu::Buffer],
 ) -> wgpu::BindGroup {
+    bind_resources(
+        device,
+        pipeline,
+        buffers.iter().map(|b| b.as_entire_binding()),
+    )
+}
+
+/// A bind group of `resources` at bindings 0, 1, ... of `pipeline`'s layout.
+pub fn bind_resources<'a>(
+    device: &wgpu::Device,
+    pipeline: &wgpu::ComputePipeline,
+    resources: impl IntoIterator<Item = wgpu::BindingResource<'a>>,
+) -> wgpu::BindGroup {
     let layout = pipeline.get_bind_group_layout(0);
-    let entries: Vec<wgpu::BindGroupEntry<'_>> = buffers
-        .iter()
+    let entries: Vec<wgpu::BindGroupEntry<'_>> = resources
+        .into_iter()
         .enumerate()
-        .map(|(i, b)| wgpu::BindGroupEntry {
+        .map(|(i, resource)| wgpu::BindGroupEntry {
             binding: i as u32,
-            resource: b.as_entire_binding(),
+            resource,
         })
         .collect();
     device.create_bind_group(&wgpu::BindGroupDescriptor {
@@ -209,7 +222,7 @@ impl TileRun {
             for (step, out_channels) in STEPS.iter().zip(channels) {
                 let level = step.level();
                 let (h, w) = (tile_height >> level, tile_width >> level);
-                let dispatch = match *step {
+                match *step {
                     Step::Conv {
                         layer,
                         src,
@@ -218,27 +231,35 @@ impl TileRun {
                         relu,
                         ..
                     } => {
-                        let offsets = weights.layers[layer];
-                        let params = ConvParams {
-                            width: w as u32,
-                            height: h as u32,
-                            src_channels: held[slot_index(src)] as u32,
-                            skip_channels: skip.map_or(0, |s| held[slot_index(s)]) as u32,
-                            out_channels: offsets.out_channels,
-                            weight_offset: offsets.weight_offset,
-                            bias_offset: offsets.bias_offset,
-                            relu: u32::from(relu),
-                        };
-                        let params = uniform(device, &params);
-                        let skip = slot(skip.unwrap_or(src));
-                        Dispatch {
-                            pipeline: kernels.conv.clone(),
-                            group: bind(
+                        // One dispatch per group of eight outputs, each
+                        // with its block of weights.
+                        let blocks = &weights.layers[layer];
+                        for group in 0..blocks.group_offsets.len() {
+                            let params = uniform(
                                 device,
-                                &kernels.conv,
-                                &[&params, &weights.buffer, slot(src), skip, slot(dst)],
-                            ),
-                            workgroups: workgroups(w, h, groups(out_channels)),
+                                &ConvParams {
+                                    width: w as u32,
+                                    height: h as u32,
+                                    src_channels: held[slot_index(src)] as u32,
+                                    skip_channels: skip.map_or(0, |s| held[slot_index(s)]) as u32,
+                                    out_channels: blocks.out_channels,
+                                    group: group as u32,
+                                    relu: u32::from(relu),
+                                    pad: 0,
+                                },
+                            );
+                            let resources = [
+                                params.as_entire_binding(),
+                                weights.block(layer, group),
+                                slot(src).as_entire_binding(),
+                                slot(skip.unwrap_or(src)).as_entire_binding(),
+                                slot(dst).as_entire_binding(),
+                            ];
+                            steps.push(Dispatch {
+                                pipeline: kernels.conv.clone(),
+                                group: bind_resources(device, &kernels.conv, resources),
+                                workgroups: workgroups(w, h, 1),
+                            });
                         }
                     }
                     Step::Pool { src, dst, .. } | Step::Upsample { src, dst, .. } => {
@@ -255,15 +276,14 @@ impl TileRun {
                                 pad: 0,
                             },
                         );
-                        Dispatch {
+                        steps.push(Dispatch {
                             pipeline: pipeline.clone(),
                             group: bind(device, pipeline, &[&params, slot(src), slot(dst)]),
                             workgroups: workgroups(w, h, out_channels),
-                        }
+                        });
                     }
-                };
+                }
                 held[slot_index(step.dst())] = out_channels;
-                steps.push(dispatch);
             }
             let pack = Dispatch {
                 pipeline: kernels.pack.clone(),
