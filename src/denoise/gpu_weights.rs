@@ -93,7 +93,7 @@ impl GpuWeights {
         convs: &[ConvWeights],
     ) -> Result<Self> {
         let limits = ctx.device.limits();
-        if u64::from(limits.max_uniform_buffer_binding_size) < BLOCK_BYTES {
+        if limits.max_uniform_buffer_binding_size < BLOCK_BYTES {
             return Err(Error::Gpu(format!(
                 "the denoiser binds {BLOCK_BYTES}-byte uniform buffers; the device allows {}",
                 limits.max_uniform_buffer_binding_size
