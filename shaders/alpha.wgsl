@@ -3,7 +3,7 @@
 // test_object (intersect.wgsl) finds no hit at such a point, in every walk
 // and the brute-force loop, for nearest and any hits: primary, reflected,
 // shadow and path rays all pass through. Mirrors
-// crates/kdray-core/src/alpha_test.rs; compiled out without ALPHA_TEST.
+// crates/kdray-core/src/geometry/alpha_test.rs; compiled out without ALPHA_TEST.
 //
 // Alpha at a hit: the material's factor times, on a textured triangle,
 // its base-colour texture's alpha at the hit's texture coordinates (the

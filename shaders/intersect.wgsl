@@ -1,5 +1,5 @@
-// Rays, boxes, spheres and triangles. Mirrors crates/kdray-core/src/geometry.rs
-// line by line.
+// Rays, boxes, spheres and triangles. Mirrors crates/kdray-core/src/geometry/
+// (ray.rs, aabb.rs, sphere.rs, triangle.rs, primitives.rs) line by line.
 
 const NO_HIT: f32 = -1.0;
 
@@ -59,7 +59,7 @@ fn intersect_sphere(s: Sphere, ray: Ray) -> f32 {
 }
 
 // The watertight test's per-ray constants (RayShear in
-// crates/kdray-core/src/geometry.rs): kz the axis the ray runs most along, kx,
+// crates/kdray-core/src/geometry/triangle.rs): kz the axis the ray runs most along, kx,
 // ky the others; (sx, sy, sz) map the direction onto (0, 0, 1).
 struct RayShear {
     kx: u32,
@@ -199,7 +199,7 @@ fn max_component(v: vec3<f32>) -> f32 {
 }
 
 // Offset of secondary ray origins along N: see spawn_offset in
-// crates/kdray-core/src/geometry.rs.
+// crates/kdray-core/src/geometry/ray.rs.
 fn spawn_offset(p: vec3<f32>, magnitude: f32) -> f32 {
     return max(1e-4 * max(max_component(abs(p)), 1.0), magnitude * (1.0 / 4194304.0));
 }

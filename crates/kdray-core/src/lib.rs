@@ -11,7 +11,6 @@
 //! [`random_scene`] generates the deterministic random scenes of
 //! `kdray bench` and `kdray generate` (and of the k-d tree's tests).
 
-pub mod alpha_test;
 pub mod choice;
 pub mod denoise;
 pub mod geometry;

@@ -19,9 +19,9 @@ mod surface;
 mod tracer;
 mod whitted;
 
+pub use crate::geometry::barycentrics;
 pub use rays::{PathRay, PathStep, RayKind, TracedRay};
 pub use surface::{
-    barycentrics, reflection_dir, refract_fresnel, refraction_at, smooth_surface, Refraction,
-    Surface,
+    reflection_dir, refract_fresnel, refraction_at, smooth_surface, Refraction, Surface,
 };
 pub use tracer::ReferenceTracer;

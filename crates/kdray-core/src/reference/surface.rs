@@ -5,6 +5,7 @@
 
 use glam::Vec3;
 
+use crate::geometry::barycentrics;
 use crate::scene::texture::texture_lod;
 
 use super::tracer::ReferenceTracer;
@@ -19,23 +20,6 @@ pub struct Surface {
     pub shading: Vec3,
     /// Where secondary rays start before the offset along `geometric`.
     pub spawn_point: Vec3,
-}
-
-/// Barycentric weights of `v[0]`, `v[1]`, `v[2]` at `p`, clamped into the
-/// triangle: mirror of `barycentrics` in shaders/shade.wgsl.
-pub fn barycentrics(v: &[Vec3; 3], p: Vec3) -> Vec3 {
-    let e1 = v[1] - v[0];
-    let e2 = v[2] - v[0];
-    let w = p - v[0];
-    let n = e1.cross(e2);
-    let nn = n.dot(n);
-    if nn < 1e-30 {
-        return Vec3::splat(1.0 / 3.0);
-    }
-    let inv = 1.0 / nn;
-    let b1 = (w.cross(e2).dot(n) * inv).clamp(0.0, 1.0);
-    let b2 = (e1.cross(w).dot(n) * inv).clamp(0.0, 1.0 - b1);
-    Vec3::new(1.0 - b1 - b2, b1, b2)
 }
 
 /// The surface of a smooth triangle (vertices `v`, unit vertex normals `n`)

@@ -2,7 +2,7 @@
 //! `alphaCutoff` and the base colour's alpha (docs/scene-format.md, "glTF
 //! materials"). A point whose alpha fails the test is a hole: every ray
 //! passes through it, so the walks' object test finds no hit there
-//! (crate::alpha_test, shaders/alpha.wgsl).
+//! (crate::geometry::alpha_test, shaders/alpha.wgsl).
 
 /// How the base colour's alpha is read.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]

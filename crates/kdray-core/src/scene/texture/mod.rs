@@ -255,7 +255,7 @@ impl Texture {
     }
 
     /// The alpha at texture coordinate `uv` on the base level, read by the
-    /// magnification filter: the walks' alpha test (crate::alpha_test), the
+    /// magnification filter: the walks' alpha test (crate::geometry::alpha_test), the
     /// rule `sample_alpha` in shaders/alpha.wgsl computes, in the same f32
     /// steps. The base level whatever the distance: a walk has no ray cone.
     pub fn sample_alpha(&self, uv: Vec2) -> f32 {

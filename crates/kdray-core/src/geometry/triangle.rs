@@ -1,14 +1,11 @@
-//! Rays, boxes and the two primitives, in f32 exactly as the shader computes
-//! them (shaders/intersect.wgsl mirrors every function here line by line), so
-//! CPU tests exercise the same arithmetic the GPU runs.
+//! The triangle in f32 and its watertight ray test, line by line as
+//! shaders/intersect.wgsl computes it, with the margins that turn away the
+//! test's rounding, and the barycentric weights of a point on it.
 
 use glam::Vec3;
 
-/// Stand-in for infinity: WGSL implementations may assume no inf or NaN.
-pub const T_INFINITY: f32 = 3.0e38;
-/// Direction components smaller than this count as parallel to an axis
-/// plane, so no division can overflow.
-pub const PARALLEL_EPSILON: f32 = 1e-20;
+use super::aabb::Aabb;
+use super::ray::Ray;
 
 /// A triangle's hit point may lie this share of the largest coordinate
 /// its test works with outside the triangle's box, and no more
@@ -19,118 +16,6 @@ pub const HIT_BOX_MARGIN: f32 = 1.0 / 1024.0;
 /// along it is at most this share of the normal's size (|n.x| + |n.y| +
 /// |n.z|): about 1e-6 rad (`TriangleF32::runs_in_plane`).
 pub const IN_PLANE_MARGIN: f32 = 1.0 / (1u32 << 20) as f32;
-
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct Ray {
-    pub origin: Vec3,
-    /// Unit length.
-    pub dir: Vec3,
-}
-
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct Aabb {
-    pub min: Vec3,
-    pub max: Vec3,
-}
-
-impl Aabb {
-    pub const EMPTY: Aabb = Aabb {
-        min: Vec3::splat(f32::MAX),
-        max: Vec3::splat(-f32::MAX),
-    };
-
-    pub fn union(self, other: Aabb) -> Aabb {
-        Aabb {
-            min: self.min.min(other.min),
-            max: self.max.max(other.max),
-        }
-    }
-
-    pub fn is_empty(&self) -> bool {
-        self.min.cmpgt(self.max).any()
-    }
-
-    /// The largest coordinate magnitude in the box.
-    pub fn magnitude(&self) -> f32 {
-        self.min.abs().max(self.max.abs()).max_element()
-    }
-
-    pub fn surface_area(&self) -> f32 {
-        let e = (self.max - self.min).max(Vec3::ZERO);
-        2.0 * (e.x * e.y + e.y * e.z + e.z * e.x)
-    }
-
-    /// The ray's parameter interval inside the box, or None if it misses.
-    /// Axes the ray is parallel to constrain only by the origin's position.
-    pub fn ray_interval(&self, ray: &Ray) -> Option<(f32, f32)> {
-        let mut t0 = -T_INFINITY;
-        let mut t1 = T_INFINITY;
-        for a in 0..3 {
-            let (o, d) = (ray.origin[a], ray.dir[a]);
-            if d.abs() < PARALLEL_EPSILON {
-                if o < self.min[a] || o > self.max[a] {
-                    return None;
-                }
-            } else {
-                let inv = 1.0 / d;
-                let ta = (self.min[a] - o) * inv;
-                let tb = (self.max[a] - o) * inv;
-                t0 = t0.max(ta.min(tb));
-                t1 = t1.min(ta.max(tb));
-            }
-        }
-        (t0 <= t1).then_some((t0, t1))
-    }
-}
-
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct SphereF32 {
-    pub center: Vec3,
-    pub radius: f32,
-}
-
-impl SphereF32 {
-    pub fn bounds(&self) -> Aabb {
-        Aabb {
-            min: self.center - Vec3::splat(self.radius),
-            max: self.center + Vec3::splat(self.radius),
-        }
-    }
-
-    /// Smallest root t > 0, by the formulation of Haines et al. (Ray Tracing
-    /// Gems, ch. 7): the discriminant from the ray's closest approach, and the
-    /// near root from c / q, which avoid the cancellations of the textbook form.
-    pub fn intersect(&self, ray: &Ray) -> Option<f32> {
-        let f = ray.origin - self.center;
-        let b = f.dot(ray.dir);
-        let l = f - b * ray.dir;
-        let r2 = self.radius * self.radius;
-        let disc = r2 - l.dot(l);
-        if disc < 0.0 {
-            return None;
-        }
-        let sign_b = if b >= 0.0 { 1.0 } else { -1.0 };
-        let q = -b - sign_b * disc.sqrt();
-        if q == 0.0 {
-            return None; // tangent at the origin
-        }
-        let c = f.dot(f) - r2;
-        let (ta, tb) = (c / q, q);
-        let (near, far) = (ta.min(tb), ta.max(tb));
-        if near > 0.0 {
-            Some(near)
-        } else if far > 0.0 {
-            Some(far)
-        } else {
-            None
-        }
-    }
-
-    /// Largest coordinate magnitude the intersection works with (see `spawn_offset`).
-    pub fn magnitude(&self) -> f32 {
-        self.center.abs().max_element() + self.radius
-    }
-}
 
 /// The watertight triangle test's per-ray constants: `kz` is the axis the
 /// ray runs most along, `kx`, `ky` the two others; the shear (sx, sy) and the
@@ -287,124 +172,21 @@ impl TriangleF32 {
     }
 }
 
-/// Distance to move a secondary ray's origin off the surface along N.
-///
-/// 1e-4 of the hit point's magnitude (at least 1e-4 scene units), and never
-/// less than 2^-22 of the largest coordinate the intersection test worked
-/// with: a sphere of radius 9000 centred 9000 away computes |o - c|^2 - r^2
-/// with an absolute error of ~16 units^2, i.e. ~1e-3 units of distance, far
-/// more than 1e-4. Scaling with the object (not the scene's extent) keeps
-/// small objects' contact shadows tight while big ones show no acne.
-pub fn spawn_offset(hit_point: Vec3, object_magnitude: f32) -> f32 {
-    (1e-4 * hit_point.abs().max_element().max(1.0)).max(object_magnitude * (1.0 / 4_194_304.0))
-}
-
-/// The scene's objects in f32, exactly as uploaded to the GPU. Object ids:
-/// spheres are `0..spheres.len()`, triangles follow.
-#[derive(Debug, Clone, Default, PartialEq)]
-pub struct Primitives {
-    pub spheres: Vec<SphereF32>,
-    pub triangles: Vec<TriangleF32>,
-    /// The alpha test of triangles whose material has an alpha mode
-    /// (crate::alpha_test); None where none has, as in most scenes.
-    pub alpha: Option<std::sync::Arc<crate::alpha_test::AlphaTest>>,
-}
-
-impl Primitives {
-    /// The scene's objects rounded to f32, on all threads, into vectors on
-    /// huge pages (the 1.1 M-triangle bunny: 36 ms on one thread).
-    pub fn from_scene(scene: &crate::scene::Scene) -> Self {
-        use rayon::prelude::*;
-        let mut spheres = crate::huge_pages::with_capacity(scene.spheres.len());
-        spheres.par_extend(scene.spheres.par_iter().map(|s| SphereF32 {
-            center: s.center.as_vec3(),
-            radius: s.radius as f32,
-        }));
-        let mut triangles = crate::huge_pages::with_capacity(scene.triangles.len());
-        triangles.par_extend(scene.triangles.par_iter().map(|t| TriangleF32 {
-            v: t.vertices.map(|v| v.as_vec3()),
-        }));
-        let alpha = crate::alpha_test::AlphaTest::for_scene(scene).map(std::sync::Arc::new);
-        Primitives {
-            spheres,
-            triangles,
-            alpha,
-        }
+/// Barycentric weights of `v[0]`, `v[1]`, `v[2]` at `p`, clamped into the
+/// triangle: mirror of `barycentrics` in shaders/shade.wgsl.
+pub fn barycentrics(v: &[Vec3; 3], p: Vec3) -> Vec3 {
+    let e1 = v[1] - v[0];
+    let e2 = v[2] - v[0];
+    let w = p - v[0];
+    let n = e1.cross(e2);
+    let nn = n.dot(n);
+    if nn < 1e-30 {
+        return Vec3::splat(1.0 / 3.0);
     }
-
-    pub fn len(&self) -> usize {
-        self.spheres.len() + self.triangles.len()
-    }
-
-    pub fn is_empty(&self) -> bool {
-        self.len() == 0
-    }
-
-    pub fn bounds(&self, id: u32) -> Aabb {
-        let id = id as usize;
-        match self.spheres.get(id) {
-            Some(s) => s.bounds(),
-            None => self.triangles[id - self.spheres.len()].bounds(),
-        }
-    }
-
-    /// The object test every walk runs: the hit's t, or None; a hit in a
-    /// hole of an alpha-tested triangle is none (mirror of `test_object`
-    /// in shaders/intersect.wgsl).
-    pub fn intersect(&self, id: u32, ray: &Ray) -> Option<f32> {
-        let object = id;
-        let id = id as usize;
-        match self.spheres.get(id) {
-            Some(s) => s.intersect(ray),
-            None => {
-                let index = id - self.spheres.len();
-                let tri = &self.triangles[index];
-                let t = tri.intersect(ray)?;
-                match &self.alpha {
-                    Some(a) if a.is_hole(index, object, tri, ray, t) => None,
-                    _ => Some(t),
-                }
-            }
-        }
-    }
-
-    pub fn magnitude(&self, id: u32) -> f32 {
-        let id = id as usize;
-        match self.spheres.get(id) {
-            Some(s) => s.magnitude(),
-            None => self.triangles[id - self.spheres.len()].magnitude(),
-        }
-    }
-
-    /// Union of all objects' bounds (EMPTY for an empty scene), on all
-    /// threads ([`union_in_pieces`]; for the 1.1 M-triangle bunny 6 ms on
-    /// one thread).
-    pub fn scene_bounds(&self) -> Aabb {
-        union_in_pieces(self.len(), |id| self.bounds(id), true)
-    }
-}
-
-/// Boxes per piece of [`union_in_pieces`].
-const UNION_PIECE: usize = 1 << 15;
-
-/// The union of boxes `0..n` (`bounds(id)`), joined from fixed pieces in
-/// order, so that it does not depend on the threads (a min of 0.0 and -0.0
-/// depends on the order): the pieces on all threads of the current rayon
-/// pool with `parallel`, on this one without.
-pub fn union_in_pieces(n: usize, bounds: impl Fn(u32) -> Aabb + Sync, parallel: bool) -> Aabb {
-    let piece = |p: usize| {
-        (p * UNION_PIECE..((p + 1) * UNION_PIECE).min(n))
-            .map(|id| bounds(id as u32))
-            .fold(Aabb::EMPTY, Aabb::union)
-    };
-    let pieces = 0..n.div_ceil(UNION_PIECE);
-    let unions: Vec<Aabb> = if parallel {
-        use rayon::prelude::*;
-        pieces.into_par_iter().map(piece).collect()
-    } else {
-        pieces.map(piece).collect()
-    };
-    unions.into_iter().fold(Aabb::EMPTY, Aabb::union)
+    let inv = 1.0 / nn;
+    let b1 = (w.cross(e2).dot(n) * inv).clamp(0.0, 1.0);
+    let b2 = (e1.cross(w).dot(n) * inv).clamp(0.0, 1.0 - b1);
+    Vec3::new(1.0 - b1 - b2, b1, b2)
 }
 
 #[cfg(test)]

@@ -1,7 +1,7 @@
 //! The walks' alpha test on the CPU, the mirror of shaders/alpha.wgsl: a
 //! triangle whose material has an alpha mode ([`crate::scene::Alpha`]) is
 //! not there where its alpha fails, so [`Primitives::intersect`]
-//! (crate::geometry) finds no hit at such a point, for every walk and
+//! (primitives.rs) finds no hit at such a point, for every walk and
 //! brute force alike, nearest and any hit.
 //!
 //! The alpha at a hit is the material's factor times, on a textured
@@ -13,11 +13,12 @@
 //! in (0, 1] hashed from the ray and the object, so that a ray passes with
 //! probability 1 - alpha and every walk of that ray decides alike.
 //!
-//! [`Primitives::intersect`]: crate::geometry::Primitives::intersect
+//! [`Primitives::intersect`]: super::Primitives::intersect
 
 use glam::{Vec2, Vec3};
 
-use crate::geometry::{Ray, TriangleF32};
+use super::ray::Ray;
+use super::triangle::{barycentrics, TriangleF32};
 use crate::scene::{AlphaMode, Integrator, Scene, Texture};
 
 /// A tested material, in the f32 the kernel reads (GpuMaterial).
@@ -123,7 +124,7 @@ impl AlphaTest {
             return false;
         };
         let mut alpha = m.factor;
-        let b = || crate::reference::barycentrics(&tri.v, ray.origin + t * ray.dir);
+        let b = || barycentrics(&tri.v, ray.origin + t * ray.dir);
         if let (Some(texture), Some(uvs)) = (m.texture, self.uvs[index]) {
             let b = b();
             let uv = b.x * uvs[0] + b.y * uvs[1] + b.z * uvs[2];
