@@ -2,7 +2,7 @@
 """Denoises an HDR image with native Open Image Denoise 1.4.3 (the RT
 filter), the reference `kdray denoise` is checked against.
 
-    pip install oidn==0.2.1 OpenEXR
+    pip install oidn==0.2.1 OpenEXR==3.5.3
     scripts/oidn_denoise.py IN.exr [--albedo A.exr --normal N.exr] -o OUT.exr
 
 The `oidn` wheel ships OIDN 1.4.3's shared library; its Python binding

@@ -127,6 +127,16 @@ if { [ "$tier" = external ] || [ "$tier" = all ]; } && [ ! -d tests/web/node_mod
     npm ci --prefix tests/web --no-audit --no-fund >/dev/null
 fi
 
+# --- tests/external/denoise_oidn.rs ---------------------------------------
+# Native Open Image Denoise 1.4.3 (the `oidn` wheel ships its library) and
+# OpenEXR's Python binding, which scripts/oidn_denoise.py runs to check
+# `kdray denoise` against; installed with pip only when missing.
+if { [ "$tier" = external ] || [ "$tier" = all ]; } &&
+    ! python3 -c 'import importlib.util, sys, OpenEXR; sys.exit(importlib.util.find_spec("oidn") is None)' 2>/dev/null; then
+    python3 -m pip install --quiet oidn==0.2.1 OpenEXR==3.5.3
+fi
+# --- end of tests/external/denoise_oidn.rs --------------------------------
+
 # The debug build and its test binaries take a few GB under target/; a full
 # disk shows up as a linker crash (signal 7, bus error), so say it first.
 target_dir=${CARGO_TARGET_DIR:-target}
