@@ -133,7 +133,9 @@ fi
 # `kdray denoise` against; installed with pip only when missing.
 if { [ "$tier" = external ] || [ "$tier" = all ]; } &&
     ! python3 -c 'import importlib.util, sys, OpenEXR; sys.exit(importlib.util.find_spec("oidn") is None)' 2>/dev/null; then
-    python3 -m pip install --quiet oidn==0.2.1 OpenEXR==3.5.3
+    # A Debian-managed python3 refuses plain pip installs (PEP 668).
+    python3 -m pip install --quiet oidn==0.2.1 OpenEXR==3.5.3 ||
+        python3 -m pip install --quiet --break-system-packages oidn==0.2.1 OpenEXR==3.5.3
 fi
 # --- end of tests/external/denoise_oidn.rs --------------------------------
 
