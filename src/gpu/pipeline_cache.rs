@@ -49,9 +49,7 @@ impl PipelineCacheFile {
     /// Whether a device on `adapter` should ask for `Features::PIPELINE_CACHE`:
     /// the adapter offers it and a folder is known.
     pub fn wanted(adapter: &wgpu::Adapter) -> bool {
-        adapter
-            .features()
-            .contains(wgpu::Features::PIPELINE_CACHE)
+        adapter.features().contains(wgpu::Features::PIPELINE_CACHE)
             && wgpu::util::pipeline_cache_key(&adapter.get_info()).is_some()
             && folder_from_env().is_some()
     }

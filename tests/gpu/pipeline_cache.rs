@@ -13,7 +13,9 @@ fn render(dir: &Path, out: &str, env: &[(&str, &str)]) -> Vec<u8> {
     let scene = format!("{}/scenes/seed.toml", env!("CARGO_MANIFEST_DIR"));
     let run = run_kdray(
         dir,
-        &["render", &scene, "--width", "16", "--height", "9", "-o", out],
+        &[
+            "render", &scene, "--width", "16", "--height", "9", "-o", out,
+        ],
         env,
     );
     assert_eq!(run.code, 0, "{run:#?}");
@@ -68,7 +70,10 @@ fn pipeline_cache_off_writes_no_file() {
     render(
         &dir.path,
         "off.png",
-        &[("KDRAY_PIPELINE_CACHE", "off"), ("XDG_CACHE_HOME", xdg_text)],
+        &[
+            ("KDRAY_PIPELINE_CACHE", "off"),
+            ("XDG_CACHE_HOME", xdg_text),
+        ],
     );
     // (Mesa keeps its own shader cache there too.)
     assert!(!xdg.join("kdray").exists(), "{:?}", files(&xdg));
