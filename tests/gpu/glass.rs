@@ -12,7 +12,7 @@ use glam::Vec3;
 use kdray::geometry::Ray;
 use kdray::gpu::Accel;
 use kdray::scene::{load_scene_with, parse_scene, SceneFormat};
-use kdray_core::reference::{refract_fresnel, PathStep, ReferenceTracer};
+use kdray_core::reference::{refract_fresnel, ReferenceTracer, WhittedStep};
 
 // ---- the scene format --------------------------------------------------
 
@@ -199,11 +199,11 @@ fn a_prism_reflects_totally_at_its_hypotenuse() {
     let scene = scene_from_toml(&text);
     let tracer = ReferenceTracer::new(&scene, true);
     // Into the z = 0 leg, head on, at x = 0.3.
-    let (_, steps) = tracer.path_steps(Ray {
+    let (_, steps) = tracer.whitted_steps(Ray {
         origin: Vec3::new(0.3, 0.0, -2.0),
         dir: Vec3::Z,
     });
-    let inside: Vec<&PathStep> = steps.iter().filter(|s| s.ray.inside).collect();
+    let inside: Vec<&WhittedStep> = steps.iter().filter(|s| s.ray.inside).collect();
     // The refracted ray, then the one reflected at the hypotenuse: all of
     // what entered (1 - F at normal incidence), none of it transmitted.
     assert!(inside.len() >= 2, "{steps:#?}");
@@ -247,7 +247,7 @@ fn a_glass_slab_shifts_a_ray_sideways_by_the_analytic_amount() {
         let a = degrees.to_radians();
         let dir = Vec3::new(a.sin(), -a.cos(), 0.0);
         let origin = Vec3::new(0.0, 1.0, 0.3) - dir * (1.0 / a.cos());
-        let (_, steps) = tracer.path_steps(Ray { origin, dir });
+        let (_, steps) = tracer.whitted_steps(Ray { origin, dir });
         let out = steps
             .iter()
             .find(|s| s.ray.hits == 2 && !s.ray.inside)

@@ -10,7 +10,7 @@
 //! inspection only.
 //!
 //! This file is the module's face: `tracer` holds the tracer, its searches
-//! and the camera's rays; `rays` the rays and path steps it records;
+//! and the camera's rays; `rays` the rays and Whitted steps it records;
 //! `surface` the surface at a hit (normals, refraction, the material with
 //! its textures read), `whitted` the Whitted path loop and its shading.
 
@@ -20,7 +20,7 @@ mod tracer;
 mod whitted;
 
 pub use crate::geometry::barycentrics;
-pub use rays::{PathRay, PathStep, RayKind, TracedRay};
+pub use rays::{RayKind, TracedRay, WhittedRay, WhittedStep};
 pub use surface::{
     reflection_dir, refract_fresnel, refraction_at, smooth_surface, Refraction, Surface,
 };

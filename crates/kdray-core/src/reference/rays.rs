@@ -1,6 +1,6 @@
 //! What the tracer records: the rays a sample traces ([`TracedRay`], each
-//! with its [`RayKind`] and walk) and the glass path's rays and steps
-//! ([`PathRay`], [`PathStep`]).
+//! with its [`RayKind`] and walk) and the Whitted loop's glass rays and
+//! steps ([`WhittedRay`], [`WhittedStep`]).
 
 use crate::geometry::Ray;
 use crate::kdtree::traverse::{Hit, WalkCost};
@@ -43,7 +43,7 @@ pub struct TracedRay {
 /// A ray a sample follows on the glass path: mirror of `PathRay` in
 /// shaders/glass.wgsl.
 #[derive(Debug, Clone, Copy, PartialEq)]
-pub struct PathRay {
+pub struct WhittedRay {
     pub ray: Ray,
     pub kind: RayKind,
     /// Its share of the sample's colour.
@@ -58,7 +58,7 @@ pub struct PathRay {
 
 /// One ray the glass path traced, in order, and what it hit.
 #[derive(Debug, Clone, Copy, PartialEq)]
-pub struct PathStep {
-    pub ray: PathRay,
+pub struct WhittedStep {
+    pub ray: WhittedRay,
     pub hit: Option<Hit>,
 }

@@ -9,7 +9,7 @@ use crate::kdtree::traverse::Hit;
 use crate::layout::{GLASS_STACK_DEPTH, SHADOW_CROSSINGS};
 use crate::scene::{LightKind, ShadowMode};
 
-use super::rays::{PathRay, PathStep, RayKind};
+use super::rays::{RayKind, WhittedRay, WhittedStep};
 use super::surface::{reflection_dir, refraction_at};
 use super::tracer::ReferenceTracer;
 
@@ -103,7 +103,7 @@ impl ReferenceTracer<'_> {
 
     /// The rays one sample traces on the glass path, in order (for a scene
     /// with glass; see `trace_whitted_glass`).
-    pub fn path_steps(&self, primary: Ray) -> (Vec3, Vec<PathStep>) {
+    pub fn whitted_steps(&self, primary: Ray) -> (Vec3, Vec<WhittedStep>) {
         let mut steps = Vec::new();
         let color = self.trace_whitted_glass(primary, &mut steps);
         (color, steps)
@@ -115,12 +115,12 @@ impl ReferenceTracer<'_> {
     /// refracted ray and pushes the mirror ray on a stack of at most
     /// [`GLASS_STACK_DEPTH`] (if it would be traced and there is room), and
     /// resumes from the stack's top when a path ends.
-    fn trace_whitted_glass(&self, primary: Ray, steps: &mut Vec<PathStep>) -> Vec3 {
+    fn trace_whitted_glass(&self, primary: Ray, steps: &mut Vec<WhittedStep>) -> Vec3 {
         let r = &self.scene.render;
         let min_intensity = r.min_intensity as f32;
-        let traced = |p: &PathRay| p.weight >= min_intensity && p.hits < r.max_depth;
-        let mut pending: Vec<PathRay> = Vec::new();
-        let mut path = PathRay {
+        let traced = |p: &WhittedRay| p.weight >= min_intensity && p.hits < r.max_depth;
+        let mut pending: Vec<WhittedRay> = Vec::new();
+        let mut path = WhittedRay {
             ray: primary,
             kind: RayKind::Primary,
             weight: 1.0,
@@ -147,15 +147,15 @@ impl ReferenceTracer<'_> {
     /// One traced ray of [`Self::trace_whitted_glass`]: false when its path ends.
     fn glass_step(
         &self,
-        path: &mut PathRay,
-        pending: &mut Vec<PathRay>,
+        path: &mut WhittedRay,
+        pending: &mut Vec<WhittedRay>,
         color: &mut Vec3,
-        steps: &mut Vec<PathStep>,
+        steps: &mut Vec<WhittedStep>,
     ) -> bool {
         let r = &self.scene.render;
         let ray = path.ray;
         let hit = self.closest(&ray, path.kind);
-        steps.push(PathStep { ray: *path, hit });
+        steps.push(WhittedStep { ray: *path, hit });
         let Some(hit) = hit else {
             *color += path.weight * r.background.as_vec3();
             return false;
@@ -190,7 +190,7 @@ impl ReferenceTracer<'_> {
             transmit_share = dielectric * (1.0 - refraction.fresnel);
             refracted = refraction.dir;
         }
-        let reflected = PathRay {
+        let reflected = WhittedRay {
             ray: Ray {
                 origin,
                 dir: reflection_dir(ray.dir, &surface),
@@ -208,7 +208,7 @@ impl ReferenceTracer<'_> {
             if traced && pending.len() < GLASS_STACK_DEPTH as usize {
                 pending.push(reflected);
             }
-            *path = PathRay {
+            *path = WhittedRay {
                 ray: Ray {
                     origin: p - offset * surface.geometric,
                     dir: refracted,
