@@ -1,22 +1,36 @@
-//! Everything that talks to wgpu:
+//! Everything that talks to wgpu, one file each:
 //!
 //! - [`bindings`]: the host-shader contract (bindings, entry points,
-//!   shared constants) and the WGSL it generates.
+//!   shared constants) and the WGSL it generates; the split arrays'
+//!   bindings in `bindings/split_arrays.rs`, the inspect log's codes in
+//!   `bindings/walk_codes.rs`.
 //! - [`shaders`]: the WGSL sources assembled with that generated text.
-//! - [`context`]: the adapter and device; [`pipeline_cache`]: compiled
-//!   pipelines kept between processes where the driver keeps them.
+//! - `kernel_io`: what the kernel reads and writes besides the scene's
+//!   arrays (frame uniform, ray counters, ray queries, present parameters).
+//! - `layout_check` (tests only): the `#[repr(C)]` types against naga's
+//!   layout of the WGSL structs.
+//! - [`context`]: the adapter and device.
+//! - [`pipeline_cache`]: compiled pipelines kept between processes where
+//!   the driver keeps them.
 //! - [`scene_buffers`]: the scene's arrays in the GPU layout
 //!   ([`SceneArrays`]) cut into chunks for their bindings, checked against
 //!   the adapter and uploaded ([`SceneBuffers`]); [`ArrayBindings`]: the
 //!   arrays by binding, for the web export and the limits check.
 //! - `gpu_scene`: a scene prepared on the CPU ([`PreparedScene`]),
 //!   uploaded ([`GpuScene`]).
-//! - `frame_params`: the kernel's per-frame uniform.
+//! - `frame_params`: the kernel's per-frame uniform, built.
 //! - [`kernel_variant`]: the override-specialised kernel variants.
 //! - `trace_pipelines`: the one place a compute pipeline is assembled
 //!   (module, layout from the contract, bind groups, a pipeline per variant).
-//! - [`renderer`]: the tiled trace dispatch with readback; `accumulate`:
-//!   the window's progressive accumulation; `ray_query`: rays in, hits out.
+//! - [`renderer`]: the tiled trace dispatch with readback.
+//! - `tile_plan`: how an image is cut into dispatches (binding size, a
+//!   GPU's watchdog).
+//! - `gpu_timer`: a tile's GPU time from timestamp queries, and the
+//!   context's waits and readbacks.
+//! - [`accumulate`]: the window's progressive accumulation.
+//! - `ray_query`: the debug entry point, rays in and hits out.
+//! - [`walk_log`]: the inspect kernel, one pixel's rays and walk steps
+//!   logged and decoded.
 //!
 //! [`SceneArrays`], [`PreparedScene`] and [`Accel`] are the core's
 //! (`kdray_core::layout`, `kdray_core::prepare`), re-exported here beside
