@@ -71,11 +71,8 @@ pub const MODEL_LAMBERTIAN: u32 = 0;
 /// `GpuMaterial::model`: glTF 2.0's metal/rough BRDF with base colour `diffuse`.
 pub const MODEL_METAL_ROUGH: u32 = 1;
 
-/// `GpuMaterial::uv_channels` (and [`crate::scene::MaterialMaps::second_uv`]):
-/// the texture slots that read a triangle's second channel of texture
-/// coordinates; the others read the first.
-pub const UV_SLOT_BASE: u32 = 1;
-pub const UV_SLOT_METAL_ROUGH: u32 = 2;
-pub const UV_SLOT_NORMAL: u32 = 4;
-pub const UV_SLOT_EMISSIVE: u32 = 8;
-pub const UV_SLOT_OCCLUSION: u32 = 16;
+/// `GpuMaterial::uv_channels`'s slots, defined beside
+/// [`crate::scene::MaterialMaps::second_uv`].
+pub use crate::scene::{
+    UV_SLOT_BASE, UV_SLOT_EMISSIVE, UV_SLOT_METAL_ROUGH, UV_SLOT_NORMAL, UV_SLOT_OCCLUSION,
+};

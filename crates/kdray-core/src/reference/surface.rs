@@ -188,7 +188,7 @@ impl ReferenceTracer<'_> {
         let mut diffuse = m.diffuse.as_vec3();
         let mut ambient = m.ambient.as_vec3();
         if let Some(texture) = texture(m.texture) {
-            let c = sample(texture, crate::layout::UV_SLOT_BASE);
+            let c = sample(texture, crate::scene::UV_SLOT_BASE);
             diffuse *= c;
             ambient *= c;
         }
@@ -203,7 +203,7 @@ impl ReferenceTracer<'_> {
             ambient *= c;
         }
         if let Some(texture) = texture(m.maps.occlusion) {
-            let ao = sample(texture, crate::layout::UV_SLOT_OCCLUSION).x;
+            let ao = sample(texture, crate::scene::UV_SLOT_OCCLUSION).x;
             ambient *= 1.0 + m.maps.occlusion_strength as f32 * (ao - 1.0);
         }
         let mut read = m.clone();

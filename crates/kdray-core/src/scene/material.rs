@@ -55,11 +55,20 @@ pub struct MaterialMaps<T = u32> {
     /// integrator's ambient term, by `occlusion_strength` in [0, 1].
     pub occlusion: Option<T>,
     pub occlusion_strength: f64,
-    /// The slots ([`crate::layout::UV_SLOT_BASE`] ...) that read a
+    /// The slots ([`UV_SLOT_BASE`] ...) that read a
     /// triangle's second channel of texture coordinates
     /// ([`Scene::triangle_second_uvs`](super::Scene::triangle_second_uvs)); 0: all read the first.
     pub second_uv: u32,
 }
+
+/// [`MaterialMaps::second_uv`] (and the kernel's `GpuMaterial::uv_channels`):
+/// the texture slots that read a triangle's second channel of texture
+/// coordinates; the others read the first.
+pub const UV_SLOT_BASE: u32 = 1;
+pub const UV_SLOT_METAL_ROUGH: u32 = 2;
+pub const UV_SLOT_NORMAL: u32 = 4;
+pub const UV_SLOT_EMISSIVE: u32 = 8;
+pub const UV_SLOT_OCCLUSION: u32 = 16;
 
 impl<T> MaterialMaps<T> {
     /// No maps.

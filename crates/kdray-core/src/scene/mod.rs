@@ -64,7 +64,10 @@ pub use light::Light;
 pub use light_kind::{spot_factor, LightKind};
 pub use light_shape::LightShape;
 pub use load::{load_scene, load_scene_observed, load_scene_with, parse_scene, parse_scene_with};
-pub use material::{Material, MaterialMaps, MetalRough, Physical};
+pub use material::{
+    Material, MaterialMaps, MetalRough, Physical, UV_SLOT_BASE, UV_SLOT_EMISSIVE,
+    UV_SLOT_METAL_ROUGH, UV_SLOT_NORMAL, UV_SLOT_OCCLUSION,
+};
 pub use model_scene::{model_scene, model_scene_viewed, model_scene_with, ModelCamera};
 pub use objects::{Sphere, Triangle};
 pub use render_settings::{RenderSettings, ShadowMode};

@@ -40,7 +40,7 @@ pub(super) fn generate_missing(
     let second = |t: &Triangle| {
         materials
             .get(t.material as usize)
-            .is_some_and(|m| m.maps.second_uv & crate::layout::UV_SLOT_NORMAL != 0)
+            .is_some_and(|m| m.maps.second_uv & super::material::UV_SLOT_NORMAL != 0)
     };
     let on_second: Vec<bool> = faces.iter().map(second).collect();
     let mut frames = Frames {

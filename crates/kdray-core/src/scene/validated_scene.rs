@@ -85,7 +85,7 @@ impl Scene {
     }
 
     /// The texture coordinates of `t` that the slots `slot` (of
-    /// [`crate::layout::UV_SLOT_BASE`] ...) of its material read, if it
+    /// [`crate::scene::UV_SLOT_BASE`] ...) of its material read, if it
     /// has a record.
     pub fn uvs_for(&self, t: &Triangle, slot: u32) -> Option<[DVec2; 3]> {
         let second = self

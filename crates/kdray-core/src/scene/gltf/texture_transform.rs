@@ -79,7 +79,7 @@ fn slot_choice(slot: &'static str, tex_coord: u32, transform: Option<&Value>) ->
 pub(super) struct UvChannels {
     pub first: UvChoice,
     pub second: Option<UvChoice>,
-    /// The slots ([`crate::layout::UV_SLOT_BASE`] and its neighbours) that
+    /// The slots ([`crate::scene::UV_SLOT_BASE`] and its neighbours) that
     /// read the second channel.
     pub second_slots: u32,
     /// A slot whose choice is neither channel's (it reads the first).
@@ -88,7 +88,7 @@ pub(super) struct UvChannels {
 
 /// The channels `material`'s textures read; None without a texture.
 pub(super) fn uv_channels(material: &gltf::Material) -> Option<UvChannels> {
-    use crate::layout::{
+    use crate::scene::{
         UV_SLOT_BASE, UV_SLOT_EMISSIVE, UV_SLOT_METAL_ROUGH, UV_SLOT_NORMAL, UV_SLOT_OCCLUSION,
     };
     let pbr = material.pbr_metallic_roughness();
