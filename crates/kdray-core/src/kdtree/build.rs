@@ -16,11 +16,11 @@
 //! is not.
 
 use crate::geometry::{Aabb, Primitives};
-use crate::layout::KdNode;
 
 use super::build_params::{BuildParams, BuildStrategy};
 use super::clip::Shapes;
 use super::median::Median;
+use super::nodes::KdNode;
 use super::sah::Sah;
 use super::strategy::{Decision, Strategy};
 

@@ -13,9 +13,8 @@
 //! the walk's descent, with the ray's own `t` values, can say which side it
 //! goes on next.
 
-use crate::layout::{KdNode, LeafRopes};
-
 use super::build::KdTree;
+use super::nodes::{KdNode, LeafRopes};
 
 /// The rope data of a tree, in the layout the shader reads.
 #[derive(Debug, Clone, PartialEq)]

@@ -29,8 +29,8 @@
 //! returned once it lies before the current leaf's exit.
 
 use crate::geometry::{Ray, PARALLEL_EPSILON};
-use crate::layout::{KdNode, LeafRopes};
 
+use super::nodes::{KdNode, LeafRopes};
 use super::walk_observer::{WalkEvent, WalkObserver};
 use super::walk_step::{
     max_restarts, observed_descent_step, scene_segment, test_leaf, walk_done, Hit, WalkCost,

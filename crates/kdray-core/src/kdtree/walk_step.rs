@@ -9,9 +9,9 @@
 //! same leaves with the same intervals and return the same hit.
 
 use crate::geometry::{Primitives, Ray, PARALLEL_EPSILON};
-use crate::layout::KdNode;
 
 use super::build::KdTree;
+use super::nodes::KdNode;
 use super::ropes::Ropes;
 use super::walk_observer::{WalkEvent, WalkObserver};
 

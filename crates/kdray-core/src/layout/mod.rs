@@ -3,8 +3,9 @@
 //! tree flattened into them. kdray's `gpu::layout_check` checks every size
 //! and field offset against naga's layout of the WGSL declarations.
 //!
-//! This file is the module's face: the types live in `tree_nodes` (the k-d
-//! nodes and ropes), `objects` (spheres, triangles, packed normals),
+//! This file is the module's face: the types live in `tree_nodes` (the
+//! kernel's packed k-d node; the tree's own nodes and ropes, re-exported
+//! here, are `crate::kdtree`'s), `objects` (spheres, triangles, packed normals),
 //! `material`, `light` and `frame_values` (the values of `FrameParams`'
 //! switches); `scene_arrays` flattens a scene into them, and
 //! `texture_words` lays out the textures buffer.
@@ -20,6 +21,7 @@ mod scene_arrays;
 mod texture_words;
 mod tree_nodes;
 
+pub use crate::kdtree::{KdNode, LeafRopes};
 pub use frame_values::{
     ACCEL_BRUTE, ACCEL_KDTREE, GLASS_STACK_DEPTH, INTEGRATOR_PATH, INTEGRATOR_WHITTED,
     SHADOW_AMBIENT, SHADOW_CROSSINGS, SHADOW_SEED, TRAVERSAL_RESTART, TRAVERSAL_ROPES,
@@ -33,4 +35,4 @@ pub use material::{
 pub use objects::{GpuSphere, GpuTriangle, GpuTriangleNormals};
 pub use scene_arrays::{EnvironmentWords, SceneArrays};
 pub use texture_words::{Records, TextureWords};
-pub use tree_nodes::{GpuKdNode, KdNode, LeafRopes};
+pub use tree_nodes::GpuKdNode;

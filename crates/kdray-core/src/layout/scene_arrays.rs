@@ -9,8 +9,9 @@ use super::material::{
 };
 use super::objects::{GpuSphere, GpuTriangle, GpuTriangleNormals};
 use super::texture_words::{Records, TextureWords};
-use super::tree_nodes::{GpuKdNode, LeafRopes};
+use super::tree_nodes::GpuKdNode;
 use crate::geometry::{Aabb, Primitives};
+use crate::kdtree::LeafRopes;
 use crate::kdtree::{KdTree, Ropes};
 use crate::scene::{AlphaMode, Light, LightKind, Scene};
 
