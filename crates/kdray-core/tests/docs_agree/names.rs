@@ -1,5 +1,5 @@
 //! Every Rust name the documents cite in inline code exists: module paths
-//! (`kdtree::sah::tests`, `gpu::RayQueries`, `kdray_core::fuzz_support`) resolve
+//! (`kdtree::build::tests`, `gpu::RayQueries`, `kdray_core::fuzz_support`) resolve
 //! through the two crates' source trees to a file, an inline module or an
 //! item; `Type::name` names a function, constant or variant of a type the
 //! code defines; and a snake_case name of three words or more (a test's

@@ -398,41 +398,4 @@ impl Strategy for Sah<'_> {
 }
 
 #[cfg(test)]
-mod tests {
-    use super::super::build::build_with_threads;
-    use super::super::build_params::BuildParams;
-    use crate::geometry::Aabb;
-    use glam::Vec3;
-
-    /// Two boxes apart on x: the plane goes in the gap between them, where
-    /// it touches neither, so each is referenced once. A plane at either
-    /// box's face touches that box and files it in both children (the sweep
-    /// used to choose one, counting the box on one side only).
-    #[test]
-    fn a_gap_between_objects_is_split_without_copying_them() {
-        let boxes = [
-            Aabb {
-                min: Vec3::ZERO,
-                max: Vec3::ONE,
-            },
-            Aabb {
-                min: Vec3::new(2.0, 0.0, 0.0),
-                max: Vec3::new(3.0, 1.0, 1.0),
-            },
-        ];
-        // A cheap step, so that two objects are worth a split.
-        let params = BuildParams {
-            traversal_cost: 1.0,
-            ..BuildParams::for_object_count(2)
-        };
-        let tree = build_with_threads(&boxes, params, 1);
-        let root = tree.nodes[0];
-        assert!(!root.is_leaf(), "no split: {:?}", tree.nodes);
-        assert_eq!(root.kind, 0, "split on x");
-        assert!(1.0 < root.split && root.split < 2.0, "{}", root.split);
-        assert_eq!(tree.leaf_objects.len(), 2, "{:?}", tree);
-    }
-}
-
-#[cfg(test)]
 mod shortcut_tests;
