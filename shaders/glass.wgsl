@@ -85,7 +85,7 @@ fn shadow_transmittance(ray: Ray, length: f32) -> f32 {
 // A ray a sample still has to follow: where it starts, its share of the
 // sample, the hits its path has had, the path's length from the eye to its
 // origin (the texture's ray cone), and whether it is inside glass.
-struct PathRay {
+struct WhittedRay {
     origin: vec3<f32>,
     weight: f32,
     dir: vec3<f32>,
@@ -101,9 +101,9 @@ struct PathRay {
 // reflected one, if it would be traced and the stack has room; a path that
 // ends resumes from the last ray pushed.
 fn trace_whitted_glass(primary: Ray) -> vec3<f32> {
-    var pending: array<PathRay, GLASS_STACK_DEPTH>;
+    var pending: array<WhittedRay, GLASS_STACK_DEPTH>;
     var pending_count = 0u;
-    var path = PathRay(primary.origin, 1.0, primary.dir, 0u, 0.0, false);
+    var path = WhittedRay(primary.origin, 1.0, primary.dir, 0u, 0.0, false);
     var color = vec3<f32>(0.0);
     ray_counts.x += 1u;
     mark_ray(RAY_PRIMARY);
@@ -157,7 +157,7 @@ fn trace_whitted_glass(primary: Ray) -> vec3<f32> {
                         transmit_share = dielectric * (1.0 - r.fresnel);
                         refracted = r.dir;
                     }
-                    let reflected = PathRay(
+                    let reflected = WhittedRay(
                         origin,
                         path.weight * reflect_share,
                         reflection_dir(ray.dir, surface),
@@ -174,7 +174,7 @@ fn trace_whitted_glass(primary: Ray) -> vec3<f32> {
                             pending_count += 1u;
                         }
                         mark_ray(RAY_REFRACTED);
-                        path = PathRay(
+                        path = WhittedRay(
                             p - offset * surface.geometric,
                             path.weight * transmit_share,
                             refracted,

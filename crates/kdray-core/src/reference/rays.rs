@@ -40,7 +40,7 @@ pub struct TracedRay {
     pub walk: Vec<WalkEvent>,
 }
 
-/// A ray a sample follows on the glass path: mirror of `PathRay` in
+/// A ray a sample follows on the glass path: mirror of `WhittedRay` in
 /// shaders/glass.wgsl.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct WhittedRay {
