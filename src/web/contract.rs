@@ -172,8 +172,9 @@ const LEAST: KernelVariant = KernelVariant {
 /// `KernelVariant` makes it: the overrides the choice sets (`constants`)
 /// and the needs of the optional bindings it reads (`reads`).
 fn pipeline_choices() -> Value {
-    let made = |choice: &str, v: KernelVariant| {
-        let (_, names) = CHOICE_OVERRIDES.iter().find(|(c, _)| *c == choice).unwrap();
+    let [walk_names, costs_names, integrator_names, entry_names] =
+        CHOICE_OVERRIDES.map(|(_, names)| names);
+    let made = |names: &[&str], v: KernelVariant| {
         let overrides: serde_json::Map<String, Value> = v
             .constants()
             .into_iter()
@@ -190,13 +191,16 @@ fn pipeline_choices() -> Value {
     };
     let walk = |walk| KernelVariant { walk, ..LEAST };
     let mut walks = serde_json::Map::new();
-    walks.insert(Accel::Brute.name().into(), made("walk", walk(Walk::Brute)));
+    walks.insert(
+        Accel::Brute.name().into(),
+        made(walk_names, walk(Walk::Brute)),
+    );
     for t in Traversal::ALL {
-        walks.insert(t.name().into(), made("walk", walk(Walk::Kdtree(t))));
+        walks.insert(t.name().into(), made(walk_names, walk(Walk::Kdtree(t))));
     }
     let costs = |count_costs| {
         made(
-            "costs",
+            costs_names,
             KernelVariant {
                 count_costs,
                 ..LEAST
@@ -214,12 +218,12 @@ fn pipeline_choices() -> Value {
                 integrator,
                 ..LEAST
             };
-            (i.name().to_string(), made("integrator", v))
+            (i.name().to_string(), made(integrator_names, v))
         })
         .collect();
     // RADIANCE_OUTPUT is render_tile's: off, as the window's and the
     // inspector's pipelines have it.
-    let entry = made("entry", LEAST);
+    let entry = made(entry_names, LEAST);
     json!({
         "walk": walks,
         "costs": {"off": costs(false), "on": costs(true)},

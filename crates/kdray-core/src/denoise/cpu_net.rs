@@ -12,6 +12,9 @@ use super::weights::Weights;
 
 /// The network's output for `input` (a packed tile: `weights.input_channels`
 /// channels, height and width multiples of 16).
+/// The slots it reads are the constant `STEPS`' own, each written by an
+/// earlier step (`network::tests::the_steps_wire_oidns_unet`), so the
+/// `expect`s below cannot fail on any input.
 pub fn run_network(weights: &Weights, input: Tensor) -> Tensor {
     assert_eq!(input.channels, weights.input_channels, "input channels");
     let mut slots: Vec<Option<Tensor>> = vec![None; 6];

@@ -222,9 +222,10 @@ pub fn conv_input_channels(input_channels: usize) -> [usize; CONV_LAYERS.len()] 
     out
 }
 
-/// The position of `slot` in [`Slot::ALL`].
+/// The position of `slot` in [`Slot::ALL`] (which lists the slots in
+/// their declared order).
 pub fn slot_index(slot: Slot) -> usize {
-    Slot::ALL.iter().position(|&s| s == slot).expect("a slot")
+    slot as usize
 }
 
 /// The most floats any one tensor of the network holds for a tile of
@@ -244,6 +245,13 @@ pub fn tensor_floats(input_channels: usize, height: usize, width: usize) -> (usi
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_slots_index_is_its_place_in_all() {
+        for (i, &slot) in Slot::ALL.iter().enumerate() {
+            assert_eq!(slot_index(slot), i, "{slot:?}");
+        }
+    }
 
     /// The wiring is a U-Net: each convolution reads what OIDN's model
     /// gives it (enc_conv0 the input, dec_conv4a 96 + 64, dec_conv1a 64 +
