@@ -31,21 +31,11 @@ pub struct Kernels {
     pub unpack: wgpu::ComputePipeline,
 }
 
-/// `source` as a module. naga's bounds checks stay on; its forced loop
-/// bounds are off: every loop of these shaders runs over a count from
-/// the parameters (channels, at most 160) or a constant (taps).
+/// `source` as a module without forced loop bounds: every loop of these
+/// shaders runs over a count from the parameters (channels, at most 160)
+/// or a constant (taps).
 fn module(device: &wgpu::Device, label: &str, source: &str) -> wgpu::ShaderModule {
-    let desc = wgpu::ShaderModuleDescriptor {
-        label: Some(label),
-        source: wgpu::ShaderSource::Wgsl(source.into()),
-    };
-    let checks = wgpu::ShaderRuntimeChecks {
-        force_loop_bounding: false,
-        ..wgpu::ShaderRuntimeChecks::checked()
-    };
-    // SAFETY: only the loop bounds are off, and every loop of these
-    // modules ends on its own (above).
-    unsafe { device.create_shader_module_trusted(desc, checks) }
+    crate::gpu::shaders::module_without_loop_bounds(device, label, source)
 }
 
 fn pipeline(

@@ -117,6 +117,18 @@ pub fn kernel_module(
         true => ("inspect", inspect_source_without(chunks, omitted)),
         false => ("trace", trace_source_without(chunks, omitted)),
     };
+    // Every loop of the kernel terminates on its own (above).
+    module_without_loop_bounds(device, label, &source)
+}
+
+/// `source` as a module with naga's bounds checks on and its forced loop
+/// bounds off. The caller's loops must each end on their own: turning a
+/// runtime check off makes what it guarded undefined behaviour.
+pub fn module_without_loop_bounds(
+    device: &wgpu::Device,
+    label: &str,
+    source: &str,
+) -> wgpu::ShaderModule {
     let desc = wgpu::ShaderModuleDescriptor {
         label: Some(label),
         source: wgpu::ShaderSource::Wgsl(source.into()),
@@ -125,9 +137,8 @@ pub fn kernel_module(
         force_loop_bounding: false,
         ..wgpu::ShaderRuntimeChecks::checked()
     };
-    // SAFETY: turning a runtime check off makes what it guarded undefined
-    // behaviour. Only the loop bounds are off, and every loop of the kernel
-    // terminates on its own (above).
+    // SAFETY: only the loop bounds are off, and the caller's loops end on
+    // their own (this function's contract).
     unsafe { device.create_shader_module_trusted(desc, checks) }
 }
 
