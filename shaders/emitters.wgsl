@@ -1,11 +1,15 @@
-// Next-event estimation for the path tracer: one entry of the lights buffer
-// chosen uniformly (the `light_count` point lights, then the
-// `emitter_count` emissive objects), a direction toward it, its radiance and
+// Next-event estimation for the path tracer: one light chosen by power
+// (the `light_count` scene lights, then the `emitter_count` emissive
+// objects, then the sky image), a direction toward it, its radiance and
 // the solid-angle density of choosing that direction; and the same density
 // for a direction that BSDF sampling found, for multiple importance
-// sampling. A sphere is sampled uniformly in the cone it subtends (it emits
-// outward), a triangle uniformly by area (it emits on its front side, the
-// side (v1 - v0) x (v2 - v0) points to, or on both where its material is
+// sampling. The choice runs through three blocks, each entry holding its
+// `pick` and `cdf` within its block's share and the block's chance of being
+// passed (`beyond`), built on the host
+// (crates/kdray-core/src/layout/light_picks.rs). A sphere is sampled
+// uniformly in the cone it subtends (it emits outward), a triangle
+// uniformly by area (it emits on its front side, the side
+// (v1 - v0) x (v2 - v0) points to, or on both where its material is
 // two-sided).
 
 struct LightSample {
@@ -20,6 +24,76 @@ struct LightSample {
 // Point lights, emitters and, with an image, the sky.
 fn lights_total() -> u32 {
     return params.light_count + params.emitter_count + select(0u, 1u, has_environment_image());
+}
+
+// The probability that the choice passes the scene lights (falls on an
+// emitter or the sky).
+fn past_scene_lights() -> f32 {
+    if (params.light_count == 0u) {
+        return 1.0;
+    }
+    return lights[0].beyond;
+}
+
+// The probability that the choice falls on the sky, given that it passed
+// the scene lights.
+fn past_emitters() -> f32 {
+    if (params.emitter_count == 0u) {
+        return 1.0;
+    }
+    return lights[params.light_count].beyond;
+}
+
+// The probability that sample_light picks the sky image.
+fn sky_pick() -> f32 {
+    if (!has_environment_image()) {
+        return 0.0;
+    }
+    return past_scene_lights() * past_emitters();
+}
+
+// The last entry k in [first, end) with lights[k].cdf <= u (the block's
+// first entry's cdf is 0): a binary search of the block's distribution. An
+// entry of pick 0 shares its cdf with the next, so it is never found.
+fn search_lights(first: u32, end: u32, u: f32) -> u32 {
+    var lo = first;
+    var hi = end;
+    while (hi - lo > 1u) {
+        loop_iterations += 1u;
+        let mid = (lo + hi) / 2u;
+        if (lights[mid].cdf <= u) {
+            lo = mid;
+        } else {
+            hi = mid;
+        }
+    }
+    return lo;
+}
+
+// The entry of emitter `id` (a GPU object id), or NO_OBJECT: a binary
+// search of the emitters' entries, which the host sorts by object id.
+fn emitter_entry(id: u32) -> u32 {
+    var lo = params.light_count;
+    var hi = params.light_count + params.emitter_count;
+    while (lo < hi) {
+        loop_iterations += 1u;
+        let mid = (lo + hi) / 2u;
+        let o = lights[mid].object;
+        if (o == id) {
+            return mid;
+        }
+        if (o < id) {
+            lo = mid + 1u;
+        } else {
+            hi = mid;
+        }
+    }
+    return NO_OBJECT;
+}
+
+// The probability that sample_light picks emitter entry k.
+fn emitter_pick(k: u32) -> f32 {
+    return past_scene_lights() * lights[k].pick;
 }
 
 fn emitter_radiance(id: u32) -> vec3<f32> {
@@ -58,16 +132,37 @@ fn no_light() -> LightSample {
 }
 
 // A sample toward one light, seen from p (the shading point; shadow rays
-// start at `origin`, p moved off the surface).
+// start at `origin`, p moved off the surface). One random number picks the
+// light: below 1 - past_scene_lights() it searches the scene lights'
+// distribution, above it is stretched over the emitters' and the sky's.
 fn sample_light(p: vec3<f32>) -> LightSample {
     let total = lights_total();
     if (total == 0u) {
         return no_light();
     }
-    let k = min(u32(random() * f32(total)), total - 1u);
-    let choice = 1.0 / f32(total);
+    let u = random();
     let u1 = random();
     let u2 = random();
+    let past = past_scene_lights();
+    var k: u32;
+    var choice: f32;
+    if (u < 1.0 - past) {
+        k = search_lights(0u, params.light_count, u);
+        choice = lights[k].pick;
+    } else {
+        // Below 1, past f32 rounding: u < 1 and past > 0 here.
+        let v = min((u - (1.0 - past)) / past, 0.99999994);
+        if (v < 1.0 - past_emitters()) {
+            k = search_lights(params.light_count, params.light_count + params.emitter_count, v);
+            choice = emitter_pick(k);
+        } else {
+            k = params.light_count + params.emitter_count; // the sky
+            choice = sky_pick();
+        }
+    }
+    if (choice <= 0.0) {
+        return no_light();
+    }
     if (k == params.light_count + params.emitter_count) {
         let dir = sample_environment();
         let pdf = choice * environment_pdf(dir);
@@ -136,9 +231,14 @@ fn sample_light(p: vec3<f32>) -> LightSample {
 }
 
 // The density with which sample_light, from p, picks the direction `dir`
-// that meets emitter `id` at distance t (0 where it could not).
+// that meets emitter `id` at distance t (0 where it could not): the
+// emitter's pick as the sampler has it, times the density within it.
 fn light_pdf(id: u32, p: vec3<f32>, dir: vec3<f32>, t: f32) -> f32 {
-    let choice = 1.0 / f32(lights_total());
+    let k = emitter_entry(id);
+    if (k == NO_OBJECT) {
+        return 0.0;
+    }
+    let choice = emitter_pick(k);
     if (is_sphere(id)) {
         let width = sphere_cone_width(sphere(id), p);
         if (width <= 0.0) {

@@ -106,7 +106,7 @@ fn path_trace_sample(primary: Ray) -> vec3<f32> {
         if (hit.object == NO_OBJECT) {
             var weight = 1.0;
             if (last_pdf > 0.0 && has_environment_image()) {
-                weight = mis_weight(last_pdf, environment_pdf(ray.dir) / f32(lights_total()));
+                weight = mis_weight(last_pdf, sky_pick() * environment_pdf(ray.dir));
             }
             radiance += throughput * sky(ray.dir) * weight;
             break;

@@ -81,7 +81,9 @@ struct Material {
 
 // The lights buffer: `light_count` scene lights (kind LIGHT_POINT,
 // LIGHT_SPOT or LIGHT_DIRECTIONAL), then `emitter_count` emissive objects
-// (kind LIGHT_EMITTER, `object` their GPU id, `diffuse` their radiance).
+// (kind LIGHT_EMITTER, `object` their GPU id, in increasing order,
+// `diffuse` their radiance). `pick`, `cdf` and `beyond`: the path tracer's
+// choice of a light by power (emitters.wgsl, `sample_light`).
 struct Light {
     position: vec3<f32>,  // point and spot lights
     kind: u32,
@@ -93,6 +95,10 @@ struct Light {
     spot_scale: f32,      // spot: 1 / max(cos inner - cos outer, 0.001)
     direction: vec3<f32>, // spot: its axis; directional: where the light travels (unit)
     path_scale: f32,      // point and spot: the path tracer's intensity is diffuse * path_scale
+    pick: f32,            // its probability within its block's share
+    cdf: f32,             // the sum of the picks before it in its block
+    beyond: f32,          // the probability of passing its block
+    _pad: u32,
 }
 
 struct FrameParams {

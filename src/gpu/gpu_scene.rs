@@ -97,10 +97,11 @@ impl GpuScene {
 
     /// Puts `lights` (one per the scene's light, as an animation's
     /// [`Frame`](crate::scene::Frame) gives them) in the lights buffer, for
-    /// the frames traced after it; the tree and the other buffers stay.
+    /// the frames traced after it, each with its chance of being picked
+    /// (rebuilt with them); the tree and the other buffers stay.
     pub fn write_lights(&self, ctx: &GpuContext, lights: &[Light]) {
-        self.buffers
-            .write_lights(&ctx.queue, &super::SceneArrays::lights_of(lights));
+        let lights = self.prepared.arrays.frame_lights(lights);
+        self.buffers.write_lights(&ctx.queue, &lights);
     }
 
     /// The kernel's parameters for the scene's own camera and settings, with

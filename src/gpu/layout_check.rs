@@ -180,7 +180,7 @@ fn scene_records_match_their_wgsl_structs() {
         GpuLight,
         [
             position, kind, ambient, object, diffuse, cos_outer, specular, spot_scale, direction,
-            path_scale
+            path_scale, pick, cdf, beyond, _pad
         ]
     );
 }

@@ -167,7 +167,7 @@ pub fn encode(prepared: &PreparedScene, name: &str) -> Vec<u8> {
     if let Some(cameras) = &cameras {
         sections.push(("cameras", cameras));
     }
-    let frame_lights = frame_lights_section(scene);
+    let frame_lights = frame_lights_section(scene, arrays);
     if let Some(frame_lights) = &frame_lights {
         sections.push((FRAME_LIGHTS_SECTION, frame_lights));
     }
@@ -219,16 +219,21 @@ pub fn cameras_section(scene: &crate::scene::Scene, fps: f64) -> Vec<u8> {
     out
 }
 
-/// The `frame_lights` section ([`FRAME_LIGHTS_SECTION`]), or None when no
-/// light has keys (every frame's lights are the `lights` array).
-pub fn frame_lights_section(scene: &crate::scene::Scene) -> Option<Vec<u8>> {
+/// The `frame_lights` section ([`FRAME_LIGHTS_SECTION`]) of `scene`, whose
+/// arrays are `arrays`, or None when no light has keys (every frame's
+/// lights are the `lights` array). Each frame's lights carry their picks,
+/// rebuilt for that frame.
+pub fn frame_lights_section(
+    scene: &crate::scene::Scene,
+    arrays: &crate::gpu::SceneArrays,
+) -> Option<Vec<u8>> {
     let path = scene.frame_path();
     if !path.lights_move() {
         return None;
     }
     let mut out = Vec::new();
     for frame in 0..scene.frame_count() {
-        let lights = crate::gpu::SceneArrays::lights_of(&path.lights_at(frame));
+        let lights = arrays.frame_lights(&path.lights_at(frame));
         out.extend_from_slice(bytemuck::cast_slice(&lights));
     }
     Some(out)
@@ -371,7 +376,8 @@ mod tests {
     }
 
     /// A scene whose light has keys carries every frame's lights as the
-    /// lights buffer holds them; one whose lights stay carries none.
+    /// lights buffer holds them, their picks rebuilt for each frame; one
+    /// whose lights stay carries none.
     #[test]
     fn moving_lights_carry_every_frame_lights() {
         let text = "[camera]\nposition = [0, 0, 5]\nlook_at = [0, 0, 0]\n\
@@ -381,11 +387,12 @@ mod tests {
             [[animation.light_keys]]\nframe = 2\nlight = 1\nposition = [3, 1, 1]\ncolor = [0.5, 0.5, 0.5]\n";
         let path = std::path::Path::new("lights.toml");
         let scene = crate::scene::parse_scene(text, path, crate::scene::SceneFormat::Toml).unwrap();
-        let section = frame_lights_section(&scene).unwrap();
+        let prepared = PreparedScene::new(scene.clone(), Accel::Kdtree);
+        let section = frame_lights_section(&scene, &prepared.arrays).unwrap();
         let per_frame = 2 * std::mem::size_of::<crate::layout::GpuLight>();
         assert_eq!(section.len(), 3 * per_frame);
         for frame in 0..3u32 {
-            let want = crate::gpu::SceneArrays::lights_of(&scene.frame(frame).lights);
+            let want = prepared.arrays.frame_lights(&scene.frame(frame).lights);
             let at = frame as usize * per_frame;
             assert_eq!(
                 &section[at..at + per_frame],
@@ -397,14 +404,22 @@ mod tests {
             section[2 * per_frame..],
             "the light moves"
         );
-        let bundle = encode(&PreparedScene::new(scene, Accel::Kdtree), "lights.toml");
+        // Dimmed to half at frame 2, the second light is picked a third of
+        // the time instead of half.
+        let second: crate::layout::GpuLight =
+            bytemuck::pod_read_unaligned(&section[5 * per_frame / 2..]);
+        assert!((second.pick - 1.0 / 3.0).abs() < 1e-6, "{}", second.pick);
+        let bundle = encode(&prepared, "lights.toml");
         assert!(read_sections(&bundle)
             .unwrap()
             .iter()
             .any(|(n, b)| n == FRAME_LIGHTS_SECTION && *b == &section[..]));
         let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
-        let orbit = crate::scene::load_scene(&root.join("scenes/orbit.toml")).unwrap();
-        assert!(frame_lights_section(&orbit).is_none());
+        let orbit = PreparedScene::new(
+            crate::scene::load_scene(&root.join("scenes/orbit.toml")).unwrap(),
+            Accel::Kdtree,
+        );
+        assert!(frame_lights_section(&orbit.scene, &orbit.arrays).is_none());
     }
 
     #[test]

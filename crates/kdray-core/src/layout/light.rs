@@ -25,6 +25,18 @@ pub struct GpuLight {
     /// A point or spot light: the path tracer's radiant intensity is
     /// `diffuse * path_scale` (`scene::Light::path_intensity_scale`).
     pub path_scale: f32,
+    /// The path tracer's choice of a light by power
+    /// ([`light_picks`](super::light_picks)): the probability of this entry
+    /// within its block's share (a scene light: of all; an emitter: given
+    /// that the choice passed the scene lights).
+    pub pick: f32,
+    /// The sum of the picks of its block's entries before it.
+    pub cdf: f32,
+    /// The probability that the choice passes this entry's block: a scene
+    /// light's, that it falls on an emitter or the sky; an emitter's, that
+    /// it falls on the sky, given that it passed the scene lights.
+    pub beyond: f32,
+    pub _pad: u32,
 }
 
 /// `GpuLight::kind`: a point light of the scene's `[[lights]]`.

@@ -7,7 +7,8 @@
 //! kernel's packed k-d node; the tree's own nodes and ropes, re-exported
 //! here, are `crate::kdtree`'s), `objects` (spheres, triangles, packed normals),
 //! `material`, `light` and `frame_values` (the values of `FrameParams`'
-//! switches); `scene_arrays` flattens a scene into them, and
+//! switches); `light_picks` gives each light its chance of being picked by
+//! power; `scene_arrays` flattens a scene into them, and
 //! `texture_words` lays out the textures buffer.
 //!
 //! WGSL's `vec3<f32>` is 16-byte aligned, so each `[f32; 3]` is followed by a
@@ -15,6 +16,7 @@
 
 mod frame_values;
 mod light;
+pub mod light_picks;
 mod material;
 mod objects;
 mod scene_arrays;

@@ -3,7 +3,8 @@
 //! lights, the tree's nodes and ropes, vertex normals and textures, each
 //! array as the kernel reads it. The `kdray` crate uploads them.
 
-use super::light::{GpuLight, LIGHT_DIRECTIONAL, LIGHT_EMITTER, LIGHT_POINT, LIGHT_SPOT};
+use super::light::{GpuLight, LIGHT_DIRECTIONAL, LIGHT_POINT, LIGHT_SPOT};
+use super::light_picks::LightPicks;
 use super::material::{
     GpuMaterial, ALPHA_BLEND, ALPHA_MASK, ALPHA_OPAQUE, MODEL_LAMBERTIAN, MODEL_METAL_ROUGH,
 };
@@ -24,9 +25,13 @@ pub struct SceneArrays {
     pub objects: Vec<[u32; 2]>,
     pub materials: Vec<GpuMaterial>,
     /// The scene's point lights, then one entry per emissive object
-    /// (`LIGHT_EMITTER`), `emitter_count` of them.
+    /// (`LIGHT_EMITTER`, in order of GPU id), `emitter_count` of them, each
+    /// with its chance of being picked ([`LightPicks`]).
     pub lights: Vec<GpuLight>,
     pub emitter_count: u32,
+    /// What a frame's scene lights need for their picks
+    /// ([`LightPicks::scene_lights`]).
+    pub light_picks: LightPicks,
     /// Where `[environment] image` lies in `textures`, if the scene has one.
     pub environment: EnvironmentWords,
     pub nodes: Vec<GpuKdNode>,
@@ -55,9 +60,15 @@ fn f32x3(v: glam::DVec3) -> [f32; 3] {
 }
 
 impl SceneArrays {
-    /// `lights` in the GPU layout: the `lights` buffer, which an
+    /// `lights` (a frame's, one per light of this scene) in the GPU layout
+    /// with their picks: the head of the `lights` buffer, which an
     /// animation's frame rewrites.
-    pub fn lights_of(lights: &[Light]) -> Vec<GpuLight> {
+    pub fn frame_lights(&self, lights: &[Light]) -> Vec<GpuLight> {
+        self.light_picks.scene_lights(Self::lights_of(lights))
+    }
+
+    /// `lights` in the GPU layout, without their picks.
+    fn lights_of(lights: &[Light]) -> Vec<GpuLight> {
         lights
             .iter()
             .map(|l| {
@@ -136,24 +147,6 @@ impl SceneArrays {
         self.lights[..self.point_light_count() as usize]
             .iter()
             .any(|l| l.kind != LIGHT_POINT)
-    }
-
-    /// An entry of the lights buffer for each object (by GPU id, in
-    /// `objects`) whose material emits, as f32: the path tracer's area lights.
-    fn emitters_of(objects: &[[u32; 2]], materials: &[GpuMaterial]) -> Vec<GpuLight> {
-        objects
-            .iter()
-            .enumerate()
-            .filter_map(|(gpu_id, &[material, _])| {
-                let emission = materials[material as usize].emission;
-                emission.iter().any(|&e| e > 0.0).then(|| GpuLight {
-                    kind: LIGHT_EMITTER,
-                    object: gpu_id as u32,
-                    diffuse: emission,
-                    ..bytemuck::Zeroable::zeroed()
-                })
-            })
-            .collect()
     }
 }
 
@@ -263,8 +256,9 @@ impl SceneArrays {
                 .iter()
                 .map(|m| gpu_material(m, &texture_index))
                 .collect(),
-            lights: Self::lights_of(&scene.lights),
+            lights: Vec::new(),
             emitter_count: 0,
+            light_picks: LightPicks::default(),
             environment: EnvironmentWords::default(),
             nodes: tree.nodes.iter().map(GpuKdNode::pack).collect(),
             leaf_objects: tree
@@ -282,7 +276,16 @@ impl SceneArrays {
         if let Some(env) = &scene.environment {
             arrays.environment = EnvironmentWords::append(env, &mut arrays.textures);
         }
-        let emitters = Self::emitters_of(&arrays.objects, &arrays.materials);
+        let (emitters, picks) = LightPicks::with_emitters(
+            &arrays.objects,
+            &arrays.materials,
+            &arrays.spheres,
+            &arrays.triangles,
+            scene.environment.as_ref(),
+            &arrays.bounds,
+        );
+        arrays.light_picks = picks;
+        arrays.lights = arrays.frame_lights(&scene.lights);
         arrays.emitter_count = emitters.len() as u32;
         arrays.lights.extend(emitters);
         arrays
