@@ -30,6 +30,7 @@ mod inspect;
 mod inspect_cli;
 mod inspect_kernel;
 mod light_kinds;
+mod light_sampling;
 mod material_maps;
 mod open_model;
 mod optimised_gltf;
