@@ -266,6 +266,7 @@ pub fn random_scene(spec: &RandomSceneSpec) -> Scene {
             seed: 0,
             tone_map: Default::default(),
             exposure: 0.0,
+            denoise: false,
         },
         environment: None,
         lights: vec![Light {

@@ -150,6 +150,7 @@ pub fn model_scene_viewed(
             seed: 0,
             tone_map: Default::default(),
             exposure: 0.0,
+            denoise: false,
         },
         lights: if placed.lights.is_empty() {
             light_rig(min, max)

@@ -1,5 +1,5 @@
 //! The path tracer's keys in scene files: `[render] integrator`, `seed`,
-//! `tone_map`, `exposure`; materials' `base_color`, `metallic`,
+//! `tone_map`, `exposure`, `denoise`; materials' `base_color`, `metallic`,
 //! `roughness`, `emission`; `[environment]`; and what each refuses, in one
 //! line naming the file, line and key.
 
@@ -155,11 +155,34 @@ fn bad_path_keys_are_refused_naming_their_key() {
     }
 }
 
+/// `[render] denoise`: off by default, on when true, refused with the
+/// Whitted integrator and when not a boolean, in one line naming the key.
+#[test]
+fn denoise_is_read_and_needs_the_path_tracer() {
+    let off = parse(&path_scene("", "diffuse = [1, 1, 1]")).unwrap();
+    assert!(!off.render.denoise);
+    let on = parse(&path_scene("denoise = true", "diffuse = [1, 1, 1]")).unwrap();
+    assert!(on.render.denoise);
+    let no = parse(&path_scene("denoise = false", "diffuse = [1, 1, 1]")).unwrap();
+    assert!(!no.render.denoise);
+    let whitted = format!(
+        "{CAMERA}[render]\ndenoise = true\n[[lights]]\nposition = [0, 5, 5]\n[materials.m]\ndiffuse = [1, 1, 1]\n[[spheres]]\ncenter = [0, 0, 0]\nradius = 1\nmaterial = \"m\"\n"
+    );
+    let e = refused(&whitted);
+    assert!(
+        e.starts_with("s.toml:5:") && e.contains("render.denoise") && e.contains("path"),
+        "{e}"
+    );
+    assert!(parse(&whitted.replace("denoise = true", "denoise = false")).is_ok());
+    let e = refused(&path_scene("denoise = 1", "diffuse = [1, 1, 1]"));
+    assert!(e.contains("denoise"), "{e}");
+}
+
 /// A scene written back as text reads back equal, the path keys included.
 #[test]
 fn path_scenes_round_trip_through_scene_text() {
     let s = parse(&path_scene(
-        "samples = 3\nseed = 9\nexposure = 1",
+        "samples = 3\nseed = 9\nexposure = 1\ndenoise = true",
         "base_color = [0.9, 0.5, 0.1]\nmetallic = 0.5\nemission = [1, 2, 3]",
     ))
     .unwrap();

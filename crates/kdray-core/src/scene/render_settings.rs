@@ -36,6 +36,9 @@ pub struct RenderSettings {
     pub tone_map: ToneMap,
     /// Stops, finite.
     pub exposure: f64,
+    /// Whether `kdray render` denoises the path-traced image (with its
+    /// albedo and normal) before writing it; path tracer only.
+    pub denoise: bool,
 }
 
 impl RenderSettings {

@@ -200,6 +200,8 @@ pub(super) struct RawRender {
     pub(super) tone_map: Option<Named<super::integrator::ToneMap>>,
     #[serde(skip_serializing_if = "Option::is_none")]
     pub(super) exposure: Option<f64>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub(super) denoise: Option<bool>,
 }
 
 /// `[environment]`: the radiance of the sky that escaping rays see.

@@ -26,6 +26,7 @@ use super::schema::{
 };
 use super::source_map::LazySourceMap;
 use super::validated_scene::Scene;
+use crate::choice::Choice;
 
 /// Largest accepted image side, in pixels.
 pub const MAX_IMAGE_SIDE: u32 = 16384;
@@ -390,6 +391,16 @@ impl Validator<'_> {
         let samples = r.samples.unwrap_or(1);
         check_samples(samples, integrator).map_err(|m| self.error("render.samples", m))?;
         let exposure = self.number(&|| "render.exposure".into(), r.exposure.unwrap_or(0.0))?;
+        let denoise = r.denoise.unwrap_or(false);
+        if denoise && integrator != Integrator::Path {
+            return Err(self.error(
+                "render.denoise",
+                format!(
+                    "the denoiser needs the path tracer (integrator = \"path\"), got integrator = \"{}\"",
+                    integrator.name()
+                ),
+            ));
+        }
         Ok(RenderSettings {
             width,
             height,
@@ -408,6 +419,7 @@ impl Validator<'_> {
             seed: r.seed.unwrap_or(0),
             tone_map: r.tone_map.as_ref().map_or(ToneMap::default(), |n| n.0),
             exposure,
+            denoise,
         })
     }
 

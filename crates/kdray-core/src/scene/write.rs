@@ -128,6 +128,7 @@ fn raw_render(r: &RenderSettings) -> RawRender {
         seed: Some(r.seed),
         tone_map: Some(Named(r.tone_map)),
         exposure: Some(r.exposure),
+        denoise: Some(r.denoise),
     }
 }
 

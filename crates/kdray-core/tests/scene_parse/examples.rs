@@ -108,6 +108,7 @@ fn the_contract_example_has_every_value() {
             seed: 0,
             tone_map: kdray_core::scene::ToneMap::Aces,
             exposure: 0.0,
+            denoise: false,
         }
     );
     assert_eq!(

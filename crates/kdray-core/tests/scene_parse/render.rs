@@ -14,6 +14,7 @@ const DEFAULTS: RenderSettings = RenderSettings {
     seed: 0,
     tone_map: kdray_core::scene::ToneMap::Aces,
     exposure: 0.0,
+    denoise: false,
 };
 
 #[test]
@@ -51,6 +52,7 @@ fn every_render_key_is_read() {
             seed: 0,
             tone_map: kdray_core::scene::ToneMap::Aces,
             exposure: 0.0,
+            denoise: false,
         }
     );
     assert_eq!(render.samples_per_axis(), 4);
