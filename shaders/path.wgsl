@@ -87,7 +87,21 @@ fn next_event(m: Material, s: Surface, v: vec3<f32>, p: vec3<f32>, origin: vec3<
     return share * e.value * light.radiance * (weight / light.pdf);
 }
 
-// The path tracer: the radiance one path from `primary` brings back.
+// Features (FEATURE_OUTPUT): what the denoiser reads beside the radiance,
+// for one sample: the albedo and the shading normal (world space, facing
+// the ray) of the path's first hit whose sampled bounce is not a delta one
+// (a perfect mirror, smooth glass), followed through those as Open Image
+// Denoise asks. The albedo is the material's base colour (`diffuse`, with
+// its texture and vertex colour). A path that escapes before such a hit
+// takes the sky's radiance there, clamped to [0, 1], as its albedo and 0 as
+// its normal; one that ends on a delta surface (max_depth, Russian
+// roulette) keeps that surface's. No random number is drawn for them, so
+// the path and its radiance are the plain variant's.
+var<private> feature_albedo: vec3<f32>;
+var<private> feature_normal: vec3<f32>;
+
+// The path tracer: the radiance one path from `primary` brings back (and,
+// with FEATURE_OUTPUT, its features in feature_albedo and feature_normal).
 fn path_trace_sample(primary: Ray) -> vec3<f32> {
     var ray = primary;
     var throughput = vec3<f32>(1.0);
@@ -95,6 +109,12 @@ fn path_trace_sample(primary: Ray) -> vec3<f32> {
     var last_pdf = 0.0; // the BSDF density of the ray's direction; 0: camera or delta
     var inside = false;
     var path_length = 0.0;
+    // Whether the features are still to be taken at the next hit.
+    var features_open = FEATURE_OUTPUT;
+    if (FEATURE_OUTPUT) {
+        feature_albedo = vec3<f32>(0.0);
+        feature_normal = vec3<f32>(0.0);
+    }
     ray_counts.x += 1u;
     mark_ray(RAY_PRIMARY);
     for (var hits = 0u; ; hits++) {
@@ -108,7 +128,12 @@ fn path_trace_sample(primary: Ray) -> vec3<f32> {
             if (last_pdf > 0.0 && has_environment_image()) {
                 weight = mis_weight(last_pdf, sky_pick() * environment_pdf(ray.dir));
             }
-            radiance += throughput * sky(ray.dir) * weight;
+            let seen = sky(ray.dir);
+            radiance += throughput * seen * weight;
+            if (features_open) {
+                feature_albedo = clamp(seen, vec3<f32>(0.0), vec3<f32>(1.0));
+                feature_normal = vec3<f32>(0.0);
+            }
             break;
         }
         let p = ray.origin + hit.t * ray.dir;
@@ -123,6 +148,12 @@ fn path_trace_sample(primary: Ray) -> vec3<f32> {
             radiance += throughput * e * weight;
         }
         if (hits >= params.max_depth) {
+            if (features_open) {
+                let s = surface_at(hit.object, p, ray.dir);
+                let bent = mapped_normal(hit.object, p, s.shading);
+                feature_albedo = m.diffuse;
+                feature_normal = select(s.shading, bent, dot(bent, s.geometric) > 0.0);
+            }
             break;
         }
         var surface = surface_at(hit.object, p, ray.dir);
@@ -131,10 +162,17 @@ fn path_trace_sample(primary: Ray) -> vec3<f32> {
         if (dot(bent, surface.geometric) > 0.0) {
             surface.shading = bent;
         }
+        if (features_open) {
+            feature_albedo = m.diffuse;
+            feature_normal = surface.shading;
+        }
         let offset = spawn_offset(p, object_magnitude(hit.object));
         let outside = surface.spawn_point + offset * surface.geometric;
         radiance += throughput * next_event(m, surface, -ray.dir, p, outside);
         let b = sample_bounce(m, surface, ray.dir, inside);
+        // A mirror's or glass's bounce (a delta lobe: no density, a weight)
+        // passes the features on to the next hit.
+        features_open = features_open && b.pdf == 0.0 && any(b.weight != vec3<f32>(0.0));
         throughput *= b.weight;
         if (all(throughput == vec3<f32>(0.0))) {
             break;

@@ -103,14 +103,22 @@ fn radiance_sample(pixel: vec2<u32>, s: u32) -> vec3<f32> {
 // render_tile with RADIANCE_OUTPUT: adds samples sample_index ..
 // sample_index + sample_count to the pixel's sums, one at a time (the same
 // additions in the same order however the host splits the samples into
-// dispatches).
+// dispatches). With FEATURE_OUTPUT a pixel's output is 12 words, not 4:
+// its radiance sums, then its samples' albedo sums and normal sums (each
+// three f32 and one unused word); every sample adds its features, a
+// dropped one too.
 fn add_radiance(pixel: vec2<u32>, i: u32) {
-    let at = 4u * i;
-    var sum = vec3<f32>(
-        bitcast<f32>(tile_output.pixels[at]),
-        bitcast<f32>(tile_output.pixels[at + 1u]),
-        bitcast<f32>(tile_output.pixels[at + 2u])
-    );
+    var at = 4u * i;
+    if (FEATURE_OUTPUT) {
+        at = 12u * i;
+    }
+    var sum = read_sum(at);
+    var albedo = vec3<f32>(0.0);
+    var normal = vec3<f32>(0.0);
+    if (FEATURE_OUTPUT) {
+        albedo = read_sum(at + 4u);
+        normal = read_sum(at + 8u);
+    }
     let end = params.sample_index + params.sample_count;
     for (var s = params.sample_index; s < end; s++) {
         loop_iterations += 1u;
@@ -122,7 +130,27 @@ fn add_radiance(pixel: vec2<u32>, i: u32) {
         } else {
             nonfinite_samples += 1u;
         }
+        if (FEATURE_OUTPUT) {
+            albedo += feature_albedo;
+            normal += feature_normal;
+        }
     }
+    write_sum(at, sum);
+    if (FEATURE_OUTPUT) {
+        write_sum(at + 4u, albedo);
+        write_sum(at + 8u, normal);
+    }
+}
+
+fn read_sum(at: u32) -> vec3<f32> {
+    return vec3<f32>(
+        bitcast<f32>(tile_output.pixels[at]),
+        bitcast<f32>(tile_output.pixels[at + 1u]),
+        bitcast<f32>(tile_output.pixels[at + 2u])
+    );
+}
+
+fn write_sum(at: u32, sum: vec3<f32>) {
     tile_output.pixels[at] = bitcast<u32>(sum.x);
     tile_output.pixels[at + 1u] = bitcast<u32>(sum.y);
     tile_output.pixels[at + 2u] = bitcast<u32>(sum.z);

@@ -157,7 +157,9 @@ struct RayCounters {
 
 // render_tile's output: ray counts, then per pixel of the tile, row-major,
 // tile_size.x wide, one packed RGBA8 or, with RADIANCE_OUTPUT, four words:
-// the sums of its samples' red, green and blue radiance (f32 bits), unused.
+// the sums of its samples' red, green and blue radiance (f32 bits), unused;
+// with FEATURE_OUTPUT too, eight more: the albedo sums, unused, the normal
+// sums, unused (trace.wgsl, add_radiance).
 struct TileOutput {
     rays: RayCounters,
     pixels: array<u32>,

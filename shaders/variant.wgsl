@@ -44,6 +44,11 @@ override INTEGRATOR: u32 = FROM_PARAMS;
 // Whether render_tile writes each pixel's radiance sums as floats (the path
 // tracer, and EXR output) instead of 8-bit colour.
 override RADIANCE_OUTPUT: bool = false;
+// Whether render_tile with RADIANCE_OUTPUT also writes each pixel's feature
+// sums for the denoiser (path.wgsl, "Features"): the albedo and shading
+// normal of its samples' first hits that are not a perfect mirror or
+// smooth glass. Without it the path tracer is the plain one.
+override FEATURE_OUTPUT: bool = false;
 
 // The kind of a scene light (LIGHT_POINT, _SPOT or _DIRECTIONAL) as the
 // pipeline sees it: a point light where the scene has no other kind.

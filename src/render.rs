@@ -302,13 +302,21 @@ impl FramePart {
 }
 
 /// The renderer `render_streaming` renders `scene` with (its radiance read
-/// back if `radiance`).
-fn renderer_for(ctx: &GpuContext, scene: &Scene, radiance: bool) -> Result<Renderer> {
-    let renderer = Renderer::new(ctx)?.with_settings(&scene.render);
-    Ok(match radiance {
-        true => renderer.with_radiance(),
-        false => renderer,
-    })
+/// back if `radiance`, and a path frame's feature images if `features`).
+fn renderer_for(
+    ctx: &GpuContext,
+    scene: &Scene,
+    radiance: bool,
+    features: bool,
+) -> Result<Renderer> {
+    let mut renderer = Renderer::new(ctx)?.with_settings(&scene.render);
+    if radiance {
+        renderer = renderer.with_radiance();
+    }
+    if features {
+        renderer = renderer.with_features();
+    }
+    Ok(renderer)
 }
 
 /// Has the driver compile the pipeline that [`render_streaming`] runs for
@@ -328,7 +336,7 @@ pub fn compile_for(
     let params = uploaded
         .view_params(camera, &scene.render, uploaded.accel())
         .with_traversal(traversal);
-    renderer_for(ctx, scene, radiance)?.compile(ctx, uploaded.buffers(), params, false)
+    renderer_for(ctx, scene, radiance, false)?.compile(ctx, uploaded.buffers(), params, false)
 }
 
 /// How [`render_streaming`] traces and what its bands carry.
@@ -342,6 +350,9 @@ pub struct StreamOptions {
     pub with_cost: bool,
     /// The bands carry linear radiance beside the 8-bit colours.
     pub radiance: bool,
+    /// Path frames' bands also carry the denoiser's feature images
+    /// (`RowBand::features`: each pixel's mean albedo and normal).
+    pub features: bool,
 }
 
 impl StreamOptions {
@@ -352,6 +363,7 @@ impl StreamOptions {
             max_tile_pixels: TilePlan::DEFAULT_MAX_TILE_PIXELS,
             with_cost: false,
             radiance: false,
+            features: false,
         }
     }
 }
@@ -376,13 +388,14 @@ pub fn render_streaming(
         max_tile_pixels,
         with_cost,
         radiance,
+        features,
     } = options;
     let total = Instant::now();
     let (prepared, buffers) = (uploaded.prepared(), uploaded.buffers());
     let (accel, upload_ms) = (uploaded.accel(), uploaded.upload_ms());
     let scene = &prepared.scene;
 
-    let mut renderer = renderer_for(ctx, scene, radiance)?;
+    let mut renderer = renderer_for(ctx, scene, radiance, features)?;
     // Flattening and the pipelines' creation count as upload.
     let transfer_ms = upload_ms;
     let upload_ms = prepared.flatten_ms + transfer_ms + ms_since(total);

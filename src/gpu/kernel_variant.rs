@@ -79,6 +79,10 @@ pub struct KernelVariant {
     /// Whether `render_tile` writes radiance sums as floats (path frames,
     /// EXR output) instead of 8-bit colour.
     pub radiance_output: bool,
+    /// Whether `render_tile`'s radiance output also carries each pixel's
+    /// feature sums (albedo and normal) for the denoiser. Without it the
+    /// path is the plain one, instruction for instruction.
+    pub feature_output: bool,
 }
 
 impl KernelVariant {
@@ -96,6 +100,7 @@ impl KernelVariant {
         count_costs: true,
         integrator: FROM_PARAMS,
         radiance_output: false,
+        feature_output: false,
     };
 
     /// The variant for frames of `scene` with `params`' accel and walk,
@@ -109,6 +114,7 @@ impl KernelVariant {
             count_costs,
             integrator: params.integrator,
             radiance_output: params.integrator == crate::layout::INTEGRATOR_PATH,
+            feature_output: false,
             ..Self::for_scene(scene).with_walk_of(params)
         }
     }
@@ -139,6 +145,7 @@ impl KernelVariant {
             count_costs: true,
             integrator: crate::layout::INTEGRATOR_WHITTED,
             radiance_output: false,
+            feature_output: false,
         }
     }
 
@@ -183,7 +190,7 @@ impl KernelVariant {
 
     /// The pipeline constants that make this variant, by WGSL name
     /// (shaders/variant.wgsl declares each of [`OVERRIDES`]).
-    pub fn constants(&self) -> [(&'static str, f64); 13] {
+    pub fn constants(&self) -> [(&'static str, f64); 14] {
         let flag = |b: bool| if b { 1.0 } else { 0.0 };
         let (accel, traversal) = match self.walk {
             Walk::FromParams => (FROM_PARAMS, FROM_PARAMS),
@@ -211,13 +218,14 @@ impl KernelVariant {
             ("COUNT_COSTS", flag(self.count_costs)),
             ("INTEGRATOR", self.integrator as f64),
             ("RADIANCE_OUTPUT", flag(self.radiance_output)),
+            ("FEATURE_OUTPUT", flag(self.feature_output)),
         ]
     }
 }
 
 /// The names of the kernel's pipeline-overridable constants, all of which
 /// [`KernelVariant::constants`] sets.
-pub const OVERRIDES: [&str; 13] = [
+pub const OVERRIDES: [&str; 14] = [
     "SPLIT_SCENE",
     "ACCEL",
     "TRAVERSAL",
@@ -231,6 +239,7 @@ pub const OVERRIDES: [&str; 13] = [
     "COUNT_COSTS",
     "INTEGRATOR",
     "RADIANCE_OUTPUT",
+    "FEATURE_OUTPUT",
 ];
 
 /// The overrides that follow from the scene ([`KernelVariant::for_arrays`]);
@@ -275,6 +284,7 @@ mod tests {
             spot_or_directional_lights: false,
             integrator: crate::layout::INTEGRATOR_WHITTED,
             radiance_output: false,
+            feature_output: false,
         };
         assert_eq!(
             mesh.unread_bindings(),

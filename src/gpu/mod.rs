@@ -65,8 +65,8 @@ pub use kernel_io::{FrameParams, GpuQueryHit, GpuQueryRay, PresentParams, RayCou
 pub use kernel_variant::KernelVariant;
 pub use ray_query::{RayQueries, RayQuery};
 pub use renderer::{
-    CostTotals, GpuTimeSource, RayTotals, RenderSummary, RenderedImage, Renderer, RowBand,
-    SAMPLES_PER_DISPATCH,
+    CostTotals, Features, GpuTimeSource, RayTotals, RenderSummary, RenderedImage, Renderer,
+    RowBand, SAMPLES_PER_DISPATCH,
 };
 pub use scene_buffers::{ArrayBindings, SceneBuffers};
 pub use tile_plan::TilePlan;

@@ -7,7 +7,7 @@ use super::bindings;
 use super::context::GpuContext;
 use super::gpu_timer::GpuTimer;
 use super::scene_buffers::SceneBuffers;
-use super::tile_plan::{output_bytes_per_pixel, TilePlan};
+use super::tile_plan::{PixelOutput, TilePlan};
 use super::{KernelVariant, TracePipelines};
 use crate::error::Result;
 use crate::gpu::{FrameParams, RayCounters};
@@ -26,6 +26,18 @@ pub struct RowBand<'a> {
     /// Each pixel's mean linear radiance (r, g, b), row-major: path frames,
     /// and frames of a renderer made [`Renderer::with_radiance`].
     pub radiance: Option<&'a [f32]>,
+    /// The denoiser's feature images, as `radiance`: each pixel's mean
+    /// albedo and mean shading normal (world space) over its samples, for
+    /// path frames of a renderer made [`Renderer::with_features`].
+    pub features: Option<Features<'a>>,
+}
+
+/// A band's feature images (shaders/path.wgsl, "Features"): three floats a
+/// pixel each, row-major.
+#[derive(Clone, Copy)]
+pub struct Features<'a> {
+    pub albedo: &'a [f32],
+    pub normal: &'a [f32],
 }
 
 /// Bytes per pixel of the cost output (`bindings::PIXEL_COSTS`).
@@ -132,6 +144,8 @@ pub struct Renderer {
     params_buffer: wgpu::Buffer,
     /// Whether Whitted frames also come back as radiance (EXR output).
     radiance: bool,
+    /// Whether path frames also come back with their feature images.
+    features: bool,
     /// How a path frame's radiance becomes its 8-bit colour: the curve and
     /// the scale 2^exposure.
     tone_map: (ToneMap, f32),
@@ -150,6 +164,7 @@ impl Renderer {
             general: false,
             params_buffer,
             radiance: false,
+            features: false,
             tone_map: (ToneMap::default(), 1.0),
             sample_range: None,
         })
@@ -169,6 +184,17 @@ impl Renderer {
     pub fn with_radiance(self) -> Self {
         Renderer {
             radiance: true,
+            ..self
+        }
+    }
+
+    /// This renderer with path frames' feature images read back
+    /// (`RowBand::features`): each pixel's mean albedo and normal, for the
+    /// denoiser. Its pipelines are the feature variant (`FEATURE_OUTPUT`);
+    /// the radiance is the plain variant's.
+    pub fn with_features(self) -> Self {
+        Renderer {
+            features: true,
             ..self
         }
     }
@@ -288,14 +314,25 @@ impl Renderer {
         sink: &mut dyn FnMut(RowBand<'_>) -> Result<()>,
     ) -> Result<RenderSummary> {
         let width = params.width;
+        let path = params.integrator == INTEGRATOR_PATH;
         let variant = KernelVariant {
-            radiance_output: self.radiance || params.integrator == INTEGRATOR_PATH,
+            radiance_output: self.radiance || path,
+            feature_output: self.features && path,
             ..self.variant_for(scene, &params, with_cost)
         };
-        let radiance = variant.radiance_output;
+        let output = match (variant.radiance_output, variant.feature_output) {
+            (_, true) => PixelOutput::Features,
+            (true, false) => PixelOutput::Radiance,
+            (false, false) => PixelOutput::Rgb8,
+        };
+        let radiance = output.radiance();
+        let plan = plan.fitting(
+            output.bytes(),
+            super::max_binding_bytes(&ctx.device.limits()),
+        );
         let pipeline = self.pipelines.get(ctx, variant)?;
         let tile_pixels = plan.tile_width as u64 * plan.max_rows as u64;
-        let tile = TileBuffers::new(ctx, self, scene, tile_pixels, with_cost, radiance)?;
+        let tile = TileBuffers::new(ctx, self, scene, tile_pixels, with_cost, output)?;
         let bind_group = tile.bind_group.for_pipeline(ctx, &pipeline)?;
         let timer = match ctx.has_timestamps {
             true => Some(ctx.checked("creating the GPU timer", GpuTimer::new)?),
@@ -317,7 +354,7 @@ impl Renderer {
         let mut rows = plan.first_band_rows(width);
         while y < end {
             let h = rows.min(end - y);
-            band.reset(width, h, with_cost, radiance);
+            band.reset(width, h, with_cost, output);
             let mut band_ms = 0.0;
             let mut x = 0;
             while x < width {
@@ -330,7 +367,7 @@ impl Renderer {
                     tile: &tile,
                     params,
                     with_cost,
-                    radiance,
+                    output,
                 };
                 let (ms, bytes) = self.trace_tile(ctx, &run, area, first_sample, samples)?;
                 band_ms += ms;
@@ -338,13 +375,13 @@ impl Renderer {
                     &bytes,
                     area,
                     width,
-                    radiance,
+                    output,
                     samples.max(1) as f32,
                     self.tone_map,
                 );
                 summary.rays.add(&band.counters);
                 if let Some(totals) = &mut summary.cost {
-                    band.take_costs(&bytes, area, width, radiance, totals);
+                    band.take_costs(&bytes, area, width, output, totals);
                 }
                 x += w;
             }
@@ -355,6 +392,10 @@ impl Renderer {
                 rgb: &band.rgb,
                 costs: with_cost.then_some(&band.costs[..]),
                 radiance: radiance.then_some(&band.radiance[..]),
+                features: (output == PixelOutput::Features).then_some(Features {
+                    albedo: &band.albedo,
+                    normal: &band.normal,
+                }),
             })?;
             y += h;
             // Tiles of a band run one after another: size the next band so
@@ -385,7 +426,7 @@ impl Renderer {
         // where one dispatch traces all its samples.
         let mut cleared = device_encoder(ctx);
         run.tile
-            .clear(&mut cleared, area, run.with_cost, run.radiance);
+            .clear(&mut cleared, area, run.with_cost, run.output);
         let mut pending = Some(cleared);
         let mut ms = 0.0;
         let mut first = 0;
@@ -414,7 +455,7 @@ impl Renderer {
             }
             if last {
                 run.tile
-                    .copy_to_readback(&mut encoder, area, run.with_cost, run.radiance);
+                    .copy_to_readback(&mut encoder, area, run.with_cost, run.output);
             }
             if let Some(t) = run.timer {
                 t.resolve(&mut encoder);
@@ -424,7 +465,7 @@ impl Renderer {
             let bytes = match last {
                 true => Some(ctx.read_buffer(
                     &run.tile.readback,
-                    run.tile.read_bytes(area, run.with_cost, run.radiance),
+                    run.tile.read_bytes(area, run.with_cost, run.output),
                 )?),
                 false => {
                     ctx.wait_idle()?;
@@ -493,7 +534,7 @@ struct TileRun<'a> {
     tile: &'a TileBuffers,
     params: FrameParams,
     with_cost: bool,
-    radiance: bool,
+    output: PixelOutput,
 }
 
 /// One tile's buffers on the GPU: the kernel's output and costs, the
@@ -512,9 +553,9 @@ impl TileBuffers {
         scene: &SceneBuffers,
         tile_pixels: u64,
         with_cost: bool,
-        radiance: bool,
+        output: PixelOutput,
     ) -> Result<Self> {
-        let tile_bytes = OUTPUT_HEADER_BYTES + tile_pixels * output_bytes_per_pixel(radiance);
+        let tile_bytes = OUTPUT_HEADER_BYTES + tile_pixels * output.bytes();
         let cost_bytes = match with_cost {
             true => tile_pixels * COST_BYTES_PER_PIXEL,
             false => 4,
@@ -559,8 +600,8 @@ impl TileBuffers {
         })
     }
 
-    fn output_bytes(area: TileArea, radiance: bool) -> u64 {
-        OUTPUT_HEADER_BYTES + area.pixels() * output_bytes_per_pixel(radiance)
+    fn output_bytes(area: TileArea, output: PixelOutput) -> u64 {
+        OUTPUT_HEADER_BYTES + area.pixels() * output.bytes()
     }
 
     /// Zeroes the counters (and the radiance sums, which the dispatches add
@@ -570,13 +611,13 @@ impl TileBuffers {
         encoder: &mut wgpu::CommandEncoder,
         area: TileArea,
         costs: bool,
-        radiance: bool,
+        output: PixelOutput,
     ) {
-        let output = match radiance {
-            true => Self::output_bytes(area, true),
+        let cleared = match output.radiance() {
+            true => Self::output_bytes(area, output),
             false => OUTPUT_HEADER_BYTES,
         };
-        encoder.clear_buffer(&self.output, 0, Some(output));
+        encoder.clear_buffer(&self.output, 0, Some(cleared));
         if costs {
             encoder.clear_buffer(&self.costs, 0, Some(area.pixels() * COST_BYTES_PER_PIXEL));
         }
@@ -587,9 +628,9 @@ impl TileBuffers {
         encoder: &mut wgpu::CommandEncoder,
         area: TileArea,
         costs: bool,
-        radiance: bool,
+        output: PixelOutput,
     ) {
-        let used = Self::output_bytes(area, radiance);
+        let used = Self::output_bytes(area, output);
         encoder.copy_buffer_to_buffer(&self.output, 0, &self.readback, 0, used);
         if costs {
             let cost_bytes = area.pixels() * COST_BYTES_PER_PIXEL;
@@ -597,8 +638,8 @@ impl TileBuffers {
         }
     }
 
-    fn read_bytes(&self, area: TileArea, costs: bool, radiance: bool) -> u64 {
-        Self::output_bytes(area, radiance)
+    fn read_bytes(&self, area: TileArea, costs: bool, output: PixelOutput) -> u64 {
+        Self::output_bytes(area, output)
             + if costs {
                 area.pixels() * COST_BYTES_PER_PIXEL
             } else {
@@ -614,12 +655,15 @@ struct BandBuffers {
     costs: Vec<WalkCost>,
     /// Mean linear RGB per pixel (radiance output).
     radiance: Vec<f32>,
+    /// Mean albedo and normal per pixel (feature output).
+    albedo: Vec<f32>,
+    normal: Vec<f32>,
     /// The last tile's ray counters.
     counters: RayCounters,
 }
 
 impl BandBuffers {
-    fn reset(&mut self, width: u32, rows: u32, costs: bool, radiance: bool) {
+    fn reset(&mut self, width: u32, rows: u32, costs: bool, output: PixelOutput) {
         let pixels = width as usize * rows as usize;
         self.rgb.clear();
         self.rgb.resize(pixels * 3, 0);
@@ -627,27 +671,32 @@ impl BandBuffers {
         if costs {
             self.costs.resize(pixels, WalkCost::default());
         }
-        self.radiance.clear();
-        if radiance {
-            self.radiance.resize(pixels * 3, 0.0);
-        }
+        let floats = |v: &mut Vec<f32>, wanted: bool| {
+            v.clear();
+            if wanted {
+                v.resize(pixels * 3, 0.0);
+            }
+        };
+        floats(&mut self.radiance, output.radiance());
+        floats(&mut self.albedo, output == PixelOutput::Features);
+        floats(&mut self.normal, output == PixelOutput::Features);
     }
 
     /// Takes a tile's counters and pixels from its read-back bytes: 8-bit
     /// colour as it is, or radiance sums divided by `samples` and
-    /// tone-mapped into `rgb`.
+    /// tone-mapped into `rgb` (and the feature sums divided alike).
     fn take_tile(
         &mut self,
         bytes: &[u8],
         area: TileArea,
         width: u32,
-        radiance: bool,
+        output: PixelOutput,
         samples: f32,
         tone_map: (ToneMap, f32),
     ) {
         let (header, pixels) = bytes.split_at(OUTPUT_HEADER_BYTES as usize);
         self.counters = bytemuck::pod_read_unaligned::<RayCounters>(header);
-        let words: Vec<u32> = pixels[..(area.pixels() * output_bytes_per_pixel(radiance)) as usize]
+        let words: Vec<u32> = pixels[..(area.pixels() * output.bytes()) as usize]
             .chunks_exact(4)
             .map(|b| u32::from_le_bytes([b[0], b[1], b[2], b[3]]))
             .collect();
@@ -655,22 +704,38 @@ impl BandBuffers {
         for row in 0..area.h as usize {
             let start = (row * width + area.x as usize) * 3;
             let dst = &mut self.rgb[start..start + w * 3];
-            if !radiance {
+            if !output.radiance() {
                 for (d, p) in dst.chunks_exact_mut(3).zip(&words[row * w..(row + 1) * w]) {
                     d.copy_from_slice(&p.to_le_bytes()[..3]);
                 }
                 continue;
             }
+            let stride = output.words();
             let mean = &mut self.radiance[start..start + w * 3];
-            let sums = &words[row * w * 4..(row + 1) * w * 4];
+            let sums = &words[row * w * stride..(row + 1) * w * stride];
             for ((m, d), sum) in mean
                 .chunks_exact_mut(3)
                 .zip(dst.chunks_exact_mut(3))
-                .zip(sums.chunks_exact(4))
+                .zip(sums.chunks_exact(stride))
             {
                 for c in 0..3 {
                     m[c] = f32::from_bits(sum[c]) / samples;
                     d[c] = tone_map.0.to_srgb8(m[c], tone_map.1);
+                }
+            }
+            if output != PixelOutput::Features {
+                continue;
+            }
+            let albedo = &mut self.albedo[start..start + w * 3];
+            let normal = &mut self.normal[start..start + w * 3];
+            for ((a, n), sum) in albedo
+                .chunks_exact_mut(3)
+                .zip(normal.chunks_exact_mut(3))
+                .zip(sums.chunks_exact(stride))
+            {
+                for c in 0..3 {
+                    a[c] = f32::from_bits(sum[4 + c]) / samples;
+                    n[c] = f32::from_bits(sum[8 + c]) / samples;
                 }
             }
         }
@@ -682,10 +747,10 @@ impl BandBuffers {
         bytes: &[u8],
         area: TileArea,
         width: u32,
-        radiance: bool,
+        output: PixelOutput,
         totals: &mut CostTotals,
     ) {
-        let used = TileBuffers::output_bytes(area, radiance) as usize;
+        let used = TileBuffers::output_bytes(area, output) as usize;
         let words: Vec<u32> = bytes[used..]
             .chunks_exact(4)
             .map(|b| u32::from_le_bytes([b[0], b[1], b[2], b[3]]))

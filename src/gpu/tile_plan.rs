@@ -28,7 +28,7 @@ impl TilePlan {
         // The output buffer holds the ray counters, then 4 bytes per pixel
         // (16 with radiance); the cost buffer (when asked for) 12 bytes per pixel.
         let max_pixels = max_tile_pixels
-            .min(max_binding_bytes.saturating_sub(64) / output_bytes_per_pixel(true))
+            .min(max_binding_bytes.saturating_sub(64) / PixelOutput::Radiance.bytes())
             .max(1);
         let tile_width = width.min(max_pixels as u32).max(1);
         let max_rows = (max_pixels / tile_width as u64).clamp(1, height.max(1) as u64) as u32;
@@ -61,13 +61,53 @@ impl TilePlan {
         }
         ((self.target_dispatch_ms / ms_per_row) as u64).clamp(1, self.max_rows as u64) as u32
     }
+
+    /// This plan with tiles small enough for `bytes_per_pixel` of output
+    /// in one binding of `max_binding_bytes` (the feature output's 48; the
+    /// plan fits 16).
+    pub(super) fn fitting(self, bytes_per_pixel: u64, max_binding_bytes: u64) -> Self {
+        let max_pixels = (max_binding_bytes.saturating_sub(64) / bytes_per_pixel).max(1);
+        let tile_width = self.tile_width.min(max_pixels as u32).max(1);
+        let max_rows = self
+            .max_rows
+            .min((max_pixels / tile_width as u64).max(1) as u32);
+        TilePlan {
+            tile_width,
+            max_rows,
+            ..self
+        }
+    }
 }
 
-/// Bytes per pixel of `render_tile`'s output: packed RGBA8, or four words
-/// of radiance sums.
-pub(super) fn output_bytes_per_pixel(radiance: bool) -> u64 {
-    match radiance {
-        true => 16,
-        false => 4,
+/// What `render_tile` writes per pixel.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(super) enum PixelOutput {
+    /// One packed RGBA8.
+    Rgb8,
+    /// Four words: the radiance sums (`RADIANCE_OUTPUT`).
+    Radiance,
+    /// Twelve words: the radiance, albedo and normal sums
+    /// (`FEATURE_OUTPUT`).
+    Features,
+}
+
+impl PixelOutput {
+    /// Bytes per pixel.
+    pub(super) fn bytes(self) -> u64 {
+        match self {
+            PixelOutput::Rgb8 => 4,
+            PixelOutput::Radiance => 16,
+            PixelOutput::Features => 48,
+        }
+    }
+
+    /// Words per pixel.
+    pub(super) fn words(self) -> usize {
+        self.bytes() as usize / 4
+    }
+
+    /// Whether the pixels are radiance sums (either float output).
+    pub(super) fn radiance(self) -> bool {
+        self != PixelOutput::Rgb8
     }
 }

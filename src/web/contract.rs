@@ -149,7 +149,7 @@ pub const CHOICE_OVERRIDES: [(&str, &[&str]); 4] = [
     ("walk", &["ACCEL", "TRAVERSAL"]),
     ("costs", &["COUNT_COSTS"]),
     ("integrator", &["INTEGRATOR"]),
-    ("entry", &["RADIANCE_OUTPUT"]),
+    ("entry", &["RADIANCE_OUTPUT", "FEATURE_OUTPUT"]),
 ];
 
 /// A variant that reads no optional binding: the choices are made on it.
@@ -166,6 +166,7 @@ const LEAST: KernelVariant = KernelVariant {
     count_costs: false,
     integrator: INTEGRATOR_WHITTED,
     radiance_output: false,
+    feature_output: false,
 };
 
 /// The page's pipeline choices, each value by the page's name for it, as
@@ -221,8 +222,8 @@ fn pipeline_choices() -> Value {
             (i.name().to_string(), made(integrator_names, v))
         })
         .collect();
-    // RADIANCE_OUTPUT is render_tile's: off, as the window's and the
-    // inspector's pipelines have it.
+    // RADIANCE_OUTPUT and FEATURE_OUTPUT are render_tile's: off, as the
+    // window's and the inspector's pipelines have them.
     let entry = made(entry_names, LEAST);
     json!({
         "walk": walks,
@@ -385,6 +386,7 @@ mod tests {
                     choice("integrator"),
                 ),
                 (flip(|v| v.radiance_output ^= true), choice("entry")),
+                (flip(|v| v.feature_output ^= true), choice("entry")),
             ];
             for (i, (changed, allowed)) in changes.into_iter().enumerate() {
                 for ((name, a), (_, b)) in base.constants().iter().zip(changed.constants()) {

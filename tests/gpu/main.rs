@@ -17,6 +17,7 @@ mod bench;
 mod cli;
 mod denoise;
 mod denoise_cli;
+mod denoise_render;
 mod double_sided;
 mod examples;
 mod glass;

@@ -130,6 +130,13 @@ pub struct RenderArgs {
     /// [default: the scene's file name with .png, in the current folder].
     #[arg(short, long)]
     pub output: Option<PathBuf>,
+    /// Denoise the path-traced image (OIDN's network with its albedo and
+    /// normal) before writing it; with -o X.exr also write X.noisy.exr,
+    /// X.albedo.exr and X.normal.exr. --denoise=false turns off the scene's
+    /// [render] denoise = true.
+    #[arg(long, value_name = "BOOL", num_args = 0..=1, require_equals = true,
+          default_missing_value = "true", conflicts_with = "window")]
+    pub denoise: Option<bool>,
     #[command(flatten)]
     pub image: ImageFlags,
     /// A model file opened as a scene (.obj, .gltf, .glb): which camera to look through.

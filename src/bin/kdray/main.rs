@@ -89,6 +89,7 @@ fn render(args: RenderArgs) -> Result<()> {
         frame,
         all_frames,
         camera,
+        denoise,
         ..
     } = args;
     let scene_path = scene_path.as_path();
@@ -97,6 +98,7 @@ fn render(args: RenderArgs) -> Result<()> {
     let flags: kdray::render::RenderFlags = image.into();
     flags.check()?;
     flags.apply(&mut scene)?;
+    apply_denoise(&mut scene.render, denoise)?;
     if all_frames {
         let Some(dir) = output else {
             return Err(Error::Usage("--all-frames needs -o DIR".into()));
@@ -129,8 +131,8 @@ fn render(args: RenderArgs) -> Result<()> {
 
     // Rows stream from the GPU into the PNG (memory holds one band); the
     // file appears only once complete, and a failure leaves no trace. An
-    // EXR is written whole at the end.
-    let mut image = ImageOut::create(&output, scene.render.width, scene.render.height)?;
+    // EXR, and a denoised image, are written whole at the end.
+    let mut image = ImageOut::create(&output, &scene.render)?;
     let ctx = GpuContext::new()?;
     let progress = progress_bar(scene.render.height as u64, "rendering {pos}/{len} rows")?;
     let (width, height) = (scene.render.width, scene.render.height);
@@ -148,6 +150,7 @@ fn render(args: RenderArgs) -> Result<()> {
         StreamOptions {
             with_cost: stats || heatmap.is_some(),
             radiance: image.wants_radiance(),
+            features: image.wants_features(),
             ..StreamOptions::new(flags.traversal)
         },
         &mut |band| {
@@ -162,7 +165,7 @@ fn render(args: RenderArgs) -> Result<()> {
     if let Some((path, max)) = &heatmap {
         kdray::output::heatmap::write_heatmap(path, &work, width, height, *max)?;
     }
-    image.finish()?;
+    image.finish(&ctx)?;
     if let Some(warning) = figures.loop_limit_warning() {
         eprintln!("kdray: {warning}");
     }
@@ -186,7 +189,8 @@ fn render_all_frames(
     std::fs::create_dir_all(dir)
         .map_err(|e| Error::Output(format!("{}: cannot create the folder: {e}", dir.display())))?;
     let path = scene.frame_path();
-    let (width, height) = (scene.render.width, scene.render.height);
+    let height = scene.render.height;
+    let render = scene.render;
     let ctx = GpuContext::new()?;
     let progress = progress_bar(
         frames as u64 * height as u64,
@@ -198,7 +202,7 @@ fn render_all_frames(
     )?;
     for k in 0..frames {
         let file = dir.join(kdray::farm::plan::frame_file_name(k, frames));
-        let mut png = kdray::output::PngStream::create(&file, width, height)?;
+        let mut image = ImageOut::create(&file, &render)?;
         let part = kdray::render::FramePart {
             frame: path.frame(k),
             rows: (0, height),
@@ -208,13 +212,16 @@ fn render_all_frames(
             &ctx,
             &uploaded,
             Some(&part),
-            StreamOptions::new(flags.traversal),
+            StreamOptions {
+                features: image.wants_features(),
+                ..StreamOptions::new(flags.traversal)
+            },
             &mut |band| {
                 progress.inc(band.rows as u64);
-                png.write_rows(band.rgb)
+                image.write_band(&band)
             },
         )?;
-        png.finish()?;
+        image.finish(&ctx)?;
         if let Some(warning) = figures.loop_limit_warning() {
             eprintln!("kdray: frame {k}: {warning}");
         }
@@ -286,8 +293,22 @@ fn info() -> Result<()> {
     Ok(())
 }
 
-/// Where `render` writes its image: a PNG fed band by band, or an EXR of
-/// linear radiance, written whole once the last band is in.
+/// `--denoise[=BOOL]` over the scene's `[render] denoise`; either asking
+/// for the denoiser with the Whitted integrator is a usage error.
+fn apply_denoise(render: &mut kdray::scene::RenderSettings, flag: Option<bool>) -> Result<()> {
+    render.denoise = flag.unwrap_or(render.denoise);
+    if render.denoise && render.integrator != kdray::scene::Integrator::Path {
+        return Err(Error::Usage(match flag {
+            Some(_) => "--denoise: the denoiser needs the path tracer (--integrator path or [render] integrator = \"path\")".into(),
+            None => "--integrator whitted: the scene's [render] denoise = true needs the path tracer (--denoise=false turns it off)".into(),
+        }));
+    }
+    Ok(())
+}
+
+/// Where `render` writes its image: a PNG fed band by band, an EXR of
+/// linear radiance written whole once the last band is in, or either
+/// denoised ([`Denoised`]).
 enum ImageOut {
     /// Boxed: the encoder's state is large beside the other variant.
     Png(Box<kdray::output::PngStream>),
@@ -297,16 +318,57 @@ enum ImageOut {
         height: u32,
         rgb: Vec<f32>,
     },
+    Denoised(Denoised),
+}
+
+/// A path-traced image to denoise: its radiance, albedo and normal
+/// gathered whole, denoised by OIDN's `rt_hdr_alb_nrm` network, then
+/// written as a PNG tone-mapped as the scene says, or as OpenEXR beside
+/// the denoiser's three inputs ([`denoise_input_paths`]).
+struct Denoised {
+    path: PathBuf,
+    width: u32,
+    height: u32,
+    /// The PNG's tone map and scale (2^exposure).
+    tone_map: (kdray::scene::ToneMap, f32),
+    color: Vec<f32>,
+    albedo: Vec<f32>,
+    normal: Vec<f32>,
+}
+
+/// The files `render --denoise -o X.exr` writes beside X.exr: the noisy
+/// radiance, the albedo and the normal, as `X.noisy.exr`, `X.albedo.exr`
+/// and `X.normal.exr`.
+fn denoise_input_paths(exr: &Path) -> [PathBuf; 3] {
+    ["noisy.exr", "albedo.exr", "normal.exr"].map(|e| exr.with_extension(e))
 }
 
 impl ImageOut {
-    fn create(path: &Path, width: u32, height: u32) -> Result<Self> {
+    fn create(path: &Path, render: &kdray::scene::RenderSettings) -> Result<Self> {
+        let (width, height) = (render.width, render.height);
+        let pixels = width as usize * height as usize * 3;
+        if render.denoise {
+            let png = !kdray::output::exr::is_exr_path(path);
+            if png {
+                // Fails early, as a streamed PNG does, on an unwritable folder.
+                drop(kdray::output::PngStream::create(path, width, height)?);
+            }
+            return Ok(ImageOut::Denoised(Denoised {
+                path: path.to_path_buf(),
+                width,
+                height,
+                tone_map: (render.tone_map, render.exposure.exp2() as f32),
+                color: Vec::with_capacity(pixels),
+                albedo: Vec::with_capacity(pixels),
+                normal: Vec::with_capacity(pixels),
+            }));
+        }
         if kdray::output::exr::is_exr_path(path) {
             return Ok(ImageOut::Exr {
                 path: path.to_path_buf(),
                 width,
                 height,
-                rgb: Vec::with_capacity(width as usize * height as usize * 3),
+                rgb: Vec::with_capacity(pixels),
             });
         }
         Ok(ImageOut::Png(Box::new(kdray::output::PngStream::create(
@@ -315,23 +377,38 @@ impl ImageOut {
     }
 
     fn wants_radiance(&self) -> bool {
-        matches!(self, ImageOut::Exr { .. })
+        !matches!(self, ImageOut::Png(_))
+    }
+
+    fn wants_features(&self) -> bool {
+        matches!(self, ImageOut::Denoised(_))
     }
 
     fn write_band(&mut self, band: &kdray::gpu::RowBand<'_>) -> Result<()> {
+        let radiance = || {
+            band.radiance.ok_or_else(|| {
+                Error::Output("the renderer returned no radiance for the EXR".into())
+            })
+        };
         match self {
             ImageOut::Png(png) => png.write_rows(band.rgb),
             ImageOut::Exr { rgb, .. } => {
-                let radiance = band.radiance.ok_or_else(|| {
-                    Error::Output("the renderer returned no radiance for the EXR".into())
+                rgb.extend_from_slice(radiance()?);
+                Ok(())
+            }
+            ImageOut::Denoised(d) => {
+                let features = band.features.ok_or_else(|| {
+                    Error::Output("the renderer returned no albedo and normal to denoise".into())
                 })?;
-                rgb.extend_from_slice(radiance);
+                d.color.extend_from_slice(radiance()?);
+                d.albedo.extend_from_slice(features.albedo);
+                d.normal.extend_from_slice(features.normal);
                 Ok(())
             }
         }
     }
 
-    fn finish(self) -> Result<()> {
+    fn finish(self, ctx: &GpuContext) -> Result<()> {
         match self {
             ImageOut::Png(png) => png.finish(),
             ImageOut::Exr {
@@ -340,6 +417,32 @@ impl ImageOut {
                 height,
                 rgb,
             } => kdray::output::exr::write_exr_atomic(&path, width, height, &rgb),
+            ImageOut::Denoised(d) => d.finish(ctx),
         }
+    }
+}
+
+impl Denoised {
+    fn finish(self, ctx: &GpuContext) -> Result<()> {
+        use kdray::output::exr::{is_exr_path, write_exr_atomic};
+        let (w, h) = (self.width, self.height);
+        let images = kdray_core::denoise::DenoiseImages {
+            width: w as usize,
+            height: h as usize,
+            color: &self.color,
+            albedo: Some(&self.albedo),
+            normal: Some(&self.normal),
+        };
+        let denoised = kdray::denoise::Denoiser::new(ctx)?.denoise(&images, None)?;
+        if !is_exr_path(&self.path) {
+            let (curve, scale) = self.tone_map;
+            let rgb: Vec<u8> = denoised.iter().map(|&v| curve.to_srgb8(v, scale)).collect();
+            return kdray::output::write_png_atomic(&self.path, w, h, &rgb);
+        }
+        let [noisy, albedo, normal] = denoise_input_paths(&self.path);
+        write_exr_atomic(&noisy, w, h, &self.color)?;
+        write_exr_atomic(&albedo, w, h, &self.albedo)?;
+        write_exr_atomic(&normal, w, h, &self.normal)?;
+        write_exr_atomic(&self.path, w, h, &denoised)
     }
 }
