@@ -1,6 +1,7 @@
 //! The path tracer feeding the denoiser: its feature images (albedo and
 //! shading normal of the first hit that is not a perfect mirror or smooth
-//! glass) on scenes where they are known exactly, the radiance of the
+//! glass) on scenes where they are known exactly (a plane, a textured
+//! plane, a mirror), the radiance of the
 //! feature variant equal to the plain one's bit for bit, and `kdray render
 //! --denoise` (`[render] denoise = true`) end to end: a denoised image far
 //! less noisy than the noisy one, the EXR's three companion files, and the
@@ -143,6 +144,56 @@ fn a_plane_facing_the_camera_shows_its_colour_and_normal() {
         }
     }
     assert!(on >= 100 && off >= 100, "{on} pixels on, {off} off");
+}
+
+/// The same square from an OBJ whose MTL paints it with a one-texel
+/// texture of (255, 0, 255) over `Kd` (0.4, 0.6, 0.8): the albedo is the
+/// texel times the colour, (0.4, 0, 0.8), where the square fills a pixel.
+#[test]
+fn a_textured_surface_shows_its_texel_times_its_colour() {
+    let dir = TempDir::new("denoise-texture");
+    image::RgbImage::from_pixel(1, 1, image::Rgb([255, 0, 255]))
+        .save(dir.path.join("texel.png"))
+        .unwrap();
+    std::fs::write(
+        dir.path.join("quad.mtl"),
+        "newmtl tex\nKd 0.4 0.6 0.8\nmap_Kd texel.png\n",
+    )
+    .unwrap();
+    std::fs::write(
+        dir.path.join("quad.obj"),
+        "mtllib quad.mtl\nv -1 -1 0\nv 1 -1 0\nv 1 1 0\nv -1 1 0\n\
+         vt 0 0\nvt 1 0\nvt 1 1\nvt 0 1\nusemtl tex\nf 1/1 2/2 3/3\nf 1/1 3/3 4/4\n",
+    )
+    .unwrap();
+    let toml = dir.path.join("scene.toml");
+    std::fs::write(
+        &toml,
+        "[camera]\nposition = [0, 0, 3]\nlook_at = [0, 0, 0]\nvfov = 60\n\
+         [render]\nwidth = 16\nheight = 16\nintegrator = \"path\"\nsamples = 2\nmax_depth = 2\n\
+         [environment]\ncolor = [0.5, 0.5, 0.5]\n\
+         [[meshes]]\npath = \"quad.obj\"\n",
+    )
+    .unwrap();
+    let scene = kdray::scene::load_scene(&toml).unwrap_or_else(|e| panic!("{e}"));
+    let frame = render_frame(&scene, true);
+    let half = 3.0 * (30f64.to_radians()).tan();
+    let edge = |i: usize| (2.0 * i as f64 / 16.0 - 1.0) * half;
+    let inside = |i: usize| edge(i).abs() < 1.0 && edge(i + 1).abs() < 1.0;
+    let mut on = 0;
+    for y in (0..16).filter(|&y| inside(y)) {
+        for x in (0..16).filter(|&x| inside(x)) {
+            let at = (y * 16 + x) * 3;
+            assert_near(
+                &frame.albedo[at..at + 3],
+                [0.4, 0.0, 0.8],
+                1e-6,
+                "the texel",
+            );
+            on += 1;
+        }
+    }
+    assert!(on >= 25, "{on} pixels on the square");
 }
 
 /// A perfect mirror turned 45 degrees fills the view and sends every
