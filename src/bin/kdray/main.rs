@@ -165,7 +165,7 @@ fn render(args: RenderArgs) -> Result<()> {
     if let Some((path, max)) = &heatmap {
         kdray::output::heatmap::write_heatmap(path, &work, width, height, *max)?;
     }
-    image.finish(&ctx)?;
+    image.finish(&ctx, &mut None)?;
     if let Some(warning) = figures.loop_limit_warning() {
         eprintln!("kdray: {warning}");
     }
@@ -200,6 +200,9 @@ fn render_all_frames(
         &ctx,
         kdray::gpu::PreparedScene::built_by(scene, flags.accel, flags.build),
     )?;
+    // Made once, at the first frame that needs it: its kernels and weights
+    // serve every frame.
+    let mut denoiser = None;
     for k in 0..frames {
         let file = dir.join(kdray::farm::plan::frame_file_name(k, frames));
         let mut image = ImageOut::create(&file, &render)?;
@@ -221,7 +224,7 @@ fn render_all_frames(
                 image.write_band(&band)
             },
         )?;
-        image.finish(&ctx)?;
+        image.finish(&ctx, &mut denoiser)?;
         if let Some(warning) = figures.loop_limit_warning() {
             eprintln!("kdray: frame {k}: {warning}");
         }
@@ -408,7 +411,13 @@ impl ImageOut {
         }
     }
 
-    fn finish(self, ctx: &GpuContext) -> Result<()> {
+    /// Writes the image; a denoised one with `denoiser`, made here on `ctx`
+    /// if it is `None`.
+    fn finish<'a>(
+        self,
+        ctx: &'a GpuContext,
+        denoiser: &mut Option<kdray::denoise::Denoiser<'a>>,
+    ) -> Result<()> {
         match self {
             ImageOut::Png(png) => png.finish(),
             ImageOut::Exr {
@@ -417,13 +426,19 @@ impl ImageOut {
                 height,
                 rgb,
             } => kdray::output::exr::write_exr_atomic(&path, width, height, &rgb),
-            ImageOut::Denoised(d) => d.finish(ctx),
+            ImageOut::Denoised(d) => {
+                let denoiser = match denoiser {
+                    Some(denoiser) => denoiser,
+                    None => denoiser.insert(kdray::denoise::Denoiser::new(ctx)?),
+                };
+                d.finish(denoiser)
+            }
         }
     }
 }
 
 impl Denoised {
-    fn finish(self, ctx: &GpuContext) -> Result<()> {
+    fn finish(self, denoiser: &kdray::denoise::Denoiser<'_>) -> Result<()> {
         use kdray::output::exr::{is_exr_path, write_exr_atomic};
         let (w, h) = (self.width, self.height);
         let images = kdray_core::denoise::DenoiseImages {
@@ -433,7 +448,7 @@ impl Denoised {
             albedo: Some(&self.albedo),
             normal: Some(&self.normal),
         };
-        let denoised = kdray::denoise::Denoiser::new(ctx)?.denoise(&images, None)?;
+        let denoised = denoiser.denoise(&images, None)?;
         if !is_exr_path(&self.path) {
             let (curve, scale) = self.tone_map;
             let rgb: Vec<u8> = denoised.iter().map(|&v| curve.to_srgb8(v, scale)).collect();
