@@ -138,6 +138,32 @@ pub(crate) fn single_render(dir: &TempDir, scene: &str, extra: &[&str]) -> (u32,
     image
 }
 
+/// Every frame of `scene`'s animation rendered on the single machine at
+/// 64x48 (`extra`: more flags), in order: one `render --all-frames`, which
+/// writes each frame as `render --frame k` does (tests/gpu/cli.rs checks
+/// that), so that the comparison costs one process, not one a frame.
+pub(crate) fn single_frames(
+    dir: &TempDir,
+    scene: &str,
+    frames: usize,
+    extra: &[&str],
+) -> Vec<(u32, u32, Vec<u8>)> {
+    let out = dir.join("single-frames");
+    let mut args = vec!["render", scene, "--all-frames", "-o", out.to_str().unwrap()];
+    args.extend(SIZE);
+    args.extend(extra);
+    let run = run_kdray(&dir.path, &args, &[]);
+    assert_eq!(run.code, 0, "{run:#?}");
+    let names: Vec<String> = (0..frames).map(|k| format!("{k:04}.png")).collect();
+    assert_eq!(top_level_pngs(&out), names, "render --all-frames");
+    let images = names
+        .iter()
+        .map(|name| read_png_rgb(&out.join(name)).unwrap())
+        .collect();
+    std::fs::remove_dir_all(out).unwrap();
+    images
+}
+
 /// The PNG files at the top level of `dir`, sorted.
 pub(crate) fn top_level_pngs(dir: &Path) -> Vec<String> {
     let mut names: Vec<String> = std::fs::read_dir(dir)
@@ -444,14 +470,10 @@ fn an_orbit_of_eight_frames_in_three_tasks_equals_render_frame_by_frame() {
     let frames: Vec<String> = (0..8).map(|k| format!("{k:04}.png")).collect();
     assert_eq!(top_level_pngs(&out), frames);
     let mut seen = Vec::new();
-    for (k, name) in frames.iter().enumerate() {
+    let singles = single_frames(&tmp, scene, frames.len(), &[]);
+    for (k, (name, single)) in frames.iter().zip(singles).enumerate() {
         let image = read_png_rgb(&out.join(name)).unwrap();
-        let k = k.to_string();
-        assert_eq!(
-            image,
-            single_render(&tmp, scene, &["--frame", &k]),
-            "frame {k}"
-        );
+        assert_eq!(image, single, "frame {k}");
         assert!(!seen.contains(&image), "frame {k} repeats an earlier frame");
         seen.push(image);
     }
@@ -538,12 +560,8 @@ fn farm_frames_of_moving_lights_equal_render_frame_by_frame() {
     }
     let frames: Vec<String> = (0..12).map(|k| format!("{k:04}.png")).collect();
     assert_eq!(top_level_pngs(&out), frames);
-    for (k, name) in frames.iter().enumerate() {
-        let k = k.to_string();
-        assert_eq!(
-            read_png_rgb(&out.join(name)).unwrap(),
-            single_render(&tmp, &scene, &["--frame", &k]),
-            "frame {k}"
-        );
+    let singles = single_frames(&tmp, &scene, frames.len(), &[]);
+    for (k, (name, single)) in frames.iter().zip(singles).enumerate() {
+        assert_eq!(read_png_rgb(&out.join(name)).unwrap(), single, "frame {k}");
     }
 }

@@ -7,7 +7,7 @@ use std::path::Path;
 use std::process::Command;
 
 use crate::common;
-use crate::farm::{cluster, farm, mtime, repo, single_render, top_level_pngs, SIZE};
+use crate::farm::{cluster, farm, mtime, repo, single_frames, single_render, top_level_pngs, SIZE};
 
 use common::{run_kdray, TempDir};
 use kdray::output::exr::read_exr_rgb;
@@ -90,15 +90,9 @@ fn a_path_traced_orbit_of_five_frames_in_three_tasks_on_slurm_equals_render_fram
     );
     let frames: Vec<String> = (0..5).map(|k| format!("{k:04}.png")).collect();
     assert_eq!(top_level_pngs(&out), frames);
-    for (k, name) in frames.iter().enumerate() {
-        let k = k.to_string();
-        let mut flags = vec!["--frame", &k];
-        flags.extend(PATH);
-        assert_eq!(
-            read_png_rgb(&out.join(name)).unwrap(),
-            single_render(&tmp, scene, &flags),
-            "frame {k}"
-        );
+    let singles = single_frames(&tmp, scene, frames.len(), &PATH);
+    for (k, (name, single)) in frames.iter().zip(singles).enumerate() {
+        assert_eq!(read_png_rgb(&out.join(name)).unwrap(), single, "frame {k}");
     }
     // The plan carried the integrator and the seed: the Whitted frame and
     // the path tracer's with another seed differ.

@@ -6,8 +6,9 @@ use crate::common;
 
 use common::*;
 use kdray::gpu::{
-    Accel, GpuScene, KernelVariant, PreparedScene, RenderedImage, Renderer, TilePlan,
+    Accel, CostTotals, GpuScene, KernelVariant, PreparedScene, RenderedImage, Renderer, TilePlan,
 };
+use kdray::kdtree::traverse::WalkCost;
 use kdray::kdtree::Traversal;
 use kdray::scene::Scene;
 
@@ -29,40 +30,6 @@ fn render_walk(scene: &Scene, traversal: Traversal, max_tile_pixels: u64) -> Ren
     renderer
         .render(ctx, uploaded.buffers(), params, plan)
         .unwrap_or_else(|e| panic!("{e}"))
-}
-
-/// Every k-d walk and `--accel brute` give the same image on every scene,
-/// bit for bit: each walk finds brute force's nearest hit and its shadow
-/// rays' occluders. (A tolerance of 0.1% of pixels once hid a pixel off by
-/// 201 levels: a shadow ray through the corner of two split planes.)
-/// Scenes of more objects (the bunny's 69,670) are compared walk against
-/// walk: brute force over them exceeds llvmpipe's loop limit (design.md).
-/// Path-traced scenes get [`path_pixels_allowed`].
-#[test]
-fn kdtree_equals_brute_force_on_every_scene() {
-    const BRUTE_FORCE_MAX_OBJECTS: usize = 10_000;
-    for path in shipped_scenes() {
-        let scene = small_pair_scene(&path);
-        let brute = if scene.object_count() <= BRUTE_FORCE_MAX_OBJECTS {
-            render(&scene, Accel::Brute)
-        } else {
-            render_walk(
-                &scene,
-                Traversal::Restart,
-                TilePlan::DEFAULT_MAX_TILE_PIXELS,
-            )
-        };
-        for walk in Traversal::ALL {
-            let kd = render_walk(&scene, walk, TilePlan::DEFAULT_MAX_TILE_PIXELS);
-            let d = compare(&kd.rgb, &brute.rgb, kd.width, kd.height, 0);
-            let allowed = path_pixels_allowed(&scene);
-            assert!(
-                d.pixels_over <= allowed,
-                "{} ({walk}): {d:?}, {allowed} allowed",
-                path.display()
-            );
-        }
-    }
 }
 
 /// Small tiles give the same image, bit for bit, and the same ray counts as
@@ -330,32 +297,90 @@ fn gpu_matches_the_cpu_reference_on_every_scene() {
     }
 }
 
-/// Each frame runs a pipeline specialised for its scene and walk
-/// (`gpu::kernel_variant`): only that walk, only the scene's kinds of
-/// object, smooth shading only where a triangle has vertex normals, and the
-/// walks' counters only where the frame reports its cost. On every shipped
-/// scene (spheres only, triangles only, both, smooth) and for every walk and
-/// brute force, the specialised pipeline renders the general kernel's image
-/// bit for bit, with the same ray counts; counting, it counts the general
-/// kernel's work pixel for pixel; and it is a specialised one, so the
-/// comparison is not the general kernel with itself.
+/// One frame's images and counted work: the specialised pipeline's plain
+/// render, its counting render where the frame checks counting, and the
+/// general kernel's (which counts).
+struct FrameRenders {
+    plain: RenderedImage,
+    counted: Option<(Vec<u8>, Vec<WalkCost>, CostTotals)>,
+    general: RenderedImage,
+    general_counted: (Vec<WalkCost>, CostTotals),
+}
+
+/// `params` of `buffers` through `renderer`, whole, keeping every pixel's
+/// colour and cost.
+fn render_counted(
+    renderer: &Renderer,
+    buffers: &kdray::gpu::SceneBuffers,
+    params: kdray::gpu::FrameParams,
+    plan: TilePlan,
+) -> (RenderedImage, Vec<WalkCost>, CostTotals) {
+    let ctx = gpu();
+    let (mut rgb, mut costs) = (Vec::new(), Vec::new());
+    let summary = renderer
+        .render_bands_with_cost(ctx, buffers, params, plan, true, &mut |band| {
+            rgb.extend_from_slice(band.rgb);
+            costs.extend_from_slice(band.costs.expect("costs asked for"));
+            Ok(())
+        })
+        .unwrap_or_else(|e| panic!("{e}"));
+    let image = RenderedImage {
+        width: params.width,
+        height: params.height,
+        rgb,
+        gpu_ms: summary.gpu_ms,
+        gpu_time_source: summary.gpu_time_source,
+        rays: summary.rays,
+    };
+    (image, costs, summary.cost.expect("costs asked for"))
+}
+
+/// The two guarantees every shipped scene is rendered for, each frame once
+/// (llvmpipe compiles each pipeline once per process and renders each
+/// frame in seconds, so one pass serves both):
+///
+/// - Every k-d walk gives brute force's image, bit for bit: each walk finds
+///   brute force's nearest hit and its shadow rays' occluders. (A tolerance
+///   of 0.1% of pixels once hid a pixel off by 201 levels: a shadow ray
+///   through the corner of two split planes.) Scenes of more objects (the
+///   bunny's 69,670) are compared walk against walk: brute force over them
+///   exceeds llvmpipe's loop limit (design.md).
+/// - Each frame runs a pipeline specialised for its scene and walk
+///   (`gpu::kernel_variant`): only that walk, only the scene's kinds of
+///   object, smooth shading only where a triangle has vertex normals, and
+///   the walks' counters only where the frame reports its cost. For every
+///   walk and brute force on every scene (spheres only, triangles only,
+///   both, smooth), the specialised pipeline renders the general kernel's
+///   image bit for bit, with the same ray counts; and it is a specialised
+///   one, so the comparison is not the general kernel with itself. Its
+///   counting variant renders that image too and counts the general
+///   kernel's work pixel for pixel: checked on one frame a scene, the walk
+///   turning from scene to scene, so that every walk and brute force count
+///   on several kinds of scene.
+///
+/// Path-traced scenes get [`path_pixels_allowed`] in both.
 #[test]
-fn specialised_pipelines_render_what_the_general_kernel_renders() {
+fn every_walk_renders_brute_forces_and_the_general_kernels_image_on_every_scene() {
     const BRUTE_FORCE_MAX_OBJECTS: usize = 10_000;
     let ctx = gpu();
     let specialised = Renderer::new(ctx).unwrap_or_else(|e| panic!("{e}"));
     let general = Renderer::general(ctx).unwrap_or_else(|e| panic!("{e}"));
     let mut kinds_seen = std::collections::HashSet::new();
-    for path in shipped_scenes() {
+    let mut counted_frames = std::collections::HashSet::new();
+    for (index, path) in shipped_scenes().into_iter().enumerate() {
         let scene = small_pair_scene(&path);
+        let allowed = path_pixels_allowed(&scene);
+        let brute_force = scene.object_count() <= BRUTE_FORCE_MAX_OBJECTS;
         let mut frames: Vec<(Accel, Option<Traversal>)> = Traversal::ALL
             .iter()
             .map(|&t| (Accel::Kdtree, Some(t)))
             .collect();
-        if scene.object_count() <= BRUTE_FORCE_MAX_OBJECTS {
+        if brute_force {
             frames.push((Accel::Brute, None));
         }
-        for (accel, traversal) in frames {
+        let mut images = Vec::new();
+        let frame_count = frames.len();
+        for (frame_index, (accel, traversal)) in frames.into_iter().enumerate() {
             let prepared = PreparedScene::new(scene.clone(), accel);
             let uploaded = GpuScene::upload(ctx, prepared).unwrap_or_else(|e| panic!("{e}"));
             let buffers = uploaded.buffers();
@@ -378,38 +403,47 @@ fn specialised_pipelines_render_what_the_general_kernel_renders() {
                 TilePlan::DEFAULT_MAX_TILE_PIXELS,
                 kdray::gpu::max_binding_bytes(&ctx.device.limits()),
             );
-            let (a, b) = render_pair(&specialised, &general, buffers, params);
-            let what = format!("{} ({accel:?}, {traversal:?}, {variant:?})", path.display());
-            let d = compare(&a.rgb, &b.rgb, a.width, a.height, 0);
-            let allowed = path_pixels_allowed(&scene);
-            assert!(d.pixels_over <= allowed, "{what}: {d:?}, {allowed} allowed");
-            if allowed == 0 {
-                assert_eq!(a.rays, b.rays, "{what}");
-            }
-            let counted = |renderer: &Renderer| {
-                let mut costs = Vec::new();
-                let summary = renderer
-                    .render_bands_with_cost(ctx, buffers, params, plan, true, &mut |band| {
-                        costs.extend_from_slice(band.costs.expect("costs asked for"));
-                        Ok(())
-                    })
-                    .unwrap_or_else(|e| panic!("{e}"));
-                (costs, summary.cost.expect("costs asked for"))
+            let plain = specialised
+                .render(ctx, buffers, params, plan)
+                .unwrap_or_else(|e| panic!("{e}"));
+            let (general_image, b_costs, b_total) = render_counted(&general, buffers, params, plan);
+            // Each counting variant is a pipeline of its own (seconds of
+            // llvmpipe compiling), so each scene checks one frame's,
+            // the walk turning from scene to scene: every walk and brute
+            // force count on several kinds of scene.
+            let counted = (index % frame_count == frame_index).then(|| {
+                counted_frames.insert(traversal);
+                render_counted(&specialised, buffers, params, plan)
+            });
+            let frame = FrameRenders {
+                plain,
+                counted: counted.map(|(image, costs, total)| (image.rgb, costs, total)),
+                general: general_image,
+                general_counted: (b_costs, b_total),
             };
-            let (a_costs, a_total) = counted(&specialised);
-            let (b_costs, b_total) = counted(&general);
-            assert!(
-                a_total.nodes_visited + a_total.objects_tested > 0,
-                "{what}: nothing counted"
-            );
-            let differing = a_costs.iter().zip(&b_costs).filter(|(a, b)| a != b).count();
-            assert!(
-                differing <= allowed,
-                "{what}: the costs of {differing} pixels differ"
-            );
-            if allowed == 0 {
-                assert_eq!(a_total, b_total, "{what}");
+            let what = format!("{} ({accel:?}, {traversal:?}, {variant:?})", path.display());
+            check_against_the_general_kernel(&frame, allowed, &what);
+            images.push((traversal, frame.plain));
+        }
+        // Against brute force's image, or restart's where brute force is
+        // out of reach.
+        let reference = match images.iter().position(|(t, _)| t.is_none()) {
+            Some(i) => images.remove(i).1.rgb,
+            None => {
+                let i = images
+                    .iter()
+                    .position(|(t, _)| *t == Some(Traversal::Restart))
+                    .expect("restart is a walk");
+                images[i].1.rgb.clone()
             }
+        };
+        for (walk, kd) in &images {
+            let d = compare(&kd.rgb, &reference, kd.width, kd.height, 0);
+            assert!(
+                d.pixels_over <= allowed,
+                "{} ({walk:?}) against brute force: {d:?}, {allowed} allowed",
+                path.display()
+            );
         }
     }
     // Spheres only, triangles only, both; and a smooth mesh (scenes/bunny.toml).
@@ -420,6 +454,43 @@ fn specialised_pipelines_render_what_the_general_kernel_renders() {
         );
     }
     assert!(kinds_seen.iter().any(|k| k.2), "no smooth scene");
+    let walks = Traversal::ALL.iter().map(|&t| Some(t));
+    for frame in walks.chain([None]) {
+        assert!(counted_frames.contains(&frame), "{frame:?} never counted");
+    }
+}
+
+/// The specialised pipeline's images (plain and counting) are the general
+/// kernel's, with its ray counts, and its counted work is the general
+/// kernel's pixel for pixel.
+fn check_against_the_general_kernel(frame: &FrameRenders, allowed: usize, what: &str) {
+    let (a, b) = (&frame.plain, &frame.general);
+    let d = compare(&a.rgb, &b.rgb, a.width, a.height, 0);
+    assert!(d.pixels_over <= allowed, "{what}: {d:?}, {allowed} allowed");
+    if allowed == 0 {
+        assert_eq!(a.rays, b.rays, "{what}");
+    }
+    let Some((rgb, a_costs, a_total)) = &frame.counted else {
+        return;
+    };
+    let d = compare(rgb, &b.rgb, a.width, a.height, 0);
+    assert!(
+        d.pixels_over <= allowed,
+        "{what}, counting: {d:?}, {allowed} allowed"
+    );
+    let (b_costs, b_total) = &frame.general_counted;
+    assert!(
+        a_total.nodes_visited + a_total.objects_tested > 0,
+        "{what}: nothing counted"
+    );
+    let differing = a_costs.iter().zip(b_costs).filter(|(a, b)| a != b).count();
+    assert!(
+        differing <= allowed,
+        "{what}: the costs of {differing} pixels differ"
+    );
+    if allowed == 0 {
+        assert_eq!(a_total, b_total, "{what}");
+    }
 }
 
 /// Every renderer made on one context shares each entry point's pipelines,

@@ -5,7 +5,8 @@
 //! ranges (a farm's split by samples), no infinity or NaN in a pixel, and
 //! EXR output. That every walk and brute
 //! force give the same path-traced image is checked on the shipped Cornell
-//! box by tests/gpu/gpu_render.rs's `kdtree_equals_brute_force_on_every_scene`.
+//! box by tests/gpu/gpu_render.rs's
+//! `every_walk_renders_brute_forces_and_the_general_kernels_image_on_every_scene`.
 
 use crate::common;
 

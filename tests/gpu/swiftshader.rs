@@ -130,12 +130,23 @@ mod on_swiftshader {
     /// The one kernel that needs more than SwiftShader's 10 storage buffers a
     /// stage (the rope walk's two rope arrays in a scene with spheres,
     /// triangles and textures: 11) is refused in one line naming the limit.
+    /// `scene` at 80 pixels wide, its aspect kept: SwiftShader runs every
+    /// frame on the CPU, and what this module checks (each variant's
+    /// bindings, each walk against brute force) needs every pipeline, not
+    /// many pixels; the image tests on lavapipe render 160.
+    fn swiftshader_size(mut scene: Scene) -> Scene {
+        let aspect = scene.render.height as f64 / scene.render.width as f64;
+        scene.render.width = 80;
+        scene.render.height = ((80.0 * aspect).round() as u32).max(1);
+        scene
+    }
+
     #[test]
     #[ignore = "on SwiftShader: run by every_swiftshader_test_passes_in_a_process_of_its_own"]
     fn kdtree_equals_brute_force_on_every_scene_on_swiftshader() {
         const BRUTE_FORCE_MAX_OBJECTS: usize = 10_000;
         for path in shipped_scenes() {
-            let scene = small_pair_scene(&path);
+            let scene = swiftshader_size(small_pair_scene(&path));
             let reference = if scene.object_count() <= BRUTE_FORCE_MAX_OBJECTS {
                 render_walk(&scene, Accel::Brute, Traversal::default())
             } else {
