@@ -40,7 +40,12 @@ impl EnvironmentMap {
     /// without pixels, and radiance that is negative or not finite, naming
     /// the first such texel.
     pub fn decode(bytes: &[u8]) -> Result<(u32, u32, Vec<[f32; 3]>), String> {
-        let image = image::load_from_memory(bytes).map_err(|e| e.to_string())?;
+        let image = if is_other_radiance_header(bytes) {
+            decode_radiance_leniently(bytes)
+        } else {
+            image::load_from_memory(bytes)
+        }
+        .map_err(|e| e.to_string())?;
         let rgb = image.into_rgb32f();
         let (width, height) = rgb.dimensions();
         if width == 0 || height == 0 {
@@ -102,6 +107,22 @@ impl EnvironmentMap {
         push_cdf(&mut rows, &row_weights);
         (rows, columns)
     }
+}
+
+/// A Radiance HDR whose first line names another program than RADIANCE:
+/// `#?RGBE`, as Greg Ward's and Bruce Walter's RGBE writers (and stb's,
+/// OpenCV's and Mitsuba's after them) write it. Radiance's own readers take
+/// any `#?` line; the image crate's strict reader takes only `#?RADIANCE`.
+fn is_other_radiance_header(bytes: &[u8]) -> bool {
+    bytes.starts_with(b"#?") && !bytes.starts_with(image::codecs::hdr::SIGNATURE)
+}
+
+/// The lenient reader skips the `#?` line as a comment and reads the rest
+/// as the strict one does.
+fn decode_radiance_leniently(bytes: &[u8]) -> image::ImageResult<image::DynamicImage> {
+    let decoder =
+        image::codecs::hdr::HdrDecoder::with_strictness(std::io::Cursor::new(bytes), false)?;
+    image::DynamicImage::from_decoder(decoder)
 }
 
 /// Appends the cumulative distribution of `weights` (len + 1 values from 0
@@ -179,5 +200,45 @@ mod tests {
         let e = EnvironmentMap::decode(bytes.get_ref()).unwrap_err();
         assert!(e.contains("texel (1, 0)"), "{e}");
         assert!(EnvironmentMap::decode(b"#?RADIANCE\nnot really").is_err());
+    }
+
+    /// A 3 x 2 Radiance file with `program` on its first line, as RGBE
+    /// writers lay it out: header, blank line, resolution, flat RGBE texels.
+    fn radiance_file(program: &str) -> Vec<u8> {
+        let mut bytes = format!(
+            "#?{program}\n# written by hand\nFORMAT=32-bit_rle_rgbe\nEXPOSURE=1.0\n\n-Y 2 +X 3\n"
+        )
+        .into_bytes();
+        for texel in [
+            [128u8, 64, 32, 129],
+            [0, 0, 0, 0],
+            [200, 100, 50, 140],
+            [255, 255, 255, 120],
+            [10, 20, 30, 128],
+            [128, 128, 128, 130],
+        ] {
+            bytes.extend_from_slice(&texel);
+        }
+        bytes
+    }
+
+    #[test]
+    fn radiance_files_headed_rgbe_read_as_radiance_ones() {
+        let (w, h, rgbe) = EnvironmentMap::decode(&radiance_file("RGBE")).unwrap();
+        assert_eq!((w, h), (3, 2));
+        let radiance = EnvironmentMap::decode(&radiance_file("RADIANCE")).unwrap();
+        assert_eq!((w, h, rgbe.clone()), radiance);
+        // A mantissa m with exponent e is m 2^(e - 136), within half a step
+        // of m (readers differ on adding one half); black stays black.
+        let near = |got: [f32; 3], want: [f32; 3]| {
+            (0..3).all(|c| (got[c] - want[c]).abs() <= 0.01 * want[c].max(0.01))
+        };
+        assert!(near(rgbe[0], [1.0, 0.5, 0.25]), "{rgbe:?}");
+        assert_eq!(rgbe[1], [0.0; 3]);
+        assert!(near(rgbe[2], [3200.0, 1600.0, 800.0]), "{rgbe:?}");
+        assert!(near(rgbe[5], [2.0, 2.0, 2.0]), "{rgbe:?}");
+        // Another program's name is no excuse for a truncated file.
+        let file = radiance_file("RGBE");
+        assert!(EnvironmentMap::decode(&file[..file.len() - 5]).is_err());
     }
 }
