@@ -22,7 +22,9 @@
 //! - directional light: E pi R^2, E its irradiance (`diffuse`) and R the
 //!   radius of the sphere around the scene's box: what falls on the scene;
 //! - emissive triangle: pi A L, twice that two-sided, L the material's
-//!   emission factor (emissive textures are ignored);
+//!   emission factor times, where the kernel reads an emissive texture on
+//!   the triangle, that texture's mean linear colour (over the whole image,
+//!   not the triangle's part of it: a weight, not the emission);
 //! - emissive sphere: pi 4 pi r^2 L;
 //! - the sky image: pi 4 pi R^2 times its mean radiance over the sphere of
 //!   directions (with its intensity).
@@ -170,10 +172,13 @@ impl LightPicks {
     /// The emitters' entries (one per emissive object, in order of GPU id,
     /// as [`GpuLight`]s of kind `LIGHT_EMITTER` with their picks) and what
     /// the scene lights' picks need. `objects` are the kernel's (material,
-    /// scene id) by GPU id, spheres first.
+    /// scene id) by GPU id, spheres first; `emissive_means` by material,
+    /// the mean linear colour of the emissive texture the kernel reads for
+    /// it, if any.
     pub fn with_emitters(
         objects: &[[u32; 2]],
         materials: &[GpuMaterial],
+        emissive_means: &[Option<[f64; 3]>],
         spheres: &[GpuSphere],
         triangles: &[GpuTriangle],
         sky: Option<&EnvironmentMap>,
@@ -189,11 +194,16 @@ impl LightPicks {
             }
             powers.push(match spheres.get(gpu_id) {
                 Some(s) => sphere_power(s, m.emission),
-                None => triangle_power(
-                    &triangles[gpu_id - spheres.len()],
-                    m.emission,
-                    m.two_sided != 0,
-                ),
+                None => {
+                    let triangle = &triangles[gpu_id - spheres.len()];
+                    let emission = match emissive_means.get(material as usize) {
+                        Some(Some(mean)) if triangle.uvs != GpuTriangle::UNTEXTURED => {
+                            std::array::from_fn(|c| (m.emission[c] as f64 * mean[c]) as f32)
+                        }
+                        _ => m.emission,
+                    };
+                    triangle_power(triangle, emission, m.two_sided != 0)
+                }
             });
             emitters.push(GpuLight {
                 kind: LIGHT_EMITTER,
@@ -316,7 +326,7 @@ mod tests {
         assert_eq!(b.cdfs, vec![0.0, 0.25, 0.5]);
         assert_eq!(b.beyond, 0.25);
         // Chained: a uniform rest under a uniform head is uniform overall.
-        let (rest, _) = LightPicks::with_emitters(&[], &[], &[], &[], None, &Aabb::EMPTY);
+        let (rest, _) = LightPicks::with_emitters(&[], &[], &[], &[], &[], None, &Aabb::EMPTY);
         assert!(rest.is_empty());
         let picks = LightPicks {
             scene_radius: 1.0,
@@ -427,6 +437,7 @@ mod tests {
         let (emitters, picks) = LightPicks::with_emitters(
             &objects,
             &materials,
+            &[],
             &spheres,
             &triangles,
             Some(&sky),
@@ -445,6 +456,47 @@ mod tests {
         assert!((emitters[0].beyond as f64 - sky_power / total).abs() < 1e-6);
         assert_eq!(picks.emitters_and_sky, 5);
         assert!(close(picks.emitters_and_sky_power, total));
+    }
+
+    /// An emissive texture scales a textured triangle's power by its mean
+    /// colour's luminance, and leaves an untextured one (which the kernel
+    /// lights by the factor alone) as it is.
+    #[test]
+    fn an_emissive_textures_mean_scales_its_textured_triangles_power() {
+        let lit = GpuMaterial {
+            emission: [2.0, 2.0, 2.0],
+            ..bytemuck::Zeroable::zeroed()
+        };
+        let tri = |uvs: u32| GpuTriangle {
+            v0: [0.0; 3],
+            v1: [1.0, 0.0, 0.0],
+            v2: [0.0, 1.0, 0.0],
+            uvs,
+            ..bytemuck::Zeroable::zeroed()
+        };
+        let triangles = [tri(0), tri(GpuTriangle::UNTEXTURED)];
+        let objects = [[0, 0], [0, 1]];
+        let powers = |means: &[Option<[f64; 3]>]| {
+            let (emitters, picks) = LightPicks::with_emitters(
+                &objects,
+                &[lit],
+                means,
+                &[],
+                &triangles,
+                None,
+                &Aabb::EMPTY,
+            );
+            let total = picks.emitters_and_sky_power;
+            emitters
+                .iter()
+                .map(|e| e.pick as f64 * total)
+                .collect::<Vec<_>>()
+        };
+        let plain = powers(&[None]);
+        assert!(close(plain[0], PI * 0.5 * 2.0) && close(plain[1], plain[0]));
+        let textured = powers(&[Some([0.25, 0.25, 0.25])]);
+        assert!(close(textured[0], plain[0] * 0.25), "{textured:?}");
+        assert!(close(textured[1], plain[1]), "{textured:?}");
     }
 
     /// A frame's scene lights share with the emitters and the sky by power:

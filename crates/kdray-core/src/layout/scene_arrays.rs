@@ -276,9 +276,18 @@ impl SceneArrays {
         if let Some(env) = &scene.environment {
             arrays.environment = EnvironmentWords::append(env, &mut arrays.textures);
         }
+        let emissive_means: Vec<Option<[f64; 3]>> = arrays
+            .materials
+            .iter()
+            .map(|m| {
+                (m.emissive_texture != GpuMaterial::NO_TEXTURE)
+                    .then(|| scene.textures[m.emissive_texture as usize].mean_linear_colour())
+            })
+            .collect();
         let (emitters, picks) = LightPicks::with_emitters(
             &arrays.objects,
             &arrays.materials,
+            &emissive_means,
             &arrays.spheres,
             &arrays.triangles,
             scene.environment.as_ref(),

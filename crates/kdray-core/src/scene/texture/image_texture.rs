@@ -177,6 +177,28 @@ impl Texture {
         }
     }
 
+    /// The base level's mean colour, its texels decoded from sRGB as the
+    /// kernel decodes colour textures (texture.wgsl, `srgb_to_linear`).
+    pub fn mean_linear_colour(&self) -> [f64; 3] {
+        let decode = |byte: u8| {
+            let c = byte as f64 / 255.0;
+            if c <= 0.04045 {
+                c / 12.92
+            } else {
+                ((c + 0.055) / 1.055).powf(2.4)
+            }
+        };
+        let mut sum = [0.0f64; 3];
+        for t in &self.texels {
+            let [r, g, b, _] = t.to_le_bytes();
+            for (s, byte) in sum.iter_mut().zip([r, g, b]) {
+                *s += decode(byte);
+            }
+        }
+        let n = self.texels.len().max(1) as f64;
+        sum.map(|s| s / n)
+    }
+
     /// The colour of texel (x, y) of the base level, wrapped into the
     /// image, in [0, 1].
     pub fn texel(&self, x: i32, y: i32) -> Vec3 {
@@ -326,6 +348,24 @@ mod tests {
             MinFilter::TRILINEAR,
             [wrap; 2],
         )
+    }
+
+    /// sRGB 188 decodes to about 0.5 linear: the mean of a red and a blue
+    /// texel is half of each, and mid-grey is not 188 / 255.
+    #[test]
+    fn the_mean_colour_is_the_mean_of_the_decoded_texels() {
+        let mean = two_by_one(TextureFilter::Nearest, TextureWrap::Repeat).mean_linear_colour();
+        assert_eq!(mean, [0.5, 0.0, 0.5]);
+        let grey = Texture::new(
+            "grey",
+            (1, 1),
+            vec![u32::from_le_bytes([188, 188, 188, 255])],
+            TextureFilter::Nearest,
+            MinFilter::TRILINEAR,
+            [TextureWrap::Repeat; 2],
+        );
+        let m = grey.mean_linear_colour();
+        assert!((m[0] - 0.5029).abs() < 1e-3, "{m:?}");
     }
 
     #[test]
