@@ -66,6 +66,7 @@ fn denoise_writes_exr_and_png() {
             "--hdr",
             "-o",
             "out.png",
+            "--stats",
         ],
         &[],
     );
@@ -73,6 +74,24 @@ fn denoise_writes_exr_and_png() {
     let (w, h, rgb) = read_png_rgb(&dir.path.join("out.png")).unwrap();
     assert_eq!((w, h), (48, 32));
     assert!(rgb.iter().any(|&v| v > 0), "not all black");
+    // --stats: one JSON object of the image and its times.
+    let stats: serde_json::Value = serde_json::from_str(run.stdout.trim()).expect("JSON stats");
+    assert_eq!(
+        (
+            &stats["width"],
+            &stats["height"],
+            &stats["input_channels"],
+            &stats["tiles"]
+        ),
+        (&48.into(), &32.into(), &9.into(), &1.into()),
+        "{stats}"
+    );
+    for key in ["setup_ms", "denoise_ms"] {
+        assert!(
+            stats[key].as_f64().is_some_and(|ms| ms > 0.0),
+            "{key}: {stats}"
+        );
+    }
     let names: Vec<String> = std::fs::read_dir(&dir.path)
         .unwrap()
         .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
