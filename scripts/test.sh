@@ -9,7 +9,8 @@
 #   gpu       kdray's unit tests and tests/gpu/: lavapipe, llvmpipe GL,
 #             SwiftShader's Vulkan, the kdray binary
 #   external  tests/external/: Chromium, Slurm, Xvfb, out-of-memory runs
-#   all       the four, in that order (the default; what `.ci/run` runs)
+#   all       lint, core, then gpu and external side by side (the default;
+#             what `.ci/run` runs)
 #
 # Extra arguments go to every `cargo test` it runs (not to the lint tier). --dry-run prints the
 # packages it would install and the commands it would run, and does nothing.
@@ -148,14 +149,48 @@ if [ -n "$free_kib" ] && [ "$free_kib" -lt $((3 * 1024 * 1024)) ]; then
     echo "scripts/test.sh: only $((free_kib / 1024)) MiB free for $target_dir; the test build needs a few GB" >&2
 fi
 
-for t in "${tiers[@]}"; do
-    start=$SECONDS
+test_args=("$@")
+
+# Runs tier $1's commands (test arguments to all but the lint tier's).
+run_tier() {
+    local t=$1 start=$SECONDS command
     mapfile -t commands < <(tier_command "$t")
     for command in "${commands[@]}"; do
         echo "scripts/test.sh: the $t tier: $command" >&2
         # The command is plain words: split, not quoted; the lint tier's
         # commands take no test arguments.
-        if [ "$t" = lint ]; then $command; else $command "$@"; fi
+        if [ "$t" = lint ]; then $command; else $command "${test_args[@]}"; fi
     done
     echo "scripts/test.sh: the $t tier passed in $((SECONDS - start)) s" >&2
+}
+
+if [ "$tier" != all ]; then
+    run_tier "$tier"
+    exit 0
+fi
+
+# Every tier: lint and core in turn; then, with the two tiers' test
+# binaries built, the GPU and external tiers side by side. The GPU tier's
+# tests share one device, whose queue thread compiles every kernel variant,
+# so it keeps about one core of two busy; the external tier's processes
+# (browsers, windows, Slurm jobs) take the other. Each line they print
+# starts with its tier's name; either failing fails the run.
+run_tier lint
+run_tier core
+start=$SECONDS
+echo "scripts/test.sh: building the gpu and external tiers' tests" >&2
+cargo test --locked -p kdray --lib --bins --test gpu --test external --no-run "${test_args[@]}"
+pids=()
+for t in gpu external; do
+    (run_tier "$t" 2>&1 | sed -u "s/^/[$t] /") &
+    pids+=($!)
 done
+failed=()
+for i in 0 1; do
+    wait "${pids[$i]}" || failed+=("$([ "$i" = 0 ] && echo gpu || echo external)")
+done
+if [ ${#failed[@]} -gt 0 ]; then
+    echo "scripts/test.sh: the ${failed[*]} tier(s) failed" >&2
+    exit 1
+fi
+echo "scripts/test.sh: the gpu and external tiers passed side by side in $((SECONDS - start)) s" >&2
