@@ -11,7 +11,8 @@ light one). Run by hand, like mitsuba_path.py (its setup):
 
 It renders the reference, Mitsuba at --ref-spp samples (seed 1000), then at
 each of --spp, --seeds images from each renderer (kdray `--seed 1..n`,
-Mitsuba seeds 2000..), and prints one JSON object (`--save NAME` also
+Mitsuba seeds 2000..; and Mitsuba with each emitter's `sampling_weight`
+set to the power kdray picks it by, seeds 3000..), and prints one JSON object (`--save NAME` also
 writes scripts/peers/results/NAME.json): per samples count, each image's
 relative MSE against the reference,
 
@@ -71,6 +72,58 @@ def light_counts(scene):
     }
 
 
+def luminance(c):
+    """Rec. 709 luminance, as kdray's layout/light_picks.rs weighs power."""
+    return 0.2126 * c[0] + 0.7152 * c[1] + 0.0722 * c[2]
+
+
+def with_power_weights(mi, d, scene):
+    """A copy of Mitsuba scene dict d (mitsuba_path.scene_dict's) with each
+    emitter's `sampling_weight` set to the power kdray picks it by
+    (crates/kdray-core/src/layout/light_picks.rs): point 4 pi I,
+    directional E pi R^2, sphere pi 4 pi r^2 L, a mesh the sum of its
+    triangles' pi A L, the sky image pi 4 pi R^2 times its mean radiance;
+    R the radius of the sphere around the scene's box. Mitsuba then picks
+    its emitters as kdray picks its blocks (within a mesh, by area, as
+    kdray's equal-radiance triangles by power)."""
+    # Copies of the entries changed (the rest, Mitsuba objects among them, shared).
+    d = {k: (dict(v, **({"emitter": dict(v["emitter"])} if "emitter" in v else {})) if isinstance(v, dict) else v)
+         for k, v in d.items()}
+    lo = np.full(3, np.inf)
+    hi = np.full(3, -np.inf)
+    if len(scene.sphere_radii):
+        lo = np.minimum(lo, (scene.sphere_centers - scene.sphere_radii[:, None]).min(axis=0))
+        hi = np.maximum(hi, (scene.sphere_centers + scene.sphere_radii[:, None]).max(axis=0))
+    if len(scene.triangles):
+        lo = np.minimum(lo, scene.triangles.reshape(-1, 3).min(axis=0))
+        hi = np.maximum(hi, scene.triangles.reshape(-1, 3).max(axis=0))
+    radius = 0.5 * float(np.linalg.norm(hi - lo))
+    for i, light in enumerate(scene.lights):
+        lum = luminance(light["diffuse"])
+        w = 4 * np.pi * lum if light["kind"] == "point" else lum * np.pi * radius**2
+        d[f"light{i}"]["sampling_weight"] = float(w)
+    for i, (r, name) in enumerate(zip(scene.sphere_radii, scene.sphere_materials)):
+        if "emitter" in d[f"sphere{i}"]:
+            L = luminance(scene.materials[name].emission)
+            d[f"sphere{i}"]["emitter"]["sampling_weight"] = float(np.pi * 4 * np.pi * r * r * L)
+    names = np.array(scene.triangle_materials)
+    for i, name in enumerate(sorted(set(scene.triangle_materials))):
+        if "emitter" in d[f"mesh{i}"]:
+            t = scene.triangles[names == name]
+            area = 0.5 * np.linalg.norm(np.cross(t[:, 1] - t[:, 0], t[:, 2] - t[:, 0]), axis=1).sum()
+            L = luminance(scene.materials[name].emission)
+            d[f"mesh{i}"]["emitter"]["sampling_weight"] = float(np.pi * area * L)
+    if "image" in scene.environment:
+        texels = mitsuba_path.sky_texels(mi, os.path.join(scene.folder, scene.environment["image"]))
+        h = texels.shape[0]
+        rows = np.arange(h)
+        solid = 2 * np.pi / texels.shape[1] * (np.cos(rows / h * np.pi) - np.cos((rows + 1) / h * np.pi))
+        mean = float((luminance(texels.transpose(2, 0, 1)).sum(axis=1) * solid).sum() / (4 * np.pi))
+        mean *= float(scene.environment.get("intensity", 1.0))
+        d["sky"]["sampling_weight"] = np.pi * 4 * np.pi * radius**2 * mean
+    return d
+
+
 def machine():
     model = ""
     try:
@@ -127,6 +180,8 @@ def main():
         "uptime_before": uptime(),
     }
     mscene = mi.load_dict(d)
+    # Mitsuba with each emitter's sampling_weight set to kdray's power.
+    mscene_power = mi.load_dict(with_power_weights(mi, d, scene))
     t0 = time.perf_counter()
     ref = mitsuba_path.mitsuba_render(mi, dr, mscene, width, height, args.ref_spp, seed=1000)
     result["reference"] = {
@@ -139,7 +194,7 @@ def main():
 
     runs = []
     for spp in args.spp:
-        kd, ms, adapter = [], [], None
+        kd, ms, mp, adapter = [], [], [], None
         for s in range(args.seeds):
             exr = os.path.join(args.out, f"{name}_kdray_{spp}_{s + 1}.exr")
             cmd = [args.kdray, "render", args.scene, "--samples", str(spp), "--seed", str(s + 1), "-o", exr]
@@ -152,6 +207,8 @@ def main():
             kd.append(rel_mse(np.array(mi.Bitmap(exr), dtype=np.float32)[:, :, :3], ref))
             m = mitsuba_path.mitsuba_render(mi, dr, mscene, width, height, spp, seed=2000 + s)
             ms.append(rel_mse(m, ref))
+            m = mitsuba_path.mitsuba_render(mi, dr, mscene_power, width, height, spp, seed=3000 + s)
+            mp.append(rel_mse(m, ref))
         runs.append(
             {
                 "spp": spp,
@@ -160,6 +217,8 @@ def main():
                 "kdray_mean": round(float(np.mean(kd)), 6),
                 "mitsuba_mean": round(float(np.mean(ms)), 6),
                 "kdray_over_mitsuba": round(float(np.mean(kd) / np.mean(ms)), 4),
+                "mitsuba_power_weights_rel_mse": [round(x, 6) for x in mp],
+                "mitsuba_power_weights_mean": round(float(np.mean(mp)), 6),
             }
         )
         print(json.dumps(runs[-1]), file=sys.stderr, flush=True)

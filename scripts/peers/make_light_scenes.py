@@ -307,7 +307,7 @@ diffuse = [0.5, 0.45, 0.4]
 
 def one_bright():
     """One sphere of radius 0.25 and radiance 40 beside 200 of radius 0.04
-    and radiance 2: the bright one has 98% of the power."""
+    and radiance 2: the bright one has 81% of the power (luminance)."""
     rng = np.random.default_rng(11)
     parts = [
         HEADER.format(
