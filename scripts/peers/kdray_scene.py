@@ -63,8 +63,12 @@ class Scene:
     # vertices (T, 3, 3) in world space (float64), material names.
     triangles: np.ndarray
     triangle_materials: list = field(default_factory=list)
-    # `[environment]` as written ({} when absent): `color` is a uniform sky.
+    # `[environment]` as written ({} when absent): `color` is a uniform sky,
+    # `image` a sky image (a path relative to the scene's folder, as
+    # written: `folder` resolves it).
     environment: dict = field(default_factory=dict)
+    # The scene file's folder.
+    folder: str = ""
 
 
 def load(path):
@@ -86,7 +90,11 @@ def load(path):
     for light in doc.get("lights", []):
         lights.append(
             {
-                "position": light["position"],
+                "kind": light.get("kind", "point"),
+                # None for a directional light (which has a direction only).
+                "position": light.get("position"),
+                "direction": light.get("direction"),
+                "reference_distance": light.get("reference_distance"),
                 "ambient": light.get("ambient", [1.0, 1.0, 1.0]),
                 "diffuse": light.get("diffuse", [1.0, 1.0, 1.0]),
                 "specular": light.get("specular", [1.0, 1.0, 1.0]),
@@ -138,6 +146,7 @@ def load(path):
         triangles=triangles,
         triangle_materials=tri_materials,
         environment=dict(doc.get("environment", {})),
+        folder=folder,
     )
 
 

@@ -147,11 +147,132 @@ def _write_ply(path, triangles):
         f.write(faces.tobytes())
 
 
-def sky_of(scene):
+# The sky image is resampled this many times finer for Mitsuba (below).
+SKY_UPSAMPLE = 8
+
+
+def read_hdr_flat(path):
+    """A Radiance HDR of flat (not run-length coded) RGBE scanlines, top row
+    first, decoded as kdray's reader (the image crate) does: mantissa times
+    2^(exponent - 136), 0 where the exponent byte is 0. (H, W, 3) float64."""
+    data = open(path, "rb").read()
+    end = data.index(b"\n\n") + 2
+    line_end = data.index(b"\n", end)
+    size = data[end:line_end].split()
+    if len(size) != 4 or size[0] != b"-Y" or size[2] != b"+X":
+        raise Refused(f"{path}: resolution line {data[end:line_end]!r} (only -Y H +X W is read here)")
+    h, w = int(size[1]), int(size[3])
+    pixels = np.frombuffer(data[line_end + 1 :], dtype=np.uint8)
+    if pixels.size != h * w * 4:
+        raise Refused(f"{path}: run-length coded scanlines (only flat RGBE is decoded here)")
+    rgbe = pixels.reshape(h, w, 4).astype(np.float64)
+    e = rgbe[:, :, 3:]
+    return np.where(e > 0, rgbe[:, :, :3] * np.exp2(e - 136.0), 0.0)
+
+
+def sky_texels(mi, path):
+    if path.lower().endswith(".hdr"):
+        return read_hdr_flat(path)
+    if path.lower().endswith(".exr"):
+        return np.array(mi.Bitmap(path), dtype=np.float64)[:, :, :3]
+    raise Refused(f"{path}: not a .hdr or .exr sky image")
+
+
+def mitsuba_sky_image(texels, k=SKY_UPSAMPLE):
+    """kdray reads the nearest texel: texel (col, row) covers u in
+    [col, col + 1) / W and v in [row, row + 1) / H. Mitsuba's `envmap`
+    interpolates bilinearly between values it places at u = (J + 1/2) / W'
+    (columns) and v = j / (H' - 1) (rows; measured with its `eval`). So
+    Mitsuba gets the image k times finer, each value the kdray texel its
+    position reads: the two skies then differ only within 1/k of a texel
+    of texel edges (`sky_mismatch` measures it)."""
+    h, w, _ = texels.shape
+    wk, hk = w * k, h * k + 1
+    cols = np.minimum(((np.arange(wk) + 0.5) / wk * w).astype(int), w - 1)
+    rows = np.minimum((np.arange(hk) / (hk - 1) * h).astype(int), h - 1)
+    return texels[rows][:, cols]
+
+
+def kdray_sky_radiance(texels, intensity, rotation_degrees, d):
+    """kdray's sky along unit directions d (N, 3): crates/kdray-core/src/
+    scene/environment.rs (`texel_of`), in numpy."""
+    h, w, _ = texels.shape
+    s, c = np.sin(np.radians(rotation_degrees)), np.cos(np.radians(rotation_degrees))
+    x = c * d[:, 0] - s * d[:, 2]
+    z = s * d[:, 0] + c * d[:, 2]
+    u = 0.5 + np.arctan2(x, -z) / (2 * np.pi)
+    v = np.arccos(np.clip(d[:, 1], -1, 1)) / np.pi
+    col = np.minimum((u * w).astype(int), w - 1)
+    row = np.minimum((v * h).astype(int), h - 1)
+    return texels[row, col] * intensity
+
+
+def envmap_of(mi, scene):
+    """`[environment] image` -> Mitsuba `envmap`: the image resampled
+    (mitsuba_sky_image), `scale` = intensity, and to_world a turn about +y
+    by rotation + 180 degrees (kdray's u = 1/2 + atan2(x, -z) / 2 pi,
+    Mitsuba's atan2(x, -z) / 2 pi: half a turn apart)."""
+    env = scene.environment
+    path = os.path.join(scene.folder, env["image"])
+    texels = sky_texels(mi, path)
+    intensity = float(env.get("intensity", 1.0))
+    rotation = float(env.get("rotation", 0.0))
+    emitter = {
+        "type": "envmap",
+        "bitmap": mi.Bitmap(mitsuba_sky_image(texels).astype(np.float32)),
+        "scale": intensity,
+        "to_world": mi.ScalarTransform4f().rotate(axis=[0, 1, 0], angle=rotation + 180.0),
+    }
+    return emitter, texels, intensity, rotation
+
+
+def sky_mismatch(mi, dr, emitter_dict, texels, intensity, rotation, n=200_000):
+    """Mitsuba's sky against kdray's over n uniformly random directions:
+    the relative difference of their means, and the mean absolute
+    difference over the mean (per channel)."""
+    em = mi.load_dict(emitter_dict)
+    rng = np.random.default_rng(3)
+    d = rng.normal(size=(n, 3))
+    d /= np.linalg.norm(d, axis=1, keepdims=True)
+    si = dr.zeros(mi.SurfaceInteraction3f, n)
+    si.wi = mi.Vector3f(-d[:, 0], -d[:, 1], -d[:, 2])
+    ms = np.array(em.eval(si), dtype=np.float64)
+    if ms.shape[0] == 3 and ms.shape[1] == n:
+        ms = ms.T
+    kd = kdray_sky_radiance(texels, intensity, rotation, d)
+    mean = kd.mean(axis=0)
+    return {
+        "directions": n,
+        "mean_rel_diff": [round(float(x), 6) for x in (ms.mean(axis=0) - mean) / mean],
+        "mean_abs_diff_over_mean": [round(float(x), 6) for x in np.abs(ms - kd).mean(axis=0) / mean],
+    }
+
+
+def sky_of(mi, scene):
+    """The Mitsuba sky emitter dict of the scene, or None (a black sky)."""
     env = scene.environment
     if "image" in env:
-        raise Refused("[environment] image: this comparison covers the uniform sky only")
-    return [float(c) for c in env.get("color", scene.render["background"])]
+        return envmap_of(mi, scene)[0]
+    color = [float(c) for c in env.get("color", scene.render["background"])]
+    if max(color) > 0.0:
+        return {"type": "constant", "radiance": _rgb(color)}
+    return None
+
+
+def light_of(i, light):
+    """A kdray scene light -> a Mitsuba emitter dict, or Refused."""
+    where = f"light {i}"
+    if light["reference_distance"] is not None:
+        raise Refused(f"{where}: reference_distance (a Whitted-matching intensity scale; give diffuse in W/sr)")
+    if light["kind"] == "point":
+        return {"type": "point", "position": light["position"], "intensity": _rgb(light["diffuse"])}
+    if light["kind"] == "directional":
+        # Both: `direction` is the way the light travels, `diffuse` and
+        # `irradiance` the irradiance (W/m^2) of a surface facing it.
+        return {"type": "directional", "direction": light["direction"], "irradiance": _rgb(light["diffuse"])}
+    raise Refused(
+        f"{where}: a {light['kind']} light (Mitsuba's spot falloff is not glTF's s^2 of kdray's)"
+    )
 
 
 def scene_dict(mi, scene, width, height, spp, mesh_dir):
@@ -168,11 +289,11 @@ def scene_dict(mi, scene, width, height, spp, mesh_dir):
         },
         "sensor": kdray_scene.mitsuba_sensor(mi, cam, width, height, spp),
     }
-    sky = sky_of(scene)
-    if max(sky) > 0.0:
-        d["sky"] = {"type": "constant", "radiance": _rgb(sky)}
+    sky = sky_of(mi, scene)
+    if sky is not None:
+        d["sky"] = sky
     for i, light in enumerate(scene.lights):
-        d[f"light{i}"] = {"type": "point", "position": light["position"], "intensity": _rgb(light["diffuse"])}
+        d[f"light{i}"] = light_of(i, light)
 
     def emitter(m):
         if max(m.emission) > 0.0:
@@ -343,6 +464,9 @@ def cmd_compare(args, mi, dr):
             round(float(kd_img[:, :, c].sum(dtype=np.float64) / both[:, :, c].sum()), 5) for c in range(3)
         ],
     }
+    if "image" in scene.environment:
+        _, texels, intensity, rotation = envmap_of(mi, scene)
+        result["sky_mismatch_mitsuba_vs_kdray"] = sky_mismatch(mi, dr, d["sky"], texels, intensity, rotation)
     result["within_noise"] = verdict(result)
     _emit(result, args.save)
 
@@ -437,7 +561,11 @@ def main():
     ap.add_argument("--kdray", default=os.environ.get("KDRAY", "kdray"), help="the kdray binary (default $KDRAY)")
     ap.add_argument("--spp", type=int, help="samples per pixel (default: the scene's)")
     ap.add_argument("--variant", default="llvm_ad_rgb", help="llvm_ad_rgb (default) or scalar_rgb")
-    ap.add_argument("--threads", type=int, help="compare: Dr.Jit threads (default: one per core)")
+    ap.add_argument(
+        "--threads",
+        type=int,
+        help="compare: Dr.Jit threads (default: one per core; with 1, mi.Bitmap hung reading an EXR here)",
+    )
     ap.add_argument("--block", type=int, default=16, help="block size in pixels (default 16)")
     ap.add_argument("--repeat", type=int, default=2, help="speed: timed Mitsuba renders per thread count")
     ap.add_argument("--out", default="/tmp/mitsuba_path", help="folder for images and meshes")
