@@ -149,10 +149,7 @@ pub fn prepare(request: &FarmRequest) -> Result<Prepared> {
     super::scripts::write_scripts(&plan, &dir)?;
 
     let pending_tasks: Vec<u32> = (0..plan.tasks)
-        .filter(|&t| {
-            plan.task_items(t)
-                .any(|i| !plan.item_done(&dir, i))
-        })
+        .filter(|&t| plan.task_items(t).any(|i| !plan.item_done(&dir, i)))
         .collect();
     let result_there = match plan.work {
         Work::Still { .. } | Work::Samples { .. } => {

@@ -171,11 +171,8 @@ pub fn finish_shares(plan: &FarmPlan, dir: &Path, render: &RenderSettings) -> Re
         .ok_or_else(|| Error::Output(format!("{}: not a split by samples", dir.display())))?;
     let png = plan.final_path(dir);
     if plan.denoise {
-        let [albedo, normal] = [0, 1].map(|k| {
-            average_files(plan, dir, &|share| {
-                share_feature_paths(share)[k].clone()
-            })
-        });
+        let [albedo, normal] = [0, 1]
+            .map(|k| average_files(plan, dir, &|share| share_feature_paths(share)[k].clone()));
         let noisy = NoisyImage {
             width: plan.width,
             height: plan.height,
