@@ -332,11 +332,25 @@ pub fn compile_for(
     traversal: Traversal,
     radiance: bool,
 ) -> Result<()> {
+    compile_for_output(ctx, uploaded, camera, traversal, radiance, false)
+}
+
+/// [`compile_for`] the pipeline whose bands also carry a path frame's
+/// feature images when `features` (`StreamOptions::features`: a farm task
+/// whose frames are denoised).
+pub fn compile_for_output(
+    ctx: &GpuContext,
+    uploaded: &GpuScene,
+    camera: &crate::scene::Camera,
+    traversal: Traversal,
+    radiance: bool,
+    features: bool,
+) -> Result<()> {
     let scene = &uploaded.prepared().scene;
     let params = uploaded
         .view_params(camera, &scene.render, uploaded.accel())
         .with_traversal(traversal);
-    renderer_for(ctx, scene, radiance, false)?.compile(ctx, uploaded.buffers(), params, false)
+    renderer_for(ctx, scene, radiance, features)?.compile(ctx, uploaded.buffers(), params, false)
 }
 
 /// How [`render_streaming`] traces and what its bands carry.

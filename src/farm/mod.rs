@@ -8,7 +8,8 @@
 //!   animation's frames) and their share among the tasks;
 //! - render.sbatch and finish.sbatch ([`scripts`]);
 //! - the result: a still's one PNG (and, split by samples, its EXR), or the
-//!   frames 0000.png, 0001.png, ... (and an MP4, [`video`]);
+//!   frames 0000.png, 0001.png, ... (and an MP4, [`video`]); denoised when
+//!   the plan says so ([`denoised`]);
 //! - parts/: the still's bands or shares of samples ([`samples`]), every
 //!   job's log, the finishing job's marker.
 //!
@@ -17,6 +18,7 @@
 //! file is written atomically, so a killed task leaves no half file and a
 //! re-run renders only what is missing.
 
+pub mod denoised;
 pub mod fingerprint;
 pub mod plan;
 pub mod prepare;

@@ -63,6 +63,13 @@ pub struct FarmPlan {
     pub inputs: Vec<InputFile>,
     /// Options passed through to sbatch (`#SBATCH` lines of both scripts).
     pub sbatch: Vec<String>,
+    /// The image is denoised (`[render] denoise`, or `--denoise`): a still
+    /// split by samples once, by the finishing job, from the shares'
+    /// averaged radiance, albedo and normal; a still in one band or each
+    /// frame of an animation by the task that renders it. A plan written
+    /// without the key denoises nothing.
+    #[serde(default)]
+    pub denoise: bool,
 }
 
 impl FarmPlan {
@@ -133,6 +140,26 @@ impl FarmPlan {
         }
     }
 
+    /// Every file item `item` writes: its [`FarmPlan::item_path`] and, for
+    /// a share of the samples of a denoised still, the share's mean albedo
+    /// and normal ([`share_feature_paths`]). The item path is written last,
+    /// so an item is done when all of them are there.
+    pub fn item_files(&self, dir: &Path, item: u32) -> Vec<PathBuf> {
+        let path = self.item_path(dir, item);
+        match self.work {
+            Work::Samples { .. } if self.denoise => {
+                let [albedo, normal] = share_feature_paths(&path);
+                vec![albedo, normal, path]
+            }
+            _ => vec![path],
+        }
+    }
+
+    /// Whether every file of item `item` is there.
+    pub fn item_done(&self, dir: &Path, item: u32) -> bool {
+        self.item_files(dir, item).iter().all(|p| p.is_file())
+    }
+
     /// What the finishing job makes: the still's one PNG at DIR's top
     /// level, or the animation's MP4 (when ffmpeg is installed).
     pub fn final_path(&self, dir: &Path) -> PathBuf {
@@ -147,6 +174,21 @@ impl FarmPlan {
     /// a split by samples only.
     pub fn final_exr_path(&self, dir: &Path) -> Option<PathBuf> {
         matches!(self.work, Work::Samples { .. }).then(|| dir.join(format!("{}.exr", self.stem())))
+    }
+
+    /// Every file the finishing job writes at DIR's top level: the
+    /// still's PNG, its EXR (split by samples) and, denoised, the
+    /// denoiser's three inputs beside the EXR
+    /// ([`super::denoised::denoise_input_paths`]); an animation's MP4.
+    pub fn final_files(&self, dir: &Path) -> Vec<PathBuf> {
+        let mut files = vec![self.final_path(dir)];
+        if let Some(exr) = self.final_exr_path(dir) {
+            if self.denoise {
+                files.extend(super::denoised::denoise_input_paths(&exr));
+            }
+            files.push(exr);
+        }
+        files
     }
 
     /// What a work item is called in messages: band, share or frame.
@@ -166,7 +208,7 @@ impl FarmPlan {
     }
 
     /// The first difference between the renders of two plans (flags, image
-    /// size, work, input files), or `None` when they make the same images;
+    /// size, work, input files, denoising), or `None` when they make the same images;
     /// tasks and sbatch options may differ.
     pub fn render_difference(&self, other: &FarmPlan) -> Option<String> {
         if self.scene != other.scene {
@@ -182,7 +224,10 @@ impl FarmPlan {
         if self.work != other.work {
             return Some("the work (--tiles, --split, --frame or the animation) changed".into());
         }
-        super::fingerprint::difference(&self.inputs, &other.inputs)
+        super::fingerprint::difference(&self.inputs, &other.inputs).or_else(|| {
+            (self.denoise != other.denoise)
+                .then(|| "the denoising (--denoise or [render] denoise) changed".into())
+        })
     }
 }
 
@@ -202,6 +247,13 @@ pub fn frame_file_name(k: u32, frames: u32) -> String {
 /// The digits of frame numbers: four, or those of the last frame.
 pub fn frame_digits(frames: u32) -> usize {
     frames.saturating_sub(1).to_string().len().max(4)
+}
+
+/// A denoised share's mean albedo and normal beside its radiance
+/// `parts/samples-T.exr`: `parts/samples-T.albedo.exr` and
+/// `parts/samples-T.normal.exr`.
+pub fn share_feature_paths(share: &Path) -> [PathBuf; 2] {
+    ["albedo.exr", "normal.exr"].map(|e| share.with_extension(e))
 }
 
 /// DIR/parts: bands, logs, the finishing job's marker.
@@ -265,9 +317,11 @@ pub enum Finished {
     /// The still's PNG.
     Image(PathBuf),
     /// A split by samples' shares averaged into the still's PNG (tone-mapped)
-    /// and EXR (linear radiance).
+    /// and EXR (linear radiance), both denoised when `denoised` (the
+    /// denoiser's inputs beside the EXR).
     Averaged {
         shares: u32,
+        denoised: bool,
         png: PathBuf,
         exr: PathBuf,
     },
@@ -318,6 +372,7 @@ mod tests {
             tasks: 3,
             inputs: vec![],
             sbatch: vec![],
+            denoise: false,
         };
         let ranges: Vec<(u32, u32)> = (0..3).map(|t| plan.sample_range(t).unwrap()).collect();
         assert_eq!(ranges, [(0, 13), (13, 13), (26, 14)]);
@@ -343,6 +398,64 @@ mod tests {
         };
         assert_eq!(still.sample_range(0), None);
         assert_eq!(still.final_exr_path(dir), None);
+    }
+
+    #[test]
+    fn a_denoised_share_writes_its_albedo_and_normal_before_its_radiance() {
+        let plan = FarmPlan {
+            scene: "/scenes/cornell_box.toml".into(),
+            kdray: "/bin/kdray".into(),
+            flags: RenderFlags::no_overrides(),
+            width: 48,
+            height: 48,
+            work: Work::Samples {
+                frame: 0,
+                shares: 2,
+                samples: 4,
+            },
+            tasks: 2,
+            inputs: vec![],
+            sbatch: vec![],
+            denoise: true,
+        };
+        let dir = Path::new("/farm");
+        let files = plan.item_files(dir, 1);
+        assert_eq!(
+            files,
+            [
+                "/farm/parts/samples-0001.albedo.exr",
+                "/farm/parts/samples-0001.normal.exr",
+                "/farm/parts/samples-0001.exr",
+            ]
+            .map(PathBuf::from)
+        );
+        assert_eq!(files.last(), Some(&plan.item_path(dir, 1)), "written last");
+        assert_eq!(
+            plan.final_files(dir),
+            [
+                "/farm/cornell_box.png",
+                "/farm/cornell_box.noisy.exr",
+                "/farm/cornell_box.albedo.exr",
+                "/farm/cornell_box.normal.exr",
+                "/farm/cornell_box.exr",
+            ]
+            .map(PathBuf::from)
+        );
+        let noisy = FarmPlan {
+            denoise: false,
+            ..plan.clone()
+        };
+        assert_eq!(noisy.item_files(dir, 1), [plan.item_path(dir, 1)]);
+        assert_eq!(noisy.final_files(dir).len(), 2);
+        assert_eq!(
+            noisy.render_difference(&plan).as_deref(),
+            Some("the denoising (--denoise or [render] denoise) changed")
+        );
+        // A plan written before the key existed reads as not denoised.
+        let mut json: serde_json::Value = serde_json::to_value(&plan).unwrap();
+        json.as_object_mut().unwrap().remove("denoise");
+        let old: FarmPlan = serde_json::from_value(json).unwrap();
+        assert_eq!(old, noisy);
     }
 
     #[test]

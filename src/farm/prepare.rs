@@ -53,6 +53,8 @@ pub struct FarmRequest {
     pub scene: PathBuf,
     pub out: PathBuf,
     pub flags: RenderFlags,
+    /// `--denoise[=BOOL]` over the scene's `[render] denoise`.
+    pub denoise: Option<bool>,
     /// A still of this frame of the scene's animation.
     pub frame: Option<u32>,
     /// A still in this many parts (one task each by default): bands of
@@ -91,6 +93,7 @@ pub fn prepare(request: &FarmRequest) -> Result<Prepared> {
     let scene_path = absolute(&request.scene)?;
     let (mut scene, inputs) = super::fingerprint::load_and_fingerprint(&scene_path)?;
     request.flags.apply(&mut scene)?;
+    scene.render.denoise = denoise_of(&scene, request.denoise)?;
     let work = work_for(&scene, request)?;
     let dir = absolute(&request.out)?;
     let mut plan = FarmPlan {
@@ -103,6 +106,7 @@ pub fn prepare(request: &FarmRequest) -> Result<Prepared> {
         tasks: 1,
         inputs,
         sbatch: request.sbatch.clone(),
+        denoise: scene.render.denoise,
     };
     let items = plan.items();
     plan.tasks = match (request.tasks, &plan.work) {
@@ -145,15 +149,11 @@ pub fn prepare(request: &FarmRequest) -> Result<Prepared> {
     super::scripts::write_scripts(&plan, &dir)?;
 
     let pending_tasks: Vec<u32> = (0..plan.tasks)
-        .filter(|&t| {
-            plan.task_items(t)
-                .any(|i| !plan.item_path(&dir, i).is_file())
-        })
+        .filter(|&t| plan.task_items(t).any(|i| !plan.item_done(&dir, i)))
         .collect();
     let result_there = match plan.work {
         Work::Still { .. } | Work::Samples { .. } => {
-            plan.final_path(&dir).is_file()
-                && plan.final_exr_path(&dir).is_none_or(|exr| exr.is_file())
+            plan.final_files(&dir).iter().all(|f| f.is_file())
         }
         Work::Frames { .. } => true,
     };
@@ -194,6 +194,13 @@ fn work_for(scene: &Scene, request: &FarmRequest) -> Result<Work> {
                     "--tiles: must be in 1..={height} (one row at least per band), got {tiles}"
                 )));
             }
+            if scene.render.denoise && tiles > 1 {
+                return Err(Error::Usage(format!(
+                    "--tiles {tiles}: a denoised still is denoised whole, not band by band: \
+                     split it by samples (--split samples --parts {tiles}) or render it in one band \
+                     (--denoise=false turns the denoiser off)"
+                )));
+            }
             Ok(Work::Still {
                 frame: frame.unwrap_or(0),
                 tiles,
@@ -226,6 +233,20 @@ fn samples_work(scene: &Scene, request: &FarmRequest) -> Result<Work> {
     })
 }
 
+/// Whether the farm denoises: `--denoise[=BOOL]` (`flag`) over the scene's
+/// `[render] denoise`, refused with the Whitted integrator in the words
+/// `kdray render` uses.
+fn denoise_of(scene: &Scene, flag: Option<bool>) -> Result<bool> {
+    let denoise = flag.unwrap_or(scene.render.denoise);
+    if denoise && scene.render.integrator != Integrator::Path {
+        return Err(Error::Usage(match flag {
+            Some(_) => "--denoise: the denoiser needs the path tracer (--integrator path or [render] integrator = \"path\")".into(),
+            None => "--integrator whitted: the scene's [render] denoise = true needs the path tracer (--denoise=false turns it off)".into(),
+        }));
+    }
+    Ok(denoise)
+}
+
 /// The scene's animation as (frames, frames per second), if it has one.
 fn animation_of(scene: &Scene) -> Option<(u32, f64)> {
     scene.animation.as_ref().map(|a| (a.frames, a.fps))
@@ -247,9 +268,8 @@ fn discard(old: &FarmPlan, dir: &Path) -> Result<()> {
             remove(&old.item_path(dir, k))?;
         }
     }
-    remove(&old.final_path(dir))?;
-    if let Some(exr) = old.final_exr_path(dir) {
-        remove(&exr)?;
+    for file in old.final_files(dir) {
+        remove(&file)?;
     }
     let parts = plan::parts_dir(dir);
     match std::fs::remove_dir_all(&parts) {

@@ -159,6 +159,7 @@ mod tests {
             tasks: 4,
             inputs: vec![],
             sbatch: sbatch.iter().map(|s| s.to_string()).collect(),
+            denoise: false,
         }
     }
 

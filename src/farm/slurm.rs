@@ -194,7 +194,7 @@ pub fn outcome(dir: &Path, plan: &FarmPlan) -> (Vec<FailedTask>, bool) {
         .filter_map(|task| {
             let missing: Vec<u32> = plan
                 .task_items(task)
-                .filter(|&i| !plan.item_path(dir, i).is_file())
+                .filter(|&i| !plan.item_done(dir, i))
                 .collect();
             (!missing.is_empty()).then(|| FailedTask {
                 task,

@@ -1,16 +1,20 @@
 //! What runs on the cluster: one array task ([`run_task`]: its share of
 //! the bands, shares of samples or frames, skipping those already written,
-//! the tree built and uploaded once) and the finishing job ([`finish`]:
+//! the tree built and uploaded once; a denoised plan's frames, or its still
+//! in one band, denoised by the task) and the finishing job ([`finish`]:
 //! the still's bands streamed into one PNG, the shares of samples averaged
-//! into its PNG and EXR, or every frame checked and the MP4 encoded).
+//! (and denoised) into its PNG and EXR, or every frame checked and the MP4
+//! encoded).
 
 use std::path::Path;
 use std::time::Instant;
 
 use serde::Serialize;
 
+use super::denoised::NoisyImage;
 use super::plan::{self, FarmPlan, Finished, Work};
 use super::scripts::INDEX_VARIABLES;
+use crate::denoise::Denoiser;
 use crate::error::{Error, Result};
 use crate::gpu::{GpuContext, GpuScene, PreparedScene};
 use crate::output::PngStream;
@@ -70,8 +74,9 @@ pub fn plan_of(dir: &Path) -> Result<FarmPlan> {
     })
 }
 
-/// Loads the plan's scene with its flags, refusing inputs that changed
-/// since the plan was written (their images would not match the others').
+/// Loads the plan's scene with its flags (and its denoising), refusing
+/// inputs that changed since the plan was written (their images would not
+/// match the others').
 pub fn load_planned_scene(plan: &FarmPlan, dir: &Path) -> Result<Scene> {
     let (mut scene, inputs) = super::fingerprint::load_and_fingerprint(&plan.scene)?;
     if let Some(what) = super::fingerprint::difference(&plan.inputs, &inputs) {
@@ -81,6 +86,7 @@ pub fn load_planned_scene(plan: &FarmPlan, dir: &Path) -> Result<Scene> {
         )));
     }
     plan.flags.apply(&mut scene)?;
+    scene.render.denoise = plan.denoise;
     Ok(scene)
 }
 
@@ -100,7 +106,7 @@ pub fn run_task(dir: &Path, task: u32) -> Result<TaskReport> {
     let todo: Vec<u32> = items
         .iter()
         .copied()
-        .filter(|&i| !plan.item_path(dir, i).is_file())
+        .filter(|&i| !plan.item_done(dir, i))
         .collect();
     let mut report = TaskReport {
         task,
@@ -128,6 +134,7 @@ pub fn run_task(dir: &Path, task: u32) -> Result<TaskReport> {
     // Only the camera and lights change between frames: one tree serves
     // them all.
     let path = scene.frame_path();
+    let render = scene.render;
     let frames: Vec<Frame> = todo
         .iter()
         .map(|&i| path.frame(still_frame.unwrap_or(i)))
@@ -138,20 +145,35 @@ pub fn run_task(dir: &Path, task: u32) -> Result<TaskReport> {
     )?;
     if let Some(first) = frames.first() {
         let samples = matches!(plan.work, Work::Samples { .. });
-        crate::render::compile_for(
+        crate::render::compile_for_output(
             &ctx,
             &uploaded,
             &first.camera,
             plan.flags.traversal,
-            samples,
+            samples || plan.denoise,
+            plan.denoise,
         )?;
     }
     report.prepare_ms = ms_since(t);
 
     let t = Instant::now();
+    // Made once, at the first image that needs it: its kernels and weights
+    // serve every frame.
+    let mut denoiser = None;
     for (&item, frame) in todo.iter().zip(frames) {
         if let Work::Samples { .. } = plan.work {
             super::samples::render_share(&ctx, &uploaded, &plan, dir, item, frame)?;
+            report.rendered.push(item);
+            continue;
+        }
+        if plan.denoise {
+            let noisy = render_noisy(&ctx, &uploaded, &plan, frame)?;
+            let denoiser = match &mut denoiser {
+                Some(denoiser) => denoiser,
+                None => denoiser.insert(Denoiser::new(&ctx)?),
+            };
+            let denoised = noisy.denoise(denoiser)?;
+            noisy.write(&denoised, &plan.item_path(dir, item), &render)?;
             report.rendered.push(item);
             continue;
         }
@@ -177,6 +199,51 @@ pub fn run_task(dir: &Path, task: u32) -> Result<TaskReport> {
     Ok(report)
 }
 
+/// `frame` whole with the denoiser's inputs: its radiance, albedo and
+/// normal (a denoised plan's frame, or its still in one band).
+fn render_noisy(
+    ctx: &GpuContext,
+    uploaded: &GpuScene,
+    plan: &FarmPlan,
+    frame: Frame,
+) -> Result<NoisyImage> {
+    let values = plan.width as usize * plan.height as usize * 3;
+    let mut noisy = NoisyImage {
+        width: plan.width,
+        height: plan.height,
+        color: Vec::with_capacity(values),
+        albedo: Vec::with_capacity(values),
+        normal: Vec::with_capacity(values),
+    };
+    let part = FramePart {
+        frame,
+        rows: (0, plan.height),
+        samples: None,
+    };
+    crate::render::render_streaming(
+        ctx,
+        uploaded,
+        Some(&part),
+        StreamOptions {
+            radiance: true,
+            features: true,
+            ..StreamOptions::new(plan.flags.traversal)
+        },
+        &mut |band| {
+            let (Some(radiance), Some(features)) = (band.radiance, band.features) else {
+                return Err(Error::Output(
+                    "the renderer returned no radiance, albedo and normal to denoise".into(),
+                ));
+            };
+            noisy.color.extend_from_slice(radiance);
+            noisy.albedo.extend_from_slice(features.albedo);
+            noisy.normal.extend_from_slice(features.normal);
+            Ok(())
+        },
+    )?;
+    Ok(noisy)
+}
+
 /// The finishing job: checks that every item is there (naming the missing
 /// ones and their tasks), then streams a still's bands into its one PNG,
 /// holding one band in memory, or encodes the frames with ffmpeg when it
@@ -184,7 +251,7 @@ pub fn run_task(dir: &Path, task: u32) -> Result<TaskReport> {
 pub fn finish(dir: &Path) -> Result<Finished> {
     let plan = plan_of(dir)?;
     let missing: Vec<u32> = (0..plan.items())
-        .filter(|&i| !plan.item_path(dir, i).is_file())
+        .filter(|&i| !plan.item_done(dir, i))
         .collect();
     if !missing.is_empty() {
         return Err(Error::Output(format!(

@@ -216,3 +216,195 @@ fn a_split_by_samples_of_a_whitted_scene_or_into_too_many_parts_exits_2() {
     assert!(tasks.one_error_line().contains("--tasks"), "{tasks:#?}");
     assert!(!out.join("farm.json").exists(), "nothing planned");
 }
+
+/// The largest difference between two images of floats, absolute.
+fn max_abs_difference(a: &[f32], b: &[f32]) -> f32 {
+    assert_eq!(a.len(), b.len());
+    a.iter()
+        .zip(b)
+        .map(|(x, y)| (x - y).abs())
+        .fold(0.0, f32::max)
+}
+
+#[test]
+fn a_denoised_still_split_by_samples_on_slurm_equals_render_denoise_within_a_level() {
+    let cluster = cluster();
+    let tmp = TempDir::new("farm-denoise-samples");
+    let out = tmp.join("out");
+    let scene = repo("scenes/cornell_box.toml");
+    let args = [
+        "--samples",
+        "4",
+        "--split",
+        "samples",
+        "--parts",
+        "2",
+        "--denoise",
+        "--submit",
+        "--wait",
+    ];
+    let run = farm(&tmp.path, &cluster, &scene, &out, &args);
+    assert_eq!(run.code, 0, "{run:#?}");
+    assert!(
+        run.stdout
+            .contains("a 64x48 still (frame 0) of 4 samples in 2 shares, denoised, 2 tasks"),
+        "{run:#?}"
+    );
+    assert_eq!(top_level_pngs(&out), ["cornell_box.png"]);
+    let share = |i: u32, ext: &str| out.join(format!("parts/samples-{i:04}.{ext}"));
+    for i in 0..2 {
+        for ext in ["exr", "albedo.exr", "normal.exr"] {
+            assert!(share(i, ext).is_file(), "share {i}'s {ext}");
+        }
+    }
+
+    // The single machine's render --denoise -o single.exr and its inputs.
+    let single = tmp.join("single.exr");
+    let mut render = vec!["render", &scene, "-o", single.to_str().unwrap()];
+    render.extend(SIZE);
+    render.extend(["--samples", "4", "--denoise"]);
+    let run = run_kdray(&tmp.path, &render, &[]);
+    assert_eq!(run.code, 0, "{run:#?}");
+    let exr = |path: &Path| read_exr_rgb(path).unwrap().2;
+    let farmed = |ext: &str| exr(&out.join(format!("cornell_box.{ext}")));
+    let single_of = |ext: &str| exr(&tmp.join(&format!("single.{ext}")));
+
+    // The denoiser's inputs: the averaged radiance within f32 rounding of
+    // the single render's, the averaged albedo and normal (means of
+    // values in [-1, 1]) within 1e-6.
+    let noisy = farmed("noisy.exr");
+    let worst = worst_relative_difference(&noisy, &single_of("noisy.exr"));
+    assert!(
+        worst <= 1.0,
+        "the noisy radiance differs by {worst} tolerances"
+    );
+    for feature in ["albedo.exr", "normal.exr"] {
+        let d = max_abs_difference(&farmed(feature), &single_of(feature));
+        eprintln!("denoised split by samples: {feature} differs by {d:e} at most");
+        assert!(d <= 1e-6, "{feature} differs by {d}");
+    }
+    let denoised = farmed("exr");
+    let single_denoised = single_of("exr");
+    let worst = worst_relative_difference(&denoised, &single_denoised);
+    eprintln!("denoised split by samples: the denoised EXRs differ by {worst:.3} tolerances");
+    assert!(
+        worst <= 1.0,
+        "the denoised EXR differs by {worst} tolerances"
+    );
+    assert!(
+        worst_relative_difference(&denoised, &noisy) > 1e3,
+        "the farm's EXR is not denoised"
+    );
+    // The PNG: the single render's denoised radiance tone-mapped as the
+    // scene says, within one level.
+    let settings = kdray::scene::load_scene(Path::new(&scene)).unwrap().render;
+    let scale = settings.exposure.exp2() as f32;
+    let single_png: Vec<u8> = single_denoised
+        .iter()
+        .map(|&v| settings.tone_map.to_srgb8(v, scale))
+        .collect();
+    let (w, h, farmed_png) = read_png_rgb(&out.join("cornell_box.png")).unwrap();
+    assert_eq!((w, h), (64, 48));
+    let levels = max_level_difference(&farmed_png, &single_png);
+    eprintln!("denoised split by samples: the PNGs differ by {levels} levels at most");
+    assert!(levels <= 1, "the farm's PNG differs by {levels} levels");
+    assert!(tmp.temp_files().is_empty());
+
+    // A share that lost its normal is not done: the finishing job refuses
+    // to average without it, naming the share and its task, and a re-run
+    // would render that share alone (planned only, not submitted: the
+    // re-rendering itself is the split by samples' test above).
+    std::fs::remove_file(share(1, "normal.exr")).unwrap();
+    std::fs::remove_file(out.join("cornell_box.exr")).unwrap();
+    let finish = Command::new("sh")
+        .arg(out.join("finish.sbatch"))
+        .output()
+        .unwrap();
+    assert!(!finish.status.success(), "{finish:?}");
+    let stderr = String::from_utf8_lossy(&finish.stderr);
+    assert!(stderr.contains("share 1 (task 1"), "{stderr}");
+    let replan = farm(&tmp.path, &cluster, &scene, &out, &args[..7]);
+    assert_eq!(replan.code, 0, "{replan:#?}");
+    assert!(
+        replan.stdout.contains("2 tasks, 1 with work left (1)"),
+        "{replan:#?}"
+    );
+}
+
+#[test]
+fn a_denoised_path_traced_animation_equals_render_all_frames_denoise() {
+    let tmp = TempDir::new("farm-denoise-frames");
+    let out = tmp.join("out");
+    let text = std::fs::read_to_string(repo("scenes/orbit.toml")).unwrap();
+    let two = text.replace("frames = 48", "frames = 2");
+    assert_ne!(two, text, "scenes/orbit.toml's frames line");
+    let scene = tmp.write("orbit.toml", &two);
+    let scene = scene.to_str().unwrap();
+    let flags = [
+        "--integrator",
+        "path",
+        "--samples",
+        "2",
+        "--seed",
+        "7",
+        "--denoise",
+    ];
+    let mut args = vec!["farm", scene, "--out", out.to_str().unwrap()];
+    args.extend(SIZE);
+    args.extend(flags);
+    let run = run_kdray(&tmp.path, &args, &[]);
+    assert_eq!(run.code, 0, "{run:#?}");
+    assert!(
+        run.stdout.contains("2 frames of 64x48, denoised"),
+        "{run:#?}"
+    );
+    run_by_hand(&out, 1);
+    let singles = single_frames(&tmp, scene, 2, &flags);
+    for (k, single) in singles.iter().enumerate() {
+        let name = format!("{k:04}.png");
+        assert_eq!(&read_png_rgb(&out.join(name)).unwrap(), single, "frame {k}");
+    }
+    let noisy = single_frames(&tmp, scene, 2, &flags[..6]);
+    assert_ne!(singles[0], noisy[0], "frame 0 is denoised");
+}
+
+#[test]
+fn a_denoised_farm_of_a_whitted_scene_or_of_a_still_in_bands_exits_2() {
+    let tmp = TempDir::new("farm-denoise-refused");
+    let out = tmp.join("out");
+    let plan = |scene: &str, extra: &[&str]| {
+        let mut args = vec!["farm", scene, "--out", out.to_str().unwrap()];
+        args.extend(SIZE);
+        args.extend(extra);
+        run_kdray(&tmp.path, &args, &[])
+    };
+    let whitted = plan(&repo("scenes/seed.toml"), &["--denoise"]);
+    assert_eq!(whitted.code, 2, "{whitted:#?}");
+    let line = whitted.one_error_line();
+    assert!(line.contains("--denoise"), "{line}");
+    assert!(line.contains("path tracer"), "{line}");
+
+    // The scene's own denoise = true, turned Whitted by the flag.
+    let text = std::fs::read_to_string(repo("scenes/seed.toml")).unwrap();
+    let path = text.replace(
+        "[render]\n",
+        "[render]\nintegrator = \"path\"\ndenoise = true\n",
+    );
+    assert_ne!(path, text, "scenes/seed.toml's [render] line");
+    let path = tmp.write("seed_denoised.toml", &path);
+    let flagged = plan(path.to_str().unwrap(), &["--integrator", "whitted"]);
+    assert_eq!(flagged.code, 2, "{flagged:#?}");
+    let line = flagged.one_error_line();
+    assert!(line.contains("[render] denoise = true"), "{line}");
+    assert!(line.contains("--denoise=false"), "{line}");
+
+    let bands = plan(
+        &repo("scenes/cornell_box.toml"),
+        &["--denoise", "--tiles", "2"],
+    );
+    assert_eq!(bands.code, 2, "{bands:#?}");
+    let line = bands.one_error_line();
+    assert!(line.contains("--tiles 2"), "{line}");
+    assert!(line.contains("--split samples"), "{line}");
+    assert!(!out.join("farm.json").exists(), "nothing planned");
+}

@@ -400,6 +400,14 @@ pub struct FarmArgs {
     pub out: PathBuf,
     #[command(flatten)]
     pub image: ImageFlags,
+    /// Denoise the path-traced images as `render --denoise` does: a still
+    /// split by samples once, by the finishing job, from the shares'
+    /// averaged radiance, albedo and normal (its EXR beside the three);
+    /// each frame by its task. --denoise=false turns off the scene's
+    /// [render] denoise = true.
+    #[arg(long, value_name = "BOOL", num_args = 0..=1, require_equals = true,
+          default_missing_value = "true")]
+    pub denoise: Option<bool>,
     /// Render a still of this frame of the scene's animation (0-based)
     /// instead of every frame.
     #[arg(long, value_name = "N")]

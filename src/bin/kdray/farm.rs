@@ -14,6 +14,7 @@ pub fn farm(args: FarmArgs) -> Result<()> {
         scene: args.scene,
         out: args.out,
         flags: args.image.into(),
+        denoise: args.denoise,
         frame: args.frame,
         tiles: args.tiles,
         split: args.split,
@@ -30,7 +31,7 @@ pub fn farm(args: FarmArgs) -> Result<()> {
             dir.display()
         );
     }
-    let what = match plan.work {
+    let mut what = match plan.work {
         Work::Still { frame, tiles } => format!(
             "a {}x{} still (frame {frame}) in {tiles} bands",
             plan.width, plan.height
@@ -47,6 +48,9 @@ pub fn farm(args: FarmArgs) -> Result<()> {
             format!("{frames} frames of {}x{}", plan.width, plan.height)
         }
     };
+    if plan.denoise {
+        what.push_str(", denoised");
+    }
     println!(
         "{}: {what}, {} tasks, {} with work left{}",
         dir.display(),
@@ -135,7 +139,15 @@ fn result_name(dir: &std::path::Path, plan: &farm::FarmPlan) -> String {
     match plan.work {
         Work::Still { .. } => plan.final_path(dir).display().to_string(),
         Work::Samples { .. } => match plan.final_exr_path(dir) {
-            Some(exr) => format!("{} and {}", plan.final_path(dir).display(), exr.display()),
+            Some(exr) => format!(
+                "{} and {}{}",
+                plan.final_path(dir).display(),
+                exr.display(),
+                match plan.denoise {
+                    true => " (denoised, beside its noisy, albedo and normal EXRs)",
+                    false => "",
+                }
+            ),
             None => plan.final_path(dir).display().to_string(),
         },
         Work::Frames { frames, .. } => {
@@ -162,8 +174,17 @@ pub fn farm_task(args: FarmTaskArgs) -> Result<()> {
 pub fn farm_finish(args: FarmFinishArgs) -> Result<()> {
     match farm::finish(&args.dir)? {
         Finished::Image(path) => println!("wrote {}", path.display()),
-        Finished::Averaged { shares, png, exr } => println!(
-            "{shares} shares of samples averaged; wrote {} and {}",
+        Finished::Averaged {
+            shares,
+            denoised,
+            png,
+            exr,
+        } => println!(
+            "{shares} shares of samples averaged{}; wrote {} and {}",
+            match denoised {
+                true => " and denoised",
+                false => "",
+            },
             png.display(),
             exr.display()
         ),
