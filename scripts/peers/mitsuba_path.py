@@ -44,7 +44,12 @@ kdray's material exactly):
 - emission -> an `area` emitter on the sphere (outward) or on the triangles
   (front side: (v1 - v0) x (v2 - v0), which is Mitsuba's face normal too);
   `[environment] color` (or render.background) -> `constant`; point lights ->
-  `point` (intensity in W/sr: radiance I / d^2 in both).
+  `point` (intensity in W/sr: radiance I / d^2 in both); directional lights
+  -> `directional` (irradiance in W/m^2, the same direction of travel);
+  `[environment] image` -> `envmap` (mitsuba_sky_image and envmap_of: the
+  image resampled so that Mitsuba's bilinear lookup gives kdray's nearest
+  texel but near texel edges; `compare` then records how far the two skies
+  differ). Spot lights and `reference_distance` are refused.
 Triangles of one material become one PLY mesh of unshared vertices and face
 normals (flat, as kdray shades a `smooth = false` mesh).
 """
@@ -194,8 +199,8 @@ def mitsuba_sky_image(texels, k=SKY_UPSAMPLE):
 
 
 def kdray_sky_radiance(texels, intensity, rotation_degrees, d):
-    """kdray's sky along unit directions d (N, 3): crates/kdray-core/src/
-    scene/environment.rs (`texel_of`), in numpy."""
+    """kdray's sky along unit directions d (N, 3), in numpy: `texel_of`
+    of crates/kdray-core/src/scene/environment.rs."""
     h, w, _ = texels.shape
     s, c = np.sin(np.radians(rotation_degrees)), np.cos(np.radians(rotation_degrees))
     x = c * d[:, 0] - s * d[:, 2]
