@@ -26,10 +26,10 @@ use crate::gpu::{Accel, GpuContext, GpuScene, PreparedScene, RecordedRay, WalkRe
 use crate::kdtree::traverse::WalkCost;
 use crate::kdtree::{BuildParams, BuildStrategy, KdTree, Traversal, WalkEvent};
 use crate::layout::KdNode;
+use crate::layout::{LIGHT_DIRECTIONAL, LIGHT_EMITTER, LIGHT_SPOT};
 use crate::render::RenderFlags;
 use crate::scene::{Integrator, LightKind, Scene};
 use glam::Vec3;
-use crate::layout::{LIGHT_DIRECTIONAL, LIGHT_EMITTER, LIGHT_SPOT};
 use kdray_core::reference::{LightId, RayKind, ReferenceTracer, TracedRay};
 
 /// The format's version: raised when a key changes meaning or goes.
@@ -491,11 +491,7 @@ struct HitRecord {
     normal: Vec3,
 }
 
-fn cpu_record<'a>(
-    scene: &Scene,
-    tracer: &ReferenceTracer,
-    traced: &'a TracedRay,
-) -> RayRecord<'a> {
+fn cpu_record<'a>(scene: &Scene, tracer: &ReferenceTracer, traced: &'a TracedRay) -> RayRecord<'a> {
     let ray = traced.ray;
     let spheres = tracer.primitives().spheres.len() as u32;
     RayRecord {
@@ -563,7 +559,11 @@ fn light_named(
         LightId::Emitter(object) => {
             named.source = "emitter";
             named.object = Some(object);
-            named.kind = Some(if object < spheres { "sphere" } else { "triangle" });
+            named.kind = Some(if object < spheres {
+                "sphere"
+            } else {
+                "triangle"
+            });
             named.triangle = object.checked_sub(spheres);
         }
         LightId::Sky => named.source = "sky",

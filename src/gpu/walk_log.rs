@@ -173,7 +173,10 @@ impl Reader<'_> {
         };
         let light = (light.entry != bindings::NO_OBJECT).then_some(light);
         if light.is_some() != (kind == RayKind::Shadow) {
-            return Err(malformed(self.at, "a light on a ray that is not a shadow ray, or none on one"));
+            return Err(malformed(
+                self.at,
+                "a light on a ray that is not a shadow ray, or none on one",
+            ));
         }
         Ok(RecordedRay {
             kind,

@@ -11,8 +11,8 @@ use kdray::gpu::{Accel, GpuScene, PreparedScene, TilePlan, WalkRecorder};
 use kdray::inspect::{inspect_on_gpu, inspect_scene, Inspection};
 use kdray::kdtree::traverse::WalkCost;
 use kdray::kdtree::{BuildStrategy, Traversal};
-use kdray_core::reference::{LightChoice, LightId};
 use kdray::scene::{load_scene, parse_scene, Scene, SceneFormat};
+use kdray_core::reference::{LightChoice, LightId};
 
 use glam::Vec3;
 use std::path::Path;
@@ -311,7 +311,9 @@ fn path_traced_shadow_rays_name_their_light_and_the_probability_it_was_picked_wi
     // light picks fall on every light (the pseudo-random pixels of the
     // other tests picked no sphere: their draws in its range were pixels
     // of the sky).
-    let grid = (6..=14).step_by(2).flat_map(|y| (4..=20).step_by(2).map(move |x| (x, y)));
+    let grid = (6..=14)
+        .step_by(2)
+        .flat_map(|y| (4..=20).step_by(2).map(move |x| (x, y)));
     let mut picked = std::collections::BTreeSet::new();
     let mut shadow_rays = 0;
     for (x, y) in grid {
@@ -350,10 +352,17 @@ fn path_traced_shadow_rays_name_their_light_and_the_probability_it_was_picked_wi
                     assert_eq!((light.kind, light.pdf), (Some("point"), None), "{what}");
                     let at = end.expect("a point light's shadow ray ends at it");
                     let light_at = scene.lights[0].position.as_vec3();
-                    assert!((at - light_at).length() < 1e-3, "{what}: {at} not at {light_at}");
+                    assert!(
+                        (at - light_at).length() < 1e-3,
+                        "{what}: {at} not at {light_at}"
+                    );
                 }
                 LightId::Scene(_) => {
-                    assert_eq!((light.kind, light.pdf), (Some("directional"), None), "{what}");
+                    assert_eq!(
+                        (light.kind, light.pdf),
+                        (Some("directional"), None),
+                        "{what}"
+                    );
                     assert_eq!(r.t_limit, None, "{what}: the sun's shadow ray is unbounded");
                     let towards = -Vec3::new(0.3, -1.0, -0.2).normalize();
                     assert!((dir - towards).length() < 1e-5, "{what}: {dir}");
@@ -364,9 +373,12 @@ fn path_traced_shadow_rays_name_their_light_and_the_probability_it_was_picked_wi
                     assert_eq!(light.triangle, object.checked_sub(1), "{what}");
                     let q = end.expect("an emitter's shadow ray ends at it");
                     let p = shading_point.expect("a shadow ray leaves a hit");
-                    let density = choice
-                        .emitter_density(&scene, object, p, q)
-                        .unwrap_or_else(|| panic!("{what}: {q} is no point {object} lights {p} from"));
+                    let density =
+                        choice
+                            .emitter_density(&scene, object, p, q)
+                            .unwrap_or_else(|| {
+                                panic!("{what}: {q} is no point {object} lights {p} from")
+                            });
                     let logged = light.pdf.expect("an emitter's direction has a density") as f64;
                     assert!(
                         (logged - density).abs() <= 1e-3 * density,
