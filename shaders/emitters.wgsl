@@ -160,6 +160,7 @@ fn sample_light(p: vec3<f32>) -> LightSample {
             choice = sky_pick();
         }
     }
+    mark_light(k, choice);
     if (choice <= 0.0) {
         return no_light();
     }

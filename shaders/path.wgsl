@@ -76,6 +76,7 @@ fn next_event(m: Material, s: Surface, v: vec3<f32>, p: vec3<f32>, origin: vec3<
         return vec3<f32>(0.0);
     }
     ray_counts.y += 1u;
+    mark_light_density(select(light.pdf, 0.0, light.delta));
     mark_ray(RAY_SHADOW);
     if (trace_ray(Ray(origin, light.dir), limit, true).object != NO_OBJECT) {
         return vec3<f32>(0.0);

@@ -72,6 +72,7 @@ fn shade(m: Material, p: vec3<f32>, n: vec3<f32>, v: vec3<f32>, origin: vec3<f32
         var through = 1.0;
         if (shadow_length > 0.0) {
             ray_counts.y += 1u;
+            mark_light(i, 1.0);
             mark_ray(RAY_SHADOW);
             through = shadow_transmittance(shadow_ray, shadow_length);
             if (through == 0.0) {

@@ -22,6 +22,16 @@ var<private> inspect_at: u32 = INSPECT_HEADER_WORDS;
 var<private> inspect_kind: u32 = RAY_PRIMARY;
 // The walk's work counted before the ray's walk began.
 var<private> inspect_cost: vec3<u32>;
+// The light the next shadow rays aim at (mark_light): its entry in
+// `lights` (the sky: light_count + emitter_count), its kind (LIGHT_*, the
+// sky LIGHT_SKY), its object's scene id (an emitter; else NO_OBJECT), the
+// probability it was picked with, and the solid-angle density of the
+// shadow ray's direction (mark_light_density; 0: a delta light).
+var<private> inspect_light: u32 = NO_OBJECT;
+var<private> inspect_light_kind: u32;
+var<private> inspect_light_object: u32 = NO_OBJECT;
+var<private> inspect_pick: f32;
+var<private> inspect_density: f32;
 
 // Writes word `w` at the next place, or, for the other lanes and past the
 // log's end, into the sink word (INSPECT_SINK), which nothing reads:
@@ -47,14 +57,46 @@ fn mark_ray(kind: u32) {
     inspect_kind = kind;
 }
 
-// A ray about to be walked: its kind, query, origin, direction and limit.
+// The light the shadow rays from here on aim at: entry `entry` of `lights`
+// (light_count + emitter_count: the sky image), picked with probability
+// `pick` (the path tracer's sample_light; Whitted's shade: 1, every light).
+fn mark_light(entry: u32, pick: f32) {
+    let count = params.light_count + params.emitter_count;
+    inspect_light = entry;
+    inspect_pick = pick;
+    inspect_density = 0.0;
+    inspect_light_kind = LIGHT_SKY;
+    inspect_light_object = NO_OBJECT;
+    if (entry < count) {
+        let light = lights[entry];
+        inspect_light_kind = light.kind;
+        if (light.kind == LIGHT_EMITTER) {
+            inspect_light_object = objects[light.object].y;
+        }
+    }
+}
+
+// The solid-angle density of the next shadow ray's direction, the pick
+// included (0: a delta light).
+fn mark_light_density(density: f32) {
+    inspect_density = density;
+}
+
+// A ray about to be walked: its kind, query, origin, direction and limit,
+// and for a shadow ray its light (none for the others), without a branch.
 fn record_ray(ray: Ray, t_limit: f32, any_hit: bool) {
+    let shadow = inspect_kind == RAY_SHADOW;
     log_word(INSPECT_RAY);
     log_word(inspect_kind);
     log_word(select(0u, 1u, any_hit));
     log_vec3(ray.origin);
     log_vec3(ray.dir);
     log_float(t_limit);
+    log_word(select(NO_OBJECT, inspect_light, shadow));
+    log_word(select(0u, inspect_light_kind, shadow));
+    log_word(select(NO_OBJECT, inspect_light_object, shadow));
+    log_float(select(0.0, inspect_pick, shadow));
+    log_float(select(0.0, inspect_density, shadow));
     inspect_cost = walk_cost;
 }
 

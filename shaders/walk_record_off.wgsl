@@ -4,6 +4,8 @@
 // their arguments.
 
 fn mark_ray(kind: u32) {}
+fn mark_light(entry: u32, pick: f32) {}
+fn mark_light_density(density: f32) {}
 fn record_ray(ray: Ray, t_limit: f32, any_hit: bool) {}
 fn record_hit(ray: Ray, hit: Hit) {}
 fn record_segment(segment: vec2<f32>) {}

@@ -21,14 +21,16 @@ use serde::Serialize;
 use crate::choice::Choice;
 use crate::error::{Error, Result};
 use crate::geometry::{Primitives, Ray, T_INFINITY};
+use crate::gpu::bindings::walk_codes::LIGHT_SKY;
 use crate::gpu::{Accel, GpuContext, GpuScene, PreparedScene, RecordedRay, WalkRecorder};
 use crate::kdtree::traverse::WalkCost;
 use crate::kdtree::{BuildParams, BuildStrategy, KdTree, Traversal, WalkEvent};
 use crate::layout::KdNode;
+use crate::layout::{LIGHT_DIRECTIONAL, LIGHT_EMITTER, LIGHT_SPOT};
 use crate::render::RenderFlags;
-use crate::scene::{Integrator, Scene};
+use crate::scene::{Integrator, LightKind, Scene};
 use glam::Vec3;
-use kdray_core::reference::{RayKind, ReferenceTracer, TracedRay};
+use kdray_core::reference::{LightId, RayKind, ReferenceTracer, TracedRay};
 
 /// The format's version: raised when a key changes meaning or goes.
 pub const INSPECT_VERSION: u32 = 1;
@@ -125,6 +127,51 @@ pub struct InspectedRay {
     pub walk: Vec<Step>,
     pub hit: Option<InspectedHit>,
     pub counts: Counts,
+    /// A shadow ray's light: what it aims at, and with what probability.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub light: Option<InspectedLight>,
+}
+
+/// The light a shadow ray aims at, in the scene's terms, and the chance
+/// the integrator gave it: in the path tracer's next-event estimation the
+/// probability of picking it (by power) and the density of the ray's
+/// direction; in the Whitted integrator every light gets its shadow ray
+/// (probability 1).
+#[derive(Debug, Clone, Serialize, PartialEq)]
+pub struct InspectedLight {
+    /// `light` (an entry of the scene's `[[lights]]`), `emitter` (an object
+    /// whose material emits) or `sky` (the sky image).
+    pub source: &'static str,
+    /// A scene light: its index in `[[lights]]`, in file order.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub index: Option<u32>,
+    /// A scene light: `point`, `spot` or `directional`; an emitter:
+    /// `sphere` or `triangle`.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub kind: Option<&'static str>,
+    /// An emitter: its object id, numbered as hits are.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub object: Option<u32>,
+    /// An emissive triangle: its index among the scene's triangles.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub triangle: Option<u32>,
+    /// The probability the light was picked with (Whitted: 1).
+    pub pick: f32,
+    /// The solid-angle density of the ray's direction, the pick included
+    /// (the path tracer, for an emitter or the sky); `null` for a point,
+    /// spot or directional light (a delta) and in the Whitted integrator.
+    pub pdf: Option<f32>,
+}
+
+impl InspectedLight {
+    /// The light, as the CPU reference names it.
+    pub fn id(&self) -> LightId {
+        match (self.source, self.index, self.object) {
+            ("light", Some(i), _) => LightId::Scene(i),
+            ("emitter", _, Some(o)) => LightId::Emitter(o),
+            _ => LightId::Sky,
+        }
+    }
 }
 
 /// One step of a walk: an inner node, a leaf, or how the walk moved on.
@@ -362,7 +409,7 @@ pub fn inspect_scene(
     inspection.rays = tracer
         .trace_recorded(primary)
         .iter()
-        .map(|t| inspected_ray(&view, &cpu_record(&tracer, t)))
+        .map(|t| inspected_ray(&view, &cpu_record(scene, &tracer, t)))
         .collect();
     Ok(inspection)
 }
@@ -416,7 +463,7 @@ pub fn inspect_frame_on_gpu(
     inspection.rays = log
         .rays
         .iter()
-        .map(|r| inspected_ray(&view, &kernel_record(r)))
+        .map(|r| inspected_ray(&view, &kernel_record(r, shown.spheres.len() as u32)))
         .collect();
     inspection.walk_source = WalkSource::Kernel.name();
     inspection.sample = Some(log.sample);
@@ -432,6 +479,7 @@ struct RayRecord<'a> {
     walk: &'a [WalkEvent],
     hit: Option<HitRecord>,
     cost: WalkCost,
+    light: Option<InspectedLight>,
 }
 
 /// A hit: the object, t, the point and the unit geometric normal facing
@@ -443,8 +491,9 @@ struct HitRecord {
     normal: Vec3,
 }
 
-fn cpu_record<'a>(tracer: &ReferenceTracer, traced: &'a TracedRay) -> RayRecord<'a> {
+fn cpu_record<'a>(scene: &Scene, tracer: &ReferenceTracer, traced: &'a TracedRay) -> RayRecord<'a> {
     let ray = traced.ray;
+    let spheres = tracer.primitives().spheres.len() as u32;
     RayRecord {
         kind: traced.kind,
         any: traced.any,
@@ -461,10 +510,79 @@ fn cpu_record<'a>(tracer: &ReferenceTracer, traced: &'a TracedRay) -> RayRecord<
             }
         }),
         cost: traced.cost,
+        light: traced.light.map(|aim| {
+            let kind = match aim.light {
+                LightId::Scene(i) => scene.lights.get(i as usize).map(|l| match l.kind {
+                    LightKind::Point => "point",
+                    LightKind::Spot { .. } => "spot",
+                    LightKind::Directional { .. } => "directional",
+                }),
+                _ => None,
+            };
+            light_named(aim.light, kind, spheres, aim.pick, 0.0)
+        }),
     }
 }
 
-fn kernel_record(recorded: &RecordedRay) -> RayRecord<'_> {
+/// The name of a scene light's kind (`GpuLight::kind`).
+fn light_kind_name(kind: u32) -> &'static str {
+    match kind {
+        LIGHT_SPOT => "spot",
+        LIGHT_DIRECTIONAL => "directional",
+        _ => "point",
+    }
+}
+
+/// A shadow ray's light in the document's terms; `scene_kind` a scene
+/// light's kind, `spheres` the scene's sphere count, `density` 0 for none.
+fn light_named(
+    light: LightId,
+    scene_kind: Option<&'static str>,
+    spheres: u32,
+    pick: f32,
+    density: f32,
+) -> InspectedLight {
+    let mut named = InspectedLight {
+        source: "light",
+        index: None,
+        kind: None,
+        object: None,
+        triangle: None,
+        pick,
+        pdf: (density > 0.0).then_some(density),
+    };
+    match light {
+        LightId::Scene(i) => {
+            named.index = Some(i);
+            named.kind = scene_kind;
+        }
+        LightId::Emitter(object) => {
+            named.source = "emitter";
+            named.object = Some(object);
+            named.kind = Some(if object < spheres {
+                "sphere"
+            } else {
+                "triangle"
+            });
+            named.triangle = object.checked_sub(spheres);
+        }
+        LightId::Sky => named.source = "sky",
+    }
+    named
+}
+
+/// The light the kernel logged for a shadow ray, in the document's terms.
+fn kernel_light(light: &crate::gpu::walk_log::RecordedLight, spheres: u32) -> InspectedLight {
+    let id = match light.kind {
+        LIGHT_SKY => LightId::Sky,
+        LIGHT_EMITTER => LightId::Emitter(light.object),
+        _ => LightId::Scene(light.entry),
+    };
+    let kind = light_kind_name(light.kind);
+    light_named(id, Some(kind), spheres, light.pick, light.density)
+}
+
+fn kernel_record(recorded: &RecordedRay, spheres: u32) -> RayRecord<'_> {
     RayRecord {
         kind: recorded.kind,
         any: recorded.any,
@@ -478,6 +596,7 @@ fn kernel_record(recorded: &RecordedRay) -> RayRecord<'_> {
             normal: h.normal,
         }),
         cost: recorded.cost,
+        light: recorded.light.map(|l| kernel_light(&l, spheres)),
     }
 }
 
@@ -620,6 +739,7 @@ fn inspected_ray(view: &TreeView, traced: &RayRecord) -> InspectedRay {
             tests: traced.cost.objects_tested,
             restarts,
         },
+        light: traced.light.clone(),
     }
 }
 

@@ -8,7 +8,8 @@ const AXES = ['x', 'y', 'z'];
 const FACES = ['x-', 'x+', 'y-', 'y+', 'z-', 'z+'];
 
 // The log's words as { rays, sample }: each ray { kind, any, origin, dir,
-// tLimit, walk (events), hit ({ object, t, point, normal } or null), cost }.
+// tLimit, walk (events), hit ({ object, t, point, normal } or null), cost,
+// light ({ entry, kind, object, pick, density }: a shadow ray's; else null) }.
 export function decodeLog(words, c) {
   const used = words[c.INSPECT_WORDS_USED];
   if (used > words.length) throw new Error(`the inspect log needs ${used} words but has room for ${words.length}`);
@@ -31,7 +32,13 @@ export function decodeLog(words, c) {
     if (tag === c.INSPECT_RAY) {
       const kind = kinds[word()];
       if (!kind) throw new Error(`the inspect log is malformed at word ${at - 1}: a ray kind`);
-      rays.push({ kind, any: word() !== 0, origin: vec3(), dir: vec3(), tLimit: float(), walk: [], hit: null, cost: null });
+      const ray = { kind, any: word() !== 0, origin: vec3(), dir: vec3(), tLimit: float(), walk: [], hit: null, cost: null };
+      const light = { entry: word(), kind: word(), object: word(), pick: float(), density: float() };
+      ray.light = light.entry === c.NO_OBJECT ? null : light;
+      if ((ray.light !== null) !== (kind === 'shadow')) {
+        throw new Error(`the inspect log is malformed at word ${at}: a light on a ray that is not a shadow ray, or none on one`);
+      }
+      rays.push(ray);
       continue;
     }
     const ray = rays[rays.length - 1];
@@ -96,6 +103,23 @@ export function treeOf(arrays, c) {
   return { nodes, depths };
 }
 
+// A shadow ray's light as the document names it (src/inspect.rs,
+// `light_named`): a scene light by its index in [[lights]] and kind, an
+// emitter by its object (and triangle), the sky; its pick and density.
+function documentLight(light, spheres, c) {
+  const named = { source: 'light' };
+  if (light.kind === c.LIGHT_SKY) {
+    named.source = 'sky';
+  } else if (light.kind === c.LIGHT_EMITTER) {
+    Object.assign(named, { source: 'emitter', kind: light.object < spheres ? 'sphere' : 'triangle', object: light.object });
+    if (light.object >= spheres) named.triangle = light.object - spheres;
+  } else {
+    const kinds = { [c.LIGHT_SPOT]: 'spot', [c.LIGHT_DIRECTIONAL]: 'directional' };
+    Object.assign(named, { index: light.entry, kind: kinds[light.kind] ?? 'point' });
+  }
+  return { ...named, pick: light.pick, pdf: light.density > 0 ? light.density : null };
+}
+
 // One logged ray as the document's ray.
 function documentRay(ray, tree, spheres, c) {
   const walk = [];
@@ -129,7 +153,7 @@ function documentRay(ray, tree, spheres, c) {
     object: ray.hit.object, kind: ray.hit.object < spheres ? 'sphere' : 'triangle',
     t: ray.hit.t, point: ray.hit.point, normal: ray.hit.normal,
   };
-  return {
+  const doc = {
     kind: ray.kind,
     query: ray.any ? 'any' : 'nearest',
     origin: ray.origin,
@@ -140,6 +164,8 @@ function documentRay(ray, tree, spheres, c) {
     hit,
     counts: { ...ray.cost, restarts },
   };
+  if (ray.light) doc.light = documentLight(ray.light, spheres, c);
+  return doc;
 }
 
 // The document: `meta` holds its fields that are not the log's (scene,

@@ -8,6 +8,7 @@
 //! The log is words: word [`codes::WORDS_USED`] holds how many the kernel
 //! meant to write, then records from [`codes::HEADER_WORDS`] on, each a tag
 //! and its fields (floats as their bits), as walk_record.wgsl writes them.
+//! A shadow ray's record names the light it aims at ([`RecordedLight`]).
 
 use super::bindings::walk_codes as codes;
 use super::bindings::{self, INSPECT_PIXEL};
@@ -34,6 +35,26 @@ pub struct RecordedRay {
     pub hit: Option<RecordedHit>,
     /// The walk's work, as the kernel counts it for the heatmap.
     pub cost: WalkCost,
+    /// A shadow ray's light: what it aims at and with what probability.
+    pub light: Option<RecordedLight>,
+}
+
+/// The light a shadow ray aims at, as the kernel logged it.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct RecordedLight {
+    /// Its entry in the lights buffer: the scene's lights first (a scene
+    /// light's entry is its index in `[[lights]]`), then the emitters,
+    /// then the sky.
+    pub entry: u32,
+    /// `GpuLight::kind` (`LIGHT_POINT`, ...), or [`codes::LIGHT_SKY`].
+    pub kind: u32,
+    /// An emitter's object, by scene id; else `NO_OBJECT`.
+    pub object: u32,
+    /// The probability the light was picked with (Whitted: 1).
+    pub pick: f32,
+    /// The solid-angle density of the ray's direction, the pick included;
+    /// 0 for a delta light (point, spot, directional) and in Whitted.
+    pub density: f32,
 }
 
 /// What a ray's query returned, as the kernel saw it.
@@ -142,14 +163,30 @@ impl Reader<'_> {
             origin: self.vec3()?,
             dir: self.vec3()?,
         };
+        let t_limit = self.float()?;
+        let light = RecordedLight {
+            entry: self.word()?,
+            kind: self.word()?,
+            object: self.word()?,
+            pick: self.float()?,
+            density: self.float()?,
+        };
+        let light = (light.entry != bindings::NO_OBJECT).then_some(light);
+        if light.is_some() != (kind == RayKind::Shadow) {
+            return Err(malformed(
+                self.at,
+                "a light on a ray that is not a shadow ray, or none on one",
+            ));
+        }
         Ok(RecordedRay {
             kind,
             any,
             ray,
-            t_limit: self.float()?,
+            t_limit,
             walk: Vec::new(),
             hit: None,
             cost: WalkCost::default(),
+            light,
         })
     }
 
@@ -344,6 +381,7 @@ mod tests {
         let mut words = vec![0u32, 0];
         words.extend([codes::RAY, codes::RAY_SHADOW, 1]);
         words.extend([f(0.0), f(1.0), f(2.0), f(0.0), f(0.0), f(1.0), f(5.0)]);
+        words.extend([6, codes::LIGHT_SKY, bindings::NO_OBJECT, f(0.25), f(0.5)]);
         words.extend([codes::SEGMENT, f(0.5), f(4.0)]);
         words.extend([codes::NODE, 0, f(0.5), f(4.0), 1, 7, f(2.0), 1]);
         words.extend([codes::LEAF, 1, f(0.5), f(2.0)]);
@@ -362,6 +400,16 @@ mod tests {
             (RayKind::Shadow, true, 5.0)
         );
         assert_eq!(ray.ray.dir, Vec3::Z);
+        assert_eq!(
+            ray.light,
+            Some(RecordedLight {
+                entry: 6,
+                kind: codes::LIGHT_SKY,
+                object: bindings::NO_OBJECT,
+                pick: 0.25,
+                density: 0.5
+            })
+        );
         assert_eq!(
             ray.walk,
             vec![
@@ -412,7 +460,13 @@ mod tests {
             .to_string()
             .contains("ends inside"));
         let mut odd = words.clone();
-        odd[12] = 99; // the SEGMENT record's tag
+        odd[17] = 99; // the SEGMENT record's tag
         assert!(decode(&odd).unwrap_err().to_string().contains("tag 99"));
+        let mut unlit = words.clone();
+        unlit[12] = bindings::NO_OBJECT; // the shadow ray's light entry
+        assert!(decode(&unlit)
+            .unwrap_err()
+            .to_string()
+            .contains("shadow ray"));
     }
 }

@@ -70,6 +70,17 @@ fn inspect_prints_one_json_document_of_the_pixels_rays_and_walks() {
             rays.iter().any(|r| r["kind"] == "shadow"),
             "a lit hit sends shadow rays: {doc}"
         );
+        // The mirrors scene's one light: every shadow ray names it, with
+        // probability 1 (Whitted lights every light) and no density.
+        for r in rays {
+            let light = serde_json::json!({
+                "source": "light", "index": 0, "kind": "point", "pick": 1.0, "pdf": null
+            });
+            match r["kind"] == "shadow" {
+                true => assert_eq!(r["light"], light, "{r}"),
+                false => assert!(r.get("light").is_none(), "{r}"),
+            }
+        }
     }
 }
 
@@ -115,6 +126,10 @@ fn inspect_refuses_bad_input_with_exit_2_and_one_line() {
 
 /// The kernel inspects a path-traced pixel: the camera ray, then bounces
 /// and shadow rays of next-event estimation, with the sample's radiance.
+/// The Cornell box's light is two emissive triangles of equal power after
+/// two spheres: each shadow ray aims at one of them (object 2 or 3,
+/// triangle 0 or 1) picked with probability 1/2, and its direction has a
+/// density.
 #[test]
 fn inspect_follows_a_path_traced_pixels_bounces() {
     let dir = TempDir::new("inspect-path");
@@ -143,4 +158,24 @@ fn inspect_follows_a_path_traced_pixels_bounces() {
     );
     let sample = doc["sample"].as_array().expect("the sample's radiance");
     assert_eq!(sample.len(), 3, "{doc}");
+    for r in doc["rays"].as_array().expect("rays").iter() {
+        if r["kind"] != "shadow" {
+            assert!(r.get("light").is_none(), "{r}");
+            continue;
+        }
+        let light = &r["light"];
+        assert_eq!(
+            (&light["source"], &light["kind"], &light["pick"]),
+            (
+                &serde_json::json!("emitter"),
+                &serde_json::json!("triangle"),
+                &serde_json::json!(0.5)
+            ),
+            "{r}"
+        );
+        let object = light["object"].as_u64().expect("the emitter's object");
+        assert!(object == 2 || object == 3, "{r}");
+        assert_eq!(light["triangle"].as_u64(), Some(object - 2), "{r}");
+        assert!(light["pdf"].as_f64().is_some_and(|p| p > 0.0), "{r}");
+    }
 }

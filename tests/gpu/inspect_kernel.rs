@@ -11,7 +11,11 @@ use kdray::gpu::{Accel, GpuScene, PreparedScene, TilePlan, WalkRecorder};
 use kdray::inspect::{inspect_on_gpu, inspect_scene, Inspection};
 use kdray::kdtree::traverse::WalkCost;
 use kdray::kdtree::{BuildStrategy, Traversal};
-use kdray::scene::{load_scene, Scene};
+use kdray::scene::{load_scene, parse_scene, Scene, SceneFormat};
+use kdray_core::reference::{LightChoice, LightId};
+
+use glam::Vec3;
+use std::path::Path;
 
 /// The scenes of tests/gpu/inspect.rs.
 const SCENES: [&str; 6] = [
@@ -203,4 +207,191 @@ fn the_kernels_logged_walks_are_the_cpu_mirrors_step_for_step() {
         "{agreeing} of {rays} rays agree ({steps} steps); first difference: {first_difference:?}"
     );
     assert!(rays >= 6 * 3 * 11, "only {rays} rays");
+}
+
+/// A path-traced scene lit by lights of different power: a point light
+/// (`[[lights]]` 0), a sun (1), an emissive quad facing down (triangles 2
+/// and 3, objects 3 and 4) and an emissive sphere (object 0). Powers (light_picks):
+/// about 25, 27, 2 x 12.6 and 21.
+const LIGHTS_SCENE: &str = r#"
+[camera]
+position = [0.0, 3.2, 2.6]
+look_at  = [0.0, 0.0, 0.0]
+vfov     = 60.0
+
+[render]
+width      = 24
+height     = 16
+integrator = "path"
+samples    = 1
+max_depth  = 3
+
+[materials.floor]
+diffuse = [0.8, 0.8, 0.8]
+
+[materials.lamp]
+diffuse  = [0.0, 0.0, 0.0]
+emission = [8.0, 8.0, 8.0]
+
+[materials.glow]
+diffuse  = [0.0, 0.0, 0.0]
+emission = [6.0, 6.0, 6.0]
+
+[[spheres]]
+center   = [1.0, 0.3, 0.0]
+radius   = 0.3
+material = "glow"
+
+[[triangles]]
+vertices = [[-2.0, 0.0, -2.0], [-2.0, 0.0, 2.0], [2.0, 0.0, 2.0]]
+material = "floor"
+[[triangles]]
+vertices = [[-2.0, 0.0, -2.0], [2.0, 0.0, 2.0], [2.0, 0.0, -2.0]]
+material = "floor"
+[[triangles]]
+vertices = [[-0.5, 1.5, -0.5], [0.5, 1.5, -0.5], [0.5, 1.5, 0.5]]
+material = "lamp"
+[[triangles]]
+vertices = [[-0.5, 1.5, -0.5], [0.5, 1.5, 0.5], [-0.5, 1.5, 0.5]]
+material = "lamp"
+
+[[lights]]
+position = [-1.5, 2.0, 1.0]
+diffuse  = [2.0, 2.0, 2.0]
+
+[[lights]]
+kind      = "directional"
+direction = [0.3, -1.0, -0.2]
+diffuse   = [1.0, 1.0, 1.0]
+"#;
+
+/// The probability the kernel's light table gives `light` (the host's
+/// `light_picks`, as sample_light composes it): a scene light's pick; an
+/// emitter's, past the scene lights, times its pick within the emitters.
+fn table_pick(arrays: &kdray::layout::SceneArrays, light: LightId) -> Option<f32> {
+    let scene_lights = arrays.point_light_count() as usize;
+    let past = arrays.lights.first().map_or(1.0, |l| l.beyond);
+    match light {
+        LightId::Scene(i) => arrays.lights.get(i as usize).map(|l| l.pick),
+        LightId::Emitter(object) => arrays.lights[scene_lights..]
+            .iter()
+            .find(|l| arrays.objects[l.object as usize][1] == object)
+            .map(|l| past * l.pick),
+        LightId::Sky => None,
+    }
+}
+
+/// Each shadow ray of next-event estimation names the light it aims at
+/// and the probability it was picked with: that light's share of the
+/// scene's power, computed on the CPU from the scene (the reference's
+/// `LightChoice`), and bit for bit the probability the host's light table
+/// gives it; the ray aims at that light (a point light's position at its
+/// limit, the sun's direction, a point of the emitter at its limit) and
+/// an emitter's logged density is the one sampling it by area or cone
+/// gives from the shading point. Every light of the scene is picked on
+/// some pixel; no other ray names a light.
+#[test]
+fn path_traced_shadow_rays_name_their_light_and_the_probability_it_was_picked_with() {
+    let ctx = common::gpu();
+    let recorder = WalkRecorder::new(ctx).unwrap_or_else(|e| panic!("{e}"));
+    let scene = parse_scene(LIGHTS_SCENE, Path::new("lights.toml"), SceneFormat::Toml)
+        .unwrap_or_else(|e| panic!("{e}"));
+    let choice = LightChoice::of(&scene);
+    let uploaded = upload(&scene);
+    let arrays = &uploaded.prepared().arrays;
+    let ids = [
+        LightId::Scene(0),
+        LightId::Scene(1),
+        LightId::Emitter(0),
+        LightId::Emitter(3),
+        LightId::Emitter(4),
+    ];
+    assert_eq!(choice.lights.len(), ids.len(), "{:?}", choice.lights);
+    // Every other pixel of the floor's middle (24 x 16 image): its first
+    // light picks fall on every light (the pseudo-random pixels of the
+    // other tests picked no sphere: their draws in its range were pixels
+    // of the sky).
+    let grid = (6..=14)
+        .step_by(2)
+        .flat_map(|y| (4..=20).step_by(2).map(move |x| (x, y)));
+    let mut picked = std::collections::BTreeSet::new();
+    let mut shadow_rays = 0;
+    for (x, y) in grid {
+        let what = format!("pixel {x},{y}");
+        let inspection = inspect_on_gpu(ctx, &recorder, &uploaded, Traversal::Restart, (x, y))
+            .unwrap_or_else(|e| panic!("{what}: {e}"));
+        let mut shading_point = None;
+        for (i, r) in inspection.rays.iter().enumerate() {
+            let what = format!("{what} ray {i}");
+            let Some(light) = &r.light else {
+                assert_ne!(r.kind, "shadow", "{what}: a shadow ray without its light");
+                shading_point = r.hit.as_ref().map(|h| Vec3::from(h.point));
+                continue;
+            };
+            assert_eq!(r.kind, "shadow", "{what}: a light on a {} ray", r.kind);
+            shadow_rays += 1;
+            let id = light.id();
+            picked.insert(id);
+            let expected = choice.probability(id);
+            assert!(expected > 0.0, "{what}: {light:?} is no light of the scene");
+            let pick = light.pick as f64;
+            assert!(
+                (pick - expected).abs() <= 1e-4 * expected,
+                "{what}: {light:?} picked with {pick}, its share of the power is {expected}"
+            );
+            assert_eq!(
+                Some(light.pick.to_bits()),
+                table_pick(arrays, id).map(f32::to_bits),
+                "{what}: {light:?} against the light table"
+            );
+            let origin = Vec3::from(r.origin);
+            let dir = Vec3::from(r.direction);
+            let end = r.t_limit.map(|t| origin + t * dir);
+            match id {
+                LightId::Scene(0) => {
+                    assert_eq!((light.kind, light.pdf), (Some("point"), None), "{what}");
+                    let at = end.expect("a point light's shadow ray ends at it");
+                    let light_at = scene.lights[0].position.as_vec3();
+                    assert!(
+                        (at - light_at).length() < 1e-3,
+                        "{what}: {at} not at {light_at}"
+                    );
+                }
+                LightId::Scene(_) => {
+                    assert_eq!(
+                        (light.kind, light.pdf),
+                        (Some("directional"), None),
+                        "{what}"
+                    );
+                    assert_eq!(r.t_limit, None, "{what}: the sun's shadow ray is unbounded");
+                    let towards = -Vec3::new(0.3, -1.0, -0.2).normalize();
+                    assert!((dir - towards).length() < 1e-5, "{what}: {dir}");
+                }
+                LightId::Emitter(object) => {
+                    let kind = if object == 0 { "sphere" } else { "triangle" };
+                    assert_eq!(light.kind, Some(kind), "{what}");
+                    assert_eq!(light.triangle, object.checked_sub(1), "{what}");
+                    let q = end.expect("an emitter's shadow ray ends at it");
+                    let p = shading_point.expect("a shadow ray leaves a hit");
+                    let density =
+                        choice
+                            .emitter_density(&scene, object, p, q)
+                            .unwrap_or_else(|| {
+                                panic!("{what}: {q} is no point {object} lights {p} from")
+                            });
+                    let logged = light.pdf.expect("an emitter's direction has a density") as f64;
+                    assert!(
+                        (logged - density).abs() <= 1e-3 * density,
+                        "{what}: density {logged}, sampling {object} gives {density}"
+                    );
+                }
+                LightId::Sky => panic!("{what}: the scene has no sky image"),
+            }
+        }
+    }
+    assert_eq!(
+        picked.into_iter().collect::<Vec<_>>(),
+        ids,
+        "of {shadow_rays} shadow rays, some light was never picked"
+    );
 }

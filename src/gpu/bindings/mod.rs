@@ -271,7 +271,7 @@ pub enum SharedValue {
 }
 
 /// Every constant the kernel and the host must agree on, by WGSL name.
-pub const SHARED_CONSTANTS: [(&str, SharedValue); 73] = [
+pub const SHARED_CONSTANTS: [(&str, SharedValue); 74] = [
     ("KD_LEAF", SharedValue::U32(KdNode::LEAF)),
     ("ACCEL_KDTREE", SharedValue::U32(ACCEL_KDTREE)),
     ("ACCEL_BRUTE", SharedValue::U32(ACCEL_BRUTE)),
@@ -399,7 +399,7 @@ pub const SHARED_CONSTANTS: [(&str, SharedValue); 73] = [
     ("TRACE_WORKGROUP_X", SharedValue::U32(TRACE_WORKGROUP.0)),
     ("TRACE_WORKGROUP_Y", SharedValue::U32(TRACE_WORKGROUP.1)),
     // The inspect kernel's log (walk_record.wgsl, bindings/walk_codes.rs): the
-    // header, the records' tags and the kinds of ray.
+    // header, the records' tags, the kinds of ray and the sky's light kind.
     ("INSPECT_LANES", SharedValue::U32(INSPECT_LANES)),
     ("INSPECT_WORDS_USED", SharedValue::U32(log::WORDS_USED)),
     ("INSPECT_SINK", SharedValue::U32(log::SINK)),
@@ -421,6 +421,7 @@ pub const SHARED_CONSTANTS: [(&str, SharedValue); 73] = [
     ("RAY_REFLECTED", SharedValue::U32(log::RAY_REFLECTED)),
     ("RAY_REFRACTED", SharedValue::U32(log::RAY_REFRACTED)),
     ("RAY_BOUNCE", SharedValue::U32(log::RAY_BOUNCE)),
+    ("LIGHT_SKY", SharedValue::U32(log::LIGHT_SKY)),
 ];
 
 /// An override's value (`gpu::kernel_variant`) meaning "read it from

@@ -1,6 +1,9 @@
-//! The inspect kernel's log layout: the header, each record's tag, and the
-//! kinds of ray. The kernel reads them as generated constants
-//! (`INSPECT_*`, `RAY_*`); gpu/walk_log.rs decodes the log by them.
+//! The inspect kernel's log layout: the header, each record's tag, the
+//! kinds of ray and the sky's light kind. The kernel reads them as
+//! generated constants (`INSPECT_*`, `RAY_*`); gpu/walk_log.rs decodes the
+//! log by them.
+
+use crate::layout::{LIGHT_DIRECTIONAL, LIGHT_EMITTER, LIGHT_POINT, LIGHT_SPOT};
 
 /// The header word holding how many words the kernel meant to write.
 pub const WORDS_USED: u32 = 0;
@@ -9,7 +12,13 @@ pub const WORDS_USED: u32 = 0;
 pub const SINK: u32 = 1;
 /// Words before the first record.
 pub const HEADER_WORDS: u32 = 2;
-/// kind, any-hit (0 or 1), origin (3), direction (3), t_limit.
+/// kind, any-hit (0 or 1), origin (3), direction (3), t_limit, then the
+/// light a shadow ray aims at: its entry in the lights buffer (NO_OBJECT:
+/// not a shadow ray; a scene light's entry is its index in `[[lights]]`),
+/// its kind (`GpuLight::kind`, or [`LIGHT_SKY`]), the scene id of an
+/// emitter's object (else NO_OBJECT), the probability it was picked with
+/// (Whitted: 1) and the solid-angle density of the ray's direction, the
+/// pick included (0: a delta light, and in Whitted).
 pub const RAY: u32 = 1;
 /// t_min, t_far: the segment the walk searches.
 pub const SEGMENT: u32 = 2;
@@ -41,3 +50,12 @@ pub const RAY_SHADOW: u32 = 1;
 pub const RAY_REFLECTED: u32 = 2;
 pub const RAY_REFRACTED: u32 = 3;
 pub const RAY_BOUNCE: u32 = 4;
+
+/// A shadow ray's light kind for the sky image, besides `GpuLight::kind`'s.
+pub const LIGHT_SKY: u32 = 4;
+const _: () = assert!(
+    LIGHT_SKY != LIGHT_POINT
+        && LIGHT_SKY != LIGHT_SPOT
+        && LIGHT_SKY != LIGHT_DIRECTIONAL
+        && LIGHT_SKY != LIGHT_EMITTER
+);

@@ -12,14 +12,18 @@
 //! This file is the module's face: `tracer` holds the tracer, its searches
 //! and the camera's rays; `rays` the rays and Whitted steps it records;
 //! `surface` the surface at a hit (normals, refraction, the material with
-//! its textures read), `whitted` the Whitted path loop and its shading.
+//! its textures read), `whitted` the Whitted path loop and its shading,
+//! `light_choice` the light a shadow ray aims at and the path tracer's
+//! chance of picking each light, from the lights' power.
 
+mod light_choice;
 mod rays;
 mod surface;
 mod tracer;
 mod whitted;
 
 pub use crate::geometry::barycentrics;
+pub use light_choice::{AimedLight, LightChoice, LightId};
 pub use rays::{RayKind, TracedRay, WhittedRay, WhittedStep};
 pub use surface::{
     reflection_dir, refract_fresnel, refraction_at, smooth_surface, Refraction, Surface,

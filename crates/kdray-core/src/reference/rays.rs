@@ -1,10 +1,12 @@
 //! What the tracer records: the rays a sample traces ([`TracedRay`], each
-//! with its [`RayKind`] and walk) and the Whitted loop's glass rays and
+//! with its [`RayKind`] and walk, a shadow ray with its light) and the Whitted loop's glass rays and
 //! steps ([`WhittedRay`], [`WhittedStep`]).
 
 use crate::geometry::Ray;
 use crate::kdtree::traverse::{Hit, WalkCost};
 use crate::kdtree::WalkEvent;
+
+use super::light_choice::AimedLight;
 
 /// Why a ray is traced.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -38,6 +40,8 @@ pub struct TracedRay {
     pub cost: WalkCost,
     /// The walk's steps (none for brute force).
     pub walk: Vec<WalkEvent>,
+    /// A shadow ray's light (every part of one through glass names it).
+    pub light: Option<AimedLight>,
 }
 
 /// A ray a sample follows on the glass path: mirror of `WhittedRay` in

@@ -2,7 +2,7 @@
 //! force or a k-d walk, each ray recorded while recording) and the camera's
 //! rays, pixels and image.
 
-use std::cell::RefCell;
+use std::cell::{Cell, RefCell};
 
 use glam::Vec3;
 
@@ -13,6 +13,7 @@ use crate::layout::GpuTriangleNormals;
 use crate::scene::texture::pixel_spread_angle;
 use crate::scene::Scene;
 
+use super::light_choice::AimedLight;
 use super::rays::{RayKind, TracedRay};
 
 /// How the tracer finds hits: brute force, or a k-d walk over a tree
@@ -36,6 +37,8 @@ pub struct ReferenceTracer<'a> {
     search: Search,
     /// While recording: the rays traced so far.
     log: RefCell<Option<Vec<TracedRay>>>,
+    /// The light the shadow rays traced now aim at.
+    pub(super) aim: Cell<Option<AimedLight>>,
     /// Whether some material transmits: the kernel's GLASS variant.
     pub(super) glass: bool,
     forward: Vec3,
@@ -93,6 +96,7 @@ impl<'a> ReferenceTracer<'a> {
             normals,
             search,
             log: RefCell::new(None),
+            aim: Cell::new(None),
             glass: scene.materials.iter().any(|m| m.transmission as f32 > 0.0),
             forward: basis.forward.as_vec3(),
             right: basis.right.as_vec3(),
@@ -152,6 +156,7 @@ impl<'a> ReferenceTracer<'a> {
             hit,
             cost,
             walk,
+            light: self.aim.get().filter(|_| kind == RayKind::Shadow),
         });
         hit
     }

@@ -9,6 +9,7 @@ use crate::kdtree::traverse::Hit;
 use crate::layout::{GLASS_STACK_DEPTH, SHADOW_CROSSINGS};
 use crate::scene::{LightKind, ShadowMode};
 
+use super::light_choice::{AimedLight, LightId};
 use super::rays::{RayKind, WhittedRay, WhittedStep};
 use super::surface::{reflection_dir, refraction_at};
 use super::tracer::ReferenceTracer;
@@ -236,7 +237,7 @@ impl ReferenceTracer<'_> {
         let mut ambient = Vec3::ZERO;
         let mut direct = Vec3::ZERO;
         let mut any_visible = false;
-        for light in &self.scene.lights {
+        for (i, light) in self.scene.lights.iter().enumerate() {
             let lp = light.position.as_vec3();
             ambient += m.ambient.as_vec3() * light.ambient.as_vec3();
             // As shade.wgsl: a spot light is a point light times its
@@ -288,6 +289,10 @@ impl ReferenceTracer<'_> {
             }
             let mut through = 1.0f32;
             if shadow_length > 0.0 {
+                self.aim.set(Some(AimedLight {
+                    light: LightId::Scene(i as u32),
+                    pick: 1.0,
+                }));
                 through = self.shadow_transmittance(&shadow_ray, shadow_length);
                 if through == 0.0 {
                     continue;
