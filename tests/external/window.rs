@@ -303,11 +303,16 @@ fn hot_reload_follows_the_scene_and_its_obj_and_survives_a_broken_file() {
 fn window_flags_are_checked() {
     let dir = temp_dir("flags");
     let seed = repo_path("scenes/seed.toml");
-    let cases: [(&[&str], &str); 4] = [
+    let cases: [(&[&str], &str); 5] = [
         (&["--frames", "3"], "--window"),
         (&["--screenshot", "x.png"], "--window"),
         (&["--window", "-o", "x.png"], "--output"),
         (&["--window", "--frames", "0"], "--frames"),
+        // The seed is Whitted: refused as `render --denoise` refuses it.
+        (
+            &["--window", "--denoise"],
+            "--denoise: the denoiser needs the path tracer",
+        ),
     ];
     for (args, mentions) in cases {
         let mut command = kdray(&dir);
@@ -451,48 +456,5 @@ fn the_window_shows_the_lights_of_its_frame() {
     if let Err(e) = check_match("frame 0's lights", &read(&shot), &expected) {
         panic!("{e}");
     }
-    std::fs::remove_dir_all(&dir).unwrap();
-}
-
-/// Denoising in the window: started by `--denoise` on the path-traced
-/// Cornell box, the window's still image, denoised once every pixel holds
-/// its 4 samples, is `kdray render --denoise` of the same scene, size and
-/// samples (within the golden tests' budget: levels, not a look-alike),
-/// which clearly differs from the noisy render. `--denoise` with the
-/// Whitted integrator is refused before a window opens, as the headless
-/// render refuses it.
-#[test]
-fn denoised_window_screenshot_matches_the_headless_denoised_render() {
-    let x = Xvfb::start();
-    let dir = temp_dir("denoise");
-    let scene = repo_path("scenes/cornell_box.toml");
-    let noisy = headless(&dir, &scene, &dir.join("noisy.png"));
-    let expected = headless_with(&dir, &scene, &dir.join("denoised.png"), &["--denoise"]);
-    assert!(
-        clearly_differ(&noisy, &expected),
-        "the denoiser changes the image"
-    );
-    // A preview frame, the 4 passes (bands on a loaded machine) with the
-    // denoise after the last, then the denoised image presented again.
-    let shot = dir.join("window.png");
-    let mut command = x.kdray(&dir);
-    command
-        .args(window_args(&scene, &shot))
-        .args(["--denoise", "--frames", "40"]);
-    let (status, _, stderr) = run(command);
-    assert!(status.success(), "the window failed: {stderr}");
-    check_match("denoised window", &read(&shot), &expected).unwrap();
-
-    let mut command = kdray(&dir);
-    command
-        .arg("render")
-        .arg(repo_path("scenes/seed.toml"))
-        .args(["--window", "--denoise"]);
-    let (status, _, stderr) = run(command);
-    assert_eq!(status.code(), Some(2), "{stderr}");
-    assert!(
-        stderr.starts_with("kdray: --denoise: the denoiser needs the path tracer"),
-        "{stderr}"
-    );
     std::fs::remove_dir_all(&dir).unwrap();
 }
