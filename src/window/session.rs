@@ -194,17 +194,17 @@ impl Session {
         let ctx: &'static GpuContext = Box::leak(Box::new(ctx));
         let denoise = options.denoise.unwrap_or(prepared.scene.render.denoise);
         let scene = GpuScene::upload(ctx, prepared)?;
-        let max_pixels = Viewer::max_pixels(&ctx);
+        let max_pixels = Viewer::max_pixels(ctx);
         let (width, height) = surface.size();
         let pixels = (width as u64 * height as u64).min(max_pixels);
-        let viewer = Viewer::new(&ctx, scene.buffers(), surface.view_format(), pixels)?;
+        let viewer = Viewer::new(ctx, scene.buffers(), surface.view_format(), pixels)?;
         let mut playback = Playback::new(scene.scene().frame_count(), animation_fps(scene.scene()));
         if options.play {
             playback.toggle(Instant::now());
         }
         let path = scene.scene().frame_path();
         let home = path.camera_at(playback.frame());
-        scene.write_lights(&ctx, &path.lights_at(playback.frame()));
+        scene.write_lights(ctx, &path.lights_at(playback.frame()));
         let controller = CameraController::new(home, bounds(&scene), width, height);
         let file_max_depth = scene.scene().render.max_depth;
         let integrator = scene.scene().render.integrator;
