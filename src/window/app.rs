@@ -17,6 +17,7 @@ use super::session::{next_screenshot_path, Session};
 use super::{signals, WindowOptions};
 use crate::error::{Error, Result};
 use crate::gpu::{Accel, PreparedScene};
+use crate::scene::Integrator;
 
 /// Benchmark aid: a left-drag of this many pixels per frame, so frame rates
 /// while moving can be measured without a person.
@@ -41,6 +42,11 @@ pub fn run(options: WindowOptions) -> Result<()> {
         WatchList::record(|seen| reload::load(&options.scene, &options.flags, seen));
     let watcher = SceneWatcher::new(files);
     let scene = scene?;
+    if options.denoise == Some(true) && scene.scene.render.integrator != Integrator::Path {
+        return Err(Error::Usage(
+            "--denoise: the denoiser needs the path tracer (--integrator path or [render] integrator = \"path\")".into(),
+        ));
+    }
     let event_loop = EventLoop::new().map_err(|e| {
         Error::Gpu(format!(
             "cannot open a window: {e} (is DISPLAY or WAYLAND_DISPLAY set?)"
@@ -200,10 +206,13 @@ impl App {
                 let path = next_screenshot_path(&self.options.scene);
                 match session.save_screenshot(&path) {
                     Ok(()) => eprintln!(
-                        "kdray: saved {} ({} of {} samples per pixel)",
+                        "kdray: saved {} ({} of {} samples per pixel{})",
                         path.display(),
                         session.refinement.passes(),
-                        session.refinement.samples()
+                        session.refinement.samples(),
+                        session
+                            .shown_denoised()
+                            .map_or_else(String::new, |n| format!(", denoised at {n}"))
                     ),
                     Err(e) => eprintln!("kdray: {e}"),
                 }
@@ -237,6 +246,10 @@ impl App {
                 // makes the frames that show the other view.
                 session.heatmap = !session.heatmap;
                 session.refinement.invalidate();
+                session.update_title(&self.name, true);
+            }
+            Action::ToggleDenoise => {
+                session.toggle_denoise();
                 session.update_title(&self.name, true);
             }
             Action::ToggleIntegrator => {

@@ -21,6 +21,8 @@ kdray window controls:
   K                  cycle the k-d build: sah, median (rebuilds the tree)
   C                  toggle the cost heatmap (work per sample, false colour)
   I                  toggle the integrator: whitted / path (progressive)
+  N                  toggle denoising (path tracer only): the still image is
+                     shown denoised once it has a few samples per pixel
   [ ]                max_depth down / up
   X                  inspection mode: a left click (no drag) on a pixel draws
                      its rays and the k-d cells their walks visited
@@ -45,6 +47,8 @@ pub enum Action {
     ToggleHeatmap,
     /// I: the other integrator (Whitted or path tracing).
     ToggleIntegrator,
+    /// N: denoising on or off (path tracing only; D is a fly key).
+    ToggleDenoise,
     DepthDown,
     DepthUp,
     /// Space: play or pause the scene's animation.
@@ -58,7 +62,7 @@ pub enum Action {
 /// The window's own keys, by the character they type (lower case), each
 /// acting once per press. A new key is one line here, one in [`HELP`] and
 /// one arm in `App::handle_key`.
-const WINDOW_KEYS: [(&str, Action); 12] = [
+const WINDOW_KEYS: [(&str, Action); 13] = [
     ("f", Action::Camera(ControlKey::FrameAll)),
     ("r", Action::Camera(ControlKey::Reset)),
     ("p", Action::Screenshot),
@@ -67,6 +71,7 @@ const WINDOW_KEYS: [(&str, Action); 12] = [
     ("k", Action::CycleBuild),
     ("c", Action::ToggleHeatmap),
     ("i", Action::ToggleIntegrator),
+    ("n", Action::ToggleDenoise),
     ("[", Action::DepthDown),
     ("]", Action::DepthUp),
     ("x", Action::ToggleInspect),
@@ -262,6 +267,15 @@ mod tests {
             (none, ch("T"), Some(Action::CycleTraversal)),
             (none, ch("k"), Some(Action::CycleBuild)),
             (none, ch("c"), Some(Action::ToggleHeatmap)),
+            (none, ch("N"), Some(Action::ToggleDenoise)),
+            // D is the fly key "right" by position, whatever it types: N,
+            // not D, toggles denoising.
+            fly(KeyCode::KeyD, "d", ControlKey::Right),
+            (
+                PhysicalKey::Code(KeyCode::KeyN),
+                ch("n"),
+                Some(Action::ToggleDenoise),
+            ),
             (none, ch("["), Some(Action::DepthDown)),
             (none, ch("]"), Some(Action::DepthUp)),
             (none, ch("h"), Some(Action::Help)),

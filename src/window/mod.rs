@@ -19,6 +19,10 @@
 //! - `overlay`: the line pipeline that draws them over the image.
 //! - `draw_pipeline`: what the present and overlay pipelines share: layouts
 //!   from a binding table, and a pipeline for any target format.
+//! - `denoise_schedule`: when the still image is denoised (pure,
+//!   unit-tested).
+//! - `denoising`: denoising (N): the feature pass beside the
+//!   accumulation's, and the denoiser run on its sums.
 //! - `title`: what the title bar says, and how often (pure, unit-tested).
 //! - `playback`: which frame of the scene's animation is shown (pure,
 //!   unit-tested).
@@ -35,6 +39,8 @@
 mod app;
 pub mod camera_controller;
 mod click;
+mod denoise_schedule;
+mod denoising;
 mod draw_pipeline;
 mod frame_stats;
 mod heatmap_view;
@@ -84,6 +90,9 @@ pub struct WindowOptions {
     pub stats: bool,
     /// Start playing the scene's animation.
     pub play: bool,
+    /// `--denoise[=BOOL]`: start with denoising on (or off) whatever the
+    /// scene's `[render] denoise` says (N toggles it).
+    pub denoise: Option<bool>,
 }
 
 impl WindowOptions {

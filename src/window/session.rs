@@ -17,13 +17,15 @@ use winit::window::Window;
 
 use super::camera_controller::{Bounds, CameraController};
 use super::click::{image_pixel, ClickTracker};
+use super::denoise_schedule::DenoiseSchedule;
+use super::denoising::Denoising;
 use super::frame_stats::{FrameStats, ReportContext};
 use super::inspection::{inspect_pixel, InspectAt, InspectMode, InspectSettings, Outcome};
 use super::playback::Playback;
 use super::projection::{near_plane, ViewProjection};
 use super::refinement::{FrameKind, FramePlan, Pass, Refinement, Samples};
 use super::surface::{Acquired, WindowSurface};
-use super::title::{Progress, TitleBar, TitleFacts};
+use super::title::{DenoiseTitle, Progress, TitleBar, TitleFacts};
 use super::view::{FrameWork, PresentParams, Target, Viewer};
 use super::{WindowOptions, DEFAULT_WINDOW_PATH_SAMPLES, DEFAULT_WINDOW_SAMPLES};
 use crate::error::{Error, Result};
@@ -39,7 +41,9 @@ const DEFAULT_WINDOW: (f64, f64) = (960.0, 720.0);
 pub(super) struct Session {
     pub(super) window: Arc<Window>,
     pub(super) surface: WindowSurface,
-    pub(super) ctx: GpuContext,
+    /// Leaked: the denoiser borrows it, and the window's one session
+    /// holds it until the process exits.
+    pub(super) ctx: &'static GpuContext,
     pub(super) viewer: Viewer,
     /// The last good scene.
     pub(super) scene: GpuScene,
@@ -71,6 +75,8 @@ pub(super) struct Session {
     pub(super) recorder: Option<crate::gpu::WalkRecorder>,
     /// Left clicks (not drags), for inspection mode.
     pub(super) clicks: ClickTracker,
+    /// Denoising (N): the feature pass, the denoiser and its schedule.
+    pub(super) denoising: Denoising,
 }
 
 /// Window size: --width/--height in physical pixels; one of them alone keeps
@@ -185,18 +191,20 @@ impl Session {
                 .map_err(|e| Error::Gpu(format!("cannot open a window: {e}")))?,
         );
         let (surface, ctx) = WindowSurface::open(display, &window)?;
-        let scene = GpuScene::upload(&ctx, prepared)?;
-        let max_pixels = Viewer::max_pixels(&ctx);
+        let ctx: &'static GpuContext = Box::leak(Box::new(ctx));
+        let denoise = options.denoise.unwrap_or(prepared.scene.render.denoise);
+        let scene = GpuScene::upload(ctx, prepared)?;
+        let max_pixels = Viewer::max_pixels(ctx);
         let (width, height) = surface.size();
         let pixels = (width as u64 * height as u64).min(max_pixels);
-        let viewer = Viewer::new(&ctx, scene.buffers(), surface.view_format(), pixels)?;
+        let viewer = Viewer::new(ctx, scene.buffers(), surface.view_format(), pixels)?;
         let mut playback = Playback::new(scene.scene().frame_count(), animation_fps(scene.scene()));
         if options.play {
             playback.toggle(Instant::now());
         }
         let path = scene.scene().frame_path();
         let home = path.camera_at(playback.frame());
-        scene.write_lights(&ctx, &path.lights_at(playback.frame()));
+        scene.write_lights(ctx, &path.lights_at(playback.frame()));
         let controller = CameraController::new(home, bounds(&scene), width, height);
         let file_max_depth = scene.scene().render.max_depth;
         let integrator = scene.scene().render.integrator;
@@ -224,6 +232,7 @@ impl Session {
             inspect: InspectMode::default(),
             recorder: None,
             clicks: ClickTracker::default(),
+            denoising: Denoising::new(denoise),
         })
     }
 
@@ -233,8 +242,8 @@ impl Session {
         prepared: PreparedScene,
         options: &WindowOptions,
     ) -> Result<()> {
-        let scene = GpuScene::upload(&self.ctx, prepared)?;
-        self.viewer.set_scene(&self.ctx, scene.buffers())?;
+        let scene = GpuScene::upload(self.ctx, prepared)?;
+        self.viewer.set_scene(self.ctx, scene.buffers())?;
         self.playback.set_animation(
             scene.scene().frame_count(),
             animation_fps(scene.scene()),
@@ -243,7 +252,7 @@ impl Session {
         self.path = scene.scene().frame_path();
         self.controller
             .set_scene(self.path.camera_at(self.playback.frame()), bounds(&scene));
-        scene.write_lights(&self.ctx, &self.path.lights_at(self.playback.frame()));
+        scene.write_lights(self.ctx, &self.path.lights_at(self.playback.frame()));
         let max_depth = scene.scene().render.max_depth;
         if max_depth != self.file_max_depth {
             self.file_max_depth = max_depth;
@@ -253,6 +262,7 @@ impl Session {
         self.refinement
             .set_samples(window_samples(options, scene.scene(), self.integrator));
         self.scene = scene;
+        self.denoising.set_scene();
         self.refinement.invalidate();
         // The pixel's rays in the new scene (or tree).
         self.reinspect();
@@ -268,6 +278,89 @@ impl Session {
         self.refinement
             .set_samples(window_samples(options, self.scene.scene(), self.integrator));
         self.refinement.invalidate();
+        self.denoising.refused = false;
+    }
+
+    /// N: denoising on or off, with the path tracer; with the Whitted
+    /// integrator only the title's notice that it needs the path tracer.
+    pub(super) fn toggle_denoise(&mut self) {
+        if self.integrator != Integrator::Path {
+            self.denoising.refused = true;
+            eprintln!("kdray: N: denoising needs the path tracer (I switches to it)");
+            return;
+        }
+        self.denoising.refused = false;
+        self.denoising.on = !self.denoising.on;
+        let state = if self.denoising.on { "on" } else { "off" };
+        eprintln!("kdray: denoising {state}");
+        // The feature sums start with the image.
+        self.viewer.hide_denoised();
+        self.refinement.invalidate();
+    }
+
+    /// Samples per pixel of the denoised image shown, if one is.
+    pub(super) fn shown_denoised(&self) -> Option<u32> {
+        self.denoising
+            .schedule
+            .denoised_samples()
+            .filter(|_| self.viewer.shows_denoised())
+    }
+
+    /// What the title says of denoising.
+    fn denoise_title(&self) -> Option<DenoiseTitle> {
+        let d = &self.denoising;
+        if self.integrator != Integrator::Path {
+            return (d.on || d.refused).then_some(DenoiseTitle::NeedsPath);
+        }
+        if !self.denoises() {
+            return None;
+        }
+        Some(match self.shown_denoised() {
+            Some(samples) => DenoiseTitle::Shown { samples },
+            None => DenoiseTitle::Waiting {
+                at: DenoiseSchedule::first_at(self.refinement.samples()),
+            },
+        })
+    }
+
+    /// Whether this frame's passes gather the denoiser's features.
+    fn denoises(&self) -> bool {
+        self.denoising.active(self.integrator) && !self.heatmap
+    }
+
+    /// The denoiser's share of a frame planned as `plan`: the feature pass
+    /// beside the accumulation's pass `work.pass`, then, once that
+    /// completes a pass and a denoise is due, the denoise, which this
+    /// frame's present shows. Whether it denoised.
+    fn denoise_frame(&mut self, plan: &FramePlan, work: &FrameWork) -> Result<bool> {
+        if plan.kind == FrameKind::Moving || plan.clear {
+            self.denoising.schedule.restart();
+            self.viewer.hide_denoised();
+        }
+        if !self.denoises() || plan.kind != FrameKind::Still {
+            return Ok(false);
+        }
+        let (Some(pass), Some(params)) = (plan.pass, work.pass) else {
+            return Ok(false);
+        };
+        self.denoising
+            .trace(self.ctx, self.scene.buffers(), &params, plan.clear)?;
+        if pass.first_row + pass.rows < pass.image.1 {
+            return Ok(false);
+        }
+        let passes = pass.sample_index + 1;
+        let started = Instant::now();
+        let samples = self.refinement.samples();
+        if !self.denoising.schedule.due(passes, samples, started) {
+            return Ok(false);
+        }
+        let rgb = self.denoising.denoise(self.ctx, pass.image, passes)?;
+        self.viewer.show_denoised(self.ctx, &rgb)?;
+        let ended = Instant::now();
+        self.denoising
+            .schedule
+            .denoised(passes, ended - started, ended);
+        Ok(true)
     }
 
     /// Moves the camera to the animation's shown frame (the frame's camera
@@ -276,7 +369,7 @@ impl Session {
         let home = self.path.camera_at(self.playback.frame());
         if self.path.lights_move() {
             self.scene
-                .write_lights(&self.ctx, &self.path.lights_at(self.playback.frame()));
+                .write_lights(self.ctx, &self.path.lights_at(self.playback.frame()));
         }
         self.controller.set_scene(home, bounds(&self.scene));
         self.camera_moved(now);
@@ -288,12 +381,12 @@ impl Session {
     }
 
     pub(super) fn resize(&mut self, size: PhysicalSize<u32>) -> Result<()> {
-        if !self.surface.resize(&self.ctx, size) {
+        if !self.surface.resize(self.ctx, size) {
             return Ok(());
         }
         let (iw, ih) = self.refinement.image_size(self.surface.size());
         self.viewer
-            .reserve(&self.ctx, self.scene.buffers(), iw as u64 * ih as u64)?;
+            .reserve(self.ctx, self.scene.buffers(), iw as u64 * ih as u64)?;
         self.refinement.invalidate();
         Ok(())
     }
@@ -329,30 +422,44 @@ impl Session {
         if self.playback.advance(now) {
             self.show_frame(now);
         }
-        let frame = match self.surface.acquire(&self.ctx, now)? {
+        let frame = match self.surface.acquire(self.ctx, now)? {
             Acquired::Frame(frame) => frame,
             Acquired::Skipped => return Ok(None),
             Acquired::Outdated => {
                 let size = self.window.inner_size();
                 self.resize(size)?;
-                self.surface.reconfigure(&self.ctx);
+                self.surface.reconfigure(self.ctx);
                 return Ok(None);
             }
         };
         let window = self.surface.size();
         let plan = self.refinement.plan(now, window);
         let work = self.frame_work(&plan, window);
+        let denoised = match self.denoise_frame(&plan, &work) {
+            Ok(denoised) => denoised,
+            Err(e) => {
+                eprintln!("kdray: denoising failed, turned off: {e}");
+                self.denoising.on = false;
+                self.viewer.hide_denoised();
+                false
+            }
+        };
         if self.viewer.overlay_mut().has_lines() {
             let view = self.overlay_view().gpu_matrix();
             self.viewer.overlay_mut().set_view(&self.ctx.queue, view);
         }
         self.viewer
-            .frame(&self.ctx, &frame.view, &work, self.heatmap)?;
-        self.surface.present(&self.ctx, &self.window, frame);
+            .frame(self.ctx, &frame.view, &work, self.heatmap)?;
+        self.surface.present(self.ctx, &self.window, frame);
         self.ctx.check_health()?;
         let rays = plan.pass.map_or(0, |p| p.pixels());
         if let Some(ms) = self.stats.record(now, plan.kind, rays) {
             self.refinement.learn(plan.kind, ms, rays);
+        }
+        if denoised {
+            // The denoise falls into the next frame's interval: not a
+            // frame time to learn from.
+            self.stats.pause();
         }
         Ok(Some(plan.kind))
     }
@@ -430,13 +537,14 @@ impl Session {
                 )
             }),
             inspect: self.inspect.title(self.integrator == Integrator::Path),
+            denoise: self.denoise_title(),
         });
         self.window.set_title(&text);
     }
 
     pub(super) fn save_screenshot(&self, path: &Path) -> Result<()> {
         let (width, height) = self.surface.size();
-        let rgb = self.viewer.capture(&self.ctx, width, height)?;
+        let rgb = self.viewer.capture(self.ctx, width, height)?;
         crate::output::write_png_atomic(path, width, height, &rgb)
     }
 
@@ -513,7 +621,7 @@ impl Session {
         let made = self
             .recorder
             .take()
-            .map_or_else(|| WalkRecorder::new(&self.ctx), Ok);
+            .map_or_else(|| WalkRecorder::new(self.ctx), Ok);
         let recorder = match made {
             Ok(recorder) => recorder,
             Err(e) => {
@@ -522,10 +630,10 @@ impl Session {
                 return;
             }
         };
-        let outcome = inspect_pixel(&self.ctx, &recorder, &self.scene, &at, &how);
+        let outcome = inspect_pixel(self.ctx, &recorder, &self.scene, &at, &how);
         self.recorder = Some(recorder);
         let outcome = outcome.and_then(|(totals, vertices)| {
-            self.viewer.overlay_mut().set_lines(&self.ctx, &vertices)?;
+            self.viewer.overlay_mut().set_lines(self.ctx, &vertices)?;
             Ok(totals)
         });
         self.inspect.outcome = match outcome {

@@ -64,6 +64,28 @@ impl InspectTitle<'_> {
     }
 }
 
+/// What denoising (N) is doing, while it is on or was asked for.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum DenoiseTitle {
+    /// On, nothing denoised yet: the first denoise comes at `at` samples
+    /// per pixel.
+    Waiting { at: u32 },
+    /// The image shown is denoised, from `samples` samples per pixel.
+    Shown { samples: u32 },
+    /// On, or N pressed, while the Whitted integrator traces.
+    NeedsPath,
+}
+
+impl DenoiseTitle {
+    fn text(&self) -> String {
+        match *self {
+            DenoiseTitle::Waiting { at } => format!("denoise at {at} spp"),
+            DenoiseTitle::Shown { samples } => format!("DENOISED at {samples} spp"),
+            DenoiseTitle::NeedsPath => "denoising needs the path tracer (I)".into(),
+        }
+    }
+}
+
 /// Everything the title says.
 #[derive(Debug, Clone, Copy)]
 pub struct TitleFacts<'a> {
@@ -85,6 +107,8 @@ pub struct TitleFacts<'a> {
     pub animation: Option<(u32, u32, bool)>,
     /// Inspection mode, while it is on.
     pub inspect: Option<InspectTitle<'a>>,
+    /// Denoising, while it is on or was asked for.
+    pub denoise: Option<DenoiseTitle>,
 }
 
 /// The title bar's state: when it may change next, and the reload status
@@ -146,6 +170,10 @@ impl TitleBar {
             Accel::Kdtree => format!("kdtree {} {}", facts.build, facts.traversal),
             Accel::Brute => "brute".to_string(),
         };
+        let progress = match facts.denoise {
+            Some(d) => format!("{progress} - {}", d.text()),
+            None => progress,
+        };
         let mut title = format!(
             "{} - {progress} - {:.1} ms - {:.2} Mrays/s - {accel} - depth {}",
             facts.name, facts.frame_ms, facts.mrays, facts.max_depth
@@ -197,6 +225,7 @@ mod tests {
             heatmap: None,
             animation: None,
             inspect: None,
+            denoise: None,
         };
         assert_eq!(
             bar.text(&facts),
@@ -258,6 +287,7 @@ mod tests {
             heatmap: None,
             animation: None,
             inspect: Some(InspectTitle::Waiting),
+            denoise: None,
         };
         let start = "seed.toml - 4/4 spp - 2.0 ms - 3.00 Mrays/s - brute - depth 5 - ";
         let says = |facts: &TitleFacts| bar.text(facts).strip_prefix(start).unwrap().to_string();
@@ -291,6 +321,57 @@ mod tests {
             says(&facts),
             "INSPECT 0,7 (path sample): 3 rays, 40 nodes, 12 leaves, 9 tests, 1 restarts"
         );
+    }
+
+    #[test]
+    fn the_title_says_whether_the_image_shown_is_denoised() {
+        let bar = TitleBar::new(Instant::now());
+        let mut facts = TitleFacts {
+            name: "cornell_box.toml",
+            progress: Progress::Refining {
+                passes: 2,
+                samples: 256,
+                path: true,
+            },
+            frame_ms: 2.0,
+            mrays: 3.0,
+            accel: Accel::Brute,
+            traversal: Traversal::Ropes,
+            build: BuildStrategy::Sah,
+            max_depth: 5,
+            heatmap: None,
+            animation: None,
+            inspect: None,
+            denoise: Some(DenoiseTitle::Waiting { at: 4 }),
+        };
+        let says = |facts: &TitleFacts| {
+            let text = bar.text(facts);
+            let end = text.find(" - 2.0 ms").unwrap();
+            text["cornell_box.toml - ".len()..end].to_string()
+        };
+        assert_eq!(says(&facts), "path traced, 2/256 spp - denoise at 4 spp");
+        facts.progress = Progress::Refining {
+            passes: 9,
+            samples: 256,
+            path: true,
+        };
+        facts.denoise = Some(DenoiseTitle::Shown { samples: 8 });
+        assert_eq!(says(&facts), "path traced, 9/256 spp - DENOISED at 8 spp");
+        facts.progress = Progress::Moving { scale: 2 };
+        facts.denoise = Some(DenoiseTitle::Waiting { at: 4 });
+        assert_eq!(says(&facts), "moving, 1/2 resolution - denoise at 4 spp");
+        facts.progress = Progress::Refining {
+            passes: 1,
+            samples: 16,
+            path: false,
+        };
+        facts.denoise = Some(DenoiseTitle::NeedsPath);
+        assert_eq!(
+            says(&facts),
+            "1/16 spp - denoising needs the path tracer (I)"
+        );
+        facts.denoise = None;
+        assert_eq!(says(&facts), "1/16 spp");
     }
 
     #[test]

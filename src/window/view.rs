@@ -1,8 +1,8 @@
 //! The window's GPU side, around the progressive accumulation
 //! ([`crate::gpu::Accumulation`]): the present pass (shaders/present.wgsl)
-//! that shows the image or the preview, the cost heatmap shown instead of
-//! them, the line overlay drawn over them (`overlay.rs`), and screenshots of
-//! what the two show.
+//! that shows the image (or its denoised version) or the preview, the cost
+//! heatmap shown instead of them, the line overlay drawn over them
+//! (`overlay.rs`), and screenshots of what the two show.
 
 use super::draw_pipeline::{uniform_buffer, DrawPipeline, DrawPipelineDesc};
 use super::overlay::Overlay;
@@ -51,6 +51,17 @@ pub struct Viewer {
     heatmap: Option<u32>,
     /// Lines drawn over the image (an inspected pixel's rays and cells).
     overlay: Overlay,
+    /// The denoised image, made at the first denoise, and whether it is
+    /// shown instead of the image.
+    denoised: Option<DenoisedImage>,
+    show_denoised: bool,
+}
+
+/// A denoised image as the present pass reads an image: each pixel's
+/// radiance with a sample count of 1, beside the preview.
+struct DenoisedImage {
+    colours: wgpu::Buffer,
+    group: wgpu::BindGroup,
 }
 
 impl Viewer {
@@ -99,6 +110,8 @@ impl Viewer {
                 groups,
                 heatmap: None,
                 overlay: Overlay::new(device, target_format),
+                denoised: None,
+                show_denoised: false,
             }
         })
     }
@@ -112,6 +125,7 @@ impl Viewer {
     /// the buffers grow).
     pub fn reserve(&mut self, ctx: &GpuContext, scene: &SceneBuffers, pixels: u64) -> Result<()> {
         if self.accumulation.reserve(ctx, scene, pixels)? {
+            (self.denoised, self.show_denoised) = (None, false);
             self.groups = ctx.checked("allocating the heatmap buffers", |device| {
                 present_groups(
                     device,
@@ -127,6 +141,60 @@ impl Viewer {
     /// Largest image an accumulation buffer may hold on this device.
     pub fn max_pixels(ctx: &GpuContext) -> u64 {
         Accumulation::max_pixels(ctx)
+    }
+
+    /// Shows `rgb` (linear radiance, three floats a pixel, the image's
+    /// pixels) instead of the image from the next present on, tone-mapped
+    /// as the image is.
+    pub fn show_denoised(&mut self, ctx: &GpuContext, rgb: &[f32]) -> Result<()> {
+        let pixels = (rgb.len() / 3) as u64;
+        if pixels > self.accumulation.capacity() {
+            return Err(Error::Gpu(format!(
+                "a denoised image of {pixels} pixels is bigger than the window's image"
+            )));
+        }
+        if self.denoised.is_none() {
+            let made = ctx.checked("allocating the denoised image", |device| {
+                let colours = device.create_buffer(&wgpu::BufferDescriptor {
+                    label: Some("denoised"),
+                    size: self.accumulation.capacity() * ACCUMULATION_TEXEL,
+                    usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST,
+                    mapped_at_creation: false,
+                });
+                let group = present_group(
+                    device,
+                    self.present_parts.bind_layout(),
+                    "present denoised",
+                    [
+                        &self.present_params,
+                        &colours,
+                        self.accumulation.colours(Target::Preview),
+                    ],
+                );
+                DenoisedImage { colours, group }
+            })?;
+            self.denoised = Some(made);
+        }
+        let texels: Vec<[f32; 4]> = rgb
+            .chunks_exact(3)
+            .map(|c| [c[0], c[1], c[2], 1.0])
+            .collect();
+        if let Some(d) = &self.denoised {
+            ctx.queue
+                .write_buffer(&d.colours, 0, bytemuck::cast_slice(&texels));
+        }
+        self.show_denoised = true;
+        Ok(())
+    }
+
+    /// Shows the image again, not the denoised one.
+    pub fn hide_denoised(&mut self) {
+        self.show_denoised = false;
+    }
+
+    /// Whether the denoised image is shown instead of the image.
+    pub fn shows_denoised(&self) -> bool {
+        self.show_denoised && self.denoised.is_some()
     }
 
     /// Runs `work` and draws to `target`: with `heatmap`, the cost heatmap
@@ -248,9 +316,10 @@ impl Viewer {
             multiview_mask: None,
         });
         pass.set_pipeline(pipeline);
-        let group = match self.heatmap {
-            Some(_) => &self.groups.heatmap,
-            None => &self.groups.colours,
+        let group = match (self.heatmap, &self.denoised) {
+            (Some(_), _) => &self.groups.heatmap,
+            (None, Some(d)) if self.show_denoised => &d.group,
+            (None, _) => &self.groups.colours,
         };
         pass.set_bind_group(0, group, &[]);
         pass.draw(0..3, 0..1);
@@ -364,22 +433,8 @@ fn present_groups(
             mapped_at_creation: false,
         })
     };
-    let group = |label, image: &wgpu::Buffer, preview: &wgpu::Buffer| {
-        // PRESENT_BINDINGS: the parameters, the image, the preview.
-        let buffers = [params, image, preview];
-        let entries: Vec<wgpu::BindGroupEntry> = bindings::PRESENT_BINDINGS
-            .iter()
-            .zip(buffers)
-            .map(|(b, buffer)| wgpu::BindGroupEntry {
-                binding: b.index,
-                resource: buffer.as_entire_binding(),
-            })
-            .collect();
-        device.create_bind_group(&wgpu::BindGroupDescriptor {
-            label: Some(label),
-            layout,
-            entries: &entries,
-        })
+    let group = |label: &str, image: &wgpu::Buffer, preview: &wgpu::Buffer| {
+        present_group(device, layout, label, [params, image, preview])
     };
     let (heat_image, heat_preview) = (heat("heatmap"), heat("preview heatmap"));
     PresentGroups {
@@ -392,6 +447,29 @@ fn present_groups(
         heat_image,
         heat_preview,
     }
+}
+
+/// A bind group of the present pass over `buffers`: PRESENT_BINDINGS'
+/// parameters, image and preview.
+fn present_group(
+    device: &wgpu::Device,
+    layout: &wgpu::BindGroupLayout,
+    label: &str,
+    buffers: [&wgpu::Buffer; 3],
+) -> wgpu::BindGroup {
+    let entries: Vec<wgpu::BindGroupEntry> = bindings::PRESENT_BINDINGS
+        .iter()
+        .zip(buffers)
+        .map(|(b, buffer)| wgpu::BindGroupEntry {
+            binding: b.index,
+            resource: buffer.as_entire_binding(),
+        })
+        .collect();
+    device.create_bind_group(&wgpu::BindGroupDescriptor {
+        label: Some(label),
+        layout,
+        entries: &entries,
+    })
 }
 
 #[cfg(test)]

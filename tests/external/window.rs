@@ -303,11 +303,16 @@ fn hot_reload_follows_the_scene_and_its_obj_and_survives_a_broken_file() {
 fn window_flags_are_checked() {
     let dir = temp_dir("flags");
     let seed = repo_path("scenes/seed.toml");
-    let cases: [(&[&str], &str); 4] = [
+    let cases: [(&[&str], &str); 5] = [
         (&["--frames", "3"], "--window"),
         (&["--screenshot", "x.png"], "--window"),
         (&["--window", "-o", "x.png"], "--output"),
         (&["--window", "--frames", "0"], "--frames"),
+        // The seed is Whitted: refused as `render --denoise` refuses it.
+        (
+            &["--window", "--denoise"],
+            "--denoise: the denoiser needs the path tracer",
+        ),
     ];
     for (args, mentions) in cases {
         let mut command = kdray(&dir);

@@ -8,6 +8,7 @@
 //! drawn line. The lines, the cells and the projection are
 //! `kdray::window::inspect_lines` and `kdray::window::projection` (unit
 //! tests beside them hold the projection to the kernel's camera rays).
+//! Denoising is driven the same way: N toggles it, P saves what is shown.
 
 use crate::common;
 
@@ -400,5 +401,124 @@ fn an_inspected_pixels_rays_are_drawn_where_the_camera_projects_them() {
         far_differ.len(),
         &far_differ[..far_differ.len().min(20)]
     );
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+/// `kdray render SCENE --samples 4 -o OUT` at the tests' size, with
+/// `extra` flags.
+fn headless(dir: &Path, scene: &Path, out: &Path, extra: &[&str]) -> Vec<u8> {
+    let output = super::x_window::kdray(dir)
+        .arg("render")
+        .arg(scene)
+        .args(extra)
+        .args(["--width", &W.to_string(), "--height", &H.to_string()])
+        .args(["--samples", SAMPLES, "-o"])
+        .arg(out)
+        .output()
+        .unwrap();
+    assert!(
+        output.status.success(),
+        "headless render failed: {}",
+        String::from_utf8_lossy(&output.stderr)
+    );
+    read(out)
+}
+
+/// Whether `a` is `b` within the golden tests' budget: a mean FLIP error
+/// of at most 0.01 and at most 1 pixel in 1,000 off by more than 2 levels.
+fn matches(a: &[u8], b: &[u8]) -> Result<(), String> {
+    let d = common::compare(a, b, W, H, 2);
+    let budget = (W * H) as usize / 1000;
+    match d.mean_flip <= 0.01 && d.pixels_over <= budget {
+        true => Ok(()),
+        false => Err(format!("{d:?} (budget: FLIP 0.01, {budget} pixels)")),
+    }
+}
+
+/// P until two screenshots in a row whose lines end with `counts` (the
+/// samples shown, and whether denoised) are the same picture: that one (a
+/// screenshot taken between a change's preview frame and its first sample
+/// may show the preview with the counts of the image before).
+fn screenshot_saying(window: &mut Window, x: &XInput, counts: &str) -> Vec<u8> {
+    // The first denoise compiles the denoiser's pipelines: about 20 s on
+    // a loaded lavapipe.
+    let deadline = Instant::now() + 2 * TIMEOUT;
+    let mut last: Option<Vec<u8>> = None;
+    loop {
+        x.key(keysym::XK_p);
+        let line = window.line_with("kdray: saved ");
+        let rest = line.strip_prefix("kdray: saved ").unwrap();
+        let (path, said) = rest.rsplit_once(" (").unwrap();
+        let shot = (said == counts).then(|| read(&window.dir.join(path)));
+        if shot.is_some() && shot == last {
+            return last.unwrap();
+        }
+        last = shot;
+        assert!(
+            Instant::now() < deadline,
+            "no screenshot of ({counts}: {}",
+            window.process.seen.join("\n")
+        );
+        std::thread::sleep(Duration::from_millis(150));
+    }
+}
+
+/// Denoising in the real window on the path-traced Cornell box, driven by
+/// keys under Xvfb (XTest): started by `--denoise`, the screenshot P saves
+/// once the 4 samples are in is the denoised image, `kdray render
+/// --denoise`'s of the same size and samples within the golden tests'
+/// budget, and P's line says "denoised at 4"; N turns denoising off, and P
+/// saves the noisy image, the plain render's; N turns it on again.
+#[test]
+fn the_windows_denoised_image_is_the_headless_one_and_n_toggles_it() {
+    let server = Xvfb::start();
+    let dir = temp_dir("denoise");
+    let scene = common::repo_path("scenes/cornell_box.toml");
+    let noisy = headless(&dir, &scene, &dir.join("noisy.png"), &[]);
+    let denoised = headless(&dir, &scene, &dir.join("denoised.png"), &["--denoise"]);
+    assert!(
+        common::compare(&noisy, &denoised, W, H, 2).pixels_over > (W * H) as usize / 100,
+        "the denoiser changes the image"
+    );
+
+    let run = dir.join("window");
+    std::fs::create_dir_all(&run).unwrap();
+    let mut command = server.kdray(&dir);
+    command
+        .current_dir(&run)
+        .arg("render")
+        .arg(&scene)
+        .args(["--window", "--denoise"])
+        .args(["--width", &W.to_string(), "--height", &H.to_string()])
+        .args(["--samples", SAMPLES]);
+    let mut window = Window {
+        process: RunningWindow::spawn(command),
+        dir: run,
+    };
+    window.line_with("window on");
+    let x = XInput::open(&server.display);
+    let deadline = Instant::now() + TIMEOUT;
+    let (id, _, _) = loop {
+        if let Some(at) = x.window_of_size(W, H) {
+            break at;
+        }
+        assert!(Instant::now() < deadline, "no {W}x{H} window");
+        std::thread::sleep(Duration::from_millis(50));
+    };
+    x.focus(id);
+    let all = format!("{SAMPLES} of {SAMPLES} samples per pixel");
+    let says_denoised = format!("{all}, denoised at {SAMPLES})");
+    let shot = screenshot_saying(&mut window, &x, &says_denoised);
+    matches(&shot, &denoised).unwrap_or_else(|e| panic!("denoised: {e}"));
+    x.key(keysym::XK_n);
+    window.line_with("kdray: denoising off");
+    let shot = screenshot_saying(&mut window, &x, &format!("{all})"));
+    matches(&shot, &noisy).unwrap_or_else(|e| panic!("noisy: {e}"));
+    x.key(keysym::XK_n);
+    window.line_with("kdray: denoising on");
+    let shot = screenshot_saying(&mut window, &x, &says_denoised);
+    matches(&shot, &denoised).unwrap_or_else(|e| panic!("denoised again: {e}"));
+    let (status, stderr) = window.process.close();
+    assert!(status.success(), "{stderr}");
     std::fs::remove_dir_all(&dir).unwrap();
 }

@@ -133,9 +133,9 @@ pub struct RenderArgs {
     /// Denoise the path-traced image (OIDN's network with its albedo and
     /// normal) before writing it; with -o X.exr also write X.noisy.exr,
     /// X.albedo.exr and X.normal.exr. --denoise=false turns off the scene's
-    /// [render] denoise = true.
+    /// [render] denoise = true. With --window: start with denoising on (N toggles it).
     #[arg(long, value_name = "BOOL", num_args = 0..=1, require_equals = true,
-          default_missing_value = "true", conflicts_with = "window")]
+          default_missing_value = "true")]
     pub denoise: Option<bool>,
     #[command(flatten)]
     pub image: ImageFlags,

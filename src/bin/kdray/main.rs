@@ -27,6 +27,7 @@ fn main() -> ExitCode {
             frames,
             screenshot,
             play,
+            denoise,
             ..
         }) => kdray::window::run(kdray::window::WindowOptions {
             scene,
@@ -35,6 +36,7 @@ fn main() -> ExitCode {
             screenshot,
             stats,
             play,
+            denoise,
         }),
         Command::Render(args) => render(args),
         Command::Inspect(args) => inspect(args),

@@ -1,0 +1,308 @@
+//! Denoising in the window (N; the path tracer only): the feature images
+//! gathered beside the refined image, and the denoiser
+//! ([`crate::denoise::Denoiser`]) run on them when the
+//! [`DenoiseSchedule`] says so.
+//!
+//! The accumulation's pass (`accumulate_tile`) keeps colour sums only. The
+//! sums the denoiser reads come from the headless kernel instead:
+//! `render_tile` with `FEATURE_OUTPUT`, the pipeline `kdray render
+//! --denoise` runs, tracing one sample per pass over the same band with
+//! the same parameters. The kernel adds to the sums of a tile buffer
+//! indexed from the tile's origin, so each band's sums are copied from a
+//! whole-image store into that buffer and back. The colour, albedo and
+//! normal sums are thus those of the headless render, added in the same
+//! order, and their means the images `render --denoise` denoises. The
+//! colour is traced twice while denoising (here and by the accumulation,
+//! whose sums the present pass shows until the first denoise).
+
+use std::sync::Arc;
+
+use super::denoise_schedule::DenoiseSchedule;
+use crate::denoise::Denoiser;
+use crate::error::{Error, Result};
+use crate::gpu::{
+    bindings, max_binding_bytes, FrameParams, GpuContext, KernelVariant, RayCounters, SceneBuffers,
+    TraceBindGroup, TracePipelines,
+};
+use crate::scene::Integrator;
+
+/// Bytes of a pixel's sums with `FEATURE_OUTPUT` (shaders/trace.wgsl,
+/// `add_radiance`): colour, albedo and normal, three f32 and an unused
+/// word each.
+const FEATURE_TEXEL: u64 = 48;
+/// Bytes of the tile buffer's header, the ray counters, before its pixels.
+const HEADER_BYTES: u64 = std::mem::size_of::<RayCounters>() as u64;
+
+fn buffer(
+    device: &wgpu::Device,
+    label: &str,
+    size: u64,
+    usage: wgpu::BufferUsages,
+) -> wgpu::Buffer {
+    device.create_buffer(&wgpu::BufferDescriptor {
+        label: Some(label),
+        size: size.max(4),
+        usage,
+        mapped_at_creation: false,
+    })
+}
+
+/// The feature pass's buffers for one scene.
+struct FeaturePass {
+    /// `render_tile`, one pipeline per kernel variant.
+    pipelines: Arc<TracePipelines>,
+    params: wgpu::Buffer,
+    /// Every pixel's sums, row-major, the image's width wide.
+    store: wgpu::Buffer,
+    store_pixels: u64,
+    /// The kernel's output: the header, then one band's sums.
+    tile: wgpu::Buffer,
+    tile_pixels: u64,
+    group: TraceBindGroup,
+}
+
+impl FeaturePass {
+    fn new(ctx: &GpuContext, scene: &SceneBuffers, pixels: u64, band: u64) -> Result<Self> {
+        let pipelines = ctx.trace_pipelines(bindings::RENDER_TILE)?;
+        let params = FrameParams::uniform_buffer(ctx, "window feature params")?;
+        let limit = max_binding_bytes(&ctx.device.limits());
+        if HEADER_BYTES + band * FEATURE_TEXEL > limit {
+            return Err(Error::Gpu(format!(
+                "a band of {band} pixels is too big to denoise on this device"
+            )));
+        }
+        use wgpu::BufferUsages as U;
+        ctx.checked("allocating the denoiser's feature buffers", |device| {
+            // One word: the pass counts no costs.
+            let costs = buffer(device, "feature costs", 4, U::STORAGE);
+            let store = buffer(
+                device,
+                "feature sums",
+                pixels * FEATURE_TEXEL,
+                U::COPY_SRC | U::COPY_DST,
+            );
+            let tile = buffer(
+                device,
+                "feature tile",
+                HEADER_BYTES + band * FEATURE_TEXEL,
+                U::STORAGE | U::COPY_SRC | U::COPY_DST,
+            );
+            // RENDER_TILE's outputs: the tile's output, then its costs.
+            let group = pipelines.bind_group(device, &params, scene, &[&tile, &costs]);
+            FeaturePass {
+                pipelines: pipelines.clone(),
+                params,
+                store,
+                store_pixels: pixels,
+                tile,
+                tile_pixels: band,
+                group,
+            }
+        })
+    }
+
+    /// Whether it holds an image of `pixels` pixels and bands of `band`.
+    fn fits(&self, pixels: u64, band: u64) -> bool {
+        pixels <= self.store_pixels && band <= self.tile_pixels
+    }
+
+    /// Adds `params`' sample to its band's sums (zeroing the image's first
+    /// if `clear`).
+    fn trace(
+        &self,
+        ctx: &GpuContext,
+        scene: &SceneBuffers,
+        params: &FrameParams,
+        clear: bool,
+    ) -> Result<()> {
+        let (width, first_row) = (params.width as u64, params.tile_origin[1] as u64);
+        let band = params.tile_size[0] as u64 * params.tile_size[1] as u64;
+        let (at, bytes) = (first_row * width * FEATURE_TEXEL, band * FEATURE_TEXEL);
+        let params = FrameParams {
+            sample_count: 1,
+            ..*params
+        };
+        let variant = KernelVariant {
+            radiance_output: true,
+            feature_output: true,
+            ..KernelVariant::for_frame(scene, &params, false)
+        };
+        let pipeline = self.pipelines.get(ctx, variant)?;
+        let group = self.group.for_pipeline(ctx, &pipeline)?;
+        ctx.queue
+            .write_buffer(&self.params, 0, bytemuck::bytes_of(&params));
+        let mut encoder = ctx
+            .device
+            .create_command_encoder(&wgpu::CommandEncoderDescriptor {
+                label: Some("feature pass"),
+            });
+        if clear {
+            let image = width * params.height as u64 * FEATURE_TEXEL;
+            encoder.clear_buffer(&self.store, 0, Some(image));
+        }
+        encoder.clear_buffer(&self.tile, 0, Some(HEADER_BYTES));
+        encoder.copy_buffer_to_buffer(&self.store, at, &self.tile, HEADER_BYTES, bytes);
+        {
+            let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
+                label: Some("feature pass"),
+                timestamp_writes: None,
+            });
+            pass.set_pipeline(&pipeline.pipeline);
+            pass.set_bind_group(0, &group, &[]);
+            let (gx, gy) = self
+                .pipelines
+                .workgroups(params.tile_size[0], params.tile_size[1]);
+            pass.dispatch_workgroups(gx, gy, 1);
+        }
+        encoder.copy_buffer_to_buffer(&self.tile, HEADER_BYTES, &self.store, at, bytes);
+        ctx.queue.submit([encoder.finish()]);
+        Ok(())
+    }
+
+    /// The first `pixels` pixels' sums, read back: twelve words each.
+    fn read_sums(&self, ctx: &GpuContext, pixels: u64) -> Result<Vec<f32>> {
+        let size = pixels * FEATURE_TEXEL;
+        let readback = ctx.checked("reading back the feature sums", |device| {
+            let readback = buffer(
+                device,
+                "feature readback",
+                size,
+                wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
+            );
+            let mut encoder = device.create_command_encoder(&Default::default());
+            encoder.copy_buffer_to_buffer(&self.store, 0, &readback, 0, size);
+            ctx.queue.submit([encoder.finish()]);
+            readback
+        })?;
+        let bytes = ctx.read_buffer(&readback, size)?;
+        Ok(bytes
+            .chunks_exact(4)
+            .map(|b| f32::from_le_bytes([b[0], b[1], b[2], b[3]]))
+            .collect())
+    }
+}
+
+/// The means of `sums` (twelve floats a pixel: colour, albedo and normal
+/// sums, each with an unused fourth) over `samples`, as three images of
+/// three floats a pixel, divided as the headless renderer divides them.
+pub fn feature_means(sums: &[f32], samples: u32) -> [Vec<f32>; 3] {
+    let n = samples.max(1) as f32;
+    let pixels = sums.len() / 12;
+    let mut images = [0, 1, 2].map(|_| Vec::with_capacity(pixels * 3));
+    for texel in sums.chunks_exact(12) {
+        for (k, image) in images.iter_mut().enumerate() {
+            image.extend(texel[4 * k..4 * k + 3].iter().map(|s| s / n));
+        }
+    }
+    images
+}
+
+/// The window's denoising: whether it is on, the feature pass, the
+/// denoiser and the schedule of the image being refined.
+#[derive(Default)]
+pub struct Denoising {
+    /// N: show the denoised image while path tracing.
+    pub on: bool,
+    /// N was pressed while the Whitted integrator traces (the title says
+    /// that the denoiser needs the path tracer).
+    pub refused: bool,
+    pub schedule: DenoiseSchedule,
+    features: Option<FeaturePass>,
+    /// Made at the first denoise; its kernels and weights serve the rest.
+    denoiser: Option<Denoiser<'static>>,
+}
+
+impl Denoising {
+    pub fn new(on: bool) -> Self {
+        Denoising {
+            on,
+            ..Default::default()
+        }
+    }
+
+    /// Whether frames of `integrator` gather features and denoise.
+    pub fn active(&self, integrator: Integrator) -> bool {
+        self.on && integrator == Integrator::Path
+    }
+
+    /// Another scene: the feature pass is made again for it.
+    pub fn set_scene(&mut self) {
+        self.features = None;
+    }
+
+    /// Adds the sample of the accumulation pass `params` (a band of the
+    /// image) to the feature sums; `clear`: the image starts with it.
+    pub fn trace(
+        &mut self,
+        ctx: &GpuContext,
+        scene: &SceneBuffers,
+        params: &FrameParams,
+        clear: bool,
+    ) -> Result<()> {
+        let pixels = params.width as u64 * params.height as u64;
+        let band = params.tile_size[0] as u64 * params.tile_size[1] as u64;
+        if !self.features.as_ref().is_some_and(|f| f.fits(pixels, band)) {
+            // Sized for whole-image bands, so a later band never outgrows it.
+            let old = self.features.take();
+            let (pixels, band) = old.map_or((pixels, pixels), |f| {
+                (f.store_pixels.max(pixels), f.tile_pixels.max(pixels))
+            });
+            self.features = Some(FeaturePass::new(ctx, scene, pixels, band)?);
+            if !clear {
+                return Err(Error::Gpu(
+                    "the denoiser's feature buffers were made mid-image".into(),
+                ));
+            }
+        }
+        match &self.features {
+            Some(f) => f.trace(ctx, scene, params, clear),
+            None => Ok(()),
+        }
+    }
+
+    /// The image of `size` pixels, every pixel holding `samples` samples,
+    /// denoised: linear RGB, three floats a pixel, row-major.
+    pub fn denoise(
+        &mut self,
+        ctx: &'static GpuContext,
+        (width, height): (u32, u32),
+        samples: u32,
+    ) -> Result<Vec<f32>> {
+        let Some(features) = &self.features else {
+            return Err(Error::Gpu("no feature sums to denoise".into()));
+        };
+        let sums = features.read_sums(ctx, width as u64 * height as u64)?;
+        let [color, albedo, normal] = feature_means(&sums, samples);
+        let images = kdray_core::denoise::DenoiseImages {
+            width: width as usize,
+            height: height as usize,
+            color: &color,
+            albedo: Some(&albedo),
+            normal: Some(&normal),
+        };
+        let denoiser = match &mut self.denoiser {
+            Some(d) => d,
+            None => self.denoiser.insert(Denoiser::new(ctx)?),
+        };
+        denoiser.denoise(&images, None)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn feature_means_split_the_sums_into_three_images() {
+        // Two pixels: colour, albedo and normal sums of 4 samples, each
+        // with an unused word that must not leak into the images.
+        let sums = [
+            4.0, 8.0, 12.0, 99.0, 2.0, 2.0, 2.0, 99.0, -4.0, 0.0, 4.0, 99.0, //
+            0.0, 1.0, 2.0, 99.0, 3.0, 4.0, 5.0, 99.0, 6.0, 7.0, 8.0, 99.0,
+        ];
+        let [color, albedo, normal] = feature_means(&sums, 4);
+        assert_eq!(color, [1.0, 2.0, 3.0, 0.0, 0.25, 0.5]);
+        assert_eq!(albedo, [0.5, 0.5, 0.5, 0.75, 1.0, 1.25]);
+        assert_eq!(normal, [-1.0, 0.0, 1.0, 1.5, 1.75, 2.0]);
+    }
+}
