@@ -499,3 +499,128 @@ fn pages_play_animations_and_show_the_cost_heatmap() {
         "C twice did not restore the image"
     );
 }
+
+/// `denoise=1`: the page's denoised Cornell box (64 x 48, 4 samples)
+/// equals `kdray render --denoise` of the same within two levels per
+/// channel, its input scale is native's autoexposure of the noisy image,
+/// and N shows the noisy image again, as `render` without --denoise. The
+/// page's autoexposure (denoise.js) is native's to the bit on an HDR image
+/// with dark, bright, NaN and infinite pixels.
+#[test]
+fn pages_denoise_the_path_traced_image_as_render_denoise_does() {
+    let out = repo_path("target/web-test-denoise");
+    let _ = std::fs::remove_dir_all(&out);
+    std::fs::create_dir_all(&out).unwrap();
+    export(&out, "scenes/cornell_box.toml", "cornell");
+    let scene = repo_path("scenes/cornell_box.toml");
+    let (w, h, n) = (64u32, 48u32, 4u32);
+    let native = |args: &[&str]| {
+        let size = [
+            "--width",
+            &w.to_string(),
+            "--height",
+            &h.to_string(),
+            "--samples",
+            &n.to_string(),
+        ]
+        .map(String::from);
+        let mut all = vec!["render", scene.to_str().unwrap()];
+        all.extend(size.iter().map(String::as_str));
+        all.extend(args);
+        let run = run_kdray(&out, &all, &[]);
+        assert_eq!(run.code, 0, "{}", run.stderr_text());
+    };
+    native(&["--denoise", "-o", "native.png"]);
+    native(&["--denoise", "-o", "native.exr"]);
+    native(&["-o", "noisy.png"]);
+    let server = Server::start(&out);
+    let jobs = serde_json::json!([{
+        "url": format!("http://127.0.0.1:{}/cornell/index.html?width={w}&height={h}&samples={n}&denoise=1", server.port),
+        "png": out.join("page.png"),
+        "denoise_off": out.join("page.noisy.png"),
+    }]);
+    let results = drive(&jobs, &out);
+    drop(server);
+    let r = &results[0];
+    assert!(
+        title(r).starts_with("kdray: done") && r["failure"].is_null(),
+        "{r}"
+    );
+    assert_eq!(r["denoised"]["sample"], n, "{r}");
+    let overlay = r["overlay"].as_str().unwrap_or("");
+    assert!(overlay.contains("denoise: 4 samples denoised"), "{overlay}");
+
+    let (_, _, native_rgb) = read_png_rgb(&out.join("native.png")).unwrap();
+    let (pw, ph, page) = read_png_rgb(&out.join("page.png")).unwrap();
+    assert_eq!((pw, ph), (w, h));
+    let d = compare(&native_rgb, &page, w, h, 2);
+    eprintln!("denoised page vs render --denoise: {d:?}");
+    assert_eq!(d.pixels_over, 0, "denoised page vs render --denoise: {d:?}");
+    let (_, _, noisy) = read_png_rgb(&out.join("noisy.png")).unwrap();
+    assert!(
+        changed_pixels(&noisy, &native_rgb) > noisy.len() / 3 / 4,
+        "the denoiser changed little"
+    );
+    let (_, _, page_noisy) = read_png_rgb(&out.join("page.noisy.png")).unwrap();
+    let d = compare(&noisy, &page_noisy, w, h, 2);
+    let off = r["denoise_off_overlay"].as_str().unwrap_or("");
+    assert!(!off.contains("denoise"), "N did not turn denoising off: {off}");
+    assert!(
+        d.pixels_over <= (w * h) as usize / 50,
+        "N: the page's noisy image vs render: {d:?}"
+    );
+
+    // The input scale: native's autoexposure of the noisy radiance that
+    // `render --denoise -o native.exr` denoised (the page's own radiance
+    // differs from lavapipe's in the last bits, so within 1e-4).
+    let noisy_exr = image::open(out.join("native.noisy.exr"))
+        .unwrap()
+        .to_rgb32f();
+    let native_scale = kdray_core::denoise::transfer::autoexposure(
+        w as usize,
+        h as usize,
+        noisy_exr.as_raw(),
+    );
+    let page_scale = r["denoised"]["scale"].as_f64().unwrap() as f32;
+    assert!(
+        (page_scale - native_scale).abs() <= 1e-4 * native_scale,
+        "page scale {page_scale}, native {native_scale}"
+    );
+
+    // denoise.js's autoexposure, to the bit: 40 x 27 pixels (uneven blocks).
+    let (aw, ah) = (40usize, 27usize);
+    let mut s = 12345u32;
+    let mut next = || {
+        s ^= s << 13;
+        s ^= s >> 17;
+        s ^= s << 5;
+        s
+    };
+    let rgb: Vec<f32> = (0..aw * ah * 3)
+        .map(|i| match next() % 50 {
+            0 => f32::NAN,
+            1 => f32::INFINITY,
+            2 => -1.0,
+            3..=10 => 0.0,
+            k => (next() >> 8) as f32 / (1u32 << 24) as f32 * (k as f32).powi(3) * (i % 7) as f32,
+        })
+        .collect();
+    let js = out.join("js");
+    std::fs::create_dir_all(&js).unwrap();
+    for file in ["denoise.js", "tracer.js", "heatmap.js"] {
+        std::fs::copy(out.join("cornell").join(file), js.join(file)).unwrap();
+    }
+    std::fs::write(js.join("package.json"), r#"{"type": "module"}"#).unwrap();
+    std::fs::write(js.join("image.f32"), bytemuck::cast_slice(&rgb)).unwrap();
+    let run = std::process::Command::new("node")
+        .arg(repo_path("tests/web/autoexposure.mjs"))
+        .arg(js.join("denoise.js"))
+        .args([aw.to_string(), ah.to_string()])
+        .arg(js.join("image.f32"))
+        .output()
+        .expect("node runs");
+    assert!(run.status.success(), "{}", String::from_utf8_lossy(&run.stderr));
+    let bits: u32 = String::from_utf8_lossy(&run.stdout).trim().parse().unwrap();
+    let native = kdray_core::denoise::transfer::autoexposure(aw, ah, &rgb);
+    assert_eq!(f32::from_bits(bits), native, "denoise.js's autoexposure");
+}

@@ -12,7 +12,9 @@
 // the camera, screenshot when refined (`after`; the lines drawn come back
 // in `drawn`), press X (lines off), screenshot (`before`)) }.
 // Every result has `pipelines`: the entry point, walk, costs, integrator
-// and override constants of each kernel pipeline the page made.
+// and override constants of each kernel pipeline the page made, and
+// `denoised`: the denoised image's { sample, scale } (or null). A job's
+// `denoise_off` (a path): press N, wait for the image, save its PNG.
 // The page's contract (docs/web.md): document.title starts with
 // "kdray: done" or "kdray: error"; window.kdray.png() is a PNG data URL.
 
@@ -91,6 +93,14 @@ for (const job of jobs) {
         from, { timeout: TIMEOUT_MS, polling: 50 });
       result.toggled_overlay = await overlayText(page);
       await savePng(page, job.toggle);
+    }
+    result.denoised = await page.evaluate(() => window.kdray.state.denoised);
+    if (job.denoise_off && result.title.startsWith('kdray: done')) {
+      await page.keyboard.press('n');
+      await page.waitForFunction(() => !window.kdray.state.denoise && window.kdray.state.done,
+        null, { timeout: TIMEOUT_MS, polling: 50 });
+      result.denoise_off_overlay = await overlayText(page);
+      await savePng(page, job.denoise_off);
     }
     if (job.inspect && result.title.startsWith('kdray: done')) {
       result.inspections = [];
