@@ -77,6 +77,16 @@ export function featureImages(words, pixels, samples, format) {
 }
 
 export class Denoiser {
+  // A Denoiser, its pipelines checked: a kernel the browser refuses is a
+  // PageError with the browser's message.
+  static async create(device, spec, sources, weights) {
+    device.pushErrorScope('validation');
+    const denoiser = new Denoiser(device, spec, sources, weights);
+    const error = await device.popErrorScope();
+    if (error) throw new PageError(`the denoiser's kernels: ${error.message}`);
+    return denoiser;
+  }
+
   // The network on `device`: `spec` is contract.json's `denoise`,
   // `sources` the WGSL of each of its shader files by name, `weights` the
   // weights file's bytes.

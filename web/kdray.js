@@ -202,7 +202,7 @@ function loadDenoiser() {
       ...shaders.map(([, file]) => fetchOk(file).then((r) => r.text())),
     ]);
     const code = Object.fromEntries(shaders.map(([name], i) => [name, sources[i]]));
-    return new Denoiser(state.tracer.device, spec, code, weights);
+    return Denoiser.create(state.tracer.device, spec, code, weights);
   })();
   return state.denoiser;
 }
@@ -230,11 +230,12 @@ function denoiseNow() {
   const { tracer, width, height } = state;
   const n = state.sample;
   const generation = state.generation;
-  const started = performance.now();
   // The sums of exactly the n samples submitted so far.
   const sums = tracer.readFeatures();
   state.denoising = (async () => {
     const denoiser = await loadDenoiser();
+    // Timed from here: the first denoise also loads the network.
+    const started = performance.now();
     const images = featureImages(await sums, width * height, n, state.contract.features);
     const scale = autoexposure(width, height, images.subarray(0, 3 * width * height));
     let rgb;
@@ -377,6 +378,8 @@ async function loop() {
       return;
     }
     if (denoiseDue()) denoiseNow().catch(showError);
+    // An error meanwhile (an uncaptured GPU error, say) keeps its title.
+    if (state.error) return;
     updateOverlay();
     drawInspection();
     // Denoising, the image is done once its last sample is denoised.

@@ -123,11 +123,7 @@ pub fn network_dispatches(layers: &[LayerBlocks], input_channels: usize) -> Vec<
     let mut held = [0usize; Slot::ALL.len()];
     held[Slot::Input as usize] = input_channels;
     let mut out = Vec::new();
-    for (index, (step, channels)) in STEPS
-        .iter()
-        .zip(step_channels(input_channels))
-        .enumerate()
-    {
+    for (index, (step, channels)) in STEPS.iter().zip(step_channels(input_channels)).enumerate() {
         let row = |kernel, src: Slot| StepDispatch {
             kernel,
             step: index,
@@ -195,7 +191,11 @@ mod tests {
             .collect();
         let table = network_dispatches(&layers, 9);
         let groups: usize = CONV_LAYERS.iter().map(|l| l.out_channels.div_ceil(8)).sum();
-        assert_eq!(table.len(), groups + 8, "16 layers' groups, 4 pools, 4 upsamplings");
+        assert_eq!(
+            table.len(),
+            groups + 8,
+            "16 layers' groups, 4 pools, 4 upsamplings"
+        );
         for d in &table {
             if d.kernel == DenoiseKernel::Conv {
                 assert_eq!(
@@ -212,7 +212,10 @@ mod tests {
         let steps: Vec<usize> = table.iter().map(|d| d.step).collect();
         assert!(steps.windows(2).all(|w| w[1] == w[0] || w[1] == w[0] + 1));
         assert_eq!(steps.last(), Some(&(STEPS.len() - 1)));
-        let pool = table.iter().find(|d| d.kernel == DenoiseKernel::Pool).unwrap();
+        let pool = table
+            .iter()
+            .find(|d| d.kernel == DenoiseKernel::Pool)
+            .unwrap();
         assert_eq!(pool.workgroups(64, 48), [4, 3, 32]);
     }
 }

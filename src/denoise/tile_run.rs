@@ -7,9 +7,7 @@
 
 use bytemuck::{Pod, Zeroable};
 use kdray_core::denoise::layers::Tensor;
-use kdray_core::denoise::network::{
-    slot_index, tensor_floats, Slot, OUTPUT_CHANNELS, OUTPUT_SLOT,
-};
+use kdray_core::denoise::network::{slot_index, tensor_floats, Slot, OUTPUT_CHANNELS, OUTPUT_SLOT};
 
 use super::dispatches::{network_dispatches, DenoiseKernel};
 use super::gpu_weights::GpuWeights;

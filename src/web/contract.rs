@@ -422,7 +422,11 @@ mod tests {
             offsets.sort();
             let expected: Vec<u64> = (0..offsets.len() as u64).map(|i| 4 * i).collect();
             assert_eq!(offsets, expected, "{name}");
-            assert_eq!(s["size"].as_u64().unwrap(), 4 * offsets.len() as u64, "{name}");
+            assert_eq!(
+                s["size"].as_u64().unwrap(),
+                4 * offsets.len() as u64,
+                "{name}"
+            );
         }
     }
 

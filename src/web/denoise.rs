@@ -8,9 +8,7 @@
 //! transfer function's constants. The page reads all of it and derives
 //! nothing but sizes from its image.
 
-use kdray_core::denoise::network::{
-    tensor_floats, Slot, ALIGNMENT, OUTPUT_CHANNELS, OUTPUT_SLOT,
-};
+use kdray_core::denoise::network::{tensor_floats, Slot, ALIGNMENT, OUTPUT_CHANNELS, OUTPUT_SLOT};
 use kdray_core::denoise::transfer::{pu_forward_raw, HDR_Y_MAX};
 use serde_json::{json, Value};
 

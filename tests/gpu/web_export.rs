@@ -275,9 +275,9 @@ fn page_pipelines_set_the_overrides_the_native_host_sets() {
 /// What the site ships for the page's denoiser is the native denoiser's:
 /// contract.json's steps are the dispatches native records its pass from
 /// (`denoise::network_dispatches` of the shipped colour, albedo and
-/// normal network), each convolution's block of denoise.bin holds the bytes
-/// native binds for that layer and group (laid out for this device's
-/// alignment), the kernels are shaders/denoise/ as native compiles them,
+/// normal network), each convolution's block of denoise.bin holds the
+/// weights native binds for that layer and group (laid out for this
+/// device's alignment), the kernels are shaders/denoise/ as native compiles them,
 /// the slot sizes are native's tensors and the transfer constants native's.
 #[test]
 fn the_site_ships_the_native_denoisers_weights_and_steps() {
@@ -331,8 +331,13 @@ fn the_site_ships_the_native_denoisers_weights_and_steps() {
             assert_eq!(at % web_align, 0, "dispatch {i}");
             let at = at as usize;
             let native_at = d.weights_offset as usize;
+            // What conv.wgsl reads of the block: eight biases, then eight
+            // weights per input channel and tap (the rest is the next
+            // groups', placed by each layout's own alignment).
+            let read = 4 * 8 * (1 + 9 * (d.src_channels + d.skip_channels) as usize);
+            assert!(read <= block && at + block <= bin.len(), "dispatch {i}");
             assert!(
-                bin[at..at + block] == native.bytes[native_at..native_at + block],
+                bin[at..at + read] == native.bytes[native_at..native_at + read],
                 "dispatch {i}: the site's weights block differs from native's"
             );
         }
