@@ -3,7 +3,8 @@
 // reduced-resolution preview while the camera moves), as the native window,
 // with the Whitted integrator or path traced (URL `integrator`, key I);
 // plays an animated scene's frames (Space) from the bundle's cameras and
-// frame lights, and shows the cost heatmap (C). docs/web.md states its
+// frame lights, shows the cost heatmap (C), and denoises the path-traced
+// image (URL `denoise=1`, key N; denoise.js). docs/web.md states its
 // contract: URL parameters, document.title, window.kdray.png() and
 // window.kdray.inspect(x, y), keys.
 
@@ -12,6 +13,7 @@ import { Camera, attachPointer } from './controls.js';
 import { Tracer, PageError, openGpu, setField } from './tracer.js';
 import { decodeLog, inspectionDocument, treeOf } from './inspect.js';
 import { drawLines, nodeCells, overlayLines, shownRect } from './overlay.js';
+import { Denoiser, autoexposure, featureImages } from './denoise.js';
 
 const WALKS = ['restart', 'ropes', 'short-stack'];
 const INTEGRATORS = ['whitted', 'path'];
@@ -46,7 +48,22 @@ const state = {
   // submission to the GPU's done, present included; the first one also
   // compiles the pipeline (scripts/web_bench.sh reports the rest).
   passMs: [],
+  // Denoising (denoise=1, N): wanted, the denoiser's promise once loading
+  // began, the denoise under way (a promise) or null, the image shown
+  // ({ sample, scale, ms }) or null, when the last one ended, the reason
+  // it cannot run (shown in the overlay) or null, and the refinement's
+  // generation (a denoise of an older one is dropped).
+  denoise: false, denoiser: null, denoising: null, denoised: null, denoisedAt: 0, denoiseNote: null,
+  generation: 0,
 };
+
+// The first denoise waits for this many samples (or all of them, if fewer).
+const FIRST_DENOISE_SAMPLES = 4;
+// A denoise refreshes once the samples have doubled or this long has
+// passed (ms), and takes at most this share of the time between
+// refreshes: on SwiftShader or lavapipe a denoise takes seconds.
+const DENOISE_REFRESH_MS = 2000;
+const DENOISE_SHARE = 0.25;
 
 function showError(e) {
   const text = e instanceof Error ? e.message : String(e);
@@ -111,10 +128,12 @@ function settingsFrom(info) {
     : info.integrator === 'path' ? info.samples : Math.max(info.samples, DEFAULT_PATH_SAMPLES);
   const traversal = query.get('traversal') ?? info.traversal;
   if (!WALKS.includes(traversal)) throw new PageError(`traversal=${traversal} is not one of ${WALKS.join(', ')}`);
+  const denoiseText = query.get('denoise') ?? '0';
+  if (!['0', '1'].includes(denoiseText)) throw new PageError(`denoise=${denoiseText} is not 0 or 1`);
   const accel = query.get('accel') ?? 'kdtree';
   if (!['kdtree', 'brute'].includes(accel)) throw new PageError(`accel=${accel} is not kdtree or brute`);
   return {
-    width, height, samples, walk: traversal, brute: accel === 'brute', frame,
+    width, height, samples, walk: traversal, brute: accel === 'brute', frame, denoise: denoiseText === '1',
     integrator, samplesOf: { whitted, path },
   };
 }
@@ -160,7 +179,108 @@ function toggleIntegrator() {
   restart();
 }
 
-function restart() { state.restart = true; state.sample = 0; state.done = false; state.passMs = []; }
+function restart() {
+  state.restart = true; state.sample = 0; state.done = false; state.passMs = [];
+  state.generation += 1;
+  state.denoised = null;
+  if (state.tracer) state.tracer.features = denoiseOn();
+}
+
+// Whether the image shown is denoised: denoising wanted, path traced,
+// the image (not the heatmap) shown, and nothing refusing it.
+function denoiseOn() {
+  return state.denoise && state.integrator === 'path' && !state.heatmap && !state.denoiseNote;
+}
+
+// The denoiser, loaded once: the weights file and the kernels.
+function loadDenoiser() {
+  state.denoiser ??= (async () => {
+    const spec = state.contract.denoise;
+    const shaders = Object.entries(spec.shaders);
+    const [weights, ...sources] = await Promise.all([
+      fetchOk(spec.weights_file).then((r) => r.arrayBuffer()),
+      ...shaders.map(([, file]) => fetchOk(file).then((r) => r.text())),
+    ]);
+    const code = Object.fromEntries(shaders.map(([name], i) => [name, sources[i]]));
+    return Denoiser.create(state.tracer.device, spec, code, weights);
+  })();
+  return state.denoiser;
+}
+
+// Whether the loop should denoise now: the camera still, samples since
+// the last denoise, and either the last sample, or the first few, or
+// (doubled samples or a while since) with the denoise's share of time kept.
+function denoiseDue() {
+  if (!denoiseOn() || state.denoising || performance.now() - state.lastMove < MOVE_SETTLE_MS) return false;
+  const n = state.sample;
+  const last = state.denoised?.sample ?? 0;
+  if (n === 0 || n === last) return false;
+  if (n >= state.samples) return true;
+  if (n < Math.min(FIRST_DENOISE_SAMPLES, state.samples)) return false;
+  if (!state.denoised) return true;
+  const since = performance.now() - state.denoisedAt;
+  return (n >= 2 * last || since >= DENOISE_REFRESH_MS) && since * DENOISE_SHARE >= state.denoised.ms;
+}
+
+// Denoises the image as it stands (state.sample samples), and shows it
+// unless the refinement restarted meanwhile; the promise of the denoise
+// under way if there is one.
+function denoiseNow() {
+  if (state.denoising) return state.denoising;
+  const { tracer, width, height } = state;
+  const n = state.sample;
+  const generation = state.generation;
+  // The sums of exactly the n samples submitted so far.
+  const sums = tracer.readFeatures();
+  state.denoising = (async () => {
+    const denoiser = await loadDenoiser();
+    // Timed from here: the first denoise also loads the network.
+    const started = performance.now();
+    const images = featureImages(await sums, width * height, n, state.contract.features);
+    const scale = autoexposure(width, height, images.subarray(0, 3 * width * height));
+    let rgb;
+    try {
+      rgb = await denoiser.denoise(width, height, images, scale);
+    } catch (e) {
+      if (!(e instanceof PageError)) throw e;
+      // Too large to denoise here: said in the overlay, the image kept.
+      state.denoiseNote = e.message;
+      tracer.features = false;
+      return;
+    }
+    if (generation !== state.generation || !denoiseOn()) return;
+    tracer.showDenoised(rgb);
+    state.denoised = { sample: n, scale, ms: performance.now() - started };
+    state.denoisedAt = performance.now();
+  })().finally(() => { state.denoising = null; });
+  return state.denoising;
+}
+
+// N: denoising on or off (on, the refinement restarts: the denoiser's
+// feature sums need every sample).
+function toggleDenoise() {
+  state.denoise = !state.denoise;
+  state.denoiseNote = null;
+  if (state.denoise) {
+    loadDenoiser().catch(showError);
+    restart();
+  } else {
+    state.denoised = null;
+    state.tracer.features = false;
+    state.tracer.showImage();
+  }
+}
+
+function denoiseLine() {
+  if (!state.denoise) return null;
+  if (state.integrator !== 'path') return 'denoise: off with the Whitted integrator (the denoiser needs the path tracer: I)';
+  if (state.heatmap) return 'denoise: off while the heatmap is shown';
+  if (state.denoiseNote) return `denoise: off: ${state.denoiseNote}`;
+  const d = state.denoised;
+  if (state.denoising) return `denoise: denoising ${d ? `(shown: ${d.sample} samples)` : ''}`;
+  if (!d) return `denoise: after ${Math.min(FIRST_DENOISE_SAMPLES, state.samples)} samples`;
+  return `denoise: ${d.sample} samples denoised in ${(d.ms / 1000).toFixed(1)} s, input scale ${d.scale.toPrecision(4)}`;
+}
 
 function moved() { state.lastMove = performance.now(); restart(); }
 
@@ -215,6 +335,8 @@ function updateOverlay() {
   if (state.cameras) {
     lines.push(`frame ${state.frame}/${state.cameras.frames} ${state.playing ? 'playing' : 'paused'}`);
   }
+  const denoise = denoiseLine();
+  if (denoise) lines.push(denoise);
   if (state.inspecting) lines.push(inspectLine());
   const scale = state.tracer.heatScale;
   if (state.heatmap && scale !== null) lines.push(`heatmap: nodes + objects per sample, 0 to ${scale}`);
@@ -255,9 +377,14 @@ async function loop() {
       showError(e);
       return;
     }
+    if (denoiseDue()) denoiseNow().catch(showError);
+    // An error meanwhile (an uncaptured GPU error, say) keeps its title.
+    if (state.error) return;
     updateOverlay();
     drawInspection();
-    if (state.sample >= state.samples && !state.done && performance.now() - state.lastMove >= MOVE_SETTLE_MS) {
+    // Denoising, the image is done once its last sample is denoised.
+    const denoised = !denoiseOn() || (state.denoised?.sample === state.samples && !state.denoising);
+    if (state.sample >= state.samples && !state.done && denoised && performance.now() - state.lastMove >= MOVE_SETTLE_MS) {
       state.done = true;
       document.title = `kdray: done (${state.samples} samples)`;
     } else if (!state.done) {
@@ -286,11 +413,17 @@ function loadBundle(bytes) {
   // The preview: a quarter of the width and height (at least 1).
   state.tracer.resize(state.width, state.height, Math.max(1, state.width >> 2), Math.max(1, state.height >> 2));
   state.tracer.pipelineFor(walkName(), false, state.integrator);
+  if (state.denoise) loadDenoiser().catch(showError);
   restart();
 }
 
-// A PNG data URL of the traced image at its own size, read from the GPU.
+// A PNG data URL of the traced image at its own size, read from the GPU;
+// while denoising, the denoised image of every sample traced so far.
 async function png() {
+  if (denoiseOn()) {
+    await state.denoising;
+    if (state.denoised?.sample !== state.sample && state.sample > 0) await denoiseNow();
+  }
   const rgba = await state.tracer.readImage();
   const out = document.createElement('canvas');
   out.width = state.width; out.height = state.height;
@@ -392,6 +525,7 @@ const KEYS = {
   // The costs accumulate with the colours: refine again to show the other.
   c: () => { state.heatmap = !state.heatmap; restart(); },
   i: () => toggleIntegrator(),
+  n: () => toggleDenoise(),
   x: () => toggleInspecting(),
 };
 

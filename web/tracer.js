@@ -5,7 +5,11 @@
 // the traced image. With `costs` on, the kernel also counts each pixel's
 // walk work (COUNT_COSTS) and the present pass shows the cost heatmap made
 // from it (heatmap.js). The inspect kernel's entry point traces one pixel's
-// sample and logs its rays and walks (inspectPixel). Every binding, layout
+// sample and logs its rays and walks (inspectPixel). While the page
+// denoises, each image pass also adds its sample to render_tile's radiance
+// and feature sums (the `features` entry point of the contract, as
+// `render --denoise` traces them), and the present pass can show the
+// denoised image instead of the accumulation. Every binding, layout
 // and constant comes from contract.json, and the kernel's overrides from
 // the bundle (those of the scene, as the native host sets them) and the
 // contract (those of the walk, costs, integrator and entry point); the WGSL
@@ -90,6 +94,11 @@ export class Tracer {
     this.frameParams = this.device.createBuffer({
       size: contract.frame_params.size, usage: GPUBufferUsage.UNIFORM | GPUBufferUsage.COPY_DST,
     });
+    this.featureParams = this.device.createBuffer({
+      size: contract.frame_params.size, usage: GPUBufferUsage.UNIFORM | GPUBufferUsage.COPY_DST,
+    });
+    // Whether image passes add to the feature sums (the page denoises).
+    this.features = false;
   }
 
   // Uploads `bundle`'s arrays (refused with the limit named when one is
@@ -159,7 +168,8 @@ export class Tracer {
   // The kernel with `omitted` swapped for their placeholders, as
   // src/gpu/bindings/ generates it.
   moduleFor(omitted, key, entry = 'accumulate') {
-    const id = `${entry}|${key}`;
+    // The accumulate and features entry points share the trace kernel.
+    const id = `${entry === 'inspect' ? 'inspect' : 'trace'}|${key}`;
     if (!this.modules.has(id)) {
       let code = entry === 'inspect' ? this.inspectSource : this.kernelSource;
       for (const o of omitted) {
@@ -259,6 +269,11 @@ export class Tracer {
       previewCosts: make('preview costs', pw * ph, costTexel),
       imageHeat: make('heatmap', width * height, texel),
       previewHeat: make('preview heatmap', pw * ph, texel),
+      // render_tile's output with FEATURE_OUTPUT: the ray counters, then
+      // each pixel's radiance, albedo and normal sums.
+      features: make('features', 1, this.contract.features.header_bytes + 4 * this.contract.features.words_per_pixel * width * height),
+      // The denoised image as accumulation texels (sum, count 1).
+      denoised: make('denoised', width * height, texel),
     };
     this.image = this.buffers.image;
     this.preview = this.buffers.preview;
@@ -273,12 +288,24 @@ export class Tracer {
     });
     this.presentGroup = presentGroup(this.image, this.preview);
     this.heatGroup = presentGroup(this.buffers.imageHeat, this.buffers.previewHeat);
+    this.denoisedGroup = presentGroup(this.buffers.denoised, this.preview);
+    // The denoised image shown (three floats a pixel), or null.
+    this.denoisedRgb = null;
     // The heatmap's scale's top while it is shown, else null.
     this.heatScale = null;
   }
 
   bindGroup(p, target) {
-    const id = `${p.key}|${target}`;
+    const id = `${p.entry}|${p.key}|${target}`;
+    if (!this.groups.has(id) && p.entry === 'features') {
+      const f = this.contract.features;
+      const entries = p.bindings.map((b) => ({
+        binding: b.index,
+        resource: { buffer: b.name === f.params ? this.featureParams
+          : b.name === f.output ? this.buffers.features : this.sceneBuffers.get(b.name) },
+      }));
+      this.groups.set(id, this.device.createBindGroup({ layout: p.layout, entries }));
+    }
     if (!this.groups.has(id)) {
       const [colours, costs] = this.contract.accumulate.outputs;
       const outputs = {
@@ -315,9 +342,14 @@ export class Tracer {
     this.device.queue.writeBuffer(this.presentParams, 0, pp);
     const encoder = this.device.createCommandEncoder();
     const buffer = target === 'image' ? this.image : this.preview;
+    const features = target === 'image' && this.features && integrator === 'path';
     if (clear) {
       encoder.clearBuffer(buffer);
       encoder.clearBuffer(target === 'image' ? this.buffers.imageCosts : this.buffers.previewCosts);
+      if (target === 'image') {
+        encoder.clearBuffer(this.buffers.features);
+        this.denoisedRgb = null;
+      }
     }
     const [wx, wy] = this.contract.accumulate.workgroup;
     const tile = getField(this.contract.frame_params, params, 'tile_size');
@@ -325,10 +357,22 @@ export class Tracer {
     compute.setPipeline(p.pipeline);
     compute.setBindGroup(0, this.bindGroup(p, target));
     compute.dispatchWorkgroups(Math.ceil(tile[0] / wx), Math.ceil(tile[1] / wy));
+    if (features) {
+      // The same sample added to the feature sums: samples sample_index ..
+      // sample_index + 1 of the whole image.
+      const fp = this.pipelineFor(walk, false, integrator, 'features');
+      const one = params.slice(0);
+      setField(this.contract.frame_params, one, 'sample_count', 1);
+      this.device.queue.writeBuffer(this.featureParams, 0, one);
+      const [fx, fy] = this.contract.features.workgroup;
+      compute.setPipeline(fp.pipeline);
+      compute.setBindGroup(0, this.bindGroup(fp, 'image'));
+      compute.dispatchWorkgroups(Math.ceil(tile[0] / fx), Math.ceil(tile[1] / fy));
+    }
     compute.end();
     if (!costs) {
       this.heatScale = null;
-      this.encodePresent(encoder, this.presentGroup);
+      this.encodePresent(encoder, this.shownGroup());
       this.device.queue.submit([encoder.finish()]);
       return this.device.queue.onSubmittedWorkDone();
     }
@@ -338,6 +382,44 @@ export class Tracer {
     this.encodePresent(present, this.heatGroup);
     this.device.queue.submit([present.finish()]);
     return this.device.queue.onSubmittedWorkDone();
+  }
+
+  // The present pass's bind group: the denoised image while one is shown.
+  shownGroup() { return this.denoisedRgb ? this.denoisedGroup : this.presentGroup; }
+
+  // Shows `rgb` (the denoised image, three floats a pixel) instead of the
+  // accumulation, until the next restart or showImage.
+  showDenoised(rgb) {
+    const { width, height } = this.size;
+    const texels = new Float32Array(4 * width * height);
+    for (let i = 0; i < width * height; i++) {
+      texels.set(rgb.subarray(3 * i, 3 * i + 3), 4 * i);
+      texels[4 * i + 3] = 1;
+    }
+    this.device.queue.writeBuffer(this.buffers.denoised, 0, texels);
+    this.denoisedRgb = rgb;
+    this.present();
+  }
+
+  // Shows the accumulation again.
+  showImage() {
+    this.denoisedRgb = null;
+    this.present();
+  }
+
+  present() {
+    if (this.heatScale !== null) return;
+    const encoder = this.device.createCommandEncoder();
+    this.encodePresent(encoder, this.shownGroup());
+    this.device.queue.submit([encoder.finish()]);
+  }
+
+  // The feature sums as they stand (a Float32Array of the whole output,
+  // ray counters first). The copy is submitted before this returns its
+  // promise, so it holds exactly the passes submitted before the call.
+  async readFeatures() {
+    const [data] = await this.readBuffers([this.buffers.features], [this.buffers.features.size]);
+    return new Float32Array(data);
   }
 
   // Reads back the colours and costs of the image (if `showImage`) and the
@@ -394,17 +476,24 @@ export class Tracer {
   // first through the present pass's curve (toneMapped).
   async readImage() {
     const { width, height } = this.size;
+    if (this.denoisedRgb && this.heatScale === null) return this.rgba(this.denoisedRgb, 3, null);
     const bytes = width * height * this.contract.accumulate.texel_bytes;
     const source = this.heatScale === null ? this.image : this.buffers.imageHeat;
     const [data] = await this.readBuffers([source], [bytes]);
-    const sums = new Float32Array(data);
+    return this.rgba(new Float32Array(data), 4, 3);
+  }
+
+  // RGBA8 of `values` (`stride` floats a pixel, the sample count at
+  // `count` or 1 when null), tone mapped as the present pass shows them.
+  rgba(values, stride, count) {
+    const { width, height } = this.size;
     const rgba = new Uint8ClampedArray(width * height * 4);
     const f = Math.fround;
     const tone = this.heatScale === null ? this.toneMap : this.contract.constants.PRESENT_QUANTISE;
     for (let i = 0; i < width * height; i++) {
-      const n = sums[4 * i + 3];
+      const n = count === null ? 1 : values[stride * i + count];
       for (let c = 0; c < 3; c++) {
-        const v = n > 0 ? this.toneMapped(f(sums[4 * i + c] / n), tone) : 0;
+        const v = n > 0 ? this.toneMapped(f(values[stride * i + c] / n), tone) : 0;
         rgba[4 * i + c] = Math.floor(f(f(255 * v) + 0.5));
       }
       rgba[4 * i + 3] = 255;

@@ -48,7 +48,9 @@ const PU_Y0: f32 = 1.57945760e-06;
 const PU_Y1: f32 = 3.22087631e-02;
 const PU_X0: f32 = 2.23151711e-03;
 const PU_X1: f32 = 3.70974749e-01;
-const F32_MAX: f32 = 3.40282347e+38;
+// The largest f32, exactly: the decimal 3.40282347e+38 lies just above
+// it, which Chromium's WGSL compiler refuses as out of range.
+const F32_MAX: f32 = 0x1.fffffep+127f;
 
 fn pu_forward(y: f32) -> f32 {
     if (y <= PU_Y0) {

@@ -70,6 +70,38 @@ pub fn append_layer(floats: &mut Vec<f32>, conv: &ConvWeights, align: u64) -> Re
     })
 }
 
+/// A network's weights as they are uploaded: the bytes of the one buffer
+/// (every block at a multiple of the alignment, and room for the last
+/// block's whole binding) and each layer's block offsets. The web page's
+/// `denoise.bin` is these bytes for WebGPU's largest offset alignment.
+#[derive(Clone, Debug, PartialEq)]
+pub struct WeightsLayout {
+    pub bytes: Vec<u8>,
+    pub layers: Vec<LayerBlocks>,
+}
+
+impl WeightsLayout {
+    /// `convs` laid out with blocks at multiples of `align` bytes.
+    pub fn new(convs: &[ConvWeights], align: u64) -> Result<Self> {
+        let mut floats = Vec::new();
+        let layers = convs
+            .iter()
+            .map(|conv| append_layer(&mut floats, conv, align))
+            .collect::<Result<Vec<_>>>()?;
+        // The last block's binding is BLOCK_BYTES long too.
+        let end = layers
+            .iter()
+            .flat_map(|l| l.group_offsets.iter())
+            .max()
+            .map_or(0, |o| o + BLOCK_BYTES);
+        floats.resize(floats.len().max((end / 4) as usize), 0.0);
+        Ok(WeightsLayout {
+            bytes: bytemuck::cast_slice(&floats).to_vec(),
+            layers,
+        })
+    }
+}
+
 /// A network's weights on the GPU.
 pub struct GpuWeights {
     pub input_channels: usize,
@@ -100,24 +132,12 @@ impl GpuWeights {
             )));
         }
         let align = u64::from(limits.min_uniform_buffer_offset_alignment);
-        let mut floats = Vec::new();
-        let layers = convs
-            .iter()
-            .map(|conv| append_layer(&mut floats, conv, align))
-            .collect::<Result<Vec<_>>>()?;
-        // The last block's binding is BLOCK_BYTES long too.
-        let end = layers
-            .iter()
-            .flat_map(|l| l.group_offsets.iter())
-            .max()
-            .map_or(0, |o| o + BLOCK_BYTES);
-        floats.resize(floats.len().max((end / 4) as usize), 0.0);
-        let bytes: &[u8] = bytemuck::cast_slice(&floats);
+        let WeightsLayout { bytes, layers } = WeightsLayout::new(convs, align)?;
         let buffer = ctx.checked("uploading the denoiser's weights", |device| {
             buffer_holding(
                 device,
                 "denoise weights",
-                bytes,
+                &bytes,
                 wgpu::BufferUsages::UNIFORM,
             )
         })?;

@@ -8,14 +8,20 @@
 //! `kernels` (the modules and pipelines), `gpu_weights` (weights laid out
 //! for the convolution and uploaded once per [`Denoiser`]), `tile_run`
 //! (one tile's buffers and its pass: pack, the network's steps, unpack),
+//! `dispatches` (those steps as a table of dispatches, which the web page
+//! reads too),
 //! `layer_ops` (each layer kind alone, for tests) and [`Denoiser`], which
 //! cuts an image into tiles and runs them.
 
 mod denoiser;
+mod dispatches;
 mod gpu_weights;
 mod kernels;
 mod layer_ops;
 mod tile_run;
 
 pub use denoiser::{shipped_weights, Denoiser};
-pub use gpu_weights::GpuWeights;
+pub use dispatches::{network_dispatches, DenoiseKernel, StepDispatch};
+pub use gpu_weights::{GpuWeights, LayerBlocks, WeightsLayout, BLOCK_BYTES};
+pub use kernels::{CONV_WGSL, PACK_WGSL, RESAMPLE_WGSL, WORKGROUP};
+pub use tile_run::{ConvParams, PackParams, ResampleParams};

@@ -1,16 +1,15 @@
 //! One tile size's buffers and bind groups, and the run of the network on
 //! one tile: the tile's source pixels uploaded, packed, the 24 steps of
 //! [`kdray_core::denoise::network::STEPS`] dispatched in one compute pass
-//! (one buffer per slot, each sized for the most that slot ever holds), the
+//! as the rows of [`super::dispatches::network_dispatches`] (one buffer per slot, each sized for the most that slot ever holds), the
 //! output rectangle unpacked and read back. Every tile of a plan has the
 //! same size, so a plan makes its buffers once.
 
 use bytemuck::{Pod, Zeroable};
 use kdray_core::denoise::layers::Tensor;
-use kdray_core::denoise::network::{
-    slot_index, step_channels, tensor_floats, Slot, Step, OUTPUT_CHANNELS, OUTPUT_SLOT, STEPS,
-};
+use kdray_core::denoise::network::{slot_index, tensor_floats, Slot, OUTPUT_CHANNELS, OUTPUT_SLOT};
 
+use super::dispatches::{network_dispatches, DenoiseKernel};
 use super::gpu_weights::GpuWeights;
 use super::kernels::{Kernels, WORKGROUP};
 use crate::error::{Error, Result};
@@ -182,7 +181,6 @@ impl TileRun {
                 largest * 4
             )));
         }
-        let channels = step_channels(input_channels);
         ctx.checked("creating the denoiser's tile buffers", |device| {
             let slots: Vec<wgpu::Buffer> = per_slot
                 .iter()
@@ -216,74 +214,38 @@ impl TileRun {
             });
             let pack_params = uniform(device, &PackParams::default());
             let slot = |s: Slot| &slots[slot_index(s)];
-            let mut held = [0usize; 6];
-            held[slot_index(Slot::Input)] = input_channels;
             let mut steps = Vec::new();
-            for (step, out_channels) in STEPS.iter().zip(channels) {
-                let level = step.level();
-                let (h, w) = (tile_height >> level, tile_width >> level);
-                match *step {
-                    Step::Conv {
-                        layer,
-                        src,
-                        skip,
-                        dst,
-                        relu,
-                        ..
-                    } => {
-                        // One dispatch per group of eight outputs, each
-                        // with its block of weights.
-                        let blocks = &weights.layers[layer];
-                        for group in 0..blocks.group_offsets.len() {
-                            let params = uniform(
-                                device,
-                                &ConvParams {
-                                    width: w as u32,
-                                    height: h as u32,
-                                    src_channels: held[slot_index(src)] as u32,
-                                    skip_channels: skip.map_or(0, |s| held[slot_index(s)]) as u32,
-                                    out_channels: blocks.out_channels,
-                                    group: group as u32,
-                                    relu: u32::from(relu),
-                                    pad: 0,
-                                },
-                            );
-                            let resources = [
-                                params.as_entire_binding(),
-                                weights.block(layer, group),
-                                slot(src).as_entire_binding(),
-                                slot(skip.unwrap_or(src)).as_entire_binding(),
-                                slot(dst).as_entire_binding(),
-                            ];
-                            steps.push(Dispatch {
-                                pipeline: kernels.conv.clone(),
-                                group: bind_resources(device, &kernels.conv, resources),
-                                workgroups: workgroups(w, h, 1),
-                            });
-                        }
+            for d in network_dispatches(&weights.layers, input_channels) {
+                let workgroups = d.workgroups(tile_width, tile_height);
+                match d.kernel {
+                    DenoiseKernel::Conv => {
+                        let params = uniform(device, &d.conv_params(tile_width, tile_height));
+                        let resources = [
+                            params.as_entire_binding(),
+                            weights.block(d.layer, d.group as usize),
+                            slot(d.src).as_entire_binding(),
+                            slot(d.skip.unwrap_or(d.src)).as_entire_binding(),
+                            slot(d.dst).as_entire_binding(),
+                        ];
+                        steps.push(Dispatch {
+                            pipeline: kernels.conv.clone(),
+                            group: bind_resources(device, &kernels.conv, resources),
+                            workgroups,
+                        });
                     }
-                    Step::Pool { src, dst, .. } | Step::Upsample { src, dst, .. } => {
-                        let pipeline = match step {
-                            Step::Pool { .. } => &kernels.pool,
+                    DenoiseKernel::Pool | DenoiseKernel::Upsample => {
+                        let pipeline = match d.kernel {
+                            DenoiseKernel::Pool => &kernels.pool,
                             _ => &kernels.upsample,
                         };
-                        let params = uniform(
-                            device,
-                            &ResampleParams {
-                                width: w as u32,
-                                height: h as u32,
-                                channels: out_channels as u32,
-                                pad: 0,
-                            },
-                        );
+                        let params = uniform(device, &d.resample_params(tile_width, tile_height));
                         steps.push(Dispatch {
                             pipeline: pipeline.clone(),
-                            group: bind(device, pipeline, &[&params, slot(src), slot(dst)]),
-                            workgroups: workgroups(w, h, out_channels),
+                            group: bind(device, pipeline, &[&params, slot(d.src), slot(d.dst)]),
+                            workgroups,
                         });
                     }
                 }
-                held[slot_index(step.dst())] = out_channels;
             }
             let pack = Dispatch {
                 pipeline: kernels.pack.clone(),

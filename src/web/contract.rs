@@ -109,6 +109,51 @@ fn present_params_fields() -> Vec<Field> {
     ]
 }
 
+/// The denoise kernels' uniforms (shaders/denoise/), by name: their
+/// layouts as `struct_json` gives them.
+pub(super) fn denoise_params_json() -> Value {
+    use crate::denoise::{ConvParams, PackParams, ResampleParams};
+    let pack = vec![
+        field!(PackParams, tile_width, "u32", 1),
+        field!(PackParams, tile_height, "u32", 1),
+        field!(PackParams, src_width, "u32", 1),
+        field!(PackParams, src_height, "u32", 1),
+        field!(PackParams, offset_x, "u32", 1),
+        field!(PackParams, offset_y, "u32", 1),
+        field!(PackParams, channels, "u32", 1),
+        field!(PackParams, out_x, "u32", 1),
+        field!(PackParams, out_y, "u32", 1),
+        field!(PackParams, out_width, "u32", 1),
+        field!(PackParams, out_height, "u32", 1),
+        field!(PackParams, input_scale, "f32", 1),
+        field!(PackParams, output_scale, "f32", 1),
+        field!(PackParams, pu_norm, "f32", 1),
+        field!(PackParams, pu_max, "f32", 1),
+        field!(PackParams, pad, "u32", 1),
+    ];
+    let conv = vec![
+        field!(ConvParams, width, "u32", 1),
+        field!(ConvParams, height, "u32", 1),
+        field!(ConvParams, src_channels, "u32", 1),
+        field!(ConvParams, skip_channels, "u32", 1),
+        field!(ConvParams, out_channels, "u32", 1),
+        field!(ConvParams, group, "u32", 1),
+        field!(ConvParams, relu, "u32", 1),
+        field!(ConvParams, pad, "u32", 1),
+    ];
+    let resample = vec![
+        field!(ResampleParams, width, "u32", 1),
+        field!(ResampleParams, height, "u32", 1),
+        field!(ResampleParams, channels, "u32", 1),
+        field!(ResampleParams, pad, "u32", 1),
+    ];
+    json!({
+        "pack": struct_json(std::mem::size_of::<PackParams>(), &pack),
+        "conv": struct_json(std::mem::size_of::<ConvParams>(), &conv),
+        "resample": struct_json(std::mem::size_of::<ResampleParams>(), &resample),
+    })
+}
+
 fn struct_json(size: usize, fields: &[Field]) -> Value {
     let fields: serde_json::Map<String, Value> = fields
         .iter()
@@ -225,11 +270,21 @@ fn pipeline_choices() -> Value {
     // RADIANCE_OUTPUT and FEATURE_OUTPUT are render_tile's: off, as the
     // window's and the inspector's pipelines have them.
     let entry = made(entry_names, LEAST);
+    // The denoiser's input: render_tile's radiance and feature sums, as
+    // `render --denoise` traces them.
+    let features = made(
+        entry_names,
+        KernelVariant {
+            radiance_output: true,
+            feature_output: true,
+            ..LEAST
+        },
+    );
     json!({
         "walk": walks,
         "costs": {"off": costs(false), "on": costs(true)},
         "integrator": integrators,
-        "entry": {"accumulate": entry, "inspect": entry},
+        "entry": {"accumulate": entry, "inspect": entry, "features": features},
     })
 }
 
@@ -248,6 +303,7 @@ pub fn contract_json() -> Value {
         .collect();
     let accumulate = bindings::entry_point_bindings(UNSPLIT, ACCUMULATE_TILE.outputs);
     let inspect = bindings::entry_point_bindings(UNSPLIT, bindings::INSPECT_PIXEL.outputs);
+    let features = bindings::entry_point_bindings(UNSPLIT, bindings::RENDER_TILE.outputs);
     json!({
         "generator": format!("kdray {}", env!("CARGO_PKG_VERSION")),
         "files": {"kernel": KERNEL_FILE, "present": PRESENT_FILE, "inspect": INSPECT_FILE, "bundle": BUNDLE_FILE},
@@ -292,6 +348,21 @@ pub fn contract_json() -> Value {
             "version": crate::inspect::INSPECT_VERSION,
             // Inspection mode's line colours (linear RGB, as the window's).
             "colours": inspect_colours(),
+        },
+        // The denoiser's input on the page (denoise=1, N): render_tile with
+        // RADIANCE_OUTPUT and FEATURE_OUTPUT adds each pass's sample to
+        // per-pixel sums of radiance, albedo and normal (shaders/trace.wgsl,
+        // add_radiance), after the ray counters.
+        "features": {
+            "entry_point": bindings::RENDER_TILE.name,
+            "workgroup": bindings::RENDER_TILE.workgroup,
+            "bindings": features.iter().map(binding_json).collect::<Vec<_>>(),
+            "params": bindings::PARAMS.name,
+            "output": bindings::TILE_OUTPUT.name,
+            "header_bytes": std::mem::size_of::<crate::gpu::RayCounters>(),
+            "words_per_pixel": super::denoise::FEATURE_WORDS,
+            "albedo_word": super::denoise::ALBEDO_WORD,
+            "normal_word": super::denoise::NORMAL_WORD,
         },
         "optional_bindings": OPTIONAL_BINDINGS.iter().map(|(b, need)| json!({
             "name": b.name,
@@ -338,6 +409,24 @@ mod tests {
                 at += 4 * count;
             }
             assert_eq!(at, size);
+        }
+        let denoise = denoise_params_json();
+        for name in ["pack", "conv", "resample"] {
+            let s = &denoise[name];
+            let mut offsets: Vec<u64> = s["fields"]
+                .as_object()
+                .unwrap()
+                .values()
+                .map(|f| f["offset"].as_u64().unwrap())
+                .collect();
+            offsets.sort();
+            let expected: Vec<u64> = (0..offsets.len() as u64).map(|i| 4 * i).collect();
+            assert_eq!(offsets, expected, "{name}");
+            assert_eq!(
+                s["size"].as_u64().unwrap(),
+                4 * offsets.len() as u64,
+                "{name}"
+            );
         }
     }
 

@@ -1,11 +1,13 @@
 //! The site's files and how they are written: the page (web/, compiled in),
 //! the kernel and the present pass exactly as the native host assembles
-//! them (`gpu::shaders`), the contract and the bundle. The folder must be
+//! them (`gpu::shaders`), the contract and the bundle, and the denoiser's
+//! kernels and weights (`super::denoise`). The folder must be
 //! new, empty or a site written before (it holds [`SITE_MARKER`]): a user's
 //! folder is never clobbered. Each file is written atomically.
 
 use std::path::Path;
 
+use super::denoise::{self, SiteDenoiser};
 use super::{bundle, contract};
 use crate::error::{Error, Result};
 use crate::gpu::bindings::UNSPLIT;
@@ -15,7 +17,7 @@ use crate::gpu::{Accel, PreparedScene};
 pub const SITE_MARKER: &str = "contract.json";
 
 /// The page's own files (web/), by name.
-pub const PAGE_FILES: [(&str, &str); 8] = [
+pub const PAGE_FILES: [(&str, &str); 9] = [
     ("index.html", include_str!("../../web/index.html")),
     ("kdray.js", include_str!("../../web/kdray.js")),
     ("bundle.js", include_str!("../../web/bundle.js")),
@@ -24,6 +26,7 @@ pub const PAGE_FILES: [(&str, &str); 8] = [
     ("heatmap.js", include_str!("../../web/heatmap.js")),
     ("inspect.js", include_str!("../../web/inspect.js")),
     ("overlay.js", include_str!("../../web/overlay.js")),
+    ("denoise.js", include_str!("../../web/denoise.js")),
 ];
 
 /// Loads the scene at `scene_path` (errors as `render`'s), builds its k-d
@@ -36,7 +39,10 @@ pub fn export_site(scene_path: &Path, dir: &Path) -> Result<()> {
         .map_or("scene".into(), |n| n.to_string_lossy().into_owned());
     let prepared = PreparedScene::new(scene, Accel::Kdtree);
     let bundle = bundle::encode(&prepared, &name);
-    let contract = serde_json::to_vec_pretty(&contract::contract_json())?;
+    let denoiser = SiteDenoiser::new()?;
+    let mut contract = contract::contract_json();
+    contract["denoise"] = denoiser.contract();
+    let contract = serde_json::to_vec_pretty(&contract)?;
     std::fs::create_dir_all(dir).map_err(|e| Error::File {
         path: dir.to_path_buf(),
         what: "cannot create the site's folder",
@@ -54,7 +60,11 @@ pub fn export_site(scene_path: &Path, dir: &Path) -> Result<()> {
         (contract::PRESENT_FILE, present.as_bytes()),
         (contract::INSPECT_FILE, inspect.as_bytes()),
         (contract::BUNDLE_FILE, &bundle[..]),
+        (denoise::WEIGHTS_FILE, &denoiser.layout.bytes[..]),
     ]);
+    for (_, file, source) in denoise::SHADER_FILES {
+        files.push((file, source.as_bytes()));
+    }
     // The marker last: a site cut short is still refused... unless written
     // before, which is a site anyway.
     files.push((SITE_MARKER, &contract));

@@ -499,3 +499,164 @@ fn pages_play_animations_and_show_the_cost_heatmap() {
         "C twice did not restore the image"
     );
 }
+
+/// `denoise=1`: the page's denoised Cornell box (64 x 48, 4 samples)
+/// equals `kdray render --denoise` of the same within two levels per
+/// channel wherever their noisy images agree so, its input scale is native's autoexposure of the noisy image,
+/// and N shows the noisy image again, as `render` without --denoise. The
+/// page's autoexposure (denoise.js) is native's to the bit on an HDR image
+/// with dark, bright, NaN and infinite pixels.
+#[test]
+fn pages_denoise_the_path_traced_image_as_render_denoise_does() {
+    let out = repo_path("target/web-test-denoise");
+    let _ = std::fs::remove_dir_all(&out);
+    std::fs::create_dir_all(&out).unwrap();
+    export(&out, "scenes/cornell_box.toml", "cornell");
+    let scene = repo_path("scenes/cornell_box.toml");
+    let (w, h, n) = (64u32, 48u32, 4u32);
+    let native = |args: &[&str]| {
+        let size = [
+            "--width",
+            &w.to_string(),
+            "--height",
+            &h.to_string(),
+            "--samples",
+            &n.to_string(),
+        ]
+        .map(String::from);
+        let mut all = vec!["render", scene.to_str().unwrap()];
+        all.extend(size.iter().map(String::as_str));
+        all.extend(args);
+        let run = run_kdray(&out, &all, &[]);
+        assert_eq!(run.code, 0, "{}", run.stderr_text());
+    };
+    native(&["--denoise", "-o", "native.png"]);
+    native(&["--denoise", "-o", "native.exr"]);
+    native(&["-o", "noisy.png"]);
+    let server = Server::start(&out);
+    let jobs = serde_json::json!([{
+        "url": format!("http://127.0.0.1:{}/cornell/index.html?width={w}&height={h}&samples={n}&denoise=1", server.port),
+        "png": out.join("page.png"),
+        "denoise_off": out.join("page.noisy.png"),
+        // Two kernel variants (the accumulation's and the features') and
+        // the denoiser's kernels compile on SwiftShader first.
+        "timeout_ms": 300_000,
+    }]);
+    let results = drive(&jobs, &out);
+    drop(server);
+    let r = &results[0];
+    assert!(
+        title(r).starts_with("kdray: done") && r["failure"].is_null(),
+        "{r}"
+    );
+    assert_eq!(r["denoised"]["sample"], n, "{r}");
+    let overlay = r["overlay"].as_str().unwrap_or("");
+    assert!(overlay.contains("denoise: 4 samples denoised"), "{overlay}");
+
+    let (_, _, native_rgb) = read_png_rgb(&out.join("native.png")).unwrap();
+    let (pw, ph, page) = read_png_rgb(&out.join("page.png")).unwrap();
+    assert_eq!((pw, ph), (w, h));
+    let (_, _, noisy) = read_png_rgb(&out.join("noisy.png")).unwrap();
+    let (_, _, page_noisy) = read_png_rgb(&out.join("page.noisy.png")).unwrap();
+    let off = r["denoise_off_overlay"].as_str().unwrap_or("");
+    assert!(
+        !off.contains("denoise"),
+        "N did not turn denoising off: {off}"
+    );
+    let d = compare(&noisy, &page_noisy, w, h, 2);
+    eprintln!("noisy page vs render: {d:?}");
+    assert!(
+        d.pixels_over <= (w * h) as usize / 50,
+        "N: the page's noisy image vs render: {d:?}"
+    );
+    assert!(
+        changed_pixels(&noisy, &native_rgb) > noisy.len() / 3 / 4,
+        "the denoiser changed little"
+    );
+    // Within 2 levels, but near a pixel whose noisy colour already differs
+    // so much: a few paths differ between SwiftShader and lavapipe
+    // (measured: 4 noisy pixels, and 6 denoised pixels, largest 8 levels,
+    // each within a pixel of one of them), and the network spreads each.
+    let over = |a: &[u8], b: &[u8]| -> Vec<bool> {
+        a.chunks(3)
+            .zip(b.chunks(3))
+            .map(|(p, q)| p.iter().zip(q).any(|(x, y)| x.abs_diff(*y) > 2))
+            .collect()
+    };
+    let noisy_over = over(&noisy, &page_noisy);
+    let (w_, h_) = (w as i64, h as i64);
+    let near_noisy = |x: i64, y: i64| {
+        (-2..=2).any(|dy| {
+            (-2..=2).any(|dx| {
+                let (u, v) = (x + dx, y + dy);
+                u >= 0 && v >= 0 && u < w_ && v < h_ && noisy_over[(v * w_ + u) as usize]
+            })
+        })
+    };
+    let d = compare(&native_rgb, &page, w, h, 2);
+    eprintln!("denoised page vs render --denoise: {d:?}");
+    for (i, o) in over(&native_rgb, &page).into_iter().enumerate() {
+        let (x, y) = (i as i64 % w_, i as i64 / w_);
+        assert!(
+            !o || near_noisy(x, y),
+            "denoised pixel ({x}, {y}) differs from render --denoise by more than 2 levels, \
+             its noisy neighbourhood does not: {d:?}"
+        );
+    }
+    assert!(d.mean_flip <= MAX_MEAN_FLIP, "{d:?}");
+
+    // The input scale: native's autoexposure of the noisy radiance that
+    // `render --denoise -o native.exr` denoised (the page's own radiance
+    // differs from lavapipe's in the last bits, so within 1e-4).
+    let noisy_exr = image::open(out.join("native.noisy.exr"))
+        .unwrap()
+        .to_rgb32f();
+    let native_scale =
+        kdray_core::denoise::transfer::autoexposure(w as usize, h as usize, noisy_exr.as_raw());
+    let page_scale = r["denoised"]["scale"].as_f64().unwrap() as f32;
+    assert!(
+        (page_scale - native_scale).abs() <= 1e-4 * native_scale,
+        "page scale {page_scale}, native {native_scale}"
+    );
+
+    // denoise.js's autoexposure, to the bit: 40 x 27 pixels (uneven blocks).
+    let (aw, ah) = (40usize, 27usize);
+    let mut s = 12345u32;
+    let mut next = || {
+        s ^= s << 13;
+        s ^= s >> 17;
+        s ^= s << 5;
+        s
+    };
+    let rgb: Vec<f32> = (0..aw * ah * 3)
+        .map(|i| match next() % 50 {
+            0 => f32::NAN,
+            1 => f32::INFINITY,
+            2 => -1.0,
+            3..=10 => 0.0,
+            k => (next() >> 8) as f32 / (1u32 << 24) as f32 * (k as f32).powi(3) * (i % 7) as f32,
+        })
+        .collect();
+    let js = out.join("js");
+    std::fs::create_dir_all(&js).unwrap();
+    for file in ["denoise.js", "tracer.js", "heatmap.js"] {
+        std::fs::copy(out.join("cornell").join(file), js.join(file)).unwrap();
+    }
+    std::fs::write(js.join("package.json"), r#"{"type": "module"}"#).unwrap();
+    std::fs::write(js.join("image.f32"), bytemuck::cast_slice(&rgb)).unwrap();
+    let run = std::process::Command::new("node")
+        .arg(repo_path("tests/web/autoexposure.mjs"))
+        .arg(js.join("denoise.js"))
+        .args([aw.to_string(), ah.to_string()])
+        .arg(js.join("image.f32"))
+        .output()
+        .expect("node runs");
+    assert!(
+        run.status.success(),
+        "{}",
+        String::from_utf8_lossy(&run.stderr)
+    );
+    let bits: u32 = String::from_utf8_lossy(&run.stdout).trim().parse().unwrap();
+    let native = kdray_core::denoise::transfer::autoexposure(aw, ah, &rgb);
+    assert_eq!(f32::from_bits(bits), native, "denoise.js's autoexposure");
+}

@@ -154,10 +154,12 @@ fn page_pipeline(
 
 /// The native host's pipeline for the same choices: the uploaded scene's
 /// variant with the walk, costs and integrator, as the window's
-/// accumulation and the inspector make theirs; with the needs it reads.
+/// accumulation and the inspector make theirs (and for the denoiser's
+/// `features`, as `render --denoise` makes its radiance and feature
+/// output); with the needs it reads.
 fn native_pipeline(
     buffers: &kdray::gpu::SceneBuffers,
-    (walk, costs, integrator, _entry): (&str, bool, &str, &str),
+    (walk, costs, integrator, entry): (&str, bool, &str, &str),
 ) -> (BTreeMap<String, f64>, BTreeSet<String>) {
     use kdray::choice::Choice;
     use kdray::gpu::kernel_variant::Walk;
@@ -174,7 +176,8 @@ fn native_pipeline(
         walk,
         count_costs: costs,
         integrator,
-        radiance_output: false,
+        radiance_output: entry == "features",
+        feature_output: entry == "features",
         ..KernelVariant::for_scene(buffers)
     };
     let constants = variant
@@ -250,7 +253,7 @@ fn page_pipelines_set_the_overrides_the_native_host_sets() {
         for &walk in &walks {
             for costs in [false, true] {
                 for integrator in ["whitted", "path"] {
-                    for entry in ["accumulate", "inspect"] {
+                    for entry in ["accumulate", "inspect", "features"] {
                         let choices = (walk, costs, integrator, entry);
                         assert_eq!(
                             page_pipeline(&info, &contract, choices),
@@ -267,4 +270,93 @@ fn page_pipelines_set_the_overrides_the_native_host_sets() {
         let want: &[u64] = if name == "SPLIT_SCENE" { &[0] } else { &[0, 1] };
         assert!(values.iter().eq(want), "{name}: {values:?} over the scenes");
     }
+}
+
+/// What the site ships for the page's denoiser is the native denoiser's:
+/// contract.json's steps are the dispatches native records its pass from
+/// (`denoise::network_dispatches` of the shipped colour, albedo and
+/// normal network), each convolution's block of denoise.bin holds the
+/// weights native binds for that layer and group (laid out for this
+/// device's alignment), the kernels are shaders/denoise/ as native compiles them,
+/// the slot sizes are native's tensors and the transfer constants native's.
+#[test]
+fn the_site_ships_the_native_denoisers_weights_and_steps() {
+    use kdray::denoise::{network_dispatches, shipped_weights, WeightsLayout, BLOCK_BYTES};
+    use kdray_core::denoise::network::tensor_floats;
+    use kdray_core::denoise::transfer::{pu_forward_raw, HDR_Y_MAX};
+    let dir = TempDir::new("web-denoise");
+    let seed = repo_path("scenes/seed.toml");
+    let run = run_kdray(
+        &dir.path,
+        &["web", seed.to_str().unwrap(), "-o", "site"],
+        &[],
+    );
+    assert_eq!(run.code, 0, "{}", run.stderr_text());
+    let site = dir.join("site");
+    let contract: serde_json::Value =
+        serde_json::from_slice(&std::fs::read(site.join("contract.json")).unwrap()).unwrap();
+    let spec = &contract["denoise"];
+    let bin = std::fs::read(site.join(spec["weights_file"].as_str().unwrap())).unwrap();
+    assert_eq!(bin.len() as u64, spec["weights_bytes"].as_u64().unwrap());
+
+    let channels = spec["input_channels"].as_u64().unwrap() as usize;
+    assert_eq!(channels, 9, "the page denoises colour, albedo and normal");
+    let weights = shipped_weights(channels).unwrap();
+    let align = gpu().device.limits().min_uniform_buffer_offset_alignment;
+    let native = WeightsLayout::new(&weights.convs, u64::from(align)).unwrap();
+    let dispatches = network_dispatches(&native.layers, channels);
+    let steps = spec["steps"].as_array().unwrap();
+    assert_eq!(steps.len(), dispatches.len());
+    let block = BLOCK_BYTES as usize;
+    let web_align = spec["weights_alignment"].as_u64().unwrap();
+    for (i, (s, d)) in steps.iter().zip(&dispatches).enumerate() {
+        let slot = |v: Option<kdray_core::denoise::network::Slot>| {
+            v.map_or(serde_json::Value::Null, |v| format!("{v:?}").into())
+        };
+        assert_eq!(s["entry_point"], d.kernel.entry_point(), "dispatch {i}");
+        assert_eq!(s["shader"], d.kernel.shader(), "dispatch {i}");
+        assert_eq!(s["step"], d.step, "dispatch {i}");
+        assert_eq!(s["level"], d.level, "dispatch {i}");
+        assert_eq!(s["src"], slot(Some(d.src)), "dispatch {i}");
+        assert_eq!(s["skip"], slot(d.skip), "dispatch {i}");
+        assert_eq!(s["dst"], slot(Some(d.dst)), "dispatch {i}");
+        assert_eq!(s["src_channels"], d.src_channels, "dispatch {i}");
+        assert_eq!(s["skip_channels"], d.skip_channels, "dispatch {i}");
+        assert_eq!(s["out_channels"], d.out_channels, "dispatch {i}");
+        assert_eq!(s["group"], d.group, "dispatch {i}");
+        assert_eq!(s["relu"], d.relu, "dispatch {i}");
+        assert_eq!(s["workgroups_z"], d.workgroups(16, 16)[2], "dispatch {i}");
+        if d.kernel == kdray::denoise::DenoiseKernel::Conv {
+            let at = s["weights_offset"].as_u64().unwrap();
+            assert_eq!(at % web_align, 0, "dispatch {i}");
+            let at = at as usize;
+            let native_at = d.weights_offset as usize;
+            // What conv.wgsl reads of the block: eight biases, then eight
+            // weights per input channel and tap (the rest is the next
+            // groups', placed by each layout's own alignment).
+            let read = 4 * 8 * (1 + 9 * (d.src_channels + d.skip_channels) as usize);
+            assert!(read <= block && at + block <= bin.len(), "dispatch {i}");
+            assert!(
+                bin[at..at + read] == native.bytes[native_at..native_at + read],
+                "dispatch {i}: the site's weights block differs from native's"
+            );
+        }
+    }
+    // The kernels, as native compiles them.
+    for (name, file, source) in kdray::web::denoise::SHADER_FILES {
+        assert_eq!(spec["shaders"][name], file);
+        assert_eq!(std::fs::read_to_string(site.join(file)).unwrap(), source);
+    }
+    // Slot sizes: a 64 x 48 tile's tensors, as native allocates them.
+    let (_, per_slot) = tensor_floats(channels, 48, 64);
+    let floats: Vec<f64> = spec["slot_floats_per_pixel"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|v| v.as_f64().unwrap() * 64.0 * 48.0)
+        .collect();
+    assert_eq!(floats, per_slot.map(|f| f as f64));
+    let pu_max = pu_forward_raw(HDR_Y_MAX);
+    assert_eq!(spec["pu_max"].as_f64().unwrap() as f32, pu_max);
+    assert_eq!(spec["pu_norm"].as_f64().unwrap() as f32, 1.0 / pu_max);
 }

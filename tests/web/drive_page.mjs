@@ -12,7 +12,10 @@
 // the camera, screenshot when refined (`after`; the lines drawn come back
 // in `drawn`), press X (lines off), screenshot (`before`)) }.
 // Every result has `pipelines`: the entry point, walk, costs, integrator
-// and override constants of each kernel pipeline the page made.
+// and override constants of each kernel pipeline the page made, and
+// `denoised`: the denoised image's { sample, scale, ms } (or null). A
+// job's `denoise_off` (a path): press N, wait for the image, save its PNG;
+// its `timeout_ms`: how long the page may take to finish (TIMEOUT_MS).
 // The page's contract (docs/web.md): document.title starts with
 // "kdray: done" or "kdray: error"; window.kdray.png() is a PNG data URL.
 
@@ -30,8 +33,8 @@ const browser = await chromium.launch({
   executablePath: process.env.KDRAY_CHROMIUM ?? '/usr/bin/chromium', headless: false, args: FLAGS,
 });
 
-const finished = (page) => page.waitForFunction(
-  () => /^kdray: (done|error)/.test(document.title), null, { timeout: TIMEOUT_MS, polling: 50 });
+const finished = (page, timeout = TIMEOUT_MS) => page.waitForFunction(
+  () => /^kdray: (done|error)/.test(document.title), null, { timeout, polling: 50 });
 // Refinement finished with the heatmap shown or not.
 const settled = (page, heatmap) => page.waitForFunction(
   (h) => window.kdray.state.done && window.kdray.state.heatmap === h && (window.kdray.state.tracer.heatScale !== null) === h,
@@ -48,7 +51,7 @@ for (const job of jobs) {
   const result = { url: job.url };
   try {
     await page.goto(job.url);
-    await finished(page);
+    await finished(page, job.timeout_ms ?? TIMEOUT_MS);
     result.title = await page.title();
     result.message = await page.evaluate(() => {
       const m = document.getElementById('message');
@@ -91,6 +94,14 @@ for (const job of jobs) {
         from, { timeout: TIMEOUT_MS, polling: 50 });
       result.toggled_overlay = await overlayText(page);
       await savePng(page, job.toggle);
+    }
+    result.denoised = await page.evaluate(() => window.kdray.state.denoised);
+    if (job.denoise_off && result.title.startsWith('kdray: done')) {
+      await page.keyboard.press('n');
+      await page.waitForFunction(() => !window.kdray.state.denoise && window.kdray.state.done &&
+        !document.getElementById('overlay').textContent.includes('denoise:'), null, { timeout: TIMEOUT_MS, polling: 50 });
+      result.denoise_off_overlay = await overlayText(page);
+      await savePng(page, job.denoise_off);
     }
     if (job.inspect && result.title.startsWith('kdray: done')) {
       result.inspections = [];

@@ -1,0 +1,235 @@
+// The page's denoiser (denoise=1, key N): OIDN's rt_hdr_alb_nrm network as
+// `kdray render --denoise` runs it, in the site's copies of
+// shaders/denoise/ (contract.json's `denoise.shaders`). Everything it runs
+// comes from contract.json's `denoise`: the weights file in the layout the
+// native denoiser uploads, the table of dispatches native records its pass
+// from (kernel, slots, channels, group, weights block, level), the
+// kernels' uniform layouts and the transfer function's constants. The
+// page derives only sizes from its image: the tile is the image rounded up
+// to 16 pixels, one tile, which is native's plan for every image whose
+// largest tensor fits the adapter's storage binding; a larger image is
+// refused (native would cut it into tiles).
+
+import { PageError, setField } from './tracer.js';
+
+const f = Math.fround;
+const MiB = (n) => `${(n / 1048576).toFixed(1)} MiB`;
+
+// OIDN's autoexposure of `rgb` (three floats a pixel, row-major) in the
+// steps of kdray_core's denoise::transfer::autoexposure: blocks of about
+// 16 x 16 pixels, each block's mean Rec. 709 luminance (f32 terms summed
+// in f64), the mean log2 of those above 1e-8, and the scale that brings
+// their geometric mean to 0.18 (1 when no block is bright enough).
+export function autoexposure(width, height, rgb) {
+  const KEY = f(0.18);
+  const EPS = f(1e-8);
+  const K = 16;
+  const [lr, lg, lb] = [f(0.212671), f(0.71516), f(0.072169)];
+  const F32_MAX = 3.4028234663852886e38;
+  const clean = (v) => (Number.isNaN(v) ? 0 : Math.min(Math.max(v, 0), F32_MAX));
+  const hk = Math.floor((height + K / 2) / K);
+  const wk = Math.floor((width + K / 2) / K);
+  let sum = 0;
+  let count = 0;
+  for (let i = 0; i < hk; i++) {
+    const y0 = Math.floor((i * height) / hk);
+    const y1 = Math.floor(((i + 1) * height) / hk);
+    for (let j = 0; j < wk; j++) {
+      const x0 = Math.floor((j * width) / wk);
+      const x1 = Math.floor(((j + 1) * width) / wk);
+      let l = 0;
+      for (let y = y0; y < y1; y++) {
+        for (let x = x0; x < x1; x++) {
+          const at = (y * width + x) * 3;
+          const r = clean(rgb[at]);
+          const g = clean(rgb[at + 1]);
+          const b = clean(rgb[at + 2]);
+          l += f(f(f(lr * r) + f(lg * g)) + f(lb * b));
+        }
+      }
+      const mean = f(l / ((y1 - y0) * (x1 - x0)));
+      if (mean > EPS) {
+        sum += f(Math.log2(mean));
+        count += 1;
+      }
+    }
+  }
+  return count > 0 ? f(KEY / f(2 ** f(sum / count))) : 1;
+}
+
+// The colour, albedo and normal images (three floats a pixel each, one
+// after the other) from render_tile's feature output `words` (a
+// Float32Array of the whole buffer) of `pixels` pixels and `samples`
+// samples: each sum divided by the samples in f32, as the native renderer
+// divides them (src/gpu/renderer.rs).
+export function featureImages(words, pixels, samples, format) {
+  const images = new Float32Array(9 * pixels);
+  const head = format.header_bytes / 4;
+  const per = format.words_per_pixel;
+  const starts = [0, format.albedo_word, format.normal_word];
+  for (let i = 0; i < pixels; i++) {
+    const at = head + i * per;
+    starts.forEach((start, k) => {
+      for (let c = 0; c < 3; c++) images[k * 3 * pixels + 3 * i + c] = f(words[at + start + c] / samples);
+    });
+  }
+  return images;
+}
+
+export class Denoiser {
+  // A Denoiser, its pipelines checked: a kernel the browser refuses is a
+  // PageError with the browser's message.
+  static async create(device, spec, sources, weights) {
+    device.pushErrorScope('validation');
+    const denoiser = new Denoiser(device, spec, sources, weights);
+    const error = await device.popErrorScope();
+    if (error) throw new PageError(`the denoiser's kernels: ${error.message}`);
+    return denoiser;
+  }
+
+  // The network on `device`: `spec` is contract.json's `denoise`,
+  // `sources` the WGSL of each of its shader files by name, `weights` the
+  // weights file's bytes.
+  constructor(device, spec, sources, weights) {
+    this.device = device;
+    this.spec = spec;
+    const { limits } = device;
+    if (limits.maxUniformBufferBindingSize < spec.block_bytes) {
+      throw new PageError(`the denoiser binds ${spec.block_bytes}-byte uniform buffers; the adapter allows ` +
+        `${limits.maxUniformBufferBindingSize} (maxUniformBufferBindingSize)`);
+    }
+    if (spec.weights_alignment % limits.minUniformBufferOffsetAlignment !== 0) {
+      throw new PageError(`the denoiser's weights blocks are ${spec.weights_alignment}-byte aligned; the adapter ` +
+        `needs ${limits.minUniformBufferOffsetAlignment} (minUniformBufferOffsetAlignment)`);
+    }
+    if (weights.byteLength !== spec.weights_bytes) {
+      throw new PageError(`${spec.weights_file} is ${weights.byteLength} bytes, not the ${spec.weights_bytes} contract.json says`);
+    }
+    const modules = new Map(Object.entries(sources).map(([name, code]) => [name,
+      device.createShaderModule({ label: `denoise ${name}`, code })]));
+    this.pipelines = new Map();
+    const pipeline = (shader, entryPoint) => {
+      const id = `${shader}|${entryPoint}`;
+      if (!this.pipelines.has(id)) {
+        this.pipelines.set(id, device.createComputePipeline({
+          label: `denoise ${entryPoint}`, layout: 'auto', compute: { module: modules.get(shader), entryPoint },
+        }));
+      }
+      return this.pipelines.get(id);
+    };
+    this.pipeline = pipeline;
+    this.pack = pipeline('pack', spec.pack_entry_point);
+    this.unpack = pipeline('pack', spec.unpack_entry_point);
+    for (const s of spec.steps) pipeline(s.shader, s.entry_point);
+    this.weights = device.createBuffer({ label: 'denoise weights', size: weights.byteLength, usage: GPUBufferUsage.UNIFORM | GPUBufferUsage.COPY_DST });
+    device.queue.writeBuffer(this.weights, 0, weights);
+    this.run = null;
+  }
+
+  // The buffers and bind groups for a `width` x `height` image: one tile
+  // of the image rounded up to the network's alignment.
+  prepare(width, height) {
+    if (this.run && this.run.width === width && this.run.height === height) return this.run;
+    this.release();
+    const { device, spec } = this;
+    const a = spec.alignment;
+    const tw = Math.ceil(width / a) * a;
+    const th = Math.ceil(height / a) * a;
+    const slotBytes = spec.slot_floats_per_pixel.map((floats) => 4 * floats * tw * th);
+    const largest = Math.max(...slotBytes);
+    const limit = device.limits.maxStorageBufferBindingSize;
+    if (largest > limit) {
+      throw new PageError(`denoising ${width} x ${height} needs a ${MiB(largest)} tensor, over the adapter's ` +
+        `${MiB(limit)} storage binding; the page denoises in one tile (kdray render --denoise cuts tiles)`);
+    }
+    const storage = (label, bytes, extra = 0) => device.createBuffer({ label, size: Math.max(4, bytes), usage: GPUBufferUsage.STORAGE | extra });
+    const slots = new Map(spec.slots.map((name, i) => [name, storage(`denoise ${name}`, slotBytes[i])]));
+    const images = storage('denoise images', 4 * spec.input_channels * width * height, GPUBufferUsage.COPY_DST);
+    const outBytes = 4 * spec.output_channels * width * height;
+    const out = storage('denoise output', outBytes, GPUBufferUsage.COPY_SRC);
+    const readback = device.createBuffer({ size: outBytes, usage: GPUBufferUsage.MAP_READ | GPUBufferUsage.COPY_DST });
+    const packParams = device.createBuffer({ size: spec.params.pack.size, usage: GPUBufferUsage.UNIFORM | GPUBufferUsage.COPY_DST });
+    const uniforms = [];
+    const uniform = (layout, values) => {
+      const bytes = new ArrayBuffer(layout.size);
+      for (const [name, v] of Object.entries(values)) setField(layout, bytes, name, v);
+      const buffer = device.createBuffer({ size: layout.size, usage: GPUBufferUsage.UNIFORM | GPUBufferUsage.COPY_DST });
+      device.queue.writeBuffer(buffer, 0, bytes);
+      uniforms.push(buffer);
+      return buffer;
+    };
+    const group = (pipeline, resources) => device.createBindGroup({
+      layout: pipeline.getBindGroupLayout(0),
+      entries: resources.map((resource, binding) => ({ binding, resource })),
+    });
+    const whole = (buffer) => ({ buffer });
+    const groupsOf = (n) => Math.ceil(n / spec.workgroup);
+    const dispatches = spec.steps.map((s) => {
+      const w = tw >> s.level;
+      const h = th >> s.level;
+      const pipeline = this.pipeline(s.shader, s.entry_point);
+      let resources;
+      if (s.entry_point === 'conv3x3') {
+        const params = uniform(spec.params.conv, {
+          width: w, height: h, src_channels: s.src_channels, skip_channels: s.skip_channels,
+          out_channels: s.out_channels, group: s.group, relu: s.relu ? 1 : 0,
+        });
+        resources = [whole(params), { buffer: this.weights, offset: s.weights_offset, size: spec.block_bytes },
+          whole(slots.get(s.src)), whole(slots.get(s.skip ?? s.src)), whole(slots.get(s.dst))];
+      } else {
+        const params = uniform(spec.params.resample, { width: w, height: h, channels: s.out_channels });
+        resources = [whole(params), whole(slots.get(s.src)), whole(slots.get(s.dst))];
+      }
+      return { pipeline, group: group(pipeline, resources), workgroups: [groupsOf(w), groupsOf(h), s.workgroups_z] };
+    });
+    const pack = { pipeline: this.pack, group: group(this.pack, [packParams, images, slots.get(spec.input_slot)].map(whole)),
+      workgroups: [groupsOf(tw), groupsOf(th), 1] };
+    const unpack = { pipeline: this.unpack, group: group(this.unpack, [packParams, slots.get(spec.output_slot), out].map(whole)),
+      workgroups: [groupsOf(width), groupsOf(height), 1] };
+    this.run = {
+      width, height, tw, th, images, out, readback, packParams, pack, dispatches, unpack,
+      buffers: [...slots.values(), images, out, readback, packParams, ...uniforms],
+    };
+    return this.run;
+  }
+
+  release() {
+    for (const b of this.run?.buffers ?? []) b.destroy();
+    this.run = null;
+  }
+
+  // The denoised image (three floats a pixel) of `images` (colour, albedo
+  // and normal of a `width` x `height` image, as featureImages gives
+  // them), colour scaled by `scale` on the way in and back by its inverse.
+  async denoise(width, height, images, scale) {
+    const { device, spec } = this;
+    const run = this.prepare(width, height);
+    const params = new ArrayBuffer(spec.params.pack.size);
+    const set = (name, v) => setField(spec.params.pack, params, name, v);
+    set('tile_width', run.tw); set('tile_height', run.th);
+    set('src_width', width); set('src_height', height);
+    set('offset_x', 0); set('offset_y', 0);
+    set('channels', spec.input_channels);
+    set('out_x', 0); set('out_y', 0); set('out_width', width); set('out_height', height);
+    set('input_scale', scale);
+    set('output_scale', scale !== 0 ? f(1 / scale) : 0);
+    set('pu_norm', spec.pu_norm); set('pu_max', spec.pu_max);
+    device.queue.writeBuffer(run.packParams, 0, params);
+    device.queue.writeBuffer(run.images, 0, images);
+    const encoder = device.createCommandEncoder();
+    const pass = encoder.beginComputePass();
+    for (const d of [run.pack, ...run.dispatches, run.unpack]) {
+      pass.setPipeline(d.pipeline);
+      pass.setBindGroup(0, d.group);
+      pass.dispatchWorkgroups(...d.workgroups);
+    }
+    pass.end();
+    const bytes = 4 * spec.output_channels * width * height;
+    encoder.copyBufferToBuffer(run.out, 0, run.readback, 0, bytes);
+    device.queue.submit([encoder.finish()]);
+    await run.readback.mapAsync(GPUMapMode.READ);
+    const rgb = new Float32Array(run.readback.getMappedRange().slice(0));
+    run.readback.unmap();
+    return rgb;
+  }
+}
