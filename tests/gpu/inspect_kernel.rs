@@ -1,8 +1,10 @@
 //! The inspect kernel (`inspect_pixel`, shaders/walk_record.wgsl) against
 //! the renderer and the CPU mirror: the sample it logs is the rendered
 //! pixel's (colour or radiance, and the walk cost `--stats` counts for it),
-//! in both integrators; and its rays and walks are the CPU mirror's, step
-//! for step, on random pixels of the inspect tests' scenes with every walk.
+//! in both integrators; its rays and walks are the CPU mirror's, step
+//! for step, on random pixels of the inspect tests' scenes with every walk;
+//! and each path-traced shadow ray names its light with the probability the
+//! lights' power gives it (the CPU reference's `LightChoice`).
 
 use crate::common;
 use crate::inspect::pixels;
