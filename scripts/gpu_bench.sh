@@ -24,6 +24,8 @@
 #         - the path tracer: the Cornell box at 1024x1024, 64 samples, with
 #           every walk (samples and rays per second in each --stats JSON),
 #           and the bunny under the sky image at 1920x1080, 16 samples;
+#         - the denoiser on a 1920x1080 image with albedo and normal
+#           (`kdray denoise --stats`);
 #         - the bunny's camera and shadow rays at 1920x1080 and 3840x2160
 #           with every walk, Embree 4 on one CPU core at 1920x1080, and
 #           Mitsuba 3's `cuda_ad_rgb` variant on the same frames where it
@@ -185,6 +187,19 @@ run() {
     step wavefront-bound 40 "$kdray" bench --wavefront-bound --scene scenes/cornell_box.toml \
         --width 1024 --height 1024 --repeat 5 --out "$out/path" >/dev/null
 
+    # The denoiser at 1920x1080: its inputs from one path-traced sample of
+    # the Cornell box, then `kdray denoise --stats` (set-up, and the image's
+    # denoise, in ms). The images stay in /tmp (about 25 MB each); the
+    # figures go to OUT_DIR.
+    local images
+    images=$(mktemp -d)
+    step denoise-inputs 40 "$kdray" render scenes/cornell_box.toml --width 1920 --height 1080 \
+        --samples 1 --denoise -o "$images/cornell.exr" >/dev/null &&
+        step denoise-1080p 60 "$kdray" denoise "$images/cornell.noisy.exr" \
+            --albedo "$images/cornell.albedo.exr" --normal "$images/cornell.normal.exr" \
+            -o "$images/denoised.exr" --stats >"$out/denoise-1080p.json"
+    rm -rf "$images"
+
     # The bunny's camera and shadow rays, the peers' frame (docs/peers.md).
     if [ ! -f "$bunny" ]; then
         echo "gpu_bench.sh: no bunny at $bunny: its frames are not measured"
@@ -224,7 +239,7 @@ run)
     exit "${PIPESTATUS[0]}"
     ;;
 *)
-    sed -n '2,33p' "$0" >&2
+    sed -n '2,35p' "$0" >&2
     exit 2
     ;;
 esac
