@@ -9,7 +9,7 @@
 //! - render.sbatch and finish.sbatch ([`scripts`]);
 //! - the result: a still's one PNG (and, split by samples, its EXR), or the
 //!   frames 0000.png, 0001.png, ... (and an MP4, [`video`]); denoised when
-//!   the plan says so ([`denoised`]);
+//!   the plan says so ([`crate::output::denoised`]);
 //! - parts/: the still's bands or shares of samples ([`samples`]), every
 //!   job's log, the finishing job's marker.
 //!
@@ -18,7 +18,6 @@
 //! file is written atomically, so a killed task leaves no half file and a
 //! re-run renders only what is missing.
 
-pub mod denoised;
 pub mod fingerprint;
 pub mod plan;
 pub mod prepare;

@@ -179,12 +179,12 @@ impl FarmPlan {
     /// Every file the finishing job writes at DIR's top level: the
     /// still's PNG, its EXR (split by samples) and, denoised, the
     /// denoiser's three inputs beside the EXR
-    /// ([`super::denoised::denoise_input_paths`]); an animation's MP4.
+    /// ([`crate::output::denoised::denoise_input_paths`]); an animation's MP4.
     pub fn final_files(&self, dir: &Path) -> Vec<PathBuf> {
         let mut files = vec![self.final_path(dir)];
         if let Some(exr) = self.final_exr_path(dir) {
             if self.denoise {
-                files.extend(super::denoised::denoise_input_paths(&exr));
+                files.extend(crate::output::denoised::denoise_input_paths(&exr));
             }
             files.push(exr);
         }

@@ -15,11 +15,11 @@
 
 use std::path::{Path, PathBuf};
 
-use super::denoised::NoisyImage;
 use super::plan::{share_feature_paths, FarmPlan, Finished};
 use crate::denoise::Denoiser;
 use crate::error::{Error, Result};
 use crate::gpu::{GpuContext, GpuScene};
+use crate::output::denoised::NoisyImage;
 use crate::output::exr::{read_exr_rgb, write_exr_atomic};
 use crate::render::FramePart;
 use crate::render::StreamOptions;

@@ -11,12 +11,12 @@ use std::time::Instant;
 
 use serde::Serialize;
 
-use super::denoised::NoisyImage;
 use super::plan::{self, FarmPlan, Finished, Work};
 use super::scripts::INDEX_VARIABLES;
 use crate::denoise::Denoiser;
 use crate::error::{Error, Result};
 use crate::gpu::{GpuContext, GpuScene, PreparedScene};
+use crate::output::denoised::NoisyImage;
 use crate::output::PngStream;
 use crate::render::FramePart;
 use crate::render::StreamOptions;

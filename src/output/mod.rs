@@ -3,8 +3,10 @@
 //! Renders stream their rows into the `png` crate's encoder as they come
 //! off the GPU ([`PngStream`]: memory holds one band, never the whole
 //! image); images held in memory (screenshots, plots, heatmaps) are
-//! encoded and read by the `image` crate.
+//! encoded and read by the `image` crate. [`denoised`]: a path-traced
+//! image's denoiser inputs, denoised and written with them.
 
+pub mod denoised;
 pub mod exr;
 pub mod font;
 pub mod heatmap;

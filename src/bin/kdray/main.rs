@@ -13,6 +13,7 @@ use std::process::ExitCode;
 use args::{Cli, Command, InspectArgs, RenderArgs};
 use clap::Parser;
 use kdray::gpu::GpuContext;
+use kdray::output::denoised::NoisyImage;
 use kdray::render::StreamOptions;
 use kdray::{Error, Result};
 
@@ -327,25 +328,13 @@ enum ImageOut {
 }
 
 /// A path-traced image to denoise: its radiance, albedo and normal
-/// gathered whole, denoised by OIDN's `rt_hdr_alb_nrm` network, then
-/// written as a PNG tone-mapped as the scene says, or as OpenEXR beside
-/// the denoiser's three inputs ([`denoise_input_paths`]).
+/// gathered whole, then denoised and written with its inputs
+/// ([`NoisyImage::write`]).
 struct Denoised {
     path: PathBuf,
-    width: u32,
-    height: u32,
-    /// The PNG's tone map and scale (2^exposure).
-    tone_map: (kdray::scene::ToneMap, f32),
-    color: Vec<f32>,
-    albedo: Vec<f32>,
-    normal: Vec<f32>,
-}
-
-/// The files `render --denoise -o X.exr` writes beside X.exr: the noisy
-/// radiance, the albedo and the normal, as `X.noisy.exr`, `X.albedo.exr`
-/// and `X.normal.exr`.
-fn denoise_input_paths(exr: &Path) -> [PathBuf; 3] {
-    ["noisy.exr", "albedo.exr", "normal.exr"].map(|e| exr.with_extension(e))
+    /// The PNG's tone map and exposure.
+    render: kdray::scene::RenderSettings,
+    image: NoisyImage,
 }
 
 impl ImageOut {
@@ -360,12 +349,14 @@ impl ImageOut {
             }
             return Ok(ImageOut::Denoised(Denoised {
                 path: path.to_path_buf(),
-                width,
-                height,
-                tone_map: (render.tone_map, render.exposure.exp2() as f32),
-                color: Vec::with_capacity(pixels),
-                albedo: Vec::with_capacity(pixels),
-                normal: Vec::with_capacity(pixels),
+                render: *render,
+                image: NoisyImage {
+                    width,
+                    height,
+                    color: Vec::with_capacity(pixels),
+                    albedo: Vec::with_capacity(pixels),
+                    normal: Vec::with_capacity(pixels),
+                },
             }));
         }
         if kdray::output::exr::is_exr_path(path) {
@@ -405,9 +396,9 @@ impl ImageOut {
                 let features = band.features.ok_or_else(|| {
                     Error::Output("the renderer returned no albedo and normal to denoise".into())
                 })?;
-                d.color.extend_from_slice(radiance()?);
-                d.albedo.extend_from_slice(features.albedo);
-                d.normal.extend_from_slice(features.normal);
+                d.image.color.extend_from_slice(radiance()?);
+                d.image.albedo.extend_from_slice(features.albedo);
+                d.image.normal.extend_from_slice(features.normal);
                 Ok(())
             }
         }
@@ -441,25 +432,7 @@ impl ImageOut {
 
 impl Denoised {
     fn finish(self, denoiser: &kdray::denoise::Denoiser<'_>) -> Result<()> {
-        use kdray::output::exr::{is_exr_path, write_exr_atomic};
-        let (w, h) = (self.width, self.height);
-        let images = kdray_core::denoise::DenoiseImages {
-            width: w as usize,
-            height: h as usize,
-            color: &self.color,
-            albedo: Some(&self.albedo),
-            normal: Some(&self.normal),
-        };
-        let denoised = denoiser.denoise(&images, None)?;
-        if !is_exr_path(&self.path) {
-            let (curve, scale) = self.tone_map;
-            let rgb: Vec<u8> = denoised.iter().map(|&v| curve.to_srgb8(v, scale)).collect();
-            return kdray::output::write_png_atomic(&self.path, w, h, &rgb);
-        }
-        let [noisy, albedo, normal] = denoise_input_paths(&self.path);
-        write_exr_atomic(&noisy, w, h, &self.color)?;
-        write_exr_atomic(&albedo, w, h, &self.albedo)?;
-        write_exr_atomic(&normal, w, h, &self.normal)?;
-        write_exr_atomic(&self.path, w, h, &denoised)
+        let denoised = self.image.denoise(denoiser)?;
+        self.image.write(&denoised, &self.path, &self.render)
     }
 }

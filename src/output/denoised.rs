@@ -1,6 +1,6 @@
-//! A farm's denoised images: the path tracer's radiance, albedo and normal
-//! of a whole image denoised by the GPU denoiser ([`Denoiser`]) and written
-//! as `kdray render --denoise` writes them (scene-format.md, "Denoised
+//! Denoised images: the path tracer's radiance, albedo and normal of a
+//! whole image denoised by the GPU denoiser ([`Denoiser`]) and written as
+//! `kdray render --denoise` and the farm write them (scene-format.md, "Denoised
 //! output"): a PNG tone-mapped as the scene says, or an EXR of the denoised
 //! radiance beside the denoiser's three inputs.
 
