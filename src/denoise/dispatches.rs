@@ -7,11 +7,35 @@
 //! this table, and `kdray web` writes the same table into the site's
 //! contract for the page, so the two run the same dispatches.
 
+use bytemuck::{Pod, Zeroable};
 use kdray_core::denoise::network::{step_channels, Slot, Step, STEPS};
 
 use super::gpu_weights::LayerBlocks;
 use super::kernels::WORKGROUP;
-use super::tile_run::{ConvParams, ResampleParams};
+
+/// conv.wgsl's `ConvParams`.
+#[repr(C)]
+#[derive(Clone, Copy, Pod, Zeroable)]
+pub struct ConvParams {
+    pub width: u32,
+    pub height: u32,
+    pub src_channels: u32,
+    pub skip_channels: u32,
+    pub out_channels: u32,
+    pub group: u32,
+    pub relu: u32,
+    pub pad: u32,
+}
+
+/// resample.wgsl's `ResampleParams` (the output's size).
+#[repr(C)]
+#[derive(Clone, Copy, Pod, Zeroable)]
+pub struct ResampleParams {
+    pub width: u32,
+    pub height: u32,
+    pub channels: u32,
+    pub pad: u32,
+}
 
 /// The kernel of a dispatch (shaders/denoise/).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]

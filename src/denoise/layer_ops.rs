@@ -7,8 +7,9 @@
 use kdray_core::denoise::layers::Tensor;
 use kdray_core::denoise::ConvWeights;
 
+use super::dispatches::{ConvParams, ResampleParams};
 use super::gpu_weights::GpuWeights;
-use super::tile_run::{bind_resources, ConvParams, ResampleParams};
+use super::tile_run::bind_resources;
 use super::Denoiser;
 use crate::error::{Error, Result};
 use crate::gpu::context::buffer_holding;

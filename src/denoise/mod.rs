@@ -21,7 +21,7 @@ mod layer_ops;
 mod tile_run;
 
 pub use denoiser::{shipped_weights, Denoiser};
-pub use dispatches::{network_dispatches, DenoiseKernel, StepDispatch};
+pub use dispatches::{network_dispatches, ConvParams, DenoiseKernel, ResampleParams, StepDispatch};
 pub use gpu_weights::{GpuWeights, LayerBlocks, WeightsLayout, BLOCK_BYTES};
 pub use kernels::{CONV_WGSL, PACK_WGSL, RESAMPLE_WGSL, WORKGROUP};
-pub use tile_run::{ConvParams, PackParams, ResampleParams};
+pub use tile_run::PackParams;

@@ -16,30 +16,6 @@ use crate::error::{Error, Result};
 use crate::gpu::context::buffer_holding;
 use crate::gpu::{max_binding_bytes, GpuContext};
 
-/// conv.wgsl's `ConvParams`.
-#[repr(C)]
-#[derive(Clone, Copy, Pod, Zeroable)]
-pub struct ConvParams {
-    pub width: u32,
-    pub height: u32,
-    pub src_channels: u32,
-    pub skip_channels: u32,
-    pub out_channels: u32,
-    pub group: u32,
-    pub relu: u32,
-    pub pad: u32,
-}
-
-/// resample.wgsl's `ResampleParams` (the output's size).
-#[repr(C)]
-#[derive(Clone, Copy, Pod, Zeroable)]
-pub struct ResampleParams {
-    pub width: u32,
-    pub height: u32,
-    pub channels: u32,
-    pub pad: u32,
-}
-
 /// pack.wgsl's `PackParams`.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, Pod, Zeroable)]

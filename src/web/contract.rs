@@ -109,6 +109,12 @@ fn present_params_fields() -> Vec<Field> {
     ]
 }
 
+/// Words per pixel of render_tile's output with FEATURE_OUTPUT, and where
+/// the albedo and normal sums start (shaders/trace.wgsl, add_radiance).
+const FEATURE_WORDS: usize = 12;
+const ALBEDO_WORD: usize = 4;
+const NORMAL_WORD: usize = 8;
+
 /// The denoise kernels' uniforms (shaders/denoise/), by name: their
 /// layouts as `struct_json` gives them.
 pub(super) fn denoise_params_json() -> Value {
@@ -360,9 +366,9 @@ pub fn contract_json() -> Value {
             "params": bindings::PARAMS.name,
             "output": bindings::TILE_OUTPUT.name,
             "header_bytes": std::mem::size_of::<crate::gpu::RayCounters>(),
-            "words_per_pixel": super::denoise::FEATURE_WORDS,
-            "albedo_word": super::denoise::ALBEDO_WORD,
-            "normal_word": super::denoise::NORMAL_WORD,
+            "words_per_pixel": FEATURE_WORDS,
+            "albedo_word": ALBEDO_WORD,
+            "normal_word": NORMAL_WORD,
         },
         "optional_bindings": OPTIONAL_BINDINGS.iter().map(|(b, need)| json!({
             "name": b.name,

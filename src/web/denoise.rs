@@ -34,12 +34,6 @@ pub const INPUT_CHANNELS: usize = 9;
 /// 256), so every adapter binds them.
 pub const WEB_UNIFORM_OFFSET_ALIGNMENT: u64 = 256;
 
-/// Words per pixel of render_tile's output with FEATURE_OUTPUT, and where
-/// the albedo and normal sums start (shaders/trace.wgsl, add_radiance).
-pub const FEATURE_WORDS: usize = 12;
-pub const ALBEDO_WORD: usize = 4;
-pub const NORMAL_WORD: usize = 8;
-
 /// The page's network: its weights as the site ships them.
 pub struct SiteDenoiser {
     pub layout: WeightsLayout,
