@@ -172,15 +172,17 @@ export class Denoiser {
       if (s.entry_point === 'conv3x3') {
         const params = uniform(spec.params.conv, {
           width: w, height: h, src_channels: s.src_channels, skip_channels: s.skip_channels,
-          out_channels: s.out_channels, group: s.group, relu: s.relu ? 1 : 0,
+          out_channels: s.out_channels, first_output: s.first_output, relu: s.relu ? 1 : 0,
         });
-        resources = [whole(params), { buffer: this.weights, offset: s.weights_offset, size: spec.block_bytes },
+        const block = (offset) => ({ buffer: this.weights, offset, size: spec.block_bytes });
+        resources = [whole(params), ...s.weights_offsets.map(block),
           whole(slots.get(s.src)), whole(slots.get(s.skip ?? s.src)), whole(slots.get(s.dst))];
       } else {
         const params = uniform(spec.params.resample, { width: w, height: h, channels: s.out_channels });
         resources = [whole(params), whole(slots.get(s.src)), whole(slots.get(s.dst))];
       }
-      return { pipeline, group: group(pipeline, resources), workgroups: [groupsOf(w), groupsOf(h), s.workgroups_z] };
+      const columns = Math.ceil(w / (spec.workgroup * s.columns_per_invocation));
+      return { pipeline, group: group(pipeline, resources), workgroups: [columns, groupsOf(h), s.workgroups_z] };
     });
     const pack = { pipeline: this.pack, group: group(this.pack, [packParams, images, slots.get(spec.input_slot)].map(whole)),
       workgroups: [groupsOf(tw), groupsOf(th), 1] };

@@ -1,8 +1,7 @@
 //! The network's dispatches on a tile, as a table: for each of
 //! [`kdray_core::denoise::network::STEPS`] in turn, its kernel, the slots
 //! it reads and writes, its parameters and, for a convolution, one row per
-//! group of eight outputs with the byte offset of the group's weights
-//! block. Sizes are relative to the tile: a row's image is the tile's size
+//! sixteen outputs with the byte offsets of their two weights blocks. Sizes are relative to the tile: a row's image is the tile's size
 //! divided by 2^level. [`super::tile_run::TileRun`] records its pass from
 //! this table, and `kdray web` writes the same table into the site's
 //! contract for the page, so the two run the same dispatches.
@@ -11,7 +10,7 @@ use bytemuck::{Pod, Zeroable};
 use kdray_core::denoise::network::{step_channels, Slot, Step, STEPS};
 
 use super::gpu_weights::LayerBlocks;
-use super::kernels::WORKGROUP;
+use super::kernels::{CONV_GROUP, CONV_OUTPUTS, CONV_PIXELS, WORKGROUP};
 
 /// conv.wgsl's `ConvParams`.
 #[repr(C)]
@@ -22,7 +21,7 @@ pub struct ConvParams {
     pub src_channels: u32,
     pub skip_channels: u32,
     pub out_channels: u32,
-    pub group: u32,
+    pub first_output: u32,
     pub relu: u32,
     pub pad: u32,
 }
@@ -85,11 +84,13 @@ pub struct StepDispatch {
     /// Channels written: a convolution's layer's outputs (all groups), a
     /// resampling's channels.
     pub out_channels: u32,
-    /// A convolution's layer and group, and where the group's weights block
-    /// starts in the weights buffer (bytes).
+    /// A convolution's layer, its first output (a multiple of sixteen) and
+    /// where the weights blocks of its two groups of eight outputs start in
+    /// the weights buffer (bytes; the same block twice where the layer's
+    /// last group is alone: its second half is padding).
     pub layer: usize,
-    pub group: u32,
-    pub weights_offset: u64,
+    pub first_output: u32,
+    pub weights_offsets: [u64; 2],
     pub relu: bool,
 }
 
@@ -112,7 +113,7 @@ impl StepDispatch {
             src_channels: self.src_channels,
             skip_channels: self.skip_channels,
             out_channels: self.out_channels,
-            group: self.group,
+            first_output: self.first_output,
             relu: u32::from(self.relu),
             pad: 0,
         }
@@ -129,15 +130,25 @@ impl StepDispatch {
         }
     }
 
-    /// Workgroups (8 x 8 x 1 each): the image it writes, and for a
-    /// resampling one layer per channel.
+    /// Pixels of a row one invocation writes: a convolution's
+    /// [`CONV_PIXELS`], a resampling's one.
+    pub fn columns_per_invocation(&self) -> u32 {
+        match self.kernel {
+            DenoiseKernel::Conv => CONV_PIXELS,
+            _ => 1,
+        }
+    }
+
+    /// Workgroups (8 x 8 x 1 invocations each): the image it writes, and
+    /// for a resampling one layer per channel.
     pub fn workgroups(&self, tile_width: usize, tile_height: usize) -> [u32; 3] {
         let (width, height) = self.size(tile_width, tile_height);
         let z = match self.kernel {
             DenoiseKernel::Conv => 1,
             _ => self.out_channels,
         };
-        [width.div_ceil(WORKGROUP), height.div_ceil(WORKGROUP), z]
+        let columns = WORKGROUP * self.columns_per_invocation();
+        [width.div_ceil(columns), height.div_ceil(WORKGROUP), z]
     }
 }
 
@@ -159,8 +170,8 @@ pub fn network_dispatches(layers: &[LayerBlocks], input_channels: usize) -> Vec<
             skip_channels: 0,
             out_channels: channels as u32,
             layer: 0,
-            group: 0,
-            weights_offset: 0,
+            first_output: 0,
+            weights_offsets: [0, 0],
             relu: false,
         };
         match *step {
@@ -172,14 +183,15 @@ pub fn network_dispatches(layers: &[LayerBlocks], input_channels: usize) -> Vec<
                 ..
             } => {
                 let blocks = &layers[layer];
-                for (group, &offset) in blocks.group_offsets.iter().enumerate() {
+                let pairs = blocks.group_offsets.chunks(CONV_OUTPUTS / CONV_GROUP);
+                for (k, pair) in pairs.enumerate() {
                     out.push(StepDispatch {
                         skip,
                         skip_channels: skip.map_or(0, |s| held[s as usize]) as u32,
                         out_channels: blocks.out_channels,
                         layer,
-                        group: group as u32,
-                        weights_offset: offset,
+                        first_output: (k * CONV_OUTPUTS) as u32,
+                        weights_offsets: [pair[0], pair[pair.len() - 1]],
                         relu,
                         ..row(DenoiseKernel::Conv, src)
                     });
@@ -214,11 +226,14 @@ mod tests {
             })
             .collect();
         let table = network_dispatches(&layers, 9);
-        let groups: usize = CONV_LAYERS.iter().map(|l| l.out_channels.div_ceil(8)).sum();
+        let pairs: usize = CONV_LAYERS
+            .iter()
+            .map(|l| l.out_channels.div_ceil(16))
+            .sum();
         assert_eq!(
             table.len(),
-            groups + 8,
-            "16 layers' groups, 4 pools, 4 upsamplings"
+            pairs + 8,
+            "16 layers' sixteen-output dispatches, 4 pools, 4 upsamplings"
         );
         for d in &table {
             if d.kernel == DenoiseKernel::Conv {
@@ -227,7 +242,11 @@ mod tests {
                     layers[d.layer].in_channels,
                     "{d:?}"
                 );
-                assert_eq!(d.weights_offset, 1000 * u64::from(d.group));
+                assert_eq!(d.first_output % 16, 0, "{d:?}");
+                let lo = d.first_output as usize / 8;
+                let last = layers[d.layer].group_offsets.len() - 1;
+                let expected = [1000 * lo as u64, 1000 * (lo + 1).min(last) as u64];
+                assert_eq!(d.weights_offsets, expected, "{d:?}");
                 assert_eq!(d.relu, d.layer != 15);
             } else {
                 assert_eq!(d.src_channels, d.out_channels, "{d:?}");
@@ -241,5 +260,12 @@ mod tests {
             .find(|d| d.kernel == DenoiseKernel::Pool)
             .unwrap();
         assert_eq!(pool.workgroups(64, 48), [4, 3, 32]);
+        let conv = &table[0];
+        assert_eq!(
+            conv.workgroups(64, 48),
+            [1, 6, 1],
+            "eight pixels an invocation"
+        );
+        assert_eq!(conv.workgroups(80, 48), [2, 6, 1]);
     }
 }

@@ -1,7 +1,8 @@
 //! A network's weights laid out for shaders/denoise/conv.wgsl and uploaded
 //! once: for each layer and each group of eight output channels, a block
 //! of the group's biases and weights that the convolution binds as a
-//! uniform buffer of [`BLOCK_BYTES`] at the block's offset. All blocks of a
+//! uniform buffer of [`BLOCK_BYTES`] at the block's offset (two blocks a
+//! dispatch: sixteen outputs). All blocks of a
 //! network share one buffer (about 3.7 MB for OIDN's RT networks).
 
 use kdray_core::denoise::{ConvWeights, Weights};
@@ -148,11 +149,12 @@ impl GpuWeights {
         })
     }
 
-    /// The uniform binding of group `group` of layer `layer`.
-    pub fn block(&self, layer: usize, group: usize) -> wgpu::BindingResource<'_> {
+    /// The uniform binding of the block at byte `offset` (one of the
+    /// layers' `group_offsets`).
+    pub fn block(&self, offset: u64) -> wgpu::BindingResource<'_> {
         wgpu::BindingResource::Buffer(wgpu::BufferBinding {
             buffer: &self.buffer,
-            offset: self.layers[layer].group_offsets[group],
+            offset,
             size: std::num::NonZeroU64::new(BLOCK_BYTES),
         })
     }

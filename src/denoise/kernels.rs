@@ -18,8 +18,13 @@ pub const DENOISE_SHADERS: [(&str, &str, &[&str]); 3] = [
     ("pack.wgsl", PACK_WGSL, &["pack_tile", "unpack_tile"]),
 ];
 
-/// Output channels one convolution invocation computes (conv.wgsl).
+/// Output channels of one weights block (gpu_weights.rs).
 pub const CONV_GROUP: usize = 8;
+/// Output channels one convolution invocation computes (conv.wgsl): two
+/// weights blocks.
+pub const CONV_OUTPUTS: usize = 2 * CONV_GROUP;
+/// Pixels of a row one convolution invocation computes (conv.wgsl).
+pub const CONV_PIXELS: u32 = 8;
 /// Every entry point's workgroup is 8 x 8 x 1.
 pub const WORKGROUP: u32 = 8;
 

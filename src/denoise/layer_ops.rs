@@ -9,6 +9,7 @@ use kdray_core::denoise::ConvWeights;
 
 use super::dispatches::{ConvParams, ResampleParams};
 use super::gpu_weights::GpuWeights;
+use super::kernels::{CONV_GROUP, CONV_OUTPUTS, CONV_PIXELS, WORKGROUP};
 use super::tile_run::bind_resources;
 use super::Denoiser;
 use crate::error::{Error, Result};
@@ -16,13 +17,13 @@ use crate::gpu::context::buffer_holding;
 use crate::gpu::GpuContext;
 
 /// Uploads `inputs`, runs `pipeline` once per entry of `dispatches` (its
-/// parameters and, for a convolution, its group's weights) with the
+/// parameters and, for a convolution, its two weights blocks) with the
 /// buffers in binding order (params, weights, the inputs, the output),
 /// and reads the output (`out_floats`) back.
 fn run_once(
     ctx: &GpuContext,
     pipeline: &wgpu::ComputePipeline,
-    dispatches: Vec<(Vec<u8>, Option<wgpu::BindingResource<'_>>)>,
+    dispatches: Vec<(Vec<u8>, Vec<wgpu::BindingResource<'_>>)>,
     inputs: &[&[f32]],
     out_floats: usize,
     workgroups: [u32; 3],
@@ -89,7 +90,7 @@ fn run_once(
 }
 
 fn workgroups(width: usize, height: usize, z: usize) -> [u32; 3] {
-    let wg = super::kernels::WORKGROUP;
+    let wg = WORKGROUP;
     [
         (width as u32).div_ceil(wg),
         (height as u32).div_ceil(wg),
@@ -116,21 +117,24 @@ impl Denoiser<'_> {
         }
         let weights = GpuWeights::upload_layer(self.ctx, w)?;
         let blocks = &weights.layers[0];
-        let dispatches = (0..blocks.group_offsets.len())
-            .map(|group| {
+        let dispatches = blocks
+            .group_offsets
+            .chunks(CONV_OUTPUTS / CONV_GROUP)
+            .enumerate()
+            .map(|(k, pair)| {
                 let params = ConvParams {
                     width: src.width as u32,
                     height: src.height as u32,
                     src_channels: src.channels as u32,
                     skip_channels: skip_channels as u32,
                     out_channels: blocks.out_channels,
-                    group: group as u32,
+                    first_output: (k * CONV_OUTPUTS) as u32,
                     relu: u32::from(relu),
                     pad: 0,
                 };
                 (
                     bytemuck::bytes_of(&params).to_vec(),
-                    Some(weights.block(0, group)),
+                    vec![weights.block(pair[0]), weights.block(pair[pair.len() - 1])],
                 )
             })
             .collect();
@@ -142,7 +146,11 @@ impl Denoiser<'_> {
             dispatches,
             &[&src.data, skip_data],
             out_floats,
-            workgroups(src.width, src.height, 1),
+            [
+                (src.width as u32).div_ceil(WORKGROUP * CONV_PIXELS),
+                (src.height as u32).div_ceil(WORKGROUP),
+                1,
+            ],
         )?;
         Ok(Tensor {
             channels: w.out_channels,
@@ -181,7 +189,7 @@ impl Denoiser<'_> {
         let data = run_once(
             self.ctx,
             pipeline,
-            vec![(bytemuck::bytes_of(&params).to_vec(), None)],
+            vec![(bytemuck::bytes_of(&params).to_vec(), Vec::new())],
             &[&src.data],
             out_floats,
             workgroups(width, height, src.channels),

@@ -196,9 +196,11 @@ impl TileRun {
                 match d.kernel {
                     DenoiseKernel::Conv => {
                         let params = uniform(device, &d.conv_params(tile_width, tile_height));
+                        let [lo, hi] = d.weights_offsets;
                         let resources = [
                             params.as_entire_binding(),
-                            weights.block(d.layer, d.group as usize),
+                            weights.block(lo),
+                            weights.block(hi),
                             slot(d.src).as_entire_binding(),
                             slot(d.skip.unwrap_or(d.src)).as_entire_binding(),
                             slot(d.dst).as_entire_binding(),

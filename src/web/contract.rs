@@ -143,7 +143,7 @@ pub(super) fn denoise_params_json() -> Value {
         field!(ConvParams, src_channels, "u32", 1),
         field!(ConvParams, skip_channels, "u32", 1),
         field!(ConvParams, out_channels, "u32", 1),
-        field!(ConvParams, group, "u32", 1),
+        field!(ConvParams, first_output, "u32", 1),
         field!(ConvParams, relu, "u32", 1),
         field!(ConvParams, pad, "u32", 1),
     ];

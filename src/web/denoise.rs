@@ -76,8 +76,9 @@ impl SiteDenoiser {
                     "src_channels": d.src_channels,
                     "skip_channels": d.skip_channels,
                     "out_channels": d.out_channels,
-                    "group": d.group,
-                    "weights_offset": d.weights_offset,
+                    "first_output": d.first_output,
+                    "weights_offsets": d.weights_offsets,
+                    "columns_per_invocation": d.columns_per_invocation(),
                     "relu": d.relu,
                 })
             })

@@ -57,10 +57,12 @@ fn assert_close(gpu: &[f32], cpu: &[f32], rel: f32, what: &str) {
 #[test]
 fn convolutions_equal_the_cpu_reference() {
     let denoiser = Denoiser::new(common::gpu()).unwrap();
-    // Odd sizes (partial workgroups), a partial output group (11 of 16),
+    // Odd sizes (partial workgroups and partial runs of eight pixels), a
+    // partial output group (11 of 16), a last group of eight alone (20),
     // with and without a skip input, with and without ReLU.
     for (src_c, skip_c, out_c, h, w, relu) in [
         (5, 0, 11, 13, 9, true),
+        (3, 2, 20, 5, 70, true),
         (7, 4, 8, 6, 17, false),
         (32, 9, 64, 16, 16, true),
         (1, 1, 3, 1, 1, false),

@@ -323,23 +323,38 @@ fn the_site_ships_the_native_denoisers_weights_and_steps() {
         assert_eq!(s["src_channels"], d.src_channels, "dispatch {i}");
         assert_eq!(s["skip_channels"], d.skip_channels, "dispatch {i}");
         assert_eq!(s["out_channels"], d.out_channels, "dispatch {i}");
-        assert_eq!(s["group"], d.group, "dispatch {i}");
+        assert_eq!(s["first_output"], d.first_output, "dispatch {i}");
         assert_eq!(s["relu"], d.relu, "dispatch {i}");
         assert_eq!(s["workgroups_z"], d.workgroups(16, 16)[2], "dispatch {i}");
-        if d.kernel == kdray::denoise::DenoiseKernel::Conv {
-            let at = s["weights_offset"].as_u64().unwrap();
-            assert_eq!(at % web_align, 0, "dispatch {i}");
-            let at = at as usize;
-            let native_at = d.weights_offset as usize;
-            // What conv.wgsl reads of the block: eight biases, then eight
-            // weights per input channel and tap (the rest is the next
-            // groups', placed by each layout's own alignment).
-            let read = 4 * 8 * (1 + 9 * (d.src_channels + d.skip_channels) as usize);
-            assert!(read <= block && at + block <= bin.len(), "dispatch {i}");
-            assert!(
-                bin[at..at + read] == native.bytes[native_at..native_at + read],
-                "dispatch {i}: the site's weights block differs from native's"
+        // The page's workgroups along a row, from the table's columns per
+        // invocation, as native counts them.
+        let per = s["columns_per_invocation"].as_u64().unwrap() as usize;
+        let wg = spec["workgroup"].as_u64().unwrap() as usize;
+        for width in [16usize, 48, 64, 80, 1280] {
+            let page = (width >> d.level).div_ceil(wg * per) as u32;
+            assert_eq!(
+                page,
+                d.workgroups(width, 16)[0],
+                "dispatch {i}, width {width}"
             );
+        }
+        if d.kernel == kdray::denoise::DenoiseKernel::Conv {
+            let offsets = s["weights_offsets"].as_array().unwrap();
+            assert_eq!(offsets.len(), 2, "dispatch {i}");
+            for (half, (at, native_at)) in offsets.iter().zip(d.weights_offsets).enumerate() {
+                let at = at.as_u64().unwrap();
+                assert_eq!(at % web_align, 0, "dispatch {i}");
+                let (at, native_at) = (at as usize, native_at as usize);
+                // What conv.wgsl reads of a block: eight biases, then eight
+                // weights per input channel and tap (the rest is the next
+                // groups', placed by each layout's own alignment).
+                let read = 4 * 8 * (1 + 9 * (d.src_channels + d.skip_channels) as usize);
+                assert!(read <= block && at + block <= bin.len(), "dispatch {i}");
+                assert!(
+                    bin[at..at + read] == native.bytes[native_at..native_at + read],
+                    "dispatch {i}, block {half}: the site's weights block differs from native's"
+                );
+            }
         }
     }
     // The kernels, as native compiles them.
