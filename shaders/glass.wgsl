@@ -122,7 +122,7 @@ fn trace_whitted_glass(primary: Ray) -> vec3<f32> {
             } else {
                 path.hits += 1u;
                 let p = ray.origin + hit.t * ray.dir;
-                let surface = surface_at(hit.object, p, ray.dir);
+                let surface = mapped_surface_at(hit.object, p, ray.dir);
                 let offset = spawn_offset(p, object_magnitude(hit.object));
                 let origin = surface.spawn_point + offset * surface.geometric;
                 let path_length = path.path_length + hit.t;

@@ -150,19 +150,12 @@ fn path_trace_sample(primary: Ray) -> vec3<f32> {
         }
         if (hits >= params.max_depth) {
             if (features_open) {
-                let s = surface_at(hit.object, p, ray.dir);
-                let bent = mapped_normal(hit.object, p, s.shading);
                 feature_albedo = m.diffuse;
-                feature_normal = select(s.shading, bent, dot(bent, s.geometric) > 0.0);
+                feature_normal = mapped_surface_at(hit.object, p, ray.dir).shading;
             }
             break;
         }
-        var surface = surface_at(hit.object, p, ray.dir);
-        // A normal map bends the shading normal, never past the surface.
-        let bent = mapped_normal(hit.object, p, surface.shading);
-        if (dot(bent, surface.geometric) > 0.0) {
-            surface.shading = bent;
-        }
+        let surface = mapped_surface_at(hit.object, p, ray.dir);
         if (features_open) {
             feature_albedo = m.diffuse;
             feature_normal = surface.shading;

@@ -1,5 +1,6 @@
 // The surface at a hit: its normals and where rays leave it (`Surface`,
-// `surface_at`), the mirror direction about it, and its material there
+// `surface_at`; `mapped_surface_at` with the normal map), the mirror
+// direction about it, and its material there
 // (`material_at`, reading the textures of texture.wgsl). Beside its texture
 // coordinates a triangle's record holds
 // (crates/kdray-core/src/layout/texture_words.rs, TextureWords) vertex
@@ -187,4 +188,16 @@ fn mapped_normal(id: u32, p: vec3<f32>, n: vec3<f32>) -> vec3<f32> {
         return n;
     }
     return normalize(bent);
+}
+
+// The surface at a hit as both integrators shade it: `surface_at` with its
+// shading normal bent by the material's normal map, unless the bent normal
+// would face away from the geometric side (then it keeps its own).
+fn mapped_surface_at(id: u32, p: vec3<f32>, ray_dir: vec3<f32>) -> Surface {
+    var s = surface_at(id, p, ray_dir);
+    let bent = mapped_normal(id, p, s.shading);
+    if (dot(bent, s.geometric) > 0.0) {
+        s.shading = bent;
+    }
+    return s;
 }

@@ -1,13 +1,15 @@
 //! A glTF material's maps in the path tracer, each against the same surface
 //! stated without it: a one-texel normal map and that normal given at the
-//! vertices; a one-texel metallic-roughness map and its values as factors;
+//! vertices (in the Whitted integrator too); a one-texel metallic-roughness map and its values as factors;
 //! a one-texel emissive map and its linear colour as the emission; a
 //! one-texel base-colour texture and its colour decoded from sRGB. Each map
 //! also changes the picture against the plain surface, so a map the kernel
 //! ignored would fail.
 
 use crate::common;
-use crate::quad_pairs::{assert_alike, assert_most_changed, quad_scene, texel};
+use crate::quad_pairs::{
+    assert_alike, assert_matches_the_reference, assert_most_changed, quad_scene, texel,
+};
 
 use common::TempDir;
 use glam::{DVec3, Vec3};
@@ -29,13 +31,20 @@ fn srgb_to_linear(byte: u8) -> f64 {
     }
 }
 
-#[test]
-fn a_one_texel_normal_map_equals_that_normal_given_at_the_vertices() {
-    let dir = TempDir::new("maps-normal");
+/// The normal map's quad against the same quad with the map's one normal
+/// given at its vertices, seen by `integrator`.
+fn assert_one_texel_normal_map_equals_that_normal(integrator: &str) {
+    let dir = TempDir::new(&format!("maps-normal-{integrator}"));
     let bytes = [224u8, 96, 200];
     let material = r#"{"pbrMetallicRoughness":{"baseColorFactor":[0.8,0.8,0.8,1],"metallicFactor":0,
         "roughnessFactor":1},"normalTexture":{"index":0,"scale":0.9}}"#;
-    let mapped = path_traced_quad(&dir, material, &[texel(bytes[0], bytes[1], bytes[2])]);
+    let mapped = quad_scene(
+        &dir,
+        integrator,
+        material,
+        &[texel(bytes[0], bytes[1], bytes[2])],
+        &[],
+    );
     // The tangent frame: T = dp/du = +x (u grows with x), n = +z, B = n x T = +y.
     let c = bytes.map(|b| b as f32 / 255.0 * 2.0 - 1.0);
     let n = (Vec3::X * (c[0] * 0.9) + Vec3::Y * (c[1] * 0.9) + Vec3::Z * c[2]).normalize();
@@ -48,8 +57,31 @@ fn a_one_texel_normal_map_equals_that_normal_given_at_the_vertices() {
     }
     let mut plain = mapped.clone();
     plain.materials[0].maps.normal = None;
-    let changed = assert_alike("normal map", &mapped, &given, 2, &plain);
+    let changed = assert_alike(
+        &format!("normal map, {integrator}"),
+        &mapped,
+        &given,
+        2,
+        &plain,
+    );
     assert_most_changed("the map", changed);
+}
+
+#[test]
+fn a_one_texel_normal_map_equals_that_normal_given_at_the_vertices() {
+    assert_one_texel_normal_map_equals_that_normal("path");
+}
+
+/// The Whitted integrator bends its shading normal by the map as the path
+/// tracer does, and as the CPU reference does.
+#[test]
+fn the_whitted_integrator_reads_the_normal_map_as_the_path_tracer_does() {
+    assert_one_texel_normal_map_equals_that_normal("whitted");
+    let dir = TempDir::new("maps-normal-reference");
+    let material = r#"{"pbrMetallicRoughness":{"baseColorFactor":[0.8,0.8,0.8,1],"metallicFactor":0,
+        "roughnessFactor":1},"normalTexture":{"index":0,"scale":0.9}}"#;
+    let mapped = quad_scene(&dir, "whitted", material, &[texel(224, 96, 200)], &[]);
+    assert_matches_the_reference("normal map", &mapped);
 }
 
 #[test]

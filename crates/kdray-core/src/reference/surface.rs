@@ -1,7 +1,7 @@
 //! The surface at a hit, mirrors of shaders/surface.wgsl and texture.wgsl:
-//! the shading frame (geometric and interpolated normals), the mirror and
-//! refracted directions with Fresnel, and the material with its textures
-//! read at the hit.
+//! the shading frame (geometric and interpolated normals, the normal map
+//! bending them), the mirror and refracted directions with Fresnel, and the
+//! material with its textures read at the hit.
 
 use glam::Vec3;
 
@@ -135,6 +135,62 @@ impl ReferenceTracer<'_> {
                 spawn_point: p,
             },
         }
+    }
+
+    /// Mirror of `mapped_surface_at` in shaders/surface.wgsl: the surface
+    /// with its shading normal bent by the material's normal map, unless
+    /// the bent normal would face away from the geometric side.
+    pub fn mapped_surface(&self, id: u32, p: Vec3, ray_dir: Vec3) -> Surface {
+        let mut s = self.surface(id, p, ray_dir);
+        let bent = self.mapped_normal(id, p, s.shading);
+        if bent.dot(s.geometric) > 0.0 {
+            s.shading = bent;
+        }
+        s
+    }
+
+    /// Mirror of `mapped_normal` in shaders/surface.wgsl: the unit shading
+    /// normal `n` bent by object `id`'s normal map at `p` (read on its base
+    /// level), in the frame of the corners' tangents interpolated and made
+    /// orthogonal to `n`; `n` itself without a map, coordinates or tangents.
+    /// The kernel reads the tangents octahedral-encoded, this their exact
+    /// values.
+    fn mapped_normal(&self, id: u32, p: Vec3, n: Vec3) -> Vec3 {
+        let Some(t) = (id as usize).checked_sub(self.scene.spheres.len()) else {
+            return n;
+        };
+        let m = self.material(id);
+        let triangle = &self.scene.triangles[t];
+        let texture = m
+            .maps
+            .normal
+            .and_then(|i| self.scene.textures.get(i as usize));
+        let uvs = self.scene.uvs_for(triangle, crate::scene::UV_SLOT_NORMAL);
+        let (Some(texture), Some(uvs), Some(tangents)) =
+            (texture, uvs, self.scene.tangents_of(triangle))
+        else {
+            return n;
+        };
+        let b = barycentrics(&self.prims.triangles[t].v, p);
+        let corner = |k: usize| tangents[k].truncate().as_vec3();
+        let tangent = b.x * corner(0) + b.y * corner(1) + b.z * corner(2);
+        let sign = |k: usize| if tangents[k].w < 0.0 { -1.0 } else { 1.0 };
+        let w = b.x * sign(0) + b.y * sign(1) + b.z * sign(2);
+        let ortho = tangent - n * n.dot(tangent);
+        if ortho.length_squared() <= 0.0 || w == 0.0 {
+            return n;
+        }
+        let tangent = ortho.normalize();
+        let bitangent = if w < 0.0 { -1.0 } else { 1.0 } * n.cross(tangent);
+        let uvs = uvs.map(|uv| uv.as_vec2());
+        let uv = b.x * uvs[0] + b.y * uvs[1] + b.z * uvs[2];
+        let c = texture.sample_lod(uv, 0.0) * 2.0 - Vec3::ONE;
+        let scale = m.maps.normal_scale as f32;
+        let bent = tangent * (c.x * scale) + bitangent * (c.y * scale) + n * c.z;
+        if bent.length_squared() <= 0.0 {
+            return n;
+        }
+        bent.normalize()
     }
 
     pub(super) fn material(&self, id: u32) -> &crate::scene::Material {

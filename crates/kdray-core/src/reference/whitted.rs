@@ -78,7 +78,7 @@ impl ReferenceTracer<'_> {
             };
             hits.push(hit);
             let p = ray.origin + hit.t * ray.dir;
-            let surface = self.surface(hit.object, p, ray.dir);
+            let surface = self.mapped_surface(hit.object, p, ray.dir);
             let offset = spawn_offset(p, self.prims.magnitude(hit.object));
             let origin = surface.spawn_point + offset * surface.geometric;
             path_length += hit.t;
@@ -163,7 +163,7 @@ impl ReferenceTracer<'_> {
         };
         path.hits += 1;
         let p = ray.origin + hit.t * ray.dir;
-        let surface = self.surface(hit.object, p, ray.dir);
+        let surface = self.mapped_surface(hit.object, p, ray.dir);
         let offset = spawn_offset(p, self.prims.magnitude(hit.object));
         let origin = surface.spawn_point + offset * surface.geometric;
         let path_length = path.path_length + hit.t;

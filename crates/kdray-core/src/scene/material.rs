@@ -37,8 +37,8 @@ pub struct Material<T = u32> {
 }
 
 /// A glTF material's texture maps beside its base colour, read on textured
-/// triangles (the occlusion map by the Whitted integrator, the others by the
-/// path tracer) (docs/scene-format.md, "glTF materials");
+/// triangles (the occlusion map by the Whitted integrator, the normal map by
+/// both, the others by the path tracer) (docs/scene-format.md, "glTF materials");
 /// `T` as [`Material`]'s texture.
 #[derive(Debug, Clone, PartialEq)]
 pub struct MaterialMaps<T = u32> {
