@@ -56,9 +56,17 @@ fn sample_bounce(m: Material, s: Surface, d: vec3<f32>, inside: bool) -> Bounce 
     return Bounce(l, e.value / e.pdf, e.pdf * model_share(m), false);
 }
 
+// The share of light left after a length t in a medium of absorption
+// `medium` (Beer-Lambert): 1 in a clear channel, whatever t (even infinite).
+fn transmittance(medium: vec3<f32>, t: f32) -> vec3<f32> {
+    return select(exp(-medium * t), vec3<f32>(1.0), medium == vec3<f32>(0.0));
+}
+
 // Light arriving at the hit p from one light chosen by sample_light, through
-// the model's share of the material, weighted against BSDF sampling.
-fn next_event(m: Material, s: Surface, v: vec3<f32>, p: vec3<f32>, origin: vec3<f32>) -> vec3<f32> {
+// the model's share of the material, weighted against BSDF sampling; p lies
+// in a medium of absorption `medium`, which the unblocked shadow ray never
+// leaves.
+fn next_event(m: Material, s: Surface, v: vec3<f32>, p: vec3<f32>, origin: vec3<f32>, medium: vec3<f32>) -> vec3<f32> {
     let share = model_share(m);
     if (share <= 0.0) {
         return vec3<f32>(0.0);
@@ -85,7 +93,8 @@ fn next_event(m: Material, s: Surface, v: vec3<f32>, p: vec3<f32>, origin: vec3<
     if (!light.delta) {
         weight = mis_weight(light.pdf, e.pdf * share);
     }
-    return share * e.value * light.radiance * (weight / light.pdf);
+    let through = transmittance(medium, light.distance);
+    return share * e.value * light.radiance * through * (weight / light.pdf);
 }
 
 // Features (FEATURE_OUTPUT): what the denoiser reads beside the radiance,
@@ -109,6 +118,9 @@ fn path_trace_sample(primary: Ray) -> vec3<f32> {
     var radiance = vec3<f32>(0.0);
     var last_pdf = 0.0; // the BSDF density of the ray's direction; 0: camera or delta
     var inside = false;
+    // The absorption of the medium the ray travels in: the inside of the
+    // last transmissive object it entered (media do not nest), 0 in air.
+    var medium = vec3<f32>(0.0);
     var path_length = 0.0;
     // Whether the features are still to be taken at the next hit.
     var features_open = FEATURE_OUTPUT;
@@ -124,6 +136,7 @@ fn path_trace_sample(primary: Ray) -> vec3<f32> {
             ray_counts.z += 1u;
         }
         let hit = trace_ray(ray, T_INFINITY, false);
+        throughput *= transmittance(medium, select(hit.t, T_INFINITY, hit.object == NO_OBJECT));
         if (hit.object == NO_OBJECT) {
             var weight = 1.0;
             if (last_pdf > 0.0 && has_environment_image()) {
@@ -162,7 +175,7 @@ fn path_trace_sample(primary: Ray) -> vec3<f32> {
         }
         let offset = spawn_offset(p, object_magnitude(hit.object));
         let outside = surface.spawn_point + offset * surface.geometric;
-        radiance += throughput * next_event(m, surface, -ray.dir, p, outside);
+        radiance += throughput * next_event(m, surface, -ray.dir, p, outside, medium);
         let b = sample_bounce(m, surface, ray.dir, inside);
         // A mirror's or glass's bounce (a delta lobe: no density, a weight)
         // passes the features on to the next hit.
@@ -184,6 +197,7 @@ fn path_trace_sample(primary: Ray) -> vec3<f32> {
         }
         if (b.refracted) {
             inside = !inside;
+            medium = select(vec3<f32>(0.0), m.absorption, inside);
         }
         last_pdf = b.pdf;
         ray = Ray(origin, b.dir);

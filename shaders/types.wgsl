@@ -77,6 +77,8 @@ struct Material {
     uv_channels: u32,
     two_sided: u32,       // 1: an emitting triangle emits on both sides (emitters.wgsl)
     _pad2: u32,
+    absorption: vec3<f32>, // path tracer: per scene unit, of the medium inside (0: clear)
+    _pad3: u32,
 }
 
 // The lights buffer: `light_count` scene lights (kind LIGHT_POINT,

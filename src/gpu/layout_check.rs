@@ -171,7 +171,9 @@ fn scene_records_match_their_wgsl_structs() {
             occlusion_strength,
             uv_channels,
             two_sided,
-            _pad2
+            _pad2,
+            absorption,
+            _pad3
         ]
     );
     layout_of!(

@@ -645,3 +645,55 @@ fn a_bad_sky_image_is_refused_in_one_line() {
         assert!(!dir.join("out.png").exists());
     }
 }
+
+/// A glass sphere of ior 1 (nothing bends, nothing reflects) whose inside
+/// absorbs: white light that crosses `attenuation_distance` of it turns
+/// `attenuation_color`. Under a uniform sky L a path through its centre
+/// crosses a diameter 2 inside, so the centre pixel shows
+/// L x colour^(2 / distance) (Beer-Lambert), in each channel on its own;
+/// the same sphere without the keys shows the sky unchanged.
+#[test]
+fn a_coloured_medium_absorbs_as_beer_lambert_says() {
+    let text = |volume: &str| {
+        format!(
+            r#"
+            [camera]
+            position = [0, 0, 4]
+            look_at = [0, 0, 0]
+            vfov = 40
+            [render]
+            width = 25
+            height = 25
+            integrator = "path"
+            samples = 8
+            max_depth = 6
+            [environment]
+            color = [0.5, 0.25, 1.0]
+            [materials.glass]
+            diffuse = [1, 1, 1]
+            transmission = 1
+            ior = 1
+            {volume}
+            [[spheres]]
+            center = [0, 0, 0]
+            radius = 1
+            material = "glass"
+            "#
+        )
+    };
+    let sky = [0.5, 0.25, 1.0];
+    let colour = [0.5, 0.8, 1.0];
+    let distance = 2.0;
+    let absorbing = default_radiance(&scene_from_toml(&text(&format!(
+        "attenuation_color = {colour:?}\nattenuation_distance = {distance}"
+    ))));
+    let clear = default_radiance(&scene_from_toml(&text("")));
+    // Pixel 12 of 25 looks along the axis; its samples spread over the
+    // pixel, whose rays cross the sphere within 0.4% of the diameter.
+    let centre = (12 * 25 + 12) * 3;
+    for c in 0..3 {
+        let expected = sky[c] * f64::powf(colour[c], 2.0 / distance);
+        assert_close(absorbing[centre + c], expected, 0.005, "through the medium");
+        assert_close(clear[centre + c], sky[c], 1e-5, "through clear glass");
+    }
+}

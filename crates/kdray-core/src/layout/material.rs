@@ -51,6 +51,10 @@ pub struct GpuMaterial {
     /// 1: an emitting triangle emits from both sides; 0: its front only.
     pub two_sided: u32,
     pub _pad2: u32,
+    /// The path tracer: the absorption coefficient per scene unit of the
+    /// medium inside a transmissive object (0: clear).
+    pub absorption: [f32; 3],
+    pub _pad3: u32,
 }
 
 impl GpuMaterial {

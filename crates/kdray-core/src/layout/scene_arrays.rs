@@ -376,6 +376,12 @@ fn gpu_material(
         uv_channels: m.maps.second_uv,
         two_sided: u32::from(m.physical.two_sided),
         _pad2: 0,
+        absorption: f32x3(
+            m.physical
+                .volume
+                .map_or(glam::DVec3::ZERO, |v| v.absorption()),
+        ),
+        _pad3: 0,
     }
 }
 

@@ -117,6 +117,43 @@ pub struct Physical {
     pub emission: DVec3,
     /// A triangle emits from both sides (glTF's `doubleSided`).
     pub two_sided: bool,
+    /// The medium inside a transmissive object (glTF's
+    /// `KHR_materials_volume`), None: clear.
+    pub volume: Option<Volume>,
+}
+
+/// An absorbing medium (Beer-Lambert): white light that travels
+/// `attenuation_distance` inside it turns `attenuation_color`.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Volume {
+    /// Components in [0, 1].
+    pub attenuation_color: DVec3,
+    /// In scene units, > 0 (infinite: no absorption).
+    pub attenuation_distance: f64,
+}
+
+impl Volume {
+    /// The largest absorption coefficient, standing for an infinite one (a
+    /// colour component of 0): finite, so that a path of length 0 keeps
+    /// its light, and large enough that any other length loses it in f32.
+    pub const MAX_ABSORPTION: f64 = 1e30;
+
+    /// The absorption coefficient per scene unit of each channel,
+    /// `-ln(colour) / distance`: the light left after a length `t` inside
+    /// is `exp(-coefficient t)`.
+    pub fn absorption(&self) -> DVec3 {
+        let coefficient = |c: f64| {
+            if c >= 1.0 || !self.attenuation_distance.is_finite() {
+                0.0
+            } else if c <= 0.0 {
+                Self::MAX_ABSORPTION
+            } else {
+                (-c.ln() / self.attenuation_distance).min(Self::MAX_ABSORPTION)
+            }
+        };
+        let c = self.attenuation_color;
+        DVec3::new(coefficient(c.x), coefficient(c.y), coefficient(c.z))
+    }
 }
 
 impl Physical {
@@ -125,6 +162,7 @@ impl Physical {
         metal_rough: None,
         emission: DVec3::ZERO,
         two_sided: false,
+        volume: None,
     };
 }
 

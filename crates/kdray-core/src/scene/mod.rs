@@ -65,7 +65,7 @@ pub use light_kind::{spot_factor, LightKind};
 pub use light_shape::LightShape;
 pub use load::{load_scene, load_scene_observed, load_scene_with, parse_scene, parse_scene_with};
 pub use material::{
-    Material, MaterialMaps, MetalRough, Physical, UV_SLOT_BASE, UV_SLOT_EMISSIVE,
+    Material, MaterialMaps, MetalRough, Physical, Volume, UV_SLOT_BASE, UV_SLOT_EMISSIVE,
     UV_SLOT_METAL_ROUGH, UV_SLOT_NORMAL, UV_SLOT_OCCLUSION,
 };
 pub use model_scene::{model_scene, model_scene_viewed, model_scene_with, ModelCamera};

@@ -343,6 +343,10 @@ pub(super) struct RawMaterial {
     pub(super) transmission: f64,
     #[serde(default = "default_ior", skip_serializing_if = "is_default_ior")]
     pub(super) ior: f64,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub(super) attenuation_color: Option<Vec3>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub(super) attenuation_distance: Option<f64>,
 }
 
 fn is_zero(x: &f64) -> bool {

@@ -16,7 +16,7 @@ use super::environment::EnvironmentMap;
 use super::error::SceneError;
 use super::integrator::{Integrator, ToneMap};
 use super::light::Light;
-use super::material::{Material, MetalRough, Physical};
+use super::material::{Material, MetalRough, Physical, Volume};
 use super::mesh::has_area;
 use super::normals::unit;
 use super::objects::{Sphere, Triangle};
@@ -514,12 +514,48 @@ impl Validator<'_> {
             Some(e) => self.colour(&|| key("emission"), e)?,
             None => DVec3::ZERO,
         };
+        let volume = match (m.attenuation_color, m.attenuation_distance) {
+            (None, None) => None,
+            (colour, distance) => {
+                let attenuation_color = match colour {
+                    Some(c) => self.colour(&|| key("attenuation_color"), c)?,
+                    None => DVec3::ONE,
+                };
+                if attenuation_color.max_element() > 1.0 {
+                    return Err(self.error(
+                        &key("attenuation_color"),
+                        format!(
+                            "components must be in [0, 1], got {:?}",
+                            attenuation_color.to_array()
+                        ),
+                    ));
+                }
+                let attenuation_distance = match distance {
+                    Some(d) => {
+                        let d = self.number(&|| key("attenuation_distance"), d)?;
+                        if d <= 0.0 {
+                            return Err(self.error(
+                                &key("attenuation_distance"),
+                                format!("must be > 0, got {d:?}"),
+                            ));
+                        }
+                        d
+                    }
+                    None => f64::INFINITY,
+                };
+                Some(Volume {
+                    attenuation_color,
+                    attenuation_distance,
+                })
+            }
+        };
         Ok((
             albedo,
             Physical {
                 metal_rough,
                 emission,
                 two_sided: false,
+                volume,
             },
         ))
     }

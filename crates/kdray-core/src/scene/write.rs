@@ -94,6 +94,12 @@ fn raw_materials(materials: &[Material]) -> Result<BTreeMap<String, TableOf<RawM
             reflection: m.reflection,
             transmission: m.transmission,
             ior: m.ior,
+            attenuation_color: m.physical.volume.map(|v| exact(v.attenuation_color)),
+            attenuation_distance: m
+                .physical
+                .volume
+                .map(|v| v.attenuation_distance)
+                .filter(|d| d.is_finite()),
         };
         if table.insert(m.name.clone(), TableOf(raw)).is_some() {
             return Err(format!("two materials are named \"{}\"", m.name));

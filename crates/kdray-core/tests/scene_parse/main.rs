@@ -37,6 +37,7 @@ mod render;
 mod schema;
 use common::textured;
 mod textures;
+mod volume;
 
 use common::TempDir;
 use doc::*;

@@ -690,10 +690,34 @@ pub fn pbr_material(material: &gltf::Material) -> MeshMaterial {
             }),
             emission: emission(material),
             two_sided: material.double_sided(),
+            volume: volume(material),
         },
         maps: crate::scene::material::MaterialMaps::NONE,
         alpha: alpha(material),
     }
+}
+
+/// `KHR_materials_volume`'s medium: its attenuation colour (clamped into
+/// [0, 1]) and distance (glTF's default, infinity, where it is not a
+/// positive number); None without the extension. A path tracer meets the
+/// mesh's real walls, so `thicknessFactor` (a rasteriser's stand-in for
+/// them) is not read.
+fn volume(material: &gltf::Material) -> Option<crate::scene::material::Volume> {
+    let v = material.volume()?;
+    let colour = DVec3::from_array(v.attenuation_color().map(f64::from));
+    let distance = f64::from(v.attenuation_distance());
+    Some(crate::scene::material::Volume {
+        attenuation_color: if colour.is_finite() {
+            colour.clamp(DVec3::ZERO, DVec3::ONE)
+        } else {
+            DVec3::ONE
+        },
+        attenuation_distance: if distance > 0.0 {
+            distance
+        } else {
+            f64::INFINITY
+        },
+    })
 }
 
 /// A material's emitted radiance: emissiveFactor times

@@ -37,14 +37,15 @@ pub(super) fn is_gltf_1(bytes: &[u8]) -> bool {
     }
 }
 
-/// The glTF extensions kdray reads: three material extensions (onto a
-/// material's transmission, ior and emission), punctual lights, texture
+/// The glTF extensions kdray reads: four material extensions (onto a
+/// material's transmission, ior, emission and the medium inside it), punctual lights, texture
 /// transforms (texture_transform.rs), quantized and compressed geometry
 /// (`accessors`, `meshopt`, `draco`) and WebP textures (`images`).
-pub(super) const SUPPORTED_EXTENSIONS: [&str; 9] = [
+pub(super) const SUPPORTED_EXTENSIONS: [&str; 10] = [
     "KHR_materials_transmission",
     "KHR_materials_ior",
     "KHR_materials_emissive_strength",
+    "KHR_materials_volume",
     "KHR_lights_punctual",
     "KHR_texture_transform",
     "KHR_mesh_quantization",
