@@ -1,6 +1,7 @@
 // The denoiser's 3x3 convolution (src/denoise/): one invocation computes
 // eight output channels (one group) of one pixel; one dispatch computes
-// one group of every pixel. The input is `src`'s channels, then `skip`'s
+// one group of a band of rows (from `first_row`; the whole image when it
+// is 0 and the dispatch covers every row). The input is `src`'s channels, then `skip`'s
 // (the U-Net's concatenation, never stored); zero padding of one pixel;
 // bias; ReLU unless it is the last layer. Tensors are planar CHW f32.
 //
@@ -24,7 +25,8 @@ struct ConvParams {
     // This dispatch's group: output channels 8 * group ..
     group: u32,
     relu: u32,
-    pad: u32,
+    // The band's first row: invocation row 0 computes this row.
+    first_row: u32,
 }
 
 @group(0) @binding(0) var<uniform> p: ConvParams;
@@ -128,9 +130,10 @@ fn store(o: u32, pixel: u32, v: f32) {
 fn conv3x3(@builtin(global_invocation_id) id: vec3<u32>) {
     // Invocations past the edge compute the edge pixel and store nothing:
     // no early return, so every invocation runs the same loop in step.
-    let inside = id.x < p.width && id.y < p.height;
+    let row = id.y + p.first_row;
+    let inside = id.x < p.width && row < p.height;
     let x = min(id.x, p.width - 1u);
-    let y = min(id.y, p.height - 1u);
+    let y = min(row, p.height - 1u);
     let g = p.group;
     let t = taps(x, y);
     let plane = p.width * p.height;

@@ -24,7 +24,8 @@ pub struct ConvParams {
     pub out_channels: u32,
     pub group: u32,
     pub relu: u32,
-    pub pad: u32,
+    /// The first row of the band a dispatch computes (0: from the top).
+    pub first_row: u32,
 }
 
 /// resample.wgsl's `ResampleParams` (the output's size).
@@ -114,7 +115,7 @@ impl StepDispatch {
             out_channels: self.out_channels,
             group: self.group,
             relu: u32::from(self.relu),
-            pad: 0,
+            first_row: 0,
         }
     }
 

@@ -1,7 +1,10 @@
 //! Denoising in the window (N; the path tracer only): the feature images
 //! gathered beside the refined image, and the denoiser
 //! ([`crate::denoise::Denoiser`]) run on them when the
-//! [`DenoiseSchedule`] says so.
+//! [`DenoiseSchedule`] says so: a [`DenoiseRun`] begun on the sums of a
+//! finished pass and advanced a few units a frame, as the
+//! [`DenoiseBudget`] allows, so that the window keeps presenting frames
+//! (and answering keys) while it denoises.
 //!
 //! The accumulation's pass (`accumulate_tile`) keeps colour sums only. The
 //! sums the denoiser reads come from the headless kernel instead:
@@ -16,9 +19,11 @@
 //! whose sums the present pass shows until the first denoise).
 
 use std::sync::Arc;
+use std::time::{Duration, Instant};
 
+use super::denoise_budget::{DenoiseBudget, MAX_UNIT_COST};
 use super::denoise_schedule::DenoiseSchedule;
-use crate::denoise::Denoiser;
+use crate::denoise::{DenoiseRun, Denoiser};
 use crate::error::{Error, Result};
 use crate::gpu::{
     bindings, max_binding_bytes, FrameParams, GpuContext, KernelVariant, RayCounters, SceneBuffers,
@@ -197,8 +202,41 @@ pub fn feature_means(sums: &[f32], samples: u32) -> [Vec<f32>; 3] {
     images
 }
 
+/// A denoise in progress: its run and the images it denoises.
+struct Running {
+    run: DenoiseRun,
+    size: (usize, usize),
+    /// Colour, albedo and normal: the means of the sums it began with.
+    images: [Vec<f32>; 3],
+    samples: u32,
+    started: Instant,
+    /// Time spent running its units (waiting for the GPU included).
+    busy: Duration,
+    /// Frames that ran some of its units.
+    frames: u32,
+    /// When the last of them ran its units, and the longest interval
+    /// between two of them (a frame's time while denoising).
+    last_frame: Instant,
+    longest_frame: Duration,
+}
+
+/// A finished denoise.
+pub struct Denoised {
+    /// Linear RGB, three floats a pixel, row-major.
+    pub rgb: Vec<f32>,
+    /// Samples per pixel it denoised.
+    pub samples: u32,
+    /// Time spent running its units, and since it began.
+    pub busy: Duration,
+    pub elapsed: Duration,
+    /// Frames that ran its units, and the longest interval between two.
+    pub frames: u32,
+    pub longest_frame: Duration,
+}
+
 /// The window's denoising: whether it is on, the feature pass, the
-/// denoiser and the schedule of the image being refined.
+/// denoiser, the schedule of the image being refined and the denoise in
+/// progress.
 #[derive(Default)]
 pub struct Denoising {
     /// N: show the denoised image while path tracing.
@@ -210,6 +248,8 @@ pub struct Denoising {
     features: Option<FeaturePass>,
     /// Made at the first denoise; its kernels and weights serve the rest.
     denoiser: Option<Denoiser<'static>>,
+    running: Option<Running>,
+    budget: DenoiseBudget,
 }
 
 impl Denoising {
@@ -228,6 +268,7 @@ impl Denoising {
     /// Another scene: the feature pass is made again for it.
     pub fn set_scene(&mut self) {
         self.features = None;
+        self.abandon();
     }
 
     /// Adds the sample of the accumulation pass `params` (a band of the
@@ -260,31 +301,114 @@ impl Denoising {
         }
     }
 
-    /// The image of `size` pixels, every pixel holding `samples` samples,
-    /// denoised: linear RGB, three floats a pixel, row-major.
-    pub fn denoise(
+    /// Whether a denoise is in progress.
+    pub fn is_running(&self) -> bool {
+        self.running.is_some()
+    }
+
+    /// The denoise in progress: its samples per pixel and the percentage
+    /// of its work done.
+    pub fn progress(&self) -> Option<(u32, u32)> {
+        self.running.as_ref().map(|r| {
+            let (done, total) = r.run.progress();
+            let percent = (done as f64 * 100.0 / total.max(1) as f64).floor();
+            (r.samples, percent as u32)
+        })
+    }
+
+    /// Drops the denoise in progress, if any (the image it denoises is
+    /// gone).
+    pub fn abandon(&mut self) {
+        self.running = None;
+    }
+
+    /// Begins the denoise of the image of `size` pixels, every pixel
+    /// holding `samples` samples (the feature sums as they are now).
+    pub fn start(
         &mut self,
         ctx: &'static GpuContext,
         (width, height): (u32, u32),
         samples: u32,
-    ) -> Result<Vec<f32>> {
+    ) -> Result<()> {
+        let started = Instant::now();
         let Some(features) = &self.features else {
             return Err(Error::Gpu("no feature sums to denoise".into()));
         };
         let sums = features.read_sums(ctx, width as u64 * height as u64)?;
-        let [color, albedo, normal] = feature_means(&sums, samples);
-        let images = kdray_core::denoise::DenoiseImages {
-            width: width as usize,
-            height: height as usize,
-            color: &color,
-            albedo: Some(&albedo),
-            normal: Some(&normal),
-        };
+        let images = feature_means(&sums, samples);
         let denoiser = match &mut self.denoiser {
             Some(d) => d,
             None => self.denoiser.insert(Denoiser::new(ctx)?),
         };
-        denoiser.denoise(&images, None)
+        let [color, albedo, normal] = &images;
+        let size = (width as usize, height as usize);
+        let view = kdray_core::denoise::DenoiseImages {
+            width: size.0,
+            height: size.1,
+            color,
+            albedo: Some(albedo),
+            normal: Some(normal),
+        };
+        let run = denoiser.start(&view, None, Some(MAX_UNIT_COST))?;
+        self.running = Some(Running {
+            run,
+            size,
+            images,
+            samples,
+            started,
+            busy: started.elapsed(),
+            frames: 0,
+            last_frame: started,
+            longest_frame: Duration::ZERO,
+        });
+        Ok(())
+    }
+
+    /// Runs this frame's share of the denoise in progress (see
+    /// [`DenoiseBudget`]); the denoised image once its last unit has run.
+    pub fn advance(&mut self, ctx: &'static GpuContext) -> Result<Option<Denoised>> {
+        let Some(running) = &mut self.running else {
+            return Ok(None);
+        };
+        let units = self.budget.units(running.run.next_costs());
+        let began = Instant::now();
+        if running.frames > 0 {
+            let interval = began - running.last_frame;
+            running.longest_frame = running.longest_frame.max(interval);
+        }
+        running.last_frame = began;
+        let [color, albedo, normal] = &running.images;
+        let images = kdray_core::denoise::DenoiseImages {
+            width: running.size.0,
+            height: running.size.1,
+            color,
+            albedo: Some(albedo),
+            normal: Some(normal),
+        };
+        let cost = running.run.advance(ctx, &images, units)?;
+        let took = began.elapsed();
+        self.budget.learn(cost, took.as_secs_f64());
+        running.busy += took;
+        if running.frames == 0 {
+            // The frame that began it: reading the sums, the denoiser
+            // made (the first time) and its first unit.
+            running.longest_frame = running.started.elapsed();
+        }
+        running.frames += 1;
+        if !running.run.is_finished() {
+            return Ok(None);
+        }
+        let Some(done) = self.running.take() else {
+            return Ok(None);
+        };
+        Ok(Some(Denoised {
+            samples: done.samples,
+            busy: done.busy,
+            elapsed: done.started.elapsed(),
+            frames: done.frames,
+            longest_frame: done.longest_frame,
+            rgb: done.run.into_output()?,
+        }))
     }
 }
 
