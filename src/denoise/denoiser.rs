@@ -160,7 +160,7 @@ impl<'a> Denoiser<'a> {
     /// [`kdray_core::denoise::cpu_net::run_network`] gives it.
     pub fn gpu_network(&self, network: &GpuWeights, input: &Tensor) -> Result<Tensor> {
         let size = (input.width, input.height);
-        let run = TileRun::new(self.ctx, &self.kernels, network, size, None)?;
+        let mut run = TileRun::new(self.ctx, &self.kernels, network, size, None)?;
         run.run_tensor(self.ctx, input)
     }
 }

@@ -13,8 +13,8 @@ use kdray_core::denoise::network::{slot_index, tensor_floats, Slot, OUTPUT_CHANN
 
 use std::ops::Range;
 
-use super::dispatches::{network_dispatches, ConvParams, DenoiseKernel};
-use super::gpu_weights::GpuWeights;
+use super::dispatches::{network_dispatches, ConvParams, DenoiseKernel, StepDispatch};
+use super::gpu_weights::{GpuWeights, BLOCK_BYTES};
 use super::kernels::{Kernels, WORKGROUP};
 use super::work_units::{tile_units, UnitKind, WorkUnit};
 use crate::error::{Error, Result};
@@ -74,10 +74,16 @@ pub struct TileRun {
     pack_params: wgpu::Buffer,
     pack: Dispatch,
     /// The run's units, and the dispatch of each network unit (a band of
-    /// a convolution has its own parameters), in order.
+    /// a convolution has its own parameters), in order: each made when
+    /// it first runs, so that making a run cut into many units costs no
+    /// frame a burst of bind groups.
     units: Vec<WorkUnit>,
-    steps: Vec<Dispatch>,
+    steps: Vec<Option<Dispatch>>,
     unpack: Dispatch,
+    /// What the network's dispatches are made from.
+    table: Vec<StepDispatch>,
+    kernels: [wgpu::ComputePipeline; 3],
+    weights: wgpu::Buffer,
 }
 
 fn storage(
@@ -200,61 +206,18 @@ impl TileRun {
             });
             let pack_params = uniform(device, &PackParams::default());
             let slot = |s: Slot| &slots[slot_index(s)];
-            let dispatches = network_dispatches(&weights.layers, input_channels);
+            let table = network_dispatches(&weights.layers, input_channels);
             let units = tile_units(
-                &dispatches,
+                &table,
                 input_channels,
                 tile_width,
                 tile_height,
                 max_unit_cost,
             );
-            let mut steps = Vec::new();
-            for unit in &units {
-                let UnitKind::Dispatch {
-                    index,
-                    first_row,
-                    rows,
-                } = unit.kind
-                else {
-                    continue;
-                };
-                let d = &dispatches[index];
-                let [x, _, z] = d.workgroups(tile_width, tile_height);
-                let workgroups = [x, rows.div_ceil(WORKGROUP), z];
-                match d.kernel {
-                    DenoiseKernel::Conv => {
-                        let params = ConvParams {
-                            first_row,
-                            ..d.conv_params(tile_width, tile_height)
-                        };
-                        let params = uniform(device, &params);
-                        let resources = [
-                            params.as_entire_binding(),
-                            weights.block(d.layer, d.group as usize),
-                            slot(d.src).as_entire_binding(),
-                            slot(d.skip.unwrap_or(d.src)).as_entire_binding(),
-                            slot(d.dst).as_entire_binding(),
-                        ];
-                        steps.push(Dispatch {
-                            pipeline: kernels.conv.clone(),
-                            group: bind_resources(device, &kernels.conv, resources),
-                            workgroups,
-                        });
-                    }
-                    DenoiseKernel::Pool | DenoiseKernel::Upsample => {
-                        let pipeline = match d.kernel {
-                            DenoiseKernel::Pool => &kernels.pool,
-                            _ => &kernels.upsample,
-                        };
-                        let params = uniform(device, &d.resample_params(tile_width, tile_height));
-                        steps.push(Dispatch {
-                            pipeline: pipeline.clone(),
-                            group: bind(device, pipeline, &[&params, slot(d.src), slot(d.dst)]),
-                            workgroups,
-                        });
-                    }
-                }
-            }
+            let network_units = units
+                .iter()
+                .filter(|u| matches!(u.kind, UnitKind::Dispatch { .. }))
+                .count();
             let pack = Dispatch {
                 pipeline: kernels.pack.clone(),
                 group: bind(
@@ -284,8 +247,15 @@ impl TileRun {
                 pack_params,
                 pack,
                 units,
-                steps,
+                steps: (0..network_units).map(|_| None).collect(),
                 unpack,
+                table,
+                kernels: [
+                    kernels.conv.clone(),
+                    kernels.pool.clone(),
+                    kernels.upsample.clone(),
+                ],
+                weights: weights.buffer.clone(),
             }
         })
     }
@@ -293,6 +263,85 @@ impl TileRun {
     /// The run's units, in order.
     pub fn units(&self) -> &[WorkUnit] {
         &self.units
+    }
+
+    /// Makes the dispatches of units `range` that have not been made.
+    fn make_dispatches(&mut self, ctx: &GpuContext, range: Range<usize>) -> Result<()> {
+        let mut step = self.units[..range.start]
+            .iter()
+            .filter(|u| matches!(u.kind, UnitKind::Dispatch { .. }))
+            .count();
+        ctx.checked("making the denoise's dispatches", |device| {
+            for unit in self.units[range].to_vec() {
+                if matches!(unit.kind, UnitKind::Dispatch { .. }) {
+                    self.dispatch(device, step, unit);
+                    step += 1;
+                }
+            }
+        })
+    }
+
+    /// The dispatch of network unit `unit` (a [`UnitKind::Dispatch`]),
+    /// made now if it has not been.
+    fn dispatch(&mut self, device: &wgpu::Device, step: usize, unit: WorkUnit) -> &Dispatch {
+        let UnitKind::Dispatch {
+            index,
+            first_row,
+            rows,
+        } = unit.kind
+        else {
+            unreachable!("only network units have dispatches");
+        };
+        if self.steps[step].is_none() {
+            let d = &self.table[index];
+            let (tile_width, tile_height) = (self.tile_width, self.tile_height);
+            let slot = |s: Slot| &self.slots[slot_index(s)];
+            let [x, _, z] = d.workgroups(tile_width, tile_height);
+            let workgroups = [x, rows.div_ceil(WORKGROUP), z];
+            let [conv, pool, upsample] = &self.kernels;
+            let made = match d.kernel {
+                DenoiseKernel::Conv => {
+                    let params = ConvParams {
+                        first_row,
+                        ..d.conv_params(tile_width, tile_height)
+                    };
+                    let params = uniform(device, &params);
+                    let block = wgpu::BindingResource::Buffer(wgpu::BufferBinding {
+                        buffer: &self.weights,
+                        offset: d.weights_offset,
+                        size: std::num::NonZeroU64::new(BLOCK_BYTES),
+                    });
+                    let resources = [
+                        params.as_entire_binding(),
+                        block,
+                        slot(d.src).as_entire_binding(),
+                        slot(d.skip.unwrap_or(d.src)).as_entire_binding(),
+                        slot(d.dst).as_entire_binding(),
+                    ];
+                    Dispatch {
+                        pipeline: conv.clone(),
+                        group: bind_resources(device, conv, resources),
+                        workgroups,
+                    }
+                }
+                DenoiseKernel::Pool | DenoiseKernel::Upsample => {
+                    let pipeline = match d.kernel {
+                        DenoiseKernel::Pool => pool,
+                        _ => upsample,
+                    };
+                    let params = uniform(device, &d.resample_params(tile_width, tile_height));
+                    Dispatch {
+                        pipeline: pipeline.clone(),
+                        group: bind(device, pipeline, &[&params, slot(d.src), slot(d.dst)]),
+                        workgroups,
+                    }
+                }
+            };
+            self.steps[step] = Some(made);
+        }
+        self.steps[step]
+            .as_ref()
+            .expect("the dispatch was just made")
     }
 
     /// Runs units `range` of one tile in one submission and waits for
@@ -303,20 +352,22 @@ impl TileRun {
     /// (`params.out_width` x `params.out_height`, three floats a pixel). The
     /// units before `range` must have run on this tile.
     pub fn run_units(
-        &self,
+        &mut self,
         ctx: &GpuContext,
         range: Range<usize>,
         images: &[f32],
         params: &PackParams,
     ) -> Result<Option<Vec<f32>>> {
         let floats = params.out_width as usize * params.out_height as usize * OUTPUT_CHANNELS;
-        let units = &self.units[range.clone()];
+        let units = self.units[range.clone()].to_vec();
         let unpacks = units.last().is_some_and(|u| u.kind == UnitKind::Unpack);
         // Network units before the range: the index of its first dispatch.
-        let mut step = self.units[..range.start]
+        let first_step = self.units[..range.start]
             .iter()
             .filter(|u| matches!(u.kind, UnitKind::Dispatch { .. }))
             .count();
+        self.make_dispatches(ctx, range)?;
+        let mut step = first_step;
         ctx.checked("running a denoise tile", |device| {
             if units.first().is_some_and(|u| u.kind == UnitKind::Pack) {
                 ctx.queue
@@ -327,11 +378,12 @@ impl TileRun {
             let mut encoder = device.create_command_encoder(&Default::default());
             {
                 let mut pass = encoder.begin_compute_pass(&Default::default());
-                for unit in units {
+                for unit in &units {
                     match unit.kind {
                         UnitKind::Pack => self.pack.record(&mut pass),
                         UnitKind::Dispatch { .. } => {
-                            self.steps[step].record(&mut pass);
+                            let made = self.steps[step].as_ref();
+                            made.expect("made above").record(&mut pass);
                             step += 1;
                         }
                         UnitKind::Unpack => {
@@ -360,7 +412,7 @@ impl TileRun {
 
     /// The network alone on an already packed input tensor (tile-sized):
     /// its raw output, [`OUTPUT_CHANNELS`] planes.
-    pub fn run_tensor(&self, ctx: &GpuContext, input: &Tensor) -> Result<Tensor> {
+    pub fn run_tensor(&mut self, ctx: &GpuContext, input: &Tensor) -> Result<Tensor> {
         if (input.channels, input.height, input.width)
             != (self.input_channels, self.tile_height, self.tile_width)
         {
@@ -375,6 +427,7 @@ impl TileRun {
             )));
         }
         let floats = OUTPUT_CHANNELS * self.tile_height * self.tile_width;
+        self.make_dispatches(ctx, 0..self.units.len())?;
         ctx.checked("running the denoise network", |device| {
             let input_slot = &self.slots[slot_index(Slot::Input)];
             ctx.queue
@@ -382,7 +435,7 @@ impl TileRun {
             let mut encoder = device.create_command_encoder(&Default::default());
             {
                 let mut pass = encoder.begin_compute_pass(&Default::default());
-                for step in &self.steps {
+                for step in self.steps.iter().flatten() {
                     step.record(&mut pass);
                 }
             }
