@@ -273,25 +273,27 @@ impl TileRun {
             .count();
         ctx.checked("making the denoise's dispatches", |device| {
             for unit in self.units[range].to_vec() {
-                if matches!(unit.kind, UnitKind::Dispatch { .. }) {
-                    self.dispatch(device, step, unit);
+                if let UnitKind::Dispatch {
+                    index,
+                    first_row,
+                    rows,
+                } = unit.kind
+                {
+                    self.make_dispatch(device, step, (index, first_row, rows));
                     step += 1;
                 }
             }
         })
     }
 
-    /// The dispatch of network unit `unit` (a [`UnitKind::Dispatch`]),
-    /// made now if it has not been.
-    fn dispatch(&mut self, device: &wgpu::Device, step: usize, unit: WorkUnit) -> &Dispatch {
-        let UnitKind::Dispatch {
-            index,
-            first_row,
-            rows,
-        } = unit.kind
-        else {
-            unreachable!("only network units have dispatches");
-        };
+    /// Makes network unit `step`'s dispatch, rows `first_row ..` (`rows`
+    /// of them) of the table's dispatch `index`, unless it is made.
+    fn make_dispatch(
+        &mut self,
+        device: &wgpu::Device,
+        step: usize,
+        (index, first_row, rows): (usize, u32, u32),
+    ) {
         if self.steps[step].is_none() {
             let d = &self.table[index];
             let (tile_width, tile_height) = (self.tile_width, self.tile_height);
@@ -339,9 +341,6 @@ impl TileRun {
             };
             self.steps[step] = Some(made);
         }
-        self.steps[step]
-            .as_ref()
-            .expect("the dispatch was just made")
     }
 
     /// Runs units `range` of one tile in one submission and waits for
