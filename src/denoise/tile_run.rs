@@ -267,21 +267,24 @@ impl TileRun {
 
     /// Makes the dispatches of units `range` that have not been made.
     fn make_dispatches(&mut self, ctx: &GpuContext, range: Range<usize>) -> Result<()> {
-        let mut step = self.units[..range.start]
+        let first = self.units[..range.start]
             .iter()
             .filter(|u| matches!(u.kind, UnitKind::Dispatch { .. }))
             .count();
-        ctx.checked("making the denoise's dispatches", |device| {
-            for unit in self.units[range].to_vec() {
-                if let UnitKind::Dispatch {
+        let wanted: Vec<(usize, u32, u32)> = self.units[range]
+            .iter()
+            .filter_map(|u| match u.kind {
+                UnitKind::Dispatch {
                     index,
                     first_row,
                     rows,
-                } = unit.kind
-                {
-                    self.make_dispatch(device, step, (index, first_row, rows));
-                    step += 1;
-                }
+                } => Some((index, first_row, rows)),
+                _ => None,
+            })
+            .collect();
+        ctx.checked("making the denoise's dispatches", |device| {
+            for (k, dispatch) in wanted.into_iter().enumerate() {
+                self.make_dispatch(device, first + k, dispatch);
             }
         })
     }
