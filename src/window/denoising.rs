@@ -1,10 +1,11 @@
 //! Denoising in the window (N; the path tracer only): the feature images
 //! gathered beside the refined image, and the denoiser
 //! ([`crate::denoise::Denoiser`]) run on them when the
-//! [`DenoiseSchedule`] says so: a [`DenoiseRun`] begun on the sums of a
-//! finished pass and advanced a few units a frame, as the
-//! [`DenoiseBudget`] allows, so that the window keeps presenting frames
-//! (and answering keys) while it denoises.
+//! [`DenoiseSchedule`] says so: the sums of a finished pass read back
+//! (waited for without blocking), then a [`DenoiseRun`] on their means
+//! advanced a few units a frame, as the [`DenoiseBudget`] allows, so that
+//! the window keeps presenting frames (and answering keys) while it
+//! denoises.
 //!
 //! The accumulation's pass (`accumulate_tile`) keeps colour sums only. The
 //! sums the denoiser reads come from the headless kernel instead:
@@ -164,8 +165,10 @@ impl FeaturePass {
         Ok(())
     }
 
-    /// The first `pixels` pixels' sums, read back: twelve words each.
-    fn read_sums(&self, ctx: &GpuContext, pixels: u64) -> Result<Vec<f32>> {
+    /// Begins reading back the first `pixels` pixels' sums as they are
+    /// after the work submitted so far (twelve words each): the readback
+    /// buffer, and where its mapping's outcome arrives.
+    fn begin_read(&self, ctx: &GpuContext, pixels: u64) -> Result<(wgpu::Buffer, MapOutcome)> {
         let size = pixels * FEATURE_TEXEL;
         let readback = ctx.checked("reading back the feature sums", |device| {
             let readback = buffer(
@@ -179,12 +182,32 @@ impl FeaturePass {
             ctx.queue.submit([encoder.finish()]);
             readback
         })?;
-        let bytes = ctx.read_buffer(&readback, size)?;
-        Ok(bytes
-            .chunks_exact(4)
-            .map(|b| f32::from_le_bytes([b[0], b[1], b[2], b[3]]))
-            .collect())
+        let (sender, receiver) = std::sync::mpsc::channel();
+        readback
+            .slice(..size)
+            .map_async(wgpu::MapMode::Read, move |r| {
+                let _ = sender.send(r);
+            });
+        Ok((readback, receiver))
     }
+}
+
+/// Where a buffer's mapping reports its outcome.
+type MapOutcome = std::sync::mpsc::Receiver<std::result::Result<(), wgpu::BufferAsyncError>>;
+
+/// A mapped buffer's words as floats, the buffer unmapped.
+fn mapped_floats(buffer: &wgpu::Buffer) -> Result<Vec<f32>> {
+    let floats = {
+        let view = buffer
+            .slice(..)
+            .get_mapped_range()
+            .map_err(|e| Error::Gpu(format!("reading back the feature sums failed: {e}")))?;
+        view.chunks_exact(4)
+            .map(|b| f32::from_le_bytes([b[0], b[1], b[2], b[3]]))
+            .collect()
+    };
+    buffer.unmap();
+    Ok(floats)
 }
 
 /// The means of `sums` (twelve floats a pixel: colour, albedo and normal
@@ -202,6 +225,17 @@ pub fn feature_means(sums: &[f32], samples: u32) -> [Vec<f32>; 3] {
     images
 }
 
+/// A denoise begun: its feature sums on their way back from the GPU
+/// (waited for without blocking, so that the frame that begins a denoise
+/// does not wait for the GPU's queue).
+struct Reading {
+    readback: wgpu::Buffer,
+    mapped: MapOutcome,
+    size: (u32, u32),
+    samples: u32,
+    started: Instant,
+}
+
 /// A denoise in progress: its run and the images it denoises.
 struct Running {
     run: DenoiseRun,
@@ -214,8 +248,9 @@ struct Running {
     busy: Duration,
     /// Frames that ran some of its units.
     frames: u32,
-    /// When the last of them ran its units, and the longest interval
-    /// between two of them (a frame's time while denoising).
+    /// When the last of them (or the frame that made the run) ran, and
+    /// the longest interval between two of them (a frame's time while
+    /// denoising).
     last_frame: Instant,
     longest_frame: Duration,
 }
@@ -229,7 +264,8 @@ pub struct Denoised {
     /// Time spent running its units, and since it began.
     pub busy: Duration,
     pub elapsed: Duration,
-    /// Frames that ran its units, and the longest interval between two.
+    /// Frames that ran its units, and the longest interval between two
+    /// (from the frame that made its run).
     pub frames: u32,
     pub longest_frame: Duration,
 }
@@ -248,6 +284,7 @@ pub struct Denoising {
     features: Option<FeaturePass>,
     /// Made at the first denoise; its kernels and weights serve the rest.
     denoiser: Option<Denoiser<'static>>,
+    reading: Option<Reading>,
     running: Option<Running>,
     budget: DenoiseBudget,
 }
@@ -303,12 +340,15 @@ impl Denoising {
 
     /// Whether a denoise is in progress.
     pub fn is_running(&self) -> bool {
-        self.running.is_some()
+        self.reading.is_some() || self.running.is_some()
     }
 
     /// The denoise in progress: its samples per pixel and the percentage
     /// of its work done.
     pub fn progress(&self) -> Option<(u32, u32)> {
+        if let Some(r) = &self.reading {
+            return Some((r.samples, 0));
+        }
         self.running.as_ref().map(|r| {
             let (done, total) = r.run.progress();
             let percent = (done as f64 * 100.0 / total.max(1) as f64).floor();
@@ -319,32 +359,65 @@ impl Denoising {
     /// Drops the denoise in progress, if any (the image it denoises is
     /// gone).
     pub fn abandon(&mut self) {
+        self.reading = None;
         self.running = None;
     }
 
     /// Begins the denoise of the image of `size` pixels, every pixel
-    /// holding `samples` samples (the feature sums as they are now).
-    pub fn start(
-        &mut self,
-        ctx: &'static GpuContext,
-        (width, height): (u32, u32),
-        samples: u32,
-    ) -> Result<()> {
-        let started = Instant::now();
+    /// holding `samples` samples (the feature sums as the work submitted
+    /// so far leaves them): their readback.
+    pub fn start(&mut self, ctx: &GpuContext, size: (u32, u32), samples: u32) -> Result<()> {
         let Some(features) = &self.features else {
             return Err(Error::Gpu("no feature sums to denoise".into()));
         };
-        let sums = features.read_sums(ctx, width as u64 * height as u64)?;
-        let images = feature_means(&sums, samples);
+        let (readback, mapped) = features.begin_read(ctx, size.0 as u64 * size.1 as u64)?;
+        self.running = None;
+        self.reading = Some(Reading {
+            readback,
+            mapped,
+            size,
+            samples,
+            started: Instant::now(),
+        });
+        Ok(())
+    }
+
+    /// Makes the run once the sums are back (false: not yet).
+    fn make_run(&mut self, ctx: &'static GpuContext) -> Result<bool> {
+        let Some(reading) = &self.reading else {
+            return Ok(true);
+        };
+        ctx.device
+            .poll(wgpu::PollType::Poll)
+            .map_err(|e| Error::Gpu(format!("polling the GPU failed: {e}")))?;
+        match reading.mapped.try_recv() {
+            Err(std::sync::mpsc::TryRecvError::Empty) => return Ok(false),
+            Err(std::sync::mpsc::TryRecvError::Disconnected) => {
+                return Err(Error::Gpu("the feature sums never came back".into()))
+            }
+            Ok(Err(e)) => {
+                return Err(Error::Gpu(format!(
+                    "reading back the feature sums failed: {e}"
+                )))
+            }
+            Ok(Ok(())) => {}
+        }
+        let Some(reading) = self.reading.take() else {
+            return Ok(false);
+        };
+        let making = Instant::now();
+        let (width, height) = (reading.size.0 as usize, reading.size.1 as usize);
+        let mut sums = mapped_floats(&reading.readback)?;
+        sums.truncate(width * height * 12);
+        let images = feature_means(&sums, reading.samples);
         let denoiser = match &mut self.denoiser {
             Some(d) => d,
             None => self.denoiser.insert(Denoiser::new(ctx)?),
         };
         let [color, albedo, normal] = &images;
-        let size = (width as usize, height as usize);
         let view = kdray_core::denoise::DenoiseImages {
-            width: size.0,
-            height: size.1,
+            width,
+            height,
             color,
             albedo: Some(albedo),
             normal: Some(normal),
@@ -352,30 +425,33 @@ impl Denoising {
         let run = denoiser.start(&view, None, Some(MAX_UNIT_COST))?;
         self.running = Some(Running {
             run,
-            size,
+            size: (width, height),
             images,
-            samples,
-            started,
-            busy: started.elapsed(),
+            samples: reading.samples,
+            started: reading.started,
+            busy: making.elapsed(),
             frames: 0,
-            last_frame: started,
+            last_frame: making,
             longest_frame: Duration::ZERO,
         });
-        Ok(())
+        Ok(true)
     }
 
-    /// Runs this frame's share of the denoise in progress (see
+    /// Runs this frame's share of the denoise in progress: once its sums
+    /// are back, the run made (in a frame of its own), then its units (see
     /// [`DenoiseBudget`]); the denoised image once its last unit has run.
     pub fn advance(&mut self, ctx: &'static GpuContext) -> Result<Option<Denoised>> {
+        if self.reading.is_some() {
+            // Made in this frame, the run's units begin in the next.
+            self.make_run(ctx)?;
+            return Ok(None);
+        }
         let Some(running) = &mut self.running else {
             return Ok(None);
         };
         let units = self.budget.units(running.run.next_costs());
         let began = Instant::now();
-        if running.frames > 0 {
-            let interval = began - running.last_frame;
-            running.longest_frame = running.longest_frame.max(interval);
-        }
+        running.longest_frame = running.longest_frame.max(began - running.last_frame);
         running.last_frame = began;
         let [color, albedo, normal] = &running.images;
         let images = kdray_core::denoise::DenoiseImages {
@@ -389,11 +465,6 @@ impl Denoising {
         let took = began.elapsed();
         self.budget.learn(cost, took.as_secs_f64());
         running.busy += took;
-        if running.frames == 0 {
-            // The frame that began it: reading the sums, the denoiser
-            // made (the first time) and its first unit.
-            running.longest_frame = running.started.elapsed();
-        }
         running.frames += 1;
         if !running.run.is_finished() {
             return Ok(None);
