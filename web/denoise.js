@@ -4,11 +4,12 @@
 // comes from contract.json's `denoise`: the weights file in the layout the
 // native denoiser uploads, the table of dispatches native records its pass
 // from (kernel, slots, channels, group, weights block, level), the
-// kernels' uniform layouts and the transfer function's constants. The
-// page derives only sizes from its image: the tile is the image rounded up
-// to 16 pixels, one tile, which is native's plan for every image whose
-// largest tensor fits the adapter's storage binding; a larger image is
-// refused (native would cut it into tiles).
+// kernels' uniform layouts, the tiles' alignment and overlap and the
+// transfer function's constants. The page derives only sizes from its
+// image: the tiles of native's plan (tilePlan, kdray_core's
+// denoise::tiling, which tests/external/web.rs holds it to), each no
+// larger than the adapter's storage binding allows, run one after the
+// other as native runs them.
 
 import { PageError, setField } from './tracer.js';
 
@@ -76,6 +77,56 @@ export function featureImages(words, pixels, samples, format) {
   return images;
 }
 
+// Native's tile plan (kdray_core::denoise::TilePlan::new) of a `width` x
+// `height` image for `spec` (contract.json's `denoise`), each tensor at
+// most `maxTensorBytes` where the minimum tile allows: the tile size
+// starts at the image rounded up to the alignment and, while the largest
+// tensor exceeds the limit, the longer side is cut into one more tile,
+// never below three overlaps. Tiles overlap by `tile_overlap` on inner
+// sides; a smaller last tile is zero-padded at the top and left.
+// Returns { tileWidth, tileHeight, largestBytes, tiles }, each tile as
+// native's Tile (src_*, offset_*, out_*).
+export function tilePlan(width, height, spec, maxTensorBytes) {
+  const a = spec.alignment;
+  const o = spec.tile_overlap;
+  const roundUp = (n, to) => Math.ceil(n / to) * to;
+  const minTile = 3 * o;
+  const side = (n, count) => (count === 1 ? roundUp(n, a)
+    : Math.max(roundUp(Math.ceil(Math.max(n - 2 * o, 0) / count), a) + 2 * o, minTile));
+  const floatsPerPixel = Math.max(...spec.slot_floats_per_pixel);
+  const bytes = (h, w) => 4 * floatsPerPixel * h * w;
+  let [countH, countW] = [1, 1];
+  let [tileH, tileW] = [side(height, 1), side(width, 1)];
+  while (bytes(tileH, tileW) > maxTensorBytes) {
+    if (tileH > minTile && tileH > tileW) {
+      countH += 1;
+      tileH = side(height, countH);
+    } else if (tileW > minTile) {
+      countW += 1;
+      tileW = side(width, countW);
+    } else {
+      break;
+    }
+  }
+  const spans = (n, tile) => {
+    const count = n > tile ? Math.ceil((n - 2 * o) / (tile - 2 * o)) : 1;
+    return Array.from({ length: count }, (_, i) => {
+      const start = i === 0 ? 0 : i * (tile - 2 * o);
+      const begin = i > 0 ? o : 0;
+      const end = i + 1 < count ? o : 0;
+      const size = Math.min(n - start, tile);
+      return [start, size, tile - roundUp(size, a), start + begin, size - begin - end];
+    });
+  };
+  const tiles = [];
+  for (const [src_y, src_height, offset_y, out_y, out_height] of spans(height, tileH)) {
+    for (const [src_x, src_width, offset_x, out_x, out_width] of spans(width, tileW)) {
+      tiles.push({ src_y, src_x, src_height, src_width, offset_y, offset_x, out_y, out_x, out_height, out_width });
+    }
+  }
+  return { tileWidth: tileW, tileHeight: tileH, largestBytes: bytes(tileH, tileW), tiles };
+}
+
 export class Denoiser {
   // A Denoiser, its pipelines checked: a kernel the browser refuses is a
   // PageError with the browser's message.
@@ -126,26 +177,25 @@ export class Denoiser {
     this.run = null;
   }
 
-  // The buffers and bind groups for a `width` x `height` image: one tile
-  // of the image rounded up to the network's alignment.
+  // The buffers and bind groups for a `width` x `height` image: its
+  // tile plan's, every tile the same size.
   prepare(width, height) {
     if (this.run && this.run.width === width && this.run.height === height) return this.run;
     this.release();
     const { device, spec } = this;
-    const a = spec.alignment;
-    const tw = Math.ceil(width / a) * a;
-    const th = Math.ceil(height / a) * a;
-    const slotBytes = spec.slot_floats_per_pixel.map((floats) => 4 * floats * tw * th);
-    const largest = Math.max(...slotBytes);
     const limit = device.limits.maxStorageBufferBindingSize;
-    if (largest > limit) {
-      throw new PageError(`denoising ${width} x ${height} needs a ${MiB(largest)} tensor, over the adapter's ` +
-        `${MiB(limit)} storage binding; the page denoises in one tile (kdray render --denoise cuts tiles)`);
+    const plan = tilePlan(width, height, spec, limit);
+    const tw = plan.tileWidth;
+    const th = plan.tileHeight;
+    if (plan.largestBytes > limit) {
+      throw new PageError(`denoising needs a ${MiB(plan.largestBytes)} tensor even in the smallest tiles ` +
+        `(${tw} x ${th}), over the adapter's ${MiB(limit)} storage binding`);
     }
+    const slotBytes = spec.slot_floats_per_pixel.map((floats) => 4 * floats * tw * th);
     const storage = (label, bytes, extra = 0) => device.createBuffer({ label, size: Math.max(4, bytes), usage: GPUBufferUsage.STORAGE | extra });
     const slots = new Map(spec.slots.map((name, i) => [name, storage(`denoise ${name}`, slotBytes[i])]));
-    const images = storage('denoise images', 4 * spec.input_channels * width * height, GPUBufferUsage.COPY_DST);
-    const outBytes = 4 * spec.output_channels * width * height;
+    const images = storage('denoise images', 4 * spec.input_channels * tw * th, GPUBufferUsage.COPY_DST);
+    const outBytes = 4 * spec.output_channels * tw * th;
     const out = storage('denoise output', outBytes, GPUBufferUsage.COPY_SRC);
     const readback = device.createBuffer({ size: outBytes, usage: GPUBufferUsage.MAP_READ | GPUBufferUsage.COPY_DST });
     const packParams = device.createBuffer({ size: spec.params.pack.size, usage: GPUBufferUsage.UNIFORM | GPUBufferUsage.COPY_DST });
@@ -186,10 +236,10 @@ export class Denoiser {
     });
     const pack = { pipeline: this.pack, group: group(this.pack, [packParams, images, slots.get(spec.input_slot)].map(whole)),
       workgroups: [groupsOf(tw), groupsOf(th), 1] };
-    const unpack = { pipeline: this.unpack, group: group(this.unpack, [packParams, slots.get(spec.output_slot), out].map(whole)),
-      workgroups: [groupsOf(width), groupsOf(height), 1] };
+    // The unpacking's workgroups are each tile's output rectangle's.
+    const unpack = { pipeline: this.unpack, group: group(this.unpack, [packParams, slots.get(spec.output_slot), out].map(whole)) };
     this.run = {
-      width, height, tw, th, images, out, readback, packParams, pack, dispatches, unpack,
+      width, height, tw, th, plan, images, out, readback, packParams, pack, dispatches, unpack,
       buffers: [...slots.values(), images, out, readback, packParams, ...uniforms],
     };
     return this.run;
@@ -202,36 +252,59 @@ export class Denoiser {
 
   // The denoised image (three floats a pixel) of `images` (colour, albedo
   // and normal of a `width` x `height` image, as featureImages gives
-  // them), colour scaled by `scale` on the way in and back by its inverse.
+  // them), colour scaled by `scale` on the way in and back by its inverse:
+  // tile after tile of the plan, each tile's source rectangle of the three
+  // images uploaded, packed, run through the network, and its output
+  // rectangle unpacked, read back and put in place.
   async denoise(width, height, images, scale) {
     const { device, spec } = this;
     const run = this.prepare(width, height);
-    const params = new ArrayBuffer(spec.params.pack.size);
-    const set = (name, v) => setField(spec.params.pack, params, name, v);
-    set('tile_width', run.tw); set('tile_height', run.th);
-    set('src_width', width); set('src_height', height);
-    set('offset_x', 0); set('offset_y', 0);
-    set('channels', spec.input_channels);
-    set('out_x', 0); set('out_y', 0); set('out_width', width); set('out_height', height);
-    set('input_scale', scale);
-    set('output_scale', scale !== 0 ? f(1 / scale) : 0);
-    set('pu_norm', spec.pu_norm); set('pu_max', spec.pu_max);
-    device.queue.writeBuffer(run.packParams, 0, params);
-    device.queue.writeBuffer(run.images, 0, images);
-    const encoder = device.createCommandEncoder();
-    const pass = encoder.beginComputePass();
-    for (const d of [run.pack, ...run.dispatches, run.unpack]) {
-      pass.setPipeline(d.pipeline);
-      pass.setBindGroup(0, d.group);
-      pass.dispatchWorkgroups(...d.workgroups);
+    const pixels = width * height;
+    const rgb = new Float32Array(3 * pixels);
+    const groupsOf = (n) => Math.ceil(n / spec.workgroup);
+    for (const t of run.plan.tiles) {
+      const params = new ArrayBuffer(spec.params.pack.size);
+      const set = (name, v) => setField(spec.params.pack, params, name, v);
+      set('tile_width', run.tw); set('tile_height', run.th);
+      set('src_width', t.src_width); set('src_height', t.src_height);
+      set('offset_x', t.offset_x); set('offset_y', t.offset_y);
+      set('channels', spec.input_channels);
+      set('out_x', t.out_x - t.src_x); set('out_y', t.out_y - t.src_y);
+      set('out_width', t.out_width); set('out_height', t.out_height);
+      set('input_scale', scale);
+      set('output_scale', scale !== 0 ? f(1 / scale) : 0);
+      set('pu_norm', spec.pu_norm); set('pu_max', spec.pu_max);
+      const region = new Float32Array(3 * 3 * t.src_width * t.src_height);
+      let at = 0;
+      for (let k = 0; k < 3; k++) {
+        for (let y = t.src_y; y < t.src_y + t.src_height; y++) {
+          const row = 3 * (k * pixels + y * width + t.src_x);
+          region.set(images.subarray(row, row + 3 * t.src_width), at);
+          at += 3 * t.src_width;
+        }
+      }
+      device.queue.writeBuffer(run.packParams, 0, params);
+      device.queue.writeBuffer(run.images, 0, region);
+      const encoder = device.createCommandEncoder();
+      const pass = encoder.beginComputePass();
+      const unpack = { ...run.unpack, workgroups: [groupsOf(t.out_width), groupsOf(t.out_height), 1] };
+      for (const d of [run.pack, ...run.dispatches, unpack]) {
+        pass.setPipeline(d.pipeline);
+        pass.setBindGroup(0, d.group);
+        pass.dispatchWorkgroups(...d.workgroups);
+      }
+      pass.end();
+      const bytes = 4 * spec.output_channels * t.out_width * t.out_height;
+      encoder.copyBufferToBuffer(run.out, 0, run.readback, 0, bytes);
+      device.queue.submit([encoder.finish()]);
+      await run.readback.mapAsync(GPUMapMode.READ, 0, bytes);
+      const rect = new Float32Array(run.readback.getMappedRange(0, bytes).slice(0));
+      run.readback.unmap();
+      const rowFloats = 3 * t.out_width;
+      for (let r = 0; r < t.out_height; r++) {
+        rgb.set(rect.subarray(r * rowFloats, (r + 1) * rowFloats), 3 * ((t.out_y + r) * width + t.out_x));
+      }
     }
-    pass.end();
-    const bytes = 4 * spec.output_channels * width * height;
-    encoder.copyBufferToBuffer(run.out, 0, run.readback, 0, bytes);
-    device.queue.submit([encoder.finish()]);
-    await run.readback.mapAsync(GPUMapMode.READ);
-    const rgb = new Float32Array(run.readback.getMappedRange().slice(0));
-    run.readback.unmap();
     return rgb;
   }
 }

@@ -1,9 +1,10 @@
 // The denoiser's 3x3 convolution (src/denoise/): one invocation computes
 // sixteen output channels of eight pixels side by side in a row; one
-// dispatch computes those sixteen channels of every pixel. The input is
-// `src`'s channels, then `skip`'s (the U-Net's concatenation, never
-// stored); zero padding of one pixel; bias; ReLU unless it is the last
-// layer. Tensors are planar CHW f32.
+// dispatch computes those sixteen channels of a band of rows (from
+// `first_row`: the whole image when it is 0 and the dispatch covers every
+// row). The input is `src`'s channels, then `skip`'s (the U-Net's
+// concatenation, never stored); zero padding of one pixel; bias; ReLU
+// unless it is the last layer. Tensors are planar CHW f32.
 //
 // Why so much per invocation: llvmpipe runs invocations side by side in
 // SIMD lanes, and a load at a per-lane index costs it one load per lane,
@@ -37,7 +38,8 @@ struct ConvParams {
     // This dispatch's outputs: first_output .. first_output + 15.
     first_output: u32,
     relu: u32,
-    pad: u32,
+    // The band's first row: invocation row 0 computes this row.
+    first_row: u32,
 }
 
 @group(0) @binding(0) var<uniform> p: ConvParams;
@@ -142,7 +144,8 @@ fn store16(x: u32, y: u32, o: Out16) {
 fn conv3x3(@builtin(global_invocation_id) id: vec3<u32>) {
     let w = p.width;
     let x0 = id.x * 8u;
-    let y = min(id.y, p.height - 1u);
+    let row = id.y + p.first_row;
+    let y = min(row, p.height - 1u);
     let last = w - 1u;
     var c: Columns;
     c.c0 = select(min(x0, last) - 1u, 0u, x0 == 0u);
@@ -175,7 +178,7 @@ fn conv3x3(@builtin(global_invocation_id) id: vec3<u32>) {
         acc = add_row(acc, skip_row(k + r1, c, 1.0), b + 6u);
         acc = add_row(acc, skip_row(k + r2, c, m2), b + 12u);
     }
-    if (id.y >= p.height) { return; }
+    if (row >= p.height) { return; }
     store16(x0, y, acc.p0); store16(x0 + 1u, y, acc.p1); store16(x0 + 2u, y, acc.p2); store16(x0 + 3u, y, acc.p3);
     store16(x0 + 4u, y, acc.p4); store16(x0 + 5u, y, acc.p5); store16(x0 + 6u, y, acc.p6); store16(x0 + 7u, y, acc.p7);
 }

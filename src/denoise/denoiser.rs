@@ -8,12 +8,12 @@ use std::sync::{Arc, Mutex};
 
 use kdray_core::denoise::cpu_net::input_scale;
 use kdray_core::denoise::layers::Tensor;
-use kdray_core::denoise::transfer::{pu_forward_raw, HDR_Y_MAX};
 use kdray_core::denoise::{DenoiseImages, TilePlan, Weights};
 
 use super::gpu_weights::GpuWeights;
+use super::image_run::DenoiseRun;
 use super::kernels::Kernels;
-use super::tile_run::{PackParams, TileRun};
+use super::tile_run::TileRun;
 use crate::error::{Error, Result};
 use crate::gpu::{max_binding_bytes, GpuContext};
 
@@ -87,13 +87,47 @@ impl<'a> Denoiser<'a> {
         self.denoise_with(images, &network, scale)
     }
 
-    /// `images` denoised by `network` (three floats a pixel).
+    /// `images` denoised by `network` (three floats a pixel): a
+    /// [`DenoiseRun`] run whole, tile by tile.
     pub fn denoise_with(
         &self,
         images: &DenoiseImages<'_>,
         network: &GpuWeights,
         scale: Option<f32>,
     ) -> Result<Vec<f32>> {
+        if images.width == 0 || images.height == 0 {
+            images.check().map_err(Error::Usage)?;
+            return Ok(Vec::new());
+        }
+        let mut run = self.start_with(images, network, scale, None)?;
+        while !run.is_finished() {
+            run.advance(self.ctx, images, usize::MAX)?;
+        }
+        run.into_output()
+    }
+
+    /// The denoise of `images` by the shipped network for their channels,
+    /// begun (nothing run yet), its convolutions cut into units of at
+    /// most `max_unit_cost` (see [`super::work_units`]).
+    pub fn start(
+        &self,
+        images: &DenoiseImages<'_>,
+        scale: Option<f32>,
+        max_unit_cost: Option<u64>,
+    ) -> Result<DenoiseRun> {
+        images.check().map_err(Error::Usage)?;
+        let network = self.shipped(images.input_channels())?;
+        self.start_with(images, &network, scale, max_unit_cost)
+    }
+
+    /// The denoise of `images` by `network`, begun (see [`Self::start`]).
+    pub fn start_with(
+        &self,
+        images: &DenoiseImages<'_>,
+        network: &GpuWeights,
+        scale: Option<f32>,
+        max_unit_cost: Option<u64>,
+    ) -> Result<DenoiseRun> {
         images.check().map_err(Error::Usage)?;
         if images.input_channels() != network.input_channels {
             return Err(Error::Usage(format!(
@@ -103,67 +137,30 @@ impl<'a> Denoiser<'a> {
             )));
         }
         let (width, height) = (images.width, images.height);
-        let mut out = vec![0.0f32; width * height * 3];
-        if width == 0 || height == 0 {
-            return Ok(out);
-        }
         let limit = max_binding_bytes(&self.ctx.device.limits());
         let plan = TilePlan::new(width, height, network.input_channels, limit);
         let run = TileRun::new(
             self.ctx,
             &self.kernels,
             network,
-            plan.tile_height,
-            plan.tile_width,
+            (plan.tile_width, plan.tile_height),
+            max_unit_cost,
         )?;
-        let scale = input_scale(images, scale);
-        let pu_max = pu_forward_raw(HDR_Y_MAX);
-        let sources: Vec<&[f32]> = std::iter::once(images.color)
-            .chain(images.albedo)
-            .chain(images.normal)
-            .collect();
-        let mut region = Vec::new();
-        for tile in &plan.tiles {
-            region.clear();
-            for source in &sources {
-                for y in tile.src_y..tile.src_y + tile.src_height {
-                    let row = (y * width + tile.src_x) * 3;
-                    region.extend_from_slice(&source[row..row + tile.src_width * 3]);
-                }
-            }
-            let params = PackParams {
-                tile_width: plan.tile_width as u32,
-                tile_height: plan.tile_height as u32,
-                src_width: tile.src_width as u32,
-                src_height: tile.src_height as u32,
-                offset_x: tile.offset_x as u32,
-                offset_y: tile.offset_y as u32,
-                channels: network.input_channels as u32,
-                out_x: (tile.out_x - tile.src_x) as u32,
-                out_y: (tile.out_y - tile.src_y) as u32,
-                out_width: tile.out_width as u32,
-                out_height: tile.out_height as u32,
-                input_scale: scale,
-                output_scale: if scale != 0.0 { 1.0 / scale } else { 0.0 },
-                pu_norm: 1.0 / pu_max,
-                pu_max,
-                pad: 0,
-            };
-            let rect = run.run_tile(self.ctx, &region, &params)?;
-            let row_floats = tile.out_width * 3;
-            for (r, row) in rect.chunks_exact(row_floats).enumerate() {
-                let at = ((tile.out_y + r) * width + tile.out_x) * 3;
-                out[at..at + row_floats].copy_from_slice(row);
-            }
-        }
-        Ok(out)
+        Ok(DenoiseRun::new(
+            (width, height),
+            network.input_channels,
+            plan,
+            run,
+            input_scale(images, scale),
+        ))
     }
 
     /// The network alone on a packed input tensor (height and width
     /// multiples of 16): its raw output, as
     /// [`kdray_core::denoise::cpu_net::run_network`] gives it.
     pub fn gpu_network(&self, network: &GpuWeights, input: &Tensor) -> Result<Tensor> {
-        let run = TileRun::new(self.ctx, &self.kernels, network, input.height, input.width)?;
+        let size = (input.width, input.height);
+        let mut run = TileRun::new(self.ctx, &self.kernels, network, size, None)?;
         run.run_tensor(self.ctx, input)
     }
 }

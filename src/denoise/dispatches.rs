@@ -23,7 +23,8 @@ pub struct ConvParams {
     pub out_channels: u32,
     pub first_output: u32,
     pub relu: u32,
-    pub pad: u32,
+    /// The first row of the band a dispatch computes (0: from the top).
+    pub first_row: u32,
 }
 
 /// resample.wgsl's `ResampleParams` (the output's size).
@@ -115,7 +116,7 @@ impl StepDispatch {
             out_channels: self.out_channels,
             first_output: self.first_output,
             relu: u32::from(self.relu),
-            pad: 0,
+            first_row: 0,
         }
     }
 

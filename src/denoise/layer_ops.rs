@@ -130,7 +130,7 @@ impl Denoiser<'_> {
                     out_channels: blocks.out_channels,
                     first_output: (k * CONV_OUTPUTS) as u32,
                     relu: u32::from(relu),
-                    pad: 0,
+                    first_row: 0,
                 };
                 (
                     bytemuck::bytes_of(&params).to_vec(),

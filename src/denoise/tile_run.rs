@@ -1,17 +1,22 @@
 //! One tile size's buffers and bind groups, and the run of the network on
 //! one tile: the tile's source pixels uploaded, packed, the 24 steps of
-//! [`kdray_core::denoise::network::STEPS`] dispatched in one compute pass
-//! as the rows of [`super::dispatches::network_dispatches`] (one buffer per slot, each sized for the most that slot ever holds), the
-//! output rectangle unpacked and read back. Every tile of a plan has the
-//! same size, so a plan makes its buffers once.
+//! [`kdray_core::denoise::network::STEPS`] dispatched as the rows of
+//! [`super::dispatches::network_dispatches`] (one buffer per slot, each
+//! sized for the most that slot ever holds), the output rectangle unpacked
+//! and read back. The run is the list of [`super::work_units`]: all in one
+//! compute pass, or a range at a time ([`TileRun::run_units`]). Every tile of a plan has the same size, so a
+//! plan makes its buffers once.
 
 use bytemuck::{Pod, Zeroable};
 use kdray_core::denoise::layers::Tensor;
 use kdray_core::denoise::network::{slot_index, tensor_floats, Slot, OUTPUT_CHANNELS, OUTPUT_SLOT};
 
-use super::dispatches::{network_dispatches, DenoiseKernel};
-use super::gpu_weights::GpuWeights;
+use std::ops::Range;
+
+use super::dispatches::{network_dispatches, ConvParams, DenoiseKernel, StepDispatch};
+use super::gpu_weights::{GpuWeights, BLOCK_BYTES};
 use super::kernels::{Kernels, WORKGROUP};
+use super::work_units::{tile_units, UnitKind, WorkUnit};
 use crate::error::{Error, Result};
 use crate::gpu::context::buffer_holding;
 use crate::gpu::{max_binding_bytes, GpuContext};
@@ -68,8 +73,17 @@ pub struct TileRun {
     readback: wgpu::Buffer,
     pack_params: wgpu::Buffer,
     pack: Dispatch,
-    steps: Vec<Dispatch>,
+    /// The run's units, and the dispatch of each network unit (a band of
+    /// a convolution has its own parameters), in order: each made when
+    /// it first runs, so that making a run cut into many units costs no
+    /// frame a burst of bind groups.
+    units: Vec<WorkUnit>,
+    steps: Vec<Option<Dispatch>>,
     unpack: Dispatch,
+    /// What the network's dispatches are made from.
+    table: Vec<StepDispatch>,
+    kernels: [wgpu::ComputePipeline; 3],
+    weights: wgpu::Buffer,
 }
 
 fn storage(
@@ -139,14 +153,16 @@ fn workgroups(width: usize, height: usize, z: usize) -> [u32; 3] {
 
 impl TileRun {
     /// The buffers and bind groups for tiles of `tile_height` x
-    /// `tile_width` (multiples of 16) through `weights`. Fails in one line
-    /// if a tensor would exceed the device's largest storage binding.
+    /// `tile_width` (multiples of 16) through `weights`, the convolutions
+    /// cut into units of at most `max_unit_cost` (see [`tile_units`]).
+    /// Fails in one line if a tensor would exceed the device's largest
+    /// storage binding.
     pub fn new(
         ctx: &GpuContext,
         kernels: &Kernels,
         weights: &GpuWeights,
-        tile_height: usize,
-        tile_width: usize,
+        (tile_width, tile_height): (usize, usize),
+        max_unit_cost: Option<u64>,
     ) -> Result<Self> {
         let input_channels = weights.input_channels;
         let (largest, per_slot) = tensor_floats(input_channels, tile_height, tile_width);
@@ -190,41 +206,18 @@ impl TileRun {
             });
             let pack_params = uniform(device, &PackParams::default());
             let slot = |s: Slot| &slots[slot_index(s)];
-            let mut steps = Vec::new();
-            for d in network_dispatches(&weights.layers, input_channels) {
-                let workgroups = d.workgroups(tile_width, tile_height);
-                match d.kernel {
-                    DenoiseKernel::Conv => {
-                        let params = uniform(device, &d.conv_params(tile_width, tile_height));
-                        let [lo, hi] = d.weights_offsets;
-                        let resources = [
-                            params.as_entire_binding(),
-                            weights.block(lo),
-                            weights.block(hi),
-                            slot(d.src).as_entire_binding(),
-                            slot(d.skip.unwrap_or(d.src)).as_entire_binding(),
-                            slot(d.dst).as_entire_binding(),
-                        ];
-                        steps.push(Dispatch {
-                            pipeline: kernels.conv.clone(),
-                            group: bind_resources(device, &kernels.conv, resources),
-                            workgroups,
-                        });
-                    }
-                    DenoiseKernel::Pool | DenoiseKernel::Upsample => {
-                        let pipeline = match d.kernel {
-                            DenoiseKernel::Pool => &kernels.pool,
-                            _ => &kernels.upsample,
-                        };
-                        let params = uniform(device, &d.resample_params(tile_width, tile_height));
-                        steps.push(Dispatch {
-                            pipeline: pipeline.clone(),
-                            group: bind(device, pipeline, &[&params, slot(d.src), slot(d.dst)]),
-                            workgroups,
-                        });
-                    }
-                }
-            }
+            let table = network_dispatches(&weights.layers, input_channels);
+            let units = tile_units(
+                &table,
+                input_channels,
+                tile_width,
+                tile_height,
+                max_unit_cost,
+            );
+            let network_units = units
+                .iter()
+                .filter(|u| matches!(u.kind, UnitKind::Dispatch { .. }))
+                .count();
             let pack = Dispatch {
                 pipeline: kernels.pack.clone(),
                 group: bind(
@@ -253,47 +246,179 @@ impl TileRun {
                 readback,
                 pack_params,
                 pack,
-                steps,
+                units,
+                steps: (0..network_units).map(|_| None).collect(),
                 unpack,
+                table,
+                kernels: [
+                    kernels.conv.clone(),
+                    kernels.pool.clone(),
+                    kernels.upsample.clone(),
+                ],
+                weights: weights.buffer.clone(),
             }
         })
     }
 
-    /// Denoises one tile: `images` holds the source rectangle of each input
-    /// image in turn (three floats a pixel); returns the output rectangle
-    /// (`params.out_width` x `params.out_height`, three floats a pixel).
-    pub fn run_tile(
-        &self,
+    /// The run's units, in order.
+    pub fn units(&self) -> &[WorkUnit] {
+        &self.units
+    }
+
+    /// Makes the dispatches of units `range` that have not been made.
+    fn make_dispatches(&mut self, ctx: &GpuContext, range: Range<usize>) -> Result<()> {
+        let first = self.units[..range.start]
+            .iter()
+            .filter(|u| matches!(u.kind, UnitKind::Dispatch { .. }))
+            .count();
+        let wanted: Vec<(usize, u32, u32)> = self.units[range]
+            .iter()
+            .filter_map(|u| match u.kind {
+                UnitKind::Dispatch {
+                    index,
+                    first_row,
+                    rows,
+                } => Some((index, first_row, rows)),
+                _ => None,
+            })
+            .collect();
+        ctx.checked("making the denoise's dispatches", |device| {
+            for (k, dispatch) in wanted.into_iter().enumerate() {
+                self.make_dispatch(device, first + k, dispatch);
+            }
+        })
+    }
+
+    /// Makes network unit `step`'s dispatch, rows `first_row ..` (`rows`
+    /// of them) of the table's dispatch `index`, unless it is made.
+    fn make_dispatch(
+        &mut self,
+        device: &wgpu::Device,
+        step: usize,
+        (index, first_row, rows): (usize, u32, u32),
+    ) {
+        if self.steps[step].is_none() {
+            let d = &self.table[index];
+            let (tile_width, tile_height) = (self.tile_width, self.tile_height);
+            let slot = |s: Slot| &self.slots[slot_index(s)];
+            let [x, _, z] = d.workgroups(tile_width, tile_height);
+            let workgroups = [x, rows.div_ceil(WORKGROUP), z];
+            let [conv, pool, upsample] = &self.kernels;
+            let made = match d.kernel {
+                DenoiseKernel::Conv => {
+                    let params = ConvParams {
+                        first_row,
+                        ..d.conv_params(tile_width, tile_height)
+                    };
+                    let params = uniform(device, &params);
+                    let block = |offset| {
+                        wgpu::BindingResource::Buffer(wgpu::BufferBinding {
+                            buffer: &self.weights,
+                            offset,
+                            size: std::num::NonZeroU64::new(BLOCK_BYTES),
+                        })
+                    };
+                    let [lo, hi] = d.weights_offsets;
+                    let resources = [
+                        params.as_entire_binding(),
+                        block(lo),
+                        block(hi),
+                        slot(d.src).as_entire_binding(),
+                        slot(d.skip.unwrap_or(d.src)).as_entire_binding(),
+                        slot(d.dst).as_entire_binding(),
+                    ];
+                    Dispatch {
+                        pipeline: conv.clone(),
+                        group: bind_resources(device, conv, resources),
+                        workgroups,
+                    }
+                }
+                DenoiseKernel::Pool | DenoiseKernel::Upsample => {
+                    let pipeline = match d.kernel {
+                        DenoiseKernel::Pool => pool,
+                        _ => upsample,
+                    };
+                    let params = uniform(device, &d.resample_params(tile_width, tile_height));
+                    Dispatch {
+                        pipeline: pipeline.clone(),
+                        group: bind(device, pipeline, &[&params, slot(d.src), slot(d.dst)]),
+                        workgroups,
+                    }
+                }
+            };
+            self.steps[step] = Some(made);
+        }
+    }
+
+    /// Runs units `range` of one tile in one submission and waits for
+    /// them. A range that starts with the packing uploads `images` (the
+    /// source rectangle of each input image in turn, three floats a pixel;
+    /// ignored otherwise) and `params`; one
+    /// that ends with the unpacking returns the output rectangle
+    /// (`params.out_width` x `params.out_height`, three floats a pixel). The
+    /// units before `range` must have run on this tile.
+    pub fn run_units(
+        &mut self,
         ctx: &GpuContext,
+        range: Range<usize>,
         images: &[f32],
         params: &PackParams,
-    ) -> Result<Vec<f32>> {
+    ) -> Result<Option<Vec<f32>>> {
         let floats = params.out_width as usize * params.out_height as usize * OUTPUT_CHANNELS;
+        let units = self.units[range.clone()].to_vec();
+        let unpacks = units.last().is_some_and(|u| u.kind == UnitKind::Unpack);
+        // Network units before the range: the index of its first dispatch.
+        let first_step = self.units[..range.start]
+            .iter()
+            .filter(|u| matches!(u.kind, UnitKind::Dispatch { .. }))
+            .count();
+        self.make_dispatches(ctx, range)?;
+        let mut step = first_step;
         ctx.checked("running a denoise tile", |device| {
-            ctx.queue
-                .write_buffer(&self.images, 0, bytemuck::cast_slice(images));
-            ctx.queue
-                .write_buffer(&self.pack_params, 0, bytemuck::bytes_of(params));
+            if units.first().is_some_and(|u| u.kind == UnitKind::Pack) {
+                ctx.queue
+                    .write_buffer(&self.images, 0, bytemuck::cast_slice(images));
+                ctx.queue
+                    .write_buffer(&self.pack_params, 0, bytemuck::bytes_of(params));
+            }
             let mut encoder = device.create_command_encoder(&Default::default());
             {
                 let mut pass = encoder.begin_compute_pass(&Default::default());
-                self.pack.record(&mut pass);
-                for step in &self.steps {
-                    step.record(&mut pass);
+                for unit in &units {
+                    match unit.kind {
+                        UnitKind::Pack => self.pack.record(&mut pass),
+                        UnitKind::Dispatch { .. } => {
+                            let made = self.steps[step].as_ref();
+                            made.expect("made above").record(&mut pass);
+                            step += 1;
+                        }
+                        UnitKind::Unpack => {
+                            let groups = workgroups(
+                                params.out_width as usize,
+                                params.out_height as usize,
+                                1,
+                            );
+                            self.unpack.record_with(&mut pass, groups);
+                        }
+                    }
                 }
-                let groups = workgroups(params.out_width as usize, params.out_height as usize, 1);
-                self.unpack.record_with(&mut pass, groups);
             }
-            encoder.copy_buffer_to_buffer(&self.out, 0, &self.readback, 0, (floats * 4) as u64);
+            if unpacks {
+                encoder.copy_buffer_to_buffer(&self.out, 0, &self.readback, 0, (floats * 4) as u64);
+            }
             ctx.queue.submit([encoder.finish()]);
         })?;
+        if !unpacks {
+            ctx.wait_idle()?;
+            return Ok(None);
+        }
         let bytes = ctx.read_buffer(&self.readback, (floats * 4) as u64)?;
-        Ok(bytemuck::cast_slice(&bytes).to_vec())
+        Ok(Some(bytemuck::cast_slice(&bytes).to_vec()))
     }
 
     /// The network alone on an already packed input tensor (tile-sized):
     /// its raw output, [`OUTPUT_CHANNELS`] planes.
-    pub fn run_tensor(&self, ctx: &GpuContext, input: &Tensor) -> Result<Tensor> {
+    pub fn run_tensor(&mut self, ctx: &GpuContext, input: &Tensor) -> Result<Tensor> {
         if (input.channels, input.height, input.width)
             != (self.input_channels, self.tile_height, self.tile_width)
         {
@@ -308,6 +433,7 @@ impl TileRun {
             )));
         }
         let floats = OUTPUT_CHANNELS * self.tile_height * self.tile_width;
+        self.make_dispatches(ctx, 0..self.units.len())?;
         ctx.checked("running the denoise network", |device| {
             let input_slot = &self.slots[slot_index(Slot::Input)];
             ctx.queue
@@ -315,7 +441,7 @@ impl TileRun {
             let mut encoder = device.create_command_encoder(&Default::default());
             {
                 let mut pass = encoder.begin_compute_pass(&Default::default());
-                for step in &self.steps {
+                for step in self.steps.iter().flatten() {
                     step.record(&mut pass);
                 }
             }

@@ -145,7 +145,7 @@ pub(super) fn denoise_params_json() -> Value {
         field!(ConvParams, out_channels, "u32", 1),
         field!(ConvParams, first_output, "u32", 1),
         field!(ConvParams, relu, "u32", 1),
-        field!(ConvParams, pad, "u32", 1),
+        field!(ConvParams, first_row, "u32", 1),
     ];
     let resample = vec![
         field!(ResampleParams, width, "u32", 1),

@@ -5,10 +5,13 @@
 //! denoise kernels' WGSL files as they are, and in contract.json the table
 //! of the network's dispatches that native records its pass from
 //! (`denoise::network_dispatches`), the kernels' uniform layouts and the
-//! transfer function's constants. The page reads all of it and derives
-//! nothing but sizes from its image.
+//! transfer function's constants, and the tiles' alignment and overlap.
+//! The page reads all of it and derives nothing but sizes from its image
+//! (its tiles by native's rule, `TilePlan`).
 
-use kdray_core::denoise::network::{tensor_floats, Slot, ALIGNMENT, OUTPUT_CHANNELS, OUTPUT_SLOT};
+use kdray_core::denoise::network::{
+    tensor_floats, Slot, ALIGNMENT, OUTPUT_CHANNELS, OUTPUT_SLOT, TILE_OVERLAP,
+};
 use kdray_core::denoise::transfer::{pu_forward_raw, HDR_Y_MAX};
 use serde_json::{json, Value};
 
@@ -97,6 +100,8 @@ impl SiteDenoiser {
             "unpack_entry_point": "unpack_tile",
             "workgroup": WORKGROUP,
             "alignment": ALIGNMENT,
+            // The tiles' overlap: the page cuts native's tile plan.
+            "tile_overlap": TILE_OVERLAP,
             "block_bytes": BLOCK_BYTES,
             "weights_alignment": WEB_UNIFORM_OFFSET_ALIGNMENT,
             "slots": Slot::ALL.map(slot_name),

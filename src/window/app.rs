@@ -206,13 +206,17 @@ impl App {
                 let path = next_screenshot_path(&self.options.scene);
                 match session.save_screenshot(&path) {
                     Ok(()) => eprintln!(
-                        "kdray: saved {} ({} of {} samples per pixel{})",
+                        "kdray: saved {} ({} of {} samples per pixel{}{})",
                         path.display(),
                         session.refinement.passes(),
                         session.refinement.samples(),
                         session
                             .shown_denoised()
-                            .map_or_else(String::new, |n| format!(", denoised at {n}"))
+                            .map_or_else(String::new, |n| format!(", denoised at {n}")),
+                        session
+                            .denoising
+                            .progress()
+                            .map_or_else(String::new, |(_, p)| format!(", denoising {p}%"))
                     ),
                     Err(e) => eprintln!("kdray: {e}"),
                 }

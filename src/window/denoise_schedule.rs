@@ -2,11 +2,12 @@
 //! pixel, then again as samples accumulate, and always once the image is
 //! finished. Free of winit and wgpu.
 //!
-//! A denoise blocks the window for its whole cost (on lavapipe, seconds
-//! for a window-sized image), so a repeat waits until the samples have
-//! grown by [`GROWTH`] and refining has gone on for [`COST_MULTIPLE`]
-//! times the last denoise's measured cost: the denoiser then takes at most
-//! about 1 / (1 + [`COST_MULTIPLE`]) of the window's time.
+//! A denoise runs a few units a frame beside refinement, but its work
+//! still costs the window's GPU (on lavapipe, tens of seconds for a
+//! window-sized image), so a repeat waits until the samples have grown by
+//! [`GROWTH`] and refining has gone on for [`COST_MULTIPLE`] times the last
+//! denoise's measured cost (the time its units ran): the denoiser then
+//! takes at most about 1 / (1 + [`COST_MULTIPLE`]) of the window's time.
 
 use std::time::{Duration, Instant};
 

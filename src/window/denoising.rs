@@ -1,7 +1,11 @@
 //! Denoising in the window (N; the path tracer only): the feature images
 //! gathered beside the refined image, and the denoiser
 //! ([`crate::denoise::Denoiser`]) run on them when the
-//! [`DenoiseSchedule`] says so.
+//! [`DenoiseSchedule`] says so: the sums of a finished pass read back
+//! (waited for without blocking), then a [`DenoiseRun`] on their means
+//! advanced a few units a frame, as the [`DenoiseBudget`] allows, so that
+//! the window keeps presenting frames (and answering keys) while it
+//! denoises.
 //!
 //! The accumulation's pass (`accumulate_tile`) keeps colour sums only. The
 //! sums the denoiser reads come from the headless kernel instead:
@@ -16,9 +20,11 @@
 //! whose sums the present pass shows until the first denoise).
 
 use std::sync::Arc;
+use std::time::{Duration, Instant};
 
+use super::denoise_budget::{DenoiseBudget, MAX_UNIT_COST};
 use super::denoise_schedule::DenoiseSchedule;
-use crate::denoise::Denoiser;
+use crate::denoise::{DenoiseRun, Denoiser};
 use crate::error::{Error, Result};
 use crate::gpu::{
     bindings, max_binding_bytes, FrameParams, GpuContext, KernelVariant, RayCounters, SceneBuffers,
@@ -159,8 +165,10 @@ impl FeaturePass {
         Ok(())
     }
 
-    /// The first `pixels` pixels' sums, read back: twelve words each.
-    fn read_sums(&self, ctx: &GpuContext, pixels: u64) -> Result<Vec<f32>> {
+    /// Begins reading back the first `pixels` pixels' sums as they are
+    /// after the work submitted so far (twelve words each): the readback
+    /// buffer, and where its mapping's outcome arrives.
+    fn begin_read(&self, ctx: &GpuContext, pixels: u64) -> Result<(wgpu::Buffer, MapOutcome)> {
         let size = pixels * FEATURE_TEXEL;
         let readback = ctx.checked("reading back the feature sums", |device| {
             let readback = buffer(
@@ -174,12 +182,32 @@ impl FeaturePass {
             ctx.queue.submit([encoder.finish()]);
             readback
         })?;
-        let bytes = ctx.read_buffer(&readback, size)?;
-        Ok(bytes
-            .chunks_exact(4)
-            .map(|b| f32::from_le_bytes([b[0], b[1], b[2], b[3]]))
-            .collect())
+        let (sender, receiver) = std::sync::mpsc::channel();
+        readback
+            .slice(..size)
+            .map_async(wgpu::MapMode::Read, move |r| {
+                let _ = sender.send(r);
+            });
+        Ok((readback, receiver))
     }
+}
+
+/// Where a buffer's mapping reports its outcome.
+type MapOutcome = std::sync::mpsc::Receiver<std::result::Result<(), wgpu::BufferAsyncError>>;
+
+/// A mapped buffer's words as floats, the buffer unmapped.
+fn mapped_floats(buffer: &wgpu::Buffer) -> Result<Vec<f32>> {
+    let floats = {
+        let view = buffer
+            .slice(..)
+            .get_mapped_range()
+            .map_err(|e| Error::Gpu(format!("reading back the feature sums failed: {e}")))?;
+        view.chunks_exact(4)
+            .map(|b| f32::from_le_bytes([b[0], b[1], b[2], b[3]]))
+            .collect()
+    };
+    buffer.unmap();
+    Ok(floats)
 }
 
 /// The means of `sums` (twelve floats a pixel: colour, albedo and normal
@@ -197,8 +225,54 @@ pub fn feature_means(sums: &[f32], samples: u32) -> [Vec<f32>; 3] {
     images
 }
 
+/// A denoise begun: its feature sums on their way back from the GPU
+/// (waited for without blocking, so that the frame that begins a denoise
+/// does not wait for the GPU's queue).
+struct Reading {
+    readback: wgpu::Buffer,
+    mapped: MapOutcome,
+    size: (u32, u32),
+    samples: u32,
+    started: Instant,
+}
+
+/// A denoise in progress: its run and the images it denoises.
+struct Running {
+    run: DenoiseRun,
+    size: (usize, usize),
+    /// Colour, albedo and normal: the means of the sums it began with.
+    images: [Vec<f32>; 3],
+    samples: u32,
+    started: Instant,
+    /// Time spent running its units (waiting for the GPU included).
+    busy: Duration,
+    /// Frames that ran some of its units.
+    frames: u32,
+    /// When the last of them (or the frame that made the run) ran, and
+    /// the longest interval between two of them (a frame's time while
+    /// denoising).
+    last_frame: Instant,
+    longest_frame: Duration,
+}
+
+/// A finished denoise.
+pub struct Denoised {
+    /// Linear RGB, three floats a pixel, row-major.
+    pub rgb: Vec<f32>,
+    /// Samples per pixel it denoised.
+    pub samples: u32,
+    /// Time spent running its units, and since it began.
+    pub busy: Duration,
+    pub elapsed: Duration,
+    /// Frames that ran its units, and the longest interval between two
+    /// (from the frame that made its run).
+    pub frames: u32,
+    pub longest_frame: Duration,
+}
+
 /// The window's denoising: whether it is on, the feature pass, the
-/// denoiser and the schedule of the image being refined.
+/// denoiser, the schedule of the image being refined and the denoise in
+/// progress.
 #[derive(Default)]
 pub struct Denoising {
     /// N: show the denoised image while path tracing.
@@ -210,6 +284,9 @@ pub struct Denoising {
     features: Option<FeaturePass>,
     /// Made at the first denoise; its kernels and weights serve the rest.
     denoiser: Option<Denoiser<'static>>,
+    reading: Option<Reading>,
+    running: Option<Running>,
+    budget: DenoiseBudget,
 }
 
 impl Denoising {
@@ -228,6 +305,7 @@ impl Denoising {
     /// Another scene: the feature pass is made again for it.
     pub fn set_scene(&mut self) {
         self.features = None;
+        self.abandon();
     }
 
     /// Adds the sample of the accumulation pass `params` (a band of the
@@ -260,31 +338,148 @@ impl Denoising {
         }
     }
 
-    /// The image of `size` pixels, every pixel holding `samples` samples,
-    /// denoised: linear RGB, three floats a pixel, row-major.
-    pub fn denoise(
-        &mut self,
-        ctx: &'static GpuContext,
-        (width, height): (u32, u32),
-        samples: u32,
-    ) -> Result<Vec<f32>> {
+    /// Whether a denoise is in progress.
+    pub fn is_running(&self) -> bool {
+        self.reading.is_some() || self.running.is_some()
+    }
+
+    /// The denoise in progress: its samples per pixel and the percentage
+    /// of its work done.
+    pub fn progress(&self) -> Option<(u32, u32)> {
+        if let Some(r) = &self.reading {
+            return Some((r.samples, 0));
+        }
+        self.running.as_ref().map(|r| {
+            let (done, total) = r.run.progress();
+            let percent = (done as f64 * 100.0 / total.max(1) as f64).floor();
+            (r.samples, percent as u32)
+        })
+    }
+
+    /// Drops the denoise in progress, if any (the image it denoises is
+    /// gone).
+    pub fn abandon(&mut self) {
+        self.reading = None;
+        self.running = None;
+    }
+
+    /// Begins the denoise of the image of `size` pixels, every pixel
+    /// holding `samples` samples (the feature sums as the work submitted
+    /// so far leaves them): their readback.
+    pub fn start(&mut self, ctx: &GpuContext, size: (u32, u32), samples: u32) -> Result<()> {
         let Some(features) = &self.features else {
             return Err(Error::Gpu("no feature sums to denoise".into()));
         };
-        let sums = features.read_sums(ctx, width as u64 * height as u64)?;
-        let [color, albedo, normal] = feature_means(&sums, samples);
-        let images = kdray_core::denoise::DenoiseImages {
-            width: width as usize,
-            height: height as usize,
-            color: &color,
-            albedo: Some(&albedo),
-            normal: Some(&normal),
+        let (readback, mapped) = features.begin_read(ctx, size.0 as u64 * size.1 as u64)?;
+        self.running = None;
+        self.reading = Some(Reading {
+            readback,
+            mapped,
+            size,
+            samples,
+            started: Instant::now(),
+        });
+        Ok(())
+    }
+
+    /// Makes the run once the sums are back (false: not yet).
+    fn make_run(&mut self, ctx: &'static GpuContext) -> Result<bool> {
+        let Some(reading) = &self.reading else {
+            return Ok(true);
         };
+        ctx.device
+            .poll(wgpu::PollType::Poll)
+            .map_err(|e| Error::Gpu(format!("polling the GPU failed: {e}")))?;
+        match reading.mapped.try_recv() {
+            Err(std::sync::mpsc::TryRecvError::Empty) => return Ok(false),
+            Err(std::sync::mpsc::TryRecvError::Disconnected) => {
+                return Err(Error::Gpu("the feature sums never came back".into()))
+            }
+            Ok(Err(e)) => {
+                return Err(Error::Gpu(format!(
+                    "reading back the feature sums failed: {e}"
+                )))
+            }
+            Ok(Ok(())) => {}
+        }
+        let Some(reading) = self.reading.take() else {
+            return Ok(false);
+        };
+        let making = Instant::now();
+        let (width, height) = (reading.size.0 as usize, reading.size.1 as usize);
+        let mut sums = mapped_floats(&reading.readback)?;
+        sums.truncate(width * height * 12);
+        let images = feature_means(&sums, reading.samples);
         let denoiser = match &mut self.denoiser {
             Some(d) => d,
             None => self.denoiser.insert(Denoiser::new(ctx)?),
         };
-        denoiser.denoise(&images, None)
+        let [color, albedo, normal] = &images;
+        let view = kdray_core::denoise::DenoiseImages {
+            width,
+            height,
+            color,
+            albedo: Some(albedo),
+            normal: Some(normal),
+        };
+        let run = denoiser.start(&view, None, Some(MAX_UNIT_COST))?;
+        self.running = Some(Running {
+            run,
+            size: (width, height),
+            images,
+            samples: reading.samples,
+            started: reading.started,
+            busy: making.elapsed(),
+            frames: 0,
+            last_frame: making,
+            longest_frame: Duration::ZERO,
+        });
+        Ok(true)
+    }
+
+    /// Runs this frame's share of the denoise in progress: once its sums
+    /// are back, the run made (in a frame of its own), then its units (see
+    /// [`DenoiseBudget`]); the denoised image once its last unit has run.
+    pub fn advance(&mut self, ctx: &'static GpuContext) -> Result<Option<Denoised>> {
+        if self.reading.is_some() {
+            // Made in this frame, the run's units begin in the next.
+            self.make_run(ctx)?;
+            return Ok(None);
+        }
+        let Some(running) = &mut self.running else {
+            return Ok(None);
+        };
+        let units = self.budget.units(running.run.next_costs());
+        let began = Instant::now();
+        running.longest_frame = running.longest_frame.max(began - running.last_frame);
+        running.last_frame = began;
+        let [color, albedo, normal] = &running.images;
+        let images = kdray_core::denoise::DenoiseImages {
+            width: running.size.0,
+            height: running.size.1,
+            color,
+            albedo: Some(albedo),
+            normal: Some(normal),
+        };
+        let cost = running.run.advance(ctx, &images, units)?;
+        let took = began.elapsed();
+        self.budget.learn(cost, took.as_secs_f64());
+        running.busy += took;
+        running.frames += 1;
+        if !running.run.is_finished() {
+            return Ok(None);
+        }
+        let Some(done) = self.running.take() else {
+            return Ok(None);
+        };
+        Ok(Some(Denoised {
+            samples: done.samples,
+            busy: done.busy,
+            elapsed: done.started.elapsed(),
+            frames: done.frames,
+            longest_frame: done.longest_frame,
+            rgb: done.run.into_output()?,
+        }))
     }
 }
 

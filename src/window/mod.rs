@@ -21,8 +21,10 @@
 //!   from a binding table, and a pipeline for any target format.
 //! - `denoise_schedule`: when the still image is denoised (pure,
 //!   unit-tested).
+//! - `denoise_budget`: how much of a denoise in progress a frame runs
+//!   (pure, unit-tested).
 //! - `denoising`: denoising (N): the feature pass beside the
-//!   accumulation's, and the denoiser run on its sums.
+//!   accumulation's, and the denoiser run on its sums a few units a frame.
 //! - `title`: what the title bar says, and how often (pure, unit-tested).
 //! - `playback`: which frame of the scene's animation is shown (pure,
 //!   unit-tested).
@@ -39,6 +41,7 @@
 mod app;
 pub mod camera_controller;
 mod click;
+mod denoise_budget;
 mod denoise_schedule;
 mod denoising;
 mod draw_pipeline;

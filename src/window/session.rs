@@ -77,6 +77,8 @@ pub(super) struct Session {
     pub(super) clicks: ClickTracker,
     /// Denoising (N): the feature pass, the denoiser and its schedule.
     pub(super) denoising: Denoising,
+    /// The last frame ran units of a denoise.
+    pub(super) denoised_last_frame: bool,
 }
 
 /// Window size: --width/--height in physical pixels; one of them alone keeps
@@ -233,6 +235,7 @@ impl Session {
             recorder: None,
             clicks: ClickTracker::default(),
             denoising: Denoising::new(denoise),
+            denoised_last_frame: false,
         })
     }
 
@@ -294,6 +297,7 @@ impl Session {
         let state = if self.denoising.on { "on" } else { "off" };
         eprintln!("kdray: denoising {state}");
         // The feature sums start with the image.
+        self.denoising.abandon();
         self.viewer.hide_denoised();
         self.refinement.invalidate();
     }
@@ -315,9 +319,15 @@ impl Session {
         if !self.denoises() {
             return None;
         }
-        Some(match self.shown_denoised() {
-            Some(samples) => DenoiseTitle::Shown { samples },
-            None => DenoiseTitle::Waiting {
+        let shown = self.shown_denoised();
+        Some(match (self.denoising.progress(), shown) {
+            (Some((samples, percent)), shown) => DenoiseTitle::Running {
+                samples,
+                percent,
+                shown,
+            },
+            (None, Some(samples)) => DenoiseTitle::Shown { samples },
+            (None, None) => DenoiseTitle::Waiting {
                 at: DenoiseSchedule::first_at(self.refinement.samples()),
             },
         })
@@ -329,38 +339,70 @@ impl Session {
     }
 
     /// The denoiser's share of a frame planned as `plan`: the feature pass
-    /// beside the accumulation's pass `work.pass`, then, once that
-    /// completes a pass and a denoise is due, the denoise, which this
-    /// frame's present shows. Whether it denoised.
+    /// beside the accumulation's pass `work.pass`; once the image's
+    /// samples so far are complete (this frame's pass completed them, or
+    /// the image is finished) and a denoise is due, a denoise begun on
+    /// them; then this frame's units of the denoise in progress. When its
+    /// last unit runs, this frame's present shows the denoised image.
+    /// Whether this frame ran units of a denoise.
     fn denoise_frame(&mut self, plan: &FramePlan, work: &FrameWork) -> Result<bool> {
         if plan.kind == FrameKind::Moving || plan.clear {
             self.denoising.schedule.restart();
+            self.denoising.abandon();
             self.viewer.hide_denoised();
         }
-        if !self.denoises() || plan.kind != FrameKind::Still {
+        if !self.denoises() {
+            self.denoising.abandon();
             return Ok(false);
         }
-        let (Some(pass), Some(params)) = (plan.pass, work.pass) else {
-            return Ok(false);
+        let complete = match (plan.kind, plan.pass, work.pass) {
+            (FrameKind::Still, Some(pass), Some(params)) => {
+                self.denoising
+                    .trace(self.ctx, self.scene.buffers(), &params, plan.clear)?;
+                (pass.first_row + pass.rows >= pass.image.1)
+                    .then_some((pass.image, pass.sample_index + 1))
+            }
+            (FrameKind::Idle, _, _) => Some((plan.image, self.refinement.passes())),
+            _ => None,
         };
-        self.denoising
-            .trace(self.ctx, self.scene.buffers(), &params, plan.clear)?;
-        if pass.first_row + pass.rows < pass.image.1 {
+        if let Some((image, passes)) = complete {
+            let samples = self.refinement.samples();
+            let due = self.denoising.schedule.due(passes, samples, Instant::now());
+            if due && !self.denoising.is_running() {
+                self.denoising.start(self.ctx, image, passes)?;
+            }
+        }
+        if !self.denoising.is_running() {
             return Ok(false);
         }
-        let passes = pass.sample_index + 1;
-        let started = Instant::now();
-        let samples = self.refinement.samples();
-        if !self.denoising.schedule.due(passes, samples, started) {
-            return Ok(false);
-        }
-        let rgb = self.denoising.denoise(self.ctx, pass.image, passes)?;
-        self.viewer.show_denoised(self.ctx, &rgb)?;
-        let ended = Instant::now();
+        let Some(done) = self.denoising.advance(self.ctx)? else {
+            return Ok(true);
+        };
+        self.viewer.show_denoised(self.ctx, &done.rgb)?;
         self.denoising
             .schedule
-            .denoised(passes, ended - started, ended);
+            .denoised(done.samples, done.busy, Instant::now());
+        eprintln!(
+            "kdray: denoised at {} spp in {:.1} s over {} frames ({:.1} s of denoiser work, longest frame {:.0} ms)",
+            done.samples,
+            done.elapsed.as_secs_f64(),
+            done.frames,
+            done.busy.as_secs_f64(),
+            done.longest_frame.as_secs_f64() * 1e3
+        );
         Ok(true)
+    }
+
+    /// Whether the finished image waits for its denoise (frames must come
+    /// to run it).
+    fn denoise_pending(&self, now: Instant) -> bool {
+        let samples = self.refinement.samples();
+        self.denoises()
+            && !self.refinement.has_work(now)
+            && self
+                .denoising
+                .schedule
+                .due(self.refinement.passes(), samples, now)
     }
 
     /// Moves the camera to the animation's shown frame (the frame's camera
@@ -403,7 +445,8 @@ impl Session {
         }
         let camera = self.controller.is_flying() || auto_orbit != 0.0 || self.playback.is_playing();
         let counted = frames.is_some_and(|n| self.stats.presented() < n);
-        self.refinement.has_work(now) || camera || counted
+        let denoise = self.denoising.is_running() || self.denoise_pending(now);
+        self.refinement.has_work(now) || camera || counted || denoise
     }
 
     /// Renders and presents one frame; None if the surface had no image.
@@ -440,6 +483,7 @@ impl Session {
             Err(e) => {
                 eprintln!("kdray: denoising failed, turned off: {e}");
                 self.denoising.on = false;
+                self.denoising.abandon();
                 self.viewer.hide_denoised();
                 false
             }
@@ -453,13 +497,14 @@ impl Session {
         self.surface.present(self.ctx, &self.window, frame);
         self.ctx.check_health()?;
         let rays = plan.pass.map_or(0, |p| p.pixels());
+        // This interval is the last frame's time: with denoise units in
+        // it, not the time of its pass alone, so not one to learn from.
+        let learn = !self.denoised_last_frame;
+        self.denoised_last_frame = denoised;
         if let Some(ms) = self.stats.record(now, plan.kind, rays) {
-            self.refinement.learn(plan.kind, ms, rays);
-        }
-        if denoised {
-            // The denoise falls into the next frame's interval: not a
-            // frame time to learn from.
-            self.stats.pause();
+            if learn {
+                self.refinement.learn(plan.kind, ms, rays);
+            }
         }
         Ok(Some(plan.kind))
     }

@@ -72,6 +72,13 @@ pub enum DenoiseTitle {
     Waiting { at: u32 },
     /// The image shown is denoised, from `samples` samples per pixel.
     Shown { samples: u32 },
+    /// A denoise of `samples` samples per pixel is `percent` done; the
+    /// image shown is denoised from `shown` samples, if it is.
+    Running {
+        samples: u32,
+        percent: u32,
+        shown: Option<u32>,
+    },
     /// On, or N pressed, while the Whitted integrator traces.
     NeedsPath,
 }
@@ -81,6 +88,14 @@ impl DenoiseTitle {
         match *self {
             DenoiseTitle::Waiting { at } => format!("denoise at {at} spp"),
             DenoiseTitle::Shown { samples } => format!("DENOISED at {samples} spp"),
+            DenoiseTitle::Running {
+                samples,
+                percent,
+                shown,
+            } => {
+                let shown = shown.map_or_else(String::new, |s| format!("DENOISED at {s} spp, "));
+                format!("{shown}denoising {samples} spp: {percent}%")
+            }
             DenoiseTitle::NeedsPath => "denoising needs the path tracer (I)".into(),
         }
     }
@@ -357,6 +372,21 @@ mod tests {
         };
         facts.denoise = Some(DenoiseTitle::Shown { samples: 8 });
         assert_eq!(says(&facts), "path traced, 9/256 spp - DENOISED at 8 spp");
+        facts.denoise = Some(DenoiseTitle::Running {
+            samples: 16,
+            percent: 40,
+            shown: Some(8),
+        });
+        assert_eq!(
+            says(&facts),
+            "path traced, 9/256 spp - DENOISED at 8 spp, denoising 16 spp: 40%"
+        );
+        facts.denoise = Some(DenoiseTitle::Running {
+            samples: 4,
+            percent: 0,
+            shown: None,
+        });
+        assert_eq!(says(&facts), "path traced, 9/256 spp - denoising 4 spp: 0%");
         facts.progress = Progress::Moving { scale: 2 };
         facts.denoise = Some(DenoiseTitle::Waiting { at: 4 });
         assert_eq!(says(&facts), "moving, 1/2 resolution - denoise at 4 spp");

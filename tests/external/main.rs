@@ -1,5 +1,6 @@
 //! The external tier (docs/testing.md, "Tiers"): tests that drive a tool
-//! beyond the GPU driver: headless Chromium (`web`), a Slurm cluster
+//! beyond the GPU driver: headless Chromium (`web`), node on the page's
+//! scripts (`web_tiles`), a Slurm cluster
 //! (`farm`, `farm_path`), an X server (`window`, `window_inspect`, under Xvfb: `x_window`) and lavapipe with its
 //! allocations made to fail (`gpu_memory`, through a preloaded library built
 //! with cc), the docs' generated tables against the python3 scripts that
@@ -22,6 +23,7 @@ mod gpu_memory;
 mod tools;
 mod web;
 mod web_inspect;
+mod web_tiles;
 mod window;
 mod window_inspect;
 mod x_window;

@@ -467,8 +467,9 @@ fn screenshot_saying(window: &mut Window, x: &XInput, counts: &str) -> Vec<u8> {
 /// keys under Xvfb (XTest): started by `--denoise`, the screenshot P saves
 /// once the 4 samples are in is the denoised image, `kdray render
 /// --denoise`'s of the same size and samples within the golden tests'
-/// budget, and P's line says "denoised at 4"; N turns denoising off, and P
-/// saves the noisy image, the plain render's; N turns it on again.
+/// budget, and P's line says "denoised at 4"; the denoise ran over several
+/// frames; N turns denoising off, and P saves the noisy image, the plain
+/// render's; N turns it on again.
 #[test]
 fn the_windows_denoised_image_is_the_headless_one_and_n_toggles_it() {
     let server = Xvfb::start();
@@ -510,6 +511,18 @@ fn the_windows_denoised_image_is_the_headless_one_and_n_toggles_it() {
     let says_denoised = format!("{all}, denoised at {SAMPLES})");
     let shot = screenshot_saying(&mut window, &x, &says_denoised);
     matches(&shot, &denoised).unwrap_or_else(|e| panic!("denoised: {e}"));
+    // The denoise ran a few units a frame: the window presented frames
+    // while it was in progress.
+    let done = format!("kdray: denoised at {SAMPLES} spp in ");
+    let line = window.process.seen.iter().find(|l| l.starts_with(&done));
+    let line = line.unwrap_or_else(|| panic!("no line {done:?}"));
+    let frames: u32 = line
+        .split(" over ")
+        .nth(1)
+        .and_then(|rest| rest.split(' ').next())
+        .and_then(|n| n.parse().ok())
+        .unwrap_or_else(|| panic!("no frame count in {line:?}"));
+    assert!(frames >= 2, "the denoise ran in {frames} frame: {line}");
     x.key(keysym::XK_n);
     window.line_with("kdray: denoising off");
     let shot = screenshot_saying(&mut window, &x, &format!("{all})"));

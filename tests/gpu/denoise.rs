@@ -1,7 +1,8 @@
 //! The denoiser's WGSL kernels against the CPU reference
 //! (kdray_core::denoise): each layer kind on pseudo-random tensors, the
 //! whole network on a small tensor, and a whole denoise of a small image
-//! with the shipped networks, with and without albedo and normal.
+//! with the shipped networks, with and without albedo and normal, run
+//! whole and a few units at a time.
 
 use crate::common;
 
@@ -179,6 +180,43 @@ fn a_small_image_denoises_as_on_the_cpu() {
             &format!("denoise, albedo and normal: {aux}"),
         );
     }
+}
+
+/// The window's run, its convolutions cut into bands of rows and run a
+/// few units at a time, gives the whole run's image exactly.
+#[test]
+fn a_denoise_run_a_few_units_at_a_time_equals_the_whole_run() {
+    let ctx = common::gpu();
+    let denoiser = Denoiser::new(ctx).unwrap();
+    let (w, h) = (40, 27);
+    let [color, albedo, normal] = test_images(w, h);
+    let images = DenoiseImages {
+        width: w,
+        height: h,
+        color: &color,
+        albedo: Some(&albedo),
+        normal: Some(&normal),
+    };
+    let whole = denoiser.denoise(&images, None).unwrap();
+    // 64 Ki multiply-adds: a workgroup row (8 rows) a unit at full size.
+    let mut run = denoiser.start(&images, None, Some(1 << 16)).unwrap();
+    let units = run.next_costs().count();
+    let uncut = denoiser.start(&images, None, None).unwrap();
+    assert!(
+        units > uncut.next_costs().count() + 40,
+        "{units} units: the convolutions were not cut into bands"
+    );
+    let mut advances = 0;
+    while !run.is_finished() {
+        let (done, total) = run.progress();
+        assert!(done < total);
+        run.advance(ctx, &images, 3).unwrap();
+        advances += 1;
+    }
+    let (done, total) = run.progress();
+    assert_eq!(done, total);
+    assert_eq!(advances, units.div_ceil(3), "three units an advance");
+    assert!(run.into_output().unwrap() == whole, "the cut run differs");
 }
 
 #[test]
