@@ -108,6 +108,7 @@ fn path_trace_sample(primary: Ray) -> vec3<f32> {
     var throughput = vec3<f32>(1.0);
     var radiance = vec3<f32>(0.0);
     var last_pdf = 0.0; // the BSDF density of the ray's direction; 0: camera or delta
+    var last_point = vec3<f32>(0.0); // the hit the ray left, where next_event chose its light
     var inside = false;
     var path_length = 0.0;
     // Whether the features are still to be taken at the next hit.
@@ -144,7 +145,7 @@ fn path_trace_sample(primary: Ray) -> vec3<f32> {
             let e = emitted(hit.object, p, ray.dir);
             var weight = 1.0;
             if (last_pdf > 0.0) {
-                weight = mis_weight(last_pdf, light_pdf(hit.object, ray.origin, ray.dir, hit.t));
+                weight = mis_weight(last_pdf, light_pdf(hit.object, last_point, ray.origin, ray.dir, hit.t));
             }
             radiance += throughput * e * weight;
         }
@@ -193,6 +194,7 @@ fn path_trace_sample(primary: Ray) -> vec3<f32> {
             inside = !inside;
         }
         last_pdf = b.pdf;
+        last_point = p;
         ray = Ray(origin, b.dir);
         mark_ray(RAY_BOUNCE);
     }
