@@ -115,13 +115,16 @@ fn light_node(i: u32) -> LightNode {
     );
 }
 
-// The importance of node n at p: phi cos theta' / d^2, d the distance
-// from p to its box's centre (at least the radius of the sphere around the
-// box) and theta' the smallest angle between a direction it may emit in
-// and the direction to p that its box and cone allow; 0 where it sends
-// nothing toward p. The host's light_tree::importance computes the same in
-// f64.
-fn light_importance(n: LightNode, p: vec3<f32>) -> f32 {
+// The importance of node n at p, on a surface of unit geometric normal
+// `normal` (facing the ray: the side next_event lights): phi cos theta' /
+// d^2 cos theta_i', d the distance from p to its box's centre (at least
+// the radius of the sphere around the box), theta' the smallest angle
+// between a direction it may emit in and the direction to p that its box
+// and cone allow, theta_i' the smallest angle between `normal` and a
+// direction from p into the sphere around the box; 0 where it sends
+// nothing toward p or lies wholly behind the surface. The host's
+// light_tree::importance computes the same in f64.
+fn light_importance(n: LightNode, p: vec3<f32>, normal: vec3<f32>) -> f32 {
     if (n.phi <= 0.0) {
         return 0.0;
     }
@@ -161,7 +164,21 @@ fn light_importance(n: LightNode, p: vec3<f32>) -> f32 {
     if (cos_p <= n.cos_theta_e) {
         return 0.0;
     }
-    return n.phi * cos_p / d2;
+    // theta_i' = max(theta_i - theta_b, 0), theta_i the angle between the
+    // normal and the direction from p to the box's centre.
+    var cos_i = 1.0;
+    if (dist2 > 0.0) {
+        cos_i = -dot(normal, to_p) / sqrt(dist2);
+    }
+    let sin_i = sqrt(max(1.0 - cos_i * cos_i, 0.0));
+    var cos_pi = 1.0;
+    if (cos_i < cos_b) {
+        cos_pi = cos_i * cos_b + sin_i * sin_b;
+    }
+    if (cos_pi <= 0.0) {
+        return 0.0;
+    }
+    return n.phi * cos_p * cos_pi / d2;
 }
 
 struct TreePick {
@@ -169,10 +186,11 @@ struct TreePick {
     pick: f32,  // the probability of the walk ending there
 }
 
-// The light tree's walk from the root at p with u in [0, 1): at each inner
-// node, the first child where u falls below its share of the two
-// importances (u then stretched over that share), else the second.
-fn tree_pick(p: vec3<f32>, u_in: f32) -> TreePick {
+// The light tree's walk from the root at p (on a surface of geometric
+// normal `normal`) with u in [0, 1): at each inner node, the first child
+// where u falls below its share of the two importances (u then stretched
+// over that share), else the second.
+fn tree_pick(p: vec3<f32>, normal: vec3<f32>, u_in: f32) -> TreePick {
     var u = u_in;
     var node = light_node(0u);
     var pick = 1.0;
@@ -180,8 +198,8 @@ fn tree_pick(p: vec3<f32>, u_in: f32) -> TreePick {
         loop_iterations += 1u;
         let first = light_node(node.child);
         let second = light_node(node.child + 1u);
-        let a = light_importance(first, p);
-        let b = light_importance(second, p);
+        let a = light_importance(first, p, normal);
+        let b = light_importance(second, p, normal);
         if (a + b <= 0.0) {
             return TreePick(NO_OBJECT, 0.0);
         }
@@ -199,9 +217,10 @@ fn tree_pick(p: vec3<f32>, u_in: f32) -> TreePick {
     return TreePick(params.light_count + (node.child & ~LIGHT_TREE_LEAF), pick);
 }
 
-// The probability that the light tree's walk at p ends at `leaf`: the
-// product of the shares tree_pick takes, from the leaf up to the root.
-fn tree_leaf_pick(leaf: u32, p: vec3<f32>) -> f32 {
+// The probability that the light tree's walk at p (normal `normal`) ends
+// at `leaf`: the product of the shares tree_pick takes, from the leaf up to
+// the root.
+fn tree_leaf_pick(leaf: u32, p: vec3<f32>, normal: vec3<f32>) -> f32 {
     if (leaf == NO_LEAF) {
         return 0.0;
     }
@@ -211,8 +230,8 @@ fn tree_leaf_pick(leaf: u32, p: vec3<f32>) -> f32 {
     while (node.parent != LIGHT_TREE_ROOT) {
         loop_iterations += 1u;
         let parent = light_node(node.parent);
-        let a = light_importance(light_node(parent.child), p);
-        let b = light_importance(light_node(parent.child + 1u), p);
+        let a = light_importance(light_node(parent.child), p, normal);
+        let b = light_importance(light_node(parent.child + 1u), p, normal);
         if (a + b <= 0.0) {
             return 0.0;
         }
@@ -258,12 +277,13 @@ fn no_light() -> LightSample {
     return LightSample(vec3<f32>(0.0, 0.0, 1.0), 0.0, vec3<f32>(0.0), 0.0, false, NO_OBJECT);
 }
 
-// A sample toward one light, seen from p (the shading point; shadow rays
-// start at `origin`, p moved off the surface). One random number picks the
+// A sample toward one light, seen from p (the shading point, on a surface
+// of unit geometric normal `normal` facing the ray; shadow rays start at
+// `origin`, p moved off the surface). One random number picks the
 // light: below 1 - past_scene_lights() it searches the scene lights'
 // distribution, above it is stretched over the emitters' block and the
 // sky's, and within the emitters' over the light tree's walk.
-fn sample_light(p: vec3<f32>) -> LightSample {
+fn sample_light(p: vec3<f32>, normal: vec3<f32>) -> LightSample {
     let total = lights_total();
     if (total == 0u) {
         return no_light();
@@ -282,7 +302,7 @@ fn sample_light(p: vec3<f32>) -> LightSample {
         let v = min((u - (1.0 - past)) / past, 0.99999994);
         let emitters_end = 1.0 - past_emitters();
         if (v < emitters_end) {
-            let t = tree_pick(p, min(v / emitters_end, 0.99999994));
+            let t = tree_pick(p, normal, min(v / emitters_end, 0.99999994));
             if (t.entry == NO_OBJECT) {
                 return no_light(); // no emitter sends light toward p
             }
@@ -364,16 +384,17 @@ fn sample_light(p: vec3<f32>) -> LightSample {
     return LightSample(dir, d, radiance, choice * d2 / (0.5 * twice_area * cos_l), false, id);
 }
 
-// The density with which sample_light, from the shading point `at`, picks
-// the direction `dir` that meets emitter `id` at distance t from p (the
-// ray's origin, `at` moved off the surface; 0 where it could not): the
-// emitter's pick as the sampler has it at `at`, times the density within it.
-fn light_pdf(id: u32, at: vec3<f32>, p: vec3<f32>, dir: vec3<f32>, t: f32) -> f32 {
+// The density with which sample_light, from the shading point `at` (its
+// normal `at_normal`), picks the direction `dir` that meets emitter `id`
+// at distance t from p (the ray's origin, `at` moved off the surface; 0
+// where it could not): the emitter's pick as the sampler has it at `at`,
+// times the density within it.
+fn light_pdf(id: u32, at: vec3<f32>, at_normal: vec3<f32>, p: vec3<f32>, dir: vec3<f32>, t: f32) -> f32 {
     let k = emitter_entry(id);
     if (k == NO_OBJECT) {
         return 0.0;
     }
-    let choice = emitters_pick() * tree_leaf_pick(lights[k].leaf, at);
+    let choice = emitters_pick() * tree_leaf_pick(lights[k].leaf, at, at_normal);
     if (choice <= 0.0) {
         return 0.0;
     }

@@ -63,7 +63,7 @@ fn next_event(m: Material, s: Surface, v: vec3<f32>, p: vec3<f32>, origin: vec3<
     if (share <= 0.0) {
         return vec3<f32>(0.0);
     }
-    let light = sample_light(p);
+    let light = sample_light(p, s.geometric);
     if (light.pdf <= 0.0 || dot(light.dir, s.geometric) <= 0.0) {
         return vec3<f32>(0.0);
     }
@@ -108,7 +108,9 @@ fn path_trace_sample(primary: Ray) -> vec3<f32> {
     var throughput = vec3<f32>(1.0);
     var radiance = vec3<f32>(0.0);
     var last_pdf = 0.0; // the BSDF density of the ray's direction; 0: camera or delta
-    var last_point = vec3<f32>(0.0); // the hit the ray left, where next_event chose its light
+    // The hit the ray left and its geometric normal, where next_event chose its light.
+    var last_point = vec3<f32>(0.0);
+    var last_normal = vec3<f32>(0.0);
     var inside = false;
     var path_length = 0.0;
     // Whether the features are still to be taken at the next hit.
@@ -145,7 +147,7 @@ fn path_trace_sample(primary: Ray) -> vec3<f32> {
             let e = emitted(hit.object, p, ray.dir);
             var weight = 1.0;
             if (last_pdf > 0.0) {
-                weight = mis_weight(last_pdf, light_pdf(hit.object, last_point, ray.origin, ray.dir, hit.t));
+                weight = mis_weight(last_pdf, light_pdf(hit.object, last_point, last_normal, ray.origin, ray.dir, hit.t));
             }
             radiance += throughput * e * weight;
         }
@@ -195,6 +197,7 @@ fn path_trace_sample(primary: Ray) -> vec3<f32> {
         }
         last_pdf = b.pdf;
         last_point = p;
+        last_normal = surface.geometric;
         ray = Ray(origin, b.dir);
         mark_ray(RAY_BOUNCE);
     }

@@ -188,7 +188,18 @@ fn scene_records_match_their_wgsl_structs() {
         &module,
         "LightNode",
         GpuLightNode,
-        [lo, child, hi, parent, axis, cos_theta_o, phi, cos_theta_e, two_sided, _pad]
+        [
+            lo,
+            child,
+            hi,
+            parent,
+            axis,
+            cos_theta_o,
+            phi,
+            cos_theta_e,
+            two_sided,
+            _pad
+        ]
     );
 }
 

@@ -324,15 +324,18 @@ fn path_traced_shadow_rays_name_their_light_and_the_probability_it_was_picked_wi
             let what = format!("{what} ray {i}");
             let Some(light) = &r.light else {
                 assert_ne!(r.kind, "shadow", "{what}: a shadow ray without its light");
-                shading_point = r.hit.as_ref().map(|h| Vec3::from(h.point));
+                shading_point = r
+                    .hit
+                    .as_ref()
+                    .map(|h| (Vec3::from(h.point), Vec3::from(h.normal)));
                 continue;
             };
             assert_eq!(r.kind, "shadow", "{what}: a light on a {} ray", r.kind);
             shadow_rays += 1;
             let id = light.id();
             picked.insert(id);
-            let p = shading_point.expect("a shadow ray leaves a hit");
-            let expected = choice.probability(id, p);
+            let (p, normal) = shading_point.expect("a shadow ray leaves a hit");
+            let expected = choice.probability(id, p, normal);
             assert!(expected > 0.0, "{what}: {light:?} is no light of the scene");
             let pick = light.pick as f64;
             assert!(
@@ -374,12 +377,11 @@ fn path_traced_shadow_rays_name_their_light_and_the_probability_it_was_picked_wi
                     assert_eq!(light.kind, Some(kind), "{what}");
                     assert_eq!(light.triangle, object.checked_sub(1), "{what}");
                     let q = end.expect("an emitter's shadow ray ends at it");
-                    let density =
-                        choice
-                            .emitter_density(&scene, object, p, q)
-                            .unwrap_or_else(|| {
-                                panic!("{what}: {q} is no point {object} lights {p} from")
-                            });
+                    let density = choice
+                        .emitter_density(&scene, object, p, normal, q)
+                        .unwrap_or_else(|| {
+                            panic!("{what}: {q} is no point {object} lights {p} from")
+                        });
                     let logged = light.pdf.expect("an emitter's direction has a density") as f64;
                     assert!(
                         (logged - density).abs() <= 1e-3 * density,

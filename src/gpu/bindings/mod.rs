@@ -288,8 +288,14 @@ pub const SHARED_CONSTANTS: [(&str, SharedValue); 77] = [
     ("LIGHT_DIRECTIONAL", SharedValue::U32(LIGHT_DIRECTIONAL)),
     // The light tree's nodes: a leaf's `child` bit, the root's `parent`,
     // an emitter's `leaf` outside the tree (layout::light_tree).
-    ("LIGHT_TREE_LEAF", SharedValue::U32(light_tree::LIGHT_TREE_LEAF)),
-    ("LIGHT_TREE_ROOT", SharedValue::U32(light_tree::LIGHT_TREE_ROOT)),
+    (
+        "LIGHT_TREE_LEAF",
+        SharedValue::U32(light_tree::LIGHT_TREE_LEAF),
+    ),
+    (
+        "LIGHT_TREE_ROOT",
+        SharedValue::U32(light_tree::LIGHT_TREE_ROOT),
+    ),
     ("NO_LEAF", SharedValue::U32(light_tree::NO_LEAF)),
     ("MODEL_LAMBERTIAN", SharedValue::U32(MODEL_LAMBERTIAN)),
     ("MODEL_METAL_ROUGH", SharedValue::U32(MODEL_METAL_ROUGH)),

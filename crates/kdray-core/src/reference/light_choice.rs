@@ -126,10 +126,11 @@ impl LightChoice {
         }
     }
 
-    /// The probability of picking `light` from the shading point p (0 for
-    /// one the scene lacks): a scene light's or the sky's share of the
-    /// power; an emitter's, the emitters' share times the tree's.
-    pub fn probability(&self, light: LightId, p: Vec3) -> f64 {
+    /// The probability of picking `light` from the shading point p, whose
+    /// surface's geometric normal (facing the ray) is n (0 for one the
+    /// scene lacks): a scene light's or the sky's share of the power; an
+    /// emitter's, the emitters' share times the tree's.
+    pub fn probability(&self, light: LightId, p: Vec3, n: Vec3) -> f64 {
         let share = |light: LightId| {
             self.lights
                 .iter()
@@ -148,16 +149,24 @@ impl LightChoice {
             .filter(|(id, _)| matches!(id, LightId::Emitter(_)))
             .map(|&(_, p)| p)
             .sum();
-        emitters * self.tree.pmf(p.as_dvec3(), k)
+        emitters * self.tree.pmf(p.as_dvec3(), n.as_dvec3(), k)
     }
 
     /// The solid-angle density with which next-event estimation at `p`
-    /// picks the direction toward `q`, a point on emitter `object` (the
-    /// pick included): uniform over the cone a sphere subtends, uniform by
+    /// (normal `n`, as for [`LightChoice::probability`]) picks the
+    /// direction toward `q`, a point on emitter `object` (the pick
+    /// included): uniform over the cone a sphere subtends, uniform by
     /// area over a triangle. None for an object that does not emit, a point
     /// inside its sphere or behind its triangle's emitting side.
-    pub fn emitter_density(&self, scene: &Scene, object: u32, p: Vec3, q: Vec3) -> Option<f64> {
-        let pick = self.probability(LightId::Emitter(object), p);
+    pub fn emitter_density(
+        &self,
+        scene: &Scene,
+        object: u32,
+        p: Vec3,
+        n: Vec3,
+        q: Vec3,
+    ) -> Option<f64> {
+        let pick = self.probability(LightId::Emitter(object), p, n);
         if pick <= 0.0 {
             return None;
         }
