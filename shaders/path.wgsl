@@ -71,7 +71,7 @@ fn next_event(m: Material, s: Surface, v: vec3<f32>, p: vec3<f32>, origin: vec3<
     if (share <= 0.0) {
         return vec3<f32>(0.0);
     }
-    let light = sample_light(p);
+    let light = sample_light(p, s.geometric);
     if (light.pdf <= 0.0 || dot(light.dir, s.geometric) <= 0.0) {
         return vec3<f32>(0.0);
     }
@@ -117,6 +117,9 @@ fn path_trace_sample(primary: Ray) -> vec3<f32> {
     var throughput = vec3<f32>(1.0);
     var radiance = vec3<f32>(0.0);
     var last_pdf = 0.0; // the BSDF density of the ray's direction; 0: camera or delta
+    // The hit the ray left and its geometric normal, where next_event chose its light.
+    var last_point = vec3<f32>(0.0);
+    var last_normal = vec3<f32>(0.0);
     var inside = false;
     // The absorption of the medium the ray travels in: the inside of the
     // last transmissive object it entered (media do not nest), 0 in air.
@@ -157,7 +160,7 @@ fn path_trace_sample(primary: Ray) -> vec3<f32> {
             let e = emitted(hit.object, p, ray.dir);
             var weight = 1.0;
             if (last_pdf > 0.0) {
-                weight = mis_weight(last_pdf, light_pdf(hit.object, ray.origin, ray.dir, hit.t));
+                weight = mis_weight(last_pdf, light_pdf(hit.object, last_point, last_normal, ray.origin, ray.dir, hit.t));
             }
             radiance += throughput * e * weight;
         }
@@ -200,6 +203,8 @@ fn path_trace_sample(primary: Ray) -> vec3<f32> {
             medium = select(vec3<f32>(0.0), m.absorption, inside);
         }
         last_pdf = b.pdf;
+        last_point = p;
+        last_normal = surface.geometric;
         ray = Ray(origin, b.dir);
         mark_ray(RAY_BOUNCE);
     }

@@ -84,8 +84,10 @@ struct Material {
 // The lights buffer: `light_count` scene lights (kind LIGHT_POINT,
 // LIGHT_SPOT or LIGHT_DIRECTIONAL), then `emitter_count` emissive objects
 // (kind LIGHT_EMITTER, `object` their GPU id, in increasing order,
-// `diffuse` their radiance). `pick`, `cdf` and `beyond`: the path tracer's
-// choice of a light by power (emitters.wgsl, `sample_light`).
+// `diffuse` their radiance), then the light tree's nodes, each in a Light
+// record (emitters.wgsl, `light_node`). `pick`, `cdf`, `beyond` and
+// `leaf`: the path tracer's choice of a light (emitters.wgsl,
+// `sample_light`).
 struct Light {
     position: vec3<f32>,  // point and spot lights
     kind: u32,
@@ -97,9 +99,24 @@ struct Light {
     spot_scale: f32,      // spot: 1 / max(cos inner - cos outer, 0.001)
     direction: vec3<f32>, // spot: its axis; directional: where the light travels (unit)
     path_scale: f32,      // point and spot: the path tracer's intensity is diffuse * path_scale
-    pick: f32,            // its probability within its block's share
-    cdf: f32,             // the sum of the picks before it in its block
+    pick: f32,            // a scene light's probability; an emitter's: its block's, past the scene lights
+    cdf: f32,             // a scene light: the sum of the picks before it
     beyond: f32,          // the probability of passing its block
+    leaf: u32,            // an emitter: its leaf in the light tree
+}
+
+// A node of the emitters' light tree (layout::light_tree::GpuLightNode),
+// stored in a Light record after the emitters (emitters.wgsl, `light_node`).
+struct LightNode {
+    lo: vec3<f32>,        // the box around its emitters
+    child: u32,           // inner: its first child (the second follows); leaf: LIGHT_TREE_LEAF | emitter
+    hi: vec3<f32>,
+    parent: u32,          // LIGHT_TREE_ROOT for the root
+    axis: vec3<f32>,      // the cone around its emitters' normals
+    cos_theta_o: f32,
+    phi: f32,             // its power
+    cos_theta_e: f32,     // how far past a normal it emits
+    two_sided: u32,
     _pad: u32,
 }
 

@@ -134,7 +134,8 @@ pub struct InspectedRay {
 
 /// The light a shadow ray aims at, in the scene's terms, and the chance
 /// the integrator gave it: in the path tracer's next-event estimation the
-/// probability of picking it (by power) and the density of the ray's
+/// probability of picking it from the hit (by power; an emitter through the
+/// light tree) and the density of the ray's
 /// direction; in the Whitted integrator every light gets its shadow ray
 /// (probability 1).
 #[derive(Debug, Clone, Serialize, PartialEq)]

@@ -1,7 +1,8 @@
 #!/usr/bin/env python3
 """Equal-samples error of kdray's and Mitsuba 3's path tracers on a scene of
 many lights (docs/peers.md, "Light sampling against Mitsuba 3"). kdray's
-next-event estimation picks a light by power; Mitsuba's `path` integrator
+next-event estimation picks a light by power, an emitter among the emitters
+by its light tree; Mitsuba's `path` integrator
 picks an emitter uniformly (each shape one emitter: a mesh is one, sampled
 by area within; each sphere one; the sky one; each point or directional
 light one). Run by hand, like mitsuba_path.py (its setup):
@@ -12,13 +13,16 @@ light one). Run by hand, like mitsuba_path.py (its setup):
 It renders the reference, Mitsuba at --ref-spp samples (seed 1000), then at
 each of --spp, --seeds images from each renderer (kdray `--seed 1..n`,
 Mitsuba seeds 2000..; and Mitsuba with each emitter's `sampling_weight`
-set to the power kdray picks it by, seeds 3000..), and prints one JSON object (`--save NAME` also
+set to its power as kdray weighs it, seeds 3000..), and prints one JSON object (`--save NAME` also
 writes scripts/peers/results/NAME.json): per samples count, each image's
 relative MSE against the reference,
 
     rel_mse = mean over channels c of  mean_pixels (x_c - ref_c)^2 / mean_pixels(ref_c)^2,
 
-their mean per renderer, and kdray's mean over Mitsuba's. The reference's
+their mean per renderer, and kdray's mean over Mitsuba's; and the same
+means over the pixels that show no emitter directly (`surface_*`: the
+reference's luminance below SURFACE_LUMINANCE), where only the light
+sampling differs. The reference's
 own noise adds the same to both (independent images, E (x - ref)^2 =
 var x + var ref, both renderers converging to the same image:
 mitsuba_path.py compare checks that); `reference_noise_estimate` is
@@ -42,12 +46,23 @@ import kdray_scene  # noqa: E402
 import mitsuba_path  # noqa: E402
 
 
-def rel_mse(img, ref):
-    """Mean over channels of MSE / (the reference's mean)^2."""
+def rel_mse(img, ref, mask=None):
+    """Mean over channels of MSE / (the reference's mean)^2, over the
+    pixels of `mask` (all by default)."""
     img = img.astype(np.float64)
     ref = ref.astype(np.float64)
+    if mask is not None:
+        img, ref = img[mask][:, None, :], ref[mask][:, None, :]
     per = [np.mean((img[:, :, c] - ref[:, :, c]) ** 2) / np.mean(ref[:, :, c]) ** 2 for c in range(3)]
     return float(np.mean(per))
+
+
+# Pixels whose reference luminance is below this show no emitter directly
+# (the city's dimmest lamp has a luminance of 0.78): their error is the
+# light sampling's, while a lamp a few pixels wide seen directly carries the
+# noise of where in the pixel the camera ray falls, the same for any light
+# sampling, and in the city most of the squared error.
+SURFACE_LUMINANCE = 0.5
 
 
 def light_counts(scene):
@@ -79,7 +94,7 @@ def luminance(c):
 
 def with_power_weights(mi, d, scene):
     """A copy of Mitsuba scene dict d (mitsuba_path.scene_dict's) with each
-    emitter's `sampling_weight` set to the power kdray picks it by
+    emitter's `sampling_weight` set to its power as kdray weighs it
     (crates/kdray-core/src/layout/light_picks.rs): point 4 pi I,
     directional E pi R^2, sphere pi 4 pi r^2 L, a mesh the sum of its
     triangles' pi A L, the sky image pi 4 pi R^2 times its mean radiance;
@@ -192,9 +207,12 @@ def main():
     }
     mi.Bitmap(ref).write(os.path.join(args.out, name + "_reference.exr"))
 
+    ref_luminance = 0.2126 * ref[:, :, 0] + 0.7152 * ref[:, :, 1] + 0.0722 * ref[:, :, 2]
+    surface = np.asarray(ref_luminance) < SURFACE_LUMINANCE
     runs = []
     for spp in args.spp:
         kd, ms, mp, adapter = [], [], [], None
+        kd_surface, ms_surface = [], []
         for s in range(args.seeds):
             exr = os.path.join(args.out, f"{name}_kdray_{spp}_{s + 1}.exr")
             cmd = [args.kdray, "render", args.scene, "--samples", str(spp), "--seed", str(s + 1), "-o", exr]
@@ -204,9 +222,12 @@ def main():
             for line in (p.stdout + "\n" + p.stderr).splitlines():
                 if line.strip().startswith("{") and '"adapter"' in line:
                     adapter = json.loads(line)["adapter"]
-            kd.append(rel_mse(np.array(mi.Bitmap(exr), dtype=np.float32)[:, :, :3], ref))
+            k = np.array(mi.Bitmap(exr), dtype=np.float32)[:, :, :3]
+            kd.append(rel_mse(k, ref))
+            kd_surface.append(rel_mse(k, ref, surface))
             m = mitsuba_path.mitsuba_render(mi, dr, mscene, width, height, spp, seed=2000 + s)
             ms.append(rel_mse(m, ref))
+            ms_surface.append(rel_mse(m, ref, surface))
             m = mitsuba_path.mitsuba_render(mi, dr, mscene_power, width, height, spp, seed=3000 + s)
             mp.append(rel_mse(m, ref))
         runs.append(
@@ -219,12 +240,17 @@ def main():
                 "kdray_over_mitsuba": round(float(np.mean(kd) / np.mean(ms)), 4),
                 "mitsuba_power_weights_rel_mse": [round(x, 6) for x in mp],
                 "mitsuba_power_weights_mean": round(float(np.mean(mp)), 6),
+                "surface_pixels": int(surface.sum()),
+                "kdray_surface_mean": round(float(np.mean(kd_surface)), 6),
+                "mitsuba_surface_mean": round(float(np.mean(ms_surface)), 6),
+                "kdray_over_mitsuba_surface": round(float(np.mean(kd_surface) / np.mean(ms_surface)), 4),
             }
         )
         print(json.dumps(runs[-1]), file=sys.stderr, flush=True)
         result["kdray_adapter"] = adapter
     most = max(runs, key=lambda r: r["spp"])
     result["rel_mse"] = "mean over channels of mean (x - ref)^2 / mean(ref)^2, ref the reference"
+    result["surface"] = f"the same over the pixels whose reference luminance is below {SURFACE_LUMINANCE}"
     result["runs"] = runs
     result["reference_noise_estimate"] = round(most["mitsuba_mean"] * most["spp"] / args.ref_spp, 6)
     result["kdray_command"] = f"{args.kdray} render {args.scene} --samples N --seed S -o X.exr --stats"

@@ -127,6 +127,14 @@ def error(folder):
             for v in (run["kdray_rel_mse"], run["mitsuba_rel_mse"])
         )
         print(f"- The images of one cell spread by up to {spread * 100:.0f}% of its mean (largest minus smallest).")
+        for name, e in rows:
+            runs = [run for run in e["runs"] if "kdray_over_mitsuba_surface" in run]
+            if runs:
+                ratios = ", ".join(f"{run['kdray_over_mitsuba_surface']:.2f} at {run['spp']} spp" for run in runs)
+                print(
+                    f"- `{e['scene']}` over the {runs[0]['surface_pixels']:,} pixels that show no emitter directly "
+                    f"({e['surface']}): kdray / Mitsuba {ratios}."
+                )
         print(f"- kdray on {e.get('kdray_adapter')}; {e['mitsuba']}; {e['machine']['cpu']}, {e['machine']['cpus']} cores.")
         for name, e in rows:
             before = e["uptime_before"].split("load average:")[-1].strip()

@@ -3,6 +3,7 @@
 //! of the WGSL struct of the same name, as naga reads the kernel.
 
 use super::kernel_io::*;
+use kdray_core::layout::light_tree::GpuLightNode;
 use kdray_core::layout::*;
 
 /// The WGSL type a Rust field stands for.
@@ -182,7 +183,24 @@ fn scene_records_match_their_wgsl_structs() {
         GpuLight,
         [
             position, kind, ambient, object, diffuse, cos_outer, specular, spot_scale, direction,
-            path_scale, pick, cdf, beyond, _pad
+            path_scale, pick, cdf, beyond, leaf
+        ]
+    );
+    layout_of!(
+        &module,
+        "LightNode",
+        GpuLightNode,
+        [
+            lo,
+            child,
+            hi,
+            parent,
+            axis,
+            cos_theta_o,
+            phi,
+            cos_theta_e,
+            two_sided,
+            _pad
         ]
     );
 }

@@ -4,7 +4,8 @@
 //! in both integrators; its rays and walks are the CPU mirror's, step
 //! for step, on random pixels of the inspect tests' scenes with every walk;
 //! and each path-traced shadow ray names its light with the probability the
-//! lights' power gives it (the CPU reference's `LightChoice`).
+//! CPU reference's `LightChoice` gives it from the shading point (by power,
+//! and for an emitter the light tree's walk).
 
 use crate::common;
 use crate::inspect::pixels;
@@ -267,31 +268,27 @@ direction = [0.3, -1.0, -0.2]
 diffuse   = [1.0, 1.0, 1.0]
 "#;
 
-/// The probability the kernel's light table gives `light` (the host's
-/// `light_picks`, as sample_light composes it): a scene light's pick; an
-/// emitter's, past the scene lights, times its pick within the emitters.
+/// The probability the kernel's light table gives scene light `light`
+/// (the host's `light_picks`): its pick. None for the others, whose
+/// probability depends on the shading point.
 fn table_pick(arrays: &kdray::layout::SceneArrays, light: LightId) -> Option<f32> {
-    let scene_lights = arrays.point_light_count() as usize;
-    let past = arrays.lights.first().map_or(1.0, |l| l.beyond);
     match light {
         LightId::Scene(i) => arrays.lights.get(i as usize).map(|l| l.pick),
-        LightId::Emitter(object) => arrays.lights[scene_lights..]
-            .iter()
-            .find(|l| arrays.objects[l.object as usize][1] == object)
-            .map(|l| past * l.pick),
-        LightId::Sky => None,
+        _ => None,
     }
 }
 
 /// Each shadow ray of next-event estimation names the light it aims at
-/// and the probability it was picked with: that light's share of the
-/// scene's power, computed on the CPU from the scene (the reference's
-/// `LightChoice`), and bit for bit the probability the host's light table
-/// gives it; the ray aims at that light (a point light's position at its
-/// limit, the sun's direction, a point of the emitter at its limit) and
-/// an emitter's logged density is the one sampling it by area or cone
-/// gives from the shading point. Every light of the scene is picked on
-/// some pixel; no other ray names a light.
+/// and the probability it was picked with: computed on the CPU from the
+/// scene (the reference's `LightChoice`: a scene light's share of the
+/// power; an emitter's, the emitters' share times the light tree's walk
+/// from the shading point), and for a scene light bit for bit the
+/// probability the host's light table gives it; the ray aims at that
+/// light (a point light's position at its limit, the sun's direction, a
+/// point of the emitter at its limit) and an emitter's logged density is
+/// the one sampling it by area or cone gives from the shading point, its
+/// pick included. Every light of the scene is picked on some pixel; no
+/// other ray names a light.
 #[test]
 fn path_traced_shadow_rays_name_their_light_and_the_probability_it_was_picked_with() {
     let ctx = common::gpu();
@@ -327,25 +324,31 @@ fn path_traced_shadow_rays_name_their_light_and_the_probability_it_was_picked_wi
             let what = format!("{what} ray {i}");
             let Some(light) = &r.light else {
                 assert_ne!(r.kind, "shadow", "{what}: a shadow ray without its light");
-                shading_point = r.hit.as_ref().map(|h| Vec3::from(h.point));
+                shading_point = r
+                    .hit
+                    .as_ref()
+                    .map(|h| (Vec3::from(h.point), Vec3::from(h.normal)));
                 continue;
             };
             assert_eq!(r.kind, "shadow", "{what}: a light on a {} ray", r.kind);
             shadow_rays += 1;
             let id = light.id();
             picked.insert(id);
-            let expected = choice.probability(id);
+            let (p, normal) = shading_point.expect("a shadow ray leaves a hit");
+            let expected = choice.probability(id, p, normal);
             assert!(expected > 0.0, "{what}: {light:?} is no light of the scene");
             let pick = light.pick as f64;
             assert!(
                 (pick - expected).abs() <= 1e-4 * expected,
-                "{what}: {light:?} picked with {pick}, its share of the power is {expected}"
+                "{what}: {light:?} picked with {pick} at {p}, the reference's is {expected}"
             );
-            assert_eq!(
-                Some(light.pick.to_bits()),
-                table_pick(arrays, id).map(f32::to_bits),
-                "{what}: {light:?} against the light table"
-            );
+            if let Some(table) = table_pick(arrays, id) {
+                assert_eq!(
+                    light.pick.to_bits(),
+                    table.to_bits(),
+                    "{what}: {light:?} against the light table"
+                );
+            }
             let origin = Vec3::from(r.origin);
             let dir = Vec3::from(r.direction);
             let end = r.t_limit.map(|t| origin + t * dir);
@@ -374,13 +377,11 @@ fn path_traced_shadow_rays_name_their_light_and_the_probability_it_was_picked_wi
                     assert_eq!(light.kind, Some(kind), "{what}");
                     assert_eq!(light.triangle, object.checked_sub(1), "{what}");
                     let q = end.expect("an emitter's shadow ray ends at it");
-                    let p = shading_point.expect("a shadow ray leaves a hit");
-                    let density =
-                        choice
-                            .emitter_density(&scene, object, p, q)
-                            .unwrap_or_else(|| {
-                                panic!("{what}: {q} is no point {object} lights {p} from")
-                            });
+                    let density = choice
+                        .emitter_density(&scene, object, p, normal, q)
+                        .unwrap_or_else(|| {
+                            panic!("{what}: {q} is no point {object} lights {p} from")
+                        });
                     let logged = light.pdf.expect("an emitter's direction has a density") as f64;
                     assert!(
                         (logged - density).abs() <= 1e-3 * density,

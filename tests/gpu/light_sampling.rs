@@ -1,18 +1,21 @@
-//! Next-event estimation's choice of a light by power
-//! (`layout::light_picks`, shaders/emitters.wgsl's `sample_light`), on one
-//! small scene lit every way: a point light, a sun, a sky image and a panel
-//! of 5,000 emissive triangles of unequal sizes, over a floor with a glossy
-//! ball. Power picks give, on average, the image another pick rule gives,
-//! and less noise than uniform picks at equal samples. The other rules are
-//! pick tables written on the host into the same lights buffer
-//! ([`light_picks::block`] with other weights), so all three run one kernel.
+//! Next-event estimation's choice of a light (`layout::light_picks` by
+//! power, `layout::light_tree` among the emitters, shaders/emitters.wgsl's
+//! `sample_light`), on one small scene lit every way: a point light, a sun,
+//! a sky image and a panel of 5,000 emissive triangles of unequal sizes,
+//! over a floor with a glossy ball. Power picks with the light tree give,
+//! on average, the image another pick rule gives, and less noise than
+//! picks that weigh every light alike at equal samples. The other rules
+//! are written on the host into the same lights buffer (pick tables of
+//! [`light_picks::block`] with other weights, and the tree's leaves
+//! reweighted by [`LightTree::reweight`]), so all three run one kernel.
 
 use crate::common;
 
 use common::*;
 use kdray::gpu::{Accel, GpuScene, PreparedScene, Renderer, TilePlan};
 use kdray::layout::light_picks::{self, Block};
-use kdray::layout::GpuLight;
+use kdray::layout::light_tree::{GpuLightNode, LightTree};
+use kdray::layout::SceneArrays;
 use kdray::scene::Scene;
 
 /// The image is SIZE x SIZE pixels.
@@ -134,29 +137,40 @@ specular = [0.0, 0.0, 0.0]
 /// How the lights are picked.
 #[derive(Clone, Copy, Debug)]
 enum Rule {
-    /// By power: what the host builds.
+    /// By power, the light tree among the emitters: what the host builds.
     Power,
-    /// Every entry alike (each of the 5,000 triangles as often as the sun).
+    /// Every entry alike (the sun as often as each of the 5,000
+    /// triangles), and the tree's leaves of equal power (its picks by
+    /// distance and orientation alone).
     Uniform,
     /// By kind, unrelated to power: three eighths each to the point light
-    /// and the sun, an eighth to the panel (its triangles alike), an eighth
-    /// to the sky. Unbiased too, and each block's share differs from
-    /// power's (the scene lights' three quarters against about a quarter;
-    /// the sky's half of the rest against nine tenths), so that a
-    /// probability left out in one place shows as a difference.
+    /// and the sun, an eighth to the panel, an eighth to the sky, and the
+    /// tree's leaves of equal power. Unbiased too, and each block's share
+    /// differs from power's (the scene lights' three quarters against
+    /// about a quarter; the sky's half of the rest against nine tenths),
+    /// and the tree's shares from its powers', so that a probability left
+    /// out in one place shows as a difference.
     ByKind,
 }
 
-/// Puts `head`'s picks in the scene lights' entries and `emitters`' in the
-/// emitters'.
-fn store_picks(lights: &mut [GpuLight], head: &Block, emitters: &Block) {
-    let blocks = [head, emitters];
-    let (scene_lights, rest) = lights.split_at_mut(head.picks.len());
-    for (entries, block) in [scene_lights, rest].into_iter().zip(blocks) {
-        assert_eq!(entries.len(), block.picks.len());
-        for (e, i) in entries.iter_mut().zip(0..) {
-            (e.pick, e.cdf, e.beyond) = (block.picks[i], block.cdfs[i], block.beyond);
-        }
+/// Puts `head`'s picks in the scene lights' entries, the share of
+/// `emitters`' block in the emitters' and gives the tree's leaves equal
+/// power.
+fn store_picks(arrays: &mut SceneArrays, head: &Block, emitters: &Block) {
+    let scene_lights = head.picks.len();
+    let (lights, rest) = arrays.lights.split_at_mut(scene_lights);
+    for (e, i) in lights.iter_mut().zip(0..) {
+        (e.pick, e.cdf, e.beyond) = (head.picks[i], head.cdfs[i], head.beyond);
+    }
+    let (entries, nodes) = rest.split_at_mut(arrays.emitter_count as usize);
+    assert_eq!(entries.len(), emitters.picks.len());
+    for e in entries {
+        (e.pick, e.beyond) = (1.0 - emitters.beyond, emitters.beyond);
+    }
+    let mut tree: Vec<GpuLightNode> = nodes.iter().map(GpuLightNode::from_light).collect();
+    LightTree::reweight(&mut tree, |_| 1.0);
+    for (record, node) in nodes.iter_mut().zip(&tree) {
+        *record = node.to_light();
     }
 }
 
@@ -172,12 +186,12 @@ fn uploaded_with(scene: &Scene, rule: Rule) -> GpuScene {
     match rule {
         Rule::Power => {}
         Rule::Uniform => store_picks(
-            &mut arrays.lights,
+            arrays,
             &light_picks::block(&vec![0.0; lights], 0.0, emitters + 1),
             &light_picks::block(&vec![0.0; emitters], 0.0, 1),
         ),
         Rule::ByKind => store_picks(
-            &mut arrays.lights,
+            arrays,
             &light_picks::block(&[3.0, 3.0], 2.0, emitters + 1),
             &light_picks::block(&vec![1.0 / emitters as f64; emitters], 1.0, 1),
         ),
@@ -294,8 +308,9 @@ fn power_picks_give_the_image_another_pick_rule_gives() {
     assert!(mean(&power) > 0.05, "the scene is lit: {}", mean(&power));
 }
 
-/// At equal samples, power picks leave far less noise than uniform picks,
-/// which choose the point light and the sun once in 5,003 times.
+/// At equal samples, power picks with the light tree leave far less noise
+/// than uniform picks, which choose the point light and the sun once in
+/// 5,003 times.
 #[test]
 fn power_picks_are_less_noisy_than_uniform_picks() {
     let dir = TempDir::new("light-picks-noise");

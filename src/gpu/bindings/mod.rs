@@ -17,6 +17,7 @@
 //! layout is in bindings/walk_codes.rs.
 
 use crate::geometry::{HIT_BOX_MARGIN, IN_PLANE_MARGIN, PARALLEL_EPSILON, T_INFINITY};
+use crate::layout::light_tree;
 use crate::layout::{
     GpuMaterial, GpuTriangle, KdNode, LeafRopes, TextureWords, ACCEL_BRUTE, ACCEL_KDTREE,
     ALPHA_BLEND, ALPHA_MASK, ALPHA_OPAQUE, GLASS_STACK_DEPTH, INTEGRATOR_PATH, INTEGRATOR_WHITTED,
@@ -271,7 +272,7 @@ pub enum SharedValue {
 }
 
 /// Every constant the kernel and the host must agree on, by WGSL name.
-pub const SHARED_CONSTANTS: [(&str, SharedValue); 74] = [
+pub const SHARED_CONSTANTS: [(&str, SharedValue); 77] = [
     ("KD_LEAF", SharedValue::U32(KdNode::LEAF)),
     ("ACCEL_KDTREE", SharedValue::U32(ACCEL_KDTREE)),
     ("ACCEL_BRUTE", SharedValue::U32(ACCEL_BRUTE)),
@@ -285,6 +286,17 @@ pub const SHARED_CONSTANTS: [(&str, SharedValue); 74] = [
     ("LIGHT_EMITTER", SharedValue::U32(LIGHT_EMITTER)),
     ("LIGHT_SPOT", SharedValue::U32(LIGHT_SPOT)),
     ("LIGHT_DIRECTIONAL", SharedValue::U32(LIGHT_DIRECTIONAL)),
+    // The light tree's nodes: a leaf's `child` bit, the root's `parent`,
+    // an emitter's `leaf` outside the tree (layout::light_tree).
+    (
+        "LIGHT_TREE_LEAF",
+        SharedValue::U32(light_tree::LIGHT_TREE_LEAF),
+    ),
+    (
+        "LIGHT_TREE_ROOT",
+        SharedValue::U32(light_tree::LIGHT_TREE_ROOT),
+    ),
+    ("NO_LEAF", SharedValue::U32(light_tree::NO_LEAF)),
     ("MODEL_LAMBERTIAN", SharedValue::U32(MODEL_LAMBERTIAN)),
     ("MODEL_METAL_ROUGH", SharedValue::U32(MODEL_METAL_ROUGH)),
     // The glass path's stack of pending rays (glass.wgsl).

@@ -26,23 +26,26 @@ pub struct GpuLight {
     /// `diffuse * path_scale` (`scene::Light::path_intensity_scale`).
     pub path_scale: f32,
     /// The path tracer's choice of a light by power
-    /// ([`light_picks`](super::light_picks)): the probability of this entry
-    /// within its block's share (a scene light: of all; an emitter: given
-    /// that the choice passed the scene lights).
+    /// ([`light_picks`](super::light_picks)): a scene light's probability;
+    /// an emitter's, that of the emitters' block (any emitter), given that
+    /// the choice passed the scene lights (the light tree picks among them).
     pub pick: f32,
-    /// The sum of the picks of its block's entries before it.
+    /// A scene light: the sum of the picks of the scene lights before it.
     pub cdf: f32,
     /// The probability that the choice passes this entry's block: a scene
     /// light's, that it falls on an emitter or the sky; an emitter's, that
     /// it falls on the sky, given that it passed the scene lights.
     pub beyond: f32,
-    pub _pad: u32,
+    /// An emitter: its leaf in the light tree
+    /// ([`light_tree`](super::light_tree)), or `light_tree::NO_LEAF`.
+    pub leaf: u32,
 }
 
 /// `GpuLight::kind`: a point light of the scene's `[[lights]]`.
 pub const LIGHT_POINT: u32 = 0;
 /// `GpuLight::kind`: an object whose material emits. The lights buffer
-/// holds the scene's lights first, then the emitters.
+/// holds the scene's lights first, then the emitters, then the light
+/// tree's nodes (`light_tree::GpuLightNode::to_light`).
 pub const LIGHT_EMITTER: u32 = 1;
 /// `GpuLight::kind`: a spot light of the scene's `[[lights]]`.
 pub const LIGHT_SPOT: u32 = 2;

@@ -1,18 +1,22 @@
 //! How the path tracer's next-event estimation picks a light
-//! (shaders/emitters.wgsl, `sample_light`): by power, through cumulative
-//! distributions built here and stored in the lights buffer's entries
-//! (`GpuLight::pick`, `cdf` and `beyond`).
+//! (shaders/emitters.wgsl, `sample_light`): the scene's lights, the
+//! emitters together, and the sky image by power, through a cumulative
+//! distribution built here and stored in the lights buffer's entries
+//! (`GpuLight::pick`, `cdf` and `beyond`); one emitter among the emitters
+//! through the light tree (`light_tree`), built here too, whose nodes
+//! follow the emitters' entries in the lights buffer.
 //!
 //! The choice runs through three blocks, in the buffer's order: the scene's
-//! lights, the emitters, the sky image. An entry holds its probability
-//! within its block's share (`pick`) and the sum of the picks before it in
-//! its block (`cdf`); every entry of a block holds the probability of
-//! passing the block (`beyond`): for the scene lights, that the choice falls
-//! on an emitter or the sky; for the emitters, that it falls on the sky,
-//! given that it passed the scene lights. So the emitters' entries depend
-//! on the emitters and the sky alone, which no frame changes, and an
-//! animation's frame rewrites the scene lights' entries only, their picks
-//! rebuilt with them ([`LightPicks::scene_lights`]).
+//! lights, the emitters, the sky image. A scene light's entry holds its
+//! probability (`pick`) and the sum of the picks before it (`cdf`); each
+//! holds the probability of passing the scene lights (`beyond`): that the
+//! choice falls on an emitter or the sky. Each emitter's entry holds the
+//! probability of the emitters' block given that the choice passed the
+//! scene lights (`pick`), that of the sky (`beyond`, 1 - `pick` in f32),
+//! and its leaf in the tree (`leaf`). So the emitters' entries and the
+//! tree depend on the emitters and the sky alone, which no frame changes,
+//! and an animation's frame rewrites the scene lights' entries only, their
+//! picks rebuilt with them ([`LightPicks::scene_lights`]).
 //!
 //! Power, in watts up to one constant factor, from the luminance of RGB
 //! (Rec. 709 weights), I a radiant intensity and L a radiance:
@@ -29,12 +33,15 @@
 //! - the sky image: pi 4 pi R^2 times its mean radiance over the sphere of
 //!   directions (with its intensity).
 //!
-//! An entry of zero power is never picked; where every power is zero, the
-//! choice is uniform over the entries.
+//! An entry of zero power is never picked (an emitter of zero power is left
+//! out of the tree); where every power is zero, the choice is uniform over
+//! the entries (the emitters' block weighing as many entries as it holds,
+//! and the tree weighing its emitters alike).
 
 use std::f64::consts::PI;
 
 use super::light::{GpuLight, LIGHT_DIRECTIONAL, LIGHT_EMITTER, LIGHT_SPOT};
+use super::light_tree::{LightBounds, LightTree};
 use super::material::GpuMaterial;
 use super::objects::{GpuSphere, GpuTriangle};
 use crate::geometry::Aabb;
@@ -145,6 +152,18 @@ pub fn block(weights: &[f64], beyond_power: f64, beyond_count: usize) -> Block {
     }
 }
 
+/// The tree's weights: the emitters' powers, where some is positive; else
+/// the same for each (the uniform choice of the module header).
+pub fn tree_weights(mut emitters: Vec<(u32, LightBounds)>) -> Vec<(u32, LightBounds)> {
+    let positive = |w: f64| w > 0.0 && w.is_finite();
+    if !emitters.iter().any(|(_, b)| positive(b.phi)) {
+        for (_, b) in &mut emitters {
+            b.phi = 1.0;
+        }
+    }
+    emitters
+}
+
 /// Writes `block`'s values into `entries`, one each.
 fn store(entries: &mut [GpuLight], block: &Block) {
     for (i, e) in entries.iter_mut().enumerate() {
@@ -170,11 +189,11 @@ pub struct LightPicks {
 
 impl LightPicks {
     /// The emitters' entries (one per emissive object, in order of GPU id,
-    /// as [`GpuLight`]s of kind `LIGHT_EMITTER` with their picks) and what
-    /// the scene lights' picks need. `objects` are the kernel's (material,
-    /// scene id) by GPU id, spheres first; `emissive_means` by material,
-    /// the mean linear colour of the emissive texture the kernel reads for
-    /// it, if any.
+    /// as [`GpuLight`]s of kind `LIGHT_EMITTER` with their block's pick and
+    /// their leaf), the light tree over them, and what the scene lights'
+    /// picks need. `objects` are the kernel's (material, scene id) by GPU
+    /// id, spheres first; `emissive_means` by material, the mean linear
+    /// colour of the emissive texture the kernel reads for it, if any.
     pub fn with_emitters(
         objects: &[[u32; 2]],
         materials: &[GpuMaterial],
@@ -183,17 +202,21 @@ impl LightPicks {
         triangles: &[GpuTriangle],
         sky: Option<&EnvironmentMap>,
         bounds: &Aabb,
-    ) -> (Vec<GpuLight>, LightPicks) {
+    ) -> (Vec<GpuLight>, LightTree, LightPicks) {
         let scene_radius = scene_radius(bounds);
         let mut emitters = Vec::new();
-        let mut powers = Vec::new();
-        for (gpu_id, &[material, _]) in objects.iter().enumerate() {
+        let mut tree_input = Vec::new();
+        for (gpu_id, &[material, scene_id]) in objects.iter().enumerate() {
             let m = &materials[material as usize];
             if !m.emission.iter().any(|&e| e > 0.0) {
                 continue;
             }
-            powers.push(match spheres.get(gpu_id) {
-                Some(s) => sphere_power(s, m.emission),
+            tree_input.push(match spheres.get(gpu_id) {
+                Some(s) => {
+                    let power = sphere_power(s, m.emission);
+                    let b = LightBounds::sphere(s.center.into(), s.radius, power);
+                    (scene_id, b)
+                }
                 None => {
                     let triangle = &triangles[gpu_id - spheres.len()];
                     let emission = match emissive_means.get(material as usize) {
@@ -202,7 +225,10 @@ impl LightPicks {
                         }
                         _ => m.emission,
                     };
-                    triangle_power(triangle, emission, m.two_sided != 0)
+                    let two_sided = m.two_sided != 0;
+                    let power = triangle_power(triangle, emission, two_sided);
+                    let v = [triangle.v0, triangle.v1, triangle.v2].map(glam::Vec3::from);
+                    (scene_id, LightBounds::triangle(v, power, two_sided))
                 }
             });
             emitters.push(GpuLight {
@@ -212,15 +238,23 @@ impl LightPicks {
                 ..bytemuck::Zeroable::zeroed()
             });
         }
+        let powers: Vec<f64> = tree_input.iter().map(|(_, b)| b.phi).collect();
         let sky_power = sky.map_or(0.0, |env| sky_power(env, scene_radius));
         let skies = usize::from(sky.is_some());
-        store(&mut emitters, &block(&powers, sky_power, skies));
+        let emitters_block = block(&powers, sky_power, skies);
+        tree_input = tree_weights(tree_input);
+        let tree = LightTree::build(&tree_input);
+        for (i, e) in emitters.iter_mut().enumerate() {
+            e.pick = 1.0 - emitters_block.beyond;
+            e.beyond = emitters_block.beyond;
+            e.leaf = tree.leaf_of[i];
+        }
         let picks = LightPicks {
             scene_radius,
             emitters_and_sky_power: powers.iter().sum::<f64>() + sky_power,
             emitters_and_sky: (emitters.len() + skies) as u32,
         };
-        (emitters, picks)
+        (emitters, tree, picks)
     }
 
     /// `lights` (the scene's lights in the GPU layout, in order) with their
@@ -326,8 +360,9 @@ mod tests {
         assert_eq!(b.cdfs, vec![0.0, 0.25, 0.5]);
         assert_eq!(b.beyond, 0.25);
         // Chained: a uniform rest under a uniform head is uniform overall.
-        let (rest, _) = LightPicks::with_emitters(&[], &[], &[], &[], &[], None, &Aabb::EMPTY);
-        assert!(rest.is_empty());
+        let (rest, tree, _) =
+            LightPicks::with_emitters(&[], &[], &[], &[], &[], None, &Aabb::EMPTY);
+        assert!(rest.is_empty() && tree.nodes.is_empty());
         let picks = LightPicks {
             scene_radius: 1.0,
             emitters_and_sky_power: 0.0,
@@ -389,8 +424,9 @@ mod tests {
     }
 
     /// The emitters' entries come in order of object id (the kernel finds
-    /// an emitter's entry by a binary search on it), each with its own
-    /// power's share, and the sky takes the rest.
+    /// an emitter's entry by a binary search on it), each with the
+    /// emitters' share of the power and its leaf in the light tree, which
+    /// holds its power; the sky takes the rest.
     #[test]
     fn emitter_entries_are_sorted_by_object_id_with_their_powers() {
         let lit = GpuMaterial {
@@ -434,7 +470,7 @@ mod tests {
             min: glam::Vec3::splat(-1.0),
             max: glam::Vec3::splat(1.0),
         };
-        let (emitters, picks) = LightPicks::with_emitters(
+        let (emitters, tree, picks) = LightPicks::with_emitters(
             &objects,
             &materials,
             &[],
@@ -449,10 +485,16 @@ mod tests {
         let powers = [PI * 4.0 * PI * 4.0, PI * 0.5, 2.0 * PI * 4.5, PI * 8.0];
         let sky_power = PI * 4.0 * PI * 3.0 * 0.5;
         let total = powers.iter().sum::<f64>() + sky_power;
+        // Each entry holds the emitters' share, its leaf its own power.
+        let emitters_share = powers.iter().sum::<f64>() / total;
         for (e, p) in emitters.iter().zip(powers) {
-            assert!((e.pick as f64 - p / total).abs() < 1e-6);
+            assert!((e.pick as f64 - emitters_share).abs() < 1e-6);
+            assert_eq!(e.pick, 1.0 - e.beyond);
             assert_eq!(e.kind, LIGHT_EMITTER);
+            let leaf = tree.nodes[e.leaf as usize];
+            assert!(leaf.is_leaf() && close(leaf.phi as f64, p), "{leaf:?}");
         }
+        assert_eq!(tree.nodes.len(), 2 * emitters.len() - 1);
         assert!((emitters[0].beyond as f64 - sky_power / total).abs() < 1e-6);
         assert_eq!(picks.emitters_and_sky, 5);
         assert!(close(picks.emitters_and_sky_power, total));
@@ -477,7 +519,7 @@ mod tests {
         let triangles = [tri(0), tri(GpuTriangle::UNTEXTURED)];
         let objects = [[0, 0], [0, 1]];
         let powers = |means: &[Option<[f64; 3]>]| {
-            let (emitters, picks) = LightPicks::with_emitters(
+            let (emitters, tree, _) = LightPicks::with_emitters(
                 &objects,
                 &[lit],
                 means,
@@ -486,10 +528,9 @@ mod tests {
                 None,
                 &Aabb::EMPTY,
             );
-            let total = picks.emitters_and_sky_power;
             emitters
                 .iter()
-                .map(|e| e.pick as f64 * total)
+                .map(|e| tree.nodes[e.leaf as usize].phi as f64)
                 .collect::<Vec<_>>()
         };
         let plain = powers(&[None]);

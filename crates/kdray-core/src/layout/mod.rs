@@ -17,6 +17,7 @@
 mod frame_values;
 mod light;
 pub mod light_picks;
+pub mod light_tree;
 mod material;
 mod objects;
 mod scene_arrays;

@@ -26,9 +26,12 @@ pub struct SceneArrays {
     pub materials: Vec<GpuMaterial>,
     /// The scene's point lights, then one entry per emissive object
     /// (`LIGHT_EMITTER`, in order of GPU id), `emitter_count` of them, each
-    /// with its chance of being picked ([`LightPicks`]).
+    /// with its chance of being picked ([`LightPicks`]), then the
+    /// `light_tree_nodes` nodes of the emitters' light tree
+    /// (`light_tree::GpuLightNode::to_light`).
     pub lights: Vec<GpuLight>,
     pub emitter_count: u32,
+    pub light_tree_nodes: u32,
     /// What a frame's scene lights need for their picks
     /// ([`LightPicks::scene_lights`]).
     pub light_picks: LightPicks,
@@ -127,7 +130,7 @@ impl SceneArrays {
 
     /// The point lights at the head of `lights`.
     pub fn point_light_count(&self) -> u32 {
-        self.lights.len() as u32 - self.emitter_count
+        self.lights.len() as u32 - self.emitter_count - self.light_tree_nodes
     }
 
     /// Whether some material transmits (the kernel's `GLASS`).
@@ -258,6 +261,7 @@ impl SceneArrays {
                 .collect(),
             lights: Vec::new(),
             emitter_count: 0,
+            light_tree_nodes: 0,
             light_picks: LightPicks::default(),
             environment: EnvironmentWords::default(),
             nodes: tree.nodes.iter().map(GpuKdNode::pack).collect(),
@@ -284,7 +288,7 @@ impl SceneArrays {
                     .then(|| scene.textures[m.emissive_texture as usize].mean_linear_colour())
             })
             .collect();
-        let (emitters, picks) = LightPicks::with_emitters(
+        let (emitters, tree, picks) = LightPicks::with_emitters(
             &arrays.objects,
             &arrays.materials,
             &emissive_means,
@@ -296,7 +300,11 @@ impl SceneArrays {
         arrays.light_picks = picks;
         arrays.lights = arrays.frame_lights(&scene.lights);
         arrays.emitter_count = emitters.len() as u32;
+        arrays.light_tree_nodes = tree.nodes.len() as u32;
         arrays.lights.extend(emitters);
+        arrays
+            .lights
+            .extend(tree.nodes.iter().map(|n| n.to_light()));
         arrays
     }
 }

@@ -1,16 +1,21 @@
 //! Which light a shadow ray aims at ([`LightId`], in the scene's terms) and
-//! the path tracer's chance of picking each ([`LightChoice`]): computed
-//! here from the scene itself, in f64, as each light's share of the total
-//! power (the powers of `layout::light_picks`), without the blocks, f32
-//! distributions and binary searches the kernel picks through, so tests can
-//! hold the probabilities the inspect kernel logs to it.
+//! the path tracer's chance of picking each from a shading point
+//! ([`LightChoice`]): computed here from the scene itself, in f64, a scene
+//! light's or the sky's as its share of the total power (the powers of
+//! `layout::light_picks`), an emitter's as the emitters' share times the
+//! probability of the light tree's walk from p ending at it
+//! (`layout::light_tree`, the tree built from the scene's own emitters and
+//! its importances computed in f64), without the blocks, f32 distributions
+//! and binary searches the kernel picks through, so tests can hold the
+//! probabilities the inspect kernel logs to it.
 
 use std::f64::consts::PI;
 
 use glam::{DVec3, Vec3};
 
 use crate::geometry::Primitives;
-use crate::layout::light_picks::{scene_radius, sky_power};
+use crate::layout::light_picks::{scene_radius, sky_power, tree_weights};
+use crate::layout::light_tree::{LightBounds, LightTree};
 use crate::scene::{LightKind, Scene};
 
 /// A light as a user knows it.
@@ -38,7 +43,12 @@ pub struct AimedLight {
 /// image) with the probability of picking each.
 #[derive(Debug, Clone, PartialEq)]
 pub struct LightChoice {
+    /// Each light with its share of the power (an emitter's alone, not the
+    /// probability of picking it: see [`LightChoice::probability`]).
     pub lights: Vec<(LightId, f64)>,
+    /// The emitters' light tree, and its emitters' object ids.
+    pub tree: LightTree,
+    pub tree_emitters: Vec<u32>,
 }
 
 /// Rec. 709 luminance.
@@ -70,11 +80,16 @@ impl LightChoice {
             let m = &scene.materials[material as usize];
             (m.physical.emission, m.physical.two_sided)
         };
+        // The tree's emitters: their bounds from the objects in f32, as the
+        // kernel has them, keyed by object id.
+        let mut tree_input = Vec::new();
         for (i, s) in scene.spheres.iter().enumerate() {
             let (e, _) = emission(s.material);
             if e.cmpgt(DVec3::ZERO).any() {
                 let power = PI * 4.0 * PI * s.radius * s.radius * luminance(e);
                 lights.push((LightId::Emitter(i as u32), power));
+                let f = &prims.spheres[i];
+                tree_input.push((i as u32, LightBounds::sphere(f.center, f.radius, power)));
             }
         }
         for (i, t) in scene.triangles.iter().enumerate() {
@@ -84,9 +99,14 @@ impl LightChoice {
                 let area = 0.5 * (b - a).cross(c - a).length();
                 let sides = if two_sided { 2.0 } else { 1.0 };
                 let id = (scene.spheres.len() + i) as u32;
-                lights.push((LightId::Emitter(id), sides * PI * area * luminance(e)));
+                let power = sides * PI * area * luminance(e);
+                lights.push((LightId::Emitter(id), power));
+                let v = prims.triangles[i].v;
+                tree_input.push((id, LightBounds::triangle(v, power, two_sided)));
             }
         }
+        let tree_emitters = tree_input.iter().map(|&(id, _)| id).collect();
+        let tree = LightTree::build(&tree_weights(tree_input));
         if let Some(env) = &scene.environment {
             lights.push((LightId::Sky, sky_power(env, radius)));
         }
@@ -99,24 +119,54 @@ impl LightChoice {
                 false => 1.0 / count,
             };
         }
-        LightChoice { lights }
+        LightChoice {
+            lights,
+            tree,
+            tree_emitters,
+        }
     }
 
-    /// The probability of picking `light` (0 for one the scene lacks).
-    pub fn probability(&self, light: LightId) -> f64 {
-        self.lights
+    /// The probability of picking `light` from the shading point p, whose
+    /// surface's geometric normal (facing the ray) is n (0 for one the
+    /// scene lacks): a scene light's or the sky's share of the power; an
+    /// emitter's, the emitters' share times the tree's.
+    pub fn probability(&self, light: LightId, p: Vec3, n: Vec3) -> f64 {
+        let share = |light: LightId| {
+            self.lights
+                .iter()
+                .find(|(id, _)| *id == light)
+                .map_or(0.0, |&(_, p)| p)
+        };
+        let LightId::Emitter(object) = light else {
+            return share(light);
+        };
+        let Some(k) = self.tree_emitters.iter().position(|&id| id == object) else {
+            return 0.0;
+        };
+        let emitters: f64 = self
+            .lights
             .iter()
-            .find(|(id, _)| *id == light)
-            .map_or(0.0, |&(_, p)| p)
+            .filter(|(id, _)| matches!(id, LightId::Emitter(_)))
+            .map(|&(_, p)| p)
+            .sum();
+        emitters * self.tree.pmf(p.as_dvec3(), n.as_dvec3(), k)
     }
 
     /// The solid-angle density with which next-event estimation at `p`
-    /// picks the direction toward `q`, a point on emitter `object` (the
-    /// pick included): uniform over the cone a sphere subtends, uniform by
+    /// (normal `n`, as for [`LightChoice::probability`]) picks the
+    /// direction toward `q`, a point on emitter `object` (the pick
+    /// included): uniform over the cone a sphere subtends, uniform by
     /// area over a triangle. None for an object that does not emit, a point
     /// inside its sphere or behind its triangle's emitting side.
-    pub fn emitter_density(&self, scene: &Scene, object: u32, p: Vec3, q: Vec3) -> Option<f64> {
-        let pick = self.probability(LightId::Emitter(object));
+    pub fn emitter_density(
+        &self,
+        scene: &Scene,
+        object: u32,
+        p: Vec3,
+        n: Vec3,
+        q: Vec3,
+    ) -> Option<f64> {
+        let pick = self.probability(LightId::Emitter(object), p, n);
         if pick <= 0.0 {
             return None;
         }
