@@ -14,7 +14,8 @@ exactly; scripts/peers/mitsuba_path.py converts them). Neither renderer has
 a time limit, so each is given samples per pixel to fit T: per scene, each
 is timed at two sample counts (a fit of fixed cost plus cost per sample),
 the count for T taken from the fit, and a run more than 10% off T run
-again once with the count scaled to T (the nearer of the two kept). Every run is a fresh
+again once with the samples the difference buys added or taken away (the
+nearer of the two kept). Every run is a fresh
 process, timed by the wall clock from start to written image, as a user
 waits for it:
 - kdray: `render --samples N --denoise -o X.exr`, everything included
@@ -137,7 +138,10 @@ def fit(renderer, scene, size, low, high):
     """(fixed seconds, seconds per sample per pixel) from runs at low and high spp."""
     a = renderer.run(scene, size, low, f"fit{low}")
     b = renderer.run(scene, size, high, f"fit{high}")
-    per = max((b["wall_s"] - a["wall_s"]) / (high - low), 1e-4)
+    per = (b["wall_s"] - a["wall_s"]) / (high - low)
+    if per <= 0:
+        # The load's noise outweighed the samples: all of the time to them, an upper bound.
+        per = b["wall_s"] / high
     return {"fixed_s": max(a["wall_s"] - per * low, 0.0), "per_spp_s": per,
             "runs": [{"spp": r["spp"], "wall_s": r["wall_s"]} for r in (a, b)]}
 
@@ -148,14 +152,13 @@ def spp_for(seconds, model):
 
 def within(renderer, scene, size, seconds, model, tag):
     """A run whose wall time is near `seconds`: where the first is off by
-    more than OVERRUN, a second with its samples scaled by the time it had
-    over the time it took (fixed cost aside), the nearer of the two kept."""
+    more than OVERRUN, a second with as many samples more or fewer as the
+    difference buys at the fit's cost per sample, the nearer of the two kept."""
     run = renderer.run(scene, size, spp_for(seconds, model), tag)
     if seconds / OVERRUN <= run["wall_s"] <= OVERRUN * seconds:
         return run
-    fixed = model["fixed_s"]
-    share = max(seconds - fixed, 0.0) / max(run["wall_s"] - fixed, 1e-3)
-    spp = max(1, math.floor(run["spp"] * share))
+    spp = max(1, run["spp"] + math.floor((seconds - run["wall_s"]) / model["per_spp_s"]))
+    spp = min(spp, 4 * run["spp"] + 16)  # a fit the load misled asks no more than this
     if spp == run["spp"]:
         return run
     again = renderer.run(scene, size, spp, tag + ".again")
@@ -197,7 +200,7 @@ def main():
         for name, scene, size in SCENES:
             ref, ref_seconds = reference(mitsuba, scene, size, args.reference_spp, args.reference_dir)
             models = {}
-            for r, (low, high) in ((kdray, (1, 64)), (mitsuba, (1, 256))):
+            for r, (low, high) in ((kdray, (1, 32)), (mitsuba, (1, 256))):
                 models[r.name] = fit(r, scene, size, low, high)
             scenes.append({"scene": name, "file": scene, "width": size[0], "height": size[1],
                            "reference_seconds": ref_seconds, "fits": models})
