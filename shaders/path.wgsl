@@ -93,7 +93,10 @@ fn next_event(m: Material, s: Surface, v: vec3<f32>, p: vec3<f32>, origin: vec3<
     if (!light.delta) {
         weight = mis_weight(light.pdf, e.pdf * share);
     }
-    let through = transmittance(medium, light.distance);
+    var through = vec3<f32>(1.0);
+    if (any(medium != vec3<f32>(0.0))) {
+        through = transmittance(medium, light.distance);
+    }
     return share * e.value * light.radiance * through * (weight / light.pdf);
 }
 
@@ -139,7 +142,9 @@ fn path_trace_sample(primary: Ray) -> vec3<f32> {
             ray_counts.z += 1u;
         }
         let hit = trace_ray(ray, T_INFINITY, false);
-        throughput *= transmittance(medium, select(hit.t, T_INFINITY, hit.object == NO_OBJECT));
+        if (inside) {
+            throughput *= transmittance(medium, select(hit.t, T_INFINITY, hit.object == NO_OBJECT));
+        }
         if (hit.object == NO_OBJECT) {
             var weight = 1.0;
             if (last_pdf > 0.0 && has_environment_image()) {

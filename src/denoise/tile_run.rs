@@ -373,7 +373,20 @@ impl TileRun {
             .filter(|u| matches!(u.kind, UnitKind::Dispatch { .. }))
             .count();
         self.make_dispatches(ctx, range)?;
-        let mut step = first_step;
+        let count = units
+            .iter()
+            .filter(|u| matches!(u.kind, UnitKind::Dispatch { .. }))
+            .count();
+        let made: Vec<&Dispatch> = self.steps[first_step..first_step + count]
+            .iter()
+            .flatten()
+            .collect();
+        if made.len() != count {
+            return Err(Error::Gpu(
+                "a denoise unit's dispatch was not made before its run".into(),
+            ));
+        }
+        let mut made = made.into_iter();
         ctx.checked("running a denoise tile", |device| {
             if units.first().is_some_and(|u| u.kind == UnitKind::Pack) {
                 ctx.queue
@@ -388,9 +401,9 @@ impl TileRun {
                     match unit.kind {
                         UnitKind::Pack => self.pack.record(&mut pass),
                         UnitKind::Dispatch { .. } => {
-                            let made = self.steps[step].as_ref();
-                            made.expect("made above").record(&mut pass);
-                            step += 1;
+                            if let Some(dispatch) = made.next() {
+                                dispatch.record(&mut pass);
+                            }
                         }
                         UnitKind::Unpack => {
                             let groups = workgroups(
