@@ -1,46 +1,11 @@
 // Glass: refraction by Snell's law with the exact dielectric Fresnel
 // reflectance, total internal reflection, shadow rays through transmissive
 // surfaces, and the path that follows both the reflected and the refracted ray
-// with a small stack. Mirrored by crates/kdray-core/src/reference/whitted.rs; the
+// with a small stack (the refraction itself is bsdf_dielectric.wgsl's
+// refraction_at). Mirrored by crates/kdray-core/src/reference/whitted.rs; the
 // rules, exactly, are in docs/scene-format.md (Semantics, "Glass"). Reached
 // only in pipelines with the GLASS override (variant.wgsl): a scene without
 // glass runs the opaque path of trace.wgsl.
-
-// The refracted direction and the Fresnel reflectance at one interface.
-struct Refraction {
-    dir: vec3<f32>,   // unit; the incoming direction where fresnel == 1
-    fresnel: f32,     // reflectance in [0, 1]; 1 at total internal reflection
-}
-
-// d: unit incoming direction; n: unit normal facing the incoming ray;
-// eta_i: the index on the incoming side; eta_t: the index beyond.
-// Equal indices bend nothing and reflect nothing, exactly.
-fn refract_fresnel(d: vec3<f32>, n: vec3<f32>, eta_i: f32, eta_t: f32) -> Refraction {
-    if (eta_i == eta_t) {
-        return Refraction(d, 0.0);
-    }
-    let cos_i = clamp(-dot(d, n), 0.0, 1.0);
-    let eta = eta_i / eta_t;
-    let sin2_t = eta * eta * (1.0 - cos_i * cos_i);
-    if (sin2_t >= 1.0) {
-        return Refraction(d, 1.0); // total internal reflection
-    }
-    let cos_t = sqrt(1.0 - sin2_t);
-    let rs = (eta_i * cos_i - eta_t * cos_t) / (eta_i * cos_i + eta_t * cos_t);
-    let rp = (eta_t * cos_i - eta_i * cos_t) / (eta_t * cos_i + eta_i * cos_t);
-    let t = normalize(eta * d + (eta * cos_i - cos_t) * n);
-    return Refraction(t, 0.5 * (rs * rs + rp * rp));
-}
-
-// Refraction about the shading normal, or about the geometric normal where
-// that one would send the ray back out of the surface (as reflection_dir).
-fn refraction_at(d: vec3<f32>, s: Surface, eta_i: f32, eta_t: f32) -> Refraction {
-    let r = refract_fresnel(d, s.shading, eta_i, eta_t);
-    if (r.fresnel == 1.0 || dot(r.dir, s.geometric) < 0.0) {
-        return r;
-    }
-    return refract_fresnel(d, s.geometric, eta_i, eta_t);
-}
 
 // How much of a light a shadow ray from `ray.origin`, `length` long, lets
 // through: 1 unblocked, 0 blocked by an opaque object; each transmissive

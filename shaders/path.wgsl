@@ -11,49 +11,66 @@
 struct Bounce {
     dir: vec3<f32>,
     weight: vec3<f32>,   // the throughput's factor: f cos / pdf
-    pdf: f32,            // the direction's solid-angle density; 0: a delta lobe
+    // The direction's solid-angle density as next-event estimation would
+    // weigh it; 0 where it cannot find the direction (a delta lobe, a
+    // transmitted direction).
+    pdf: f32,
     refracted: bool,
+    delta: bool,         // a perfect mirror's or smooth glass's bounce
 }
 
-// Smooth glass: reflect with the Fresnel reflectance's probability, else
-// refract (exact Fresnel, glass.wgsl); untinted, as in the Whitted
-// integrator.
-fn sample_glass(d: vec3<f32>, s: Surface, m: Material, inside: bool) -> Bounce {
-    var eta_i = 1.0;
-    var eta_t = m.ior;
-    if (inside) {
-        eta_i = m.ior;
-        eta_t = 1.0;
+// Three random numbers, drawn in the order x, y, z.
+fn random3() -> vec3<f32> {
+    let u0 = random();
+    let u1 = random();
+    let u2 = random();
+    return vec3<f32>(u0, u1, u2);
+}
+
+// A direction sampled from one lobe of a material with a rough dielectric,
+// weighed by the mixture of its lobes with a density (bsdf.wgsl,
+// eval_mixture): the mixture's value over its density. Next-event
+// estimation lights the side of the geometric normal only, so a
+// transmitted direction's density is 0 to it.
+fn mixture_bounce(m: Material, s: Surface, inside: bool, v: vec3<f32>, b: LobeSample) -> Bounce {
+    if (all(b.weight == vec3<f32>(0.0))) {
+        return Bounce(b.dir, vec3<f32>(0.0), 0.0, false, false);
     }
-    let r = refraction_at(d, s, eta_i, eta_t);
-    if (random() < r.fresnel) {
-        return Bounce(reflection_dir(d, s), vec3<f32>(1.0), 0.0, false);
+    if (b.pdf <= 0.0) {
+        return Bounce(b.dir, b.weight, 0.0, b.refracted, true);
     }
-    return Bounce(r.dir, vec3<f32>(1.0), 0.0, true);
+    let e = eval_mixture(m, s, inside, v, b.dir);
+    if (e.pdf <= 0.0) {
+        return Bounce(b.dir, vec3<f32>(0.0), 0.0, false, false);
+    }
+    let lit = dot(b.dir, s.geometric) > 0.0;
+    return Bounce(b.dir, e.value / e.pdf, select(0.0, e.pdf, lit), b.refracted, false);
 }
 
 // The next direction at a hit: the mirror with probability `reflection`,
-// glass with `(1 - reflection) transmission`, else the model's own
-// sampling. Its weight is the model's value over its density (the lobe's
-// choice cancels out).
+// the dielectric (bsdf_dielectric.wgsl, bsdf_rough_dielectric.wgsl) with
+// `(1 - reflection) transmission`, else the model's own sampling. Its
+// weight is the lobe's value over its density (the lobe's choice cancels
+// out), or with a rough dielectric the mixture's (mixture_bounce).
 fn sample_bounce(m: Material, s: Surface, d: vec3<f32>, inside: bool) -> Bounce {
     let u = random();
     if (u < m.reflection) {
-        return Bounce(reflection_dir(d, s), vec3<f32>(1.0), 0.0, false);
-    }
-    if (u < m.reflection + (1.0 - m.reflection) * m.transmission) {
-        return sample_glass(d, s, m, inside);
+        return Bounce(reflection_dir(d, s), vec3<f32>(1.0), 0.0, false, true);
     }
     let v = -d;
-    let l = sample_model(m, s.shading, v);
-    if (dot(l, s.geometric) <= 0.0) {
-        return Bounce(l, vec3<f32>(0.0), 0.0, false); // below the surface
+    let rough = has_rough_dielectric(m);
+    if (u < m.reflection + (1.0 - m.reflection) * m.transmission) {
+        if (rough) {
+            return mixture_bounce(m, s, inside, v, rough_dielectric_sample(m, s, inside, v, random3()));
+        }
+        let g = dielectric_sample(m, s, inside, v, vec3<f32>(random(), 0.0, 0.0));
+        return Bounce(g.dir, g.weight, 0.0, g.refracted, true);
     }
-    let e = eval_model(m, s.shading, v, l);
-    if (e.pdf <= 0.0) {
-        return Bounce(l, vec3<f32>(0.0), 0.0, false);
+    let b = sample_model(m, s, v, random3());
+    if (rough) {
+        return mixture_bounce(m, s, inside, v, b);
     }
-    return Bounce(l, e.value / e.pdf, e.pdf * model_share(m), false);
+    return Bounce(b.dir, b.weight, b.pdf * model_share(m), false, false);
 }
 
 // The share of light left after a length t in a medium of absorption
@@ -63,19 +80,29 @@ fn transmittance(medium: vec3<f32>, t: f32) -> vec3<f32> {
 }
 
 // Light arriving at the hit p from one light chosen by sample_light, through
-// the model's share of the material, weighted against BSDF sampling; p lies
-// in a medium of absorption `medium`, which the unblocked shadow ray never
-// leaves.
-fn next_event(m: Material, s: Surface, v: vec3<f32>, p: vec3<f32>, origin: vec3<f32>, medium: vec3<f32>) -> vec3<f32> {
-    let share = model_share(m);
-    if (share <= 0.0) {
+// the material's lobes with a density (the model's share; with a rough
+// dielectric, bsdf.wgsl's eval_mixture), weighted against BSDF sampling;
+// p lies in a medium of absorption `medium`, which the unblocked shadow
+// ray never leaves.
+fn next_event(m: Material, s: Surface, inside: bool, v: vec3<f32>, p: vec3<f32>, origin: vec3<f32>, medium: vec3<f32>) -> vec3<f32> {
+    let rough = has_rough_dielectric(m);
+    // The lobes' values are scaled by `share` (the model's alone), or
+    // already weighted by their shares (the mixture).
+    var share = model_share(m);
+    if (share <= 0.0 && !rough) {
         return vec3<f32>(0.0);
     }
     let light = sample_light(p, s.geometric);
     if (light.pdf <= 0.0 || dot(light.dir, s.geometric) <= 0.0) {
         return vec3<f32>(0.0);
     }
-    let e = eval_model(m, s.shading, v, light.dir);
+    var e: LobeEval;
+    if (rough) {
+        e = eval_mixture(m, s, inside, v, light.dir);
+        share = 1.0;
+    } else {
+        e = eval_model(m, s, v, light.dir);
+    }
     if (all(e.value == vec3<f32>(0.0))) {
         return vec3<f32>(0.0);
     }
@@ -183,11 +210,11 @@ fn path_trace_sample(primary: Ray) -> vec3<f32> {
         }
         let offset = spawn_offset(p, object_magnitude(hit.object));
         let outside = surface.spawn_point + offset * surface.geometric;
-        radiance += throughput * next_event(m, surface, -ray.dir, p, outside, medium);
+        radiance += throughput * next_event(m, surface, inside, -ray.dir, p, outside, medium);
         let b = sample_bounce(m, surface, ray.dir, inside);
-        // A mirror's or glass's bounce (a delta lobe: no density, a weight)
-        // passes the features on to the next hit.
-        features_open = features_open && b.pdf == 0.0 && any(b.weight != vec3<f32>(0.0));
+        // A mirror's or smooth glass's bounce (a delta lobe: no density, a
+        // weight) passes the features on to the next hit.
+        features_open = features_open && b.delta && any(b.weight != vec3<f32>(0.0));
         throughput *= b.weight;
         if (all(throughput == vec3<f32>(0.0))) {
             break;

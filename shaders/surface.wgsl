@@ -78,8 +78,9 @@ fn reflection_dir(dir: vec3<f32>, s: Surface) -> vec3<f32> {
 // stored for the Whitted integrator, decoded from sRGB for the path
 // tracer) and by its vertex colours; for the Whitted integrator its
 // ambient colour darkened by the occlusion map (red, by the map's
-// strength); for the path tracer its metallic and roughness scaled by the
-// metallic-roughness map's blue and green, its emission by the emissive
+// strength); for the path tracer its metallic and roughnesses (the
+// model's and the dielectric's) scaled by the metallic-roughness map's
+// blue and green, its emission by the emissive
 // map (sRGB).
 fn material_at(id: u32, p: vec3<f32>, dir: vec3<f32>, path_length: f32) -> Material {
     var m = materials[objects[id].x];
@@ -109,6 +110,7 @@ fn material_at(id: u32, p: vec3<f32>, dir: vec3<f32>, path_length: f32) -> Mater
         let at = slot_hit(h, m, UV_SLOT_METAL_ROUGH);
         let mr = sample_at_hit(m.metal_rough_texture, at, dir, cone_width, false);
         m.roughness *= mr.y;
+        m.transmission_roughness *= mr.y;
         m.metallic *= mr.z;
     }
     if (path && m.emissive_texture != NO_TEXTURE) {

@@ -76,9 +76,11 @@ struct Material {
     // texture coordinates (texture.wgsl).
     uv_channels: u32,
     two_sided: u32,       // 1: an emitting triangle emits on both sides (emitters.wgsl)
-    _pad2: u32,
+    // Path tracer: the dielectric's perceptual roughness (0: smooth glass,
+    // bsdf_dielectric.wgsl; else bsdf_rough_dielectric.wgsl).
+    transmission_roughness: f32,
     absorption: vec3<f32>, // path tracer: per scene unit, of the medium inside (0: clear)
-    _pad3: u32,
+    thin_walled: u32,     // path tracer: 1: the dielectric has air on both sides
 }
 
 // The lights buffer: `light_count` scene lights (kind LIGHT_POINT,

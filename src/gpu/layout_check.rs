@@ -172,9 +172,9 @@ fn scene_records_match_their_wgsl_structs() {
             occlusion_strength,
             uv_channels,
             two_sided,
-            _pad2,
+            transmission_roughness,
             absorption,
-            _pad3
+            thin_walled
         ]
     );
     layout_of!(

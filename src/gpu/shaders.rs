@@ -9,7 +9,7 @@ use super::bindings::{self, SceneChunks};
 
 /// Files of the trace kernel, in the order they are concatenated (after the
 /// declarations generated from [`bindings`]).
-pub const TRACE_PARTS: [(&str, &str); 22] = [
+pub const TRACE_PARTS: [(&str, &str); 27] = [
     ("types.wgsl", include_str!("../../shaders/types.wgsl")),
     (
         "frame_params.wgsl",
@@ -49,6 +49,26 @@ pub const TRACE_PARTS: [(&str, &str); 22] = [
     ),
     ("random.wgsl", include_str!("../../shaders/random.wgsl")),
     ("bsdf.wgsl", include_str!("../../shaders/bsdf.wgsl")),
+    (
+        "bsdf_microfacet.wgsl",
+        include_str!("../../shaders/bsdf_microfacet.wgsl"),
+    ),
+    (
+        "bsdf_diffuse.wgsl",
+        include_str!("../../shaders/bsdf_diffuse.wgsl"),
+    ),
+    (
+        "bsdf_metal_rough.wgsl",
+        include_str!("../../shaders/bsdf_metal_rough.wgsl"),
+    ),
+    (
+        "bsdf_dielectric.wgsl",
+        include_str!("../../shaders/bsdf_dielectric.wgsl"),
+    ),
+    (
+        "bsdf_rough_dielectric.wgsl",
+        include_str!("../../shaders/bsdf_rough_dielectric.wgsl"),
+    ),
     ("emitters.wgsl", include_str!("../../shaders/emitters.wgsl")),
     ("path.wgsl", include_str!("../../shaders/path.wgsl")),
     ("trace.wgsl", include_str!("../../shaders/trace.wgsl")),

@@ -11,6 +11,7 @@
 //! [`random_scene`] generates the deterministic random scenes of
 //! `kdray bench` and `kdray generate` (and of the k-d tree's tests).
 
+pub mod bsdf;
 pub mod choice;
 pub mod denoise;
 pub mod geometry;

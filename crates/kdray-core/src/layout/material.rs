@@ -50,11 +50,15 @@ pub struct GpuMaterial {
     pub uv_channels: u32,
     /// 1: an emitting triangle emits from both sides; 0: its front only.
     pub two_sided: u32,
-    pub _pad2: u32,
+    /// The path tracer: the dielectric's perceptual roughness (GGX alpha =
+    /// roughness^2); 0: smooth glass.
+    pub transmission_roughness: f32,
     /// The path tracer: the absorption coefficient per scene unit of the
     /// medium inside a transmissive object (0: clear).
     pub absorption: [f32; 3],
-    pub _pad3: u32,
+    /// The path tracer: 1: the dielectric is thin-walled (air on both
+    /// sides: transmitted light leaves unbent); 0: it bounds a volume.
+    pub thin_walled: u32,
 }
 
 impl GpuMaterial {

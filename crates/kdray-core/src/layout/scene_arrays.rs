@@ -383,13 +383,13 @@ fn gpu_material(
         occlusion_strength: m.maps.occlusion_strength as f32,
         uv_channels: m.maps.second_uv,
         two_sided: u32::from(m.physical.two_sided),
-        _pad2: 0,
+        transmission_roughness: m.physical.transmission_roughness as f32,
         absorption: f32x3(
             m.physical
                 .volume
                 .map_or(glam::DVec3::ZERO, |v| v.absorption()),
         ),
-        _pad3: 0,
+        thin_walled: u32::from(m.physical.thin_walled),
     }
 }
 

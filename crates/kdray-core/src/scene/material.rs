@@ -120,6 +120,14 @@ pub struct Physical {
     /// The medium inside a transmissive object (glTF's
     /// `KHR_materials_volume`), None: clear.
     pub volume: Option<Volume>,
+    /// The perceptual roughness of the transmission, in [0, 1]: 0 is smooth
+    /// glass, more a frosted one (GGX microfacets that refract, alpha =
+    /// roughness^2).
+    pub transmission_roughness: f64,
+    /// The transmissive surface has air on both sides (glTF's
+    /// thin-walled transmission, without a volume): light passes it
+    /// unbent and no medium is entered.
+    pub thin_walled: bool,
 }
 
 /// An absorbing medium (Beer-Lambert): white light that travels
@@ -163,6 +171,8 @@ impl Physical {
         emission: DVec3::ZERO,
         two_sided: false,
         volume: None,
+        transmission_roughness: 0.0,
+        thin_walled: false,
     };
 }
 

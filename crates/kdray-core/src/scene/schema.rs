@@ -347,6 +347,10 @@ pub(super) struct RawMaterial {
     pub(super) attenuation_color: Option<Vec3>,
     #[serde(skip_serializing_if = "Option::is_none")]
     pub(super) attenuation_distance: Option<f64>,
+    #[serde(default, skip_serializing_if = "is_zero")]
+    pub(super) transmission_roughness: f64,
+    #[serde(default, skip_serializing_if = "std::ops::Not::not")]
+    pub(super) thin_walled: bool,
 }
 
 fn is_zero(x: &f64) -> bool {

@@ -468,7 +468,8 @@ impl Validator<'_> {
     /// A material's albedo (`diffuse`, or `base_color`) and its physical
     /// part: exactly one of `diffuse` and `base_color`; `metallic` and
     /// `roughness` (in [0, 1]; 0 and 0.5 by default) only with
-    /// `base_color`; `emission` a colour of any size.
+    /// `base_color`; `emission` a colour of any size;
+    /// `transmission_roughness` in [0, 1].
     fn physical(&self, name: &str, m: &RawMaterial) -> Result<(DVec3, Physical), SceneError> {
         let key = |k: &str| format!("materials.{name}.{k}");
         let unit = |k: &str, v: Option<f64>, default: f64| -> Result<f64, SceneError> {
@@ -549,6 +550,11 @@ impl Validator<'_> {
                 })
             }
         };
+        let transmission_roughness = unit(
+            "transmission_roughness",
+            Some(m.transmission_roughness),
+            0.0,
+        )?;
         Ok((
             albedo,
             Physical {
@@ -556,6 +562,8 @@ impl Validator<'_> {
                 emission,
                 two_sided: false,
                 volume,
+                transmission_roughness,
+                thin_walled: m.thin_walled,
             },
         ))
     }

@@ -100,6 +100,8 @@ fn raw_materials(materials: &[Material]) -> Result<BTreeMap<String, TableOf<RawM
                 .volume
                 .map(|v| v.attenuation_distance)
                 .filter(|d| d.is_finite()),
+            transmission_roughness: m.physical.transmission_roughness,
+            thin_walled: m.physical.thin_walled,
         };
         if table.insert(m.name.clone(), TableOf(raw)).is_some() {
             return Err(format!("two materials are named \"{}\"", m.name));

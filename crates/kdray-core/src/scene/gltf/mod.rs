@@ -644,7 +644,9 @@ pub const PBR_MAX_SHININESS: f64 = 4.0 * 4096.0;
 /// - transmission = `KHR_materials_transmission`'s transmissionFactor (0
 ///   without the extension), ior = `KHR_materials_ior`'s ior (1.5, glTF's
 ///   default, without it; glTF's ior 0 would mean "no refraction" there, and
-///   is read as 1, an index that bends nothing).
+///   is read as 1, an index that bends nothing); the transmission's
+///   roughness is the material's roughness, and it is thin-walled (light
+///   passes unbent) unless `KHR_materials_volume` gives a thickness > 0.
 ///
 /// The path tracer reads glTF's own model: base colour, metallic and
 /// roughness as they are, and `emissiveFactor` (times
@@ -691,6 +693,10 @@ pub fn pbr_material(material: &gltf::Material) -> MeshMaterial {
             emission: emission(material),
             two_sided: material.double_sided(),
             volume: volume(material),
+            transmission_roughness: roughness,
+            thin_walled: material
+                .volume()
+                .is_none_or(|v| !(v.thickness_factor() > 0.0)),
         },
         maps: crate::scene::material::MaterialMaps::NONE,
         alpha: alpha(material),
