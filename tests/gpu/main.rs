@@ -14,6 +14,7 @@ mod common;
 
 mod alpha_mask;
 mod bench;
+mod bsdf_lobes;
 mod cli;
 mod denoise;
 mod denoise_cli;
@@ -39,6 +40,7 @@ mod path_tracing;
 mod pathological;
 mod pipeline_cache;
 mod quad_pairs;
+mod rough_glass;
 mod smooth_shading;
 mod split_bindings;
 mod swiftshader;

@@ -5,48 +5,20 @@
 
 use glam::Vec3;
 
-use super::{dielectric_etas, reflect, Lobe, LobeEval, LobeSample, Site};
+use super::{dielectric_etas, Lobe, LobeEval, LobeSample, Site};
 use crate::layout::GpuMaterial;
+use crate::reference::{reflection_dir, refraction_at, Surface};
 
 pub struct Dielectric;
 
-/// The refracted direction and the Fresnel reflectance at one interface
-/// (the kernel's `refract_fresnel`): d the incoming direction, n the
-/// normal facing it.
-pub fn refract_fresnel(d: Vec3, n: Vec3, eta_i: f32, eta_t: f32) -> (Vec3, f32) {
-    if eta_i == eta_t {
-        return (d, 0.0);
+/// The reference's surface of a site (its refraction and mirror
+/// direction are the kernel's, shared with the Whitted loop).
+fn surface(s: &Site) -> Surface {
+    Surface {
+        geometric: s.geometric,
+        shading: s.shading,
+        spawn_point: Vec3::ZERO,
     }
-    let cos_i = (-d.dot(n)).clamp(0.0, 1.0);
-    let eta = eta_i / eta_t;
-    let sin2_t = eta * eta * (1.0 - cos_i * cos_i);
-    if sin2_t >= 1.0 {
-        return (d, 1.0);
-    }
-    let cos_t = (1.0 - sin2_t).sqrt();
-    let rs = (eta_i * cos_i - eta_t * cos_t) / (eta_i * cos_i + eta_t * cos_t);
-    let rp = (eta_t * cos_i - eta_i * cos_t) / (eta_t * cos_i + eta_i * cos_t);
-    let t = (eta * d + (eta * cos_i - cos_t) * n).normalize();
-    (t, 0.5 * (rs * rs + rp * rp))
-}
-
-/// `refract_fresnel` about the shading normal, or the geometric one where
-/// the shading normal's would leave the surface (`refraction_at`).
-fn refraction_at(d: Vec3, s: &Site, eta_i: f32, eta_t: f32) -> (Vec3, f32) {
-    let r = refract_fresnel(d, s.shading, eta_i, eta_t);
-    if r.1 == 1.0 || r.0.dot(s.geometric) < 0.0 {
-        return r;
-    }
-    refract_fresnel(d, s.geometric, eta_i, eta_t)
-}
-
-/// The mirror direction (`reflection_dir`).
-fn reflection_dir(d: Vec3, s: &Site) -> Vec3 {
-    let r = reflect(d, s.shading).normalize();
-    if r.dot(s.geometric) > 0.0 {
-        return r;
-    }
-    reflect(d, s.geometric).normalize()
 }
 
 impl Lobe for Dielectric {
@@ -66,13 +38,14 @@ impl Lobe for Dielectric {
     fn sample(&self, m: &GpuMaterial, s: &Site, v: Vec3, u: Vec3) -> LobeSample {
         let (eta_i, eta_t) = dielectric_etas(m, s.inside);
         let d = -v;
-        let (dir, fresnel) = refraction_at(d, s, eta_i, eta_t);
-        let (dir, refracted) = if u.x < fresnel {
-            (reflection_dir(d, s), false)
+        let surface = surface(s);
+        let r = refraction_at(d, &surface, eta_i, eta_t);
+        let (dir, refracted) = if u.x < r.fresnel {
+            (reflection_dir(d, &surface), false)
         } else if m.thin_walled != 0 {
             (d, false)
         } else {
-            (dir, true)
+            (r.dir, true)
         };
         LobeSample {
             dir,

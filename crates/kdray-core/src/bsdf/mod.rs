@@ -29,8 +29,8 @@ pub use diffuse::Diffuse;
 pub use metal_rough::MetalRough;
 pub use rough_dielectric::RoughDielectric;
 
-/// The kernel's `PI` (shaders/bsdf.wgsl).
-pub const PI: f32 = 3.14159265358979;
+/// The kernel's `PI` (shaders/bsdf.wgsl), the same f32.
+pub const PI: f32 = std::f32::consts::PI;
 
 /// Smallest GGX alpha (shaders/bsdf.wgsl's `MIN_ALPHA`).
 pub const MIN_ALPHA: f32 = 1e-3;

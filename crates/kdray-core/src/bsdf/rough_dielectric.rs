@@ -281,7 +281,7 @@ mod tests {
         let m = frosted(0.02, 1.5, false);
         let s = Site::flat(Vec3::Z);
         let v = Vec3::new(0.6, 0.0, 0.8);
-        let (_, fresnel) = super::super::dielectric::refract_fresnel(-v, Vec3::Z, 1.0, 1.5);
+        let fresnel = crate::reference::refract_fresnel(-v, Vec3::Z, 1.0, 1.5).fresnel;
         let mut rng = Rng::new(4);
         let (mut reflected, mut off, mut weight) = (0, 0, 0.0);
         let n = 50_000;

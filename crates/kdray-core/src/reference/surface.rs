@@ -67,7 +67,7 @@ pub fn reflection_dir(dir: Vec3, s: &Surface) -> Vec3 {
 }
 
 /// The refracted direction and the Fresnel reflectance at one interface:
-/// mirror of `Refraction` in shaders/glass.wgsl.
+/// mirror of `Refraction` in shaders/bsdf_dielectric.wgsl.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Refraction {
     /// Unit; the incoming direction where `fresnel == 1`.
@@ -79,7 +79,7 @@ pub struct Refraction {
 
 /// Snell's law and the exact dielectric Fresnel reflectance for unit `d`
 /// arriving at unit `n` (facing the incoming ray) from index `eta_i` into
-/// `eta_t`: mirror of `refract_fresnel` in shaders/glass.wgsl. Equal indices
+/// `eta_t`: mirror of `refract_fresnel` in shaders/bsdf_dielectric.wgsl. Equal indices
 /// bend nothing and reflect nothing, exactly.
 pub fn refract_fresnel(d: Vec3, n: Vec3, eta_i: f32, eta_t: f32) -> Refraction {
     if eta_i == eta_t {
@@ -106,7 +106,7 @@ pub fn refract_fresnel(d: Vec3, n: Vec3, eta_i: f32, eta_t: f32) -> Refraction {
     }
 }
 
-/// Mirror of `refraction_at` in shaders/glass.wgsl.
+/// Mirror of `refraction_at` in shaders/bsdf_dielectric.wgsl.
 pub fn refraction_at(d: Vec3, s: &Surface, eta_i: f32, eta_t: f32) -> Refraction {
     let r = refract_fresnel(d, s.shading, eta_i, eta_t);
     if r.fresnel == 1.0 || r.dir.dot(s.geometric) < 0.0 {

@@ -36,6 +36,7 @@ mod objects;
 mod render;
 mod schema;
 use common::textured;
+mod rough_transmission;
 mod textures;
 mod volume;
 

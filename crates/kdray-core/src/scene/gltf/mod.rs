@@ -696,7 +696,7 @@ pub fn pbr_material(material: &gltf::Material) -> MeshMaterial {
             transmission_roughness: roughness,
             thin_walled: material
                 .volume()
-                .is_none_or(|v| !(v.thickness_factor() > 0.0)),
+                .is_none_or(|v| v.thickness_factor() <= 0.0),
         },
         maps: crate::scene::material::MaterialMaps::NONE,
         alpha: alpha(material),
