@@ -2,7 +2,8 @@
 //! counterpart (crates/kdray-core/src/bsdf/): a small entry point, added to
 //! the trace kernel for this test, runs each lobe's eval, pdf and sample
 //! (with given random numbers) on a batch of random inputs, and each answer
-//! equals the CPU lobe's within f32 tolerance.
+//! equals the CPU lobe's within f32 tolerance; and the kernel's own samples
+//! pass the chi-square test of the CPU lobes' tests.
 
 use crate::common;
 
@@ -10,7 +11,8 @@ use glam::Vec3;
 use kdray::gpu::bindings::UNSPLIT;
 use kdray::gpu::shaders::trace_source;
 use kdray::layout::{GpuMaterial, MODEL_LAMBERTIAN, MODEL_METAL_ROUGH};
-use kdray_core::bsdf::{Site, LOBES};
+use kdray_core::bsdf::check::{chi_square_of, chi_square_z, material, views};
+use kdray_core::bsdf::{LobeSample, Site, LOBES};
 use wgpu::util::DeviceExt;
 
 /// Inputs per case (vec4s): shading normal and inside, geometric normal
@@ -253,7 +255,12 @@ fn every_gpu_lobe_equals_its_cpu_counterpart() {
             .enumerate()
             .filter(|(_, c)| c.lobe == lobe_index)
         {
-            let [e, p, d, w] = [out[4 * k], out[4 * k + 1], out[4 * k + 2], out[4 * k + 3]];
+            let [e, p, d, w] = [
+                out[OUTPUTS * k],
+                out[OUTPUTS * k + 1],
+                out[OUTPUTS * k + 2],
+                out[OUTPUTS * k + 3],
+            ];
             let cpu_eval = lobe.eval(&c.m, &c.site, c.v, c.l);
             let cpu_pdf = lobe.pdf(&c.m, &c.site, c.v, c.l);
             let cpu_sample = lobe.sample(&c.m, &c.site, c.v, c.u);
@@ -290,4 +297,70 @@ fn every_gpu_lobe_equals_its_cpu_counterpart() {
         }
     }
     assert!(report.is_empty(), "{}", report.join("\n"));
+}
+
+/// The kernel's own sampling, not only the CPU's, has the density its pdf
+/// states: 100,000 of the kernel's samples for each lobe with a density
+/// (Lambert, metal/rough, frosted glass around a volume and thin-walled),
+/// from two views, pass the chi-square test the CPU lobes' tests run
+/// (crates/kdray-core/src/bsdf/check.rs).
+#[test]
+fn the_kernels_own_samples_pass_the_chi_square_test() {
+    const N: usize = 100_000;
+    let lobe = |name: &str| LOBES.iter().position(|l| l.name() == name).unwrap();
+    let frosted = |thin: u32| {
+        material(|m| {
+            m.transmission = 1.0;
+            m.thin_walled = thin;
+        })
+    };
+    let metal = material(|m| {
+        m.model = MODEL_METAL_ROUGH;
+        m.metallic = 0.5;
+        m.diffuse = [0.9, 0.7, 0.3];
+    });
+    let mut configs = Vec::new();
+    for view in [views()[1], views()[5]] {
+        configs.push((lobe("diffuse"), material(|_| {}), view));
+        configs.push((lobe("metal_rough"), metal, view));
+        configs.push((lobe("rough_dielectric"), frosted(0), view));
+        configs.push((lobe("rough_dielectric"), frosted(1), view));
+    }
+    let mut rng = Rng(0x2545_f491_4f6c_dd1d);
+    let mut cases = Vec::new();
+    for &(lobe, m, (site, v)) in &configs {
+        for _ in 0..N {
+            let u = Vec3::new(rng.next(), rng.next(), rng.next());
+            cases.push(Case {
+                lobe,
+                m,
+                site,
+                v,
+                l: v,
+                u,
+            });
+        }
+    }
+    let out = run_on_gpu(&cases);
+    for (k, &(lobe, m, view)) in configs.iter().enumerate() {
+        let samples: Vec<LobeSample> = (k * N..(k + 1) * N)
+            .map(|i| {
+                let (d, w) = (out[OUTPUTS * i + 2], out[OUTPUTS * i + 3]);
+                LobeSample {
+                    dir: Vec3::new(d[0], d[1], d[2]),
+                    weight: Vec3::new(w[0], w[1], w[2]),
+                    pdf: d[3],
+                    refracted: w[3] != 0.0,
+                }
+            })
+            .collect();
+        let (statistic, dof) = chi_square_of(LOBES[lobe], &m, view, &samples);
+        let z = chi_square_z(statistic, dof);
+        assert!(
+            z < 4.0,
+            "{} (thin {}): the kernel's samples give chi-square {statistic} with {dof} degrees of freedom (z = {z})",
+            LOBES[lobe].name(),
+            m.thin_walled
+        );
+    }
 }

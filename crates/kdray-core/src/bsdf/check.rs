@@ -1,10 +1,11 @@
-//! The checks every lobe's tests run (cfg(test)): its density integrated
+//! The checks every lobe's tests run (and tests/gpu/bsdf_lobes.rs on the
+//! kernel's samples): its density integrated
 //! over the sphere, a chi-square test of its samples against that density
 //! (as Mitsuba 3 tests its BSDFs), reciprocity, and a white furnace.
 
 use glam::Vec3;
 
-use super::{from_local, tangent_frame, Lobe, Site, PI};
+use super::{from_local, tangent_frame, Lobe, LobeSample, Site, PI};
 use crate::layout::{GpuMaterial, MODEL_LAMBERTIAN};
 
 /// A material with every field the lobes read at a neutral value (glass
@@ -66,7 +67,7 @@ impl Rng {
             .wrapping_add(1442695040888963407))
     }
 
-    pub fn next(&mut self) -> f32 {
+    pub fn uniform(&mut self) -> f32 {
         let old = self.0;
         self.0 = old
             .wrapping_mul(6364136223846793005)
@@ -78,7 +79,7 @@ impl Rng {
     }
 
     pub fn next3(&mut self) -> Vec3 {
-        Vec3::new(self.next(), self.next(), self.next())
+        Vec3::new(self.uniform(), self.uniform(), self.uniform())
     }
 }
 
@@ -169,22 +170,36 @@ pub fn chi_square(
     (s, v): (Site, Vec3),
     seed: u64,
 ) -> (f64, usize) {
+    let mut rng = Rng::new(seed);
+    let samples: Vec<LobeSample> = (0..SAMPLES)
+        .map(|_| lobe.sample(m, &s, v, rng.next3()))
+        .collect();
+    chi_square_of(lobe, m, (s, v), &samples)
+}
+
+/// [`chi_square`] of given samples (the kernel's, say) against the lobe's
+/// pdf.
+pub fn chi_square_of(
+    lobe: &dyn Lobe,
+    m: &GpuMaterial,
+    (s, v): (Site, Vec3),
+    samples: &[LobeSample],
+) -> (f64, usize) {
+    let count = samples.len() as f64;
     let expected: Vec<f64> = cell_integrals(&s, |l| lobe.pdf(m, &s, v, l) as f64)
         .into_iter()
-        .map(|p| p * SAMPLES as f64)
+        .map(|p| p * count)
         .collect();
     let mut observed = vec![0.0f64; expected.len()];
     let mut none = 0.0;
-    let mut rng = Rng::new(seed);
-    for _ in 0..SAMPLES {
-        let smp = lobe.sample(m, &s, v, rng.next3());
+    for smp in samples {
         if smp.pdf > 0.0 {
             observed[cell_of(&s, smp.dir)] += 1.0;
         } else {
             none += 1.0;
         }
     }
-    let none_expected = (SAMPLES as f64 - expected.iter().sum::<f64>()).max(0.0);
+    let none_expected = (count - expected.iter().sum::<f64>()).max(0.0);
     let mut cells: Vec<(f64, f64)> = observed.into_iter().zip(expected).collect();
     cells.push((none, none_expected));
     let (mut statistic, mut dof) = (0.0, 0usize);
@@ -235,8 +250,8 @@ pub fn assert_reciprocal(lobe: &dyn Lobe, m: &GpuMaterial) {
     let mut rng = Rng::new(3);
     let mut compared = 0;
     for _ in 0..2000 {
-        let v = uniform_sphere(rng.next(), rng.next());
-        let l = uniform_sphere(rng.next(), rng.next());
+        let v = uniform_sphere(rng.uniform(), rng.uniform());
+        let l = uniform_sphere(rng.uniform(), rng.uniform());
         let n = Vec3::Z;
         if v.z.abs() < 0.05 || l.z.abs() < 0.05 {
             continue;

@@ -17,8 +17,11 @@ pub mod metal_rough;
 pub mod microfacet;
 pub mod rough_dielectric;
 
-#[cfg(test)]
-mod check;
+/// The checks the lobes' tests run, shared with the GPU tests (which run
+/// them on the kernel's own samples).
+#[cfg(any(test, feature = "test-support"))]
+#[doc(hidden)]
+pub mod check;
 
 use glam::Vec3;
 
