@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Writes the small glTF test models of crates/kdray-core/tests/scene_parse/ and tests/gpu/cli.rs.
+"""Writes the small glTF test models of crates/kdray-core/tests/scene_parse/ and tests/gpu/cli_bad_input.rs.
 
 Also: sparse.gltf, the tetrahedron whose POSITION and NORMAL accessors are
 sparse, moving vertex 3 (and its normal), and sparse_dense.gltf, the same
