@@ -1,5 +1,8 @@
-//! The trace pipeline and its tiled dispatch: each tile is one dispatch of
-//! one invocation per pixel, copied back and packed into an 8-bit RGB image.
+//! The headless renderer: the trace pipeline's tiled dispatch, band by band
+//! of whole rows. Each tile is traced in dispatches of one invocation per
+//! pixel, copied back into its buffers (`tile_buffers.rs`) and handed on in
+//! bands of 8-bit RGB rows (with radiance, costs or feature images when
+//! asked for); what the render measured is a [`RenderSummary`].
 
 use std::time::Instant;
 

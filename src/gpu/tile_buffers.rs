@@ -8,7 +8,7 @@ use super::kernel_io::RayCounters;
 use super::render_summary::CostTotals;
 use super::scene_buffers::SceneBuffers;
 use super::tile_plan::PixelOutput;
-use super::{TraceBindGroup, TracePipelines};
+use super::trace_pipelines::{TraceBindGroup, TracePipelines};
 use crate::error::Result;
 use crate::kdtree::traverse::WalkCost;
 use crate::scene::ToneMap;
