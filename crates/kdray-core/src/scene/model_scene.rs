@@ -168,6 +168,8 @@ pub fn model_scene_viewed(
         triangle_colours: parts.colours,
         triangle_tangents: parts.tangents,
         textures: parts.textures,
+        shapes: Vec::new(),
+        instances: Vec::new(),
     })
 }
 

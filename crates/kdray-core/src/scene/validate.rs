@@ -112,7 +112,7 @@ impl Validator<'_> {
 
     /// The whole file, checked in the order its errors are reported:
     /// camera, render, sky, animation, lights, materials, spheres,
-    /// triangles, meshes.
+    /// triangles, meshes, shapes, instances.
     pub(super) fn scene(&self, raw: RawScene) -> Result<Scene, SceneError> {
         let camera = self.camera(&raw.camera)?;
         let mut render = self.render(&raw.render)?;
@@ -194,6 +194,8 @@ impl Validator<'_> {
                 &mut parts,
             )?;
         }
+        let shapes = self.shapes(&raw, &material_index, &mut materials, &mut parts)?;
+        let instances = self.instances(&raw, &shapes, &material_index)?;
         parts.finish();
 
         Ok(Scene {
@@ -211,6 +213,8 @@ impl Validator<'_> {
             triangle_tangents: parts.tangents,
             textures: parts.textures,
             animation,
+            shapes,
+            instances,
         })
     }
 
@@ -247,7 +251,7 @@ impl Validator<'_> {
     /// The index of the material `name` (the value of `key`) in
     /// `material_index` (the scene's materials' indices by name); for an
     /// unknown name, an error listing the defined ones.
-    fn material_named(
+    pub(super) fn material_named(
         &self,
         material_index: &BTreeMap<String, u32>,
         key: KeyPath,

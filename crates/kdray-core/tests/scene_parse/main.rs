@@ -26,6 +26,7 @@ mod gltf_emission;
 mod gltf_lights;
 mod gltf_meshes;
 mod gltf_optimised;
+mod instances;
 mod light_kinds;
 mod mesh_normals;
 mod mesh_placement;
