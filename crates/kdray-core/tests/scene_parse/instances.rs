@@ -251,3 +251,43 @@ fn a_missing_shape_file_names_the_shape_and_its_line() {
         "{shown}"
     );
 }
+
+#[test]
+fn the_two_level_structure_of_a_scene_hits_what_its_flattened_triangles_do() {
+    use kdray_core::geometry::{Primitives, Ray, T_INFINITY};
+    use kdray_core::kdtree::traverse::closest_hit_brute;
+    use kdray_core::kdtree::Traversal;
+    use kdray_core::two_level::TwoLevel;
+
+    let dir = TempDir::new("instances-two-level");
+    copy_torus(&dir, "models");
+    let mut text = format!("{HEAD}[shapes.torus]\npath = \"models/torus.obj\"\n");
+    for (transform, material) in PLACEMENTS {
+        let material = material_line(material);
+        text.push_str(&format!(
+            "[[instances]]\nshape = \"torus\"\n{transform}\n{material}"
+        ));
+    }
+    let scene = load_ok(&dir.write("scene.toml", &text));
+    let two = TwoLevel::from_scene(&scene);
+    let flat = Primitives::from_scene(&scene.clone().flattened());
+    let mut hits = 0;
+    for i in 0..400 {
+        let (u, v) = ((i % 20) as f32 / 19.0 - 0.5, (i / 20) as f32 / 19.0 - 0.5);
+        let ray = Ray {
+            origin: glam::Vec3::new(0.3, 0.2, 12.0),
+            dir: glam::Vec3::new(u * 1.1, v * 0.9, -1.0).normalize(),
+        };
+        let want = closest_hit_brute(&flat, &ray, T_INFINITY);
+        for walk in Traversal::ALL {
+            let got = two.closest_hit(walk, &ray, T_INFINITY);
+            match (got, want) {
+                (None, None) => {}
+                (Some(g), Some(w)) => assert!((g.t - w.t).abs() <= 1e-4 * w.t, "{g:?} {w:?}"),
+                (g, w) => panic!("{walk}: two-level {g:?}, flattened {w:?}, ray {ray:?}"),
+            }
+        }
+        hits += usize::from(want.is_some());
+    }
+    assert!(hits >= 20, "only {hits} of 400 rays hit the tori");
+}
