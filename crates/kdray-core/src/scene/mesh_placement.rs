@@ -7,7 +7,7 @@
 
 use std::path::Path;
 
-use glam::{DMat3, DVec3, DVec4};
+use glam::{DAffine3, DMat3, DVec3, DVec4};
 use rayon::prelude::*;
 
 use super::error::SceneError;
@@ -26,6 +26,11 @@ use super::validate::{Validator, MAX_COORDINATE};
 pub(super) struct Placed {
     pub camera: Option<super::camera::Camera>,
     pub lights: Vec<super::light::Light>,
+    /// glTF: the meshes it places several times, each once in its own
+    /// space, and their copies (each instance's `shape` an index into
+    /// these `shapes`), moved by the entry.
+    pub shapes: Vec<super::instances::Shape>,
+    pub instances: Vec<super::instances::Instance>,
 }
 
 impl Validator<'_> {
@@ -45,10 +50,12 @@ impl Validator<'_> {
         let (transform, translate) = self.entry_transform(i, m)?;
 
         let mesh_path = self.file.parent().unwrap_or(Path::new("")).join(&m.path);
-        let mesh = self.load_entry_mesh(&key("path"), &mesh_path, override_material.is_none())?;
-        let placed = Placed {
+        let mut mesh =
+            self.load_entry_mesh(&key("path"), &mesh_path, override_material.is_none(), true)?;
+        let mut placed = Placed {
             camera: mesh.camera,
             lights: mesh.lights.clone(),
+            ..Placed::default()
         };
 
         let first_material = materials.len() as u32;
@@ -72,6 +79,41 @@ impl Validator<'_> {
         };
         add_placed(&placement, world, materials, triangles, parts)
             .map_err(|message| self.error(&key("path"), message))?;
+        let entry = DAffine3 {
+            matrix3: transform,
+            translation: translate,
+        };
+        for instanced in std::mem::take(&mut mesh.instanced) {
+            let bounds = super::instances::mesh_bounds(&instanced.mesh);
+            let shape = placed.shapes.len() as u32;
+            for &copy in &instanced.transforms {
+                let transform = entry * copy;
+                let [lo, hi] = super::instances::transformed_box(&transform, &bounds);
+                let in_range = |v: DVec3| v.is_finite() && v.abs().max_element() <= MAX_COORDINATE;
+                if !(in_range(lo) && in_range(hi)) {
+                    return Err(self.error(
+                        &key("scale"),
+                        format!(
+                            "a copy of glTF mesh {} reaches beyond ±{MAX_COORDINATE:e} or out of the 64-bit floats (the GPU computes in f32)",
+                            instanced.index
+                        ),
+                    ));
+                }
+                placed.instances.push(super::instances::Instance {
+                    shape,
+                    transform,
+                    material: None,
+                });
+            }
+            placed.shapes.push(super::instances::Shape {
+                name: format!("{}#mesh{}", m.path, instanced.index),
+                mesh: std::sync::Arc::new(instanced.mesh),
+                smooth: m.smooth,
+                material: override_material,
+                first_material,
+                bounds,
+            });
+        }
         crate::huge_pages::free_in_background(mesh);
         Ok(placed)
     }
@@ -112,10 +154,11 @@ impl Validator<'_> {
         path_key: &str,
         mesh_path: &Path,
         with_materials: bool,
+        instancing: bool,
     ) -> Result<Mesh, SceneError> {
         let mut mesh = {
             let mut on_read = self.on_read.borrow_mut();
-            mesh_file::load_mesh(mesh_path, with_materials, &mut **on_read)
+            mesh_file::load_mesh_with(mesh_path, with_materials, instancing, &mut **on_read)
         }
         .map_err(|e| {
             // A model opened on its own has no scene file to point at.

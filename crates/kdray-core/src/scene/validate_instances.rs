@@ -55,7 +55,10 @@ impl Validator<'_> {
         let mesh = match (&s.path, &s.triangles) {
             (Some(path), None) => {
                 let mesh_path = self.file.parent().unwrap_or(Path::new("")).join(path);
-                let mesh = self.load_entry_mesh(&key("path"), &mesh_path, material.is_none())?;
+                // A shape's own copies are placed into it: instances of
+                // instances are not kept.
+                let mesh =
+                    self.load_entry_mesh(&key("path"), &mesh_path, material.is_none(), false)?;
                 if material.is_none() {
                     self.add_mesh_materials(
                         &key("path"),

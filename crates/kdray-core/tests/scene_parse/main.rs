@@ -23,6 +23,7 @@ mod files_and_syntax;
 mod gltf_alpha;
 mod gltf_cameras;
 mod gltf_emission;
+mod gltf_instances;
 mod gltf_lights;
 mod gltf_meshes;
 mod gltf_optimised;
