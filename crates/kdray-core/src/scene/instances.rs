@@ -16,6 +16,10 @@ use super::mesh_placement::{add_placed, Placement};
 use super::triangle_parts::TriangleParts;
 use super::validated_scene::Scene;
 
+/// The most objects a scene may hold once its instances are flattened:
+/// the k-d tree's build takes at most 2^30.
+pub const MAX_FLATTENED_OBJECTS: usize = 1 << 30;
+
 /// A mesh declared once (`[shapes.NAME]`), in its own space.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Shape {

@@ -64,7 +64,7 @@ pub use camera_basis::CameraBasis;
 pub use environment::EnvironmentMap;
 pub use error::SceneError;
 pub use input_file::MAX_INPUT_BYTES;
-pub use instances::{transformed_box, Instance, Shape};
+pub use instances::{transformed_box, Instance, Shape, MAX_FLATTENED_OBJECTS};
 pub use integrator::{Integrator, ToneMap};
 pub use light::Light;
 pub use light_kind::{spot_factor, LightKind};

@@ -201,6 +201,7 @@ impl Validator<'_> {
         let declared_instances = self.instances(&raw, &declared, &material_index)?;
         add_shapes(&mut shapes, &mut instances, declared, declared_instances);
         parts.finish();
+        self.flattened_size(spheres.len() + triangles.len(), &shapes, &instances)?;
 
         Ok(Scene {
             camera,

@@ -12,7 +12,7 @@ use std::sync::Arc;
 use glam::{DAffine3, DMat3, DVec3};
 
 use super::error::SceneError;
-use super::instances::{mesh_bounds, transformed_box, Instance, Shape};
+use super::instances::{mesh_bounds, transformed_box, Instance, Shape, MAX_FLATTENED_OBJECTS};
 use super::material::Material;
 use super::mesh::{has_area, Mesh, MeshTriangle, NO_INDEX};
 use super::schema::RawScene;
@@ -195,6 +195,30 @@ impl Validator<'_> {
             instances.push(instance);
         }
         Ok(instances)
+    }
+
+    /// That the scene, its `objects` and the triangles its instances place,
+    /// fits the k-d tree once flattened (as the renderers trace it).
+    pub(super) fn flattened_size(
+        &self,
+        objects: usize,
+        shapes: &[Shape],
+        instances: &[Instance],
+    ) -> Result<(), SceneError> {
+        let placed: usize = instances
+            .iter()
+            .filter_map(|i| shapes.get(i.shape as usize))
+            .map(|s| s.mesh.triangles.len())
+            .sum();
+        if objects.saturating_add(placed) > MAX_FLATTENED_OBJECTS {
+            return Err(self.error(
+                "instances",
+                format!(
+                    "the instances place {placed} triangles; with the scene's other {objects} objects that is more than the {MAX_FLATTENED_OBJECTS} the renderer traces (it flattens instances into triangles)"
+                ),
+            ));
+        }
+        Ok(())
     }
 
     /// Instance `i`'s transform, and the key that gave it (`matrix`, or

@@ -291,3 +291,49 @@ fn the_two_level_structure_of_a_scene_hits_what_its_flattened_triangles_do() {
     }
     assert!(hits >= 20, "only {hits} of 400 rays hit the tori");
 }
+
+#[test]
+fn instances_placing_more_triangles_than_the_tree_takes_are_an_error() {
+    let dir = TempDir::new("instances-too-many");
+    // 65,536 triangles: a 256 x 128 grid of quads.
+    let mut obj = String::new();
+    for j in 0..=128 {
+        for i in 0..=256 {
+            obj.push_str(&format!("v {i} {j} 0\n"));
+        }
+    }
+    for j in 0..128 {
+        for i in 0..256 {
+            let v = |i: usize, j: usize| j * 257 + i + 1;
+            obj.push_str(&format!(
+                "f {} {} {}\n",
+                v(i, j),
+                v(i + 1, j),
+                v(i + 1, j + 1)
+            ));
+            obj.push_str(&format!(
+                "f {} {} {}\n",
+                v(i, j),
+                v(i + 1, j + 1),
+                v(i, j + 1)
+            ));
+        }
+    }
+    dir.write("grid.obj", &obj);
+    let copies = kdray_core::scene::MAX_FLATTENED_OBJECTS / 65_536;
+    let mut text = format!("{HEAD}[shapes.grid]\npath = \"grid.obj\"\nmaterial = \"red\"\n");
+    // Exactly the limit fits; one more instance does not.
+    text.push_str(&"[[instances]]\nshape = \"grid\"\n".repeat(copies));
+    let fits = dir.write("fits.toml", &text);
+    assert_eq!(load_ok(&fits).instanced_triangle_count(), 1 << 30);
+    text.push_str("[[instances]]\nshape = \"grid\"\n");
+    let path = dir.write("scene.toml", &text);
+    let e = load_err(&path);
+    assert_error(
+        &e,
+        &path,
+        Some(13),
+        Some("instances"),
+        &["1073807360 triangles", "flattens"],
+    );
+}
