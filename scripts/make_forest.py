@@ -12,6 +12,14 @@ whose height is a sum of sines. Deterministic for a given --seed.
     scripts/make_forest.py --count 1000 -o /tmp/forest.toml
     scripts/make_forest.py --count 100000 --format json -o /tmp/forest.json
     kdray render /tmp/forest.toml -o forest.png
+    scripts/make_forest.py --count 1000 -o /tmp/forest.glb
+    kdray render /tmp/forest.glb -o forest.png
+
+A .glb output (or --format glb) is one glTF file instead: the mesh (read
+from the OBJ, with area-weighted vertex normals) placed by one node's
+EXT_mesh_gpu_instancing (its TRANSLATION, ROTATION and SCALE accessors, one
+element per instance, all in one material), and the ground by another node;
+the model view of `kdray render` frames and lights it.
 
 The mesh defaults to Debian glmark2-data's bunny (x, y in [-1, 1], its feet at
 y = -0.991), whose feet stand on the ground; give --mesh and --lift (how far
@@ -22,6 +30,7 @@ import argparse
 import json
 import math
 import random
+import struct
 
 GRID = 48
 COLOURS = {
@@ -88,6 +97,105 @@ def scene(count, seed, mesh, lift):
     }
 
 
+def read_obj(path):
+    """The OBJ's vertices and triangles (polygons fanned), 0-based."""
+    verts, faces = [], []
+    with open(path) as f:
+        for line in f:
+            parts = line.split()
+            if not parts:
+                continue
+            if parts[0] == "v":
+                verts.append([float(x) for x in parts[1:4]])
+            elif parts[0] == "f":
+                idx = [int(p.split("/")[0]) for p in parts[1:]]
+                idx = [i - 1 if i > 0 else len(verts) + i for i in idx]
+                for k in range(1, len(idx) - 1):
+                    faces.append((idx[0], idx[k], idx[k + 1]))
+    return verts, faces
+
+
+def area_normals(verts, faces):
+    """Each vertex's normal: the sum of its faces' area-weighted normals, made unit."""
+    sums = [[0.0, 0.0, 0.0] for _ in verts]
+    for a, b, c in faces:
+        u = [verts[b][k] - verts[a][k] for k in range(3)]
+        v = [verts[c][k] - verts[a][k] for k in range(3)]
+        n = [u[1] * v[2] - u[2] * v[1], u[2] * v[0] - u[0] * v[2], u[0] * v[1] - u[1] * v[0]]
+        for i in (a, b, c):
+            for k in range(3):
+                sums[i][k] += n[k]
+    out = []
+    for n in sums:
+        length = math.sqrt(sum(x * x for x in n))
+        out.append([x / length for x in n] if length > 0 else [0.0, 1.0, 0.0])
+    return out
+
+
+def glb(doc, mesh):
+    """The forest as one binary glTF: the mesh instanced by EXT_mesh_gpu_instancing."""
+    verts, faces = read_obj(mesh)
+    normals = area_normals(verts, faces)
+    ground_tris = doc["shapes"]["ground"]["triangles"]
+    ground_verts = [p for tri in ground_tris for p in tri]
+    copies = doc["instances"][1:]
+    rotations = []
+    for c in copies:
+        half = math.radians(c["rotate"][1]) / 2
+        rotations.append([0.0, math.sin(half), 0.0, math.cos(half)])
+    chunks = [
+        ("VEC3", 5126, len(verts), b"".join(struct.pack("<3f", *v) for v in verts)),
+        ("VEC3", 5126, len(normals), b"".join(struct.pack("<3f", *n) for n in normals)),
+        ("SCALAR", 5125, 3 * len(faces), b"".join(struct.pack("<3I", *f) for f in faces)),
+        ("VEC3", 5126, len(ground_verts), b"".join(struct.pack("<3f", *v) for v in ground_verts)),
+        ("VEC3", 5126, len(copies), b"".join(struct.pack("<3f", *c["translate"]) for c in copies)),
+        ("VEC4", 5126, len(copies), b"".join(struct.pack("<4f", *q) for q in rotations)),
+        ("VEC3", 5126, len(copies), b"".join(struct.pack("<3f", *c["scale"]) for c in copies)),
+    ]
+    binary, views, accessors = b"", [], []
+    for kind, component, count, data in chunks:
+        views.append({"buffer": 0, "byteOffset": len(binary), "byteLength": len(data)})
+        accessor = {"bufferView": len(views) - 1, "componentType": component,
+                    "count": count, "type": kind}
+        if len(accessors) in (0, 3):
+            points = verts if len(accessors) == 0 else ground_verts
+            accessor["min"] = [min(p[k] for p in points) for k in range(3)]
+            accessor["max"] = [max(p[k] for p in points) for k in range(3)]
+        accessors.append(accessor)
+        binary += data + b"\0" * ((4 - len(data) % 4) % 4)
+    colour = lambda name: doc["materials"][name]["diffuse"] + [1.0]
+    gltf = {
+        "asset": {"version": "2.0", "generator": "kdray scripts/make_forest.py"},
+        "extensionsUsed": ["EXT_mesh_gpu_instancing"],
+        "scene": 0,
+        "scenes": [{"nodes": [0, 1]}],
+        "nodes": [
+            {"mesh": 0},
+            {"mesh": 1, "extensions": {"EXT_mesh_gpu_instancing": {
+                "attributes": {"TRANSLATION": 4, "ROTATION": 5, "SCALE": 6}}}},
+        ],
+        "meshes": [
+            {"primitives": [{"attributes": {"POSITION": 3}, "material": 0}]},
+            {"primitives": [{"attributes": {"POSITION": 0, "NORMAL": 1}, "indices": 2,
+                             "material": 1}]},
+        ],
+        "materials": [
+            {"name": "ground", "pbrMetallicRoughness": {
+                "baseColorFactor": colour("ground"), "metallicFactor": 0.0}},
+            {"name": "model", "pbrMetallicRoughness": {
+                "baseColorFactor": colour("sand"), "metallicFactor": 0.0}},
+        ],
+        "buffers": [{"byteLength": len(binary)}],
+        "bufferViews": views,
+        "accessors": accessors,
+    }
+    text = json.dumps(gltf, separators=(",", ":")).encode()
+    text += b" " * ((4 - len(text) % 4) % 4)
+    body = (struct.pack("<I4s", len(text), b"JSON") + text
+            + struct.pack("<I4s", len(binary), b"BIN\0") + binary)
+    return b"glTF" + struct.pack("<II", 2, 12 + len(body)) + body
+
+
 def toml_value(v):
     if isinstance(v, bool):
         return "true" if v else "false"
@@ -128,12 +236,17 @@ def main():
                    help="the mesh file (absolute, or relative to the scene's folder)")
     p.add_argument("--lift", type=float, default=0.991233,
                    help="the height of the mesh's origin above its lowest point")
-    p.add_argument("--format", choices=("toml", "json"), default=None,
+    p.add_argument("--format", choices=("toml", "json", "glb"), default=None,
                    help="default: by the output's extension")
     p.add_argument("-o", "--output", required=True)
     args = p.parse_args()
     doc = scene(args.count, args.seed, args.mesh, args.lift)
-    fmt = args.format or ("json" if args.output.lower().endswith(".json") else "toml")
+    ext = args.output.lower().rsplit(".", 1)[-1]
+    fmt = args.format or (ext if ext in ("json", "glb") else "toml")
+    if fmt == "glb":
+        with open(args.output, "wb") as f:
+            f.write(glb(doc, args.mesh))
+        return
     with open(args.output, "w") as f:
         if fmt == "json":
             json.dump(doc, f)

@@ -2,7 +2,8 @@
 //! flattened, so a scene written with `[shapes.NAME]` and `[[instances]]`
 //! renders as the same scene written with `[[meshes]]`, with both
 //! integrators; and the forest generator (scripts/make_forest.py) writes a
-//! scene that loads and renders.
+//! scene, and a glTF file of `EXT_mesh_gpu_instancing`, that load and
+//! render.
 
 use crate::common::*;
 use kdray::gpu::Accel;
@@ -85,6 +86,29 @@ fn the_forest_generator_writes_a_scene_that_loads_and_renders() {
     assert!(mirrored < 6);
     (scene.render.width, scene.render.height) = (64, 36);
     let image = render(&scene, Accel::Kdtree);
+    let first = &image.rgb[..3];
+    assert!(image.rgb.chunks(3).any(|p| p != first), "a blank image");
+
+    // As one glTF file: the mesh by one node's EXT_mesh_gpu_instancing.
+    let glb = dir.join("forest.glb");
+    let status = std::process::Command::new("python3")
+        .arg(repo_path("scripts/make_forest.py"))
+        .args(["--count", "6", "--lift", "0.4", "--mesh"])
+        .arg(&torus)
+        .arg("-o")
+        .arg(&glb)
+        .status()
+        .expect("python3 runs");
+    assert!(status.success());
+    let mut model = kdray::scene::model_scene(&glb).unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!(
+        model.instances.len(),
+        6,
+        "the six copies; the ground is placed"
+    );
+    assert_eq!(model.shapes.len(), 1);
+    (model.render.width, model.render.height) = (64, 36);
+    let image = render(&model, Accel::Kdtree);
     let first = &image.rgb[..3];
     assert!(image.rgb.chunks(3).any(|p| p != first), "a blank image");
 }
