@@ -82,7 +82,8 @@ impl WalkSource {
 /// flag, the pixel, the frame, the CPU mirror with the path integrator) is
 /// a usage or scene error (exit 2).
 pub fn inspect_file(path: &Path, request: &InspectRequest) -> Result<Inspection> {
-    let mut scene = crate::scene::load_scene(path)?;
+    // The CPU mirror walks the world-space triangles, instances flattened.
+    let mut scene = crate::scene::load_scene(path)?.flattened();
     let flags = &request.flags;
     flags.check()?;
     flags.apply(&mut scene)?;

@@ -155,6 +155,24 @@ fn bad_scenes_exit_2_with_one_line_and_leave_output_alone() {
             line_in_note: true,
         },
         BadScene {
+            name: "unknown_shape.toml",
+            text: Some(format!(
+                "{BASE_SCENE}\n[shapes.tri]\ntriangles = [[[0, 0, 0], [1, 0, 0], [0, 1, 0]]]\nmaterial = \"red\"\n[[instances]]\nshape = \"tree\"\n"
+            )),
+            line_of: Some("\"tree\""),
+            mentions: &["instances[0].shape", "tree"],
+            line_in_note: false,
+        },
+        BadScene {
+            name: "singular_instance.toml",
+            text: Some(format!(
+                "{BASE_SCENE}\n[shapes.tri]\ntriangles = [[[0, 0, 0], [1, 0, 0], [0, 1, 0]]]\nmaterial = \"red\"\n[[instances]]\nshape = \"tri\"\nmatrix = [[1, 0, 0, 0], [1, 0, 0, 0], [0, 0, 1, 0], [0, 0, 0, 1]]\n"
+            )),
+            line_of: Some("matrix"),
+            mentions: &["instances[0].matrix", "singular"],
+            line_in_note: false,
+        },
+        BadScene {
             name: "wrong_type.json",
             text: Some(BASE_JSON.replacen("\"radius\": 1.0", "\"radius\": \"big\"", 1)),
             line_of: Some("\"big\""),

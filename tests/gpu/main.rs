@@ -34,6 +34,7 @@ mod gpu_render;
 mod inspect;
 mod inspect_cli;
 mod inspect_kernel;
+mod instances;
 mod light_kinds;
 mod light_sampling;
 mod material_maps;
