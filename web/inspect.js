@@ -2,7 +2,7 @@
 // shaders/walk_record.wgsl writes, tags and kinds from contract.json's
 // constants) read into the document `kdray inspect` prints (docs/inspect.md,
 // version 1), with the tree's nodes and leaves from the bundle's arrays.
-// Mirrors src/gpu/walk_log.rs (decode) and src/inspect.rs (the document).
+// Mirrors src/gpu/walk_log.rs (decode) and src/inspect/document.rs (the document).
 
 const AXES = ['x', 'y', 'z'];
 const FACES = ['x-', 'x+', 'y-', 'y+', 'z-', 'z+'];
@@ -103,7 +103,7 @@ export function treeOf(arrays, c) {
   return { nodes, depths };
 }
 
-// A shadow ray's light as the document names it (src/inspect.rs,
+// A shadow ray's light as the document names it (src/inspect/inspected_rays.rs,
 // `light_named`): a scene light by its index in [[lights]] and kind, an
 // emitter by its object (and triangle), the sky; its pick and density.
 function documentLight(light, spheres, c) {

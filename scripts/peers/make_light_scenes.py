@@ -143,139 +143,45 @@ def box(material, lo, hi):
     return "\n".join(out) + "\n"
 
 
-def render(width=80, height=60, samples=64, max_depth=4):
-    return f"""
-[render]
-width      = {width}
-height     = {height}
-integrator = "path"
-samples    = {samples}
-max_depth  = {max_depth}
-"""
+def value(v):
+    """A TOML value as the scenes spell it: floats as Python writes them."""
+    if isinstance(v, bool):
+        return "true" if v else "false"
+    if isinstance(v, str):
+        return f'"{v}"'
+    if isinstance(v, (list, tuple)):
+        return "[" + ", ".join(value(x) for x in v) + "]"
+    return repr(v)
 
 
-def mixed():
-    return (
-        HEADER.format(
-            what="A ground, two Lambertian balls, a point\n# light, a directional light "
-            "and an emissive torus of 5,120 triangles."
-        )
-        + """
-[camera]
-position = [0.0, 1.5, 4.2]
-look_at  = [0.0, 0.6, 0.0]
-vfov     = 45.0
-"""
-        + render()
-        + """
-[[lights]]
-position = [-2.0, 3.0, 2.0]
-diffuse  = [5.0, 5.0, 5.0]
-
-[[lights]]
-kind      = "directional"
-direction = [1.0, -2.0, -0.5]
-diffuse   = [0.25, 0.25, 0.22]
-
-[materials.ground]
-diffuse = [0.6, 0.6, 0.6]
-
-[materials.red]
-diffuse = [0.8, 0.3, 0.2]
-
-[materials.white]
-diffuse = [0.8, 0.8, 0.8]
-
-[materials.glow]
-diffuse  = [0.0, 0.0, 0.0]
-emission = [6.0, 3.5, 1.5]
-
-[[spheres]]
-center   = [-1.0, 0.45, 0.3]
-radius   = 0.45
-material = "red"
-
-[[spheres]]
-center   = [1.1, 0.35, 0.6]
-radius   = 0.35
-material = "white"
-
-[[meshes]]
-path      = "lights_torus.obj"
-material  = "glow"
-smooth    = false
-translate = [0.1, 0.8, -0.6]
-"""
-        + ground("ground")
-    )
+def table(header, keys):
+    """A TOML table (`header` with its brackets) of `keys` in order, each
+    `=` aligned one space past the longest key, after a blank line."""
+    width = max(len(k) for k in keys)
+    return f"\n{header}\n" + "".join(f"{k.ljust(width)} = {value(v)}\n" for k, v in keys.items())
 
 
-def sky_mesh():
-    return (
-        HEADER.format(what="A sky image (lights_sky.hdr) and an emissive\n# torus lying flat, over ground and a ball.")
-        + """
-[camera]
-position = [0.0, 1.6, 4.0]
-look_at  = [0.0, 0.5, 0.0]
-vfov     = 50.0
-"""
-        + render()
-        + """
-[environment]
-image     = "lights_sky.hdr"
-intensity = 0.8
+# Every scene's [render]: the path tracer, small and quick.
+RENDER = {"width": 80, "height": 60, "integrator": "path", "samples": 64, "max_depth": 4}
 
-[materials.ground]
-diffuse = [0.5, 0.5, 0.45]
 
-[materials.ball]
-diffuse = [0.7, 0.7, 0.75]
+def material(diffuse, emission=None):
+    keys = {"diffuse": diffuse}
+    if emission is not None:
+        keys["emission"] = emission
+    return keys
 
-[materials.glow]
-diffuse  = [0.0, 0.0, 0.0]
-emission = [3.0, 6.0, 3.0]
 
-[[spheres]]
-center   = [-0.6, 0.5, 0.0]
-radius   = 0.5
-material = "ball"
-
-[[meshes]]
-path      = "lights_torus.obj"
-material  = "glow"
-smooth    = false
-rotate    = [-90.0, 0.0, 0.0]
-translate = [0.8, 0.2, 0.4]
-"""
-        + ground("ground")
-    )
+def sphere(center, radius, name):
+    return {"center": center, "radius": radius, "material": name}
 
 
 def city():
-    """400 lamps along a grid of streets among dark blocks: radii 0.02 -
-    0.08, emission 1 - 40 (log-uniform): powers over three orders of
-    magnitude."""
+    """The city's generated parts: 400 lamps along a grid of streets among
+    dark blocks, radii 0.02 - 0.08, emission 1 - 40 (log-uniform): powers
+    over three orders of magnitude."""
     rng = np.random.default_rng(7)
-    parts = [
-        HEADER.format(
-            what="City at night: 400 small emissive spheres\n# (radius 0.02 - 0.08, radiance 1 - 40) "
-            "among dark blocks, no sky."
-        ),
-        """
-[camera]
-position = [0.0, 4.0, 7.0]
-look_at  = [0.0, 0.0, 0.0]
-vfov     = 50.0
-""",
-        render(),
-        """
-[materials.street]
-diffuse = [0.3, 0.3, 0.3]
-
-[materials.block]
-diffuse = [0.5, 0.45, 0.4]
-""",
-    ]
+    parts = []
     colours = [[1.0, 0.75, 0.4], [1.0, 0.9, 0.8], [0.7, 0.8, 1.0], [1.0, 0.5, 0.25]]
     # Lamp materials: one per (colour, brightness step), 4 x 10.
     steps = np.geomspace(1.0, 40.0, 10)
@@ -302,52 +208,15 @@ diffuse = [0.5, 0.45, 0.4]
         s = int(rng.integers(0, 10))
         parts.append(f'[[spheres]]\ncenter = [{x:.4f}, {y:.4f}, {z:.4f}]\nradius = {r:.4f}\nmaterial = "lamp{k}_{s}"\n')
         lamps += 1
-    return "\n".join(parts)
+    return parts
 
 
 def one_bright():
-    """One sphere of radius 0.25 and radiance 40 beside 200 of radius 0.04
-    and radiance 2: the bright one has 81% of the power (luminance)."""
+    """The dim lights beside the bright one (radius 0.25, radiance 40):
+    200 of radius 0.04 and radiance 2, kept clear of the bright one and the
+    ball; the bright one has 81% of the power (luminance)."""
     rng = np.random.default_rng(11)
-    parts = [
-        HEADER.format(
-            what="One bright light among many dim ones: a\n# sphere of radius 0.25 and radiance 40, "
-            "200 of radius 0.04 and radiance 2; no sky."
-        ),
-        """
-[camera]
-position = [0.0, 2.5, 5.0]
-look_at  = [0.0, 0.5, 0.0]
-vfov     = 48.0
-""",
-        render(),
-        """
-[materials.ground]
-diffuse = [0.6, 0.6, 0.6]
-
-[materials.ball]
-diffuse = [0.3, 0.6, 0.8]
-
-[materials.bright]
-diffuse  = [0.0, 0.0, 0.0]
-emission = [40.0, 36.0, 30.0]
-
-[materials.dim]
-diffuse  = [0.0, 0.0, 0.0]
-emission = [2.0, 1.6, 1.2]
-
-[[spheres]]
-center   = [0.8, 1.4, -0.8]
-radius   = 0.25
-material = "bright"
-
-[[spheres]]
-center   = [-0.5, 0.5, 0.0]
-radius   = 0.5
-material = "ball"
-""",
-        ground("ground"),
-    ]
+    parts = [ground("ground")]
     dim = 0
     while dim < 200:
         x, z = rng.uniform(-3.0, 3.0), rng.uniform(-3.5, 1.5)
@@ -356,7 +225,98 @@ material = "ball"
             continue
         parts.append(f'[[spheres]]\ncenter = [{x:.4f}, {y:.4f}, {z:.4f}]\nradius = 0.04\nmaterial = "dim"\n')
         dim += 1
-    return "\n".join(parts)
+    return parts
+
+
+# The scenes written by hand: what the header says of each, its camera
+# (position, look_at, vfov) and its tables after [render], in order. The
+# generated parts of a scene (ground, blocks, lamps) are its `parts`
+# function's, set apart from each other by `sep`.
+SCENES = {
+    "lights_mixed.toml": {
+        "what": "A ground, two Lambertian balls, a point\n# light, a directional light "
+        "and an emissive torus of 5,120 triangles.",
+        "camera": ([0.0, 1.5, 4.2], [0.0, 0.6, 0.0], 45.0),
+        "tables": [
+            ("[[lights]]", {"position": [-2.0, 3.0, 2.0], "diffuse": [5.0, 5.0, 5.0]}),
+            ("[[lights]]", {"kind": "directional", "direction": [1.0, -2.0, -0.5], "diffuse": [0.25, 0.25, 0.22]}),
+            ("[materials.ground]", material([0.6, 0.6, 0.6])),
+            ("[materials.red]", material([0.8, 0.3, 0.2])),
+            ("[materials.white]", material([0.8, 0.8, 0.8])),
+            ("[materials.glow]", material([0.0, 0.0, 0.0], [6.0, 3.5, 1.5])),
+            ("[[spheres]]", sphere([-1.0, 0.45, 0.3], 0.45, "red")),
+            ("[[spheres]]", sphere([1.1, 0.35, 0.6], 0.35, "white")),
+            (
+                "[[meshes]]",
+                {"path": "lights_torus.obj", "material": "glow", "smooth": False, "translate": [0.1, 0.8, -0.6]},
+            ),
+        ],
+        "parts": lambda: [ground("ground")],
+        "sep": "",
+    },
+    "lights_sky_mesh.toml": {
+        "what": "A sky image (lights_sky.hdr) and an emissive\n# torus lying flat, over ground and a ball.",
+        "camera": ([0.0, 1.6, 4.0], [0.0, 0.5, 0.0], 50.0),
+        "tables": [
+            ("[environment]", {"image": "lights_sky.hdr", "intensity": 0.8}),
+            ("[materials.ground]", material([0.5, 0.5, 0.45])),
+            ("[materials.ball]", material([0.7, 0.7, 0.75])),
+            ("[materials.glow]", material([0.0, 0.0, 0.0], [3.0, 6.0, 3.0])),
+            ("[[spheres]]", sphere([-0.6, 0.5, 0.0], 0.5, "ball")),
+            (
+                "[[meshes]]",
+                {
+                    "path": "lights_torus.obj",
+                    "material": "glow",
+                    "smooth": False,
+                    "rotate": [-90.0, 0.0, 0.0],
+                    "translate": [0.8, 0.2, 0.4],
+                },
+            ),
+        ],
+        "parts": lambda: [ground("ground")],
+        "sep": "",
+    },
+    "lights_city.toml": {
+        "what": "City at night: 400 small emissive spheres\n# (radius 0.02 - 0.08, radiance 1 - 40) "
+        "among dark blocks, no sky.",
+        "camera": ([0.0, 4.0, 7.0], [0.0, 0.0, 0.0], 50.0),
+        "tables": [
+            ("[materials.street]", material([0.3, 0.3, 0.3])),
+            ("[materials.block]", material([0.5, 0.45, 0.4])),
+        ],
+        "parts": city,
+        "sep": "\n",
+    },
+    "lights_one_bright.toml": {
+        "what": "One bright light among many dim ones: a\n# sphere of radius 0.25 and radiance 40, "
+        "200 of radius 0.04 and radiance 2; no sky.",
+        "camera": ([0.0, 2.5, 5.0], [0.0, 0.5, 0.0], 48.0),
+        "tables": [
+            ("[materials.ground]", material([0.6, 0.6, 0.6])),
+            ("[materials.ball]", material([0.3, 0.6, 0.8])),
+            ("[materials.bright]", material([0.0, 0.0, 0.0], [40.0, 36.0, 30.0])),
+            ("[materials.dim]", material([0.0, 0.0, 0.0], [2.0, 1.6, 1.2])),
+            ("[[spheres]]", sphere([0.8, 1.4, -0.8], 0.25, "bright")),
+            ("[[spheres]]", sphere([-0.5, 0.5, 0.0], 0.5, "ball")),
+        ],
+        "parts": one_bright,
+        "sep": "\n",
+    },
+}
+
+
+def scene_text(spec):
+    """A scene of SCENES: its header, camera, [render] and tables, then its
+    generated parts."""
+    position, look_at, vfov = spec["camera"]
+    written = [
+        HEADER.format(what=spec["what"]),
+        table("[camera]", {"position": position, "look_at": look_at, "vfov": vfov}),
+        table("[render]", RENDER),
+        "".join(table(header, keys) for header, keys in spec["tables"]),
+    ]
+    return spec["sep"].join(written + spec["parts"]())
 
 
 def write(name, text):
@@ -374,10 +334,8 @@ def main():
     print(torus)
     write_hdr(os.path.join(OUT, "lights_sky.hdr"), sky_image())
     print(os.path.join(OUT, "lights_sky.hdr"))
-    write("lights_mixed.toml", mixed())
-    write("lights_sky_mesh.toml", sky_mesh())
-    write("lights_city.toml", city())
-    write("lights_one_bright.toml", one_bright())
+    for name, spec in SCENES.items():
+        write(name, scene_text(spec))
 
 
 if __name__ == "__main__":

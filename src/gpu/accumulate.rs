@@ -175,20 +175,14 @@ impl Accumulation {
                 integrator: params.integrator,
                 ..self.scene_variant.with_walk_of(params)
             };
-            let pipeline = self.pipelines.get(ctx, variant)?;
-            let group = t.group.for_pipeline(ctx, &pipeline)?;
-            ctx.queue
-                .write_buffer(&self.params, 0, bytemuck::bytes_of(params));
-            let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
-                label: Some("accumulate"),
-                timestamp_writes: None,
-            });
-            pass.set_pipeline(&pipeline.pipeline);
-            pass.set_bind_group(0, &group, &[]);
-            let (gx, gy) = self
-                .pipelines
-                .workgroups(params.tile_size[0], params.tile_size[1]);
-            pass.dispatch_workgroups(gx, gy, 1);
+            self.pipelines.encode_tile(
+                ctx,
+                encoder,
+                "accumulate",
+                variant,
+                &t.group,
+                (&self.params, params),
+            )?;
         }
         Ok(())
     }

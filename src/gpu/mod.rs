@@ -23,6 +23,10 @@
 //! - `trace_pipelines`: the one place a compute pipeline is assembled
 //!   (module, layout from the contract, bind groups, a pipeline per variant).
 //! - [`renderer`]: the tiled trace dispatch with readback.
+//! - `tile_buffers`: a tile's buffers on the GPU and a band's pixels on the
+//!   host, filled from each tile's readback.
+//! - `render_summary`: what a render measured besides its pixels (rays by
+//!   kind, the walk's work, GPU time).
 //! - `tile_plan`: how an image is cut into dispatches (binding size, a
 //!   GPU's watchdog).
 //! - `gpu_timer`: a tile's GPU time from timestamp queries, and the
@@ -48,9 +52,11 @@ pub mod kernel_variant;
 mod layout_check;
 pub mod pipeline_cache;
 mod ray_query;
+mod render_summary;
 pub mod renderer;
 pub mod scene_buffers;
 pub mod shaders;
+mod tile_buffers;
 mod tile_plan;
 mod trace_pipelines;
 pub mod walk_log;
@@ -64,10 +70,8 @@ pub use gpu_scene::{GpuScene, UploadFailed};
 pub use kernel_io::{FrameParams, GpuQueryHit, GpuQueryRay, PresentParams, RayCounters};
 pub use kernel_variant::KernelVariant;
 pub use ray_query::{RayQueries, RayQuery};
-pub use renderer::{
-    CostTotals, Features, GpuTimeSource, RayTotals, RenderSummary, RenderedImage, Renderer,
-    RowBand, SAMPLES_PER_DISPATCH,
-};
+pub use render_summary::{CostTotals, GpuTimeSource, RayTotals, RenderSummary};
+pub use renderer::{Features, RenderedImage, Renderer, RowBand, SAMPLES_PER_DISPATCH};
 pub use scene_buffers::{ArrayBindings, SceneBuffers};
 pub use tile_plan::TilePlan;
 pub use trace_pipelines::{TraceBindGroup, TracePipeline, TracePipelines};

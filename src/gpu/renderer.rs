@@ -1,16 +1,21 @@
-//! The trace pipeline and its tiled dispatch: each tile is one dispatch of
-//! one invocation per pixel, copied back and packed into an 8-bit RGB image.
+//! The headless renderer: the trace pipeline's tiled dispatch, band by band
+//! of whole rows. Each tile is traced in dispatches of one invocation per
+//! pixel, copied back into its buffers (`tile_buffers.rs`) and handed on in
+//! bands of 8-bit RGB rows (with radiance, costs or feature images when
+//! asked for); what the render measured is a [`RenderSummary`].
 
 use std::time::Instant;
 
 use super::bindings;
 use super::context::GpuContext;
 use super::gpu_timer::GpuTimer;
+use super::render_summary::{CostTotals, GpuTimeSource, RayTotals, RenderSummary};
 use super::scene_buffers::SceneBuffers;
+use super::tile_buffers::{BandBuffers, TileArea, TileBuffers};
 use super::tile_plan::{PixelOutput, TilePlan};
-use super::{KernelVariant, TracePipelines};
+use super::{KernelVariant, TracePipeline, TracePipelines};
 use crate::error::Result;
-use crate::gpu::{FrameParams, RayCounters};
+use crate::gpu::FrameParams;
 use crate::kdtree::traverse::WalkCost;
 use crate::layout::INTEGRATOR_PATH;
 use crate::scene::{RenderSettings, ToneMap};
@@ -39,90 +44,6 @@ pub struct Features<'a> {
     pub albedo: &'a [f32],
     pub normal: &'a [f32],
 }
-
-/// Bytes per pixel of the cost output (`bindings::PIXEL_COSTS`).
-const COST_BYTES_PER_PIXEL: u64 = bindings::COST_WORDS as u64 * 4;
-
-/// The walk's work over the whole image (every ray of every pixel), summed
-/// from the per-pixel costs.
-#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, serde::Serialize)]
-pub struct CostTotals {
-    pub nodes_visited: u64,
-    pub leaves_visited: u64,
-    pub objects_tested: u64,
-}
-
-impl CostTotals {
-    pub fn add(&mut self, c: &WalkCost) {
-        self.nodes_visited += c.nodes_visited as u64;
-        self.leaves_visited += c.leaves_visited as u64;
-        self.objects_tested += c.objects_tested as u64;
-    }
-}
-
-/// Rays the shader traced, by kind, summed over tiles.
-#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, serde::Serialize)]
-pub struct RayTotals {
-    /// One per sample: width * height * samples.
-    pub primary: u64,
-    /// One per light tested from a hit (L.N > 0), shadow mode permitting.
-    pub shadow: u64,
-    /// Mirror continuations after the primary hit.
-    pub reflection: u64,
-    /// Invocations whose loops came near llvmpipe's limit of 65,535
-    /// iterations per invocation (see `GpuContext::has_loop_limit`).
-    pub loop_limited: u64,
-    /// Path samples dropped because their radiance was not finite.
-    pub nonfinite: u64,
-}
-
-/// Where `gpu_ms` comes from.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
-#[serde(rename_all = "lowercase")]
-pub enum GpuTimeSource {
-    /// GPU timestamp queries around each tile's compute pass.
-    Timestamp,
-    /// Wall time from submit to readback (adapters without timestamps).
-    Wall,
-}
-
-impl GpuTimeSource {
-    pub fn name(self) -> &'static str {
-        match self {
-            GpuTimeSource::Timestamp => "timestamp",
-            GpuTimeSource::Wall => "wall",
-        }
-    }
-}
-
-/// What a render measured besides its pixels.
-#[derive(Debug, Clone, Copy)]
-pub struct RenderSummary {
-    /// Sum over tiles of GPU time (timestamp queries) or of submit-to-done wall time.
-    pub gpu_ms: f64,
-    pub gpu_time_source: GpuTimeSource,
-    pub rays: RayTotals,
-    /// The walk's work, when the render was asked for per-pixel costs.
-    pub cost: Option<CostTotals>,
-}
-
-impl RayTotals {
-    fn add(&mut self, c: &RayCounters) {
-        self.primary += c.primary as u64;
-        self.shadow += c.shadow as u64;
-        self.reflection += c.reflection as u64;
-        self.loop_limited += c.loop_limited as u64;
-        self.nonfinite += c.nonfinite as u64;
-    }
-
-    /// Primary, shadow and reflection rays together.
-    pub fn total(&self) -> u64 {
-        self.primary + self.shadow + self.reflection
-    }
-}
-
-/// Bytes before the pixels in the output buffer (the ray counters).
-const OUTPUT_HEADER_BYTES: u64 = std::mem::size_of::<RayCounters>() as u64;
 
 /// A rendered image and how long the GPU took.
 pub struct RenderedImage {
@@ -332,7 +253,15 @@ impl Renderer {
         );
         let pipeline = self.pipelines.get(ctx, variant)?;
         let tile_pixels = plan.tile_width as u64 * plan.max_rows as u64;
-        let tile = TileBuffers::new(ctx, self, scene, tile_pixels, with_cost, output)?;
+        let tile = TileBuffers::new(
+            ctx,
+            &self.pipelines,
+            &self.params_buffer,
+            scene,
+            tile_pixels,
+            with_cost,
+            output,
+        )?;
         let bind_group = tile.bind_group.for_pipeline(ctx, &pipeline)?;
         let timer = match ctx.has_timestamps {
             true => Some(ctx.checked("creating the GPU timer", GpuTimer::new)?),
@@ -361,7 +290,7 @@ impl Renderer {
                 let w = plan.tile_width.min(width - x);
                 let area = TileArea { x, y, w, h };
                 let run = TileRun {
-                    pipeline: &pipeline.pipeline,
+                    pipeline: &pipeline,
                     bind_group: &bind_group,
                     timer: timer.as_ref(),
                     tile: &tile,
@@ -443,16 +372,14 @@ impl Renderer {
             ctx.queue
                 .write_buffer(&self.params_buffer, 0, bytemuck::bytes_of(&tile_params));
             let mut encoder = pending.take().unwrap_or_else(|| device_encoder(ctx));
-            {
-                let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
-                    label: Some("trace tile"),
-                    timestamp_writes: run.timer.map(|t| t.writes()),
-                });
-                pass.set_pipeline(run.pipeline);
-                pass.set_bind_group(0, run.bind_group, &[]);
-                let (gx, gy) = self.pipelines.workgroups(area.w, area.h);
-                pass.dispatch_workgroups(gx, gy, 1);
-            }
+            self.pipelines.record_pass(
+                &mut encoder,
+                "trace tile",
+                run.pipeline,
+                run.bind_group,
+                tile_params.tile_size,
+                run.timer.map(|t| t.writes()),
+            );
             if last {
                 run.tile
                     .copy_to_readback(&mut encoder, area, run.with_cost, run.output);
@@ -511,260 +438,13 @@ fn device_encoder(ctx: &GpuContext) -> wgpu::CommandEncoder {
         })
 }
 
-/// Pixels `x..x + w` of rows `y..y + h`: one tile.
-#[derive(Debug, Clone, Copy)]
-struct TileArea {
-    x: u32,
-    y: u32,
-    w: u32,
-    h: u32,
-}
-
-impl TileArea {
-    fn pixels(&self) -> u64 {
-        self.w as u64 * self.h as u64
-    }
-}
-
 /// What every dispatch of a frame's tiles uses.
 struct TileRun<'a> {
-    pipeline: &'a wgpu::ComputePipeline,
+    pipeline: &'a TracePipeline,
     bind_group: &'a wgpu::BindGroup,
     timer: Option<&'a GpuTimer>,
     tile: &'a TileBuffers,
     params: FrameParams,
     with_cost: bool,
     output: PixelOutput,
-}
-
-/// One tile's buffers on the GPU: the kernel's output and costs, the
-/// readback they are copied to, and their bind group.
-struct TileBuffers {
-    output: wgpu::Buffer,
-    costs: wgpu::Buffer,
-    readback: wgpu::Buffer,
-    bind_group: super::TraceBindGroup,
-}
-
-impl TileBuffers {
-    fn new(
-        ctx: &GpuContext,
-        renderer: &Renderer,
-        scene: &SceneBuffers,
-        tile_pixels: u64,
-        with_cost: bool,
-        output: PixelOutput,
-    ) -> Result<Self> {
-        let tile_bytes = OUTPUT_HEADER_BYTES + tile_pixels * output.bytes();
-        let cost_bytes = match with_cost {
-            true => tile_pixels * COST_BYTES_PER_PIXEL,
-            false => 4,
-        };
-        let what = format!(
-            "allocating the output buffers (2 x {})",
-            super::scene_buffers::human_bytes(tile_bytes + cost_bytes)
-        );
-        ctx.checked(&what, |device| {
-            let storage = |label, size| {
-                device.create_buffer(&wgpu::BufferDescriptor {
-                    label: Some(label),
-                    size,
-                    usage: wgpu::BufferUsages::STORAGE
-                        | wgpu::BufferUsages::COPY_SRC
-                        | wgpu::BufferUsages::COPY_DST,
-                    mapped_at_creation: false,
-                })
-            };
-            let output = storage("output pixels", tile_bytes);
-            let costs = storage("pixel costs", cost_bytes);
-            // The tile's output, then (with_cost) its costs.
-            let readback = device.create_buffer(&wgpu::BufferDescriptor {
-                label: Some("readback"),
-                size: tile_bytes + if with_cost { cost_bytes } else { 0 },
-                usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
-                mapped_at_creation: false,
-            });
-            // RENDER_OUTPUTS: the tile's output, then its costs.
-            let bind_group = renderer.pipelines.bind_group(
-                device,
-                &renderer.params_buffer,
-                scene,
-                &[&output, &costs],
-            );
-            TileBuffers {
-                output,
-                costs,
-                readback,
-                bind_group,
-            }
-        })
-    }
-
-    fn output_bytes(area: TileArea, output: PixelOutput) -> u64 {
-        OUTPUT_HEADER_BYTES + area.pixels() * output.bytes()
-    }
-
-    /// Zeroes the counters (and the radiance sums, which the dispatches add
-    /// to, and the costs).
-    fn clear(
-        &self,
-        encoder: &mut wgpu::CommandEncoder,
-        area: TileArea,
-        costs: bool,
-        output: PixelOutput,
-    ) {
-        let cleared = match output.radiance() {
-            true => Self::output_bytes(area, output),
-            false => OUTPUT_HEADER_BYTES,
-        };
-        encoder.clear_buffer(&self.output, 0, Some(cleared));
-        if costs {
-            encoder.clear_buffer(&self.costs, 0, Some(area.pixels() * COST_BYTES_PER_PIXEL));
-        }
-    }
-
-    fn copy_to_readback(
-        &self,
-        encoder: &mut wgpu::CommandEncoder,
-        area: TileArea,
-        costs: bool,
-        output: PixelOutput,
-    ) {
-        let used = Self::output_bytes(area, output);
-        encoder.copy_buffer_to_buffer(&self.output, 0, &self.readback, 0, used);
-        if costs {
-            let cost_bytes = area.pixels() * COST_BYTES_PER_PIXEL;
-            encoder.copy_buffer_to_buffer(&self.costs, 0, &self.readback, used, cost_bytes);
-        }
-    }
-
-    fn read_bytes(&self, area: TileArea, costs: bool, output: PixelOutput) -> u64 {
-        Self::output_bytes(area, output)
-            + if costs {
-                area.pixels() * COST_BYTES_PER_PIXEL
-            } else {
-                0
-            }
-    }
-}
-
-/// One band's pixels on the host, filled tile by tile.
-#[derive(Default)]
-struct BandBuffers {
-    rgb: Vec<u8>,
-    costs: Vec<WalkCost>,
-    /// Mean linear RGB per pixel (radiance output).
-    radiance: Vec<f32>,
-    /// Mean albedo and normal per pixel (feature output).
-    albedo: Vec<f32>,
-    normal: Vec<f32>,
-    /// The last tile's ray counters.
-    counters: RayCounters,
-}
-
-impl BandBuffers {
-    fn reset(&mut self, width: u32, rows: u32, costs: bool, output: PixelOutput) {
-        let pixels = width as usize * rows as usize;
-        self.rgb.clear();
-        self.rgb.resize(pixels * 3, 0);
-        self.costs.clear();
-        if costs {
-            self.costs.resize(pixels, WalkCost::default());
-        }
-        let floats = |v: &mut Vec<f32>, wanted: bool| {
-            v.clear();
-            if wanted {
-                v.resize(pixels * 3, 0.0);
-            }
-        };
-        floats(&mut self.radiance, output.radiance());
-        floats(&mut self.albedo, output == PixelOutput::Features);
-        floats(&mut self.normal, output == PixelOutput::Features);
-    }
-
-    /// Takes a tile's counters and pixels from its read-back bytes: 8-bit
-    /// colour as it is, or radiance sums divided by `samples` and
-    /// tone-mapped into `rgb` (and the feature sums divided alike).
-    fn take_tile(
-        &mut self,
-        bytes: &[u8],
-        area: TileArea,
-        width: u32,
-        output: PixelOutput,
-        samples: f32,
-        tone_map: (ToneMap, f32),
-    ) {
-        let (header, pixels) = bytes.split_at(OUTPUT_HEADER_BYTES as usize);
-        self.counters = bytemuck::pod_read_unaligned::<RayCounters>(header);
-        let words: Vec<u32> = pixels[..(area.pixels() * output.bytes()) as usize]
-            .chunks_exact(4)
-            .map(|b| u32::from_le_bytes([b[0], b[1], b[2], b[3]]))
-            .collect();
-        let (w, width) = (area.w as usize, width as usize);
-        for row in 0..area.h as usize {
-            let start = (row * width + area.x as usize) * 3;
-            let dst = &mut self.rgb[start..start + w * 3];
-            if !output.radiance() {
-                for (d, p) in dst.chunks_exact_mut(3).zip(&words[row * w..(row + 1) * w]) {
-                    d.copy_from_slice(&p.to_le_bytes()[..3]);
-                }
-                continue;
-            }
-            let stride = output.words();
-            let mean = &mut self.radiance[start..start + w * 3];
-            let sums = &words[row * w * stride..(row + 1) * w * stride];
-            for ((m, d), sum) in mean
-                .chunks_exact_mut(3)
-                .zip(dst.chunks_exact_mut(3))
-                .zip(sums.chunks_exact(stride))
-            {
-                for c in 0..3 {
-                    m[c] = f32::from_bits(sum[c]) / samples;
-                    d[c] = tone_map.0.to_srgb8(m[c], tone_map.1);
-                }
-            }
-            if output != PixelOutput::Features {
-                continue;
-            }
-            let albedo = &mut self.albedo[start..start + w * 3];
-            let normal = &mut self.normal[start..start + w * 3];
-            for ((a, n), sum) in albedo
-                .chunks_exact_mut(3)
-                .zip(normal.chunks_exact_mut(3))
-                .zip(sums.chunks_exact(stride))
-            {
-                for c in 0..3 {
-                    a[c] = f32::from_bits(sum[4 + c]) / samples;
-                    n[c] = f32::from_bits(sum[8 + c]) / samples;
-                }
-            }
-        }
-    }
-
-    /// Takes a tile's walk costs, after its output in the read-back bytes.
-    fn take_costs(
-        &mut self,
-        bytes: &[u8],
-        area: TileArea,
-        width: u32,
-        output: PixelOutput,
-        totals: &mut CostTotals,
-    ) {
-        let used = TileBuffers::output_bytes(area, output) as usize;
-        let words: Vec<u32> = bytes[used..]
-            .chunks_exact(4)
-            .map(|b| u32::from_le_bytes([b[0], b[1], b[2], b[3]]))
-            .collect();
-        let mut tile = words.chunks_exact(bindings::COST_WORDS);
-        for row in 0..area.h as usize {
-            let start = row * width as usize + area.x as usize;
-            for (d, c) in self.costs[start..start + area.w as usize]
-                .iter_mut()
-                .zip(&mut tile)
-            {
-                *d = WalkCost::from_words(c);
-                totals.add(d);
-            }
-        }
-    }
 }

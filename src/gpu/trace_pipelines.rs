@@ -27,6 +27,7 @@ use std::hash::Hash;
 use std::sync::{Arc, Mutex};
 
 use super::bindings::{self, Access, Binding, EntryPoint, SceneChunks};
+use super::kernel_io::FrameParams;
 use super::{GpuContext, KernelVariant, SceneBuffers};
 use crate::error::{Error, Result};
 
@@ -236,6 +237,49 @@ impl TracePipelines {
     pub fn workgroups(&self, width: u32, height: u32) -> (u32, u32) {
         let [x, y, _] = self.entry.workgroup;
         (width.div_ceil(x), height.div_ceil(y))
+    }
+
+    /// Records into `encoder` one pass of `variant` over the tile `params`
+    /// names (`tile_size`), with `group`'s buffers: the pipeline and its
+    /// bind group made the first time they are asked for, `params` written
+    /// to `params_buffer` now (submit before the next write).
+    pub fn encode_tile(
+        &self,
+        ctx: &GpuContext,
+        encoder: &mut wgpu::CommandEncoder,
+        label: &str,
+        variant: KernelVariant,
+        group: &TraceBindGroup,
+        (params_buffer, params): (&wgpu::Buffer, &FrameParams),
+    ) -> Result<()> {
+        let pipeline = self.get(ctx, variant)?;
+        let group = group.for_pipeline(ctx, &pipeline)?;
+        ctx.queue
+            .write_buffer(params_buffer, 0, bytemuck::bytes_of(params));
+        self.record_pass(encoder, label, &pipeline, &group, params.tile_size, None);
+        Ok(())
+    }
+
+    /// Records into `encoder` one pass of `pipeline` over `tile_size`
+    /// invocations (whole workgroups) with `group`, timed by
+    /// `timestamp_writes` if given.
+    pub fn record_pass(
+        &self,
+        encoder: &mut wgpu::CommandEncoder,
+        label: &str,
+        pipeline: &TracePipeline,
+        group: &wgpu::BindGroup,
+        [width, height]: [u32; 2],
+        timestamp_writes: Option<wgpu::ComputePassTimestampWrites<'_>>,
+    ) {
+        let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
+            label: Some(label),
+            timestamp_writes,
+        });
+        pass.set_pipeline(&pipeline.pipeline);
+        pass.set_bind_group(0, group, &[]);
+        let (gx, gy) = self.workgroups(width, height);
+        pass.dispatch_workgroups(gx, gy, 1);
     }
 
     /// The pipeline for `variant`, made now if it is the first call for it.

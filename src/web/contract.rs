@@ -344,7 +344,7 @@ pub fn contract_json() -> Value {
         },
         // window.kdray.inspect(x, y): the inspect kernel's entry point, its
         // log (gpu::walk_log; the INSPECT_* and RAY_* constants) and the
-        // document it becomes (src/inspect.rs, docs/inspect.md).
+        // document it becomes (src/inspect/document.rs, docs/inspect.md).
         "inspect": {
             "entry_point": bindings::INSPECT_PIXEL.name,
             "workgroup": bindings::INSPECT_PIXEL.workgroup,

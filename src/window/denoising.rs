@@ -133,10 +133,6 @@ impl FeaturePass {
             feature_output: true,
             ..KernelVariant::for_frame(scene, &params, false)
         };
-        let pipeline = self.pipelines.get(ctx, variant)?;
-        let group = self.group.for_pipeline(ctx, &pipeline)?;
-        ctx.queue
-            .write_buffer(&self.params, 0, bytemuck::bytes_of(&params));
         let mut encoder = ctx
             .device
             .create_command_encoder(&wgpu::CommandEncoderDescriptor {
@@ -148,18 +144,14 @@ impl FeaturePass {
         }
         encoder.clear_buffer(&self.tile, 0, Some(HEADER_BYTES));
         encoder.copy_buffer_to_buffer(&self.store, at, &self.tile, HEADER_BYTES, bytes);
-        {
-            let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
-                label: Some("feature pass"),
-                timestamp_writes: None,
-            });
-            pass.set_pipeline(&pipeline.pipeline);
-            pass.set_bind_group(0, &group, &[]);
-            let (gx, gy) = self
-                .pipelines
-                .workgroups(params.tile_size[0], params.tile_size[1]);
-            pass.dispatch_workgroups(gx, gy, 1);
-        }
+        self.pipelines.encode_tile(
+            ctx,
+            &mut encoder,
+            "feature pass",
+            variant,
+            &self.group,
+            (&self.params, &params),
+        )?;
         encoder.copy_buffer_to_buffer(&self.tile, HEADER_BYTES, &self.store, at, bytes);
         ctx.queue.submit([encoder.finish()]);
         Ok(())

@@ -33,8 +33,11 @@
 //! - `surface`: the window's surface: device, format, resizing, present.
 //! - [`view`]: the present pass over the accumulation
 //!   ([`crate::gpu::Accumulation`]), the heatmap and screenshots.
-//! - `session`: the open window's state and what a frame does with it; its
-//!   inspection mode's clicks.
+//! - `session`: the open window's state and what a frame does with it.
+//! - `session_denoising`: the session's denoising (N): toggling it, its
+//!   title, and each frame's share of it.
+//! - `session_inspection`: the session's inspection mode (X): clicks,
+//!   inspecting again, the overlay's projection.
 //! - `app`: the winit event handler that ties them together.
 //! - `test_scenes` (tests only): the unit tests' scenes, loaded at a size.
 
@@ -56,6 +59,8 @@ pub mod projection;
 mod refinement;
 pub mod reload;
 mod session;
+mod session_denoising;
+mod session_inspection;
 mod surface;
 #[cfg(test)]
 mod test_scenes;

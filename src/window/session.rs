@@ -4,33 +4,32 @@
 //! Each frame is one submission and one present: [`Refinement`] plans it,
 //! `pass_params` turns its pass over the [`GpuScene`] into the shader's
 //! parameters, [`Viewer`] records it, [`WindowSurface`] shows it and
-//! [`FrameStats`] counts it.
+//! [`FrameStats`] counts it. The session's denoising (N) is in
+//! `session_denoising.rs`, its inspection mode (X) in
+//! `session_inspection.rs`.
 
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
 use std::time::Instant;
 
-use glam::DVec2;
 use winit::dpi::{LogicalSize, PhysicalSize, Size};
 use winit::event_loop::{ActiveEventLoop, OwnedDisplayHandle};
 use winit::window::Window;
 
 use super::camera_controller::{Bounds, CameraController};
-use super::click::{image_pixel, ClickTracker};
-use super::denoise_schedule::DenoiseSchedule;
+use super::click::ClickTracker;
 use super::denoising::Denoising;
 use super::frame_stats::{FrameStats, ReportContext};
-use super::inspection::{inspect_pixel, InspectAt, InspectMode, InspectSettings, Outcome};
+use super::inspection::InspectMode;
 use super::playback::Playback;
-use super::projection::{near_plane, ViewProjection};
 use super::refinement::{FrameKind, FramePlan, Pass, Refinement, Samples};
 use super::surface::{Acquired, WindowSurface};
-use super::title::{DenoiseTitle, Progress, TitleBar, TitleFacts};
+use super::title::{Progress, TitleBar, TitleFacts};
 use super::view::{FrameWork, PresentParams, Target, Viewer};
 use super::{WindowOptions, DEFAULT_WINDOW_PATH_SAMPLES, DEFAULT_WINDOW_SAMPLES};
 use crate::error::{Error, Result};
 use crate::gpu::FrameParams;
-use crate::gpu::{Accel, GpuContext, GpuScene, PreparedScene, WalkRecorder};
+use crate::gpu::{Accel, GpuContext, GpuScene, PreparedScene};
 use crate::kdtree::Traversal;
 use crate::scene::{Camera, FramePath, Integrator, RenderSettings, Scene};
 
@@ -284,127 +283,6 @@ impl Session {
         self.denoising.refused = false;
     }
 
-    /// N: denoising on or off, with the path tracer; with the Whitted
-    /// integrator only the title's notice that it needs the path tracer.
-    pub(super) fn toggle_denoise(&mut self) {
-        if self.integrator != Integrator::Path {
-            self.denoising.refused = true;
-            eprintln!("kdray: N: denoising needs the path tracer (I switches to it)");
-            return;
-        }
-        self.denoising.refused = false;
-        self.denoising.on = !self.denoising.on;
-        let state = if self.denoising.on { "on" } else { "off" };
-        eprintln!("kdray: denoising {state}");
-        // The feature sums start with the image.
-        self.denoising.abandon();
-        self.viewer.hide_denoised();
-        self.refinement.invalidate();
-    }
-
-    /// Samples per pixel of the denoised image shown, if one is.
-    pub(super) fn shown_denoised(&self) -> Option<u32> {
-        self.denoising
-            .schedule
-            .denoised_samples()
-            .filter(|_| self.viewer.shows_denoised())
-    }
-
-    /// What the title says of denoising.
-    fn denoise_title(&self) -> Option<DenoiseTitle> {
-        let d = &self.denoising;
-        if self.integrator != Integrator::Path {
-            return (d.on || d.refused).then_some(DenoiseTitle::NeedsPath);
-        }
-        if !self.denoises() {
-            return None;
-        }
-        let shown = self.shown_denoised();
-        Some(match (self.denoising.progress(), shown) {
-            (Some((samples, percent)), shown) => DenoiseTitle::Running {
-                samples,
-                percent,
-                shown,
-            },
-            (None, Some(samples)) => DenoiseTitle::Shown { samples },
-            (None, None) => DenoiseTitle::Waiting {
-                at: DenoiseSchedule::first_at(self.refinement.samples()),
-            },
-        })
-    }
-
-    /// Whether this frame's passes gather the denoiser's features.
-    fn denoises(&self) -> bool {
-        self.denoising.active(self.integrator) && !self.heatmap
-    }
-
-    /// The denoiser's share of a frame planned as `plan`: the feature pass
-    /// beside the accumulation's pass `work.pass`; once the image's
-    /// samples so far are complete (this frame's pass completed them, or
-    /// the image is finished) and a denoise is due, a denoise begun on
-    /// them; then this frame's units of the denoise in progress. When its
-    /// last unit runs, this frame's present shows the denoised image.
-    /// Whether this frame ran units of a denoise.
-    fn denoise_frame(&mut self, plan: &FramePlan, work: &FrameWork) -> Result<bool> {
-        if plan.kind == FrameKind::Moving || plan.clear {
-            self.denoising.schedule.restart();
-            self.denoising.abandon();
-            self.viewer.hide_denoised();
-        }
-        if !self.denoises() {
-            self.denoising.abandon();
-            return Ok(false);
-        }
-        let complete = match (plan.kind, plan.pass, work.pass) {
-            (FrameKind::Still, Some(pass), Some(params)) => {
-                self.denoising
-                    .trace(self.ctx, self.scene.buffers(), &params, plan.clear)?;
-                (pass.first_row + pass.rows >= pass.image.1)
-                    .then_some((pass.image, pass.sample_index + 1))
-            }
-            (FrameKind::Idle, _, _) => Some((plan.image, self.refinement.passes())),
-            _ => None,
-        };
-        if let Some((image, passes)) = complete {
-            let samples = self.refinement.samples();
-            let due = self.denoising.schedule.due(passes, samples, Instant::now());
-            if due && !self.denoising.is_running() {
-                self.denoising.start(self.ctx, image, passes)?;
-            }
-        }
-        if !self.denoising.is_running() {
-            return Ok(false);
-        }
-        let Some(done) = self.denoising.advance(self.ctx)? else {
-            return Ok(true);
-        };
-        self.viewer.show_denoised(self.ctx, &done.rgb)?;
-        self.denoising
-            .schedule
-            .denoised(done.samples, done.busy, Instant::now());
-        eprintln!(
-            "kdray: denoised at {} spp in {:.1} s over {} frames ({:.1} s of denoiser work, longest frame {:.0} ms)",
-            done.samples,
-            done.elapsed.as_secs_f64(),
-            done.frames,
-            done.busy.as_secs_f64(),
-            done.longest_frame.as_secs_f64() * 1e3
-        );
-        Ok(true)
-    }
-
-    /// Whether the finished image waits for its denoise (frames must come
-    /// to run it).
-    fn denoise_pending(&self, now: Instant) -> bool {
-        let samples = self.refinement.samples();
-        self.denoises()
-            && !self.refinement.has_work(now)
-            && self
-                .denoising
-                .schedule
-                .due(self.refinement.passes(), samples, now)
-    }
-
     /// Moves the camera to the animation's shown frame (the frame's camera
     /// becomes the home that R returns to) and puts its lights in place.
     pub(super) fn show_frame(&mut self, now: Instant) {
@@ -615,98 +493,5 @@ impl Session {
             println!("{}", serde_json::to_string(&stats)?);
         }
         Ok(())
-    }
-
-    /// X: inspection mode on or off (off forgets the pixel and its lines).
-    pub(super) fn toggle_inspect(&mut self) {
-        self.inspect.on = !self.inspect.on;
-        if !self.inspect.on {
-            self.inspect = InspectMode::default();
-            self.viewer.overlay_mut().clear();
-        }
-    }
-
-    /// A click at window position `at` in inspection mode: inspects the
-    /// image pixel there, as the window shows it now.
-    pub(super) fn inspect_click(&mut self, at: DVec2) {
-        if !self.inspect.on {
-            return;
-        }
-        let window = self.surface.size();
-        let image = self.refinement.image_size(window);
-        let Some(pixel) = image_pixel(at, window, image) else {
-            self.inspect.outcome = Outcome::Outside;
-            return;
-        };
-        self.inspect.at = Some(InspectAt {
-            pixel,
-            camera: self.controller.camera(),
-            image,
-            frame: self.playback.frame(),
-        });
-        self.reinspect();
-    }
-
-    /// Inspects the last clicked pixel again with the window's current
-    /// walk, search, scene and max_depth; reports a failure in the title
-    /// (and on stderr), keeping the window going.
-    pub(super) fn reinspect(&mut self) {
-        let Some(at) = self.inspect.at.clone() else {
-            return;
-        };
-        let lights = self.path.lights_at(at.frame);
-        let how = InspectSettings {
-            accel: self.accel,
-            traversal: self.traversal,
-            max_depth: self.max_depth,
-            integrator: self.integrator,
-            samples: self.refinement.samples(),
-            lights: &lights,
-        };
-        let made = self
-            .recorder
-            .take()
-            .map_or_else(|| WalkRecorder::new(self.ctx), Ok);
-        let recorder = match made {
-            Ok(recorder) => recorder,
-            Err(e) => {
-                eprintln!("kdray: inspecting failed: {e}");
-                self.inspect.outcome = Outcome::Failed(e.to_string());
-                return;
-            }
-        };
-        let outcome = inspect_pixel(self.ctx, &recorder, &self.scene, &at, &how);
-        self.recorder = Some(recorder);
-        let outcome = outcome.and_then(|(totals, vertices)| {
-            self.viewer.overlay_mut().set_lines(self.ctx, &vertices)?;
-            Ok(totals)
-        });
-        self.inspect.outcome = match outcome {
-            Ok(totals) => {
-                let (x, y) = at.pixel;
-                eprintln!(
-                    "kdray: inspected pixel {x},{y}: {} rays, {} nodes, {} leaves, {} tests, {} restarts",
-                    totals.rays, totals.nodes, totals.leaves, totals.tests, totals.restarts
-                );
-                Outcome::Shown(totals)
-            }
-            Err(e) => {
-                eprintln!("kdray: inspecting failed: {e}");
-                self.viewer.overlay_mut().clear();
-                Outcome::Failed(e.to_string())
-            }
-        };
-    }
-
-    /// The overlay's projection for the camera shown now, in the window's
-    /// aspect ratio (as the kernel's frames use it).
-    pub(super) fn overlay_view(&self) -> ViewProjection {
-        let (w, h) = self.surface.size();
-        let camera = self.controller.camera();
-        ViewProjection::new(
-            &camera,
-            w.max(1) as f64 / h.max(1) as f64,
-            near_plane(&camera),
-        )
     }
 }

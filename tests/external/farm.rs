@@ -140,7 +140,7 @@ pub(crate) fn single_render(dir: &TempDir, scene: &str, extra: &[&str]) -> (u32,
 
 /// Every frame of `scene`'s animation rendered on the single machine at
 /// 64x48 (`extra`: more flags), in order: one `render --all-frames`, which
-/// writes each frame as `render --frame k` does (tests/gpu/cli.rs checks
+/// writes each frame as `render --frame k` does (tests/gpu/cli_animation.rs checks
 /// that), so that the comparison costs one process, not one a frame.
 pub(crate) fn single_frames(
     dir: &TempDir,

@@ -1,4 +1,4 @@
-//! `kdray inspect`'s rays and walks (src/inspect.rs) against brute force
+//! `kdray inspect`'s rays and walks (src/inspect/) against brute force
 //! and the kernel: on random pixels of a few scenes, with every walk, each
 //! inspected ray's hit is brute force's and the kernel's for the same ray
 //! (the ray query entry point, `RayQueries::trace_counted`), and the work

@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Writes the small glTF test models of crates/kdray-core/tests/scene_parse/ and tests/gpu/cli.rs.
+"""Writes the small glTF test models of crates/kdray-core/tests/scene_parse/ and tests/gpu/cli_bad_input.rs.
 
 Also: sparse.gltf, the tetrahedron whose POSITION and NORMAL accessors are
 sparse, moving vertex 3 (and its normal), and sparse_dense.gltf, the same
@@ -8,7 +8,9 @@ texture, which kdray warns about; tetra_quantized_i16.gltf and
 tetra_quantized_u8.gltf, the tetrahedron in KHR_mesh_quantization's integer
 types with texture coordinates and a 2x2 texture; requires_basisu.gltf, one
 requiring an extension kdray refuses; gltf1.gltf and gltf1_no_asset.gltf, glTF
-1.0 files, which kdray names as such.
+1.0 files, which kdray names as such; instanced.gltf, the tetrahedron
+placed by two nodes and by a node's EXT_mesh_gpu_instancing (three copies),
+and as a second mesh by one node.
 
 A tetrahedron (4 vertices, 4 indexed triangles, per-vertex NORMALs) placed by
 a two-node hierarchy: the root node has a translation and a rotation, its
@@ -229,6 +231,45 @@ GLTF1 = {
 }
 
 
+# instanced.gltf: the tetrahedron as mesh 0, placed by two nodes (one moved
+# and turned, one mirrored in x and moved) and by a third node's
+# EXT_mesh_gpu_instancing (three copies, each moved, turned and scaled);
+# and as mesh 1, placed by one node.
+COPY_TRANSLATIONS = [0, 0, 0, 2, 0, 0, 0, 3, 1]
+COPY_ROTATIONS = [0, 0, 0, 1, 0, 0.38268343, 0, 0.92387953, 0.70710678, 0, 0, 0.70710678]
+COPY_SCALES = [1, 1, 1, 0.5, 0.5, 0.5, 1, 2, -1]
+COPIES_BIN = (struct.pack("<9f", *COPY_TRANSLATIONS) + struct.pack("<12f", *COPY_ROTATIONS)
+              + struct.pack("<9f", *COPY_SCALES))
+
+
+def instanced_document():
+    doc = document(data_uri_of(BIN))
+    doc["extensionsUsed"] = ["EXT_mesh_gpu_instancing"]
+    doc["scenes"] = [{"nodes": [0, 2, 3, 4]}]
+    doc["nodes"] = [
+        {"translation": TRANSLATION, "rotation": ROTATION, "children": [1]},
+        {"scale": SCALE, "mesh": 0},
+        {"translation": [-3, 0, 0], "scale": [-1, 1, 1], "mesh": 0},
+        {"translation": [0, -4, 0], "mesh": 0,
+         "extensions": {"EXT_mesh_gpu_instancing": {
+             "attributes": {"TRANSLATION": 3, "ROTATION": 4, "SCALE": 5}}}},
+        {"translation": [5, 0, 0], "mesh": 1},
+    ]
+    doc["meshes"].append({"primitives": doc["meshes"][0]["primitives"]})
+    doc["buffers"].append({"byteLength": len(COPIES_BIN), "uri": data_uri_of(COPIES_BIN)})
+    doc["bufferViews"] += [
+        {"buffer": 1, "byteOffset": 0, "byteLength": 36},
+        {"buffer": 1, "byteOffset": 36, "byteLength": 48},
+        {"buffer": 1, "byteOffset": 84, "byteLength": 36},
+    ]
+    doc["accessors"] += [
+        {"bufferView": 3, "componentType": 5126, "count": 3, "type": "VEC3"},
+        {"bufferView": 4, "componentType": 5126, "count": 3, "type": "VEC4"},
+        {"bufferView": 5, "componentType": 5126, "count": 3, "type": "VEC3"},
+    ]
+    return doc
+
+
 def pad(data, fill):
     return data + fill * ((4 - len(data) % 4) % 4)
 
@@ -268,6 +309,8 @@ def main():
     for kind in ("i16", "u8"):
         with open(f"tetra_quantized_{kind}.gltf", "w") as f:
             json.dump(quantized_document(kind), f)
+    with open("instanced.gltf", "w") as f:
+        json.dump(instanced_document(), f)
     with open("requires_basisu.gltf", "w") as f:
         json.dump(required_document(), f)
     with open("gltf1.gltf", "w") as f:

@@ -21,6 +21,7 @@ pub mod layout;
 pub mod prepare;
 pub mod random_scene;
 pub mod scene;
+pub mod two_level;
 
 /// The fuzz targets' entry points (`fuzz/`, `crates/kdray-core/tests/fuzz_regressions.rs`).
 #[cfg(feature = "test-support")]

@@ -65,7 +65,10 @@ impl PreparedScene {
     }
 
     /// [`PreparedScene::new`] with the k-d tree built by `strategy`.
+    /// Instances are flattened first ([`Scene::flatten_instances`]): the
+    /// kernels walk one tree over world-space triangles.
     pub fn built_by(scene: Scene, accel: Accel, strategy: BuildStrategy) -> PreparedScene {
+        let scene = scene.flattened();
         let prims = Primitives::from_scene(&scene);
         let started = Instant::now();
         let tree = match accel {
@@ -87,7 +90,10 @@ impl PreparedScene {
 
     /// `scene` with a tree built elsewhere over its objects (property
     /// tests choose the build's parameters), for [`Accel::Kdtree`].
+    /// `scene`'s instances are flattened first, as the tree's objects must
+    /// be.
     pub fn with_tree(scene: Scene, tree: KdTree) -> PreparedScene {
+        let scene = scene.flattened();
         let prims = Primitives::from_scene(&scene);
         Self::assemble(
             scene,

@@ -287,6 +287,8 @@ pub fn random_scene(spec: &RandomSceneSpec) -> Scene {
         triangle_tangents: Vec::new(),
         textures: Vec::new(),
         animation: None,
+        shapes: Vec::new(),
+        instances: Vec::new(),
     }
 }
 

@@ -151,6 +151,24 @@ pub struct Mesh {
     /// glTF: the `KHR_lights_punctual` lights the node walk meets, in the
     /// file's coordinates.
     pub lights: Vec<super::light::Light>,
+    /// glTF read with instancing: each mesh that several nodes place, or
+    /// that a node places by `EXT_mesh_gpu_instancing`, once in its own
+    /// space, with the transform of each copy; their triangles are not in
+    /// `triangles`. Empty when read without instancing (the copies are
+    /// then in `triangles`, each placed).
+    pub instanced: Vec<InstancedMesh>,
+}
+
+/// A mesh of a glTF file placed several times: its vertices, normals and
+/// triangles in its own space (its triangles' materials index the
+/// materials of the [`Mesh`] that holds it; its own are empty), and the
+/// transform from its space to the file's of each copy.
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct InstancedMesh {
+    /// The glTF mesh's index.
+    pub index: usize,
+    pub mesh: Mesh,
+    pub transforms: Vec<glam::DAffine3>,
 }
 
 impl Mesh {

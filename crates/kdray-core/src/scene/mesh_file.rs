@@ -36,6 +36,18 @@ pub fn load_mesh(
     with_materials: bool,
     on_read: &mut dyn FnMut(&Path),
 ) -> Result<Mesh, SceneError> {
+    load_mesh_with(path, with_materials, false, on_read)
+}
+
+/// [`load_mesh`]; with `instancing`, a glTF file's meshes placed several
+/// times are read once into [`Mesh::instanced`]
+/// ([`load_gltf_with`](super::gltf::load_gltf_with)).
+pub fn load_mesh_with(
+    path: &Path,
+    with_materials: bool,
+    instancing: bool,
+    on_read: &mut dyn FnMut(&Path),
+) -> Result<Mesh, SceneError> {
     let Some(format) = MeshFormat::of_path(path) else {
         on_read(path);
         let message = match path.extension() {
@@ -49,6 +61,6 @@ pub fn load_mesh(
     };
     match format {
         MeshFormat::Obj => super::obj::load_obj_observed(path, with_materials, on_read),
-        MeshFormat::Gltf => super::gltf::load_gltf(path, with_materials, on_read),
+        MeshFormat::Gltf => super::gltf::load_gltf_with(path, with_materials, instancing, on_read),
     }
 }

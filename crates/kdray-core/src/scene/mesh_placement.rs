@@ -7,7 +7,7 @@
 
 use std::path::Path;
 
-use glam::{DMat3, DVec3, DVec4};
+use glam::{DAffine3, DMat3, DVec3, DVec4};
 use rayon::prelude::*;
 
 use super::error::SceneError;
@@ -26,6 +26,11 @@ use super::validate::{Validator, MAX_COORDINATE};
 pub(super) struct Placed {
     pub camera: Option<super::camera::Camera>,
     pub lights: Vec<super::light::Light>,
+    /// glTF: the meshes it places several times, each once in its own
+    /// space, and their copies (each instance's `shape` an index into
+    /// these `shapes`), moved by the entry.
+    pub shapes: Vec<super::instances::Shape>,
+    pub instances: Vec<super::instances::Instance>,
 }
 
 impl Validator<'_> {
@@ -45,16 +50,18 @@ impl Validator<'_> {
         let (transform, translate) = self.entry_transform(i, m)?;
 
         let mesh_path = self.file.parent().unwrap_or(Path::new("")).join(&m.path);
-        let mesh = self.load_entry_mesh(i, &mesh_path, override_material.is_none())?;
-        let placed = Placed {
+        let mut mesh =
+            self.load_entry_mesh(&key("path"), &mesh_path, override_material.is_none(), true)?;
+        let mut placed = Placed {
             camera: mesh.camera,
             lights: mesh.lights.clone(),
+            ..Placed::default()
         };
 
         let first_material = materials.len() as u32;
         if override_material.is_none() {
             self.add_mesh_materials(
-                i,
+                &key("path"),
                 &m.path,
                 &mesh_path,
                 &mesh,
@@ -62,69 +69,96 @@ impl Validator<'_> {
                 &mut parts.textures,
             )?;
         }
-        let records = SurfaceRecords {
+        let world = self.place(&key("scale"), &mesh, transform, translate)?;
+        let placement = Placement {
             mesh: &mesh,
             transform,
-            mirror: transform.determinant().signum(),
-            with_materials: override_material.is_none(),
+            smooth: m.smooth,
+            override_material,
+            first_material,
         };
-        let world = self.place(i, &mesh, transform, translate)?;
-        let shading = MeshNormals::new(m.smooth, &mesh, &world, transform);
-        let material_of = |t: &MeshTriangle| match (override_material, t.material()) {
-            (Some(m), _) => Some(m),
-            (None, Some(local)) => Some(first_material + local as u32),
-            (None, None) => None,
+        add_placed(&placement, world, materials, triangles, parts)
+            .map_err(|message| self.error(&key("path"), message))?;
+        let entry = DAffine3 {
+            matrix3: transform,
+            translation: translate,
         };
-        let first = triangles.len();
-        let world_mesh = WorldMesh {
-            mesh: &mesh,
-            world: &world,
-            shading: &shading,
-        };
-        if build_in_parallel(&world_mesh, material_of, triangles, &mut parts.normals) {
-            if records.any() {
-                for (triangle, t) in triangles[first..].iter_mut().zip(&mesh.triangles) {
-                    parts.add_record(triangle, records.of(t));
+        for instanced in std::mem::take(&mut mesh.instanced) {
+            let bounds = super::instances::mesh_bounds(&instanced.mesh);
+            let shape = placed.shapes.len() as u32;
+            for &copy in &instanced.transforms {
+                let transform = entry * copy;
+                let [lo, hi] = super::instances::transformed_box(&transform, &bounds);
+                let in_range = |v: DVec3| v.is_finite() && v.abs().max_element() <= MAX_COORDINATE;
+                if !(in_range(lo) && in_range(hi)) {
+                    return Err(self.error(
+                        &key("scale"),
+                        format!(
+                            "a copy of glTF mesh {} reaches beyond ±{MAX_COORDINATE:e} or out of the 64-bit floats (the GPU computes in f32)",
+                            instanced.index
+                        ),
+                    ));
                 }
+                placed.instances.push(super::instances::Instance {
+                    shape,
+                    transform,
+                    material: None,
+                });
             }
-        } else {
-            build_one_by_one(&world_mesh, material_of, &records, triangles, parts)
-                .map_err(|message| self.error(&key("path"), message))?;
+            placed.shapes.push(super::instances::Shape {
+                name: format!("{}#mesh{}", m.path, instanced.index),
+                mesh: std::sync::Arc::new(instanced.mesh),
+                smooth: m.smooth,
+                material: override_material,
+                first_material,
+                bounds,
+            });
         }
-        super::tangents::generate_missing(&triangles[first..], materials, parts);
-        crate::huge_pages::free_in_background((mesh, world, shading));
+        crate::huge_pages::free_in_background(mesh);
         Ok(placed)
     }
 
     /// Mesh entry `i`'s `scale` (non-zero on every axis) and `rotate`, as
     /// one matrix, and its `translate`.
     fn entry_transform(&self, i: usize, m: &RawMesh) -> Result<(DMat3, DVec3), SceneError> {
-        let key = |k: &str| format!("meshes[{i}].{k}");
-        let scale = match m.scale {
+        self.scale_rotate_translate(&format!("meshes[{i}]"), &m.scale, m.rotate, m.translate)
+    }
+
+    /// The `scale` (non-zero on every axis) and `rotate` of the table at
+    /// `table` (a key path), as one matrix, and its `translate`.
+    pub(super) fn scale_rotate_translate(
+        &self,
+        table: &str,
+        scale: &RawScale,
+        rotate: super::schema::Vec3,
+        translate: super::schema::Vec3,
+    ) -> Result<(DMat3, DVec3), SceneError> {
+        let key = |k: &str| format!("{table}.{k}");
+        let scale = match *scale {
             RawScale::Uniform(s) => DVec3::splat(self.number(&|| key("scale"), s)?),
             RawScale::PerAxis(v) => self.vector(&|| key("scale"), v)?,
         };
         if scale.abs().min_element() == 0.0 {
             return Err(self.error(&key("scale"), "must be non-zero on every axis"));
         }
-        let rotate = self.vector(&|| key("rotate"), m.rotate)?;
-        let translate = self.position(&|| key("translate"), m.translate)?;
+        let rotate = self.vector(&|| key("rotate"), rotate)?;
+        let translate = self.position(&|| key("translate"), translate)?;
         Ok((mesh_transform(scale, rotate), translate))
     }
 
     /// Mesh entry `i`'s file, loaded (with its materials when
     /// `with_materials`); its warnings handed to the scene's sink. A mesh
     /// file at fault as a whole is an error that also names the entry.
-    fn load_entry_mesh(
+    pub(super) fn load_entry_mesh(
         &self,
-        i: usize,
+        path_key: &str,
         mesh_path: &Path,
         with_materials: bool,
+        instancing: bool,
     ) -> Result<Mesh, SceneError> {
-        let key = |k: &str| format!("meshes[{i}].{k}");
         let mut mesh = {
             let mut on_read = self.on_read.borrow_mut();
-            mesh_file::load_mesh(mesh_path, with_materials, &mut **on_read)
+            mesh_file::load_mesh_with(mesh_path, with_materials, instancing, &mut **on_read)
         }
         .map_err(|e| {
             // A model opened on its own has no scene file to point at.
@@ -132,11 +166,11 @@ impl Validator<'_> {
                 return e;
             }
             // A mesh file at fault as a whole: also say which entry asked for it.
-            let at = match self.map.get().and_then(|m| m.line_of_path(&key("path"))) {
+            let at = match self.map.get().and_then(|m| m.line_of_path(path_key)) {
                 Some(line) => format!("{}:{line}", self.file.display()),
                 None => self.file.display().to_string(),
             };
-            let message = format!("{} (from {} in {at})", e.message, key("path"));
+            let message = format!("{} (from {path_key} in {at})", e.message);
             e.reworded(message)
         })?;
         for warning in std::mem::take(&mut mesh.warnings) {
@@ -148,16 +182,15 @@ impl Validator<'_> {
     /// The materials of mesh entry `i`'s file (`path` as the entry writes
     /// it), named `FILE:NAME`, appended to the scene's, and each image they
     /// use appended to `textures` once. A negative colour is an error.
-    fn add_mesh_materials(
+    pub(super) fn add_mesh_materials(
         &self,
-        i: usize,
+        path_key: &str,
         path: &str,
         mesh_path: &Path,
         mesh: &Mesh,
         materials: &mut Vec<Material>,
         textures: &mut Vec<Texture>,
     ) -> Result<(), SceneError> {
-        let key = |k: &str| format!("meshes[{i}].{k}");
         let file_name = Path::new(path)
             .file_name()
             .map_or(path.to_string(), |f| f.to_string_lossy().into_owned());
@@ -171,7 +204,7 @@ impl Validator<'_> {
                     _ => ("MTL", *statement),
                 };
                 return Err(self.error(
-                    &key("path"),
+                    path_key,
                     format!(
                         "{kind} material \"{}\" has a negative {what} colour {:?}; colour components must be >= 0",
                         mm.name,
@@ -220,7 +253,7 @@ impl Validator<'_> {
     /// triangle uses it (an OBJ file may define vertices no face uses).
     fn place(
         &self,
-        i: usize,
+        scale_key: &str,
         mesh: &Mesh,
         transform: DMat3,
         translate: DVec3,
@@ -240,13 +273,71 @@ impl Validator<'_> {
             });
             if uses_one_out_of_range {
                 return Err(self.error(
-                    &format!("meshes[{i}].scale"),
+                    scale_key,
                     "the transformed mesh has a non-finite vertex, or one beyond ±1e15 (the GPU computes in f32)",
                 ));
             }
         }
         Ok(world)
     }
+}
+
+/// A mesh in its own space and how it is placed: by `transform` (its
+/// vertices already carried by it and a translation, in `add_placed`'s
+/// `world`), shaded as `smooth` says (`[[meshes]]`' key), every triangle
+/// of material `override_material` or else of its file's material, which
+/// lie in the scene's materials from `first_material` on.
+pub(super) struct Placement<'a> {
+    pub(super) mesh: &'a Mesh,
+    pub(super) transform: DMat3,
+    pub(super) smooth: Option<bool>,
+    pub(super) override_material: Option<u32>,
+    pub(super) first_material: u32,
+}
+
+/// Appends the triangles of `p` placed at `world` (its vertices in world
+/// space) to `triangles`, with their normals, texture coordinates, colours
+/// and tangents in `parts`: what a `[[meshes]]` entry and a flattened
+/// instance both do. The fault of a mesh no reader writes (an index out of
+/// range, a face without a material) is the error.
+pub(super) fn add_placed(
+    p: &Placement,
+    world: Vec<DVec3>,
+    materials: &[Material],
+    triangles: &mut Vec<Triangle>,
+    parts: &mut TriangleParts,
+) -> Result<(), &'static str> {
+    let mesh = p.mesh;
+    let records = SurfaceRecords {
+        mesh,
+        transform: p.transform,
+        mirror: p.transform.determinant().signum(),
+        with_materials: p.override_material.is_none(),
+    };
+    let shading = MeshNormals::new(p.smooth, mesh, &world, p.transform);
+    let material_of = |t: &MeshTriangle| match (p.override_material, t.material()) {
+        (Some(m), _) => Some(m),
+        (None, Some(local)) => Some(p.first_material + local as u32),
+        (None, None) => None,
+    };
+    let first = triangles.len();
+    let world_mesh = WorldMesh {
+        mesh,
+        world: &world,
+        shading: &shading,
+    };
+    if build_in_parallel(&world_mesh, material_of, triangles, &mut parts.normals) {
+        if records.any() {
+            for (triangle, t) in triangles[first..].iter_mut().zip(&mesh.triangles) {
+                parts.add_record(triangle, records.of(t));
+            }
+        }
+    } else {
+        build_one_by_one(&world_mesh, material_of, &records, triangles, parts)?;
+    }
+    super::tangents::generate_missing(&triangles[first..], materials, parts);
+    crate::huge_pages::free_in_background((world, shading));
+    Ok(())
 }
 
 /// A mesh file's triangles ready to be built: the file, its vertices in

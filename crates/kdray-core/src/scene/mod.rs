@@ -7,7 +7,9 @@
 //! with the lines of `source_map`) -> `validate` (every rule, into a
 //! `Scene`) -> `mesh_placement` (each `[[meshes]]` entry read through
 //! `mesh_file` by `obj` or `gltf` into a `mesh::Mesh`, then placed in the
-//! world). `write` turns a `Scene` back into scene file text, and
+//! world; each `[shapes.NAME]` loaded once and kept in its own space, and
+//! its `[[instances]]` kept as transforms, by `validate_instances`, until
+//! `instances` flattens them). `write` turns a `Scene` back into scene file text, and
 //! `animation` gives the camera and lights at each frame of an
 //! `[animation]`.
 //!
@@ -23,6 +25,7 @@ pub mod environment;
 mod error;
 pub mod gltf;
 mod input_file;
+mod instances;
 mod integrator;
 mod light;
 mod light_kind;
@@ -41,12 +44,14 @@ mod physical_keys_tests;
 mod render_settings;
 mod scene_format;
 mod schema;
+mod schema_instances;
 mod source_map;
 pub mod tangents;
 pub mod texture;
 mod triangle_parts;
 mod validate;
 mod validate_animation;
+mod validate_instances;
 mod validate_light;
 mod validated_scene;
 mod warning;
@@ -59,6 +64,7 @@ pub use camera_basis::CameraBasis;
 pub use environment::EnvironmentMap;
 pub use error::SceneError;
 pub use input_file::MAX_INPUT_BYTES;
+pub use instances::{transformed_box, Instance, Shape, MAX_FLATTENED_OBJECTS};
 pub use integrator::{Integrator, ToneMap};
 pub use light::Light;
 pub use light_kind::{spot_factor, LightKind};

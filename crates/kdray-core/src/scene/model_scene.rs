@@ -128,7 +128,14 @@ pub fn model_scene_viewed(
     let placed = validator.mesh(0, &raw, None, &mut materials, &mut triangles, &mut parts)?;
     parts.finish();
 
-    let (min, max) = bounds(&triangles);
+    let (mut min, mut max) = bounds(&triangles);
+    // The copies of a mesh placed several times frame the view too.
+    for i in &placed.instances {
+        if let Some(shape) = placed.shapes.get(i.shape as usize) {
+            let [lo, hi] = super::instances::transformed_box(&i.transform, &shape.bounds);
+            (min, max) = (min.min(lo), max.max(hi));
+        }
+    }
     let (width, height) = MODEL_IMAGE;
     let ground_material = materials.len() as u32;
     materials.push(ground());
@@ -168,6 +175,8 @@ pub fn model_scene_viewed(
         triangle_colours: parts.colours,
         triangle_tangents: parts.tangents,
         textures: parts.textures,
+        shapes: placed.shapes,
+        instances: placed.instances,
     })
 }
 

@@ -86,7 +86,7 @@ macro_rules! described {
 }
 
 described! {
-    RawScene => "a scene (a table of [camera], [render], [[lights]], [materials], [[spheres]], [[triangles]], [[meshes]], [animation], [environment])",
+    RawScene => "a scene (a table of [camera], [render], [[lights]], [materials], [[spheres]], [[triangles]], [[meshes]], [shapes], [[instances]], [animation], [environment])",
     RawCamera => "a [camera] table",
     RawRender => "a [render] table",
     RawLight => "a [[lights]] table",
@@ -149,6 +149,15 @@ pub(super) struct RawScene {
     pub(super) triangles: Vec<TableOf<RawTriangle>>,
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub(super) meshes: Vec<TableOf<RawMesh>>,
+    /// `[shapes.NAME]`: meshes declared once, placed by `[[instances]]`.
+    #[serde(
+        default,
+        deserialize_with = "super::schema_instances::unique_shape_names",
+        skip_serializing_if = "BTreeMap::is_empty"
+    )]
+    pub(super) shapes: BTreeMap<String, TableOf<super::schema_instances::RawShape>>,
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub(super) instances: Vec<TableOf<super::schema_instances::RawInstance>>,
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub(super) animation: Option<TableOf<RawAnimation>>,
     #[serde(default, skip_serializing_if = "Option::is_none")]
@@ -495,18 +504,31 @@ where
     D: Deserializer<'de>,
     V: Deserialize<'de>,
 {
-    struct MapVisitor<V>(PhantomData<V>);
+    unique_names_of(deserializer, "material")
+}
+
+/// [`unique_names`] for a table of named `what`s.
+pub(super) fn unique_names_of<'de, D, V>(
+    deserializer: D,
+    what: &'static str,
+) -> Result<BTreeMap<String, V>, D::Error>
+where
+    D: Deserializer<'de>,
+    V: Deserialize<'de>,
+{
+    struct MapVisitor<V>(PhantomData<V>, &'static str);
     impl<'de, V: Deserialize<'de>> Visitor<'de> for MapVisitor<V> {
         type Value = BTreeMap<String, V>;
         fn expecting(&self, f: &mut fmt::Formatter) -> fmt::Result {
-            f.write_str("a table of named materials")
+            write!(f, "a table of named {}s", self.1)
         }
         fn visit_map<A: MapAccess<'de>>(self, mut map: A) -> Result<Self::Value, A::Error> {
             let mut out = BTreeMap::new();
             while let Some(name) = map.next_key::<String>()? {
                 if out.contains_key(&name) {
                     return Err(de::Error::custom(format!(
-                        "material \"{name}\" is defined twice"
+                        "{} \"{name}\" is defined twice",
+                        self.1
                     )));
                 }
                 let value = map.next_value()?;
@@ -515,7 +537,7 @@ where
             Ok(out)
         }
     }
-    deserializer.deserialize_map(MapVisitor(PhantomData))
+    deserializer.deserialize_map(MapVisitor(PhantomData, what))
 }
 
 impl Default for RawScale {

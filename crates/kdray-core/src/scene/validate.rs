@@ -112,7 +112,7 @@ impl Validator<'_> {
 
     /// The whole file, checked in the order its errors are reported:
     /// camera, render, sky, animation, lights, materials, spheres,
-    /// triangles, meshes.
+    /// triangles, meshes, shapes, instances.
     pub(super) fn scene(&self, raw: RawScene) -> Result<Scene, SceneError> {
         let camera = self.camera(&raw.camera)?;
         let mut render = self.render(&raw.render)?;
@@ -176,6 +176,8 @@ impl Validator<'_> {
         let mut triangles = self.triangles(&raw, &material_index)?;
 
         let mut parts = super::triangle_parts::TriangleParts::default();
+        let mut shapes = Vec::new();
+        let mut instances = Vec::new();
         for (i, m) in raw.meshes.iter().enumerate() {
             let override_material = match &m.material {
                 Some(name) => Some(self.material_named(
@@ -185,7 +187,7 @@ impl Validator<'_> {
                 )?),
                 None => None,
             };
-            self.mesh(
+            let placed = self.mesh(
                 i,
                 m,
                 override_material,
@@ -193,8 +195,13 @@ impl Validator<'_> {
                 &mut triangles,
                 &mut parts,
             )?;
+            add_shapes(&mut shapes, &mut instances, placed.shapes, placed.instances);
         }
+        let declared = self.shapes(&raw, &material_index, &mut materials, &mut parts)?;
+        let declared_instances = self.instances(&raw, &declared, &material_index)?;
+        add_shapes(&mut shapes, &mut instances, declared, declared_instances);
         parts.finish();
+        self.flattened_size(spheres.len() + triangles.len(), &shapes, &instances)?;
 
         Ok(Scene {
             camera,
@@ -211,6 +218,8 @@ impl Validator<'_> {
             triangle_tangents: parts.tangents,
             textures: parts.textures,
             animation,
+            shapes,
+            instances,
         })
     }
 
@@ -247,7 +256,7 @@ impl Validator<'_> {
     /// The index of the material `name` (the value of `key`) in
     /// `material_index` (the scene's materials' indices by name); for an
     /// unknown name, an error listing the defined ones.
-    fn material_named(
+    pub(super) fn material_named(
         &self,
         material_index: &BTreeMap<String, u32>,
         key: KeyPath,
@@ -567,6 +576,22 @@ impl Validator<'_> {
             },
         ))
     }
+}
+
+/// Appends `more` shapes and their instances (whose `shape` indexes
+/// `more`) to the scene's.
+pub(super) fn add_shapes(
+    shapes: &mut Vec<super::instances::Shape>,
+    instances: &mut Vec<super::instances::Instance>,
+    more: Vec<super::instances::Shape>,
+    more_instances: Vec<super::instances::Instance>,
+) {
+    let first = shapes.len() as u32;
+    shapes.extend(more);
+    instances.extend(more_instances.into_iter().map(|mut i| {
+        i.shape += first;
+        i
+    }));
 }
 
 /// Whether `up` is zero or parallel to the unit view direction `forward`:

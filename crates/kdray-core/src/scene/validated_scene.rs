@@ -6,6 +6,7 @@ use glam::{DVec2, DVec3, DVec4};
 use super::animation::{Animation, CameraPath, Frame, FramePath};
 use super::camera::Camera;
 use super::environment::EnvironmentMap;
+use super::instances::{Instance, Shape};
 use super::light::Light;
 use super::material::Material;
 use super::objects::{Sphere, Triangle};
@@ -57,6 +58,14 @@ pub struct Scene {
     /// frame to frame ([`Scene::frame`]); `camera` and `lights` are its
     /// frame 0 unless a key says otherwise.
     pub animation: Option<Animation>,
+    /// `[shapes.NAME]`: the meshes that instances place, each once, in its
+    /// own space (in name order).
+    pub shapes: Vec<Shape>,
+    /// `[[instances]]`: shapes placed by a transform. Their triangles are
+    /// not in `triangles` (nor counted by [`Scene::object_count`]) until
+    /// [`Scene::flatten_instances`] places them there, as every renderer's
+    /// preparation does.
+    pub instances: Vec<Instance>,
 }
 
 impl Scene {

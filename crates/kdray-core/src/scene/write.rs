@@ -28,6 +28,10 @@ use super::validated_scene::Scene;
 /// mesh files a scene was loaded from are not named (their triangles are
 /// written out). Written through the same serde types the reader uses.
 pub fn scene_text(scene: &Scene, format: SceneFormat) -> Result<String, String> {
+    if !scene.instances.is_empty() || !scene.shapes.is_empty() {
+        // Instances are written as the triangles they place.
+        return scene_text(&scene.clone().flattened(), format);
+    }
     let materials = raw_materials(&scene.materials)?;
     let name = |i: u32| {
         scene
@@ -67,6 +71,8 @@ pub fn scene_text(scene: &Scene, format: SceneFormat) -> Result<String, String> 
             })
             .collect::<Result<_, String>>()?,
         meshes: Vec::new(),
+        shapes: Default::default(),
+        instances: Vec::new(),
         animation: scene.animation.as_ref().map(|a| TableOf(raw_animation(a))),
     };
     encode(&raw, format)

@@ -14,6 +14,7 @@ mod common;
 
 mod alpha;
 mod build;
+mod instances;
 mod walks;
 
 use kdray_core::geometry::{Primitives, Ray, T_INFINITY};

@@ -45,6 +45,7 @@ mod buffers;
 mod draco;
 mod extensions;
 mod images;
+mod instancing;
 mod meshopt;
 mod placed;
 mod texture_transform;
@@ -63,11 +64,23 @@ pub fn load_gltf(
     with_materials: bool,
     on_read: &mut dyn FnMut(&Path),
 ) -> Result<Mesh, SceneError> {
+    load_gltf_with(path, with_materials, false, on_read)
+}
+
+/// [`load_gltf`], with `instancing`: each mesh placed several times (by
+/// several nodes, or by `EXT_mesh_gpu_instancing`) read once into
+/// [`Mesh::instanced`] instead of placed copy by copy.
+pub fn load_gltf_with(
+    path: &Path,
+    with_materials: bool,
+    instancing: bool,
+    on_read: &mut dyn FnMut(&Path),
+) -> Result<Mesh, SceneError> {
     on_read(path);
     let bytes = crate::scene::input_file::read_input_file(path).map_err(|e| {
         SceneError::new(path, None, None, format!("cannot read glTF file: {e}")).with_source(e)
     })?;
-    parse_gltf(&bytes, path, with_materials, &mut |uri_path| {
+    parse_gltf_with(&bytes, path, with_materials, instancing, &mut |uri_path| {
         on_read(uri_path);
         crate::scene::input_file::read_input_file(uri_path)
     })
@@ -80,6 +93,17 @@ pub fn parse_gltf(
     bytes: &[u8],
     path: &Path,
     with_materials: bool,
+    read_buffer: &mut dyn FnMut(&Path) -> std::io::Result<Vec<u8>>,
+) -> Result<Mesh, SceneError> {
+    parse_gltf_with(bytes, path, with_materials, false, read_buffer)
+}
+
+/// [`parse_gltf`], with instancing as [`load_gltf_with`] says.
+pub fn parse_gltf_with(
+    bytes: &[u8],
+    path: &Path,
+    with_materials: bool,
+    instancing: bool,
     read_buffer: &mut dyn FnMut(&Path) -> std::io::Result<Vec<u8>>,
 ) -> Result<Mesh, SceneError> {
     let err = |message: String| SceneError::new(path, None, None, message);
@@ -119,6 +143,8 @@ pub fn parse_gltf(
         mesh: Mesh::default(),
         material_of: HashMap::new(),
         triangles_seen: 0,
+        instancing,
+        uses: instancing::mesh_uses(document, &scene),
     };
     let orthographic_cameras = reader.place_nodes(&scene).map_err(err)?;
     let mut mesh = reader.mesh;
@@ -132,7 +158,11 @@ pub fn parse_gltf(
             ),
         ));
     }
-    if mesh.triangles.is_empty() {
+    let instanced_triangles = mesh
+        .instanced
+        .iter()
+        .any(|i| !i.mesh.triangles.is_empty() && !i.transforms.is_empty());
+    if mesh.triangles.is_empty() && !instanced_triangles {
         return Err(err(if reader.triangles_seen == 0 {
             "no triangles: the scene's nodes place no mesh with triangles, so it would draw nothing"
                 .to_string()
@@ -282,6 +312,11 @@ struct Reader<'a, 'r> {
     material_of: HashMap<Option<usize>, usize>,
     /// Triangles read, zero-area ones included.
     triangles_seen: usize,
+    /// Whether meshes placed several times go to `Mesh::instanced`.
+    instancing: bool,
+    /// The copies of each mesh the scene's nodes place
+    /// (`instancing::mesh_uses`).
+    uses: Vec<usize>,
 }
 
 /// One primitive's vertices as the file gives them, before placement.
@@ -303,6 +338,7 @@ impl Reader<'_, '_> {
     fn place_nodes(&mut self, scene: &gltf::Scene) -> Result<usize, String> {
         let mut visited = vec![false; self.document.nodes().count()];
         let mut orthographic_cameras = 0usize;
+        let mut instanced_of = HashMap::new();
         let mut stack: Vec<(gltf::Node, DMat4)> =
             scene.nodes().map(|n| (n, DMat4::IDENTITY)).collect();
         stack.reverse();
@@ -321,7 +357,16 @@ impl Reader<'_, '_> {
                 ));
             }
             if let Some(mesh) = node.mesh() {
-                self.mesh(&mesh, world)?;
+                let copies = self.gpu_instances(&node)?;
+                let several = self.uses.get(mesh.index()).is_some_and(|&n| n > 1);
+                match copies {
+                    Some(copies) => {
+                        let worlds = copies.into_iter().map(|c| world * c).collect();
+                        self.place_copies(&mesh, worlds, &mut instanced_of)?;
+                    }
+                    None if several => self.place_copies(&mesh, vec![world], &mut instanced_of)?,
+                    None => self.mesh(&mesh, world)?,
+                }
             }
             if let Some(light) = node.light() {
                 let light = placed::punctual_light(&light, index, world)?;

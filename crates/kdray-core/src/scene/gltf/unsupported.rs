@@ -41,7 +41,8 @@ pub(super) fn is_gltf_1(bytes: &[u8]) -> bool {
 /// material's transmission, ior, emission and the medium inside it), punctual lights, texture
 /// transforms (texture_transform.rs), quantized and compressed geometry
 /// (`accessors`, `meshopt`, `draco`) and WebP textures (`images`).
-pub(super) const SUPPORTED_EXTENSIONS: [&str; 10] = [
+pub(super) const SUPPORTED_EXTENSIONS: [&str; 11] = [
+    "EXT_mesh_gpu_instancing",
     "KHR_materials_transmission",
     "KHR_materials_ior",
     "KHR_materials_emissive_strength",

@@ -98,6 +98,7 @@ pub(super) fn parse(text: &[u8], threads: usize, materials: Option<MaterialFiles
         warnings: Vec::new(),
         camera: None,
         lights: Vec::new(),
+        instanced: Vec::new(),
     };
     let parsed: Vec<_> = chunks
         .into_iter()
