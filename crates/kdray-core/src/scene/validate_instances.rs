@@ -16,7 +16,7 @@ use super::instances::{mesh_bounds, transformed_box, Instance, Shape, MAX_FLATTE
 use super::material::Material;
 use super::mesh::{has_area, Mesh, MeshTriangle, NO_INDEX};
 use super::schema::RawScene;
-use super::schema_instances::{RawInstance, RawMatrix, RawShape};
+use super::schema::{RawInstance, RawMatrix, RawShape};
 use super::triangle_parts::TriangleParts;
 use super::validate::{Validator, MAX_COORDINATE};
 
