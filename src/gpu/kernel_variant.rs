@@ -1,8 +1,9 @@
 //! What one trace pipeline is specialised for: the scene's layout and kinds
 //! of object, material (glass or none, textured or not) and light, the
 //! accel and the k-d walk, and whether the frame counts the walks' work,
-//! set as the kernel's pipeline-overridable constants (shaders/variant.wgsl),
-//! so that each pipeline holds only the code its frames can reach.
+//! set as the kernel's pipeline-overridable constants (shaders/variant.wgsl)
+//! and folded on the host (gpu/specialise.rs), so that each pipeline holds
+//! only the code its frames can reach.
 //!
 //! Why: llvmpipe (lavapipe, Mesa 22.3) runs a branch of an 8-lane SIMD group
 //! by masking its lanes, not by jumping over it, so every instruction

@@ -56,6 +56,7 @@ mod render_summary;
 pub mod renderer;
 pub mod scene_buffers;
 pub mod shaders;
+pub mod specialise;
 mod tile_buffers;
 mod tile_plan;
 mod trace_pipelines;

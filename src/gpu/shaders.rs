@@ -99,7 +99,33 @@ pub const STANDALONE_SHADERS: [(&str, &str); 2] = [
     ("overlay.wgsl", OVERLAY_FILE),
 ];
 
-/// The trace kernel as a shader module on `device`.
+/// The kernel holding `entry` as naga reads it, with its validation: the
+/// inspect kernel for `inspect_pixel`, else the trace kernel, with `chunks`
+/// bindings per split array and each of `omitted` a private placeholder
+/// ([`trace_source_without`]; none for the full kernel).
+/// [`specialised_module`] makes each variant's module of it.
+pub fn kernel_ir(
+    entry: bindings::EntryPoint,
+    chunks: SceneChunks,
+    omitted: &[bindings::Binding],
+) -> Result<(naga::Module, naga::valid::ModuleInfo), String> {
+    let source = match entry == bindings::INSPECT_PIXEL {
+        true => inspect_source_without(chunks, omitted),
+        false => trace_source_without(chunks, omitted),
+    };
+    let module = naga::front::wgsl::parse_str(&source).map_err(|e| e.emit_to_string(&source))?;
+    let info = naga::valid::Validator::new(
+        naga::valid::ValidationFlags::all(),
+        naga::valid::Capabilities::all(),
+    )
+    .validate(&module)
+    .map_err(|e| e.emit_to_string(&source))?;
+    Ok((module, info))
+}
+
+/// The module of `kernel` ([`kernel_ir`]) for the entry point `entry`,
+/// specialised for `constants` (its overrides' values; gpu/specialise.rs
+/// folds away the code they rule out), as a shader module on `device`.
 ///
 /// naga's bounds checks stay on: buffer indices come from the scene's
 /// buffers, and a wrong one must not read outside them. Its forced loop
@@ -114,31 +140,24 @@ pub const STANDALONE_SHADERS: [(&str, &str); 2] = [
 /// loops run over counts;
 /// the reflection loop over `max_depth`. The counters cost 6-10% of the
 /// frame on lavapipe (docs/benchmarks.md).
-///
-/// `chunks` bindings per split array; each of `omitted` a private
-/// placeholder ([`trace_source_without`]; none for the full kernel).
-pub fn trace_module(
+pub fn specialised_module(
     device: &wgpu::Device,
-    chunks: SceneChunks,
-    omitted: &[bindings::Binding],
-) -> wgpu::ShaderModule {
-    kernel_module(device, bindings::RENDER_TILE, chunks, omitted)
-}
-
-/// The module holding `entry`: the inspect kernel for `inspect_pixel`,
-/// else the trace kernel ([`trace_module`], whose loop bounds it shares).
-pub fn kernel_module(
-    device: &wgpu::Device,
-    entry: bindings::EntryPoint,
-    chunks: SceneChunks,
-    omitted: &[bindings::Binding],
-) -> wgpu::ShaderModule {
-    let (label, source) = match entry == bindings::INSPECT_PIXEL {
-        true => ("inspect", inspect_source_without(chunks, omitted)),
-        false => ("trace", trace_source_without(chunks, omitted)),
+    kernel: &(naga::Module, naga::valid::ModuleInfo),
+    entry: &str,
+    constants: &[(&str, f64)],
+) -> Result<wgpu::ShaderModule, String> {
+    let module = super::specialise::specialise(&kernel.0, &kernel.1, entry, constants)?;
+    let desc = wgpu::ShaderModuleDescriptor {
+        label: Some(entry),
+        source: wgpu::ShaderSource::Naga(std::borrow::Cow::Owned(module)),
     };
-    // Every loop of the kernel terminates on its own (above).
-    module_without_loop_bounds(device, label, &source)
+    let checks = wgpu::ShaderRuntimeChecks {
+        force_loop_bounding: false,
+        ..wgpu::ShaderRuntimeChecks::checked()
+    };
+    // SAFETY: only the loop bounds are off, and every loop of the kernel
+    // ends on its own (above).
+    Ok(unsafe { device.create_shader_module_trusted(desc, checks) })
 }
 
 /// `source` as a module with naga's bounds checks on and its forced loop

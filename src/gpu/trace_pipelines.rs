@@ -49,7 +49,9 @@ pub struct TracePipelines {
 /// The kernel's module with some optional bindings left out, and the bind
 /// group layout of the entry point's other bindings.
 struct Kernel {
-    module: wgpu::ShaderModule,
+    /// The kernel as naga reads it, each variant's module specialised from
+    /// it (gpu/specialise.rs).
+    ir: (naga::Module, naga::valid::ModuleInfo),
     layout: wgpu::BindGroupLayout,
     /// The binding numbers left out (sorted): the key of its bind groups.
     omitted: Vec<u32>,
@@ -171,13 +173,15 @@ impl TracePipelines {
                 )));
             }
             let what = format!("creating the {} pipeline", self.entry.name);
+            let ir =
+                super::shaders::kernel_ir(self.entry, self.chunks, omitted).map_err(Error::Gpu)?;
             let kernel = ctx.checked(&what, |device| {
                 let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
                     label: Some(self.entry.name),
                     entries: &bindings::layout_entries(&bound, wgpu::ShaderStages::COMPUTE),
                 });
                 Kernel {
-                    module: super::shaders::kernel_module(device, self.entry, self.chunks, omitted),
+                    ir,
                     layout,
                     omitted: key,
                 }
@@ -289,7 +293,7 @@ impl TracePipelines {
             let cache = ctx.pipeline_cache.as_ref();
             let pipeline = ctx.checked("creating a trace pipeline", |device| {
                 self.pipeline(device, &kernel, variant, cache.map(|c| c.cache()))
-            })?;
+            })??;
             if let Some(cache) = cache {
                 cache.save();
             }
@@ -306,24 +310,27 @@ impl TracePipelines {
         kernel: &Kernel,
         variant: KernelVariant,
         cache: Option<&wgpu::PipelineCache>,
-    ) -> wgpu::ComputePipeline {
+    ) -> Result<wgpu::ComputePipeline> {
         let name = self.entry.name;
+        let module =
+            super::shaders::specialised_module(device, &kernel.ir, name, &variant.constants())
+                .map_err(Error::Gpu)?;
         let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
             label: Some(name),
             bind_group_layouts: &[Some(&kernel.layout)],
             immediate_size: 0,
         });
-        device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
-            label: Some(name),
-            layout: Some(&pipeline_layout),
-            module: &kernel.module,
-            entry_point: Some(name),
-            compilation_options: wgpu::PipelineCompilationOptions {
-                constants: &variant.constants(),
-                ..Default::default()
-            },
-            cache,
-        })
+        Ok(
+            device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+                label: Some(name),
+                layout: Some(&pipeline_layout),
+                module: &module,
+                entry_point: Some(name),
+                // The overrides are applied on the host (gpu/specialise.rs).
+                compilation_options: Default::default(),
+                cache,
+            }),
+        )
     }
 
     /// Whether each variant binds only what it reads (the device has too
