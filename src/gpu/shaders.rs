@@ -124,8 +124,9 @@ pub fn kernel_ir(
 }
 
 /// The module of `kernel` ([`kernel_ir`]) for the entry point `entry`,
-/// specialised for `constants` (its overrides' values; gpu/specialise.rs
-/// folds away the code they rule out), as a shader module on `device`.
+/// specialised for `constants` (its overrides' values; with
+/// `fold_branches`, gpu/specialise.rs folds away the code they rule out),
+/// as a shader module on `device`.
 ///
 /// naga's bounds checks stay on: buffer indices come from the scene's
 /// buffers, and a wrong one must not read outside them. Its forced loop
@@ -145,8 +146,10 @@ pub fn specialised_module(
     kernel: &(naga::Module, naga::valid::ModuleInfo),
     entry: &str,
     constants: &[(&str, f64)],
+    fold_branches: bool,
 ) -> Result<wgpu::ShaderModule, String> {
-    let module = super::specialise::specialise(&kernel.0, &kernel.1, entry, constants)?;
+    let module =
+        super::specialise::specialise(&kernel.0, &kernel.1, entry, constants, fold_branches)?;
     let desc = wgpu::ShaderModuleDescriptor {
         label: Some(entry),
         source: wgpu::ShaderSource::Naga(std::borrow::Cow::Owned(module)),

@@ -21,14 +21,15 @@ use naga::{
     BinaryOperator, Block, Expression, Function, Handle, Literal, Module, Statement, UnaryOperator,
 };
 
-/// `module` with `constants` (override name -> value) applied and the code
-/// they rule out removed, holding only the entry point `entry`. `info` is
-/// `module`'s validation.
+/// `module` with `constants` (override name -> value) applied, holding
+/// only the entry point `entry`, and if `fold_branches`, the code they rule
+/// out removed. `info` is `module`'s validation.
 pub fn specialise(
     module: &Module,
     info: &naga::valid::ModuleInfo,
     entry: &str,
     constants: &[(&str, f64)],
+    fold_branches: bool,
 ) -> Result<Module, String> {
     let values: naga::back::PipelineConstants =
         constants.iter().map(|&(k, v)| (k.to_string(), v)).collect();
@@ -40,7 +41,9 @@ pub fn specialise(
     )
     .map_err(|e| format!("specialising {entry}: {e}"))?;
     let mut module = processed.into_owned();
-    fold(&mut module);
+    if fold_branches {
+        fold(&mut module);
+    }
     naga::compact::compact(&mut module, naga::compact::KeepUnused::No);
     Ok(module)
 }
@@ -492,7 +495,14 @@ mod tests {
     #[test]
     fn literal_branches_are_taken_and_unreached_functions_dropped() {
         let (module, info) = parsed(SMALL);
-        let fast = specialise(&module, &info, "main", &[("FAST", 1.0), ("MODE", 2.0)]).unwrap();
+        let fast = specialise(
+            &module,
+            &info,
+            "main",
+            &[("FAST", 1.0), ("MODE", 2.0)],
+            true,
+        )
+        .unwrap();
         validate(&fast).unwrap();
         assert!(
             function_names(&fast).is_empty(),
@@ -501,14 +511,28 @@ mod tests {
         );
         assert!(!has_if(&fast.entry_points[0].function.body));
 
-        let slow = specialise(&module, &info, "main", &[("FAST", 0.0), ("MODE", 2.0)]).unwrap();
+        let slow = specialise(
+            &module,
+            &info,
+            "main",
+            &[("FAST", 0.0), ("MODE", 2.0)],
+            true,
+        )
+        .unwrap();
         validate(&slow).unwrap();
         assert_eq!(function_names(&slow), ["slow_path"]);
         // `!FAST && mode() == 2u` is true: the branch is taken, unconditioned.
         assert!(!has_if(&slow.entry_points[0].function.body));
 
         // MODE 0 leaves mode() reading the buffer: nothing to decide.
-        let open = specialise(&module, &info, "main", &[("FAST", 0.0), ("MODE", 0.0)]).unwrap();
+        let open = specialise(
+            &module,
+            &info,
+            "main",
+            &[("FAST", 0.0), ("MODE", 0.0)],
+            true,
+        )
+        .unwrap();
         validate(&open).unwrap();
         assert_eq!(function_names(&open), ["mode", "slow_path"]);
         assert!(has_if(&open.entry_points[0].function.body));
@@ -546,8 +570,9 @@ mod tests {
                         feature_output: on(2) && on(0),
                         split_scene: i == 0,
                     };
-                    let module = specialise(&kernel.0, &kernel.1, entry.name, &variant.constants())
-                        .unwrap_or_else(|e| panic!("{variant:?}: {e}"));
+                    let module =
+                        specialise(&kernel.0, &kernel.1, entry.name, &variant.constants(), true)
+                            .unwrap_or_else(|e| panic!("{variant:?}: {e}"));
                     validate(&module).unwrap_or_else(|e| panic!("{} {variant:?}: {e}", entry.name));
                 }
             }
@@ -562,7 +587,7 @@ mod tests {
         let kernel =
             crate::gpu::shaders::kernel_ir(bindings::RENDER_TILE, bindings::UNSPLIT, &[]).unwrap();
         let names = |v: KernelVariant| {
-            let m = specialise(&kernel.0, &kernel.1, "render_tile", &v.constants()).unwrap();
+            let m = specialise(&kernel.0, &kernel.1, "render_tile", &v.constants(), true).unwrap();
             function_names(&m)
         };
         let general = names(KernelVariant {

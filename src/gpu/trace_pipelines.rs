@@ -312,9 +312,19 @@ impl TracePipelines {
         cache: Option<&wgpu::PipelineCache>,
     ) -> Result<wgpu::ComputePipeline> {
         let name = self.entry.name;
-        let module =
-            super::shaders::specialised_module(device, &kernel.ir, name, &variant.constants())
-                .map_err(Error::Gpu)?;
+        // The general variants decide the walk and the rest from the
+        // frame's uniforms, so folding would remove little from them; and
+        // folded, the general path-tracing variant kept LLVM busy for
+        // minutes where unfolded it compiles in seconds (lavapipe, Mesa 22.3).
+        let fold = variant.walk != super::kernel_variant::Walk::FromParams;
+        let module = super::shaders::specialised_module(
+            device,
+            &kernel.ir,
+            name,
+            &variant.constants(),
+            fold,
+        )
+        .map_err(Error::Gpu)?;
         let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
             label: Some(name),
             bind_group_layouts: &[Some(&kernel.layout)],
