@@ -1,5 +1,6 @@
 // What this pipeline is specialised for: pipeline-overridable constants the
-// host sets per scene and frame (src/gpu/kernel_variant.rs, which says why:
+// host sets per scene and frame and folds away before the driver sees the
+// kernel (src/gpu/specialise.rs; src/gpu/kernel_variant.rs says why:
 // llvmpipe runs a branch by masking lanes, not by jumping, so code a frame
 // cannot reach still costs it unless the compiler removes it). The defaults
 // are the general variant, which reads every choice from `params`.

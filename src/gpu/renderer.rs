@@ -162,7 +162,7 @@ impl Renderer {
     /// Makes the pipeline that frames of `scene` with `params` run (counting
     /// their work if `with_cost`) and has the driver compile it, by tracing
     /// one workgroup's pixels: llvmpipe compiles a pipeline at its first
-    /// dispatch (seconds: gpu/trace_pipelines.rs), which would otherwise fall
+    /// dispatch (gpu/trace_pipelines.rs), which would otherwise fall
     /// into the next frame's GPU time. For timings.
     pub fn compile(
         &self,

@@ -106,38 +106,14 @@ fn fold_function(
 /// in both arms of `if a`; with one arm left, and a literal stored there,
 /// every load of the variable is that literal. Whether any load changed.
 fn forward_decided_logic(module: &Module, function: &mut Function) -> bool {
-    fn stores(
-        block: &Block,
-        expressions: &naga::Arena<Expression>,
-        out: &mut HashMap<Handle<naga::LocalVariable>, Vec<Handle<Expression>>>,
-    ) {
-        for s in block.iter() {
-            match s {
-                Statement::Store { pointer, value } => {
-                    if let Expression::LocalVariable(v) = expressions[*pointer] {
-                        out.entry(v).or_default().push(*value);
-                    }
-                }
-                Statement::Block(b) => stores(b, expressions, out),
-                Statement::If { accept, reject, .. } => {
-                    stores(accept, expressions, out);
-                    stores(reject, expressions, out);
-                }
-                Statement::Switch { cases, .. } => {
-                    cases.iter().for_each(|c| stores(&c.body, expressions, out))
-                }
-                Statement::Loop {
-                    body, continuing, ..
-                } => {
-                    stores(body, expressions, out);
-                    stores(continuing, expressions, out);
-                }
-                _ => {}
+    let mut stored: HashMap<Handle<naga::LocalVariable>, Vec<Handle<Expression>>> = HashMap::new();
+    each_statement(&function.body, &mut |s| {
+        if let Statement::Store { pointer, value } = *s {
+            if let Expression::LocalVariable(v) = function.expressions[pointer] {
+                stored.entry(v).or_default().push(value);
             }
         }
-    }
-    let mut stored = HashMap::new();
-    stores(&function.body, &function.expressions, &mut stored);
+    });
     let decided: HashMap<Handle<naga::LocalVariable>, Literal> = stored
         .into_iter()
         .filter(|(v, _)| {
@@ -176,37 +152,18 @@ fn forward_decided_logic(module: &Module, function: &mut Function) -> bool {
 /// becomes a zero value of its type: the validator wants each such result
 /// visited by its statement, and nothing reads these.
 fn zero_orphaned_results(module: &Module, function: &mut Function) {
-    fn visit(block: &Block, kept: &mut std::collections::HashSet<Handle<Expression>>) {
-        for s in block.iter() {
-            match s {
-                Statement::Call {
-                    result: Some(r), ..
-                } => {
-                    kept.insert(*r);
-                }
-                Statement::Atomic {
-                    result: Some(r), ..
-                } => {
-                    kept.insert(*r);
-                }
-                Statement::Block(b) => visit(b, kept),
-                Statement::If { accept, reject, .. } => {
-                    visit(accept, kept);
-                    visit(reject, kept);
-                }
-                Statement::Switch { cases, .. } => cases.iter().for_each(|c| visit(&c.body, kept)),
-                Statement::Loop {
-                    body, continuing, ..
-                } => {
-                    visit(body, kept);
-                    visit(continuing, kept);
-                }
-                _ => {}
-            }
-        }
-    }
     let mut kept = std::collections::HashSet::new();
-    visit(&function.body, &mut kept);
+    each_statement(&function.body, &mut |s| match *s {
+        Statement::Call {
+            result: Some(r), ..
+        }
+        | Statement::Atomic {
+            result: Some(r), ..
+        } => {
+            kept.insert(r);
+        }
+        _ => {}
+    });
     let orphans: Vec<(Handle<Expression>, Handle<naga::Type>)> = function
         .expressions
         .iter()
@@ -219,6 +176,30 @@ fn zero_orphaned_results(module: &Module, function: &mut Function) {
         .collect();
     for (h, ty) in orphans {
         function.expressions[h] = Expression::ZeroValue(ty);
+    }
+}
+
+/// Calls `f` with every statement of `block`, nested ones included.
+fn each_statement(block: &Block, f: &mut impl FnMut(&Statement)) {
+    for s in block.iter() {
+        f(s);
+        match s {
+            Statement::Block(b) => each_statement(b, f),
+            Statement::If { accept, reject, .. } => {
+                each_statement(accept, f);
+                each_statement(reject, f);
+            }
+            Statement::Switch { cases, .. } => {
+                cases.iter().for_each(|c| each_statement(&c.body, f))
+            }
+            Statement::Loop {
+                body, continuing, ..
+            } => {
+                each_statement(body, f);
+                each_statement(continuing, f);
+            }
+            _ => {}
+        }
     }
 }
 
@@ -564,8 +545,11 @@ mod tests {
                         alpha_test: on(3) && i % 2 == 0,
                         spot_or_directional_lights: on(2),
                         count_costs: on(1) != on(3),
-                        integrator: [0, 1, crate::gpu::kernel_variant::FROM_PARAMS]
-                            [(bits % 3) as usize],
+                        integrator: [
+                            crate::layout::INTEGRATOR_WHITTED,
+                            crate::layout::INTEGRATOR_PATH,
+                            crate::gpu::kernel_variant::FROM_PARAMS,
+                        ][(bits % 3) as usize],
                         radiance_output: on(2),
                         feature_output: on(2) && on(0),
                         split_scene: i == 0,
@@ -604,7 +588,7 @@ mod tests {
             alpha_test: false,
             spot_or_directional_lights: false,
             count_costs: false,
-            integrator: 0,
+            integrator: crate::layout::INTEGRATOR_WHITTED,
             radiance_output: false,
             feature_output: false,
             split_scene: false,

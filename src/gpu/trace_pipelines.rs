@@ -8,7 +8,8 @@
 //! Fitting the adapter: an entry point with every binding has up to 13
 //! storage buffers (`trace_rays`; `render_tile` and `accumulate_tile` 12).
 //! Where the device allows that many per shader stage (lavapipe 32), every
-//! variant shares one module and one layout. Where it does not
+//! variant shares one layout and one parsed kernel, whose module each
+//! variant specialises for itself (gpu/specialise.rs). Where it does not
 //! (SwiftShader's Vulkan allows 10, as a browser's WebGPU may), each
 //! variant binds only what its frames read: the bindings it never reads
 //! ([`KernelVariant::unread_bindings`]) become private placeholders in its
@@ -16,10 +17,11 @@
 //! builds) and are left out of its layout and bind groups. A variant that
 //! still needs more is refused in one line naming the limit.
 //!
-//! llvmpipe compiles a variant at its first dispatch, in seconds (about
-//! 2.7 s for the seed's `render_tile` on the 2-core machine, Mesa's shader
-//! cache or not), so each entry point's pipelines are made once per
-//! context and shared ([`GpuContext::trace_pipelines`]).
+//! llvmpipe compiles a variant at its first dispatch (from hundredths of a
+//! second for the seed's to about a tenth for the Cornell box's path
+//! tracer, release build: benchmarks.md, "Start-up"; the general variants,
+//! not folded, take seconds), so each entry point's pipelines are made
+//! once per context and shared ([`GpuContext::trace_pipelines`]).
 
 use std::any::Any;
 use std::collections::HashMap;
